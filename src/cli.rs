@@ -1,0 +1,204 @@
+//! The command line: `relief` (interactive), `relief render`, `relief bench`.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use glam::Vec3;
+
+use crate::settings::{
+    AntiAlias, Display, Filter, HeightDerivative, LightVector, Normals, Settings, Shading,
+    Technique,
+};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "relief",
+    version,
+    about = "Bump-mapped 3D scenes rendered on the CPU, shown in the terminal",
+    args_conflicts_with_subcommands = true
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    /// Options of the interactive view (when no subcommand is given).
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Colour depth of the terminal output (default: detected from COLORTERM and TERM).
+    #[arg(long, value_enum)]
+    pub color: Option<ColorDepthArg>,
+    /// Texture images to put in the texture list; the first one is applied.
+    #[arg(value_name = "IMAGE")]
+    pub images: Vec<PathBuf>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render one frame headless and write it as a PNG (or as half-block text with --ansi).
+    Render(RenderArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Output PNG file.
+    #[arg(long, value_name = "FILE.png", required_unless_present = "ansi")]
+    pub out: Option<PathBuf>,
+    /// Print the frame to stdout as truecolor half-block text instead of writing a PNG.
+    #[arg(long)]
+    pub ansi: bool,
+    /// Width in pixels.
+    #[arg(long, default_value_t = 320, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: u32,
+    /// Height in pixels.
+    #[arg(long, default_value_t = 240, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: u32,
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Texture image (RGB = colour, alpha = height; without alpha, the mean of R, G, B).
+    #[arg(value_name = "IMAGE")]
+    pub image: Option<PathBuf>,
+}
+
+/// `on` or `off`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Toggle {
+    On,
+    Off,
+}
+
+impl Toggle {
+    pub fn on(self) -> bool {
+        self == Toggle::On
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ColorDepthArg {
+    Truecolor,
+    #[value(name = "256")]
+    Palette256,
+    #[value(name = "16")]
+    Palette16,
+}
+
+/// What a frame shows: shared by the interactive view and `relief render`.
+#[derive(Args, Debug, Clone)]
+pub struct ViewArgs {
+    /// Lighting: per facet, per vertex (Gouraud) or per pixel (Phong).
+    #[arg(long, value_enum, default_value_t = Shading::Phong)]
+    pub shading: Shading,
+    /// Normals used by Gouraud and Phong.
+    #[arg(long, value_enum, default_value_t = Normals::Vertex)]
+    pub normals: Normals,
+    /// Colour texture.
+    #[arg(long, value_enum, default_value_t = Toggle::On)]
+    pub texture: Toggle,
+    /// Per-vertex colours (off: white material).
+    #[arg(long, value_enum, default_value_t = Toggle::On)]
+    pub colors: Toggle,
+    /// Bump mapping (shows in Phong only).
+    #[arg(long, value_enum, default_value_t = Toggle::On)]
+    pub bump: Toggle,
+    /// Bump strength k (Blinn); 0 means no bump.
+    #[arg(long, default_value_t = crate::settings::DEFAULT_BUMP_STRENGTH, value_parser = parse_strength)]
+    pub bump_strength: f32,
+    /// Model rotation in degrees about X, then Y, then Z.
+    #[arg(long, value_name = "X,Y,Z", default_value = "25,35,0", value_parser = parse_rotation)]
+    pub rotate: Vec3,
+    /// Map the texture on all six faces of the cube (default: front and back).
+    #[arg(long)]
+    pub all_faces: bool,
+    /// Texture filter.
+    #[arg(long, value_enum, default_value_t = Filter::Bilinear)]
+    pub filter: Filter,
+    /// Height derivative of the bump stage: the documented per-texel one or a filtered one.
+    #[arg(long, value_enum, default_value_t = HeightDerivative::Filtered)]
+    pub height_derivative: HeightDerivative,
+}
+
+impl ViewArgs {
+    /// The settings these flags describe.
+    pub fn settings(&self) -> Settings {
+        Settings {
+            shading: self.shading,
+            normals: self.normals,
+            texture: self.texture.on(),
+            colors: self.colors.on(),
+            bump: self.bump.on(),
+            bump_strength: self.bump_strength,
+            filter: self.filter,
+            height_derivative: self.height_derivative,
+            rotation: self.rotate,
+            technique: Technique::Blinn,
+            light_vector: LightVector::Pixel,
+            aa: AntiAlias::Off,
+            display: Display::Fill,
+            lights: true,
+            attenuation: false,
+        }
+    }
+}
+
+/// `X,Y,Z` in degrees, each a finite number.
+pub fn parse_rotation(text: &str) -> Result<Vec3, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected three angles X,Y,Z in degrees, got '{text}'"));
+    }
+    let mut v = [0.0f32; 3];
+    for (slot, part) in v.iter_mut().zip(&parts) {
+        *slot = parse_finite(part)?;
+    }
+    Ok(Vec3::from_array(v))
+}
+
+/// A finite number (no NaN, no infinity).
+pub fn parse_finite(text: &str) -> Result<f32, String> {
+    let value: f32 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(format!("'{text}' is not a finite number"))
+    }
+}
+
+/// A bump strength: finite and not negative.
+fn parse_strength(text: &str) -> Result<f32, String> {
+    let k = parse_finite(text)?;
+    if k < 0.0 {
+        return Err(format!("bump strength must be 0 or more, got {k}"));
+    }
+    Ok(k)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotation_parses_and_refuses_garbage() {
+        assert_eq!(parse_rotation("25,35,0"), Ok(Vec3::new(25.0, 35.0, 0.0)));
+        assert_eq!(parse_rotation(" 1, -2.5 ,1e3"), Ok(Vec3::new(1.0, -2.5, 1000.0)));
+        assert!(parse_rotation("1,2").is_err());
+        assert!(parse_rotation("1,NaN,2").is_err());
+        assert!(parse_rotation("1,inf,2").is_err());
+        assert!(parse_rotation("a,b,c").is_err());
+    }
+
+    #[test]
+    fn defaults_are_the_reference_settings() {
+        let cli = Cli::try_parse_from(["relief", "render", "--out", "x.png"]).unwrap();
+        let Some(Command::Render(args)) = cli.command else {
+            panic!("render expected")
+        };
+        assert_eq!(args.view.settings(), Settings::default());
+        assert_eq!((args.width, args.height), (320, 240));
+    }
+
+    #[test]
+    fn zero_size_is_refused() {
+        assert!(Cli::try_parse_from(["relief", "render", "--out", "x.png", "--width", "0"]).is_err());
+    }
+}

@@ -1,0 +1,16 @@
+//! relief: bump-mapped 3D scenes rendered on the CPU, shown in the terminal.
+//!
+//! Data flows one way: scene → plan → raster/shade → framebuffer → term.
+
+pub mod cli;
+pub mod framebuffer;
+pub mod sanitize;
+pub mod scene;
+pub mod settings;
+pub mod stats;
+pub mod texture;
+
+pub use framebuffer::{Framebuffer, Rgb};
+pub use scene::Scene;
+pub use settings::Settings;
+pub use stats::{Counters, FrameStats};

@@ -1,0 +1,279 @@
+//! Every user-visible rendering choice, in one plain `Copy` struct.
+//!
+//! The command line, the interactive app and the benchmark all build a
+//! `Settings`; the renderer only reads it. Enums derive `ValueEnum` so clap
+//! spells them exactly as the README does.
+
+use clap::ValueEnum;
+use glam::Vec3;
+
+/// How lighting is evaluated (key `m` cycles flat → Gouraud → Phong).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum Shading {
+    /// Lighting once per facet, at its centre.
+    Flat,
+    /// Lighting at the vertices, interpolated across the triangle.
+    Gouraud,
+    /// Normals interpolated, lighting per pixel (the only mode that shows bump).
+    #[default]
+    Phong,
+}
+
+impl Shading {
+    pub fn next(self) -> Self {
+        match self {
+            Shading::Flat => Shading::Gouraud,
+            Shading::Gouraud => Shading::Phong,
+            Shading::Phong => Shading::Flat,
+        }
+    }
+    pub fn label(self) -> &'static str {
+        match self {
+            Shading::Flat => "flat",
+            Shading::Gouraud => "Gouraud",
+            Shading::Phong => "Phong",
+        }
+    }
+}
+
+/// Which normals feed Gouraud and Phong (key `n`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum Normals {
+    /// Averaged corner normals: the cube looks rounded.
+    #[default]
+    Vertex,
+    /// The facet's own normal: hard edges.
+    Face,
+}
+
+impl Normals {
+    pub fn toggle(self) -> Self {
+        match self {
+            Normals::Vertex => Normals::Face,
+            Normals::Face => Normals::Vertex,
+        }
+    }
+    pub fn label(self) -> &'static str {
+        match self {
+            Normals::Vertex => "vertex",
+            Normals::Face => "face",
+        }
+    }
+}
+
+/// Texture filter.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum Filter {
+    Nearest,
+    #[default]
+    Bilinear,
+    /// Bilinear on the two nearest mip levels, blended.
+    Trilinear,
+    /// Several trilinear taps along the major axis of the pixel footprint.
+    Anisotropic,
+}
+
+impl Filter {
+    pub fn next(self) -> Self {
+        match self {
+            Filter::Nearest => Filter::Bilinear,
+            Filter::Bilinear => Filter::Trilinear,
+            Filter::Trilinear => Filter::Anisotropic,
+            Filter::Anisotropic => Filter::Nearest,
+        }
+    }
+    pub fn label(self) -> &'static str {
+        match self {
+            Filter::Nearest => "nearest",
+            Filter::Bilinear => "bilinear",
+            Filter::Trilinear => "trilinear",
+            Filter::Anisotropic => "anisotropic",
+        }
+    }
+    /// True when the filter reads a mip chain (and so needs UV derivatives).
+    pub fn uses_mips(self) -> bool {
+        matches!(self, Filter::Trilinear | Filter::Anisotropic)
+    }
+}
+
+/// Bump-mapping technique.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum Technique {
+    /// Blinn's perturbed normal (the documented software renderer).
+    #[default]
+    Blinn,
+    /// Height map shifted toward the light and subtracted.
+    Emboss,
+    /// Normal map dotted with the light vector in tangent space.
+    Dot3,
+    /// UV offset along the view direction.
+    Parallax,
+    /// Parallax occlusion mapping: ray-march the height field.
+    Pom,
+}
+
+impl Technique {
+    pub fn next(self) -> Self {
+        match self {
+            Technique::Blinn => Technique::Emboss,
+            Technique::Emboss => Technique::Dot3,
+            Technique::Dot3 => Technique::Parallax,
+            Technique::Parallax => Technique::Pom,
+            Technique::Pom => Technique::Blinn,
+        }
+    }
+    pub fn label(self) -> &'static str {
+        match self {
+            Technique::Blinn => "Blinn",
+            Technique::Emboss => "emboss",
+            Technique::Dot3 => "dot3",
+            Technique::Parallax => "parallax",
+            Technique::Pom => "POM",
+        }
+    }
+}
+
+/// How the bump stage differentiates the height map.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum HeightDerivative {
+    /// The documented code: nearest texel, neighbours clamped at the border.
+    Texel,
+    /// Central difference of filtered (bilinear) heights one texel apart: smooth when magnified.
+    #[default]
+    Filtered,
+}
+
+/// Where dot3 normalises the tangent-space light vector.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum LightVector {
+    /// Computed per vertex and interpolated (shortens between vertices).
+    Vertex,
+    /// Recomputed and normalised per pixel.
+    #[default]
+    Pixel,
+}
+
+/// Anti-aliasing.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum AntiAlias {
+    #[default]
+    Off,
+    /// Supersampling, 2×2 samples per pixel.
+    #[value(name = "2x2")]
+    Ssaa2,
+    /// Supersampling, 4×4 samples per pixel.
+    #[value(name = "4x4")]
+    Ssaa4,
+    /// Four coverage samples, shaded once per pixel.
+    Msaa4,
+}
+
+impl AntiAlias {
+    pub fn next(self) -> Self {
+        match self {
+            AntiAlias::Off => AntiAlias::Ssaa2,
+            AntiAlias::Ssaa2 => AntiAlias::Ssaa4,
+            AntiAlias::Ssaa4 => AntiAlias::Msaa4,
+            AntiAlias::Msaa4 => AntiAlias::Off,
+        }
+    }
+    pub fn label(self) -> &'static str {
+        match self {
+            AntiAlias::Off => "off",
+            AntiAlias::Ssaa2 => "SSAA 2x2",
+            AntiAlias::Ssaa4 => "SSAA 4x4",
+            AntiAlias::Msaa4 => "MSAA 4",
+        }
+    }
+}
+
+/// How primitives are drawn.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum Display {
+    Points,
+    Lines,
+    #[default]
+    Fill,
+}
+
+impl Display {
+    pub fn next(self) -> Self {
+        match self {
+            Display::Points => Display::Lines,
+            Display::Lines => Display::Fill,
+            Display::Fill => Display::Points,
+        }
+    }
+    pub fn label(self) -> &'static str {
+        match self {
+            Display::Points => "points",
+            Display::Lines => "lines",
+            Display::Fill => "fill",
+        }
+    }
+}
+
+/// Everything that decides what a frame looks like, apart from the scene's data.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    pub shading: Shading,
+    pub normals: Normals,
+    /// Key `t`.
+    pub texture: bool,
+    /// Key `c`: per-vertex colours; off means a white material.
+    pub colors: bool,
+    /// Key `b`: visible in Phong only.
+    pub bump: bool,
+    /// Blinn's k; the reference scene uses 0.006.
+    pub bump_strength: f32,
+    pub technique: Technique,
+    pub filter: Filter,
+    pub height_derivative: HeightDerivative,
+    pub light_vector: LightVector,
+    pub aa: AntiAlias,
+    pub display: Display,
+    /// All lights on or off (ambient stays).
+    pub lights: bool,
+    /// Distance attenuation of point lights.
+    pub attenuation: bool,
+    /// Model rotation in degrees about X, then Y, then Z.
+    pub rotation: Vec3,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            shading: Shading::Phong,
+            normals: Normals::Vertex,
+            texture: true,
+            colors: true,
+            bump: true,
+            bump_strength: DEFAULT_BUMP_STRENGTH,
+            technique: Technique::Blinn,
+            filter: Filter::Bilinear,
+            height_derivative: HeightDerivative::Filtered,
+            light_vector: LightVector::Pixel,
+            aa: AntiAlias::Off,
+            display: Display::Fill,
+            lights: true,
+            attenuation: false,
+            rotation: DEFAULT_ROTATION,
+        }
+    }
+}
+
+/// Blinn bump strength of the reference scene.
+pub const DEFAULT_BUMP_STRENGTH: f32 = 0.006;
+/// Model rotation of the reference scene, in degrees.
+pub const DEFAULT_ROTATION: Vec3 = Vec3::new(25.0, 35.0, 0.0);
+
+/// Brings an angle in degrees into [0, 360) in f64, so 1e9° loses no precision
+/// in f32 and NaN or infinity become 0.
+pub fn normalize_degrees(deg: f32) -> f32 {
+    if !deg.is_finite() {
+        return 0.0;
+    }
+    let r = (deg as f64).rem_euclid(360.0);
+    // rem_euclid can round up to exactly 360.0 for tiny negative inputs.
+    if r >= 360.0 { 0.0 } else { r as f32 }
+}

@@ -1,0 +1,85 @@
+//! Textures: colour in RGB, height (the bump map) in the fourth channel.
+//!
+//! Texels are stored as `f32` in 0..1, **bottom row first**, so texture
+//! coordinate v = 0 is the bottom of the picture and (u, v) index the storage
+//! directly, as in OpenGL. Coordinates wrap (repeat): u = 1.0 reads texel 0.
+
+pub mod filter;
+pub mod level;
+pub mod procedural;
+
+pub use level::Level;
+
+use std::sync::{Arc, OnceLock};
+
+/// A colour + height texture and, built on first use, its mip chain.
+#[derive(Debug)]
+pub struct Texture {
+    /// Where it came from, for the status line (already sanitised).
+    pub name: String,
+    base: Level,
+    /// Level 0 is a copy-free view of `base` only conceptually: `mips` holds
+    /// levels 1.. and is built the first time a minified pixel asks for it.
+    mips: OnceLock<Vec<Level>>,
+}
+
+impl Texture {
+    pub fn new(name: impl Into<String>, base: Level) -> Self {
+        Texture {
+            name: name.into(),
+            base,
+            mips: OnceLock::new(),
+        }
+    }
+
+    /// From 8-bit RGBA rows, **top row first** (as images are stored).
+    pub fn from_rgba8(name: impl Into<String>, width: usize, height: usize, rgba: &[u8]) -> Self {
+        Texture::new(name, Level::from_rgba8_top_down(width, height, rgba))
+    }
+
+    pub fn into_arc(self) -> Arc<Texture> {
+        Arc::new(self)
+    }
+
+    /// The full-resolution level.
+    pub fn base(&self) -> &Level {
+        &self.base
+    }
+
+    pub fn width(&self) -> usize {
+        self.base.width
+    }
+
+    pub fn height(&self) -> usize {
+        self.base.height
+    }
+
+    /// True once the mip chain has been built (tests use it to show that
+    /// nothing builds it while no pixel is minified).
+    pub fn mips_built(&self) -> bool {
+        self.mips.get().is_some()
+    }
+
+    /// Levels 1.. of the mip chain, built once on first call.
+    pub fn mip_levels(&self) -> &[Level] {
+        self.mips.get_or_init(|| self.base.build_chain())
+    }
+
+    /// Level `i` of the chain (0 = base), clamped to the smallest level.
+    pub fn level(&self, i: usize) -> &Level {
+        if i == 0 {
+            return &self.base;
+        }
+        let chain = self.mip_levels();
+        if chain.is_empty() {
+            &self.base
+        } else {
+            &chain[(i - 1).min(chain.len() - 1)]
+        }
+    }
+
+    /// Number of levels including the base.
+    pub fn level_count(&self) -> usize {
+        1 + self.mip_levels().len()
+    }
+}
