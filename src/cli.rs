@@ -142,7 +142,9 @@ impl ViewArgs {
 pub fn parse_rotation(text: &str) -> Result<Vec3, String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     if parts.len() != 3 {
-        return Err(format!("expected three angles X,Y,Z in degrees, got '{text}'"));
+        return Err(format!(
+            "expected three angles X,Y,Z in degrees, got '{text}'"
+        ));
     }
     let mut v = [0.0f32; 3];
     for (slot, part) in v.iter_mut().zip(&parts) {
@@ -180,7 +182,10 @@ mod tests {
     #[test]
     fn rotation_parses_and_refuses_garbage() {
         assert_eq!(parse_rotation("25,35,0"), Ok(Vec3::new(25.0, 35.0, 0.0)));
-        assert_eq!(parse_rotation(" 1, -2.5 ,1e3"), Ok(Vec3::new(1.0, -2.5, 1000.0)));
+        assert_eq!(
+            parse_rotation(" 1, -2.5 ,1e3"),
+            Ok(Vec3::new(1.0, -2.5, 1000.0))
+        );
         assert!(parse_rotation("1,2").is_err());
         assert!(parse_rotation("1,NaN,2").is_err());
         assert!(parse_rotation("1,inf,2").is_err());
@@ -199,6 +204,8 @@ mod tests {
 
     #[test]
     fn zero_size_is_refused() {
-        assert!(Cli::try_parse_from(["relief", "render", "--out", "x.png", "--width", "0"]).is_err());
+        assert!(
+            Cli::try_parse_from(["relief", "render", "--out", "x.png", "--width", "0"]).is_err()
+        );
     }
 }

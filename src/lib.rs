@@ -4,13 +4,18 @@
 
 pub mod cli;
 pub mod framebuffer;
+pub mod plan;
+pub mod raster;
+pub mod render;
 pub mod sanitize;
 pub mod scene;
 pub mod settings;
+pub mod shade;
 pub mod stats;
 pub mod texture;
 
 pub use framebuffer::{Framebuffer, Rgb};
+pub use render::Renderer;
 pub use scene::Scene;
 pub use settings::Settings;
 pub use stats::{Counters, FrameStats};

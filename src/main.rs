@@ -1,5 +1,80 @@
+//! `relief`: the interactive view, `relief render` and `relief bench`.
+
+use std::io::Write;
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use anyhow::Context;
 use clap::Parser;
 
-fn main() {
-    let _cli = relief::cli::Cli::parse();
+use relief::cli::{Cli, Command, RenderArgs};
+use relief::sanitize::clean;
+use relief::{Framebuffer, Renderer, Scene};
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Some(Command::Render(args)) => render(&args),
+        None => Err(anyhow::anyhow!("the interactive view is not built yet")),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("relief: {}", clean(&format!("{err:#}")));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// `relief render`: one frame, to a PNG or to stdout as half-block text.
+fn render(args: &RenderArgs) -> anyhow::Result<()> {
+    let texture = match &args.image {
+        Some(path) => {
+            let img = image::open(path)
+                .with_context(|| format!("cannot load {}", relief::sanitize::display_path(path)))?;
+            let rgba = img.to_rgba8();
+            relief::texture::Texture::from_rgba8(
+                relief::sanitize::display_path(path),
+                rgba.width() as usize,
+                rgba.height() as usize,
+                rgba.as_raw(),
+            )
+        }
+        None => relief::texture::procedural::brick(),
+    };
+    let scene = Scene::cube(Arc::new(texture), args.view.all_faces);
+    let settings = args.view.settings();
+    let mut fb = Framebuffer::new(args.width as usize, args.height as usize);
+    Renderer::new().render(&scene, &settings, &mut fb);
+    if args.ansi {
+        let mut out = std::io::stdout().lock();
+        out.write_all(ansi_halfblocks(&fb).as_bytes())?;
+        out.flush()?;
+        return Ok(());
+    }
+    let out = args.out.as_ref().context("--out FILE.png is required")?;
+    fb.save_png(out)
+}
+
+/// Truecolor `▀` text, one cell per two pixel rows.
+fn ansi_halfblocks(fb: &Framebuffer) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    for y in (0..fb.height()).step_by(2) {
+        for x in 0..fb.width() {
+            let top = fb.get(x, y);
+            let bottom = if y + 1 < fb.height() {
+                fb.get(x, y + 1)
+            } else {
+                [0, 0, 0]
+            };
+            let _ = write!(
+                s,
+                "\x1b[38;2;{};{};{}m\x1b[48;2;{};{};{}m▀",
+                top[0], top[1], top[2], bottom[0], bottom[1], bottom[2]
+            );
+        }
+        s.push_str("\x1b[0m\n");
+    }
+    s
 }

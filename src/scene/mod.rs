@@ -68,6 +68,8 @@ impl Scene {
 /// Model rotation in degrees: about X first, then Y, then Z. Angles are
 /// reduced modulo 360 in f64 first; NaN and infinities count as 0.
 pub fn rotation_matrix(degrees: Vec3) -> Mat4 {
-    let [x, y, z] = degrees.to_array().map(|d| normalize_degrees(d).to_radians());
+    let [x, y, z] = degrees
+        .to_array()
+        .map(|d| normalize_degrees(d).to_radians());
     Mat4::from_rotation_z(z) * Mat4::from_rotation_y(y) * Mat4::from_rotation_x(x)
 }

@@ -18,6 +18,8 @@ pub struct Texture {
     /// Where it came from, for the status line (already sanitised).
     pub name: String,
     base: Level,
+    /// Every height equal: the bump stage has nothing to show.
+    flat_height: bool,
     /// Level 0 is a copy-free view of `base` only conceptually: `mips` holds
     /// levels 1.. and is built the first time a minified pixel asks for it.
     mips: OnceLock<Vec<Level>>,
@@ -25,9 +27,12 @@ pub struct Texture {
 
 impl Texture {
     pub fn new(name: impl Into<String>, base: Level) -> Self {
+        let first = base.texels.first().map_or(0.0, |t| t[3]);
+        let flat_height = base.texels.iter().all(|t| t[3] == first);
         Texture {
             name: name.into(),
             base,
+            flat_height,
             mips: OnceLock::new(),
         }
     }
@@ -52,6 +57,11 @@ impl Texture {
 
     pub fn height(&self) -> usize {
         self.base.height
+    }
+
+    /// True when the height map is constant, so bump mapping cannot change a pixel.
+    pub fn height_is_flat(&self) -> bool {
+        self.flat_height
     }
 
     /// True once the mip chain has been built (tests use it to show that

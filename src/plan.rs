@@ -1,0 +1,92 @@
+//! Which stages a frame runs, decided once from the scene and the settings,
+//! so that an effect that is off, or cannot show, costs nothing.
+
+use glam::Vec3;
+
+use crate::scene::Scene;
+use crate::settings::{Filter, HeightDerivative, Settings, Shading};
+
+/// A light that can change a pixel: enabled, with a non-black colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ActiveLight {
+    pub position: Vec3,
+    pub color: Vec3,
+}
+
+/// The stages of one frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    pub shading: Shading,
+    /// Gouraud and Phong use facet normals instead of vertex normals.
+    pub face_normals: bool,
+    /// Per-vertex colours (off: white material).
+    pub colors: bool,
+    /// Texture colour fetches on textured triangles.
+    pub texture: bool,
+    /// Blinn bump per pixel on textured triangles: Phong only, strength > 0,
+    /// and a height map that is not flat.
+    pub bump: bool,
+    pub bump_strength: f32,
+    pub height_derivative: HeightDerivative,
+    pub filter: Filter,
+    /// Screen-space UV derivatives per pixel, for the filters that pick a mip level.
+    pub footprint: bool,
+    /// A depth buffer: only when two drawn surfaces can cover the same pixel.
+    pub depth: bool,
+    pub ambient: Vec3,
+    /// Lights that contribute (disabled and black lights are dropped here).
+    pub lights: Vec<ActiveLight>,
+    /// Distance attenuation of the lights.
+    pub attenuation: bool,
+}
+
+impl Plan {
+    pub fn new(scene: &Scene, settings: &Settings) -> Plan {
+        let any_textured = scene
+            .objects
+            .iter()
+            .any(|o| o.mesh.triangles.iter().any(|t| t.textured));
+        let texture = settings.texture && any_textured;
+        let strength = settings.bump_strength;
+        let bump = settings.shading == Shading::Phong
+            && settings.bump
+            && strength.is_finite()
+            && strength > 0.0
+            && any_textured
+            && !scene.material.texture.height_is_flat();
+        let footprint = settings.filter.uses_mips()
+            && (texture || (bump && settings.height_derivative == HeightDerivative::Filtered));
+        // One convex (or planar) object drawn with back faces culled never
+        // covers a pixel twice; anything more needs depth.
+        let depth = scene.objects.len() > 1 || scene.objects.iter().any(|o| !o.mesh.convex);
+        let lights = if settings.lights {
+            scene
+                .lights
+                .iter()
+                .filter(|l| l.enabled && l.color.max_element() > 0.0)
+                .filter(|l| l.position.is_finite() && l.color.is_finite())
+                .map(|l| ActiveLight {
+                    position: l.position,
+                    color: l.color,
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Plan {
+            shading: settings.shading,
+            face_normals: settings.normals == crate::settings::Normals::Face,
+            colors: settings.colors,
+            texture,
+            bump,
+            bump_strength: if bump { strength } else { 0.0 },
+            height_derivative: settings.height_derivative,
+            filter: settings.filter,
+            footprint,
+            depth,
+            ambient: scene.ambient,
+            lights,
+            attenuation: settings.attenuation,
+        }
+    }
+}

@@ -1,0 +1,10 @@
+//! Rasterization: homogeneous clipping, fixed-point setup with the top-left
+//! fill rule, and the perspective-correct pixel loop.
+
+pub mod clip;
+pub mod scan;
+pub mod setup;
+
+pub use clip::{ClipVertex, Clipped, clip_triangle};
+pub use scan::{Band, raster_triangle};
+pub use setup::{ScreenTri, setup};

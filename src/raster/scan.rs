@@ -1,0 +1,139 @@
+//! The pixel loop: coverage by incremental edge functions, perspective-correct
+//! barycentrics, depth, footprint, and the shader, for the rows of one band.
+
+use glam::{Vec2, Vec3};
+
+use super::setup::{ONE, ScreenTri};
+use crate::framebuffer::Rgb;
+use crate::shade::{PixelShader, ShadeCtx};
+use crate::stats::Counters;
+use crate::texture::filter::Footprint;
+
+/// A horizontal band of the framebuffer (and depth buffer) owned by one task.
+pub struct Band<'a> {
+    /// First row of the band in the framebuffer.
+    pub y0: usize,
+    pub width: usize,
+    pub color: &'a mut [Rgb],
+    pub depth: Option<&'a mut [f32]>,
+}
+
+impl Band<'_> {
+    pub fn rows(&self) -> usize {
+        self.color.len().checked_div(self.width).unwrap_or(0)
+    }
+}
+
+/// Per-triangle constants for the screen-space UV derivatives.
+struct FootprintSetup {
+    uvq: [Vec2; 3],
+    dq_dx: f32,
+    dq_dy: f32,
+    duvq_dx: Vec2,
+    duvq_dy: Vec2,
+}
+
+impl FootprintSetup {
+    fn new(tri: &ScreenTri, source_uv: &[Vec2; 3]) -> Self {
+        let uv = tri.vertex_uvs(source_uv);
+        let uvq = [uv[0] * tri.q[0], uv[1] * tri.q[1], uv[2] * tri.q[2]];
+        let (lx, ly) = tri.lambda_steps();
+        let dot = |l: [f32; 3], v: [f32; 3]| l[0] * v[0] + l[1] * v[1] + l[2] * v[2];
+        let dotv = |l: [f32; 3], v: [Vec2; 3]| v[0] * l[0] + v[1] * l[1] + v[2] * l[2];
+        FootprintSetup {
+            uvq,
+            dq_dx: dot(lx, tri.q),
+            dq_dy: dot(ly, tri.q),
+            duvq_dx: dotv(lx, uvq),
+            duvq_dy: dotv(ly, uvq),
+        }
+    }
+
+    /// d(uv)/dx and d(uv)/dy at a pixel, from u = U/Q (quotient rule).
+    #[inline]
+    fn at(&self, w: [f32; 3], q_sum: f32) -> Footprint {
+        let inv = 1.0 / q_sum;
+        let uv = (self.uvq[0] * w[0] + self.uvq[1] * w[1] + self.uvq[2] * w[2]) * inv;
+        Footprint {
+            dx: (self.duvq_dx - uv * self.dq_dx) * inv,
+            dy: (self.duvq_dy - uv * self.dq_dy) * inv,
+        }
+    }
+}
+
+/// Rasterizes the part of `tri` inside `band` with shader `S`.
+pub fn raster_triangle<S: PixelShader>(
+    tri: &ScreenTri,
+    shader: &S,
+    ctx: &ShadeCtx,
+    band: &mut Band,
+    counters: &mut Counters,
+) {
+    let band_last = band.y0 + band.rows();
+    let ya = (tri.y0 as usize).max(band.y0);
+    let yb = (tri.y1 as usize + 1).min(band_last);
+    if ya >= yb {
+        return;
+    }
+    let footprint = if S::SAMPLES_TEXTURE && ctx.plan.footprint {
+        shader.uvs().map(|uv| FootprintSetup::new(tri, uv))
+    } else {
+        None
+    };
+    let inv_area = (1.0 / tri.area as f64) as f32;
+    let steps = [tri.edge_steps(0), tri.edge_steps(1), tri.edge_steps(2)];
+    let x0 = tri.x0 as usize;
+    let cx = tri.x0 as i64 * ONE + ONE / 2;
+    let width = band.width;
+    for py in ya..yb {
+        let cy = py as i64 * ONE + ONE / 2;
+        let mut e = [
+            tri.edge(0, cx, cy),
+            tri.edge(1, cx, cy),
+            tri.edge(2, cx, cy),
+        ];
+        let row = (py - band.y0) * width;
+        for px in x0..=tri.x1 as usize {
+            if (e[0] + tri.bias[0]) | (e[1] + tri.bias[1]) | (e[2] + tri.bias[2]) >= 0 {
+                let l = [
+                    e[0] as f32 * inv_area,
+                    e[1] as f32 * inv_area,
+                    e[2] as f32 * inv_area,
+                ];
+                let covered = match band.depth.as_deref_mut() {
+                    Some(depth) => {
+                        counters.depth_tests += 1;
+                        let z = l[0] * tri.z[0] + l[1] * tri.z[1] + l[2] * tri.z[2];
+                        let slot = &mut depth[row + px];
+                        if z < *slot {
+                            *slot = z;
+                            true
+                        } else {
+                            false
+                        }
+                    }
+                    None => true,
+                };
+                if covered {
+                    let w = [l[0] * tri.q[0], l[1] * tri.q[1], l[2] * tri.q[2]];
+                    let q_sum = w[0] + w[1] + w[2];
+                    let inv = 1.0 / q_sum;
+                    let b = Vec3::new(w[0] * inv, w[1] * inv, w[2] * inv);
+                    let b = if tri.unclipped {
+                        b
+                    } else {
+                        tri.bary[0] * b.x + tri.bary[1] * b.y + tri.bary[2] * b.z
+                    };
+                    let fp = match &footprint {
+                        Some(f) => f.at(w, q_sum),
+                        None => Footprint::default(),
+                    };
+                    band.color[row + px] = shader.shade(ctx, b, fp, counters);
+                }
+            }
+            e[0] += steps[0].0;
+            e[1] += steps[1].0;
+            e[2] += steps[2].0;
+        }
+    }
+}

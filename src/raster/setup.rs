@@ -1,0 +1,154 @@
+//! Triangle setup: projection to fixed-point screen coordinates, edge
+//! functions with the top-left fill rule, and the constants the pixel loop needs.
+
+use glam::{Vec2, Vec3};
+
+use super::clip::ClipVertex;
+
+/// Sub-pixel precision: 8 bits (1/256 of a pixel), with i64 edge maths.
+pub const SUBPIXEL_BITS: u32 = 8;
+pub const ONE: i64 = 1 << SUBPIXEL_BITS;
+const HALF: i64 = ONE / 2;
+
+/// A triangle ready to rasterize, in screen space (y down).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScreenTri {
+    /// Index of the per-triangle shader data.
+    pub shader: u32,
+    /// Fixed-point vertex positions.
+    pub x: [i64; 3],
+    pub y: [i64; 3],
+    /// 1/w per vertex (for perspective-correct interpolation).
+    pub q: [f32; 3],
+    /// NDC depth per vertex (affine in screen space).
+    pub z: [f32; 3],
+    /// Barycentric coordinates of each vertex in the source triangle.
+    pub bary: [Vec3; 3],
+    /// `bary` is the identity (the triangle was not clipped).
+    pub unclipped: bool,
+    /// Inclusive pixel bounds, already inside the viewport.
+    pub x0: i32,
+    pub x1: i32,
+    pub y0: i32,
+    pub y1: i32,
+    /// Twice the signed area in fixed point, > 0.
+    pub area: i64,
+    /// −1 for edges that are neither top nor left, 0 otherwise (fill rule).
+    pub bias: [i64; 3],
+}
+
+impl ScreenTri {
+    /// Edge function of edge `i` (opposite vertex `i`) at a fixed-point point.
+    #[inline]
+    pub fn edge(&self, i: usize, px: i64, py: i64) -> i64 {
+        let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+        (self.y[b] - self.y[a]) * (px - self.x[a]) - (self.x[b] - self.x[a]) * (py - self.y[a])
+    }
+
+    /// Change of edge `i` for one pixel step in x and in y.
+    #[inline]
+    pub fn edge_steps(&self, i: usize) -> (i64, i64) {
+        let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+        (
+            (self.y[b] - self.y[a]) * ONE,
+            -(self.x[b] - self.x[a]) * ONE,
+        )
+    }
+
+    /// Screen-space derivatives of the barycentrics λ (per pixel).
+    pub fn lambda_steps(&self) -> ([f32; 3], [f32; 3]) {
+        let inv = 1.0 / self.area as f64;
+        let mut dx = [0.0; 3];
+        let mut dy = [0.0; 3];
+        for i in 0..3 {
+            let (sx, sy) = self.edge_steps(i);
+            dx[i] = (sx as f64 * inv) as f32;
+            dy[i] = (sy as f64 * inv) as f32;
+        }
+        (dx, dy)
+    }
+
+    /// Texture coordinates at this triangle's vertices, from the source's.
+    pub fn vertex_uvs(&self, source: &[Vec2; 3]) -> [Vec2; 3] {
+        self.bary
+            .map(|b| source[0] * b.x + source[1] * b.y + source[2] * b.z)
+    }
+}
+
+/// Is the directed edge a→b a top or left edge, for triangles of positive
+/// area in this orientation (counter-clockwise on a y-down screen)?
+#[inline]
+fn is_top_left(ax: i64, ay: i64, bx: i64, by: i64) -> bool {
+    (ay == by && bx < ax) || by > ay
+}
+
+/// Projects three clip-space vertices to the viewport and sets the triangle
+/// up. Returns `None` for zero area, or when no pixel centre can be inside.
+/// Either winding is accepted (the caller has already culled back faces).
+pub fn setup(v: [ClipVertex; 3], width: usize, height: usize, shader: u32) -> Option<ScreenTri> {
+    let mut x = [0i64; 3];
+    let mut y = [0i64; 3];
+    let mut q = [0f32; 3];
+    let mut z = [0f32; 3];
+    for i in 0..3 {
+        let p = v[i].pos;
+        // Clipping guarantees w ≥ near > 0 and coordinates within the guard band.
+        let inv_w = 1.0 / p.w as f64;
+        let sx = (p.x as f64 * inv_w + 1.0) * 0.5 * width as f64;
+        let sy = (1.0 - p.y as f64 * inv_w) * 0.5 * height as f64;
+        if !sx.is_finite() || !sy.is_finite() {
+            return None;
+        }
+        x[i] = (sx * ONE as f64).round() as i64;
+        y[i] = (sy * ONE as f64).round() as i64;
+        q[i] = inv_w as f32;
+        z[i] = (p.z as f64 * inv_w) as f32;
+    }
+    let mut bary = [v[0].bary, v[1].bary, v[2].bary];
+    let mut area = (y[1] - y[0]) * (x[2] - x[0]) - (x[1] - x[0]) * (y[2] - y[0]);
+    if area == 0 {
+        return None;
+    }
+    if area < 0 {
+        // Make the area positive by swapping two vertices.
+        x.swap(1, 2);
+        y.swap(1, 2);
+        q.swap(1, 2);
+        z.swap(1, 2);
+        bary.swap(1, 2);
+        area = -area;
+    }
+    // Pixel px is covered only if its centre px·ONE + HALF lies within the bounds.
+    let lo = |m: i64| (m - HALF + ONE - 1).div_euclid(ONE);
+    let hi = |m: i64| (m - HALF).div_euclid(ONE);
+    let x0 = lo(*x.iter().min()?).max(0);
+    let x1 = hi(*x.iter().max()?).min(width as i64 - 1);
+    let y0 = lo(*y.iter().min()?).max(0);
+    let y1 = hi(*y.iter().max()?).min(height as i64 - 1);
+    if x0 > x1 || y0 > y1 {
+        return None;
+    }
+    let mut bias = [0i64; 3];
+    for (i, b) in bias.iter_mut().enumerate() {
+        let (a, c) = ((i + 1) % 3, (i + 2) % 3);
+        if !is_top_left(x[a], y[a], x[c], y[c]) {
+            *b = -1;
+        }
+    }
+    let unclipped = bary == [Vec3::X, Vec3::Y, Vec3::Z];
+    Some(ScreenTri {
+        shader,
+        x,
+        y,
+        q,
+        z,
+        bary,
+        unclipped,
+        x0: x0 as i32,
+        x1: x1 as i32,
+        y0: y0 as i32,
+        y1: y1 as i32,
+        area,
+        bias,
+    })
+}

@@ -1,0 +1,55 @@
+//! Blinn's perturbed normal (seed 000 §1.2, §2.1).
+
+use glam::Vec3;
+
+/// N' = N + k·(F_u·(N × Pv) − F_v·(N × Pu)), normalised. `n` is unit length;
+/// (fu, fv) are the height derivatives per unit of texture coordinate and
+/// (pu, pv) = ∂P/∂u, ∂P/∂v. A perturbation that cancels the normal (or any
+/// non-finite input) falls back to the unperturbed normal.
+#[inline]
+pub fn blinn(n: Vec3, pu: Vec3, pv: Vec3, fu: f32, fv: f32, k: f32) -> Vec3 {
+    let perturbed = n + k * (fu * n.cross(pv) - fv * n.cross(pu));
+    let len2 = perturbed.length_squared();
+    if len2 > 1e-20 && len2.is_finite() {
+        perturbed / len2.sqrt()
+    } else {
+        n
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // +Z face of the reference cube: U = +X, V = +Y, Pu = 2U, Pv = 2V.
+    const PU: Vec3 = Vec3::new(2.0, 0.0, 0.0);
+    const PV: Vec3 = Vec3::new(0.0, 2.0, 0.0);
+
+    #[test]
+    fn zero_slope_or_zero_strength_keeps_the_normal() {
+        assert_eq!(blinn(Vec3::Z, PU, PV, 0.0, 0.0, 0.006), Vec3::Z);
+        assert_eq!(blinn(Vec3::Z, PU, PV, 50.0, -20.0, 0.0), Vec3::Z);
+    }
+
+    #[test]
+    fn height_rising_along_u_tilts_the_normal_toward_minus_u() {
+        // F_u = 100 per unit of u, k = 0.005: N' = (0,0,1) + 0.005·100·(Z × 2Y) = (−1, 0, 1).
+        let n = blinn(Vec3::Z, PU, PV, 100.0, 0.0, 0.005);
+        let expected = Vec3::new(-1.0, 0.0, 1.0).normalize();
+        assert!((n - expected).length() < 1e-6, "{n}");
+    }
+
+    #[test]
+    fn height_rising_along_v_tilts_the_normal_toward_minus_v() {
+        let n = blinn(Vec3::Z, PU, PV, 0.0, 100.0, 0.005);
+        let expected = Vec3::new(0.0, -1.0, 1.0).normalize();
+        assert!((n - expected).length() < 1e-6, "{n}");
+    }
+
+    #[test]
+    fn huge_strength_stays_unit_and_finite() {
+        let n = blinn(Vec3::Z, PU, PV, 1e30, 1e30, 1e30);
+        assert!(n.is_finite());
+        assert!((n.length() - 1.0).abs() < 1e-5);
+    }
+}

@@ -1,0 +1,179 @@
+//! The pixel kernels and the per-triangle data they read.
+
+use glam::{Vec2, Vec3};
+
+use super::bump::blinn;
+use super::lighting::{diffuse, to_rgb8};
+use crate::framebuffer::Rgb;
+use crate::plan::Plan;
+use crate::stats::Counters;
+use crate::texture::Texture;
+use crate::texture::filter::{Footprint, height_gradient, sample};
+
+/// What every kernel reads besides its triangle.
+pub struct ShadeCtx<'a> {
+    pub plan: &'a Plan,
+    pub texture: &'a Texture,
+}
+
+/// One pixel's colour from the barycentric coordinates `b` of the pixel
+/// centre in the *source* triangle (perspective-correct, summing to 1).
+pub trait PixelShader {
+    /// Whether the kernel reads the texture (and so may want a footprint).
+    const SAMPLES_TEXTURE: bool;
+    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb;
+    /// Texture coordinates at the source triangle's vertices, for footprints.
+    fn uvs(&self) -> Option<&[Vec2; 3]> {
+        None
+    }
+}
+
+#[inline]
+fn lerp3(b: Vec3, v: &[Vec3; 3]) -> Vec3 {
+    v[0] * b.x + v[1] * b.y + v[2] * b.z
+}
+
+#[inline]
+fn lerp2(b: Vec3, v: &[Vec2; 3]) -> Vec2 {
+    v[0] * b.x + v[1] * b.y + v[2] * b.z
+}
+
+#[inline]
+fn rgb(t: [f32; 4]) -> Vec3 {
+    Vec3::new(t[0], t[1], t[2])
+}
+
+/// Per-triangle shading data, one variant per kernel family.
+#[derive(Clone, Debug)]
+pub enum TriShader {
+    /// Flat without texture: the whole triangle is one colour.
+    Solid(Rgb),
+    FlatTextured(TexturedFlatTri),
+    Gouraud(GouraudTri),
+    Phong(PhongTri),
+}
+
+impl PixelShader for Rgb {
+    const SAMPLES_TEXTURE: bool = false;
+    #[inline]
+    fn shade(&self, _: &ShadeCtx, _: Vec3, _: Footprint, counters: &mut Counters) -> Rgb {
+        counters.pixels_shaded += 1;
+        *self
+    }
+}
+
+/// Flat lighting, textured: the facet's lit colour times the texel.
+#[derive(Clone, Debug)]
+pub struct TexturedFlatTri {
+    pub lit: Vec3,
+    pub uv: [Vec2; 3],
+}
+
+impl PixelShader for TexturedFlatTri {
+    const SAMPLES_TEXTURE: bool = true;
+    #[inline]
+    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
+        counters.pixels_shaded += 1;
+        counters.texture_samples += 1;
+        let t = sample(ctx.texture, ctx.plan.filter, lerp2(b, &self.uv), fp);
+        to_rgb8(self.lit * rgb(t))
+    }
+    fn uvs(&self) -> Option<&[Vec2; 3]> {
+        Some(&self.uv)
+    }
+}
+
+/// Gouraud: light computed at the vertices, interpolated with the albedo.
+#[derive(Clone, Debug)]
+pub struct GouraudTri {
+    pub light: [Vec3; 3],
+    pub color: [Vec3; 3],
+    pub uv: [Vec2; 3],
+    pub textured: bool,
+}
+
+/// The Gouraud kernel, with or without texture.
+pub struct GouraudKernel<'a, const TEX: bool>(pub &'a GouraudTri);
+
+impl<const TEX: bool> PixelShader for GouraudKernel<'_, TEX> {
+    const SAMPLES_TEXTURE: bool = TEX;
+    #[inline]
+    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
+        let tri = self.0;
+        counters.pixels_shaded += 1;
+        let mut albedo = lerp3(b, &tri.color);
+        if TEX {
+            counters.texture_samples += 1;
+            albedo *= rgb(sample(ctx.texture, ctx.plan.filter, lerp2(b, &tri.uv), fp));
+        }
+        to_rgb8(albedo * lerp3(b, &tri.light))
+    }
+    fn uvs(&self) -> Option<&[Vec2; 3]> {
+        Some(&self.0.uv)
+    }
+}
+
+/// Phong: normal, position and albedo interpolated; lighting per pixel.
+#[derive(Clone, Debug)]
+pub struct PhongTri {
+    pub position: [Vec3; 3],
+    /// Vertex normals, or three copies of the facet normal.
+    pub normal: [Vec3; 3],
+    /// The facet normal: used as is for face normals, and as the fallback
+    /// when interpolated normals cancel out.
+    pub face_normal: Vec3,
+    pub smooth: bool,
+    pub color: [Vec3; 3],
+    pub uv: [Vec2; 3],
+    /// ∂P/∂u and ∂P/∂v at the vertices (equal on a flat cube face).
+    pub tangent_u: [Vec3; 3],
+    pub tangent_v: [Vec3; 3],
+    /// The three vertex tangents are the same: skip interpolating them.
+    pub uniform_tangents: bool,
+    pub textured: bool,
+    pub bumped: bool,
+}
+
+/// The Phong kernel, with or without texture and Blinn bump.
+pub struct PhongKernel<'a, const TEX: bool, const BUMP: bool>(pub &'a PhongTri);
+
+impl<const TEX: bool, const BUMP: bool> PixelShader for PhongKernel<'_, TEX, BUMP> {
+    const SAMPLES_TEXTURE: bool = TEX || BUMP;
+    #[inline]
+    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
+        let tri = self.0;
+        let plan = ctx.plan;
+        counters.pixels_shaded += 1;
+        let p = lerp3(b, &tri.position);
+        let mut n = if tri.smooth {
+            lerp3(b, &tri.normal).normalize_or(tri.face_normal)
+        } else {
+            tri.face_normal
+        };
+        let mut albedo = lerp3(b, &tri.color);
+        if TEX || BUMP {
+            let uv = lerp2(b, &tri.uv);
+            if TEX {
+                counters.texture_samples += 1;
+                albedo *= rgb(sample(ctx.texture, plan.filter, uv, fp));
+            }
+            if BUMP {
+                counters.bump_evals += 1;
+                let (fu, fv) =
+                    height_gradient(ctx.texture, plan.height_derivative, plan.filter, uv, fp);
+                let (pu, pv) = if tri.uniform_tangents {
+                    (tri.tangent_u[0], tri.tangent_v[0])
+                } else {
+                    (lerp3(b, &tri.tangent_u), lerp3(b, &tri.tangent_v))
+                };
+                n = blinn(n, pu, pv, fu, fv, plan.bump_strength);
+            }
+        }
+        counters.light_evals += plan.lights.len() as u64;
+        let light = diffuse(&plan.lights, plan.ambient, p, n, plan.attenuation);
+        to_rgb8(albedo * light)
+    }
+    fn uvs(&self) -> Option<&[Vec2; 3]> {
+        Some(&self.0.uv)
+    }
+}

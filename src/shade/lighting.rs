@@ -1,0 +1,85 @@
+//! Diffuse lighting: ambient + Σ colour · max(0, N·L).
+
+use glam::Vec3;
+
+use crate::plan::ActiveLight;
+
+/// Distance attenuation 1 / (1 + c·d²); c keeps the reference scene readable
+/// (about 0.6 at the white light's distance).
+pub const ATTENUATION_QUADRATIC: f32 = 0.01;
+
+/// The light reaching a point `p` with unit normal `n` (RGB, not clamped).
+/// A light exactly at `p` (distance 0) has no direction and adds nothing.
+#[inline]
+pub fn diffuse(lights: &[ActiveLight], ambient: Vec3, p: Vec3, n: Vec3, attenuation: bool) -> Vec3 {
+    let mut sum = ambient;
+    for light in lights {
+        let d = light.position - p;
+        let ndl = n.dot(d);
+        // Test the sign before normalising: most back-lit points stop here.
+        if ndl > 0.0 {
+            let len2 = d.length_squared();
+            if len2 > 0.0 && len2.is_finite() {
+                let mut k = ndl / len2.sqrt();
+                if attenuation {
+                    k /= 1.0 + ATTENUATION_QUADRATIC * len2;
+                }
+                sum += light.color * k.min(1.0);
+            }
+        }
+    }
+    sum
+}
+
+/// Clamps to 0..1 and rounds to 8 bits. NaN becomes 0 (`max` drops NaN,
+/// which `clamp` would keep).
+#[inline]
+pub fn to_rgb8(c: Vec3) -> [u8; 3] {
+    #[allow(clippy::manual_clamp)]
+    let q = |x: f32| (x.max(0.0).min(1.0) * 255.0 + 0.5) as u8;
+    [q(c.x), q(c.y), q(c.z)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn light(p: Vec3) -> ActiveLight {
+        ActiveLight {
+            position: p,
+            color: Vec3::ONE,
+        }
+    }
+
+    #[test]
+    fn head_on_light_gives_full_colour() {
+        let l = [light(Vec3::new(0.0, 0.0, 10.0))];
+        let c = diffuse(&l, Vec3::splat(0.1), Vec3::ZERO, Vec3::Z, false);
+        assert!((c - Vec3::splat(1.1)).length() < 1e-6);
+    }
+
+    #[test]
+    fn light_at_the_point_and_behind_adds_nothing() {
+        let l = [light(Vec3::ZERO), light(Vec3::new(0.0, 0.0, -3.0))];
+        assert_eq!(
+            diffuse(&l, Vec3::ZERO, Vec3::ZERO, Vec3::Z, false),
+            Vec3::ZERO
+        );
+    }
+
+    #[test]
+    fn grazing_light_is_zero_and_finite() {
+        let l = [light(Vec3::new(5.0, 0.0, 0.0))];
+        let c = diffuse(&l, Vec3::ZERO, Vec3::ZERO, Vec3::Z, false);
+        assert_eq!(c, Vec3::ZERO);
+    }
+
+    #[test]
+    fn quantisation_rounds_clamps_and_drops_nan() {
+        assert_eq!(to_rgb8(Vec3::new(0.5, 2.0, -1.0)), [128, 255, 0]);
+        assert_eq!(
+            to_rgb8(Vec3::new(f32::NAN, f32::INFINITY, f32::NEG_INFINITY)),
+            [0, 255, 0]
+        );
+    }
+}

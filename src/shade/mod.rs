@@ -1,0 +1,11 @@
+//! Per-pixel colour: flat, Gouraud and Phong kernels, Blinn bump, texturing.
+//!
+//! A `TriShader` is built once per visible triangle with everything its
+//! pixels need; the rasterizer then runs one monomorphised loop per kind, so
+//! the choice of stages is made per draw, never per pixel.
+
+pub mod bump;
+pub mod kernels;
+pub mod lighting;
+
+pub use kernels::{GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, TriShader};

@@ -1,0 +1,31 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use std::sync::Arc;
+
+use relief::render::render_frame;
+use relief::texture::{Texture, procedural};
+use relief::{FrameStats, Framebuffer, Scene, Settings};
+
+/// The reference scene with the built-in brick texture.
+pub fn reference_scene(all_faces: bool) -> Scene {
+    Scene::cube(Arc::new(procedural::brick()), all_faces)
+}
+
+/// The reference scene with a texture of uniform colour and height.
+pub fn plain_scene(texel: [f32; 4], all_faces: bool) -> Scene {
+    let level = relief::texture::Level::solid(4, 4, texel);
+    Scene::cube(Arc::new(Texture::new("plain", level)), all_faces)
+}
+
+pub fn render(scene: &Scene, settings: &Settings, w: usize, h: usize) -> (Framebuffer, FrameStats) {
+    render_frame(scene, settings, w, h)
+}
+
+/// Pixels that are not the background.
+pub fn covered(scene: &Scene, fb: &Framebuffer) -> usize {
+    fb.pixels()
+        .iter()
+        .filter(|&&p| p != scene.background)
+        .count()
+}
