@@ -6,13 +6,13 @@ use std::time::Instant;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::framebuffer::{Framebuffer, Rgb};
+use crate::framebuffer::Framebuffer;
 use crate::plan::Plan;
 use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, raster_triangle, setup};
 use crate::scene::{Scene, rotation_matrix};
 use crate::settings::{Settings, Shading};
 use crate::shade::kernels::{GouraudKernel, PhongKernel};
-use crate::shade::lighting::{diffuse, to_rgb8};
+use crate::shade::lighting::{diffuse, finish};
 use crate::shade::{GouraudTri, PhongTri, ShadeCtx, TexturedFlatTri, TriShader};
 use crate::stats::{Counters, FrameStats};
 
@@ -78,6 +78,21 @@ impl Renderer {
         stats.raster_time = raster_start.elapsed();
         stats.counters = counters;
         stats
+    }
+
+    /// The screen triangles of a frame (after culling, clipping and setup),
+    /// with the plan and shaders they go with: for tests that rasterize
+    /// triangles one by one.
+    pub fn screen_triangles(
+        &mut self,
+        scene: &Scene,
+        settings: &Settings,
+        width: usize,
+        height: usize,
+    ) -> (&[ScreenTri], &[TriShader]) {
+        let plan = Plan::new(scene, settings);
+        self.prepare(scene, settings, &plan, width, height);
+        (&self.tris, &self.shaders)
     }
 
     /// Transforms vertices, culls, clips, sets triangles up and builds their
@@ -259,7 +274,7 @@ impl Renderer {
 }
 
 /// Runs the pixel loop monomorphised for the triangle's kernel.
-fn draw_triangle(
+pub fn draw_triangle(
     tri: &ScreenTri,
     shader: &TriShader,
     ctx: &ShadeCtx,
@@ -331,7 +346,7 @@ fn build_shader(
             if textured {
                 TriShader::FlatTextured(TexturedFlatTri { lit, uv })
             } else {
-                TriShader::Solid(to_rgb8(lit))
+                TriShader::Solid(finish(lit, counters))
             }
         }
         Shading::Gouraud => {
@@ -395,9 +410,4 @@ pub fn render_frame(
     let mut fb = Framebuffer::new(width, height);
     let stats = Renderer::new().render(scene, settings, &mut fb);
     (fb, stats)
-}
-
-/// The background colour, exposed for tests that count covered pixels.
-pub fn is_background(scene: &Scene, pixel: Rgb) -> bool {
-    pixel == scene.background
 }

@@ -27,6 +27,8 @@ pub struct Counters {
     pub shadow_texels: u64,
     /// Shadow-map lookups.
     pub shadow_lookups: u64,
+    /// Colours that were NaN or infinite before quantisation (must stay 0).
+    pub nonfinite: u64,
 }
 
 impl AddAssign for Counters {
@@ -41,6 +43,7 @@ impl AddAssign for Counters {
         self.mip_builds += o.mip_builds;
         self.shadow_texels += o.shadow_texels;
         self.shadow_lookups += o.shadow_lookups;
+        self.nonfinite += o.nonfinite;
     }
 }
 

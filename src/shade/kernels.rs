@@ -3,7 +3,7 @@
 use glam::{Vec2, Vec3};
 
 use super::bump::blinn;
-use super::lighting::{diffuse, to_rgb8};
+use super::lighting::{diffuse, finish};
 use crate::framebuffer::Rgb;
 use crate::plan::Plan;
 use crate::stats::Counters;
@@ -76,7 +76,7 @@ impl PixelShader for TexturedFlatTri {
         counters.pixels_shaded += 1;
         counters.texture_samples += 1;
         let t = sample(ctx.texture, ctx.plan.filter, lerp2(b, &self.uv), fp);
-        to_rgb8(self.lit * rgb(t))
+        finish(self.lit * rgb(t), counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.uv)
@@ -106,7 +106,7 @@ impl<const TEX: bool> PixelShader for GouraudKernel<'_, TEX> {
             counters.texture_samples += 1;
             albedo *= rgb(sample(ctx.texture, ctx.plan.filter, lerp2(b, &tri.uv), fp));
         }
-        to_rgb8(albedo * lerp3(b, &tri.light))
+        finish(albedo * lerp3(b, &tri.light), counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
@@ -171,7 +171,7 @@ impl<const TEX: bool, const BUMP: bool> PixelShader for PhongKernel<'_, TEX, BUM
         }
         counters.light_evals += plan.lights.len() as u64;
         let light = diffuse(&plan.lights, plan.ambient, p, n, plan.attenuation);
-        to_rgb8(albedo * light)
+        finish(albedo * light, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)

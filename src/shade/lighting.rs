@@ -31,6 +31,16 @@ pub fn diffuse(lights: &[ActiveLight], ambient: Vec3, p: Vec3, n: Vec3, attenuat
     sum
 }
 
+/// Quantises a shaded colour, counting any non-finite one (tests assert
+/// the count stays 0; the pixel still gets a defined value).
+#[inline]
+pub fn finish(c: Vec3, counters: &mut crate::stats::Counters) -> [u8; 3] {
+    if !c.is_finite() {
+        counters.nonfinite += 1;
+    }
+    to_rgb8(c)
+}
+
 /// Clamps to 0..1 and rounds to 8 bits. NaN becomes 0 (`max` drops NaN,
 /// which `clamp` would keep).
 #[inline]

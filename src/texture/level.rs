@@ -17,16 +17,45 @@ fn wrap(i: i64, n: usize) -> usize {
     i.rem_euclid(n as i64) as usize
 }
 
-/// Turns a texture coordinate into a texel-space position, robust to any
-/// float: NaN and infinities map to 0 and huge values keep their fraction.
+/// The fractional part of t in [0, 1), without a libm `floor` call (baseline
+/// x86-64 has no rounding instruction). NaN and infinities map to 0; huge
+/// values (no fraction left) also map to 0.
 #[inline]
-fn to_texel_space(t: f32, n: usize) -> f32 {
-    if !t.is_finite() {
+fn fract01(t: f32) -> f32 {
+    if !(t.abs() < 8_388_608.0) {
+        // |t| ≥ 2^23 has no fractional bits; NaN fails the comparison too.
         return 0.0;
     }
+    // SAFETY: |t| < 2^23 (checked above), so t truncates to an in-range i32;
+    // the unchecked cast skips the saturating checks in the hottest path.
+    let f = t - unsafe { t.to_int_unchecked::<i32>() } as f32;
+    let f = if f < 0.0 { f + 1.0 } else { f };
+    // f + 1.0 can round up to exactly 1.0 for tiny negative fractions.
+    if f >= 1.0 { 0.0 } else { f }
+}
+
+/// Turns a texture coordinate into a texel-space position in [0, n),
+/// robust to any float.
+#[inline]
+fn to_texel_space(t: f32, n: usize) -> f32 {
     // Keep only the fraction first so that huge t does not lose every bit of
     // position once multiplied by n.
-    (t - t.floor()) * n as f32
+    let x = fract01(t) * n as f32;
+    if x < n as f32 { x } else { 0.0 }
+}
+
+/// floor(x) for −1 ≤ x < 2^23 (texel-space positions), as an integer, without libm.
+#[inline]
+fn floor_small(x: f32) -> i64 {
+    debug_assert!((-1.0..8_388_608.0).contains(&x));
+    if x < 0.0 {
+        -1
+    } else if x < 8_388_608.0 {
+        // SAFETY: 0 ≤ x < 2^23 fits an i32.
+        (unsafe { x.to_int_unchecked::<i32>() }) as i64
+    } else {
+        0
+    }
 }
 
 impl Level {
@@ -76,21 +105,55 @@ impl Level {
         self.texels[y * self.width + x]
     }
 
+    /// The bilinear neighbourhood of (u, v): the storage indices of the
+    /// texel columns x0 − 1 .. x0 + 2 and row starts y0 − 1 .. y0 + 2
+    /// (wrapped), where (x0, y0) is the texel centre just below-left of the
+    /// point, and the fractions (fx, fy) between x0 and x0 + 1, y0 and y0 + 1.
+    /// No division: the coordinate is already reduced to one period.
+    #[inline]
+    fn neighbourhood(&self, u: f32, v: f32) -> ([usize; 4], [usize; 4], f32, f32) {
+        let (w, h) = (self.width, self.height);
+        let x = to_texel_space(u, w) - 0.5;
+        let y = to_texel_space(v, h) - 0.5;
+        // x lies in [−0.5, w − 0.5), so its floor is −1 ..= w − 1.
+        let xi = floor_small(x).min(w as i64 - 1);
+        let yi = floor_small(y).min(h as i64 - 1);
+        let (xf, yf) = (xi as f32, yi as f32);
+        // Indices reach at most 2 past either end: one add or subtract wraps
+        // them, except on a 1-texel axis where every index is 0.
+        #[inline]
+        fn around(i: i64, n: usize) -> [usize; 4] {
+            let n = n as i64;
+            if i >= 1 && i + 2 < n {
+                // Away from the borders (nearly every read): no wrapping.
+                let i = i as usize;
+                return [i - 1, i, i + 1, i + 2];
+            }
+            [i - 1, i, i + 1, i + 2].map(|k| {
+                if n == 1 {
+                    0
+                } else if k < 0 {
+                    (k + n) as usize
+                } else if k >= n {
+                    (k - n) as usize
+                } else {
+                    k as usize
+                }
+            })
+        }
+        let cols = around(xi, w);
+        let rows = around(yi, h).map(|r| r * w);
+        (cols, rows, x - xf, y - yf)
+    }
+
     /// Bilinear interpolation between the four texel centres around (u, v),
     /// wrapping at the borders.
     #[inline]
     pub fn bilinear(&self, u: f32, v: f32) -> Texel {
-        let x = to_texel_space(u, self.width) - 0.5;
-        let y = to_texel_space(v, self.height) - 0.5;
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let (xi, yi) = (x0 as i64, y0 as i64);
-        let xa = wrap(xi, self.width);
-        let xb = wrap(xi + 1, self.width);
-        let ra = wrap(yi, self.height) * self.width;
-        let rb = wrap(yi + 1, self.height) * self.width;
-        let (t00, t10) = (self.texels[ra + xa], self.texels[ra + xb]);
-        let (t01, t11) = (self.texels[rb + xa], self.texels[rb + xb]);
+        let (cols, rows, fx, fy) = self.neighbourhood(u, v);
+        let t = &self.texels;
+        let (t00, t10) = (t[rows[1] + cols[1]], t[rows[1] + cols[2]]);
+        let (t01, t11) = (t[rows[2] + cols[1]], t[rows[2] + cols[2]]);
         let mut out = [0.0; 4];
         for c in 0..4 {
             let top = t00[c] + (t10[c] - t00[c]) * fx;
@@ -103,19 +166,26 @@ impl Level {
     /// Bilinear height alone (channel 3).
     #[inline]
     pub fn bilinear_height(&self, u: f32, v: f32) -> f32 {
-        let x = to_texel_space(u, self.width) - 0.5;
-        let y = to_texel_space(v, self.height) - 0.5;
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let (xi, yi) = (x0 as i64, y0 as i64);
-        let xa = wrap(xi, self.width);
-        let xb = wrap(xi + 1, self.width);
-        let ra = wrap(yi, self.height) * self.width;
-        let rb = wrap(yi + 1, self.height) * self.width;
-        let h00 = self.texels[ra + xa][3];
-        let h10 = self.texels[ra + xb][3];
-        let h01 = self.texels[rb + xa][3];
-        let h11 = self.texels[rb + xb][3];
+        let (cols, rows, fx, fy) = self.neighbourhood(u, v);
+        self.height_quad(&cols, &rows, 1, 1, fx, fy)
+    }
+
+    /// Bilinear height between columns cols[i], cols[i+1] and rows rows[j], rows[j+1].
+    #[inline]
+    fn height_quad(
+        &self,
+        cols: &[usize; 4],
+        rows: &[usize; 4],
+        i: usize,
+        j: usize,
+        fx: f32,
+        fy: f32,
+    ) -> f32 {
+        let t = &self.texels;
+        let h00 = t[rows[j] + cols[i]][3];
+        let h10 = t[rows[j] + cols[i + 1]][3];
+        let h01 = t[rows[j + 1] + cols[i]][3];
+        let h11 = t[rows[j + 1] + cols[i + 1]][3];
         let top = h00 + (h10 - h00) * fx;
         let bottom = h01 + (h11 - h01) * fx;
         top + (bottom - top) * fy
@@ -139,17 +209,19 @@ impl Level {
 
     /// ∂F/∂u and ∂F/∂v per unit of texture coordinate from bilinear heights
     /// one texel either side: (F(u+δ) − F(u−δ)) / 2δ with δ = one texel.
-    /// Continuous in (u, v), so a magnified bump map shades smoothly.
+    /// Continuous in (u, v), so a magnified bump map shades smoothly. The
+    /// four bilinear reads share one neighbourhood (12 texels).
+    #[inline]
     pub fn height_gradient_filtered(&self, u: f32, v: f32) -> (f32, f32) {
-        let du = 1.0 / self.width as f32;
-        let dv = 1.0 / self.height as f32;
-        let fu = (self.bilinear_height(u + du, v) - self.bilinear_height(u - du, v))
-            * 0.5
-            * self.width as f32;
-        let fv = (self.bilinear_height(u, v + dv) - self.bilinear_height(u, v - dv))
-            * 0.5
-            * self.height as f32;
-        (fu, fv)
+        let (cols, rows, fx, fy) = self.neighbourhood(u, v);
+        let east = self.height_quad(&cols, &rows, 2, 1, fx, fy);
+        let west = self.height_quad(&cols, &rows, 0, 1, fx, fy);
+        let north = self.height_quad(&cols, &rows, 1, 2, fx, fy);
+        let south = self.height_quad(&cols, &rows, 1, 0, fx, fy);
+        (
+            (east - west) * 0.5 * self.width as f32,
+            (north - south) * 0.5 * self.height as f32,
+        )
     }
 
     /// Halves the level (box filter, odd sizes handled by weighting the
