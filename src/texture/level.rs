@@ -22,7 +22,7 @@ fn wrap(i: i64, n: usize) -> usize {
 /// values (no fraction left) also map to 0.
 #[inline]
 fn fract01(t: f32) -> f32 {
-    if !(t.abs() < 8_388_608.0) {
+    if t.is_nan() || t.abs() >= 8_388_608.0 {
         // |t| ≥ 2^23 has no fractional bits; NaN fails the comparison too.
         return 0.0;
     }
