@@ -1,0 +1,497 @@
+//! DESIGN.md's hard cases for the renderer, one named test each, plus a
+//! property test over orientations and every mode combination.
+
+mod common;
+
+use std::sync::Arc;
+
+use common::*;
+use glam::{Mat4, Vec2, Vec3};
+use proptest::prelude::*;
+use relief::scene::{Camera, Light, Mesh, Object, Triangle, Vertex};
+use relief::settings::{Filter, HeightDerivative, Normals, Settings, Shading};
+use relief::texture::{Level, Texture};
+use relief::{Framebuffer, Renderer, Scene};
+
+fn front(settings: Settings) -> Settings {
+    Settings {
+        rotation: Vec3::ZERO,
+        ..settings
+    }
+}
+
+fn with_camera(mut scene: Scene, eye: Vec3, target: Vec3) -> Scene {
+    scene.camera = Camera {
+        eye,
+        target,
+        ..Camera::default()
+    };
+    scene
+}
+
+/// A scene holding one object made of the given triangles.
+fn mesh_scene(vertices: Vec<Vertex>, triangles: Vec<[u32; 3]>) -> Scene {
+    let mut scene = reference_scene(true);
+    let triangles = triangles
+        .into_iter()
+        .map(|indices| {
+            let p = indices.map(|i| vertices[i as usize].position);
+            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or(Vec3::Z);
+            Triangle {
+                indices,
+                face_normal: n,
+                face_tangent_u: Vec3::X,
+                face_tangent_v: Vec3::Y,
+                facet_center: (p[0] + p[1] + p[2]) / 3.0,
+                facet_color: Vec3::ONE,
+                textured: true,
+            }
+        })
+        .collect();
+    scene.objects = vec![Object {
+        mesh: Mesh {
+            vertices,
+            triangles,
+            convex: true,
+            closed: false,
+        },
+        transform: Mat4::IDENTITY,
+        rotates: true,
+    }];
+    scene
+}
+
+fn vertex(p: Vec3, n: Vec3) -> Vertex {
+    Vertex {
+        position: p,
+        normal: n,
+        uv: Vec2::new(p.x * 0.5 + 0.5, p.y * 0.5 + 0.5),
+        color: Vec3::ONE,
+        tangent_u: Vec3::X,
+        tangent_v: Vec3::Y,
+    }
+}
+
+fn clean(stats: &relief::FrameStats) {
+    assert_eq!(
+        stats.counters.nonfinite, 0,
+        "a NaN or infinite colour was shaded"
+    );
+}
+
+#[test]
+fn triangles_crossing_the_near_plane_are_clipped_not_dropped() {
+    // The eye 0.2 above the +Z face, looking almost along it: the near plane
+    // cuts the face, part of which lies behind the eye.
+    let scene = with_camera(
+        reference_scene(false),
+        Vec3::new(0.0, 0.0, 1.2),
+        Vec3::new(5.0, 0.0, 0.45),
+    );
+    let (fb, stats) = render(&scene, &front(Settings::default()), 160, 120);
+    clean(&stats);
+    assert!(stats.counters.triangles_clipped > 0);
+    // The camera's right is about +Z, so the face (below the eye in z)
+    // fills the left of the view, in perspective; the right stays empty.
+    let left = (0..120).all(|y| fb.get(0, y) != scene.background);
+    let right = (0..120).all(|y| fb.get(159, y) == scene.background);
+    assert!(left && right);
+}
+
+#[test]
+fn geometry_behind_the_camera_draws_nothing() {
+    let scene = with_camera(
+        reference_scene(false),
+        Vec3::new(0.0, 0.0, 5.0),
+        Vec3::new(0.0, 0.0, 10.0),
+    );
+    let (fb, stats) = render(&scene, &Settings::default(), 160, 120);
+    clean(&stats);
+    assert_eq!(covered(&scene, &fb), 0);
+    assert_eq!(stats.counters.pixels_shaded, 0);
+}
+
+#[test]
+fn camera_inside_the_cube_sees_only_back_faces_and_draws_nothing() {
+    // Faces are culled from inside (the cube is closed and seen from outside only).
+    let scene = with_camera(
+        reference_scene(false),
+        Vec3::new(0.2, -0.1, 0.5),
+        Vec3::new(0.0, 0.0, -1.0),
+    );
+    for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+        let (fb, stats) = render(
+            &scene,
+            &Settings {
+                shading,
+                ..Settings::default()
+            },
+            64,
+            48,
+        );
+        clean(&stats);
+        assert_eq!(covered(&scene, &fb), 0);
+    }
+}
+
+#[test]
+fn zero_area_and_collinear_triangles_draw_nothing() {
+    let n = Vec3::Z;
+    let v = vec![
+        vertex(Vec3::new(-1.0, -1.0, 0.0), n),
+        vertex(Vec3::new(1.0, 1.0, 0.0), n),
+        vertex(Vec3::new(0.0, 0.0, 0.0), n),
+        vertex(Vec3::new(0.5, 0.5, 0.0), n),
+    ];
+    // Repeated vertex, and three collinear points.
+    let scene = mesh_scene(v, vec![[0, 0, 1], [0, 1, 2], [0, 2, 3]]);
+    let (fb, stats) = render(&scene, &front(Settings::default()), 64, 48);
+    clean(&stats);
+    assert_eq!(covered(&scene, &fb), 0);
+}
+
+#[test]
+fn slivers_draw_at_most_a_line_of_pixels() {
+    let n = Vec3::Z;
+    let v = vec![
+        vertex(Vec3::new(-1.5, -1.0, 0.0), n),
+        vertex(Vec3::new(1.5, 1.0, 0.0), n),
+        vertex(Vec3::new(1.5, 1.0001, 0.0), n),
+    ];
+    let scene = mesh_scene(v, vec![[0, 1, 2]]);
+    let (fb, stats) = render(&scene, &front(Settings::default()), 160, 120);
+    clean(&stats);
+    assert!(covered(&scene, &fb) <= 4);
+}
+
+#[test]
+fn huge_coordinates_are_clipped_without_overflow() {
+    let n = Vec3::Z;
+    let huge = |s: f32| {
+        vec![
+            vertex(Vec3::new(-s, -s, 0.0), n),
+            vertex(Vec3::new(s, -s, 0.0), n),
+            vertex(Vec3::new(0.0, s, 0.0), n),
+            vertex(Vec3::new(f32::NAN, 0.0, 0.0), n),
+            vertex(Vec3::new(f32::INFINITY, 1.0, 0.0), n),
+        ]
+    };
+    let tris = vec![[0, 1, 2], [0, 3, 4], [2, 4, 1]];
+    // A triangle a million units wide covers the whole view exactly; the
+    // NaN and infinite ones draw nothing.
+    let scene = mesh_scene(huge(1e6), tris.clone());
+    let (fb, stats) = render(&scene, &front(Settings::default()), 64, 48);
+    clean(&stats);
+    assert_eq!(covered(&scene, &fb), 64 * 48);
+    // At 1e30 clip-space positions keep no precision at all (f32 spacing
+    // there is ~1e23): the result must still be finite and in bounds.
+    let scene = mesh_scene(huge(1e30), tris);
+    for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+        let (_, stats) = render(
+            &scene,
+            &front(Settings {
+                shading,
+                ..Settings::default()
+            }),
+            64,
+            48,
+        );
+        clean(&stats);
+    }
+}
+
+#[test]
+fn normals_that_interpolate_to_zero_fall_back_to_the_facet() {
+    // Opposite vertex normals cancel in the middle of the triangle.
+    let v = vec![
+        vertex(Vec3::new(-1.0, -1.0, 0.0), Vec3::X),
+        vertex(Vec3::new(1.0, -1.0, 0.0), Vec3::NEG_X),
+        vertex(Vec3::new(0.0, 1.0, 0.0), Vec3::ZERO),
+    ];
+    let scene = mesh_scene(v, vec![[0, 1, 2]]);
+    for shading in [Shading::Gouraud, Shading::Phong] {
+        let (fb, stats) = render(
+            &scene,
+            &front(Settings {
+                shading,
+                ..Settings::default()
+            }),
+            64,
+            48,
+        );
+        clean(&stats);
+        assert!(covered(&scene, &fb) > 100);
+    }
+}
+
+#[test]
+fn light_at_the_shaded_point_and_grazing_light_stay_finite() {
+    let mut scene = reference_scene(false);
+    // A light exactly on the front face's centre, one grazing the face.
+    scene
+        .lights
+        .push(Light::new(Vec3::new(0.0, 0.0, 1.0), Vec3::ONE));
+    scene
+        .lights
+        .push(Light::new(Vec3::new(50.0, 0.0, 1.0), Vec3::ONE));
+    for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+        let (_, stats) = render(
+            &scene,
+            &front(Settings {
+                shading,
+                ..Settings::default()
+            }),
+            80,
+            60,
+        );
+        clean(&stats);
+    }
+}
+
+#[test]
+fn many_lights_saturate_to_white_without_overflow() {
+    let mut scene = reference_scene(false);
+    for i in 0..64 {
+        scene.lights.push(Light::new(
+            Vec3::new(i as f32 - 32.0, 10.0, 20.0),
+            Vec3::ONE,
+        ));
+    }
+    let settings = front(Settings {
+        colors: false,
+        texture: false,
+        ..Settings::default()
+    });
+    let (fb, stats) = render(&scene, &settings, 80, 60);
+    clean(&stats);
+    assert_eq!(fb.get(40, 30), [255, 255, 255]);
+}
+
+#[test]
+fn bump_strength_zero_equals_bump_off_and_huge_strength_stays_finite() {
+    let scene = reference_scene(true);
+    let off = render(
+        &scene,
+        &Settings {
+            bump: false,
+            ..Settings::default()
+        },
+        160,
+        120,
+    )
+    .0;
+    let zero = render(
+        &scene,
+        &Settings {
+            bump_strength: 0.0,
+            ..Settings::default()
+        },
+        160,
+        120,
+    )
+    .0;
+    assert_eq!(off, zero);
+    for k in [1e6f32, f32::MAX] {
+        let (fb, stats) = render(
+            &scene,
+            &Settings {
+                bump_strength: k,
+                ..Settings::default()
+            },
+            160,
+            120,
+        );
+        clean(&stats);
+        assert_eq!(covered(&scene, &fb), covered(&scene, &off));
+    }
+}
+
+#[test]
+fn angles_of_a_billion_degrees_nan_and_infinity_are_stable() {
+    let scene = reference_scene(false);
+    let at = |r: Vec3| {
+        render(
+            &scene,
+            &Settings {
+                rotation: r,
+                ..Settings::default()
+            },
+            80,
+            60,
+        )
+        .0
+    };
+    // 1e9 is exact in f32 and 1e9 mod 360 = 280.
+    assert_eq!(at(Vec3::new(1e9, 0.0, 0.0)), at(Vec3::new(280.0, 0.0, 0.0)));
+    assert_eq!(
+        at(Vec3::new(f32::NAN, 35.0, 0.0)),
+        at(Vec3::new(0.0, 35.0, 0.0))
+    );
+    assert_eq!(
+        at(Vec3::new(25.0, f32::INFINITY, f32::NEG_INFINITY)),
+        at(Vec3::new(25.0, 0.0, 0.0))
+    );
+    assert_eq!(
+        at(Vec3::new(-90.0, 0.0, 0.0)),
+        at(Vec3::new(270.0, 0.0, 0.0))
+    );
+}
+
+#[test]
+fn degenerate_and_extreme_framebuffer_sizes() {
+    let scene = reference_scene(false);
+    let settings = Settings::default();
+    let mut renderer = Renderer::new();
+    for (w, h) in [(0, 0), (0, 10), (10, 0), (1, 1), (1, 300), (300, 1), (2, 3)] {
+        let mut fb = Framebuffer::new(w, h);
+        let stats = renderer.render(&scene, &settings, &mut fb);
+        clean(&stats);
+        assert_eq!(fb.pixels().len(), w * h);
+    }
+    // 1×1 looks at the cube's middle: covered.
+    let (fb, _) = render(&scene, &settings, 1, 1);
+    assert_ne!(fb.get(0, 0), scene.background);
+    // Very large: the cube's coverage scales with the area (within 1%).
+    let (big, stats) = render(&scene, &Settings::default(), 3200, 2400);
+    clean(&stats);
+    let ratio = covered(&scene, &big) as f64 / (11_741.0 * 100.0);
+    assert!((ratio - 1.0).abs() < 0.01, "{ratio}");
+}
+
+#[test]
+fn the_same_bits_for_any_number_of_threads() {
+    let scene = reference_scene(true);
+    for settings in [
+        Settings::default(),
+        Settings {
+            shading: Shading::Gouraud,
+            ..Settings::default()
+        },
+        Settings {
+            shading: Shading::Flat,
+            texture: false,
+            ..Settings::default()
+        },
+    ] {
+        let frames: Vec<_> = [1, 2, 3, 8]
+            .iter()
+            .map(|&n| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .unwrap();
+                pool.install(|| render(&scene, &settings, 640, 480))
+            })
+            .collect();
+        for (fb, stats) in &frames[1..] {
+            assert_eq!(fb, &frames[0].0);
+            assert_eq!(stats.counters, frames[0].1.counters);
+        }
+    }
+}
+
+#[test]
+fn resizing_a_reused_renderer_gives_the_same_frame_as_a_fresh_one() {
+    let scene = reference_scene(true);
+    let settings = Settings::default();
+    let mut renderer = Renderer::new();
+    let mut fb = Framebuffer::new(640, 480);
+    renderer.render(&scene, &settings, &mut fb);
+    fb.resize(200, 150);
+    renderer.render(&scene, &settings, &mut fb);
+    assert_eq!(fb, render(&scene, &settings, 200, 150).0);
+}
+
+/// One texel high, non-power-of-two and 1×1 textures render everywhere.
+#[test]
+fn tiny_and_odd_textures_render() {
+    for (w, h) in [(1, 1), (3, 1), (1, 5), (7, 13)] {
+        let texels = (0..w * h)
+            .map(|i| [0.5, 0.4, 0.3, (i % 3) as f32 / 2.0])
+            .collect();
+        let tex = Texture::new(
+            "odd",
+            Level {
+                width: w,
+                height: h,
+                texels,
+            },
+        );
+        let scene = Scene::cube(Arc::new(tex), true);
+        for height_derivative in [HeightDerivative::Texel, HeightDerivative::Filtered] {
+            for filter in [Filter::Nearest, Filter::Bilinear] {
+                let s = Settings {
+                    height_derivative,
+                    filter,
+                    ..Settings::default()
+                };
+                let (fb, stats) = render(&scene, &s, 80, 60);
+                clean(&stats);
+                assert!(covered(&scene, &fb) > 500);
+            }
+        }
+    }
+}
+
+fn any_settings() -> impl Strategy<Value = Settings> {
+    (
+        0..3usize,
+        any::<bool>(),
+        any::<bool>(),
+        any::<bool>(),
+        any::<bool>(),
+        prop_oneof![Just(0.0f32), Just(0.006), 0.0f32..10.0, Just(1e9)],
+        (any::<bool>(), any::<bool>()),
+        (any::<bool>(), any::<bool>()),
+    )
+        .prop_map(
+            |(shading, face, texture, colors, bump, k, (nearest, texel), (lights, att))| Settings {
+                shading: [Shading::Flat, Shading::Gouraud, Shading::Phong][shading],
+                normals: if face { Normals::Face } else { Normals::Vertex },
+                texture,
+                colors,
+                bump,
+                bump_strength: k,
+                filter: if nearest {
+                    Filter::Nearest
+                } else {
+                    Filter::Bilinear
+                },
+                height_derivative: if texel {
+                    HeightDerivative::Texel
+                } else {
+                    HeightDerivative::Filtered
+                },
+                lights,
+                attenuation: att,
+                ..Settings::default()
+            },
+        )
+}
+
+fn any_angle() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        8 => -720.0f32..720.0,
+        1 => prop_oneof![Just(1e9f32), Just(-1e12), Just(f32::NAN), Just(f32::INFINITY), Just(f32::MAX)],
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    #[test]
+    fn no_nan_and_a_sane_coverage_for_any_orientation_and_modes(
+        settings in any_settings(),
+        rx in any_angle(), ry in any_angle(), rz in any_angle(),
+        all_faces in any::<bool>(),
+    ) {
+        let scene = reference_scene(all_faces);
+        let settings = Settings { rotation: Vec3::new(rx, ry, rz), ..settings };
+        let (fb, stats) = render(&scene, &settings, 64, 48);
+        prop_assert_eq!(stats.counters.nonfinite, 0);
+        // The cube at 5 units always covers between ~6% and ~25% of the view.
+        let c = covered(&scene, &fb);
+        prop_assert!((150..800).contains(&c), "covered {}", c);
+        prop_assert_eq!(stats.counters.pixels_shaded as usize, c);
+    }
+}
