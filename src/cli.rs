@@ -99,10 +99,10 @@ pub struct ViewArgs {
     #[arg(long, value_enum, default_value_t = Toggle::On)]
     pub bump: Toggle,
     /// Bump strength k (Blinn); 0 means no bump.
-    #[arg(long, default_value_t = crate::settings::DEFAULT_BUMP_STRENGTH, value_parser = parse_strength)]
+    #[arg(long, default_value_t = crate::settings::DEFAULT_BUMP_STRENGTH, value_parser = parse_strength, allow_hyphen_values = true)]
     pub bump_strength: f32,
     /// Model rotation in degrees about X, then Y, then Z.
-    #[arg(long, value_name = "X,Y,Z", default_value = "25,35,0", value_parser = parse_rotation)]
+    #[arg(long, value_name = "X,Y,Z", default_value = "25,35,0", value_parser = parse_rotation, allow_hyphen_values = true)]
     pub rotate: Vec3,
     /// Map the texture on all six faces of the cube (default: front and back).
     #[arg(long)]

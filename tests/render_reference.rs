@@ -262,3 +262,52 @@ proptest! {
         prop_assert!((count - area).abs() < perimeter * 0.5 + 2.0, "count {}, area {}", count, area);
     }
 }
+
+/// A height map rising linearly along u (F = u, so ∂F/∂u = 1), any colour.
+fn ramp_scene() -> Scene {
+    let w = 64;
+    let texels = (0..w * 4)
+        .map(|i| [0.8, 0.8, 0.8, ((i % w) as f32 + 0.5) / w as f32])
+        .collect();
+    let level = relief::texture::Level {
+        width: w,
+        height: 4,
+        texels,
+    };
+    Scene::cube(
+        std::sync::Arc::new(relief::texture::Texture::new("ramp", level)),
+        false,
+    )
+}
+
+#[test]
+fn blinn_bump_on_a_ramp_tilts_the_normal_as_the_formula_says() {
+    // N' = N + k·(F_u·(N × Pv) − F_v·(N × Pu)) with N = Z, Pu = 2X, Pv = 2Y,
+    // F_u = 1, F_v = 0: N' = (−2k, 0, 1), normalised.
+    let scene = ramp_scene();
+    let k = 0.25f32;
+    for derivative in [
+        relief::settings::HeightDerivative::Texel,
+        relief::settings::HeightDerivative::Filtered,
+    ] {
+        let settings = front_view(Settings {
+            normals: Normals::Face,
+            colors: false,
+            texture: false,
+            bump_strength: k,
+            height_derivative: derivative,
+            ..Settings::default()
+        });
+        let (fb, _) = render(&scene, &settings, W, H);
+        let n = DVec3::new(-2.0 * k as f64, 0.0, 1.0).normalize();
+        for (px, py) in [(160, 120), (150, 110), (170, 128)] {
+            let p = front_face_point(px, py);
+            let want = quantise(light_at(p, n));
+            assert!(
+                close(fb.get(px, py), want),
+                "{derivative:?} ({px},{py}): {:?} vs {want:?}",
+                fb.get(px, py)
+            );
+        }
+    }
+}
