@@ -35,6 +35,12 @@ pub struct Cli {
 pub enum Command {
     /// Render one frame headless and write it as a PNG (or as half-block text with --ansi).
     Render(RenderArgs),
+    /// Write the built-in textures as PNGs into DIR (how `assets/` is made).
+    #[command(hide = true)]
+    Assets {
+        #[arg(value_name = "DIR")]
+        dir: PathBuf,
+    },
 }
 
 #[derive(Args, Debug)]
@@ -113,6 +119,9 @@ pub struct ViewArgs {
     /// Height derivative of the bump stage: the documented per-texel one or a filtered one.
     #[arg(long, value_enum, default_value_t = HeightDerivative::Filtered)]
     pub height_derivative: HeightDerivative,
+    /// Separate height (bump) map for the texture: its alpha, or the mean of its RGB.
+    #[arg(long, value_name = "PATH")]
+    pub height_map: Option<PathBuf>,
 }
 
 impl ViewArgs {

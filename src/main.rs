@@ -15,6 +15,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
+        Some(Command::Assets { dir }) => write_assets(&dir),
         None => Err(anyhow::anyhow!("the interactive view is not built yet")),
     };
     match result {
@@ -28,20 +29,11 @@ fn main() -> ExitCode {
 
 /// `relief render`: one frame, to a PNG or to stdout as half-block text.
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
-    let texture = match &args.image {
-        Some(path) => {
-            let img = image::open(path)
-                .with_context(|| format!("cannot load {}", relief::sanitize::display_path(path)))?;
-            let rgba = img.to_rgba8();
-            relief::texture::Texture::from_rgba8(
-                relief::sanitize::display_path(path),
-                rgba.width() as usize,
-                rgba.height() as usize,
-                rgba.as_raw(),
-            )
-        }
-        None => relief::texture::procedural::brick(),
-    };
+    // Errors name the file and are already free of control characters.
+    let texture = relief::texture::load::load_for_view(
+        args.image.as_deref(),
+        args.view.height_map.as_deref(),
+    )?;
     let scene = Scene::cube(Arc::new(texture), args.view.all_faces);
     let settings = args.view.settings();
     let mut fb = Framebuffer::new(args.width as usize, args.height as usize);
@@ -54,6 +46,15 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let out = args.out.as_ref().context("--out FILE.png is required")?;
     fb.save_png(out)
+}
+
+/// `relief assets DIR` (hidden): writes the built-in textures as PNGs; this
+/// is how `assets/` is made.
+fn write_assets(dir: &std::path::Path) -> anyhow::Result<()> {
+    for path in relief::texture::builtin::write_assets(dir)? {
+        println!("{}", relief::sanitize::display_path(&path));
+    }
+    Ok(())
 }
 
 /// Truecolor `▀` text, one cell per two pixel rows.

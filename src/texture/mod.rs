@@ -4,11 +4,20 @@
 //! coordinate v = 0 is the bottom of the picture and (u, v) index the storage
 //! directly, as in OpenGL. Coordinates wrap (repeat): u = 1.0 reads texel 0.
 
+pub mod builtin;
 pub mod filter;
 pub mod level;
+pub mod list;
+pub mod load;
+pub mod mip;
 pub mod procedural;
+pub mod resample;
+pub mod xpm;
 
+pub use builtin::{Builtin, builtins};
 pub use level::Level;
+pub use list::TextureList;
+pub use load::{TextureError, load_texture, load_texture_with_height};
 
 use std::sync::{Arc, OnceLock};
 

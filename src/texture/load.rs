@@ -1,0 +1,420 @@
+//! Pictures from disk (or memory) into textures: every format the `image`
+//! crate decodes, plus XPM, with limits so a hostile file costs nothing.
+//!
+//! RGB is the colour; the height (bump map) is the alpha channel, or the
+//! mean of R, G and B when the picture has no alpha (seed 000 §3.2.4).
+
+use std::fs::File;
+use std::io::{Cursor, Read};
+use std::path::Path;
+
+use image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader, Limits};
+
+use super::{Level, Texture, resample, xpm};
+use crate::sanitize;
+
+/// Largest width or height accepted.
+pub const MAX_DIMENSION: u32 = 16_384;
+/// Largest number of texels accepted (16 bytes each once loaded, so 256 MiB),
+/// e.g. 4096×4096 or 16384×1024.
+pub const MAX_TEXELS: u64 = 1 << 24;
+/// Largest file read (compressed pictures that big are beyond any texture).
+pub const MAX_FILE_BYTES: u64 = 256 << 20;
+/// Memory the decoder may use beside its output.
+const MAX_DECODER_ALLOC: u64 = 512 << 20;
+/// Longest decoder message kept in an error.
+const MAX_REASON_CHARS: usize = 160;
+
+/// Why a picture could not become a texture. Every message is one line,
+/// names the file, and holds no control character.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum TextureError {
+    #[error("{file}: no such file")]
+    NotFound { file: String },
+    #[error("{file}: is a directory, not an image")]
+    Directory { file: String },
+    #[error("{file}: not a regular file")]
+    NotAFile { file: String },
+    #[error("{file}: cannot read: {reason}")]
+    Unreadable { file: String, reason: String },
+    #[error("{file}: file too large ({size} bytes; limit {limit})")]
+    FileTooLarge { file: String, size: u64, limit: u64 },
+    #[error("{file}: empty file")]
+    Empty { file: String },
+    #[error("{file}: not an image in a known format")]
+    UnknownFormat { file: String },
+    #[error(
+        "{file}: picture too large ({detail}; limit {MAX_DIMENSION} pixels per side and {MAX_TEXELS} pixels in all)"
+    )]
+    TooLarge { file: String, detail: String },
+    #[error("{file}: empty picture ({width}x{height})")]
+    ZeroSize {
+        file: String,
+        width: u32,
+        height: u32,
+    },
+    #[error("{file}: corrupt or truncated {format} file: {reason}")]
+    Corrupt {
+        file: String,
+        format: String,
+        reason: String,
+    },
+    #[error("{file}: unsupported {format} file: {reason}")]
+    Unsupported {
+        file: String,
+        format: String,
+        reason: String,
+    },
+    #[error("{file}: bad XPM file: {reason}")]
+    Xpm { file: String, reason: String },
+}
+
+impl TextureError {
+    /// The file the error is about (sanitised).
+    pub fn file(&self) -> &str {
+        match self {
+            TextureError::NotFound { file }
+            | TextureError::Directory { file }
+            | TextureError::NotAFile { file }
+            | TextureError::Unreadable { file, .. }
+            | TextureError::FileTooLarge { file, .. }
+            | TextureError::Empty { file }
+            | TextureError::UnknownFormat { file }
+            | TextureError::TooLarge { file, .. }
+            | TextureError::ZeroSize { file, .. }
+            | TextureError::Corrupt { file, .. }
+            | TextureError::Unsupported { file, .. }
+            | TextureError::Xpm { file, .. } => file,
+        }
+    }
+}
+
+/// External text made fit for a one-line message: whitespace runs become
+/// one space, control characters `?`, and long text is cut.
+fn one_line(text: &str) -> String {
+    let joined = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    let mut clean = sanitize::clean(&joined);
+    if clean.chars().count() > MAX_REASON_CHARS {
+        clean = clean.chars().take(MAX_REASON_CHARS).collect::<String>() + "…";
+    }
+    clean
+}
+
+/// Loads a picture file as a texture (height = alpha, or mean of RGB).
+pub fn load_texture(path: &Path) -> Result<Texture, TextureError> {
+    let bytes = read_file(path)?;
+    let name = sanitize::display_path(path);
+    let level = decode_level(&bytes, &name, format_hint(path))?;
+    Ok(Texture::new(name, level))
+}
+
+/// Loads a colour picture and takes its height from a second picture: that
+/// picture's alpha, or the mean of its RGB when it has no alpha. A height map
+/// of another size is resampled to the colour picture's size (box filter
+/// where it shrinks, bilinear where it grows, repeating at the borders).
+pub fn load_texture_with_height(color: &Path, height: &Path) -> Result<Texture, TextureError> {
+    let color_tex = load_texture(color)?;
+    let height_tex = load_texture(height)?;
+    Ok(with_height_map(color_tex, &height_tex))
+}
+
+/// Like [`load_texture`] from bytes already in memory; `name` is used in
+/// messages and its extension (`.tga`, `.xpm`…) helps when the content does
+/// not say its format.
+pub fn load_texture_from_bytes(name: &str, bytes: &[u8]) -> Result<Texture, TextureError> {
+    let clean = sanitize::clean(name);
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(TextureError::FileTooLarge {
+            file: clean,
+            size: bytes.len() as u64,
+            limit: MAX_FILE_BYTES,
+        });
+    }
+    let level = decode_level(bytes, &clean, format_hint(Path::new(name)))?;
+    Ok(Texture::new(clean, level))
+}
+
+/// Like [`load_texture_with_height`] from bytes in memory.
+pub fn load_texture_with_height_from_bytes(
+    color_name: &str,
+    color: &[u8],
+    height_name: &str,
+    height: &[u8],
+) -> Result<Texture, TextureError> {
+    let color_tex = load_texture_from_bytes(color_name, color)?;
+    let height_tex = load_texture_from_bytes(height_name, height)?;
+    Ok(with_height_map(color_tex, &height_tex))
+}
+
+/// The colour of `color` with the height of `height` (resampled to the
+/// colour's size when they differ). Named "colour + height".
+pub fn with_height_map(color: Texture, height: &Texture) -> Texture {
+    let base = color.base();
+    let (w, h) = (base.width, base.height);
+    let heights = resample::grid(
+        &height
+            .base()
+            .texels
+            .iter()
+            .map(|t| t[3])
+            .collect::<Vec<_>>(),
+        (height.width(), height.height()),
+        (w, h),
+    );
+    let texels = base
+        .texels
+        .iter()
+        .zip(heights)
+        .map(|(t, hgt)| [t[0], t[1], t[2], hgt])
+        .collect();
+    Texture::new(
+        format!("{} + {}", color.name, height.name),
+        Level {
+            width: w,
+            height: h,
+            texels,
+        },
+    )
+}
+
+/// What the texture for a view is: the picture at `image` (or the built-in
+/// brick when there is none), with its height taken from `height_map` when
+/// one is given. This is what `--height-map` and `IMAGE` arguments mean.
+pub fn load_for_view(
+    image: Option<&Path>,
+    height_map: Option<&Path>,
+) -> Result<Texture, TextureError> {
+    let color = match image {
+        Some(path) => load_texture(path)?,
+        None => super::procedural::brick(),
+    };
+    match height_map {
+        Some(path) => Ok(with_height_map(color, &load_texture(path)?)),
+        None => Ok(color),
+    }
+}
+
+/// The format a file name suggests, for content without a signature (TGA).
+fn format_hint(path: &Path) -> Option<ImageFormat> {
+    ImageFormat::from_path(path).ok()
+}
+
+/// Reads a whole file after checking what it is and how big.
+fn read_file(path: &Path) -> Result<Vec<u8>, TextureError> {
+    let file = sanitize::display_path(path);
+    let io_error = |e: std::io::Error, file: String| match e.kind() {
+        std::io::ErrorKind::NotFound => TextureError::NotFound { file },
+        std::io::ErrorKind::IsADirectory => TextureError::Directory { file },
+        _ => TextureError::Unreadable {
+            file,
+            reason: one_line(&e.to_string()),
+        },
+    };
+    let meta = std::fs::metadata(path).map_err(|e| io_error(e, file.clone()))?;
+    if meta.is_dir() {
+        return Err(TextureError::Directory { file });
+    }
+    if !meta.is_file() {
+        return Err(TextureError::NotAFile { file });
+    }
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(TextureError::FileTooLarge {
+            file,
+            size: meta.len(),
+            limit: MAX_FILE_BYTES,
+        });
+    }
+    let handle = File::open(path).map_err(|e| io_error(e, file.clone()))?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    // `take` bounds the read even if the file grows after the check.
+    handle
+        .take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| io_error(e, file.clone()))?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(TextureError::FileTooLarge {
+            file,
+            size: bytes.len() as u64,
+            limit: MAX_FILE_BYTES,
+        });
+    }
+    Ok(bytes)
+}
+
+fn too_large(file: &str, width: u64, height: u64) -> TextureError {
+    TextureError::TooLarge {
+        file: file.to_owned(),
+        detail: format!("{width}x{height}"),
+    }
+}
+
+fn check_size(file: &str, width: u32, height: u32) -> Result<(), TextureError> {
+    if width == 0 || height == 0 {
+        return Err(TextureError::ZeroSize {
+            file: file.to_owned(),
+            width,
+            height,
+        });
+    }
+    if width > MAX_DIMENSION || height > MAX_DIMENSION || width as u64 * height as u64 > MAX_TEXELS
+    {
+        return Err(too_large(file, width as u64, height as u64));
+    }
+    Ok(())
+}
+
+/// Decodes any supported picture into a level (bottom row first).
+fn decode_level(
+    bytes: &[u8],
+    file: &str,
+    hint: Option<ImageFormat>,
+) -> Result<Level, TextureError> {
+    if bytes.is_empty() {
+        return Err(TextureError::Empty {
+            file: file.to_owned(),
+        });
+    }
+    if xpm::looks_like_xpm(bytes) || file.to_ascii_lowercase().ends_with(".xpm") {
+        return decode_xpm(bytes, file);
+    }
+    let mut reader = ImageReader::new(Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| TextureError::Unreadable {
+            file: file.to_owned(),
+            reason: one_line(&e.to_string()),
+        })?;
+    if reader.format().is_none() {
+        match hint {
+            Some(format) => reader.set_format(format),
+            None => {
+                return Err(TextureError::UnknownFormat {
+                    file: file.to_owned(),
+                });
+            }
+        }
+    }
+    let format = reader
+        .format()
+        .map(|f| format!("{f:?}").to_uppercase())
+        .unwrap_or_else(|| "image".into());
+    let mut limits = Limits::default();
+    limits.max_image_width = Some(MAX_DIMENSION);
+    limits.max_image_height = Some(MAX_DIMENSION);
+    limits.max_alloc = Some(MAX_DECODER_ALLOC);
+    reader.limits(limits);
+    let image_error = |e: ImageError| convert_error(e, file, &format);
+    // The header alone first: its size is checked before any pixel buffer exists.
+    let decoder = reader.into_decoder().map_err(image_error)?;
+    let (width, height) = decoder.dimensions();
+    check_size(file, width, height)?;
+    let image = DynamicImage::from_decoder(decoder).map_err(image_error)?;
+    Ok(level_from_image(&image))
+}
+
+fn convert_error(e: ImageError, file: &str, format: &str) -> TextureError {
+    let file = file.to_owned();
+    let format = format.to_owned();
+    match e {
+        ImageError::Limits(l) => TextureError::TooLarge {
+            file,
+            detail: one_line(&l.to_string()),
+        },
+        ImageError::Unsupported(u) => TextureError::Unsupported {
+            file,
+            format,
+            reason: one_line(&u.to_string()),
+        },
+        ImageError::IoError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            TextureError::Corrupt {
+                file,
+                format,
+                reason: "ends too early".into(),
+            }
+        }
+        other => TextureError::Corrupt {
+            file,
+            format,
+            reason: one_line(&other.to_string()),
+        },
+    }
+}
+
+fn decode_xpm(bytes: &[u8], file: &str) -> Result<Level, TextureError> {
+    let image = xpm::decode(bytes, MAX_TEXELS as usize).map_err(|e| TextureError::Xpm {
+        file: file.to_owned(),
+        reason: one_line(&e.0),
+    })?;
+    let (w, h) = (image.width, image.height);
+    if w > MAX_DIMENSION as usize || h > MAX_DIMENSION as usize {
+        return Err(too_large(file, w as u64, h as u64));
+    }
+    Ok(level_from_rows(w, h, image.has_alpha, |x, y| {
+        image.rgba[y * w + x]
+    }))
+}
+
+/// A level from a pixel reader `px(x, y)` (y = 0 the top row, RGBA in 0..1):
+/// rows flipped to bottom-first, height = alpha or mean of RGB.
+fn level_from_rows(
+    width: usize,
+    height: usize,
+    has_alpha: bool,
+    px: impl Fn(usize, usize) -> [f32; 4],
+) -> Level {
+    let mut texels = Vec::with_capacity(width * height);
+    for y in (0..height).rev() {
+        for x in 0..width {
+            let [r, g, b, a] = px(x, y).map(|c| {
+                if c.is_finite() {
+                    c.clamp(0.0, 1.0)
+                } else {
+                    0.0
+                }
+            });
+            // In f64 so that a grey texel's height is exactly its grey.
+            let h = if has_alpha {
+                a
+            } else {
+                ((r as f64 + g as f64 + b as f64) / 3.0) as f32
+            };
+            texels.push([r, g, b, h]);
+        }
+    }
+    Level {
+        width,
+        height,
+        texels,
+    }
+}
+
+/// 8-bit pictures convert from 8 bits (as `Level::from_rgba8_top_down`
+/// does, so a PNG of a generated texture gives back the same texels),
+/// 16-bit ones from 16 bits, float ones from floats.
+fn level_from_image(image: &DynamicImage) -> Level {
+    let (w, h) = (image.width() as usize, image.height() as usize);
+    let color = image.color();
+    let has_alpha = color.has_alpha();
+    let bits = color.bytes_per_pixel() as usize * 8 / color.channel_count() as usize;
+    match bits {
+        8 => {
+            let buf = image.to_rgba8();
+            level_from_rows(w, h, has_alpha, |x, y| {
+                buf.get_pixel(x as u32, y as u32)
+                    .0
+                    .map(|c| c as f32 / 255.0)
+            })
+        }
+        16 => {
+            let buf = image.to_rgba16();
+            level_from_rows(w, h, has_alpha, |x, y| {
+                buf.get_pixel(x as u32, y as u32)
+                    .0
+                    .map(|c| c as f32 / 65535.0)
+            })
+        }
+        _ => {
+            let buf = image.to_rgba32f();
+            level_from_rows(w, h, has_alpha, |x, y| buf.get_pixel(x as u32, y as u32).0)
+        }
+    }
+}

@@ -1,0 +1,175 @@
+//! Mipmap filtering: the level of detail from a pixel's footprint, trilinear
+//! between two levels, anisotropic as several trilinear taps along the
+//! footprint's long axis (seed 003; the EXT_texture_filter_anisotropic rule).
+//!
+//! A level of detail ≤ 0 means the pixel is not minified: the reads then
+//! touch only the base level and never build the chain.
+
+use glam::Vec2;
+
+use super::filter::Footprint;
+use super::{Level, Texture, level::Texel};
+
+/// Most trilinear taps an anisotropic sample takes.
+pub const MAX_ANISOTROPY: usize = 16;
+
+/// The footprint's two axes measured in base-level texels.
+#[inline]
+fn texel_lengths(tex: &Texture, fp: Footprint) -> (f32, f32) {
+    let size = Vec2::new(tex.width() as f32, tex.height() as f32);
+    ((fp.dx * size).length(), (fp.dy * size).length())
+}
+
+/// Isotropic level of detail: log2 of the longer footprint axis in texels
+/// (0 = one texel per pixel, 1 = two…). NaN footprints give 0; infinite
+/// ones +∞ (the smallest level).
+#[inline]
+pub fn lod(tex: &Texture, fp: Footprint) -> f32 {
+    let (a, b) = texel_lengths(tex, fp);
+    let rho = a.max(b);
+    if rho > 1.0 { rho.log2() } else { 0.0 }
+}
+
+/// The two levels a level of detail falls between and the blend weight of
+/// the second one. `lod` ≤ 0 (or NaN) is level 0 alone, and then the chain
+/// is not asked for.
+#[inline]
+fn levels_for(tex: &Texture, lod: f32) -> Option<(&Level, &Level, f32)> {
+    // Written so that NaN also takes the base level.
+    if lod.is_nan() || lod <= 0.0 {
+        return None;
+    }
+    let last = tex.mip_levels().len(); // index of the smallest level
+    if lod >= last as f32 {
+        let smallest = tex.level(last);
+        return Some((smallest, smallest, 0.0));
+    }
+    let l0 = lod.floor();
+    let i = l0 as usize;
+    Some((tex.level(i), tex.level(i + 1), lod - l0))
+}
+
+/// Trilinear: bilinear on the two levels around `lod`, blended.
+#[inline]
+pub fn trilinear(tex: &Texture, uv: Vec2, lod: f32) -> Texel {
+    match levels_for(tex, lod) {
+        None => tex.base().bilinear(uv.x, uv.y),
+        Some((a, b, t)) => {
+            let ta = a.bilinear(uv.x, uv.y);
+            if t == 0.0 {
+                return ta;
+            }
+            let tb = b.bilinear(uv.x, uv.y);
+            std::array::from_fn(|c| ta[c] + (tb[c] - ta[c]) * t)
+        }
+    }
+}
+
+/// Height gradient (per unit of texture coordinate) from the level(s)
+/// matching `lod`, blended like trilinear; the base level when `lod` ≤ 0.
+#[inline]
+pub fn trilinear_gradient(tex: &Texture, uv: Vec2, lod: f32) -> (f32, f32) {
+    match levels_for(tex, lod) {
+        None => tex.base().height_gradient_filtered(uv.x, uv.y),
+        Some((a, b, t)) => {
+            let ga = a.height_gradient_filtered(uv.x, uv.y);
+            if t == 0.0 {
+                return ga;
+            }
+            let gb = b.height_gradient_filtered(uv.x, uv.y);
+            (ga.0 + (gb.0 - ga.0) * t, ga.1 + (gb.1 - ga.1) * t)
+        }
+    }
+}
+
+/// How an anisotropic sample is taken: `taps` trilinear reads at `lod`,
+/// spread evenly along `axis` (the footprint's long axis in UV units),
+/// centred on the pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AnisoPlan {
+    pub taps: usize,
+    pub axis: Vec2,
+    pub lod: f32,
+}
+
+impl AnisoPlan {
+    /// The long axis sets how many taps (its length over the short axis,
+    /// at most 16); the short axis sets the level of detail, raised when
+    /// the ratio exceeds 16 so that the taps still cover the long axis.
+    pub fn new(tex: &Texture, fp: Footprint) -> AnisoPlan {
+        let (lx, ly) = texel_lengths(tex, fp);
+        let (major, minor, axis) = if lx >= ly {
+            (lx, ly, fp.dx)
+        } else {
+            (ly, lx, fp.dy)
+        };
+        if major.is_nan() || major <= 1.0 {
+            // Magnified (or NaN): one bilinear read of the base level.
+            return AnisoPlan {
+                taps: 1,
+                axis: Vec2::ZERO,
+                lod: 0.0,
+            };
+        }
+        if !major.is_finite() {
+            return AnisoPlan {
+                taps: 1,
+                axis: Vec2::ZERO,
+                lod: f32::INFINITY,
+            };
+        }
+        let minor = minor.max(major / MAX_ANISOTROPY as f32);
+        // Each tap covers max(minor, 1) texels along the axis.
+        let taps = (major / minor.max(1.0)).ceil() as usize;
+        let taps = taps.clamp(1, MAX_ANISOTROPY);
+        let lod = if minor > 1.0 { minor.log2() } else { 0.0 };
+        AnisoPlan {
+            taps,
+            axis: if taps > 1 { axis } else { Vec2::ZERO },
+            lod,
+        }
+    }
+
+    /// Where tap `i` reads: evenly spaced over the axis, centred on `uv`.
+    #[inline]
+    pub fn tap(&self, uv: Vec2, i: usize) -> Vec2 {
+        let t = (i as f32 + 0.5) / self.taps as f32 - 0.5;
+        uv + self.axis * t
+    }
+}
+
+/// Anisotropic: the mean of the plan's trilinear taps.
+#[inline]
+pub fn anisotropic(tex: &Texture, uv: Vec2, fp: Footprint) -> Texel {
+    let plan = AnisoPlan::new(tex, fp);
+    if plan.taps == 1 {
+        return trilinear(tex, uv, plan.lod);
+    }
+    let mut acc = [0.0f32; 4];
+    for i in 0..plan.taps {
+        let t = trilinear(tex, plan.tap(uv, i), plan.lod);
+        for c in 0..4 {
+            acc[c] += t[c];
+        }
+    }
+    let n = plan.taps as f32;
+    acc.map(|a| a / n)
+}
+
+/// The height gradient filtered the same way: the mean of the taps'
+/// gradients (the derivative of the filtered height field).
+#[inline]
+pub fn anisotropic_gradient(tex: &Texture, uv: Vec2, fp: Footprint) -> (f32, f32) {
+    let plan = AnisoPlan::new(tex, fp);
+    if plan.taps == 1 {
+        return trilinear_gradient(tex, uv, plan.lod);
+    }
+    let (mut gu, mut gv) = (0.0, 0.0);
+    for i in 0..plan.taps {
+        let g = trilinear_gradient(tex, plan.tap(uv, i), plan.lod);
+        gu += g.0;
+        gv += g.1;
+    }
+    let n = plan.taps as f32;
+    (gu / n, gv / n)
+}
