@@ -1,0 +1,126 @@
+//! Loaded textures through the renderer: every accepted file renders, with
+//! every filter, and the mip chain is built only when a pixel is minified.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::Vec3;
+use relief::render::render_frame;
+use relief::settings::{Filter, HeightDerivative};
+use relief::texture::{Texture, builtins, load_texture};
+use relief::{Scene, Settings};
+
+const FILTERS: [Filter; 4] = [
+    Filter::Nearest,
+    Filter::Bilinear,
+    Filter::Trilinear,
+    Filter::Anisotropic,
+];
+
+fn data(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(rel)
+}
+
+/// Renders `tex` on all six faces with `filter`; returns covered pixels.
+fn render(tex: &Arc<Texture>, filter: Filter, w: usize, h: usize) -> usize {
+    render_turned(tex, filter, w, h, Settings::default().rotation)
+}
+
+fn render_turned(tex: &Arc<Texture>, filter: Filter, w: usize, h: usize, rotation: Vec3) -> usize {
+    let scene = Scene::cube(Arc::clone(tex), true);
+    let settings = Settings {
+        filter,
+        rotation,
+        ..Settings::default()
+    };
+    let (fb, stats) = render_frame(&scene, &settings, w, h);
+    assert_eq!(stats.counters.nonfinite, 0, "{}", tex.name);
+    fb.pixels()
+        .iter()
+        .filter(|&&p| p != scene.background)
+        .count()
+}
+
+#[test]
+fn every_accepted_file_renders_with_every_filter() {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(data("pngsuite"))
+        .unwrap()
+        .chain(std::fs::read_dir(data("formats")).unwrap())
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            let name = p.file_name().unwrap().to_string_lossy();
+            !name.starts_with('x') && !name.starts_with("PngSuite.")
+        })
+        .collect();
+    files.sort();
+    files.push(data("reference-brick.png"));
+    assert!(files.len() > 190);
+    for path in &files {
+        let tex = Arc::new(load_texture(path).unwrap());
+        for filter in FILTERS {
+            // 40×30 pixels: the cube covers a few hundred of them.
+            assert!(render(&tex, filter, 40, 30) > 100, "{}", path.display());
+        }
+    }
+    for b in builtins() {
+        let tex = Arc::new(b.load().unwrap());
+        assert!(render(&tex, Filter::Anisotropic, 40, 30) > 100);
+    }
+}
+
+#[test]
+fn the_chain_is_built_only_for_minified_textures() {
+    // The front face seen straight on covers 104×104 pixels at 320×240: a
+    // 96×96 picture is magnified everywhere. (In the default view the top
+    // face is seen at a grazing angle, so even a 32×32 picture is minified
+    // across it there.)
+    let texels = vec![[0.5, 0.2, 0.1, 0.7]; 96 * 96];
+    let small = Arc::new(Texture::new(
+        "96",
+        relief::texture::Level {
+            width: 96,
+            height: 96,
+            texels,
+        },
+    ));
+    for filter in FILTERS {
+        assert_eq!(
+            render_turned(&small, filter, 320, 240, Vec3::ZERO),
+            104 * 104
+        );
+    }
+    assert!(!small.mips_built());
+    let big = Arc::new(Texture::new(
+        "128",
+        relief::texture::Level::solid(128, 128, [0.5, 0.2, 0.1, 0.7]),
+    ));
+    render_turned(&big, Filter::Trilinear, 320, 240, Vec3::ZERO);
+    assert!(big.mips_built(), "128 texels over 104 pixels is minified");
+    // The 256×256 brick in 40×30 pixels: minified, the chain is built once.
+    let brick = Arc::new(builtins()[0].load().unwrap());
+    render(&brick, Filter::Bilinear, 40, 30);
+    assert!(!brick.mips_built(), "bilinear never reads the chain");
+    render(&brick, Filter::Trilinear, 40, 30);
+    assert!(brick.mips_built());
+}
+
+#[test]
+fn filters_and_height_derivatives_change_a_minified_frame() {
+    let brick = Arc::new(builtins()[0].load().unwrap());
+    let scene = Scene::cube(Arc::clone(&brick), true);
+    let frame = |filter, height_derivative| {
+        let settings = Settings {
+            filter,
+            height_derivative,
+            ..Settings::default()
+        };
+        render_frame(&scene, &settings, 64, 48).0
+    };
+    let bilinear = frame(Filter::Bilinear, HeightDerivative::Filtered);
+    let trilinear = frame(Filter::Trilinear, HeightDerivative::Filtered);
+    let texel = frame(Filter::Trilinear, HeightDerivative::Texel);
+    assert_ne!(bilinear.pixels(), trilinear.pixels());
+    assert_ne!(trilinear.pixels(), texel.pixels());
+}
