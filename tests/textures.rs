@@ -663,6 +663,37 @@ fn list_adds_dedupes_and_keeps_state_on_errors() {
 }
 
 #[test]
+fn list_pairs_the_current_texture_with_a_height_map() {
+    let mut list = TextureList::new();
+    let n0 = list.len();
+    let before = Arc::clone(list.texture());
+    assert!(list.set_height_map(Some(&data("missing.png"))).is_err());
+    assert!(Arc::ptr_eq(&before, list.texture()) && list.len() == n0);
+    let i = list
+        .set_height_map(Some(&data("formats/basn0g08.png")))
+        .unwrap();
+    assert_eq!((i, list.current(), list.len()), (n0, n0, n0 + 1));
+    assert!(
+        list.current_entry()
+            .label
+            .starts_with("brick (built-in) + ")
+    );
+    // Same colours as the brick, other heights.
+    let brick = procedural::brick();
+    let now = list.texture().base();
+    assert!(
+        now.texels
+            .iter()
+            .zip(&brick.base().texels)
+            .all(|(a, b)| a[..3] == b[..3])
+    );
+    assert_ne!(now, brick.base());
+    // Back to its own heights: the plain brick entry, not a new one.
+    assert_eq!(list.set_height_map(None).unwrap(), 0);
+    assert_eq!(list.len(), n0 + 1);
+}
+
+#[test]
 fn list_from_command_line_arguments() {
     let images = vec![
         data("formats/basn2c08.xpm"),

@@ -264,6 +264,13 @@ impl TextureList {
         ))
     }
 
+    /// Pairs the applied entry's colour with a height map (`None`: its own
+    /// alpha or mean of RGB again) as an entry of its own, and applies it.
+    pub fn set_height_map(&mut self, height_map: Option<&Path>) -> Result<usize, ListError> {
+        let source = self.entries[self.current].source.clone();
+        self.add_entry(Entry::new(source, height_map.map(Path::to_path_buf)))
+    }
+
     /// Adds every path of a paste (see [`parse_paste`]); the last one that
     /// loads is applied. Returns the errors of the others, or `NoPath`.
     pub fn add_paste(&mut self, text: &str) -> Vec<ListError> {
