@@ -1,9 +1,11 @@
 //! Rasterization: homogeneous clipping, fixed-point setup with the top-left
 //! fill rule, and the perspective-correct pixel loop.
 
+pub mod aa;
 pub mod clip;
 pub mod scan;
 pub mod setup;
+pub mod wire;
 
 pub use clip::{ClipVertex, Clipped, clip_triangle};
 pub use scan::{Band, raster_triangle};

@@ -25,7 +25,7 @@ impl Band<'_> {
 }
 
 /// Per-triangle constants for the screen-space UV derivatives.
-struct FootprintSetup {
+pub(crate) struct FootprintSetup {
     uvq: [Vec2; 3],
     dq_dx: f32,
     dq_dy: f32,
@@ -34,7 +34,7 @@ struct FootprintSetup {
 }
 
 impl FootprintSetup {
-    fn new(tri: &ScreenTri, source_uv: &[Vec2; 3]) -> Self {
+    pub(crate) fn new(tri: &ScreenTri, source_uv: &[Vec2; 3]) -> Self {
         let uv = tri.vertex_uvs(source_uv);
         let uvq = [uv[0] * tri.q[0], uv[1] * tri.q[1], uv[2] * tri.q[2]];
         let (lx, ly) = tri.lambda_steps();
@@ -51,7 +51,7 @@ impl FootprintSetup {
 
     /// d(uv)/dx and d(uv)/dy at a pixel, from u = U/Q (quotient rule).
     #[inline]
-    fn at(&self, w: [f32; 3], q_sum: f32) -> Footprint {
+    pub(crate) fn at(&self, w: [f32; 3], q_sum: f32) -> Footprint {
         let inv = 1.0 / q_sum;
         let uv = (self.uvq[0] * w[0] + self.uvq[1] * w[1] + self.uvq[2] * w[2]) * inv;
         Footprint {

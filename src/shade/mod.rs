@@ -5,7 +5,11 @@
 //! the choice of stages is made per draw, never per pixel.
 
 pub mod bump;
+pub mod dot3;
+pub mod emboss;
 pub mod kernels;
 pub mod lighting;
+pub mod parallax;
+pub mod tangent;
 
 pub use kernels::{GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, TriShader};

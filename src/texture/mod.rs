@@ -10,6 +10,7 @@ pub mod level;
 pub mod list;
 pub mod load;
 pub mod mip;
+pub mod normal_map;
 pub mod procedural;
 pub mod resample;
 pub mod xpm;
@@ -18,8 +19,9 @@ pub use builtin::{Builtin, builtins};
 pub use level::Level;
 pub use list::TextureList;
 pub use load::{TextureError, load_texture, load_texture_with_height};
+pub use normal_map::NormalMap;
 
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// A colour + height texture and, built on first use, its mip chain.
 #[derive(Debug)]
@@ -32,6 +34,9 @@ pub struct Texture {
     /// Level 0 is a copy-free view of `base` only conceptually: `mips` holds
     /// levels 1.. and is built the first time a minified pixel asks for it.
     mips: OnceLock<Vec<Level>>,
+    /// The dot3 normal map, built on first use for one slope scale and
+    /// rebuilt only when the scale changes.
+    normal_map: Mutex<Option<Arc<NormalMap>>>,
 }
 
 impl Texture {
@@ -43,6 +48,7 @@ impl Texture {
             base,
             flat_height,
             mips: OnceLock::new(),
+            normal_map: Mutex::new(None),
         }
     }
 
@@ -100,5 +106,23 @@ impl Texture {
     /// Number of levels including the base.
     pub fn level_count(&self) -> usize {
         1 + self.mip_levels().len()
+    }
+
+    /// The normal map for slope scale `scale` (see [`NormalMap::build`]),
+    /// built on first use and kept until another scale is asked for. The flag
+    /// says whether this call built it (for the frame's counters).
+    pub fn normal_map(&self, scale: f32) -> (Arc<NormalMap>, bool) {
+        let mut slot = self
+            .normal_map
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        if let Some(map) = slot.as_ref()
+            && map.scale.to_bits() == NormalMap::effective_scale(scale).to_bits()
+        {
+            return (Arc::clone(map), false);
+        }
+        let map = Arc::new(NormalMap::build(&self.base, scale));
+        *slot = Some(Arc::clone(&map));
+        (map, true)
     }
 }

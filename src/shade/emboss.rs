@@ -1,0 +1,142 @@
+//! Emboss bump mapping (seed 000 §1.3.1): the height map shifted toward the
+//! light in texture space and subtracted from itself.
+//!
+//! F(uv) − F(uv + Δ), with Δ about one texel along the light's direction in
+//! the tangent plane, is a first-order estimate of how much the relief turns
+//! toward the light; scaled to Blinn's k it is added to N·L of the strongest
+//! light. Its documented limits show as they are: one light only (the others
+//! light the smooth surface), no relief when the light is straight above
+//! (the tangent part of L is zero, so is the shift), and no renormalisation —
+//! steep slopes and grazing light over- or under-brighten, and features
+//! narrower than the shift get doubled edges.
+
+use glam::{Vec2, Vec3};
+
+use super::PhongTri;
+use super::kernels::{PixelShader, ShadeCtx};
+use super::lighting::ATTENUATION_QUADRATIC;
+use super::tangent::Surface;
+use crate::framebuffer::Rgb;
+use crate::plan::ActiveLight;
+use crate::stats::Counters;
+use crate::texture::filter::{Footprint, sample};
+
+/// The light emboss follows: the brightest active one (the first on ties),
+/// or `None` when no light is on.
+pub fn strongest_light(lights: &[ActiveLight]) -> Option<usize> {
+    let mut best: Option<(usize, f32)> = None;
+    for (i, l) in lights.iter().enumerate() {
+        let power = l.color.element_sum();
+        if best.is_none_or(|(_, p)| power > p) {
+            best = Some((i, power));
+        }
+    }
+    best.map(|(i, _)| i)
+}
+
+/// The emboss kernel, with or without the colour texture.
+pub struct EmbossKernel<'a, const TEX: bool> {
+    pub tri: &'a PhongTri,
+    /// Index of the embossed light in the plan's lights (`usize::MAX`: none).
+    pub strong: usize,
+    /// Shift length in texture coordinates: one texel of the larger side.
+    pub texel: f32,
+}
+
+impl<'a, const TEX: bool> EmbossKernel<'a, TEX> {
+    pub fn new(tri: &'a PhongTri, ctx: &ShadeCtx) -> Self {
+        let base = ctx.texture.base();
+        EmbossKernel {
+            tri,
+            strong: strongest_light(&ctx.plan.lights).unwrap_or(usize::MAX),
+            texel: 1.0 / base.width.max(base.height) as f32,
+        }
+    }
+}
+
+/// The emboss term for unit light direction `l`: F(uv) − F(uv + Δ), scaled
+/// so that on a gentle slope it equals the change of N·L Blinn's formula
+/// gives to first order, −k·(|Pv|·F_u·L_T + |Pu|·F_v·L_B). Two height reads.
+#[inline]
+pub fn emboss_term(
+    ctx: &ShadeCtx,
+    s: &Surface,
+    l: Vec3,
+    texel: f32,
+    counters: &mut Counters,
+) -> f32 {
+    let frame = s.frame();
+    let (lt, lb) = (l.dot(frame.t), l.dot(frame.b));
+    let m = frame.len_u.max(frame.len_v);
+    // Shift toward the light, weighted like Blinn's cross products.
+    let shift = Vec2::new(frame.len_v * lt, frame.len_u * lb) * (texel / m);
+    let base = ctx.texture.base();
+    counters.texture_samples += 2;
+    let here = base.bilinear_height(s.uv.x, s.uv.y);
+    let there = base.bilinear_height(s.uv.x + shift.x, s.uv.y + shift.y);
+    (here - there) * (ctx.plan.bump_strength * m / texel)
+}
+
+impl<const TEX: bool> PixelShader for EmbossKernel<'_, TEX> {
+    const SAMPLES_TEXTURE: bool = true;
+    #[inline]
+    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
+        let plan = ctx.plan;
+        counters.pixels_shaded += 1;
+        counters.bump_evals += 1;
+        let s = Surface::at(self.tri, b);
+        let mut albedo = s.albedo;
+        if TEX {
+            counters.texture_samples += 1;
+            let t = sample(ctx.texture, plan.filter, s.uv, fp);
+            albedo *= Vec3::new(t[0], t[1], t[2]);
+        }
+        counters.light_evals += plan.lights.len() as u64;
+        // The diffuse sum of `lighting::diffuse`, term for term, with the
+        // emboss term added to the strong light's N·L.
+        let mut sum = plan.ambient;
+        for (i, light) in plan.lights.iter().enumerate() {
+            let d = light.position - s.p;
+            let ndl = s.n.dot(d);
+            if ndl > 0.0 {
+                let len2 = d.length_squared();
+                if len2 > 0.0 && len2.is_finite() {
+                    let len = len2.sqrt();
+                    let mut k = ndl / len;
+                    if i == self.strong {
+                        k = (k + emboss_term(ctx, &s, d / len, self.texel, counters)).max(0.0);
+                    }
+                    if plan.attenuation {
+                        k /= 1.0 + ATTENUATION_QUADRATIC * len2;
+                    }
+                    sum += light.color * k.min(1.0);
+                }
+            }
+        }
+        super::lighting::finish(albedo * sum, counters)
+    }
+    fn uvs(&self) -> Option<&[Vec2; 3]> {
+        Some(&self.tri.uv)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn light(c: f32) -> ActiveLight {
+        ActiveLight {
+            position: Vec3::ONE,
+            color: Vec3::splat(c),
+        }
+    }
+
+    #[test]
+    fn strongest_is_the_brightest_first_on_ties() {
+        assert_eq!(strongest_light(&[]), None);
+        assert_eq!(
+            strongest_light(&[light(0.3), light(1.0), light(1.0)]),
+            Some(1)
+        );
+    }
+}
