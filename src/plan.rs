@@ -1,10 +1,15 @@
 //! Which stages a frame runs, decided once from the scene and the settings,
 //! so that an effect that is off, or cannot show, costs nothing.
 
+use std::sync::Arc;
+
 use glam::Vec3;
 
 use crate::scene::Scene;
-use crate::settings::{Filter, HeightDerivative, Settings, Shading};
+use crate::settings::{
+    AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
+};
+use crate::texture::NormalMap;
 
 /// A light that can change a pixel: enabled, with a non-black colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -27,6 +32,15 @@ pub struct Plan {
     /// and a height map that is not flat.
     pub bump: bool,
     pub bump_strength: f32,
+    /// The bump kernel (Blinn when bump is off).
+    pub technique: Technique,
+    /// Dot3's light vector: interpolated from the vertices or per pixel.
+    pub light_vector: LightVector,
+    /// Dot3's normal map, built (once per texture and strength) only when
+    /// dot3 runs.
+    pub normal_map: Option<Arc<NormalMap>>,
+    /// The camera position in world space (parallax needs the view vector).
+    pub eye: Vec3,
     pub height_derivative: HeightDerivative,
     pub filter: Filter,
     /// Screen-space UV derivatives per pixel, for the filters that pick a mip level.
@@ -38,6 +52,10 @@ pub struct Plan {
     pub lights: Vec<ActiveLight>,
     /// Distance attenuation of the lights.
     pub attenuation: bool,
+    pub display: Display,
+    /// Anti-aliasing; multisampling only in fill display (lines and points
+    /// have no coverage to sample).
+    pub aa: AntiAlias,
 }
 
 impl Plan {
@@ -73,6 +91,20 @@ impl Plan {
         } else {
             Vec::new()
         };
+        let technique = if bump {
+            settings.technique
+        } else {
+            Technique::Blinn
+        };
+        let normal_map = (technique == Technique::Dot3).then(|| {
+            let scale = crate::shade::dot3::normal_map_scale(strength);
+            scene.material.texture.normal_map(scale).0
+        });
+        let aa = if settings.aa == AntiAlias::Msaa4 && settings.display != Display::Fill {
+            AntiAlias::Off
+        } else {
+            settings.aa
+        };
         Plan {
             shading: settings.shading,
             face_normals: settings.normals == crate::settings::Normals::Face,
@@ -80,6 +112,10 @@ impl Plan {
             texture,
             bump,
             bump_strength: if bump { strength } else { 0.0 },
+            technique,
+            light_vector: settings.light_vector,
+            normal_map,
+            eye: scene.camera.eye,
             height_derivative: settings.height_derivative,
             filter: settings.filter,
             footprint,
@@ -87,6 +123,8 @@ impl Plan {
             ambient: scene.ambient,
             lights,
             attenuation: settings.attenuation,
+            display: settings.display,
+            aa,
         }
     }
 }

@@ -23,6 +23,8 @@ pub struct Counters {
     pub depth_tests: u64,
     /// Mip chains built this frame.
     pub mip_builds: u64,
+    /// Dot3 normal maps built this frame.
+    pub normal_map_builds: u64,
     /// Shadow-map texels written.
     pub shadow_texels: u64,
     /// Shadow-map lookups.
@@ -41,6 +43,7 @@ impl AddAssign for Counters {
         self.light_evals += o.light_evals;
         self.depth_tests += o.depth_tests;
         self.mip_builds += o.mip_builds;
+        self.normal_map_builds += o.normal_map_builds;
         self.shadow_texels += o.shadow_texels;
         self.shadow_lookups += o.shadow_lookups;
         self.nonfinite += o.nonfinite;

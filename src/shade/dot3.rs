@@ -35,21 +35,58 @@ pub fn normal_map_scale(k: f32) -> f32 {
     k * REFERENCE_TANGENT_LENGTH
 }
 
-/// Per-vertex tangent-space light vectors of one triangle, appended to `out`
-/// light by light: `out[3·j + i]` is light j at vertex i, unit length (zero
-/// when the light sits on the vertex).
-pub fn vertex_light_vectors(tri: &PhongTri, lights: &[ActiveLight], out: &mut Vec<Vec3>) {
-    let frames: [Frame; 3] = [0, 1, 2].map(|i| {
-        Frame::new(
-            tri.normal[i].normalize_or(tri.face_normal),
-            tri.tangent_u[i],
-            tri.tangent_v[i],
-        )
-    });
-    for light in lights {
-        for (i, frame) in frames.iter().enumerate() {
-            let l = frame.to_tangent(light.position - tri.position[i]);
-            out.push(l.normalize_or_zero());
+/// Lights whose per-vertex vectors are kept inline (more spill to the heap).
+const INLINE_LIGHTS: usize = 8;
+
+/// Per-vertex tangent-space light vectors of one triangle, light by light:
+/// entry `3·j + i` is light j at vertex i, unit length (zero when the light
+/// sits on the vertex). Computed once per triangle and band, on the stack
+/// for up to eight lights.
+pub struct VertexLights {
+    inline: [Vec3; 3 * INLINE_LIGHTS],
+    heap: Vec<Vec3>,
+}
+
+impl VertexLights {
+    pub fn new(tri: &PhongTri, lights: &[ActiveLight]) -> Self {
+        let frames: [Frame; 3] = [0, 1, 2].map(|i| {
+            Frame::new(
+                tri.normal[i].normalize_or(tri.face_normal),
+                tri.tangent_u[i],
+                tri.tangent_v[i],
+            )
+        });
+        let vector = |j: usize, i: usize| {
+            frames[i]
+                .to_tangent(lights[j].position - tri.position[i])
+                .normalize_or_zero()
+        };
+        let mut out = VertexLights {
+            inline: [Vec3::ZERO; 3 * INLINE_LIGHTS],
+            heap: Vec::new(),
+        };
+        if lights.len() <= INLINE_LIGHTS {
+            for j in 0..lights.len() {
+                for i in 0..3 {
+                    out.inline[3 * j + i] = vector(j, i);
+                }
+            }
+        } else {
+            out.heap = (0..lights.len())
+                .flat_map(|j| (0..3).map(move |i| (j, i)))
+                .map(|(j, i)| vector(j, i))
+                .collect();
+        }
+        out
+    }
+
+    /// The three vertex vectors of light `j`.
+    #[inline]
+    pub fn light(&self, j: usize) -> &[Vec3] {
+        if self.heap.is_empty() {
+            &self.inline[3 * j..3 * j + 3]
+        } else {
+            &self.heap[3 * j..3 * j + 3]
         }
     }
 }
@@ -59,8 +96,18 @@ pub fn vertex_light_vectors(tri: &PhongTri, lights: &[ActiveLight], out: &mut Ve
 pub struct Dot3Kernel<'a, const TEX: bool, const PER_PIXEL: bool> {
     pub tri: &'a PhongTri,
     pub map: &'a NormalMap,
-    /// This triangle's `vertex_light_vectors` (unused per pixel).
-    pub vertex_lights: &'a [Vec3],
+    /// The light vectors at the vertices (empty when per pixel).
+    pub vertex_lights: Option<VertexLights>,
+}
+
+impl<'a, const TEX: bool, const PER_PIXEL: bool> Dot3Kernel<'a, TEX, PER_PIXEL> {
+    pub fn new(tri: &'a PhongTri, map: &'a NormalMap, ctx: &ShadeCtx) -> Self {
+        Dot3Kernel {
+            tri,
+            map,
+            vertex_lights: (!PER_PIXEL).then(|| VertexLights::new(tri, &ctx.plan.lights)),
+        }
+    }
 }
 
 impl<const TEX: bool, const PER_PIXEL: bool> PixelShader for Dot3Kernel<'_, TEX, PER_PIXEL> {
@@ -104,9 +151,9 @@ impl<const TEX: bool, const PER_PIXEL: bool> PixelShader for Dot3Kernel<'_, TEX,
                     }
                 }
             }
-        } else {
+        } else if let Some(vertex_lights) = &self.vertex_lights {
             for (j, light) in plan.lights.iter().enumerate() {
-                let v = &self.vertex_lights[3 * j..3 * j + 3];
+                let v = vertex_lights.light(j);
                 let l = v[0] * b.x + v[1] * b.y + v[2] * b.z;
                 let mut k = normal.dot(l);
                 if k > 0.0 {
@@ -154,9 +201,8 @@ mod tests {
             position: Vec3::new(1.0, -1.0, 5.0),
             color: Vec3::ONE,
         };
-        let mut out = Vec::new();
-        vertex_light_vectors(&quad_tri(), &[light], &mut out);
-        assert_eq!(out.len(), 3);
+        let vl = VertexLights::new(&quad_tri(), &[light]);
+        let out = vl.light(0);
         assert_eq!(out[1], Vec3::Z, "vertex 1 is right under the light");
         for v in &out {
             assert!((v.length() - 1.0).abs() < 1e-6);
@@ -171,9 +217,24 @@ mod tests {
             position: Vec3::new(-1.0, -1.0, 0.0),
             color: Vec3::ONE,
         };
-        let mut out = Vec::new();
-        vertex_light_vectors(&quad_tri(), &[light], &mut out);
-        assert_eq!(out[0], Vec3::ZERO);
-        assert!(out.iter().all(|v| v.is_finite()));
+        let vl = VertexLights::new(&quad_tri(), &[light]);
+        assert_eq!(vl.light(0)[0], Vec3::ZERO);
+        assert!(vl.light(0).iter().all(|v| v.is_finite()));
+    }
+
+    #[test]
+    fn many_lights_spill_to_the_heap_with_the_same_vectors() {
+        let lights: Vec<ActiveLight> = (0..11)
+            .map(|i| ActiveLight {
+                position: Vec3::new(i as f32, 2.0, 3.0),
+                color: Vec3::ONE,
+            })
+            .collect();
+        let many = VertexLights::new(&quad_tri(), &lights);
+        let few = VertexLights::new(&quad_tri(), &lights[..8]);
+        for j in 0..8 {
+            assert_eq!(many.light(j), few.light(j));
+        }
+        assert_eq!(many.light(10).len(), 3);
     }
 }

@@ -21,6 +21,7 @@ pub use list::TextureList;
 pub use load::{TextureError, load_texture, load_texture_with_height};
 pub use normal_map::NormalMap;
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// A colour + height texture and, built on first use, its mip chain.
@@ -37,6 +38,8 @@ pub struct Texture {
     /// The dot3 normal map, built on first use for one slope scale and
     /// rebuilt only when the scale changes.
     normal_map: Mutex<Option<Arc<NormalMap>>>,
+    /// Normal maps built so far (for the frame counters and tests).
+    normal_map_builds: AtomicU64,
 }
 
 impl Texture {
@@ -49,6 +52,7 @@ impl Texture {
             flat_height,
             mips: OnceLock::new(),
             normal_map: Mutex::new(None),
+            normal_map_builds: AtomicU64::new(0),
         }
     }
 
@@ -123,6 +127,12 @@ impl Texture {
         }
         let map = Arc::new(NormalMap::build(&self.base, scale));
         *slot = Some(Arc::clone(&map));
+        self.normal_map_builds.fetch_add(1, Ordering::Relaxed);
         (map, true)
+    }
+
+    /// How many normal maps this texture has built.
+    pub fn normal_map_builds(&self) -> u64 {
+        self.normal_map_builds.load(Ordering::Relaxed)
     }
 }
