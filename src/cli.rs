@@ -122,6 +122,18 @@ pub struct ViewArgs {
     /// Separate height (bump) map for the texture: its alpha, or the mean of its RGB.
     #[arg(long, value_name = "PATH")]
     pub height_map: Option<PathBuf>,
+    /// Bump technique (shows in Phong with bump on).
+    #[arg(long, value_enum, default_value_t = Technique::Blinn)]
+    pub technique: Technique,
+    /// Dot3's light vector: interpolated from the vertices (the tutorial's artefact) or per pixel.
+    #[arg(long, value_enum, default_value_t = LightVector::Pixel)]
+    pub light_vector: LightVector,
+    /// Anti-aliasing: supersampling 2x2 or 4x4, or 4 coverage samples shaded once (msaa4).
+    #[arg(long, value_enum, default_value_t = AntiAlias::Off)]
+    pub aa: AntiAlias,
+    /// What is drawn: vertices, edges or filled triangles.
+    #[arg(long, value_enum, default_value_t = Display::Fill)]
+    pub display: Display,
 }
 
 impl ViewArgs {
@@ -137,10 +149,10 @@ impl ViewArgs {
             filter: self.filter,
             height_derivative: self.height_derivative,
             rotation: self.rotate,
-            technique: Technique::Blinn,
-            light_vector: LightVector::Pixel,
-            aa: AntiAlias::Off,
-            display: Display::Fill,
+            technique: self.technique,
+            light_vector: self.light_vector,
+            aa: self.aa,
+            display: self.display,
             lights: true,
             attenuation: false,
         }
@@ -209,6 +221,52 @@ mod tests {
         };
         assert_eq!(args.view.settings(), Settings::default());
         assert_eq!((args.width, args.height), (320, 240));
+    }
+
+    #[test]
+    fn technique_aa_and_display_flags_reach_the_settings() {
+        let cli = Cli::try_parse_from([
+            "relief",
+            "render",
+            "--out",
+            "x.png",
+            "--technique",
+            "dot3",
+            "--light-vector",
+            "vertex",
+            "--aa",
+            "4x4",
+            "--display",
+            "lines",
+        ])
+        .unwrap();
+        let Some(Command::Render(args)) = cli.command else {
+            panic!("render expected")
+        };
+        let s = args.view.settings();
+        assert_eq!(s.technique, Technique::Dot3);
+        assert_eq!(s.light_vector, LightVector::Vertex);
+        assert_eq!(s.aa, AntiAlias::Ssaa4);
+        assert_eq!(s.display, Display::Lines);
+        for (flag, value) in [
+            ("--technique", "pom"),
+            ("--technique", "emboss"),
+            ("--technique", "parallax"),
+            ("--technique", "blinn"),
+            ("--aa", "2x2"),
+            ("--aa", "msaa4"),
+            ("--aa", "off"),
+            ("--display", "points"),
+            ("--display", "fill"),
+            ("--light-vector", "pixel"),
+        ] {
+            assert!(
+                Cli::try_parse_from(["relief", "render", "--out", "x.png", flag, value]).is_ok(),
+                "{flag} {value}"
+            );
+        }
+        assert!(Cli::try_parse_from(["relief", "--technique", "phong"]).is_err());
+        assert!(Cli::try_parse_from(["relief", "--aa", "3x3"]).is_err());
     }
 
     #[test]

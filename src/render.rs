@@ -6,12 +6,19 @@ use std::time::Instant;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::framebuffer::Framebuffer;
+use crate::framebuffer::{Framebuffer, Rgb};
 use crate::plan::Plan;
-use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, raster_triangle, setup};
+use crate::raster::aa::{
+    MSAA_SAMPLES, MsaaBand, RasterTarget, resolve_box, resolve_msaa, ssaa_factor,
+};
+use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
+use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup};
 use crate::scene::{Scene, rotation_matrix};
-use crate::settings::{Settings, Shading};
+use crate::settings::{AntiAlias, Display, LightVector, Settings, Shading, Technique};
+use crate::shade::dot3::Dot3Kernel;
+use crate::shade::emboss::EmbossKernel;
 use crate::shade::kernels::{GouraudKernel, PhongKernel};
+use crate::shade::parallax::ParallaxKernel;
 use crate::shade::lighting::{diffuse, finish};
 use crate::shade::{GouraudTri, PhongTri, ShadeCtx, TexturedFlatTri, TriShader};
 use crate::stats::{Counters, FrameStats};
@@ -44,6 +51,13 @@ pub struct Renderer {
     tris: Vec<ScreenTri>,
     depth: Vec<f32>,
     polygon: Vec<ClipVertex>,
+    /// Visible triangles of the points and lines displays.
+    wire: Vec<WireTri>,
+    /// The supersampled frame, kept between frames.
+    supersampled: Option<Framebuffer>,
+    /// Multisampled colours and depths, kept between frames.
+    msaa_color: Vec<[Rgb; MSAA_SAMPLES]>,
+    msaa_depth: Vec<[f32; MSAA_SAMPLES]>,
 }
 
 impl Renderer {
@@ -65,13 +79,29 @@ impl Renderer {
         if width == 0 || height == 0 {
             return stats;
         }
+        let normal_maps_before = scene.material.texture.normal_map_builds();
         let plan = Plan::new(scene, settings);
         let mips_before = scene.material.texture.mips_built();
-        let mut counters = self.prepare(scene, settings, &plan, width, height);
+        // Supersampling draws k times larger, then box-filters down.
+        let k = ssaa_factor(plan.aa, width, height);
+        let mut counters = self.prepare(scene, settings, &plan, width * k, height * k);
+        counters.normal_map_builds +=
+            scene.material.texture.normal_map_builds() - normal_maps_before;
         stats.plan_time = start.elapsed();
 
         let raster_start = Instant::now();
-        counters += self.rasterize(scene, &plan, fb);
+        if k > 1 {
+            let mut big = self
+                .supersampled
+                .take()
+                .unwrap_or_else(|| Framebuffer::new(0, 0));
+            big.resize(width * k, height * k);
+            counters += self.rasterize(scene, &plan, &mut big, k);
+            resolve_box(&big, k, fb);
+            self.supersampled = Some(big);
+        } else {
+            counters += self.rasterize(scene, &plan, fb, 1);
+        }
         if !mips_before && scene.material.texture.mips_built() {
             counters.mip_builds += 1;
         }
@@ -107,6 +137,7 @@ impl Renderer {
         height: usize,
     ) -> Counters {
         let mut counters = Counters::default();
+        self.wire.clear();
         self.shaders.clear();
         self.tris.clear();
         let aspect = width as f32 / height as f32;
@@ -153,6 +184,17 @@ impl Renderer {
                 }
                 // An open surface seen from behind is lit on the side we see.
                 let side = if facing < 0.0 { -1.0 } else { 1.0 };
+                if plan.display != Display::Fill {
+                    counters.light_evals += 3 * plan.lights.len() as u64;
+                    self.wire.push(wire_triangle(
+                        plan,
+                        idx.map(|i| &self.world[i]),
+                        idx.map(|i| self.clip[i]),
+                        face_normal * side,
+                        side,
+                    ));
+                    continue;
+                }
                 let shader_index = self.shaders.len() as u32;
                 let first_tri = self.tris.len();
                 let clip = idx.map(|i| self.clip[i]);
@@ -194,11 +236,35 @@ impl Renderer {
         counters
     }
 
-    /// Clears and draws every band.
-    fn rasterize(&mut self, scene: &Scene, plan: &Plan, fb: &mut Framebuffer) -> Counters {
+    /// Clears and draws the frame: bands of pixels (or of samples, with
+    /// multisampling), or the wireframe. `brush` is the supersampling factor,
+    /// which widens lines and points so they keep their size.
+    fn rasterize(
+        &mut self,
+        scene: &Scene,
+        plan: &Plan,
+        fb: &mut Framebuffer,
+        brush: usize,
+    ) -> Counters {
         let width = fb.width();
         let height = fb.height();
         let background = scene.background;
+        if plan.display != Display::Fill {
+            let mut counters = Counters::default();
+            fb.fill(background);
+            let mut canvas = Canvas {
+                width,
+                height,
+                pixels: fb.pixels_mut(),
+            };
+            if plan.display == Display::Points {
+                let size = point_size(width / brush, height / brush) * brush;
+                draw_points(&self.wire, size, &mut canvas, &mut counters);
+            } else {
+                draw_lines(&self.wire, brush, &mut canvas, &mut counters);
+            }
+            return counters;
+        }
         let ctx = ShadeCtx {
             plan,
             texture: &scene.material.texture,
@@ -218,6 +284,44 @@ impl Renderer {
         let parallel = work >= PARALLEL_MIN_WORK && rayon::current_num_threads() > 1;
 
         let chunk = BAND_ROWS * width;
+        let tris = &self.tris;
+        let shaders = &self.shaders;
+        if plan.aa == AntiAlias::Msaa4 {
+            self.msaa_color.clear();
+            self.msaa_color
+                .resize(width * height, [background; MSAA_SAMPLES]);
+            let mut bands: Vec<MsaaBand> = if plan.depth {
+                self.msaa_depth.clear();
+                self.msaa_depth
+                    .resize(width * height, [f32::INFINITY; MSAA_SAMPLES]);
+                self.msaa_color
+                    .chunks_mut(chunk)
+                    .zip(self.msaa_depth.chunks_mut(chunk))
+                    .enumerate()
+                    .map(|(i, (samples, depth))| MsaaBand {
+                        y0: i * BAND_ROWS,
+                        width,
+                        samples,
+                        depth: Some(depth),
+                    })
+                    .collect()
+            } else {
+                self.msaa_color
+                    .chunks_mut(chunk)
+                    .enumerate()
+                    .map(|(i, samples)| MsaaBand {
+                        y0: i * BAND_ROWS,
+                        width,
+                        samples,
+                        depth: None,
+                    })
+                    .collect()
+            };
+            let total = draw_bands(&mut bands, parallel, tris, shaders, &ctx, background);
+            drop(bands);
+            resolve_msaa(&self.msaa_color, fb.pixels_mut());
+            return total;
+        }
         let mut bands: Vec<Band> = if plan.depth {
             self.depth.clear();
             self.depth.resize(width * height, f32::INFINITY);
@@ -244,33 +348,44 @@ impl Renderer {
                 })
                 .collect()
         };
-        let tris = &self.tris;
-        let shaders = &self.shaders;
-        let draw = |band: &mut Band| -> Counters {
-            band.color.fill(background);
-            let mut counters = Counters::default();
-            for tri in tris {
-                draw_triangle(
-                    tri,
-                    &shaders[tri.shader as usize],
-                    &ctx,
-                    band,
-                    &mut counters,
-                );
-            }
-            counters
-        };
-        let per_band: Vec<Counters> = if parallel {
-            bands.par_iter_mut().map(draw).collect()
-        } else {
-            bands.iter_mut().map(draw).collect()
-        };
-        let mut total = Counters::default();
-        for c in per_band {
-            total += c;
-        }
-        total
+        draw_bands(&mut bands, parallel, tris, shaders, &ctx, background)
     }
+}
+
+/// Clears each band and draws every triangle into it, in parallel or not
+/// (the same result either way: bands never share a pixel).
+fn draw_bands<T: RasterTarget + Send>(
+    bands: &mut [T],
+    parallel: bool,
+    tris: &[ScreenTri],
+    shaders: &[TriShader],
+    ctx: &ShadeCtx,
+    background: Rgb,
+) -> Counters {
+    let draw = |band: &mut T| -> Counters {
+        band.clear(background);
+        let mut counters = Counters::default();
+        for tri in tris {
+            draw_into(
+                tri,
+                &shaders[tri.shader as usize],
+                ctx,
+                band,
+                &mut counters,
+            );
+        }
+        counters
+    };
+    let per_band: Vec<Counters> = if parallel {
+        bands.par_iter_mut().map(draw).collect()
+    } else {
+        bands.iter_mut().map(draw).collect()
+    };
+    let mut total = Counters::default();
+    for c in per_band {
+        total += c;
+    }
+    total
 }
 
 /// Runs the pixel loop monomorphised for the triangle's kernel.
@@ -281,31 +396,129 @@ pub fn draw_triangle(
     band: &mut Band,
     counters: &mut Counters,
 ) {
+    draw_into(tri, shader, ctx, band, counters)
+}
+
+/// The kernel dispatch, for any raster target (plain or multisampled).
+pub fn draw_into<T: RasterTarget>(
+    tri: &ScreenTri,
+    shader: &TriShader,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
     match shader {
-        TriShader::Solid(color) => raster_triangle(tri, color, ctx, band, counters),
-        TriShader::FlatTextured(s) => raster_triangle(tri, s, ctx, band, counters),
+        TriShader::Solid(color) => target.raster(tri, color, ctx, counters),
+        TriShader::FlatTextured(s) => target.raster(tri, s, ctx, counters),
         TriShader::Gouraud(s) => {
             if s.textured {
-                raster_triangle(tri, &GouraudKernel::<true>(s), ctx, band, counters)
+                target.raster(tri, &GouraudKernel::<true>(s), ctx, counters)
             } else {
-                raster_triangle(tri, &GouraudKernel::<false>(s), ctx, band, counters)
+                target.raster(tri, &GouraudKernel::<false>(s), ctx, counters)
             }
         }
         TriShader::Phong(s) => match (s.textured, s.bumped) {
-            (true, true) => {
-                raster_triangle(tri, &PhongKernel::<true, true>(s), ctx, band, counters)
+            (_, true) if ctx.plan.technique != Technique::Blinn => {
+                draw_technique(tri, s, ctx, target, counters)
             }
-            (true, false) => {
-                raster_triangle(tri, &PhongKernel::<true, false>(s), ctx, band, counters)
-            }
-            (false, true) => {
-                raster_triangle(tri, &PhongKernel::<false, true>(s), ctx, band, counters)
-            }
-            (false, false) => {
-                raster_triangle(tri, &PhongKernel::<false, false>(s), ctx, band, counters)
-            }
+            (true, true) => target.raster(tri, &PhongKernel::<true, true>(s), ctx, counters),
+            (true, false) => target.raster(tri, &PhongKernel::<true, false>(s), ctx, counters),
+            (false, true) => target.raster(tri, &PhongKernel::<false, true>(s), ctx, counters),
+            (false, false) => target.raster(tri, &PhongKernel::<false, false>(s), ctx, counters),
         },
     }
+}
+
+/// A bumped Phong triangle drawn with the plan's technique (one kernel per
+/// technique and variant, chosen here once per triangle).
+fn draw_technique<T: RasterTarget>(
+    tri: &ScreenTri,
+    s: &PhongTri,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
+    let plan = ctx.plan;
+    let eye = plan.eye;
+    match (plan.technique, s.textured) {
+        (Technique::Emboss, true) => {
+            target.raster(tri, &EmbossKernel::<true>::new(s, ctx), ctx, counters)
+        }
+        (Technique::Emboss, false) => {
+            target.raster(tri, &EmbossKernel::<false>::new(s, ctx), ctx, counters)
+        }
+        (Technique::Dot3, textured) => {
+            let Some(map) = plan.normal_map.as_deref() else {
+                // The plan builds the map whenever dot3 runs; without one, Blinn.
+                return if textured {
+                    target.raster(tri, &PhongKernel::<true, true>(s), ctx, counters)
+                } else {
+                    target.raster(tri, &PhongKernel::<false, true>(s), ctx, counters)
+                };
+            };
+            match (textured, plan.light_vector) {
+                (true, LightVector::Pixel) => {
+                    let k = Dot3Kernel::<true, true>::new(s, map, ctx);
+                    target.raster(tri, &k, ctx, counters)
+                }
+                (true, LightVector::Vertex) => {
+                    let k = Dot3Kernel::<true, false>::new(s, map, ctx);
+                    target.raster(tri, &k, ctx, counters)
+                }
+                (false, LightVector::Pixel) => {
+                    let k = Dot3Kernel::<false, true>::new(s, map, ctx);
+                    target.raster(tri, &k, ctx, counters)
+                }
+                (false, LightVector::Vertex) => {
+                    let k = Dot3Kernel::<false, false>::new(s, map, ctx);
+                    target.raster(tri, &k, ctx, counters)
+                }
+            }
+        }
+        (Technique::Parallax, true) => {
+            let k = ParallaxKernel::<true, false> { tri: s, eye };
+            target.raster(tri, &k, ctx, counters)
+        }
+        (Technique::Parallax, false) => {
+            let k = ParallaxKernel::<false, false> { tri: s, eye };
+            target.raster(tri, &k, ctx, counters)
+        }
+        (Technique::Pom, true) => {
+            let k = ParallaxKernel::<true, true> { tri: s, eye };
+            target.raster(tri, &k, ctx, counters)
+        }
+        (Technique::Pom, false) => {
+            let k = ParallaxKernel::<false, true> { tri: s, eye };
+            target.raster(tri, &k, ctx, counters)
+        }
+        (Technique::Blinn, true) => {
+            target.raster(tri, &PhongKernel::<true, true>(s), ctx, counters)
+        }
+        (Technique::Blinn, false) => {
+            target.raster(tri, &PhongKernel::<false, true>(s), ctx, counters)
+        }
+    }
+}
+
+/// A triangle of the points and lines displays: clip-space corners and the
+/// light at each vertex (Gouraud's, whatever the shading mode).
+fn wire_triangle(
+    plan: &Plan,
+    verts: [&WorldVertex; 3],
+    clip: [Vec4; 3],
+    face_normal: Vec3,
+    side: f32,
+) -> WireTri {
+    let color = verts.map(|v| {
+        let n = if plan.face_normals {
+            face_normal
+        } else {
+            v.normal * side
+        };
+        let albedo = if plan.colors { v.color } else { Vec3::ONE };
+        albedo * diffuse(&plan.lights, plan.ambient, v.position, n, plan.attenuation)
+    });
+    WireTri { clip, color }
 }
 
 /// Everything a visible triangle's pixels need, in world space.

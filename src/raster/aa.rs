@@ -14,7 +14,7 @@
 
 use glam::Vec3;
 
-use super::scan::FootprintSetup;
+use super::scan::{Band, FootprintSetup, raster_triangle};
 use super::setup::{ONE, ScreenTri};
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::settings::AntiAlias;
@@ -86,6 +86,52 @@ pub fn resolve_msaa(samples: &[[Rgb; MSAA_SAMPLES]], dst: &mut [Rgb]) {
             }
         }
         *out = sum.map(|v| ((v + 2) / 4) as u8);
+    }
+}
+
+/// What a triangle is drawn into: a band of pixels, or of samples.
+pub trait RasterTarget {
+    /// Fills the band with the background.
+    fn clear(&mut self, color: Rgb);
+    /// Draws the part of `tri` inside the band with shader `S`.
+    fn raster<S: PixelShader>(
+        &mut self,
+        tri: &ScreenTri,
+        shader: &S,
+        ctx: &ShadeCtx,
+        counters: &mut Counters,
+    );
+}
+
+impl RasterTarget for Band<'_> {
+    fn clear(&mut self, color: Rgb) {
+        self.color.fill(color);
+    }
+    #[inline]
+    fn raster<S: PixelShader>(
+        &mut self,
+        tri: &ScreenTri,
+        shader: &S,
+        ctx: &ShadeCtx,
+        counters: &mut Counters,
+    ) {
+        raster_triangle(tri, shader, ctx, self, counters)
+    }
+}
+
+impl RasterTarget for MsaaBand<'_> {
+    fn clear(&mut self, color: Rgb) {
+        self.samples.fill([color; MSAA_SAMPLES]);
+    }
+    #[inline]
+    fn raster<S: PixelShader>(
+        &mut self,
+        tri: &ScreenTri,
+        shader: &S,
+        ctx: &ShadeCtx,
+        counters: &mut Counters,
+    ) {
+        raster_triangle_msaa(tri, shader, ctx, self, counters)
     }
 }
 

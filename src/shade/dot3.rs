@@ -204,7 +204,7 @@ mod tests {
         let vl = VertexLights::new(&quad_tri(), &[light]);
         let out = vl.light(0);
         assert_eq!(out[1], Vec3::Z, "vertex 1 is right under the light");
-        for v in &out {
+        for v in out {
             assert!((v.length() - 1.0).abs() < 1e-6);
         }
         // Interpolating two different unit vectors gives a shorter one: the artefact.
