@@ -18,8 +18,8 @@ use crate::settings::{AntiAlias, Display, LightVector, Settings, Shading, Techni
 use crate::shade::dot3::Dot3Kernel;
 use crate::shade::emboss::EmbossKernel;
 use crate::shade::kernels::{GouraudKernel, PhongKernel};
-use crate::shade::parallax::ParallaxKernel;
 use crate::shade::lighting::{diffuse, finish};
+use crate::shade::parallax::ParallaxKernel;
 use crate::shade::{GouraudTri, PhongTri, ShadeCtx, TexturedFlatTri, TriShader};
 use crate::stats::{Counters, FrameStats};
 
@@ -366,13 +366,7 @@ fn draw_bands<T: RasterTarget + Send>(
         band.clear(background);
         let mut counters = Counters::default();
         for tri in tris {
-            draw_into(
-                tri,
-                &shaders[tri.shader as usize],
-                ctx,
-                band,
-                &mut counters,
-            );
+            draw_into(tri, &shaders[tri.shader as usize], ctx, band, &mut counters);
         }
         counters
     };

@@ -119,12 +119,24 @@ fn supersampling_shades_every_sample_and_multisampling_once_per_pixel() {
     let ss2 = shaded(AntiAlias::Ssaa2);
     let ss4 = shaded(AntiAlias::Ssaa4);
     let ms4 = shaded(AntiAlias::Msaa4);
-    assert!((ratio(ss2.pixels_shaded) - 4.0).abs() < 0.1, "{}", ratio(ss2.pixels_shaded));
-    assert!((ratio(ss4.pixels_shaded) - 16.0).abs() < 0.4, "{}", ratio(ss4.pixels_shaded));
+    assert!(
+        (ratio(ss2.pixels_shaded) - 4.0).abs() < 0.1,
+        "{}",
+        ratio(ss2.pixels_shaded)
+    );
+    assert!(
+        (ratio(ss4.pixels_shaded) - 16.0).abs() < 0.4,
+        "{}",
+        ratio(ss4.pixels_shaded)
+    );
     // Once per pixel and triangle: pixels along edges may be shaded by
     // both triangles that share them, nothing more.
     assert!(ms4.pixels_shaded >= off, "{}", ms4.pixels_shaded);
-    assert!(ratio(ms4.pixels_shaded) < 1.1, "{}", ratio(ms4.pixels_shaded));
+    assert!(
+        ratio(ms4.pixels_shaded) < 1.1,
+        "{}",
+        ratio(ms4.pixels_shaded)
+    );
     assert_eq!(ms4.bump_evals, ms4.pixels_shaded);
     for c in [ss2, ss4, ms4] {
         assert_eq!(c.nonfinite, 0);

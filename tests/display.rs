@@ -57,7 +57,9 @@ fn the_wireframe_touches_the_silhouette_and_stays_inside_it() {
     // Each row of the filled cube: its first and last pixels have a line next to them.
     let mut rows = 0;
     for y in 0..240 {
-        let xs: Vec<usize> = (0..320).filter(|&x| !is_bg(&scene, fill.get(x, y))).collect();
+        let xs: Vec<usize> = (0..320)
+            .filter(|&x| !is_bg(&scene, fill.get(x, y)))
+            .collect();
         if let (Some(&a), Some(&b)) = (xs.first(), xs.last()) {
             rows += 1;
             assert!(mark_near(&scene, &lines, a, y, 1), "left of row {y}");
@@ -67,7 +69,10 @@ fn the_wireframe_touches_the_silhouette_and_stays_inside_it() {
     assert!(rows > 100);
     // And no line strays outside the filled cube.
     for (x, y) in marks(&scene, &lines) {
-        assert!(mark_near(&scene, &fill, x, y, 1), "line pixel ({x}, {y}) off the cube");
+        assert!(
+            mark_near(&scene, &fill, x, y, 1),
+            "line pixel ({x}, {y}) off the cube"
+        );
     }
 }
 
@@ -81,17 +86,31 @@ fn back_edges_are_culled_like_fill() {
         ..shown(Display::Lines)
     };
     let (lines, _) = render_frame(&scene, &s, 320, 240);
-    let (fill, _) = render_frame(&scene, &Settings { display: Display::Fill, ..s }, 320, 240);
+    let (fill, _) = render_frame(
+        &scene,
+        &Settings {
+            display: Display::Fill,
+            ..s
+        },
+        320,
+        240,
+    );
     let inside: Vec<(usize, usize)> = marks(&scene, &fill);
-    let (x0, x1) = (inside.iter().map(|p| p.0).min().unwrap(), inside.iter().map(|p| p.0).max().unwrap());
-    let (y0, y1) = (inside.iter().map(|p| p.1).min().unwrap(), inside.iter().map(|p| p.1).max().unwrap());
+    let (x0, x1) = (
+        inside.iter().map(|p| p.0).min().unwrap(),
+        inside.iter().map(|p| p.0).max().unwrap(),
+    );
+    let (y0, y1) = (
+        inside.iter().map(|p| p.1).min().unwrap(),
+        inside.iter().map(|p| p.1).max().unwrap(),
+    );
     // The front face's diagonal runs from bottom-left to top-right; the back
     // face's would run the same way but its other edges would form a second,
     // smaller square. Check the smaller square's corner region is empty.
     let (w, h) = (x1 - x0, y1 - y0);
     for (x, y) in marks(&scene, &lines) {
         let (fx, fy) = ((x - x0) as f32 / w as f32, (y - y0) as f32 / h as f32);
-        let on_border = fx < 0.03 || fx > 0.97 || fy < 0.03 || fy > 0.97;
+        let on_border = !(0.03..=0.97).contains(&fx) || !(0.03..=0.97).contains(&fy);
         let on_diagonal = ((1.0 - fy) - fx).abs() < 0.03;
         assert!(on_border || on_diagonal, "({x}, {y}) = ({fx}, {fy})");
     }
@@ -149,7 +168,11 @@ fn aa() -> impl Strategy<Value = AntiAlias> {
 }
 
 fn display() -> impl Strategy<Value = Display> {
-    prop_oneof![Just(Display::Points), Just(Display::Lines), Just(Display::Fill)]
+    prop_oneof![
+        Just(Display::Points),
+        Just(Display::Lines),
+        Just(Display::Fill)
+    ]
 }
 
 fn angle() -> impl Strategy<Value = f32> {

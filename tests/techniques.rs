@@ -189,7 +189,10 @@ fn emboss_and_dot3_agree_with_blinn_on_a_ramp() {
             let delta = value(&ramp_settings(technique)) - flat;
             assert_eq!(delta.signum(), blinn.signum(), "{technique:?} at {light}");
             let ratio = delta as f32 / blinn as f32;
-            assert!((0.5..=2.0).contains(&ratio), "{technique:?} at {light}: {ratio}");
+            assert!(
+                (0.5..=2.0).contains(&ratio),
+                "{technique:?} at {light}: {ratio}"
+            );
         }
         // Dot3's map is built for the same slope scale as Blinn's k: equal here.
         let dot3 = value(&ramp_settings(Technique::Dot3)) - flat;
@@ -221,7 +224,12 @@ fn dot3_per_vertex_light_vector_darkens_the_middle() {
     assert_eq!(ps.counters.pixels_shaded, vs.counters.pixels_shaded);
     // Green channel: 0.6 everywhere in the texture.
     let g = |fb: &relief::Framebuffer| fb.get(160, 120)[1] as i32;
-    assert!(g(&pixel) > g(&vertex) + 30, "{} vs {}", g(&pixel), g(&vertex));
+    assert!(
+        g(&pixel) > g(&vertex) + 30,
+        "{} vs {}",
+        g(&pixel),
+        g(&vertex)
+    );
     let sum = |fb: &relief::Framebuffer| fb.pixels().iter().map(|p| p[1] as u64).sum::<u64>();
     assert!(sum(&pixel) > sum(&vertex));
 }
@@ -242,7 +250,10 @@ fn counters_say_what_each_technique_read() {
     let px = blinn.pixels_shaded;
     assert!(px > 500);
     assert_eq!(blinn.bump_evals, px);
-    assert_eq!(blinn.texture_samples, px, "colour only: the gradient is bump_evals");
+    assert_eq!(
+        blinn.texture_samples, px,
+        "colour only: the gradient is bump_evals"
+    );
     assert_eq!(blinn.normal_map_builds, 0);
 
     let emboss = run(Technique::Emboss, 0.5);
@@ -254,7 +265,11 @@ fn counters_say_what_each_technique_read() {
     assert_eq!(dot3.texture_samples, 2 * px, "colour + normal map");
     assert_eq!(dot3.normal_map_builds, 1, "built on first use");
     assert_eq!(run(Technique::Dot3, 0.5).normal_map_builds, 0, "then kept");
-    assert_eq!(run(Technique::Dot3, 0.25).normal_map_builds, 1, "rebuilt for a new k");
+    assert_eq!(
+        run(Technique::Dot3, 0.25).normal_map_builds,
+        1,
+        "rebuilt for a new k"
+    );
 
     let parallax = run(Technique::Parallax, 0.5);
     assert_eq!(parallax.bump_evals, px);
@@ -263,7 +278,11 @@ fn counters_say_what_each_technique_read() {
     let pom = run(Technique::Pom, 0.5);
     assert_eq!(pom.bump_evals, px);
     // Every pixel is below height 1, so each march reads at least twice.
-    assert!(pom.texture_samples >= 3 * px, "{} vs {px}", pom.texture_samples);
+    assert!(
+        pom.texture_samples >= 3 * px,
+        "{} vs {px}",
+        pom.texture_samples
+    );
     assert!(pom.texture_samples <= (2 + 32) * px);
     for c in [blinn, emboss, dot3, parallax, pom] {
         assert_eq!(c.nonfinite, 0);

@@ -43,12 +43,7 @@ pub fn ssaa_factor(aa: AntiAlias, width: usize, height: usize) -> usize {
         AntiAlias::Off | AntiAlias::Msaa4 => 1,
     };
     let mut k = wanted;
-    while k > 1
-        && width
-            .saturating_mul(height)
-            .saturating_mul(k * k)
-            > MAX_SUPERSAMPLES
-    {
+    while k > 1 && width.saturating_mul(height).saturating_mul(k * k) > MAX_SUPERSAMPLES {
         k /= 2;
     }
     k
@@ -57,7 +52,10 @@ pub fn ssaa_factor(aa: AntiAlias, width: usize, height: usize) -> usize {
 /// Box-filters `src` (k times `dst` in each direction) into `dst`.
 pub fn resolve_box(src: &Framebuffer, k: usize, dst: &mut Framebuffer) {
     let (w, h) = (dst.width(), dst.height());
-    assert!(src.width() == w * k && src.height() == h * k, "supersampled size");
+    assert!(
+        src.width() == w * k && src.height() == h * k,
+        "supersampled size"
+    );
     let n = (k * k) as u32;
     let src_px = src.pixels();
     let sw = src.width();
@@ -178,8 +176,8 @@ pub fn raster_triangle_msaa<S: PixelShader>(
     let inv_area = (1.0 / tri.area as f64) as f32;
     let steps = [tri.edge_steps(0), tri.edge_steps(1), tri.edge_steps(2)];
     // Edge offsets of each sample from the pixel centre (exact integers).
-    let delta: [[i64; 3]; MSAA_SAMPLES] = MSAA4_OFFSETS
-        .map(|(ox, oy)| [0, 1, 2].map(|i| (steps[i].0 * ox + steps[i].1 * oy) / ONE));
+    let delta: [[i64; 3]; MSAA_SAMPLES] =
+        MSAA4_OFFSETS.map(|(ox, oy)| [0, 1, 2].map(|i| (steps[i].0 * ox + steps[i].1 * oy) / ONE));
     let (lx, ly) = tri.lambda_steps();
     let dz_dx = lx[0] * tri.z[0] + lx[1] * tri.z[1] + lx[2] * tri.z[2];
     let dz_dy = ly[0] * tri.z[0] + ly[1] * tri.z[1] + ly[2] * tri.z[2];
@@ -307,7 +305,10 @@ mod tests {
     #[test]
     fn msaa_resolve_is_the_rounded_mean() {
         let mut out = [[0u8; 3]; 2];
-        resolve_msaa(&[[[0; 3], [0; 3], [255; 3], [255; 3]], [[7; 3]; 4]], &mut out);
+        resolve_msaa(
+            &[[[0; 3], [0; 3], [255; 3], [255; 3]], [[7; 3]; 4]],
+            &mut out,
+        );
         assert_eq!(out, [[128; 3], [7; 3]]);
     }
 }

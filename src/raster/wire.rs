@@ -86,7 +86,10 @@ pub fn draw_points(tris: &[WireTri], size: usize, canvas: &mut Canvas, counters:
                 continue;
             }
             let s = canvas.to_screen(*p);
-            if !(s.x >= 0.0 && s.y >= 0.0 && s.x < canvas.width as f64 && s.y < canvas.height as f64)
+            if !(s.x >= 0.0
+                && s.y >= 0.0
+                && s.x < canvas.width as f64
+                && s.y < canvas.height as f64)
             {
                 continue;
             }
@@ -141,7 +144,12 @@ fn clip_viewport(a: DVec2, b: DVec2, w: f64, h: f64) -> Option<(f64, f64)> {
     let mut t1 = 1.0f64;
     // Keep endpoints a hair inside the far edges so floor() stays < size.
     let (wmax, hmax) = (w - 1e-9 * w.max(1.0), h - 1e-9 * h.max(1.0));
-    for (p, q) in [(-d.x, a.x), (d.x, wmax - a.x), (-d.y, a.y), (d.y, hmax - a.y)] {
+    for (p, q) in [
+        (-d.x, a.x),
+        (d.x, wmax - a.x),
+        (-d.y, a.y),
+        (d.y, hmax - a.y),
+    ] {
         if p == 0.0 {
             if q < 0.0 {
                 return None;

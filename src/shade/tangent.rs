@@ -38,7 +38,10 @@ impl Frame {
             along_u.normalize()
         } else if along_v.length_squared() > MIN_TANGENT && along_v.is_finite() {
             // No usable u axis: T is a quarter turn from the v axis.
-            along_v.normalize().cross(n).normalize_or(any_perpendicular(n))
+            along_v
+                .normalize()
+                .cross(n)
+                .normalize_or(any_perpendicular(n))
         } else {
             any_perpendicular(n)
         };

@@ -104,7 +104,11 @@ mod tests {
     #[test]
     fn flat_height_gives_straight_up_normals() {
         let map = NormalMap::build(&Level::solid(8, 4, [0.2, 0.3, 0.4, 0.7]), 0.5);
-        assert!(map.normals.iter().all(|&n| n == [0.0, 0.0, 1.0] || n == [-0.0, -0.0, 1.0]));
+        assert!(
+            map.normals
+                .iter()
+                .all(|&n| n == [0.0, 0.0, 1.0] || n == [-0.0, -0.0, 1.0])
+        );
         assert_eq!(map.bilinear(0.37, 0.91)[2], 1.0);
     }
 

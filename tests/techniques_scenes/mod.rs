@@ -51,7 +51,12 @@ pub fn quad_mesh(half: f32, z: f32, uv0: Vec2, uv1: Vec2, color: Vec3) -> Mesh {
 }
 
 /// A scene of the given objects, texture and lights, reference camera.
-pub fn scene_of(objects: Vec<Object>, texture: Texture, lights: Vec<Light>, ambient: Vec3) -> Scene {
+pub fn scene_of(
+    objects: Vec<Object>,
+    texture: Texture,
+    lights: Vec<Light>,
+    ambient: Vec3,
+) -> Scene {
     Scene {
         objects,
         material: Material {
