@@ -252,11 +252,7 @@ impl Renderer {
         if plan.display != Display::Fill {
             let mut counters = Counters::default();
             fb.fill(background);
-            let mut canvas = Canvas {
-                width,
-                height,
-                pixels: fb.pixels_mut(),
-            };
+            let mut canvas = Canvas::new(width, height, fb.pixels_mut());
             if plan.display == Display::Points {
                 let size = point_size(width / brush, height / brush) * brush;
                 draw_points(&self.wire, size, &mut canvas, &mut counters);

@@ -153,6 +153,21 @@ pub enum LightVector {
     Pixel,
 }
 
+impl LightVector {
+    pub fn toggle(self) -> Self {
+        match self {
+            LightVector::Vertex => LightVector::Pixel,
+            LightVector::Pixel => LightVector::Vertex,
+        }
+    }
+    pub fn label(self) -> &'static str {
+        match self {
+            LightVector::Vertex => "L per vertex",
+            LightVector::Pixel => "L per pixel",
+        }
+    }
+}
+
 /// Anti-aliasing.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
 pub enum AntiAlias {

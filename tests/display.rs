@@ -224,3 +224,44 @@ proptest! {
         prop_assert_eq!((fb.width(), fb.height()), (w, h));
     }
 }
+
+fn clip_coord() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        -50.0f32..50.0,
+        Just(0.0),
+        Just(1e-30),
+        Just(-1e-30),
+        Just(1e30),
+        Just(-1e30),
+        Just(f32::NAN),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    /// Any segment in clip space, on any canvas: every write is in bounds
+    /// (an out-of-bounds index would panic), and a line never paints more
+    /// pixels than a `size`-wide stroke across the whole canvas could.
+    #[test]
+    fn lines_and_points_never_leave_the_canvas(
+        a in (clip_coord(), clip_coord(), clip_coord(), clip_coord()),
+        b in (clip_coord(), clip_coord(), clip_coord(), clip_coord()),
+        w in 1usize..40,
+        h in 1usize..30,
+        size in 1usize..5,
+    ) {
+        use glam::Vec4;
+        use relief::raster::wire::{Canvas, WireTri, draw_line, draw_points};
+        let (a, b) = (Vec4::new(a.0, a.1, a.2, a.3), Vec4::new(b.0, b.1, b.2, b.3));
+        let mut px = vec![[0u8; 3]; w * h];
+        let mut canvas = Canvas::new(w, h, &mut px);
+        let mut counters = relief::Counters::default();
+        draw_line((a, Vec3::ONE), (b, Vec3::new(0.5, 0.2, 1.0)), size, &mut canvas, &mut counters);
+        let tri = WireTri { clip: [a, b, a], color: [Vec3::ONE; 3] };
+        draw_points(&[tri], size, &mut canvas, &mut counters);
+        let longest = (w.max(h) + 2) * size * size * 2 + 3 * size * size;
+        prop_assert!(counters.pixels_shaded as usize <= longest);
+        prop_assert_eq!(counters.nonfinite, 0);
+    }
+}

@@ -13,7 +13,7 @@
 use glam::{DVec2, Vec3, Vec4};
 
 use crate::framebuffer::Rgb;
-use crate::shade::lighting::to_rgb8;
+use crate::shade::lighting::finish;
 use crate::stats::Counters;
 
 /// A triangle of the wireframe: clip-space corners and lit vertex colours.
@@ -31,9 +31,28 @@ pub fn point_size(width: usize, height: usize) -> usize {
 
 /// A pixel target: `width × height` pixels, row-major.
 pub struct Canvas<'a> {
-    pub width: usize,
-    pub height: usize,
-    pub pixels: &'a mut [Rgb],
+    width: usize,
+    height: usize,
+    pixels: &'a mut [Rgb],
+}
+
+impl<'a> Canvas<'a> {
+    /// `pixels` holds exactly `width × height` pixels (or the canvas is empty).
+    pub fn new(width: usize, height: usize, pixels: &'a mut [Rgb]) -> Self {
+        if width.checked_mul(height) == Some(pixels.len()) {
+            Canvas {
+                width,
+                height,
+                pixels,
+            }
+        } else {
+            Canvas {
+                width: 0,
+                height: 0,
+                pixels,
+            }
+        }
+    }
 }
 
 impl Canvas<'_> {
@@ -51,11 +70,10 @@ impl Canvas<'_> {
                 if xx < 0 || xx >= self.width as i64 {
                     continue;
                 }
-                let i = yy as usize * self.width + xx as usize;
-                if let Some(p) = self.pixels.get_mut(i) {
-                    *p = color;
-                    written += 1;
-                }
+                // In bounds by the two tests above: an index past the end
+                // would be a bug, and panics rather than hiding.
+                self.pixels[yy as usize * self.width + xx as usize] = color;
+                written += 1;
             }
         }
         written
@@ -93,7 +111,7 @@ pub fn draw_points(tris: &[WireTri], size: usize, canvas: &mut Canvas, counters:
             {
                 continue;
             }
-            let color = to_rgb8(*c);
+            let color = finish(*c, counters);
             counters.pixels_shaded += canvas.brush(s.x as i64, s.y as i64, size, color);
         }
     }
@@ -197,7 +215,7 @@ pub fn draw_line(
     for i in 0..=n {
         let t = i as f64 / n as f64;
         let p = s0 + d * t;
-        let color = to_rgb8(k0 + (k1 - k0) * t as f32);
+        let color = finish(k0 + (k1 - k0) * t as f32, counters);
         counters.pixels_shaded += canvas.brush(p.x.floor() as i64, p.y.floor() as i64, size, color);
     }
 }
@@ -209,11 +227,7 @@ mod tests {
     #[test]
     fn a_horizontal_line_lights_one_row_inside_the_viewport() {
         let mut px = vec![[0u8; 3]; 10 * 6];
-        let mut canvas = Canvas {
-            width: 10,
-            height: 6,
-            pixels: &mut px,
-        };
+        let mut canvas = Canvas::new(10, 6, &mut px);
         let mut c = Counters::default();
         // From far left to far right at y = 0 (screen row 3), w = 1.
         draw_line(
@@ -234,11 +248,7 @@ mod tests {
     #[test]
     fn lines_behind_the_camera_draw_nothing() {
         let mut px = vec![[0u8; 3]; 16];
-        let mut canvas = Canvas {
-            width: 4,
-            height: 4,
-            pixels: &mut px,
-        };
+        let mut canvas = Canvas::new(4, 4, &mut px);
         let mut c = Counters::default();
         draw_line(
             (Vec4::new(0.0, 0.0, -3.0, -1.0), Vec3::ONE),
