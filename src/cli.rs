@@ -26,6 +26,9 @@ pub struct Cli {
     /// Colour depth of the terminal output (default: detected from COLORTERM and TERM).
     #[arg(long, value_enum)]
     pub color: Option<ColorDepthArg>,
+    /// Ordered dithering when the colour depth is 256 or 16 colours.
+    #[arg(long)]
+    pub dither: bool,
     /// Texture images to put in the texture list; the first one is applied.
     #[arg(value_name = "IMAGE")]
     pub images: Vec<PathBuf>,

@@ -2,6 +2,7 @@
 //!
 //! Data flows one way: scene → plan → raster/shade → framebuffer → term.
 
+pub mod app;
 pub mod cli;
 pub mod framebuffer;
 pub mod plan;
@@ -12,6 +13,7 @@ pub mod scene;
 pub mod settings;
 pub mod shade;
 pub mod stats;
+pub mod term;
 pub mod texture;
 
 pub use framebuffer::{Framebuffer, Rgb};

@@ -16,7 +16,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
         Some(Command::Assets { dir }) => write_assets(&dir),
-        None => Err(anyhow::anyhow!("the interactive view is not built yet")),
+        None => relief::app::run(cli),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,219 @@
+//! The event loop: wait for input, apply it, render once, write once.
+//!
+//! Idle means blocked on the channel: no frame, no CPU. Whatever queued up
+//! while a frame was being written (keys, drags, a storm of resizes) is
+//! applied all at once and only the latest state is rendered, so a slow
+//! link drops stale frames instead of queueing them.
+
+use std::collections::VecDeque;
+use std::io::{self, Read, Write};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
+use std::time::{Duration, Instant};
+
+use crossterm::event::Event;
+use ratatui::Terminal;
+
+use super::action::{Action, action_for_event};
+use super::state::{Command, State, update};
+use super::view;
+use crate::framebuffer::{Framebuffer, Rgb};
+use crate::settings::Settings;
+use crate::term::SgrBackend;
+use crate::term::input::InputParser;
+
+/// Auto-rotation frame pacing.
+pub const FRAME_INTERVAL: Duration = Duration::from_millis(33);
+
+/// What reaches the loop from the input and signal threads.
+#[derive(Debug)]
+pub enum Msg {
+    Input(Event),
+    /// The terminal is gone (end of file or a read error).
+    InputClosed(String),
+    /// SIGWINCH.
+    Resized,
+    /// SIGINT, SIGTERM or SIGHUP.
+    Signal(i32),
+}
+
+/// How the loop ended.
+#[derive(Debug, PartialEq, Eq)]
+pub enum Exit {
+    Quit,
+    InputClosed(String),
+    Signal(i32),
+}
+
+/// Reads the terminal on its own thread and sends decoded events; ends
+/// (with `InputClosed`) at end of file or on a read error, so a dropped
+/// connection is never spun on.
+pub fn spawn_input_reader(mut input: impl Read + Send + 'static, tx: Sender<Msg>) {
+    std::thread::spawn(move || {
+        let mut parser = InputParser::new();
+        let mut buf = [0u8; 4096];
+        let mut events = Vec::new();
+        loop {
+            match input.read(&mut buf) {
+                Ok(0) => {
+                    let _ = tx.send(Msg::InputClosed("end of input".into()));
+                    return;
+                }
+                Ok(n) => {
+                    parser.feed(&buf[..n], &mut events);
+                    for e in events.drain(..) {
+                        if tx.send(Msg::Input(e)).is_err() {
+                            return;
+                        }
+                    }
+                }
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                Err(e) => {
+                    let _ = tx.send(Msg::InputClosed(e.to_string()));
+                    return;
+                }
+            }
+        }
+    });
+}
+
+/// Everything the loop needs besides the state.
+pub struct Looper<'a, W: Write, R: FnMut(&Settings, &mut Framebuffer)> {
+    pub terminal: &'a mut Terminal<SgrBackend<W>>,
+    pub render: R,
+    pub background: Rgb,
+    pub rx: &'a Receiver<Msg>,
+}
+
+/// Frames written during the last second, for the fps figure.
+#[derive(Default)]
+struct FrameClock {
+    recent: VecDeque<Instant>,
+}
+
+impl FrameClock {
+    fn tick(&mut self, now: Instant) -> f32 {
+        self.recent.push_back(now);
+        while let Some(&t) = self.recent.front() {
+            if now.duration_since(t) > Duration::from_secs(1) {
+                self.recent.pop_front();
+            } else {
+                break;
+            }
+        }
+        self.recent.len() as f32
+    }
+}
+
+impl<W: Write, R: FnMut(&Settings, &mut Framebuffer)> Looper<'_, W, R> {
+    /// Runs until the user quits, the terminal goes away or a signal comes.
+    pub fn run(&mut self, state: &mut State) -> io::Result<Exit> {
+        let mut fb = Framebuffer::new(0, 0);
+        let mut rendered: Option<(Settings, usize, usize)> = None;
+        let mut clock = FrameClock::default();
+        let mut dirty = true;
+        let mut last_tick = Instant::now();
+        loop {
+            // Wait: not at all when a frame is due, until the next auto-rotation
+            // frame, or for as long as it takes.
+            let first = if dirty {
+                None
+            } else if state.auto_rotate {
+                let wait = (last_tick + FRAME_INTERVAL).saturating_duration_since(Instant::now());
+                match self.rx.recv_timeout(wait) {
+                    Ok(m) => Some(m),
+                    Err(RecvTimeoutError::Timeout) => None,
+                    Err(RecvTimeoutError::Disconnected) => {
+                        return Ok(Exit::InputClosed("input ended".into()));
+                    }
+                }
+            } else {
+                match self.rx.recv() {
+                    Ok(m) => Some(m),
+                    Err(_) => return Ok(Exit::InputClosed("input ended".into())),
+                }
+            };
+            // Apply everything that is queued before drawing anything.
+            let mut next = first;
+            while let Some(msg) = next.take().or_else(|| self.rx.try_recv().ok()) {
+                match msg {
+                    Msg::Input(event) => {
+                        if let Some(action) = action_for_event(state, &event) {
+                            dirty = true;
+                            if update(state, action) == Some(Command::SavePng) {
+                                let result = save_png(&fb);
+                                update(state, Action::Saved(result));
+                            }
+                        }
+                    }
+                    Msg::Resized => dirty = true,
+                    Msg::InputClosed(why) => return Ok(Exit::InputClosed(why)),
+                    Msg::Signal(sig) => return Ok(Exit::Signal(sig)),
+                }
+                if state.quit {
+                    return Ok(Exit::Quit);
+                }
+            }
+            let now = Instant::now();
+            if state.auto_rotate {
+                if now >= last_tick + FRAME_INTERVAL {
+                    let seconds = now.duration_since(last_tick).as_secs_f32();
+                    update(state, Action::AutoRotateTick { seconds });
+                    last_tick = now;
+                    dirty = true;
+                }
+            } else {
+                last_tick = now;
+            }
+            if !dirty {
+                continue;
+            }
+            dirty = false;
+
+            // Render only when what the picture depends on changed.
+            let start = Instant::now();
+            let size = self.terminal.size()?;
+            let areas = view::areas(ratatui::layout::Rect::new(0, 0, size.width, size.height));
+            let (w, h) = view::framebuffer_size(areas.viewport);
+            let key = (state.settings, w, h);
+            if rendered != Some(key) {
+                fb.resize(w, h);
+                (self.render)(&state.settings, &mut fb);
+                rendered = Some(key);
+            }
+            let backend = self.terminal.backend_mut();
+            backend.begin_frame()?;
+            self.terminal
+                .draw(|frame| view::view(frame, state, &fb, self.background))?;
+            let bytes = self.terminal.backend_mut().end_frame()?;
+            let done = Instant::now();
+            state.frame.frame_time = done - start;
+            state.frame.bytes = bytes;
+            state.frame.fps = clock.tick(done);
+        }
+    }
+}
+
+/// Writes the framebuffer as `relief-<seconds>.png` in the current directory
+/// (never over an existing file).
+pub fn save_png(fb: &Framebuffer) -> Result<String, String> {
+    let stamp = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
+    for n in 0..100 {
+        let name = if n == 0 {
+            format!("relief-{stamp}.png")
+        } else {
+            format!("relief-{stamp}-{n}.png")
+        };
+        let path = std::path::Path::new(&name);
+        if path.exists() {
+            continue;
+        }
+        return fb
+            .save_png(path)
+            .map(|_| name)
+            .map_err(|e| format!("{e:#}"));
+    }
+    Err("too many screenshots this second".into())
+}

@@ -1,0 +1,102 @@
+//! The interactive view: Elm style. Terminal events become [`Action`]s, a
+//! pure [`update`] changes the [`State`], [`view`] draws it.
+
+pub mod action;
+pub mod event_loop;
+pub mod state;
+pub mod view;
+
+pub use action::{Action, DragButton, action_for_event, action_for_key};
+pub use state::{Command, State, update};
+pub use view::view;
+
+use std::io::IsTerminal;
+use std::sync::Arc;
+use std::sync::mpsc;
+
+use anyhow::{Context, bail};
+use ratatui::Terminal;
+
+use crate::cli::{Cli, ColorDepthArg};
+use crate::term::guard::{GuardedStdout, TerminalGuard};
+use crate::term::{ColorDepth, SgrBackend};
+use event_loop::{Exit, Looper, Msg, spawn_input_reader};
+
+/// The colour depth to use: `--color` when given, else what the terminal announces.
+pub fn color_depth(arg: Option<ColorDepthArg>) -> ColorDepth {
+    match arg {
+        Some(ColorDepthArg::Truecolor) => ColorDepth::Truecolor,
+        Some(ColorDepthArg::Palette256) => ColorDepth::Palette256,
+        Some(ColorDepthArg::Palette16) => ColorDepth::Palette16,
+        None => ColorDepth::from_env(),
+    }
+}
+
+/// Runs the interactive view until the user quits.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    if !std::io::stdout().is_terminal() {
+        bail!("the interactive view needs a terminal on standard output (try `relief render`)");
+    }
+    let input: Box<dyn std::io::Read + Send> = if std::io::stdin().is_terminal() {
+        Box::new(std::io::stdin())
+    } else {
+        Box::new(std::fs::File::open("/dev/tty").context("no terminal to read keys from")?)
+    };
+    let settings = cli.view.settings();
+    let mut state = State::new(settings, color_depth(cli.color));
+    state.dither = cli.dither;
+    if !cli.images.is_empty() {
+        state.message = Some("texture files are not loaded by the interactive view yet".into());
+    }
+    let scene = crate::Scene::cube(
+        Arc::new(crate::texture::procedural::brick()),
+        cli.view.all_faces,
+    );
+
+    let (tx, rx) = mpsc::channel();
+    let signals = spawn_signal_thread(tx.clone())?;
+    let guard = TerminalGuard::enter().context("cannot set up the terminal")?;
+    spawn_input_reader(input, tx);
+    let mut terminal = Terminal::new(SgrBackend::new(GuardedStdout::new()?))?;
+    let mut renderer = crate::Renderer::new();
+    let exit = Looper {
+        terminal: &mut terminal,
+        render: |s: &crate::Settings, fb: &mut crate::Framebuffer| {
+            renderer.render(&scene, s, fb);
+        },
+        background: scene.background,
+        rx: &rx,
+    }
+    .run(&mut state);
+    drop(terminal);
+    drop(guard);
+    signals.close();
+    match exit? {
+        Exit::Quit => Ok(()),
+        Exit::InputClosed(_) => Ok(()),
+        Exit::Signal(sig) => std::process::exit(128 + sig),
+    }
+}
+
+/// Forwards SIGWINCH, SIGINT, SIGTERM and SIGHUP to the loop. After a
+/// terminating signal the loop has one second to finish; then the terminal
+/// is restored from here and the process exits (a write stuck on a dead link).
+fn spawn_signal_thread(tx: mpsc::Sender<Msg>) -> anyhow::Result<signal_hook::iterator::Handle> {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGWINCH};
+    let mut signals = signal_hook::iterator::Signals::new([SIGWINCH, SIGINT, SIGTERM, SIGHUP])
+        .context("cannot install signal handlers")?;
+    let handle = signals.handle();
+    std::thread::spawn(move || {
+        for sig in signals.forever() {
+            if sig == SIGWINCH {
+                let _ = tx.send(Msg::Resized);
+                continue;
+            }
+            let _ = tx.send(Msg::Signal(sig));
+            std::thread::sleep(std::time::Duration::from_secs(1));
+            crate::term::guard::restore();
+            std::process::exit(128 + sig);
+        }
+    });
+    Ok(handle)
+}

@@ -1,0 +1,273 @@
+//! The interactive view's state and the pure `update` that every action goes through.
+
+use std::time::Duration;
+
+use glam::Vec3;
+
+use super::action::{Action, DragButton};
+use crate::cli::parse_finite;
+use crate::sanitize::clean;
+use crate::settings::{Settings, normalize_degrees};
+use crate::term::ColorDepth;
+
+/// Degrees per column of a drag (a column is one pixel wide).
+pub const DEG_PER_COL: f32 = 2.0;
+/// Degrees per row of a drag (a row is two pixels tall).
+pub const DEG_PER_ROW: f32 = 4.0;
+/// Auto-rotation speed about Y, degrees per second.
+pub const AUTO_ROTATE_SPEED: f32 = 40.0;
+/// `+` and `-` multiply or divide the bump strength by this.
+pub const BUMP_FACTOR: f32 = 1.25;
+/// Strongest bump `+` reaches.
+pub const BUMP_MAX: f32 = 1.0;
+/// Below this `-` goes to 0 (no bump); from 0, `+` starts here.
+pub const BUMP_MIN: f32 = 0.0005;
+/// Longest text an orientation field takes.
+const FIELD_MAX: usize = 24;
+/// Axis names of the orientation fields.
+pub const AXES: [&str; 3] = ["X", "Y", "Z"];
+
+/// The three orientation fields (degrees about X, Y, Z).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Panel {
+    /// The focused field, when the panel has the keyboard.
+    pub focus: Option<usize>,
+    /// Text typed into each field; `None` shows the live angle.
+    pub edits: [Option<String>; 3],
+    /// The next character replaces the focused field (it was just entered).
+    pub fresh: bool,
+}
+
+/// A drag in progress: the button and where the pointer was last.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Drag {
+    pub button: DragButton,
+    pub col: u16,
+    pub row: u16,
+}
+
+/// What the last frame cost, shown in the status line.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameInfo {
+    /// Render, encode and write time of the last frame.
+    pub frame_time: Duration,
+    /// Frames written in the last second.
+    pub fps: f32,
+    /// Bytes the last frame sent to the terminal.
+    pub bytes: u64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct State {
+    pub settings: Settings,
+    /// Orientation `r` goes back to.
+    pub start_rotation: Vec3,
+    pub depth: ColorDepth,
+    /// Ordered dithering in 256 and 16 colours.
+    pub dither: bool,
+    pub help: bool,
+    pub auto_rotate: bool,
+    pub panel: Panel,
+    pub drag: Option<Drag>,
+    /// One line of feedback (errors, saved file, paste), already sanitized.
+    pub message: Option<String>,
+    pub frame: FrameInfo,
+    pub quit: bool,
+}
+
+/// Something `update` asks the event loop to do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Command {
+    SavePng,
+}
+
+impl State {
+    pub fn new(settings: Settings, depth: ColorDepth) -> Self {
+        let mut settings = settings;
+        settings.rotation = settings.rotation.to_array().map(normalize_degrees).into();
+        State {
+            settings,
+            start_rotation: settings.rotation,
+            depth,
+            dither: false,
+            help: false,
+            auto_rotate: false,
+            panel: Panel::default(),
+            drag: None,
+            message: None,
+            frame: FrameInfo::default(),
+            quit: false,
+        }
+    }
+
+    /// Text shown in orientation field `axis`: the edit, or the live angle.
+    pub fn field_text(&self, axis: usize) -> String {
+        match &self.panel.edits[axis] {
+            Some(text) => text.clone(),
+            None => format_angle(self.settings.rotation[axis]),
+        }
+    }
+
+    fn rotate(&mut self, delta: Vec3) {
+        let r = self.settings.rotation + delta;
+        self.settings.rotation = r.to_array().map(normalize_degrees).into();
+    }
+}
+
+/// An angle as the orientation fields show it.
+pub fn format_angle(deg: f32) -> String {
+    let s = format!("{deg:.1}");
+    s.strip_suffix(".0").map(str::to_owned).unwrap_or(s)
+}
+
+/// Applies one action. Pure: no I/O, no clock; what needs the outside
+/// world comes back as a [`Command`].
+pub fn update(state: &mut State, action: Action) -> Option<Command> {
+    let s = &mut state.settings;
+    match action {
+        Action::Quit => state.quit = true,
+        Action::CycleShading => s.shading = s.shading.next(),
+        Action::ToggleNormals => s.normals = s.normals.toggle(),
+        Action::ToggleTexture => s.texture = !s.texture,
+        Action::ToggleColors => s.colors = !s.colors,
+        Action::ToggleBump => s.bump = !s.bump,
+        Action::BumpStronger => {
+            s.bump_strength = if s.bump_strength < BUMP_MIN {
+                BUMP_MIN
+            } else {
+                (s.bump_strength * BUMP_FACTOR).min(BUMP_MAX)
+            };
+        }
+        Action::BumpWeaker => {
+            let k = s.bump_strength / BUMP_FACTOR;
+            s.bump_strength = if k < BUMP_MIN { 0.0 } else { k };
+        }
+        Action::RotateStep { axis, degrees } => {
+            let mut d = Vec3::ZERO;
+            d[axis.min(2)] = degrees;
+            state.rotate(d);
+        }
+        Action::ResetView => {
+            state.settings.rotation = state.start_rotation;
+            state.auto_rotate = false;
+            state.drag = None;
+        }
+        Action::ToggleAutoRotate => state.auto_rotate = !state.auto_rotate,
+        Action::AutoRotateTick { seconds } => {
+            if state.auto_rotate && seconds.is_finite() && seconds > 0.0 {
+                // A long stall (a slow link) is not made up for in one leap.
+                let dt = seconds.min(0.25);
+                state.rotate(Vec3::new(0.0, AUTO_ROTATE_SPEED * dt, 0.0));
+            }
+        }
+        Action::SavePng => return Some(Command::SavePng),
+        Action::Saved(Ok(path)) => state.message = Some(format!("saved {}", clean(&path))),
+        Action::Saved(Err(e)) => state.message = Some(format!("not saved: {}", clean(&e))),
+        Action::ToggleHelp => state.help = !state.help,
+        Action::CloseHelp => state.help = false,
+        Action::PanelNext => {
+            let next = state.panel.focus.map_or(0, |f| (f + 1) % 3);
+            state.panel.focus = Some(next);
+            state.panel.fresh = true;
+        }
+        Action::PanelPrev => {
+            let prev = state.panel.focus.map_or(2, |f| (f + 2) % 3);
+            state.panel.focus = Some(prev);
+            state.panel.fresh = true;
+        }
+        Action::PanelInput(c) => {
+            if let Some(f) = state.panel.focus
+                && !c.is_control()
+            {
+                let replace = state.panel.fresh || state.panel.edits[f].is_none();
+                let text = state.panel.edits[f].get_or_insert_with(String::new);
+                if replace {
+                    text.clear();
+                }
+                if text.chars().count() < FIELD_MAX {
+                    text.push(c);
+                }
+                state.panel.fresh = false;
+            }
+        }
+        Action::PanelBackspace => {
+            if let Some(f) = state.panel.focus {
+                let live = format_angle(state.settings.rotation[f]);
+                let text = state.panel.edits[f].get_or_insert(live);
+                if state.panel.fresh {
+                    text.clear();
+                }
+                text.pop();
+                state.panel.fresh = false;
+            }
+        }
+        Action::PanelApply => apply_panel(state),
+        Action::PanelCancel => {
+            state.panel = Panel::default();
+            state.message = Some("orientation unchanged".into());
+        }
+        Action::MouseDown { button, col, row } => state.drag = Some(Drag { button, col, row }),
+        Action::MouseDrag { button, col, row } => {
+            match state.drag {
+                Some(d) if d.button == button => {
+                    let dx = col as f32 - d.col as f32;
+                    let dy = row as f32 - d.row as f32;
+                    let delta = match button {
+                        DragButton::Left => Vec3::new(dy * DEG_PER_ROW, dx * DEG_PER_COL, 0.0),
+                        DragButton::Right => Vec3::new(dy * DEG_PER_ROW, 0.0, -dx * DEG_PER_COL),
+                    };
+                    state.rotate(delta);
+                }
+                // The press was missed (or the other button): start from here.
+                _ => {}
+            }
+            state.drag = Some(Drag { button, col, row });
+        }
+        Action::MouseUp => state.drag = None,
+        Action::Paste(text) => {
+            let shown: String = clean(&text).chars().take(200).collect();
+            match state.panel.focus {
+                Some(_) => {
+                    for c in shown.chars() {
+                        update(state, Action::PanelInput(c));
+                    }
+                }
+                None => state.message = Some(format!("pasted: {shown}")),
+            }
+        }
+        Action::Resize => {}
+    }
+    None
+}
+
+/// Enter in the orientation fields: valid entries are applied, each invalid
+/// one is refused with a message and keeps its old value (and the focus).
+fn apply_panel(state: &mut State) {
+    let mut refused = Vec::new();
+    let mut first_bad = None;
+    for (axis, name) in AXES.iter().enumerate() {
+        let Some(text) = state.panel.edits[axis].take() else {
+            continue;
+        };
+        match parse_finite(&text) {
+            Ok(v) => state.settings.rotation[axis] = normalize_degrees(v),
+            Err(e) => {
+                refused.push(format!(
+                    "{}: {} (kept {}°)",
+                    name,
+                    clean(&e),
+                    format_angle(state.settings.rotation[axis])
+                ));
+                first_bad.get_or_insert(axis);
+            }
+        }
+    }
+    if refused.is_empty() {
+        state.panel = Panel::default();
+        state.message = None;
+    } else {
+        state.panel.focus = first_bad;
+        state.panel.fresh = true;
+        state.message = Some(refused.join("; "));
+    }
+}

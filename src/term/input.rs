@@ -1,0 +1,294 @@
+//! Bytes from the terminal → key, mouse and paste events.
+//!
+//! relief reads the terminal itself rather than through crossterm's event
+//! reader, which retries forever when the terminal reports end of file or an
+//! error (an SSH connection dropped) instead of returning. Decoded here:
+//! UTF-8 text, control keys, CSI/SS3 cursor keys, SGR mouse reports
+//! (`ESC [ < b ; x ; y M/m`) and bracketed paste (`ESC [ 200~ … ESC [ 201~`).
+
+use crossterm::event::{
+    Event, KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind,
+};
+
+const PASTE_END: &[u8] = b"\x1b[201~";
+/// A paste larger than this is cut (it is shown, not stored).
+const PASTE_LIMIT: usize = 1 << 20;
+/// A control sequence longer than this is garbage and is dropped.
+const CSI_LIMIT: usize = 64;
+
+/// Incremental decoder: feed it whatever `read` returned.
+#[derive(Debug, Default)]
+pub struct InputParser {
+    pending: Vec<u8>,
+    paste: Option<Vec<u8>>,
+}
+
+fn key(code: KeyCode, modifiers: KeyModifiers) -> Event {
+    Event::Key(KeyEvent::new(code, modifiers))
+}
+
+enum Step {
+    /// Consumed `n` bytes, maybe producing an event.
+    Done(usize, Option<Event>),
+    /// Not enough bytes yet.
+    Incomplete,
+}
+
+impl InputParser {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Decodes `bytes`, appending events to `out`. A lone `ESC` at the end
+    /// of a read is the Escape key (terminals send sequences in one piece).
+    pub fn feed(&mut self, bytes: &[u8], out: &mut Vec<Event>) {
+        self.pending.extend_from_slice(bytes);
+        let mut start = 0;
+        loop {
+            if let Some(paste) = &mut self.paste {
+                let rest = &self.pending[start..];
+                if let Some(end) = find(rest, PASTE_END) {
+                    append_capped(paste, &rest[..end]);
+                    let text = String::from_utf8_lossy(paste).into_owned();
+                    self.paste = None;
+                    out.push(Event::Paste(text));
+                    start += end + PASTE_END.len();
+                    continue;
+                }
+                // Keep a tail that could be the start of the end marker.
+                let keep = rest.len().min(PASTE_END.len() - 1);
+                let take = rest.len() - keep;
+                append_capped(paste, &rest[..take]);
+                start += take;
+                break;
+            }
+            if start >= self.pending.len() {
+                break;
+            }
+            match self.step(start) {
+                Step::Done(n, event) => {
+                    start += n;
+                    if let Some(e) = event {
+                        out.push(e);
+                    }
+                }
+                Step::Incomplete => break,
+            }
+        }
+        self.pending.drain(..start);
+        if self.paste.is_none() && self.pending == [0x1b] {
+            self.pending.clear();
+            out.push(key(KeyCode::Esc, KeyModifiers::NONE));
+        }
+    }
+
+    fn step(&mut self, start: usize) -> Step {
+        let b = &self.pending[start..];
+        match b[0] {
+            0x1b => self.escape(start),
+            b'\r' | b'\n' => Step::Done(1, Some(key(KeyCode::Enter, KeyModifiers::NONE))),
+            b'\t' => Step::Done(1, Some(key(KeyCode::Tab, KeyModifiers::NONE))),
+            0x7f | 0x08 => Step::Done(1, Some(key(KeyCode::Backspace, KeyModifiers::NONE))),
+            c @ 0x01..=0x1a => Step::Done(
+                1,
+                Some(key(
+                    KeyCode::Char((b'a' + c - 1) as char),
+                    KeyModifiers::CONTROL,
+                )),
+            ),
+            c if c < 0x20 => Step::Done(1, None),
+            _ => match utf8_char(b) {
+                Some((ch, n)) => {
+                    let mods = if ch.is_uppercase() {
+                        KeyModifiers::SHIFT
+                    } else {
+                        KeyModifiers::NONE
+                    };
+                    Step::Done(n, Some(key(KeyCode::Char(ch), mods)))
+                }
+                None if b.len() < utf8_len(b[0]) => Step::Incomplete,
+                None => Step::Done(1, None),
+            },
+        }
+    }
+
+    fn escape(&mut self, start: usize) -> Step {
+        let b = &self.pending[start..];
+        if b.len() < 2 {
+            return Step::Incomplete;
+        }
+        match b[1] {
+            b'[' => self.csi(start),
+            b'O' => {
+                if b.len() < 3 {
+                    return Step::Incomplete;
+                }
+                let code = match b[2] {
+                    b'A' => Some(KeyCode::Up),
+                    b'B' => Some(KeyCode::Down),
+                    b'C' => Some(KeyCode::Right),
+                    b'D' => Some(KeyCode::Left),
+                    b'H' => Some(KeyCode::Home),
+                    b'F' => Some(KeyCode::End),
+                    _ => None,
+                };
+                Step::Done(3, code.map(|c| key(c, KeyModifiers::NONE)))
+            }
+            0x1b => Step::Done(1, Some(key(KeyCode::Esc, KeyModifiers::NONE))),
+            _ => {
+                // ESC + key: Alt held.
+                match self.step(start + 1) {
+                    Step::Done(n, Some(Event::Key(mut k))) => {
+                        k.modifiers |= KeyModifiers::ALT;
+                        Step::Done(n + 1, Some(Event::Key(k)))
+                    }
+                    Step::Done(n, other) => Step::Done(n + 1, other),
+                    Step::Incomplete => Step::Incomplete,
+                }
+            }
+        }
+    }
+
+    fn csi(&mut self, start: usize) -> Step {
+        let b = &self.pending[start..];
+        let Some(end) = b[2..].iter().position(|c| (0x40..=0x7e).contains(c)) else {
+            return if b.len() > CSI_LIMIT {
+                Step::Done(b.len(), None)
+            } else {
+                Step::Incomplete
+            };
+        };
+        let final_byte = b[2 + end];
+        let params = &b[2..2 + end];
+        let len = 3 + end;
+        let event = match (params.first(), final_byte) {
+            (Some(b'<'), b'M' | b'm') => sgr_mouse(&params[1..], final_byte == b'M'),
+            (_, b'~') if params == b"200" => {
+                self.paste = Some(Vec::new());
+                None
+            }
+            (_, b'~') => {
+                let code = match numbers(params).first().copied().unwrap_or(0) {
+                    1 | 7 => Some(KeyCode::Home),
+                    2 => Some(KeyCode::Insert),
+                    3 => Some(KeyCode::Delete),
+                    4 | 8 => Some(KeyCode::End),
+                    5 => Some(KeyCode::PageUp),
+                    6 => Some(KeyCode::PageDown),
+                    _ => None,
+                };
+                code.map(|c| key(c, modifiers(params)))
+            }
+            (_, b'A') => Some(key(KeyCode::Up, modifiers(params))),
+            (_, b'B') => Some(key(KeyCode::Down, modifiers(params))),
+            (_, b'C') => Some(key(KeyCode::Right, modifiers(params))),
+            (_, b'D') => Some(key(KeyCode::Left, modifiers(params))),
+            (_, b'H') => Some(key(KeyCode::Home, modifiers(params))),
+            (_, b'F') => Some(key(KeyCode::End, modifiers(params))),
+            (_, b'Z') => Some(key(KeyCode::BackTab, KeyModifiers::SHIFT)),
+            _ => None,
+        };
+        Step::Done(len, event)
+    }
+}
+
+/// Semicolon-separated decimal parameters (missing ones are 0).
+fn numbers(params: &[u8]) -> Vec<u32> {
+    params
+        .split(|&c| c == b';')
+        .map(|p| {
+            p.iter().filter(|c| c.is_ascii_digit()).fold(0u32, |n, &c| {
+                n.saturating_mul(10).saturating_add((c - b'0') as u32)
+            })
+        })
+        .collect()
+}
+
+/// Modifier parameter of a cursor key (`ESC [ 1 ; m A`): m − 1 is a bit set.
+fn modifiers(params: &[u8]) -> KeyModifiers {
+    let n = numbers(params);
+    let m = n.get(1).copied().unwrap_or(1).saturating_sub(1);
+    let mut mods = KeyModifiers::NONE;
+    if m & 1 != 0 {
+        mods |= KeyModifiers::SHIFT;
+    }
+    if m & 2 != 0 {
+        mods |= KeyModifiers::ALT;
+    }
+    if m & 4 != 0 {
+        mods |= KeyModifiers::CONTROL;
+    }
+    mods
+}
+
+/// An SGR mouse report: `b;x;y`, pressed (`M`) or released (`m`).
+fn sgr_mouse(params: &[u8], pressed: bool) -> Option<Event> {
+    let n = numbers(params);
+    let [code, x, y] = n[..] else { return None };
+    let button = match code & 3 {
+        0 => MouseButton::Left,
+        1 => MouseButton::Middle,
+        _ => MouseButton::Right,
+    };
+    let kind = if code & 64 != 0 {
+        match code & 3 {
+            0 => MouseEventKind::ScrollUp,
+            1 => MouseEventKind::ScrollDown,
+            2 => MouseEventKind::ScrollLeft,
+            _ => MouseEventKind::ScrollRight,
+        }
+    } else if code & 32 != 0 {
+        if code & 3 == 3 {
+            MouseEventKind::Moved
+        } else {
+            MouseEventKind::Drag(button)
+        }
+    } else if pressed {
+        MouseEventKind::Down(button)
+    } else {
+        MouseEventKind::Up(button)
+    };
+    let mut modifiers = KeyModifiers::NONE;
+    if code & 4 != 0 {
+        modifiers |= KeyModifiers::SHIFT;
+    }
+    if code & 8 != 0 {
+        modifiers |= KeyModifiers::ALT;
+    }
+    if code & 16 != 0 {
+        modifiers |= KeyModifiers::CONTROL;
+    }
+    let clamp = |v: u32| v.saturating_sub(1).min(u16::MAX as u32) as u16;
+    Some(Event::Mouse(MouseEvent {
+        kind,
+        column: clamp(x),
+        row: clamp(y),
+        modifiers,
+    }))
+}
+
+/// The first UTF-8 character of `b` and its length, if complete and valid.
+fn utf8_char(b: &[u8]) -> Option<(char, usize)> {
+    let n = utf8_len(b[0]);
+    let s = std::str::from_utf8(b.get(..n)?).ok()?;
+    s.chars().next().map(|c| (c, n))
+}
+
+/// Length of the UTF-8 sequence a lead byte starts (1 for stray bytes).
+fn utf8_len(lead: u8) -> usize {
+    match lead {
+        0xc0..=0xdf => 2,
+        0xe0..=0xef => 3,
+        0xf0..=0xf7 => 4,
+        _ => 1,
+    }
+}
+
+fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {
+    haystack.windows(needle.len()).position(|w| w == needle)
+}
+
+fn append_capped(buf: &mut Vec<u8>, data: &[u8]) {
+    let room = PASTE_LIMIT.saturating_sub(buf.len());
+    buf.extend_from_slice(&data[..data.len().min(room)]);
+}

@@ -1,0 +1,13 @@
+//! Framebuffer → terminal: half-block cells, colour depth, a byte-frugal
+//! backend with synchronized frames, input decoding and terminal hygiene.
+
+pub mod backend;
+pub mod color;
+pub mod counting;
+pub mod guard;
+pub mod halfblock;
+pub mod input;
+
+pub use backend::SgrBackend;
+pub use color::ColorDepth;
+pub use halfblock::HalfBlocks;

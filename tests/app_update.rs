@@ -1,0 +1,370 @@
+//! Every key and mouse action through `action_for_event` and the pure `update`.
+
+use crossterm::event::{
+    Event, KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind,
+};
+use glam::Vec3;
+use relief::app::state::{DEG_PER_COL, DEG_PER_ROW};
+use relief::app::{Action, Command, State, action_for_event, update};
+use relief::settings::{DEFAULT_BUMP_STRENGTH, Normals, Settings, Shading};
+use relief::term::ColorDepth;
+
+fn state() -> State {
+    State::new(Settings::default(), ColorDepth::Truecolor)
+}
+
+fn key_event(code: KeyCode, modifiers: KeyModifiers) -> Event {
+    Event::Key(KeyEvent::new(code, modifiers))
+}
+
+/// Feeds a key through the mapping and `update`; returns any command.
+fn press(s: &mut State, code: KeyCode) -> Option<Command> {
+    press_mod(s, code, KeyModifiers::NONE)
+}
+
+fn press_mod(s: &mut State, code: KeyCode, m: KeyModifiers) -> Option<Command> {
+    let action = action_for_event(s, &key_event(code, m))?;
+    update(s, action)
+}
+
+fn ch(s: &mut State, c: char) -> Option<Command> {
+    press(s, KeyCode::Char(c))
+}
+
+fn type_text(s: &mut State, text: &str) {
+    for c in text.chars() {
+        ch(s, c);
+    }
+}
+
+fn mouse(s: &mut State, kind: MouseEventKind, column: u16, row: u16) {
+    let e = Event::Mouse(MouseEvent {
+        kind,
+        column,
+        row,
+        modifiers: KeyModifiers::NONE,
+    });
+    if let Some(a) = action_for_event(s, &e) {
+        update(s, a);
+    }
+}
+
+#[test]
+fn m_cycles_flat_gouraud_phong() {
+    let mut s = state();
+    assert_eq!(s.settings.shading, Shading::Phong);
+    ch(&mut s, 'm');
+    assert_eq!(s.settings.shading, Shading::Flat);
+    ch(&mut s, 'm');
+    assert_eq!(s.settings.shading, Shading::Gouraud);
+    ch(&mut s, 'm');
+    assert_eq!(s.settings.shading, Shading::Phong);
+}
+
+#[test]
+fn n_t_c_b_toggle_and_toggle_back() {
+    let mut s = state();
+    ch(&mut s, 'n');
+    assert_eq!(s.settings.normals, Normals::Face);
+    ch(&mut s, 'n');
+    assert_eq!(s.settings.normals, Normals::Vertex);
+    for (c, get) in [
+        ('t', (|s: &State| s.settings.texture) as fn(&State) -> bool),
+        ('c', |s: &State| s.settings.colors),
+        ('b', |s: &State| s.settings.bump),
+    ] {
+        assert!(get(&s));
+        ch(&mut s, c);
+        assert!(!get(&s), "{c}");
+        ch(&mut s, c);
+        assert!(get(&s), "{c}");
+    }
+    // Nothing else moved.
+    assert_eq!(s.settings, Settings::default());
+}
+
+#[test]
+fn quit_keys() {
+    for (code, m) in [
+        (KeyCode::Char('q'), KeyModifiers::NONE),
+        (KeyCode::Esc, KeyModifiers::NONE),
+        (KeyCode::Char('c'), KeyModifiers::CONTROL),
+    ] {
+        let mut s = state();
+        press_mod(&mut s, code, m);
+        assert!(s.quit, "{code:?}");
+    }
+    // Plain c is colours, not quit.
+    let mut s = state();
+    ch(&mut s, 'c');
+    assert!(!s.quit);
+}
+
+#[test]
+fn reserved_keys_do_nothing_yet() {
+    let mut s = state();
+    for c in ['f', 'e', 'a', 'd', 'o', 'p', 'l', 'x', 'R', '/', 'k'] {
+        let m = if c.is_uppercase() {
+            KeyModifiers::SHIFT
+        } else {
+            KeyModifiers::NONE
+        };
+        assert_eq!(
+            action_for_event(&s, &key_event(KeyCode::Char(c), m)),
+            None,
+            "{c}"
+        );
+        press_mod(&mut s, KeyCode::Char(c), m);
+    }
+    assert_eq!(s, state());
+}
+
+#[test]
+fn arrows_and_page_keys_rotate_by_steps() {
+    let mut s = state();
+    let start = s.settings.rotation;
+    press(&mut s, KeyCode::Right);
+    assert_eq!(s.settings.rotation, start + Vec3::new(0.0, 5.0, 0.0));
+    press(&mut s, KeyCode::Left);
+    press(&mut s, KeyCode::Left);
+    assert_eq!(s.settings.rotation, start + Vec3::new(0.0, -5.0, 0.0));
+    press(&mut s, KeyCode::Down);
+    assert_eq!(s.settings.rotation.x, start.x + 5.0);
+    press(&mut s, KeyCode::Up);
+    press(&mut s, KeyCode::Up);
+    assert_eq!(s.settings.rotation.x, start.x - 5.0);
+    press(&mut s, KeyCode::PageUp);
+    assert_eq!(s.settings.rotation.z, 5.0);
+    press(&mut s, KeyCode::PageDown);
+    press(&mut s, KeyCode::PageDown);
+    // Angles stay in [0, 360).
+    assert_eq!(s.settings.rotation.z, 355.0);
+}
+
+#[test]
+fn r_resets_orientation_and_stops_auto_rotation() {
+    let mut s = state();
+    press(&mut s, KeyCode::Right);
+    ch(&mut s, ' ');
+    assert!(s.auto_rotate);
+    ch(&mut s, 'r');
+    assert_eq!(s.settings.rotation, Vec3::new(25.0, 35.0, 0.0));
+    assert!(!s.auto_rotate);
+}
+
+#[test]
+fn space_toggles_auto_rotation_which_turns_with_time() {
+    let mut s = state();
+    update(&mut s, Action::AutoRotateTick { seconds: 0.1 });
+    assert_eq!(s.settings.rotation.y, 35.0, "no turning while off");
+    ch(&mut s, ' ');
+    assert!(s.auto_rotate);
+    update(&mut s, Action::AutoRotateTick { seconds: 0.1 });
+    assert!((s.settings.rotation.y - 39.0).abs() < 1e-4);
+    // A long stall is capped, NaN ignored.
+    update(&mut s, Action::AutoRotateTick { seconds: 100.0 });
+    assert!((s.settings.rotation.y - 49.0).abs() < 1e-3);
+    update(&mut s, Action::AutoRotateTick { seconds: f32::NAN });
+    assert!((s.settings.rotation.y - 49.0).abs() < 1e-3);
+    ch(&mut s, ' ');
+    assert!(!s.auto_rotate);
+}
+
+#[test]
+fn plus_minus_change_bump_strength_within_bounds() {
+    let mut s = state();
+    ch(&mut s, '+');
+    assert!((s.settings.bump_strength - DEFAULT_BUMP_STRENGTH * 1.25).abs() < 1e-7);
+    ch(&mut s, '-');
+    assert!((s.settings.bump_strength - DEFAULT_BUMP_STRENGTH).abs() < 1e-7);
+    for _ in 0..100 {
+        ch(&mut s, '-');
+    }
+    assert_eq!(s.settings.bump_strength, 0.0);
+    ch(&mut s, '+');
+    assert!(s.settings.bump_strength > 0.0);
+    for _ in 0..200 {
+        ch(&mut s, '+');
+    }
+    assert_eq!(s.settings.bump_strength, 1.0);
+}
+
+#[test]
+fn s_asks_the_loop_to_save_and_the_result_is_shown() {
+    let mut s = state();
+    assert_eq!(ch(&mut s, 's'), Some(Command::SavePng));
+    update(&mut s, Action::Saved(Ok("relief-1.png".into())));
+    assert_eq!(s.message.as_deref(), Some("saved relief-1.png"));
+    update(&mut s, Action::Saved(Err("cannot write \x1b[31mx".into())));
+    assert_eq!(s.message.as_deref(), Some("not saved: cannot write ?[31mx"));
+}
+
+#[test]
+fn question_mark_opens_help_and_escape_closes_it_without_quitting() {
+    let mut s = state();
+    ch(&mut s, '?');
+    assert!(s.help);
+    press(&mut s, KeyCode::Esc);
+    assert!(!s.help);
+    assert!(!s.quit);
+    ch(&mut s, '?');
+    ch(&mut s, '?');
+    assert!(!s.help);
+    // Keys still work under the help.
+    ch(&mut s, '?');
+    ch(&mut s, 'm');
+    assert_eq!(s.settings.shading, Shading::Flat);
+}
+
+#[test]
+fn left_drag_turns_about_x_and_y() {
+    let mut s = state();
+    mouse(&mut s, MouseEventKind::Down(MouseButton::Left), 10, 5);
+    mouse(&mut s, MouseEventKind::Drag(MouseButton::Left), 13, 7);
+    assert_eq!(
+        s.settings.rotation,
+        Vec3::new(25.0 + 2.0 * DEG_PER_ROW, 35.0 + 3.0 * DEG_PER_COL, 0.0)
+    );
+    mouse(&mut s, MouseEventKind::Up(MouseButton::Left), 13, 7);
+    assert_eq!(s.drag, None);
+    // Motion after release does nothing (no button held: no drag report).
+    let before = s.settings.rotation;
+    mouse(&mut s, MouseEventKind::Moved, 20, 20);
+    assert_eq!(s.settings.rotation, before);
+}
+
+#[test]
+fn right_drag_turns_about_z_and_x() {
+    let mut s = state();
+    mouse(&mut s, MouseEventKind::Down(MouseButton::Right), 10, 5);
+    mouse(&mut s, MouseEventKind::Drag(MouseButton::Right), 12, 6);
+    assert_eq!(
+        s.settings.rotation,
+        Vec3::new(25.0 + DEG_PER_ROW, 35.0, 360.0 - 2.0 * DEG_PER_COL)
+    );
+}
+
+#[test]
+fn a_drag_whose_press_was_missed_starts_where_it_is() {
+    let mut s = state();
+    mouse(&mut s, MouseEventKind::Drag(MouseButton::Left), 40, 10);
+    assert_eq!(s.settings.rotation, Vec3::new(25.0, 35.0, 0.0));
+    mouse(&mut s, MouseEventKind::Drag(MouseButton::Left), 41, 10);
+    assert_eq!(s.settings.rotation.y, 35.0 + DEG_PER_COL);
+    // Middle button and wheel do nothing.
+    mouse(&mut s, MouseEventKind::Down(MouseButton::Middle), 1, 1);
+    mouse(&mut s, MouseEventKind::ScrollUp, 1, 1);
+    assert_eq!(s.settings.rotation.y, 35.0 + DEG_PER_COL);
+}
+
+#[test]
+fn orientation_fields_edit_apply_and_cancel() {
+    let mut s = state();
+    press(&mut s, KeyCode::Tab);
+    assert_eq!(s.panel.focus, Some(0));
+    // Typing replaces the field; letters go to the field, not to the commands.
+    type_text(&mut s, "90");
+    assert_eq!(s.field_text(0), "90");
+    press(&mut s, KeyCode::Tab);
+    assert_eq!(s.panel.focus, Some(1));
+    type_text(&mut s, "-45.5");
+    press(&mut s, KeyCode::Tab);
+    type_text(&mut s, "370");
+    press(&mut s, KeyCode::Backspace);
+    assert_eq!(s.field_text(2), "37");
+    assert_eq!(
+        s.settings.rotation,
+        Vec3::new(25.0, 35.0, 0.0),
+        "not applied yet"
+    );
+    press(&mut s, KeyCode::Enter);
+    assert_eq!(s.settings.rotation, Vec3::new(90.0, 314.5, 37.0));
+    assert_eq!(s.panel.focus, None);
+    assert_eq!(s.message, None);
+
+    // Esc cancels every edit.
+    press(&mut s, KeyCode::Tab);
+    type_text(&mut s, "1");
+    press(&mut s, KeyCode::Esc);
+    assert_eq!(s.settings.rotation.x, 90.0);
+    assert_eq!(s.panel.focus, None);
+    assert!(!s.quit, "Esc in the fields does not quit");
+    assert_eq!(s.field_text(0), "90");
+
+    // Shift-Tab goes backwards, from outside to Z.
+    press_mod(&mut s, KeyCode::BackTab, KeyModifiers::SHIFT);
+    assert_eq!(s.panel.focus, Some(2));
+    press_mod(&mut s, KeyCode::BackTab, KeyModifiers::SHIFT);
+    assert_eq!(s.panel.focus, Some(1));
+}
+
+#[test]
+fn invalid_entries_are_refused_and_the_old_value_kept() {
+    for bad in ["abc", "NaN", "inf", "-infinity", "", "1e99", "1,5"] {
+        let mut s = state();
+        press(&mut s, KeyCode::Tab);
+        press(&mut s, KeyCode::Tab);
+        if bad.is_empty() {
+            press(&mut s, KeyCode::Backspace);
+            press(&mut s, KeyCode::Backspace);
+        } else {
+            type_text(&mut s, bad);
+        }
+        press(&mut s, KeyCode::Enter);
+        assert_eq!(s.settings.rotation, Vec3::new(25.0, 35.0, 0.0), "{bad:?}");
+        let msg = s.message.clone().unwrap_or_default();
+        assert!(
+            msg.starts_with("Y: ") && msg.contains("kept 35°"),
+            "{bad:?}: {msg}"
+        );
+        assert_eq!(s.panel.focus, Some(1), "focus stays on the bad field");
+        assert_eq!(s.field_text(1), "35");
+    }
+    // A good field is applied even when another is refused.
+    let mut s = state();
+    press(&mut s, KeyCode::Tab);
+    type_text(&mut s, "10");
+    press(&mut s, KeyCode::Tab);
+    type_text(&mut s, "x");
+    press(&mut s, KeyCode::Enter);
+    assert_eq!(s.settings.rotation, Vec3::new(10.0, 35.0, 0.0));
+    // Huge finite angles are reduced, not refused.
+    let mut s = state();
+    press(&mut s, KeyCode::Tab);
+    type_text(&mut s, "1e9");
+    press(&mut s, KeyCode::Enter);
+    assert_eq!(s.settings.rotation.x, 1e9f64.rem_euclid(360.0) as f32);
+}
+
+#[test]
+fn drags_update_the_fields_live() {
+    let mut s = state();
+    press(&mut s, KeyCode::Tab);
+    assert_eq!(s.field_text(1), "35");
+    mouse(&mut s, MouseEventKind::Down(MouseButton::Left), 0, 0);
+    mouse(&mut s, MouseEventKind::Drag(MouseButton::Left), 5, 0);
+    assert_eq!(s.field_text(1), "45");
+}
+
+#[test]
+fn paste_shows_sanitized_text_or_fills_the_focused_field() {
+    let mut s = state();
+    let e = Event::Paste("/tmp/brick\x1b[2J.png\n".into());
+    let a = action_for_event(&s, &e).unwrap();
+    assert_eq!(a, Action::Paste("/tmp/brick\x1b[2J.png\n".into()));
+    update(&mut s, a);
+    assert_eq!(s.message.as_deref(), Some("pasted: /tmp/brick?[2J.png?"));
+    press(&mut s, KeyCode::Tab);
+    update(&mut s, Action::Paste("12.5".into()));
+    press(&mut s, KeyCode::Enter);
+    assert_eq!(s.settings.rotation.x, 12.5);
+}
+
+#[test]
+fn resize_changes_nothing_in_the_state() {
+    let mut s = state();
+    let a = action_for_event(&s, &Event::Resize(10, 3)).unwrap();
+    assert_eq!(a, Action::Resize);
+    update(&mut s, a);
+    assert_eq!(s, state());
+}

@@ -1,0 +1,209 @@
+//! The screen through ratatui's `TestBackend`: status line, fields, help.
+
+use std::time::Duration;
+
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use relief::Framebuffer;
+use relief::app::view::{HELP, areas, framebuffer_size, status_line};
+use relief::app::{Action, State, update, view};
+use relief::settings::Settings;
+use relief::term::ColorDepth;
+
+const BG: [u8; 3] = [16, 24, 32];
+
+fn state() -> State {
+    let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
+    s.frame.frame_time = Duration::from_micros(3_250);
+    s.frame.fps = 30.0;
+    s.frame.bytes = 41_234;
+    s
+}
+
+fn screen(s: &State, w: u16, h: u16) -> Buffer {
+    let mut term = Terminal::new(TestBackend::new(w, h)).unwrap();
+    let a = areas(Rect::new(0, 0, w, h));
+    let (fw, fh) = framebuffer_size(a.viewport);
+    let mut fb = Framebuffer::new(fw, fh);
+    fb.fill([200, 100, 50]);
+    term.draw(|f| view(f, s, &fb, BG)).unwrap();
+    term.backend().buffer().clone()
+}
+
+fn row_text(buf: &Buffer, y: u16) -> String {
+    (0..buf.area.width)
+        .map(|x| buf[(x, y)].symbol().to_string())
+        .collect()
+}
+
+fn all_text(buf: &Buffer) -> String {
+    (0..buf.area.height)
+        .map(|y| row_text(buf, y))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn status_line_shows_every_mode_and_the_frame_cost() {
+    let s = state();
+    let buf = screen(&s, 160, 20);
+    let status = row_text(&buf, 19);
+    for want in [
+        "Phong",
+        "normals vertex",
+        "texture on",
+        "colours on",
+        "bump on",
+        "24-bit",
+        "3.2 ms",
+        "30 fps",
+        "41.2 kB",
+    ] {
+        assert!(status.contains(want), "{want:?} missing in {status:?}");
+    }
+    assert!(!status.contains("Phong only"));
+}
+
+#[test]
+fn status_line_follows_each_toggle() {
+    let mut s = state();
+    update(&mut s, Action::CycleShading);
+    let st = status_line(&s, 200);
+    assert!(st.starts_with("flat"), "{st}");
+    assert!(st.contains("bump on (Phong only)"), "{st}");
+    update(&mut s, Action::CycleShading);
+    assert!(status_line(&s, 200).starts_with("Gouraud"));
+    update(&mut s, Action::ToggleNormals);
+    update(&mut s, Action::ToggleTexture);
+    update(&mut s, Action::ToggleColors);
+    let st = status_line(&s, 200);
+    for want in ["normals face", "texture off", "colours off", "(Phong only)"] {
+        assert!(st.contains(want), "{want:?} in {st}");
+    }
+    update(&mut s, Action::ToggleBump);
+    let st = status_line(&s, 200);
+    assert!(
+        st.contains("bump off") && !st.contains("Phong only"),
+        "{st}"
+    );
+    s.depth = ColorDepth::Palette256;
+    assert!(status_line(&s, 200).contains("256 colours"));
+    s.depth = ColorDepth::Palette16;
+    assert!(status_line(&s, 200).contains("16 colours"));
+}
+
+#[test]
+fn narrow_terminals_get_a_compact_status_that_still_says_everything() {
+    let mut s = state();
+    update(&mut s, Action::CycleShading);
+    let st = status_line(&s, 40);
+    for want in [
+        "flat",
+        "v",
+        "tex+",
+        "col+",
+        "bump+(Phong only)",
+        "24b",
+        "3.2ms",
+        "30fps",
+        "41.2 kB",
+    ] {
+        assert!(st.contains(want), "{want:?} in {st}");
+    }
+    // Whatever the width, nothing panics, down to one cell.
+    for (w, h) in [(40, 12), (10, 3), (3, 2), (1, 1), (1, 5), (200, 1)] {
+        let _ = screen(&s, w, h);
+    }
+}
+
+#[test]
+fn the_picture_fills_the_viewport_above_the_two_lines() {
+    let s = state();
+    let buf = screen(&s, 20, 8);
+    for y in 0..6 {
+        for x in 0..20 {
+            let cell = &buf[(x, y)];
+            assert_eq!(cell.symbol(), " ");
+            assert_eq!(cell.bg, ratatui::style::Color::Rgb(200, 100, 50));
+        }
+    }
+    assert_eq!(
+        framebuffer_size(areas(Rect::new(0, 0, 160, 48)).viewport),
+        (160, 92)
+    );
+    assert_eq!(
+        framebuffer_size(areas(Rect::new(0, 0, 40, 12)).viewport),
+        (40, 20)
+    );
+    assert_eq!(
+        framebuffer_size(areas(Rect::new(0, 0, 1, 1)).viewport),
+        (1, 2)
+    );
+}
+
+#[test]
+fn orientation_fields_and_messages_are_on_the_line_above_the_status() {
+    let mut s = state();
+    let buf = screen(&s, 80, 10);
+    let line = row_text(&buf, 8);
+    assert!(
+        line.contains("X     25°") && line.contains("Y     35°") && line.contains("Z      0°"),
+        "{line}"
+    );
+    update(&mut s, Action::PanelNext);
+    update(&mut s, Action::PanelInput('7'));
+    let line = row_text(&screen(&s, 80, 10), 8);
+    assert!(
+        line.contains("X     7_°") && line.contains("Enter apply"),
+        "{line}"
+    );
+    update(&mut s, Action::PanelInput('z'));
+    update(&mut s, Action::PanelApply);
+    let line = row_text(&screen(&s, 120, 10), 8);
+    assert!(
+        line.contains("X: '7z' is not a number (kept 25°)"),
+        "{line}"
+    );
+    // Pasted control characters never reach the screen.
+    update(&mut s, Action::PanelCancel);
+    update(&mut s, Action::Paste("a\x1b]0;evil\x07b".into()));
+    let text = all_text(&screen(&s, 120, 10));
+    assert!(text.contains("pasted: a?]0;evil?b"), "{text}");
+    assert!(!text.contains('\x1b'));
+}
+
+#[test]
+fn help_overlay_lists_every_key_and_mouse_action() {
+    let mut s = state();
+    assert!(!all_text(&screen(&s, 100, 30)).contains("keys and mouse"));
+    update(&mut s, Action::ToggleHelp);
+    let text = all_text(&screen(&s, 100, 30));
+    assert!(text.contains("keys and mouse"));
+    for (k, t) in HELP {
+        assert!(text.contains(k), "{k}");
+        assert!(text.contains(t), "{t}");
+    }
+    for key in [
+        "m",
+        "n",
+        "t",
+        "c",
+        "b",
+        "+ -",
+        "left drag",
+        "right drag",
+        "arrows",
+        "Tab",
+        "space",
+        "r",
+        "s",
+        "?",
+        "q Esc Ctrl-C",
+    ] {
+        assert!(HELP.iter().any(|(k, _)| *k == key), "{key} not in help");
+    }
+    // In a tiny terminal the overlay is cut, not a crash.
+    let _ = screen(&s, 12, 4);
+}

@@ -1,0 +1,349 @@
+//! What the backend sends: checked by replaying it on a small terminal model,
+//! and counted against ratatui's stock crossterm backend.
+
+use ratatui::backend::CrosstermBackend;
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::style::Color;
+use ratatui::widgets::Widget;
+use ratatui::{Terminal, TerminalOptions, Viewport};
+use relief::Framebuffer;
+use relief::term::backend::{BEGIN_SYNC, END_SYNC};
+use relief::term::{ColorDepth, HalfBlocks, SgrBackend};
+
+const PAD: [u8; 3] = [16, 24, 32];
+
+/// A terminal screen that understands what the backend emits.
+struct Screen {
+    w: usize,
+    h: usize,
+    cells: Vec<(char, Color, Color)>,
+    x: usize,
+    y: usize,
+    fg: Color,
+    bg: Color,
+}
+
+impl Screen {
+    fn new(w: usize, h: usize) -> Self {
+        Screen {
+            w,
+            h,
+            cells: vec![(' ', Color::Reset, Color::Reset); w * h],
+            x: 0,
+            y: 0,
+            fg: Color::Reset,
+            bg: Color::Reset,
+        }
+    }
+
+    fn params(p: &str) -> Vec<u16> {
+        p.split(';').map(|n| n.parse().unwrap_or(0)).collect()
+    }
+
+    fn sgr(&mut self, p: &[u16]) {
+        let mut i = 0;
+        while i < p.len() {
+            let extended = |i: &mut usize| -> Color {
+                match p[*i + 1] {
+                    5 => {
+                        *i += 2;
+                        Color::Indexed(p[*i] as u8)
+                    }
+                    2 => {
+                        *i += 4;
+                        Color::Rgb(p[*i - 2] as u8, p[*i - 1] as u8, p[*i] as u8)
+                    }
+                    other => panic!("bad extended colour {other}"),
+                }
+            };
+            let named = |n: u16| -> Color {
+                const N: [Color; 16] = [
+                    Color::Black,
+                    Color::Red,
+                    Color::Green,
+                    Color::Yellow,
+                    Color::Blue,
+                    Color::Magenta,
+                    Color::Cyan,
+                    Color::Gray,
+                    Color::DarkGray,
+                    Color::LightRed,
+                    Color::LightGreen,
+                    Color::LightYellow,
+                    Color::LightBlue,
+                    Color::LightMagenta,
+                    Color::LightCyan,
+                    Color::White,
+                ];
+                N[n as usize]
+            };
+            match p[i] {
+                0 => {
+                    self.fg = Color::Reset;
+                    self.bg = Color::Reset;
+                }
+                1..=9 => {}
+                n @ 30..=37 => self.fg = named(n - 30),
+                38 => self.fg = extended(&mut i),
+                39 => self.fg = Color::Reset,
+                n @ 40..=47 => self.bg = named(n - 40),
+                48 => self.bg = extended(&mut i),
+                49 => self.bg = Color::Reset,
+                n @ 90..=97 => self.fg = named(n - 90 + 8),
+                n @ 100..=107 => self.bg = named(n - 100 + 8),
+                n => panic!("unexpected SGR {n}"),
+            }
+            i += 1;
+        }
+    }
+
+    fn feed(&mut self, bytes: &[u8]) {
+        let text = std::str::from_utf8(bytes).expect("output is UTF-8");
+        let mut chars = text.chars().peekable();
+        while let Some(c) = chars.next() {
+            match c {
+                '\x1b' => {
+                    assert_eq!(chars.next(), Some('['), "only CSI sequences are sent");
+                    let mut params = String::new();
+                    let fin = loop {
+                        let c = chars.next().expect("complete sequence");
+                        if ('\x40'..='\x7e').contains(&c) {
+                            break c;
+                        }
+                        params.push(c);
+                    };
+                    if params.starts_with('?') {
+                        continue; // mode switches
+                    }
+                    let p = Self::params(&params);
+                    match fin {
+                        'H' => {
+                            self.y = p.first().copied().unwrap_or(1).max(1) as usize - 1;
+                            self.x = p.get(1).copied().unwrap_or(1).max(1) as usize - 1;
+                        }
+                        'C' => self.x += p.first().copied().unwrap_or(1).max(1) as usize,
+                        'J' if params == "2" => {
+                            let bg = self.bg;
+                            self.cells.fill((' ', Color::Reset, bg));
+                        }
+                        'm' => self.sgr(&p),
+                        other => panic!("unexpected CSI {params}{other}"),
+                    }
+                }
+                '\r' => self.x = 0,
+                '\n' => self.y += 1,
+                c => {
+                    assert!(
+                        self.x < self.w && self.y < self.h,
+                        "write outside the screen"
+                    );
+                    self.cells[self.y * self.w + self.x] = (c, self.fg, self.bg);
+                    self.x += 1;
+                }
+            }
+        }
+    }
+
+    /// What a cell shows: (upper colour, lower colour) for blocks and spaces,
+    /// or the character with its colours for text.
+    fn seen(&self, x: usize, y: usize) -> (char, Color, Color) {
+        let (c, fg, bg) = self.cells[y * self.w + x];
+        match c {
+            '▀' => ('■', fg, bg),
+            '▄' => ('■', bg, fg),
+            ' ' => ('■', bg, bg),
+            c => (c, fg, bg),
+        }
+    }
+}
+
+fn expected(buf: &Buffer, x: u16, y: u16) -> (char, Color, Color) {
+    let cell = &buf[(x, y)];
+    match cell.symbol() {
+        "▀" => ('■', cell.fg, cell.bg),
+        " " => ('■', cell.bg, cell.bg),
+        s => (s.chars().next().unwrap(), cell.fg, cell.bg),
+    }
+}
+
+/// A deterministic picture: gradients, noise and flat areas.
+fn picture(w: usize, h: usize, seed: u32) -> Framebuffer {
+    let mut fb = Framebuffer::new(w, h);
+    let mut s = seed.wrapping_mul(2654435761).wrapping_add(1);
+    for y in 0..h {
+        for x in 0..w {
+            s ^= s << 13;
+            s ^= s >> 17;
+            s ^= s << 5;
+            let c = if x < w / 4 {
+                PAD
+            } else if x < w / 2 {
+                [(x * 5) as u8, (y * 7) as u8, 90]
+            } else {
+                [s as u8, (s >> 8) as u8, (s >> 16) as u8]
+            };
+            fb.set(x, y, c);
+        }
+    }
+    fb
+}
+
+struct Harness {
+    term: Terminal<SgrBackend<Vec<u8>>>,
+}
+
+impl Harness {
+    fn new(w: u16, h: u16) -> Self {
+        Harness {
+            term: Terminal::new(SgrBackend::with_size(Vec::new(), w, h)).unwrap(),
+        }
+    }
+
+    /// Draws one frame; returns its bytes and the buffer drawn.
+    fn frame(&mut self, fb: &Framebuffer, depth: ColorDepth, text: &str) -> (Vec<u8>, Buffer) {
+        let start = self.term.backend().writer().len();
+        self.term.backend_mut().begin_frame().unwrap();
+        let done = self
+            .term
+            .draw(|f| {
+                let area = f.area();
+                let pic = Rect {
+                    height: area.height.saturating_sub(1),
+                    ..area
+                };
+                HalfBlocks {
+                    fb,
+                    depth,
+                    dither: false,
+                    pad: PAD,
+                }
+                .render(pic, f.buffer_mut());
+                let line = Rect::new(0, area.height - 1, area.width, 1);
+                ratatui::widgets::Paragraph::new(text)
+                    .style(ratatui::style::Style::new().reversed())
+                    .render(line, f.buffer_mut());
+            })
+            .unwrap()
+            .buffer
+            .clone();
+        let n = self.term.backend_mut().end_frame().unwrap();
+        let out = self.term.backend().writer()[start..].to_vec();
+        assert_eq!(n as usize, out.len());
+        (out, done)
+    }
+}
+
+fn check_screen(screen: &Screen, buf: &Buffer) {
+    for y in 0..buf.area.height {
+        for x in 0..buf.area.width {
+            assert_eq!(
+                screen.seen(x as usize, y as usize),
+                expected(buf, x, y),
+                "cell ({x},{y})"
+            );
+        }
+    }
+}
+
+#[test]
+fn replayed_output_shows_exactly_the_drawn_frames() {
+    for depth in [
+        ColorDepth::Truecolor,
+        ColorDepth::Palette256,
+        ColorDepth::Palette16,
+    ] {
+        let (w, h) = (40u16, 13u16);
+        let mut harness = Harness::new(w, h);
+        let mut screen = Screen::new(w as usize, h as usize);
+        for (seed, text) in [(1, "first frame"), (2, "second"), (2, "second"), (3, "x")] {
+            let fb = picture(w as usize, 2 * (h as usize - 1), seed);
+            let (out, buf) = harness.frame(&fb, depth, text);
+            assert!(out.starts_with(BEGIN_SYNC) && out.ends_with(END_SYNC));
+            screen.feed(&out);
+            check_screen(&screen, &buf);
+        }
+    }
+}
+
+#[test]
+fn identical_frame_writes_only_the_frame_brackets() {
+    let mut harness = Harness::new(30, 8);
+    let fb = picture(30, 14, 7);
+    let (first, _) = harness.frame(&fb, ColorDepth::Truecolor, "status");
+    assert!(first.len() > 1000);
+    let writes = harness.term.backend().write_calls();
+    let (second, _) = harness.frame(&fb, ColorDepth::Truecolor, "status");
+    assert_eq!(second, [BEGIN_SYNC, END_SYNC].concat());
+    // One write call per frame.
+    assert_eq!(harness.term.backend().write_calls(), writes + 1);
+}
+
+#[test]
+fn a_resize_clears_and_redraws_everything() {
+    let mut harness = Harness::new(30, 8);
+    let fb = picture(30, 14, 7);
+    harness.frame(&fb, ColorDepth::Truecolor, "big");
+    harness.term.backend_mut().set_fixed_size(12, 5);
+    let fb = picture(12, 8, 9);
+    let (out, buf) = harness.frame(&fb, ColorDepth::Truecolor, "small");
+    assert!(out.windows(4).any(|w| w == b"\x1b[2J"));
+    let mut screen = Screen::new(12, 5);
+    screen.feed(&out);
+    check_screen(&screen, &buf);
+    // Down to one cell.
+    harness.term.backend_mut().set_fixed_size(1, 1);
+    let fb = picture(1, 2, 3);
+    let _ = harness.frame(&fb, ColorDepth::Truecolor, "");
+}
+
+/// Bytes ratatui's stock crossterm backend writes for the same buffer.
+fn stock_bytes(prev: &Buffer, next: &Buffer) -> u64 {
+    let area = next.area;
+    let count = std::rc::Rc::new(std::cell::Cell::new(0u64));
+    let backend = CrosstermBackend::new(Tally(count.clone()));
+    let mut term = Terminal::with_options(
+        backend,
+        TerminalOptions {
+            viewport: Viewport::Fixed(area),
+        },
+    )
+    .unwrap();
+    term.draw(|f| f.buffer_mut().clone_from(prev)).unwrap();
+    let before = count.get();
+    term.draw(|f| f.buffer_mut().clone_from(next)).unwrap();
+    count.get() - before
+}
+
+/// Counts bytes into a shared cell (the stock backend keeps its writer private).
+struct Tally(std::rc::Rc<std::cell::Cell<u64>>);
+
+impl std::io::Write for Tally {
+    fn write(&mut self, data: &[u8]) -> std::io::Result<usize> {
+        self.0.set(self.0.get() + data.len() as u64);
+        Ok(data.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+#[test]
+fn fewer_bytes_than_the_stock_backend() {
+    if std::env::var_os("NO_COLOR").is_some() {
+        eprintln!("NO_COLOR is set: crossterm would send no colours, comparison skipped");
+        return;
+    }
+    let (w, h) = (80u16, 25u16);
+    let mut harness = Harness::new(w, h);
+    let a = picture(w as usize, 48, 1);
+    let b = picture(w as usize, 48, 2);
+    let (_, buf_a) = harness.frame(&a, ColorDepth::Truecolor, "a");
+    let (out_b, buf_b) = harness.frame(&b, ColorDepth::Truecolor, "b");
+    let stock = stock_bytes(&buf_a, &buf_b);
+    assert!(
+        (out_b.len() as u64) < stock,
+        "ours {} stock {stock}",
+        out_b.len()
+    );
+}

@@ -1,0 +1,135 @@
+//! Terminal bytes → events.
+
+use crossterm::event::{
+    Event, KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind,
+};
+use relief::term::input::InputParser;
+
+fn parse(chunks: &[&[u8]]) -> Vec<Event> {
+    let mut p = InputParser::new();
+    let mut out = Vec::new();
+    for c in chunks {
+        p.feed(c, &mut out);
+    }
+    out
+}
+
+fn key(code: KeyCode) -> Event {
+    Event::Key(KeyEvent::new(code, KeyModifiers::NONE))
+}
+
+fn mouse(kind: MouseEventKind, column: u16, row: u16) -> Event {
+    Event::Mouse(MouseEvent {
+        kind,
+        column,
+        row,
+        modifiers: KeyModifiers::NONE,
+    })
+}
+
+#[test]
+fn letters_controls_and_cursor_keys() {
+    assert_eq!(
+        parse(&[b"mq\t\r\x7f \x1b[A\x1b[B\x1bOC\x1b[D\x1b[Z\x1b[5~\x1b[6~"]),
+        vec![
+            key(KeyCode::Char('m')),
+            key(KeyCode::Char('q')),
+            key(KeyCode::Tab),
+            key(KeyCode::Enter),
+            key(KeyCode::Backspace),
+            key(KeyCode::Char(' ')),
+            key(KeyCode::Up),
+            key(KeyCode::Down),
+            key(KeyCode::Right),
+            key(KeyCode::Left),
+            Event::Key(KeyEvent::new(KeyCode::BackTab, KeyModifiers::SHIFT)),
+            key(KeyCode::PageUp),
+            key(KeyCode::PageDown),
+        ]
+    );
+    assert_eq!(
+        parse(&[b"\x03"]),
+        vec![Event::Key(KeyEvent::new(
+            KeyCode::Char('c'),
+            KeyModifiers::CONTROL
+        ))]
+    );
+    assert_eq!(
+        parse(&[b"R"]),
+        vec![Event::Key(KeyEvent::new(
+            KeyCode::Char('R'),
+            KeyModifiers::SHIFT
+        ))]
+    );
+}
+
+#[test]
+fn a_lone_escape_is_the_escape_key_and_split_sequences_wait() {
+    assert_eq!(parse(&[b"\x1b"]), vec![key(KeyCode::Esc)]);
+    assert_eq!(parse(&[b"\x1b[", b"A"]), vec![key(KeyCode::Up)]);
+    assert_eq!(parse(&[b"\x1b[<0;1", b"0;5M"]).len(), 1);
+    // Multi-byte UTF-8 split across reads.
+    assert_eq!(
+        parse(&[&"é".as_bytes()[..1], &"é".as_bytes()[1..]]),
+        vec![key(KeyCode::Char('é'))]
+    );
+}
+
+#[test]
+fn sgr_mouse_press_drag_release() {
+    assert_eq!(
+        parse(&[b"\x1b[<0;10;5M\x1b[<32;12;6M\x1b[<0;12;6m\x1b[<2;3;4M\x1b[<34;4;4M\x1b[<2;4;4m"]),
+        vec![
+            mouse(MouseEventKind::Down(MouseButton::Left), 9, 4),
+            mouse(MouseEventKind::Drag(MouseButton::Left), 11, 5),
+            mouse(MouseEventKind::Up(MouseButton::Left), 11, 5),
+            mouse(MouseEventKind::Down(MouseButton::Right), 2, 3),
+            mouse(MouseEventKind::Drag(MouseButton::Right), 3, 3),
+            mouse(MouseEventKind::Up(MouseButton::Right), 3, 3),
+        ]
+    );
+    // Wheel and garbage coordinates do not panic.
+    assert_eq!(
+        parse(&[b"\x1b[<64;1;1M"]),
+        vec![mouse(MouseEventKind::ScrollUp, 0, 0)]
+    );
+    assert_eq!(parse(&[b"\x1b[<0;0;99999999999M"]).len(), 1);
+    assert_eq!(parse(&[b"\x1b[<0;1M"]), vec![]);
+}
+
+#[test]
+fn bracketed_paste_arrives_whole_even_across_reads() {
+    assert_eq!(
+        parse(&[b"\x1b[200~/tmp/a b", b".png\x1b[2", b"01~q"]),
+        vec![Event::Paste("/tmp/a b.png".into()), key(KeyCode::Char('q'))]
+    );
+    // Escape sequences inside a paste are text, not keys.
+    assert_eq!(
+        parse(&[b"\x1b[200~\x1b[31mred\x1b[201~"]),
+        vec![Event::Paste("\x1b[31mred".into())]
+    );
+}
+
+#[test]
+fn garbage_is_dropped_without_panicking() {
+    let mut noise = Vec::new();
+    let mut s = 12345u32;
+    for _ in 0..10_000 {
+        s ^= s << 13;
+        s ^= s >> 17;
+        s ^= s << 5;
+        noise.push(s as u8);
+    }
+    let mut p = InputParser::new();
+    let mut out = Vec::new();
+    for chunk in noise.chunks(7) {
+        p.feed(chunk, &mut out);
+    }
+    // An overlong unterminated CSI is discarded, and parsing goes on.
+    let mut long = b"\x1b[".to_vec();
+    long.extend(std::iter::repeat_n(b'1', 100));
+    assert_eq!(
+        parse(&[&long, b"\x1b[Aq"]).last(),
+        Some(&key(KeyCode::Char('q')))
+    );
+}
