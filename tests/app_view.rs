@@ -95,25 +95,22 @@ fn status_line_follows_each_toggle() {
 }
 
 #[test]
-fn narrow_terminals_get_a_compact_status_that_still_says_everything() {
+fn narrow_terminals_split_modes_and_cost_over_two_lines() {
     let mut s = state();
     update(&mut s, Action::CycleShading);
-    let st = status_line(&s, 40);
-    for want in [
-        "flat",
-        "v",
-        "tex+",
-        "col+",
-        "bump+(Phong only)",
-        "24b",
-        "3.2ms",
-        "30fps",
-        "41.2 kB",
-    ] {
-        assert!(st.contains(want), "{want:?} in {st}");
-    }
-    // Whatever the width, nothing panics, down to one cell.
-    for (w, h) in [(40, 12), (10, 3), (3, 2), (1, 1), (1, 5), (200, 1)] {
+    let buf = screen(&s, 40, 12);
+    let status = row_text(&buf, 11);
+    assert_eq!(status.trim_end(), "flat V T+ C+ B+ (Phong only) 24b");
+    let panel = row_text(&buf, 10);
+    assert_eq!(panel.trim_end(), "X25° Y35° Z0° 3.2ms 30fps 41.2kB");
+    // 80 columns: short words, cost still on the status line.
+    let status = row_text(&screen(&state(), 80, 12), 11);
+    assert_eq!(
+        status.trim_end(),
+        "Phong │ vertex │ tex on │ col on │ bump on │ 24-bit │ 3.2 ms │ 30 fps │ 41.2 kB"
+    );
+    // Whatever the size, nothing panics, down to one cell.
+    for (w, h) in [(10, 3), (3, 2), (1, 1), (1, 5), (200, 1), (0, 0)] {
         let _ = screen(&s, w, h);
     }
 }
@@ -146,7 +143,7 @@ fn the_picture_fills_the_viewport_above_the_two_lines() {
 #[test]
 fn orientation_fields_and_messages_are_on_the_line_above_the_status() {
     let mut s = state();
-    let buf = screen(&s, 80, 10);
+    let buf = screen(&s, 120, 10);
     let line = row_text(&buf, 8);
     assert!(
         line.contains("X     25°") && line.contains("Y     35°") && line.contains("Z      0°"),

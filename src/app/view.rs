@@ -98,23 +98,26 @@ pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf:
         pad: background,
     }
     .render(a.viewport, buf);
+    let status_text = status_line(state, screen.width as usize);
+    // A compact status line leaves the frame cost to the line above.
+    let compact = status_text == status_modes(state);
     if let Some(panel) = a.panel {
-        panel_line(state).render(panel, buf);
+        panel_line(state, compact).render(panel, buf);
     } else if let (Some(status), Some(_)) = (a.status, state.panel.focus) {
         // No room for both: while editing, the fields take the status line.
-        panel_line(state).render(status, buf);
+        panel_line(state, true).render(status, buf);
         return help(state, screen, buf);
     }
     if let Some(status) = a.status {
-        Paragraph::new(status_line(state, status.width as usize))
+        Paragraph::new(status_text)
             .style(Style::new().add_modifier(Modifier::REVERSED))
             .render(status, buf);
     }
     help(state, screen, buf);
 }
 
-/// The orientation fields, then the message.
-fn panel_line(state: &State) -> Line<'static> {
+/// The orientation fields, then (on narrow screens) the frame cost, then the message.
+fn panel_line(state: &State, compact: bool) -> Line<'static> {
     let mut spans = Vec::new();
     for (axis, name) in AXES.iter().enumerate() {
         let focused = state.panel.focus == Some(axis);
@@ -122,16 +125,28 @@ fn panel_line(state: &State) -> Line<'static> {
         if focused {
             text.push('_');
         }
-        spans.push(Span::raw(format!(" {name} ")));
         let style = if focused {
             Style::new().add_modifier(Modifier::REVERSED | Modifier::BOLD)
         } else {
             Style::new().add_modifier(Modifier::BOLD)
         };
-        spans.push(Span::styled(format!("{text:>6}°"), style));
+        if compact {
+            spans.push(Span::raw(if axis == 0 { "" } else { " " }));
+            spans.push(Span::raw(*name));
+            spans.push(Span::styled(format!("{text}°"), style));
+        } else {
+            spans.push(Span::raw(format!(" {name} ")));
+            spans.push(Span::styled(format!("{text:>6}°"), style));
+        }
     }
     if state.panel.focus.is_some() {
-        spans.push(Span::raw("  Enter apply · Esc cancel"));
+        spans.push(Span::raw(if compact {
+            " Enter/Esc"
+        } else {
+            "  Enter apply · Esc cancel"
+        }));
+    } else if compact {
+        spans.push(Span::raw(format!(" {}", cost_text(state, true))));
     }
     if let Some(msg) = &state.message {
         spans.push(Span::raw(format!("  {msg}")));
@@ -139,13 +154,20 @@ fn panel_line(state: &State) -> Line<'static> {
     Line::from(spans)
 }
 
-/// The status line: the longest form that fits in `width` columns.
+/// The status line: the longest form that fits in `width` columns. The
+/// shortest form keeps the modes and colour depth; the frame cost then
+/// moves to the orientation line.
 pub fn status_line(state: &State, width: usize) -> String {
-    [Detail::Full, Detail::NoHint, Detail::NoStrength]
-        .into_iter()
-        .map(|d| status_text(state, d))
-        .find(|t| t.chars().count() <= width)
-        .unwrap_or_else(|| status_text(state, Detail::Compact))
+    [
+        Detail::Full,
+        Detail::NoHint,
+        Detail::NoStrength,
+        Detail::Short,
+    ]
+    .into_iter()
+    .map(|d| status_text(state, d))
+    .find(|t| t.chars().count() <= width)
+    .unwrap_or_else(|| status_modes(state))
 }
 
 /// How much the status line says.
@@ -157,8 +179,48 @@ pub enum Detail {
     NoHint,
     /// Without the hint and the bump strength.
     NoStrength,
-    /// Abbreviated, for narrow terminals.
-    Compact,
+    /// Short words (fits 80 columns).
+    Short,
+}
+
+/// Frame time, frames per second and bytes of the last frame.
+pub fn cost_text(state: &State, compact: bool) -> String {
+    let f = &state.frame;
+    let ms = f.frame_time.as_secs_f64() * 1e3;
+    if compact {
+        format!(
+            "{ms:.1}ms {:.0}fps {}",
+            f.fps,
+            format_bytes(f.bytes).replace(' ', "")
+        )
+    } else {
+        format!("{ms:.1} ms │ {:.0} fps │ {}", f.fps, format_bytes(f.bytes))
+    }
+}
+
+/// The abbreviated status line: every mode and the colour depth.
+pub fn status_modes(state: &State) -> String {
+    let s = &state.settings;
+    let flag = |b: bool| if b { '+' } else { '-' };
+    format!(
+        "{} {} T{} C{} B{}{} {}{}",
+        s.shading.label(),
+        if s.normals == crate::settings::Normals::Vertex {
+            "V"
+        } else {
+            "F"
+        },
+        flag(s.texture),
+        flag(s.colors),
+        flag(s.bump),
+        if s.bump && s.shading != Shading::Phong {
+            " (Phong only)"
+        } else {
+            ""
+        },
+        short_depth(state),
+        if state.auto_rotate { " auto" } else { "" },
+    )
 }
 
 fn on_off(b: bool) -> &'static str {
@@ -168,54 +230,44 @@ fn on_off(b: bool) -> &'static str {
 /// Every mode and the last frame's cost.
 pub fn status_text(state: &State, detail: Detail) -> String {
     let s = &state.settings;
-    let f = &state.frame;
     let phong_only = s.bump && s.shading != Shading::Phong;
-    let ms = f.frame_time.as_secs_f64() * 1e3;
-    let bytes = format_bytes(f.bytes);
-    let auto = if state.auto_rotate { " │ auto" } else { "" };
-    if detail == Detail::Compact {
-        let flag = |b: bool| if b { '+' } else { '-' };
-        format!(
-            "{} {} tex{} col{} bump{}{} {} {:.1}ms {:.0}fps {}{}",
-            s.shading.label(),
-            &s.normals.label()[..1],
-            flag(s.texture),
-            flag(s.colors),
-            flag(s.bump),
-            if phong_only { "(Phong only)" } else { "" },
-            short_depth(state),
-            ms,
-            f.fps,
-            bytes,
-            if state.auto_rotate { " auto" } else { "" },
-        )
+    let strength = match detail {
+        Detail::NoStrength | Detail::Short => String::new(),
+        _ => format!(" k={}", format_strength(s.bump_strength)),
+    };
+    let hint = if detail == Detail::Full {
+        " │ ? help"
     } else {
-        let strength = match detail {
-            Detail::NoStrength => String::new(),
-            _ => format!(" k={}", format_strength(s.bump_strength)),
-        };
-        let hint = if detail == Detail::Full {
-            " │ ? help"
-        } else {
-            ""
-        };
-        format!(
-            "{} │ normals {} │ texture {} │ colours {} │ bump {}{}{} │ {} │ {:.1} ms │ {:.0} fps │ {}{}{}",
+        ""
+    };
+    if detail == Detail::Short {
+        return format!(
+            "{} │ {} │ tex {} │ col {} │ bump {}{} │ {} │ {}{}",
             s.shading.label(),
             s.normals.label(),
             on_off(s.texture),
             on_off(s.colors),
             on_off(s.bump),
             if phong_only { " (Phong only)" } else { "" },
-            strength,
             state.depth.label(),
-            ms,
-            f.fps,
-            bytes,
-            auto,
-            hint,
-        )
+            cost_text(state, false),
+            if state.auto_rotate { " │ auto" } else { "" },
+        );
     }
+    format!(
+        "{} │ normals {} │ texture {} │ colours {} │ bump {}{}{} │ {} │ {}{}{}",
+        s.shading.label(),
+        s.normals.label(),
+        on_off(s.texture),
+        on_off(s.colors),
+        on_off(s.bump),
+        if phong_only { " (Phong only)" } else { "" },
+        strength,
+        state.depth.label(),
+        cost_text(state, false),
+        if state.auto_rotate { " │ auto" } else { "" },
+        hint,
+    )
 }
 
 fn short_depth(state: &State) -> &'static str {

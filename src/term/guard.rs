@@ -10,9 +10,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// bracketed paste, cleared screen.
 pub const SETUP: &[u8] =
     b"\x1b[?1049h\x1b[?25l\x1b[?1000h\x1b[?1002h\x1b[?1006h\x1b[?2004h\x1b[0m\x1b[2J";
-/// Everything `SETUP` switched on, switched off again, in reverse order.
+/// Everything `SETUP` switched on, switched off again, in reverse order. The
+/// alternate screen is cleared before leaving it: after a resize, tmux
+/// otherwise copies rows of it onto the shell's screen.
 pub const RESTORE: &[u8] =
-    b"\x1b[?2026l\x1b[?2004l\x1b[?1006l\x1b[?1002l\x1b[?1000l\x1b[0m\x1b[?25h\x1b[?1049l";
+    b"\x1b[?2026l\x1b[?2004l\x1b[?1006l\x1b[?1002l\x1b[?1000l\x1b[0m\x1b[2J\x1b[?25h\x1b[?1049l";
 
 static ACTIVE: AtomicBool = AtomicBool::new(false);
 static HOOK: Once = Once::new();

@@ -1,0 +1,257 @@
+//! The real binary in a real terminal (tmux): keys, an SGR mouse drag,
+//! quitting, signals, and the terminal left as it was found.
+//!
+//! Skipped, with a notice, when tmux is not installed (`apt-get install tmux`).
+
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+/// A private tmux server, killed on drop.
+struct Tmux {
+    socket: String,
+}
+
+impl Tmux {
+    fn start(name: &str, width: u16, height: u16, command: &str) -> Option<Tmux> {
+        if Command::new("tmux").arg("-V").output().is_err() {
+            eprintln!("tmux not found: end-to-end test skipped (apt-get install tmux)");
+            return None;
+        }
+        let t = Tmux {
+            socket: format!("relief-e2e-{}-{name}", std::process::id()),
+        };
+        t.run(&[
+            "-f",
+            "/dev/null",
+            "new-session",
+            "-d",
+            "-x",
+            &width.to_string(),
+            "-y",
+            &height.to_string(),
+            command,
+        ]);
+        Some(t)
+    }
+
+    fn run(&self, args: &[&str]) -> String {
+        let out = Command::new("tmux")
+            .arg("-L")
+            .arg(&self.socket)
+            .args(args)
+            .output()
+            .expect("tmux runs");
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+
+    fn screen(&self) -> String {
+        self.run(&["capture-pane", "-p"])
+    }
+
+    /// The screen with colours.
+    fn picture(&self) -> String {
+        self.run(&["capture-pane", "-p", "-e", "-N"])
+    }
+
+    fn format(&self, f: &str) -> String {
+        self.run(&["display-message", "-p", f]).trim().to_string()
+    }
+
+    fn keys(&self, keys: &[&str]) {
+        let mut args = vec!["send-keys"];
+        args.extend_from_slice(keys);
+        self.run(&args);
+    }
+
+    fn literal(&self, text: &str) {
+        self.run(&["send-keys", "-l", text]);
+    }
+
+    /// Waits (up to 20 s) until the screen satisfies `ok`; panics with the screen otherwise.
+    fn wait_for(&self, what: &str, ok: impl Fn(&str) -> bool) -> String {
+        let start = Instant::now();
+        loop {
+            let screen = self.screen();
+            if ok(&screen) {
+                return screen;
+            }
+            if start.elapsed() > Duration::from_secs(20) {
+                panic!("timed out waiting for {what}; screen:\n{screen}");
+            }
+            std::thread::sleep(Duration::from_millis(30));
+        }
+    }
+
+    /// Waits for relief to end; returns its exit status as the shell reports it.
+    fn wait_exit(&self) -> String {
+        let screen = self.wait_for("relief to exit", |s| s.contains("RELIEF-EXITED "));
+        let line = screen
+            .lines()
+            .find(|l| l.contains("RELIEF-EXITED "))
+            .unwrap();
+        line.split("RELIEF-EXITED ")
+            .nth(1)
+            .unwrap()
+            .trim()
+            .to_string()
+    }
+
+    /// Process id of relief (written by the shell before it became relief).
+    fn relief_pid(&self) -> String {
+        let start = Instant::now();
+        loop {
+            if let Ok(pid) = std::fs::read_to_string(pid_file(&self.socket))
+                && !pid.trim().is_empty()
+            {
+                return pid.trim().to_string();
+            }
+            assert!(start.elapsed() < Duration::from_secs(20), "no pid file");
+            std::thread::sleep(Duration::from_millis(30));
+        }
+    }
+}
+
+fn pid_file(socket: &str) -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("{socket}.pid"))
+}
+
+impl Drop for Tmux {
+    fn drop(&mut self) {
+        self.run(&["kill-server"]);
+        let _ = std::fs::remove_file(pid_file(&self.socket));
+    }
+}
+
+/// A shell command that records relief's pid, runs it with `env` and
+/// `args`, then reports its exit status and keeps the pane alive.
+fn command(name: &str, env: &str, args: &str) -> String {
+    let socket = format!("relief-e2e-{}-{name}", std::process::id());
+    format!(
+        "sh -c 'echo $$ > {}; exec env {env} {} {args}'; echo RELIEF-EXITED $?; sleep 60",
+        pid_file(&socket).display(),
+        env!("CARGO_BIN_EXE_relief")
+    )
+}
+
+fn status(screen: &str) -> String {
+    screen
+        .lines()
+        .rev()
+        .find(|l| !l.trim().is_empty())
+        .unwrap_or("")
+        .to_string()
+}
+
+/// Everything above the two text lines.
+fn viewport(picture: &str) -> String {
+    let lines: Vec<&str> = picture.lines().collect();
+    lines[..lines.len().saturating_sub(2)].join("\n")
+}
+
+fn assert_restored(t: &Tmux) {
+    assert_eq!(t.format("#{alternate_on}"), "0", "alternate screen left");
+    assert_eq!(t.format("#{mouse_any_flag}"), "0", "mouse reporting off");
+    assert_eq!(t.format("#{mouse_sgr_flag}"), "0", "SGR mouse off");
+    assert_eq!(t.format("#{cursor_flag}"), "1", "cursor visible");
+    let screen = t.screen();
+    assert!(
+        !screen.contains('▀') && !screen.contains('▄') && screen.contains("RELIEF-EXITED"),
+        "picture left on the shell screen:\n{screen}"
+    );
+}
+
+#[test]
+fn keys_drag_and_quit_in_a_real_terminal() {
+    let Some(t) = Tmux::start("keys", 140, 36, &command("keys", "COLORTERM=truecolor", "")) else {
+        return;
+    };
+    let s = t.wait_for("first frame", |s| {
+        status(s).starts_with("Phong │ normals vertex")
+    });
+    assert!(status(&s).contains("24-bit"), "{s}");
+    // Only button and drag reports with SGR coordinates: no all-motion mode.
+    assert_eq!(t.format("#{alternate_on}"), "1");
+    assert_eq!(t.format("#{mouse_button_flag}"), "1");
+    assert_eq!(t.format("#{mouse_all_flag}"), "0");
+    assert_eq!(t.format("#{mouse_sgr_flag}"), "1");
+
+    let steps: [(&str, &[&str], &[&str]); 5] = [
+        ("m", &["flat │", "bump on (Phong only)"], &[]),
+        ("n", &["normals face"], &[]),
+        ("t", &["texture off"], &[]),
+        ("c", &["colours off"], &[]),
+        ("b", &["bump off"], &["Phong only"]),
+    ];
+    for (key, want, not) in steps {
+        t.keys(&[key]);
+        t.wait_for(&format!("status after {key}"), |s| {
+            let st = status(s);
+            want.iter().all(|w| st.contains(w)) && !not.iter().any(|n| st.contains(n))
+        });
+    }
+
+    // Back to Phong with texture for a detailed picture, then drag.
+    t.keys(&["m", "m", "t", "c", "b"]);
+    t.wait_for("Phong again", |s| {
+        let st = status(s);
+        st.starts_with("Phong") && st.contains("texture on") && st.contains("bump on")
+    });
+    let before = viewport(&t.picture());
+    t.literal("\x1b[<0;70;18M");
+    for i in 1..=6 {
+        t.literal(&format!("\x1b[<32;{};{}M", 70 + 3 * i, 18 + i));
+    }
+    t.literal("\x1b[<0;88;24m");
+    // 18 columns right → Y + 36°, 6 rows down → X + 24°.
+    t.wait_for("fields updated by the drag", |s| {
+        s.contains("X     49°") && s.contains("Y     71°")
+    });
+    let after = viewport(&t.picture());
+    assert_ne!(before, after, "the picture changed");
+
+    t.keys(&["q"]);
+    assert_eq!(t.wait_exit(), "0");
+    assert_restored(&t);
+}
+
+#[test]
+fn small_terminal_resizes_and_signals_restore_the_terminal() {
+    for (signal, code) in [("TERM", "143"), ("HUP", "129"), ("INT", "130")] {
+        let Some(t) = Tmux::start(signal, 40, 12, &command(signal, "COLORTERM=truecolor", ""))
+        else {
+            return;
+        };
+        t.wait_for("first frame", |s| {
+            status(s).starts_with("Phong V T+ C+ B+ 24b")
+        });
+        for (w, h) in [("1", "1"), ("3", "2"), ("60", "20"), ("40", "12")] {
+            t.run(&["resize-window", "-x", w, "-y", h]);
+        }
+        t.wait_for("redrawn after the resizes", |s| {
+            s.lines().count() >= 12 && status(s).starts_with("Phong V")
+        });
+        let pid = t.relief_pid();
+        let ok = Command::new("kill")
+            .args([&format!("-{signal}"), &pid])
+            .status()
+            .expect("kill runs");
+        assert!(ok.success());
+        assert_eq!(t.wait_exit(), code, "SIG{signal}");
+        assert_restored(&t);
+    }
+}
+
+#[test]
+fn forced_palette_shows_in_the_status_line() {
+    let cmd = command("palette", "-u COLORTERM", "--color 256");
+    let Some(t) = Tmux::start("palette", 120, 20, &cmd) else {
+        return;
+    };
+    t.wait_for("256 colours", |s| status(s).contains("256 colours"));
+    // The picture uses palette colours, not 24-bit ones.
+    let pic = t.picture();
+    assert!(pic.contains("8;5;") && !pic.contains("8;2;"), "{pic}");
+    t.keys(&["Escape"]);
+    assert_eq!(t.wait_exit(), "0");
+    assert_restored(&t);
+}
