@@ -29,6 +29,10 @@ pub struct Cli {
     /// Ordered dithering when the colour depth is 256 or 16 colours.
     #[arg(long)]
     pub dither: bool,
+    /// 24-bit colours within N levels (of 255) of the colour the terminal already
+    /// has are drawn with it, which saves bytes on slow links; 0 means exact.
+    #[arg(long, value_name = "N", default_value_t = 2, value_parser = clap::value_parser!(u8).range(0..=32))]
+    pub color_tolerance: u8,
     /// Texture images to put in the texture list; the first one is applied.
     #[arg(value_name = "IMAGE")]
     pub images: Vec<PathBuf>,

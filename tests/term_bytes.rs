@@ -297,6 +297,45 @@ fn a_resize_clears_and_redraws_everything() {
     let _ = harness.frame(&fb, ColorDepth::Truecolor, "");
 }
 
+#[test]
+fn colour_tolerance_saves_bytes_and_stays_within_bounds() {
+    let (w, h) = (60u16, 13u16);
+    // A smooth picture: neighbours one or two levels apart.
+    let mut fb = Framebuffer::new(w as usize, 24);
+    for y in 0..24 {
+        for x in 0..w as usize {
+            fb.set(x, y, [x as u8 * 2, 100 + y as u8, 50]);
+        }
+    }
+    let mut sizes = Vec::new();
+    for tolerance in [0u8, 3] {
+        let mut harness = Harness::new(w, h);
+        harness.term.backend_mut().set_tolerance(tolerance);
+        let (out, buf) = harness.frame(&fb, ColorDepth::Truecolor, "status");
+        let mut screen = Screen::new(w as usize, h as usize);
+        screen.feed(&out);
+        for y in 0..h {
+            for x in 0..w {
+                let (c, up, lo) = screen.seen(x as usize, y as usize);
+                let (wc, wup, wlo) = expected(&buf, x, y);
+                assert_eq!(c, wc, "({x},{y})");
+                for (got, want) in [(up, wup), (lo, wlo)] {
+                    match (got, want) {
+                        (Color::Rgb(a, b, c), Color::Rgb(d, e, f)) => {
+                            for (p, q) in [(a, d), (b, e), (c, f)] {
+                                assert!(p.abs_diff(q) <= tolerance, "({x},{y}) {got:?} {want:?}");
+                            }
+                        }
+                        _ => assert_eq!(got, want, "({x},{y})"),
+                    }
+                }
+            }
+        }
+        sizes.push(out.len());
+    }
+    assert!(sizes[1] * 2 < sizes[0], "{sizes:?}");
+}
+
 /// Bytes ratatui's stock crossterm backend writes for the same buffer.
 fn stock_bytes(prev: &Buffer, next: &Buffer) -> u64 {
     let area = next.area;

@@ -57,7 +57,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let signals = spawn_signal_thread(tx.clone())?;
     let guard = TerminalGuard::enter().context("cannot set up the terminal")?;
     spawn_input_reader(input, tx);
-    let mut terminal = Terminal::new(SgrBackend::new(GuardedStdout::new()?))?;
+    let mut backend = SgrBackend::new(GuardedStdout::new()?);
+    backend.set_tolerance(cli.color_tolerance);
+    let mut terminal = Terminal::new(backend)?;
     let mut renderer = crate::Renderer::new();
     let exit = Looper {
         terminal: &mut terminal,

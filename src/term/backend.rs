@@ -50,6 +50,8 @@ pub struct SgrBackend<W: Write> {
     cursor: Position,
     cursor_hidden: Option<bool>,
     in_frame: bool,
+    /// 24-bit colours this close to the current one reuse it (see [`picture_cell`]).
+    tolerance: u8,
     frame_start: u64,
     last_frame_bytes: u64,
 }
@@ -63,6 +65,7 @@ impl<W: Write> SgrBackend<W> {
             cursor: Position::ORIGIN,
             cursor_hidden: None,
             in_frame: false,
+            tolerance: 0,
             frame_start: 0,
             last_frame_bytes: 0,
         }
@@ -78,6 +81,16 @@ impl<W: Write> SgrBackend<W> {
     /// Changes the fixed size (tests simulating a resize).
     pub fn set_fixed_size(&mut self, width: u16, height: u16) {
         self.fixed_size = Some(Size::new(width, height));
+    }
+
+    /// Lets picture colours within `tolerance` (per channel, of 255) of the
+    /// colour already set be drawn with it, saving the bytes of a colour change.
+    pub fn set_tolerance(&mut self, tolerance: u8) {
+        self.tolerance = tolerance;
+    }
+
+    pub fn tolerance(&self) -> u8 {
+        self.tolerance
     }
 
     /// Opens a frame: everything until [`end_frame`](Self::end_frame) is shown at once.
@@ -150,6 +163,67 @@ impl<W: Write> SgrBackend<W> {
                 self.out.write_all(b"H")
             }
         }
+    }
+}
+
+/// True when `a` can stand for `b`: equal, or both 24-bit and no channel
+/// further apart than `tolerance`.
+#[inline]
+fn near(a: Color, b: Color, tolerance: u8) -> bool {
+    match (a, b) {
+        (Color::Rgb(r1, g1, b1), Color::Rgb(r2, g2, b2)) => {
+            r1.abs_diff(r2) <= tolerance
+                && g1.abs_diff(g2) <= tolerance
+                && b1.abs_diff(b2) <= tolerance
+        }
+        _ => a == b,
+    }
+}
+
+/// Rough bytes of one colour in an SGR sequence.
+const COLOR_COST: u32 = 16;
+
+/// How to draw a picture cell whose upper pixel is `upper` and lower pixel
+/// `lower`: `▀`, `▄` with the colours swapped, or a space — whichever needs
+/// the fewest bytes given the current pen. A colour within `tolerance` of
+/// the pen's is drawn with the pen's (every displayed colour stays within
+/// `tolerance` of the true one). Returns the symbol, the foreground to set
+/// (`None`: any) and the background.
+#[inline]
+fn picture_cell(
+    upper: Color,
+    lower: Color,
+    pen: &Pen,
+    tolerance: u8,
+) -> (&'static str, Option<Color>, Color) {
+    let pick = |want: Color, have: Color| {
+        if near(want, have, tolerance) {
+            (have, 0)
+        } else {
+            (want, COLOR_COST)
+        }
+    };
+    // A space: both pixels near one background colour.
+    let space = if near(upper, lower, tolerance) {
+        let (bg, cost) = if near(upper, pen.bg, tolerance) && near(lower, pen.bg, tolerance) {
+            (pen.bg, 0)
+        } else {
+            (lower, COLOR_COST)
+        };
+        Some((cost + 1, bg))
+    } else {
+        None
+    };
+    let (up_fg, c1) = pick(upper, pen.fg);
+    let (up_bg, c2) = pick(lower, pen.bg);
+    let (lo_fg, c3) = pick(lower, pen.fg);
+    let (lo_bg, c4) = pick(upper, pen.bg);
+    let upper_cost = c1 + c2 + 3;
+    let lower_cost = c3 + c4 + 3;
+    match space {
+        Some((cost, bg)) if cost <= upper_cost.min(lower_cost) => (" ", None, bg),
+        _ if lower_cost < upper_cost => (LOWER_STR, Some(lo_fg), lo_bg),
+        _ => (UPPER_STR, Some(up_fg), up_bg),
     }
 }
 
@@ -309,18 +383,9 @@ impl<W: Write> Backend for SgrBackend<W> {
             }
             let plain = cell.modifier.is_empty();
             let symbol = cell.symbol();
-            let (symbol, fg, bg) = if plain && symbol == UPPER_STR {
-                // ▀ fg/bg shows the same as ▄ bg/fg: pick the one needing fewer changes.
-                let upper = (cell.fg != pen.fg) as u8 + (cell.bg != pen.bg) as u8;
-                let lower = (cell.bg != pen.fg) as u8 + (cell.fg != pen.bg) as u8;
-                if lower < upper {
-                    (LOWER_STR, Some(cell.bg), cell.fg)
-                } else {
-                    (UPPER_STR, Some(cell.fg), cell.bg)
-                }
-            } else if plain && symbol == " " {
-                // A plain space shows no foreground.
-                (symbol, None, cell.bg)
+            let (symbol, fg, bg) = if plain && (symbol == UPPER_STR || symbol == " ") {
+                let upper = if symbol == " " { cell.bg } else { cell.fg };
+                picture_cell(upper, cell.bg, &pen, self.tolerance)
             } else {
                 (symbol, Some(cell.fg), cell.bg)
             };

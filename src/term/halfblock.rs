@@ -1,8 +1,8 @@
 //! The framebuffer as half-block cells: `▀` with fg = upper pixel, bg = lower pixel.
 
-use ratatui::buffer::Buffer;
+use ratatui::buffer::{Buffer, Cell};
 use ratatui::layout::Rect;
-use ratatui::style::{Color, Modifier};
+use ratatui::style::Color;
 use ratatui::widgets::Widget;
 
 use super::color::ColorDepth;
@@ -34,33 +34,40 @@ pub fn cells_for_pixels(width: usize, height: usize) -> (usize, usize) {
 impl Widget for HalfBlocks<'_> {
     fn render(self, area: Rect, buf: &mut Buffer) {
         let area = area.intersection(buf.area);
+        if area.is_empty() {
+            return;
+        }
         let (fb_w, fb_h) = (self.fb.width(), self.fb.height());
+        // Two template cells, copied in place: no symbol is rebuilt per cell.
+        let mut block = Cell::EMPTY;
+        block.set_char(UPPER_HALF);
+        let mut space = Cell::EMPTY;
+        space.set_char(' ').set_fg(Color::Reset);
+        let pad = self.pad;
+        let pixel = |x: usize, y: usize| {
+            if x < fb_w && y < fb_h {
+                self.fb.get(x, y)
+            } else {
+                pad
+            }
+        };
         for row in 0..area.height as usize {
-            let top_y = 2 * row;
-            let bottom_y = top_y + 1;
-            let y = area.y + row as u16;
-            for col in 0..area.width as usize {
-                let inside = col < fb_w;
-                let upper = if inside && top_y < fb_h {
-                    self.fb.get(col, top_y)
-                } else {
-                    self.pad
-                };
-                let lower = if inside && bottom_y < fb_h {
-                    self.fb.get(col, bottom_y)
-                } else {
-                    self.pad
-                };
-                let fg = self.depth.map(upper, self.dither, col, top_y);
-                let bg = self.depth.map(lower, self.dither, col, bottom_y);
-                let cell = &mut buf[(area.x + col as u16, y)];
-                cell.modifier = Modifier::empty();
+            let (top_y, bottom_y) = (2 * row, 2 * row + 1);
+            let start = buf.index_of(area.x, area.y + row as u16);
+            let cells = &mut buf.content[start..start + area.width as usize];
+            for (col, cell) in cells.iter_mut().enumerate() {
+                let fg = self.depth.map(pixel(col, top_y), self.dither, col, top_y);
+                let bg = self
+                    .depth
+                    .map(pixel(col, bottom_y), self.dither, col, bottom_y);
                 if fg == bg {
                     // Both pixels alike: a space with a background says it in fewer bytes.
-                    cell.set_char(' ').set_fg(Color::Reset).set_bg(bg);
+                    cell.clone_from(&space);
                 } else {
-                    cell.set_char(UPPER_HALF).set_fg(fg).set_bg(bg);
+                    cell.clone_from(&block);
+                    cell.fg = fg;
                 }
+                cell.bg = bg;
             }
         }
     }
