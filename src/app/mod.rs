@@ -11,7 +11,6 @@ pub use state::{Command, State, update};
 pub use view::view;
 
 use std::io::IsTerminal;
-use std::sync::Arc;
 use std::sync::mpsc;
 
 use anyhow::{Context, bail};
@@ -45,13 +44,14 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let settings = cli.view.settings();
     let mut state = State::new(settings, color_depth(cli.color));
     state.dither = cli.dither;
-    if !cli.images.is_empty() {
-        state.message = Some("texture files are not loaded by the interactive view yet".into());
+    // The first image that loads is applied; the others wait for the texture list.
+    let (textures, errors) =
+        crate::texture::list::TextureList::from_args(&cli.images, cli.view.height_map.as_deref());
+    if !errors.is_empty() {
+        let text: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
+        state.message = Some(crate::sanitize::clean(&text.join("; ")));
     }
-    let scene = crate::Scene::cube(
-        Arc::new(crate::texture::procedural::brick()),
-        cli.view.all_faces,
-    );
+    let scene = crate::Scene::cube(textures.texture().clone(), cli.view.all_faces);
 
     let (tx, rx) = mpsc::channel();
     let signals = spawn_signal_thread(tx.clone())?;
