@@ -3,8 +3,10 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
+use crate::plasma::PlasmaNormal;
+use crate::scene::{ModelChoice, SceneKind};
 use crate::settings::{
     AntiAlias, Display, Filter, HeightDerivative, LightVector, Normals, Settings, Shading,
     Technique,
@@ -66,6 +68,9 @@ pub struct RenderArgs {
     pub height: u32,
     #[command(flatten)]
     pub view: ViewArgs,
+    /// Plasma scene: the light's position in pixels, (0,0) top left (default: the centre).
+    #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
+    pub light: Option<Vec2>,
     /// Texture image (RGB = colour, alpha = height; without alpha, the mean of R, G, B).
     #[arg(value_name = "IMAGE")]
     pub image: Option<PathBuf>,
@@ -141,6 +146,25 @@ pub struct ViewArgs {
     /// What is drawn: vertices, edges or filled triangles.
     #[arg(long, value_enum, default_value_t = Display::Fill)]
     pub display: Display,
+    /// Scene: one model (`cube`, see --model), the cube over a floor with its shadow, or the 2D plasma.
+    #[arg(long, value_enum, default_value_t = SceneKind::Cube)]
+    pub scene: SceneKind,
+    /// Model of the cube scene: a built-in shape or a Wavefront OBJ file.
+    #[arg(
+        long,
+        value_name = "triangle|plane|cube|sphere|FILE.obj",
+        default_value = "cube"
+    )]
+    pub model: ModelChoice,
+    /// All lights on or off (the ambient term stays).
+    #[arg(long, value_enum, default_value_t = Toggle::On)]
+    pub lights: Toggle,
+    /// Distance attenuation of the lights: 1/(1 + 0.01·d²), d the distance to the light.
+    #[arg(long, value_enum, default_value_t = Toggle::Off)]
+    pub attenuation: Toggle,
+    /// Plasma scene: the article's Z² lookup table or the exact per-pixel normal.
+    #[arg(long, value_enum, default_value_t = PlasmaNormal::Table)]
+    pub plasma_normal: PlasmaNormal,
 }
 
 impl ViewArgs {
@@ -160,8 +184,8 @@ impl ViewArgs {
             light_vector: self.light_vector,
             aa: self.aa,
             display: self.display,
-            lights: true,
-            attenuation: false,
+            lights: self.lights.on(),
+            attenuation: self.attenuation.on(),
         }
     }
 }
@@ -179,6 +203,15 @@ pub fn parse_rotation(text: &str) -> Result<Vec3, String> {
         *slot = parse_finite(part)?;
     }
     Ok(Vec3::from_array(v))
+}
+
+/// `X,Y`, two finite numbers (a position in pixels).
+pub fn parse_point(text: &str) -> Result<Vec2, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != 2 {
+        return Err(format!("expected a position X,Y in pixels, got '{text}'"));
+    }
+    Ok(Vec2::new(parse_finite(parts[0])?, parse_finite(parts[1])?))
 }
 
 /// A finite number (no NaN, no infinity).
@@ -274,6 +307,45 @@ mod tests {
         }
         assert!(Cli::try_parse_from(["relief", "--technique", "phong"]).is_err());
         assert!(Cli::try_parse_from(["relief", "--aa", "3x3"]).is_err());
+    }
+
+    #[test]
+    fn scene_model_and_light_flags_parse() {
+        let cli = Cli::try_parse_from([
+            "relief",
+            "render",
+            "--out",
+            "x.png",
+            "--scene",
+            "plasma",
+            "--light",
+            "-3,40.5",
+            "--model",
+            "Sphere",
+            "--lights",
+            "off",
+            "--attenuation",
+            "on",
+            "--plasma-normal",
+            "exact",
+        ])
+        .unwrap();
+        let Some(Command::Render(args)) = cli.command else {
+            panic!("render expected")
+        };
+        assert_eq!(args.view.scene, SceneKind::Plasma);
+        assert_eq!(args.view.model, ModelChoice::Sphere);
+        assert_eq!(args.light, Some(Vec2::new(-3.0, 40.5)));
+        assert_eq!(args.view.plasma_normal, PlasmaNormal::Exact);
+        let settings = args.view.settings();
+        assert!(!settings.lights && settings.attenuation);
+        let cli = Cli::try_parse_from(["relief", "--model", "monkey.OBJ"]).unwrap();
+        assert_eq!(cli.view.model, ModelChoice::Obj("monkey.OBJ".into()));
+        assert!(Cli::try_parse_from(["relief", "--model", "teapot"]).is_err());
+        assert!(Cli::try_parse_from(["relief", "--scene", "shadows"]).is_err());
+        assert!(parse_point("1,NaN").is_err());
+        assert!(parse_point("1").is_err());
+        assert!(parse_point("1,2,3").is_err());
     }
 
     #[test]

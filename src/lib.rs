@@ -6,6 +6,7 @@ pub mod app;
 pub mod cli;
 pub mod framebuffer;
 pub mod plan;
+pub mod plasma;
 pub mod raster;
 pub mod render;
 pub mod sanitize;

@@ -1,10 +1,18 @@
 //! What is drawn: meshes, material, lights, camera.
 
+pub mod attenuation;
+pub mod build;
 pub mod camera;
 pub mod cube;
 pub mod light;
 pub mod mesh;
+pub mod obj;
+pub mod plane;
+pub mod sphere;
+pub mod tangents;
+pub mod triangle;
 
+pub use build::{Built, ModelChoice, SceneKind, build_scene};
 pub use camera::Camera;
 pub use light::{AMBIENT, Light};
 pub use mesh::{Mesh, Triangle, Vertex};

@@ -1,0 +1,207 @@
+//! The scene and model choices (`--scene`, `--model`, keys `p` and `o`) and
+//! what they build.
+
+use std::f32::consts::FRAC_PI_2;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+use std::sync::Arc;
+
+use clap::ValueEnum;
+use glam::{Mat4, Vec3};
+
+use super::obj::{self, ObjError};
+use super::{AMBIENT, BACKGROUND, Camera, Material, Mesh, Object, Scene, cube, light, plane};
+use super::{sphere, triangle};
+use crate::plasma::Plasma;
+use crate::sanitize::display_path;
+use crate::texture::Texture;
+
+/// Which scene is shown.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum SceneKind {
+    /// One model (`--model`), lit by the reference lights.
+    #[default]
+    Cube,
+    /// The cube over a floor: the strong white light casts its shadow.
+    Shadow,
+    /// The 2D bump effect of seed 001, lit from the pointer.
+    Plasma,
+}
+
+impl SceneKind {
+    pub fn next(self) -> Self {
+        match self {
+            SceneKind::Cube => SceneKind::Shadow,
+            SceneKind::Shadow => SceneKind::Plasma,
+            SceneKind::Plasma => SceneKind::Cube,
+        }
+    }
+    pub fn label(self) -> &'static str {
+        match self {
+            SceneKind::Cube => "model",
+            SceneKind::Shadow => "shadow",
+            SceneKind::Plasma => "plasma",
+        }
+    }
+}
+
+/// Which model the cube scene shows.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ModelChoice {
+    Triangle,
+    Plane,
+    #[default]
+    Cube,
+    Sphere,
+    /// A Wavefront OBJ file.
+    Obj(PathBuf),
+}
+
+impl ModelChoice {
+    /// The next built-in model (key `o`): triangle → plane → cube → sphere →
+    /// triangle; from an OBJ file, the triangle.
+    pub fn next(&self) -> Self {
+        match self {
+            ModelChoice::Triangle => ModelChoice::Plane,
+            ModelChoice::Plane => ModelChoice::Cube,
+            ModelChoice::Cube => ModelChoice::Sphere,
+            ModelChoice::Sphere | ModelChoice::Obj(_) => ModelChoice::Triangle,
+        }
+    }
+
+    /// For the status line: the name, or the OBJ file's name (sanitised).
+    pub fn label(&self) -> String {
+        match self {
+            ModelChoice::Triangle => "triangle".into(),
+            ModelChoice::Plane => "plane".into(),
+            ModelChoice::Cube => "cube".into(),
+            ModelChoice::Sphere => "sphere".into(),
+            ModelChoice::Obj(path) => path
+                .file_name()
+                .map(|n| display_path(Path::new(n)))
+                .unwrap_or_else(|| display_path(path)),
+        }
+    }
+
+    /// The model's mesh (the cube's texture on all faces or front and back).
+    pub fn mesh(&self, all_faces: bool) -> Result<Mesh, ObjError> {
+        Ok(match self {
+            ModelChoice::Triangle => triangle::triangle(),
+            ModelChoice::Plane => plane::plane(),
+            ModelChoice::Cube => cube::cube(all_faces),
+            ModelChoice::Sphere => sphere::sphere(),
+            ModelChoice::Obj(path) => obj::load(path)?,
+        })
+    }
+}
+
+impl fmt::Display for ModelChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.label())
+    }
+}
+
+impl FromStr for ModelChoice {
+    type Err = String;
+
+    /// `triangle`, `plane`, `cube`, `sphere` (any case), or a path ending in `.obj`.
+    fn from_str(text: &str) -> Result<Self, String> {
+        let lower = text.trim().to_ascii_lowercase();
+        Ok(match lower.as_str() {
+            "triangle" => ModelChoice::Triangle,
+            "plane" => ModelChoice::Plane,
+            "cube" => ModelChoice::Cube,
+            "sphere" => ModelChoice::Sphere,
+            _ if lower.ends_with(".obj") => ModelChoice::Obj(PathBuf::from(text)),
+            _ => {
+                return Err(format!(
+                    "unknown model '{}': expected triangle, plane, cube, sphere or a file ending in .obj",
+                    crate::sanitize::clean(text)
+                ));
+            }
+        })
+    }
+}
+
+/// What a scene choice builds: a 3D scene for the renderer, or the 2D effect.
+#[derive(Clone, Debug)]
+pub enum Built {
+    Scene(Box<Scene>),
+    Plasma(Plasma),
+}
+
+/// Builds the chosen scene. Only `Cube` reads `model`; an OBJ that cannot be
+/// loaded is an error (the caller keeps what it had).
+pub fn build_scene(
+    kind: SceneKind,
+    model: &ModelChoice,
+    texture: Arc<Texture>,
+    all_faces: bool,
+) -> Result<Built, ObjError> {
+    Ok(match kind {
+        SceneKind::Cube => Built::Scene(Box::new(Scene::model(model.mesh(all_faces)?, texture))),
+        SceneKind::Shadow => Built::Scene(Box::new(Scene::shadow(texture, all_faces))),
+        SceneKind::Plasma => Built::Plasma(Plasma::new(0)),
+    })
+}
+
+/// Height of the shadow scene's floor (the turning cube reaches √3 ≈ 1.73).
+pub const FLOOR_Y: f32 = -1.8;
+/// Half the side of the floor: wide enough for the cube's shadow.
+pub const FLOOR_HALF: f32 = 6.0;
+/// The floor is a grid of this many cells across (flat and Gouraud shading
+/// light it per cell or per vertex, so one quad would look wrong).
+pub const FLOOR_CELLS: u32 = 12;
+
+/// The floor's colour: a light neutral grey, so the shadow reads clearly.
+fn floor_color(_unit: Vec3) -> Vec3 {
+    Vec3::new(0.78, 0.76, 0.72)
+}
+
+impl Scene {
+    /// One model at the origin, turning, in the reference lighting and camera.
+    pub fn model(mesh: Mesh, texture: Arc<Texture>) -> Self {
+        Scene {
+            objects: vec![Object {
+                mesh,
+                transform: Mat4::IDENTITY,
+                rotates: true,
+            }],
+            material: Material { texture },
+            lights: light::reference_lights(),
+            ambient: AMBIENT,
+            camera: Camera::default(),
+            background: BACKGROUND,
+        }
+    }
+
+    /// The reference cube, turning, over a still floor at `FLOOR_Y`, seen
+    /// from higher up so the shadow behind the cube is in view.
+    pub fn shadow(texture: Arc<Texture>, all_faces: bool) -> Self {
+        let mut floor = plane::grid(FLOOR_HALF, FLOOR_HALF, FLOOR_CELLS, floor_color);
+        for tri in &mut floor.triangles {
+            tri.textured = false;
+        }
+        let mut scene = Scene::model(cube::cube(all_faces), texture);
+        scene.objects.push(Object {
+            mesh: floor,
+            // Face +Z turned to face +Y, then lowered.
+            transform: Mat4::from_translation(Vec3::new(0.0, FLOOR_Y, 0.0))
+                * Mat4::from_rotation_x(-FRAC_PI_2),
+            rotates: false,
+        });
+        scene.camera = shadow_camera();
+        scene
+    }
+}
+
+/// Above and in front: the strong light at (3, 4, 6) throws the cube's
+/// shadow back and to the left, onto the floor behind it.
+pub fn shadow_camera() -> Camera {
+    Camera {
+        eye: Vec3::new(0.0, 3.5, 7.0),
+        target: Vec3::new(-0.5, -1.0, -1.0),
+        ..Camera::default()
+    }
+}

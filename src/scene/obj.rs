@@ -1,0 +1,561 @@
+//! Wavefront OBJ models (`--model file.obj`), read with `tobj`.
+//!
+//! The file is checked line by line first (sizes, counts, finite numbers,
+//! every index in range), so a bad file gets a one-line error with its line
+//! number and `tobj` only ever sees indices it can use. Then:
+//! - polygons are triangulated (fans, by `tobj`);
+//! - the model is centred on its bounding box and scaled so its farthest
+//!   point is `FIT_RADIUS` from the centre;
+//! - missing normals are computed per corner, weighted by the corner's angle,
+//!   from the faces around the same position that turn less than
+//!   `CREASE_DEGREES` from the corner's own face: curved surfaces come out
+//!   smooth and a cube's edges stay hard (the smoothed-cube pitfall of seed
+//!   004 §III-B);
+//! - missing UVs come from a box projection: each face is projected along
+//!   the axis its normal is closest to, with the cube's texture axes for that
+//!   side, so the texture keeps one scale everywhere and is never mirrored;
+//! - vertices are split wherever position, UV, normal, colour or the
+//!   handedness of the texture axes differ, so hard edges and UV seams stay
+//!   hard;
+//! - tangents are accumulated per vertex (see `tangents`).
+
+use std::collections::HashMap;
+use std::io::Read;
+use std::path::Path;
+
+use glam::{DVec3, Vec2, Vec3};
+use thiserror::Error;
+
+use super::cube::{FACES, corner_color};
+use super::mesh::{Mesh, Triangle, Vertex};
+use super::tangents::{accumulate, face_frame};
+use crate::sanitize::{clean, display_path};
+
+/// Files larger than this are refused before reading.
+pub const MAX_FILE_BYTES: u64 = 64 << 20;
+/// Most `v` lines a model may have.
+pub const MAX_POSITIONS: usize = 1_000_000;
+/// Most triangles a model may have after triangulation.
+pub const MAX_TRIANGLES: usize = 1_000_000;
+/// Distance from the model's centre to its farthest point once loaded.
+pub const FIT_RADIUS: f32 = 1.5;
+/// Faces meeting at a larger angle keep separate normals when normals are computed.
+pub const CREASE_DEGREES: f32 = 60.0;
+/// Beyond this many faces around one position, computed normals ignore the crease angle.
+const MAX_VALENCE: usize = 256;
+
+/// Why a model could not be loaded: one line, already safe to print.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum ObjError {
+    #[error("cannot read model {name}: {reason}")]
+    Read { name: String, reason: String },
+    #[error("model {name} is not a regular file")]
+    NotAFile { name: String },
+    #[error("model {name} is too large: {size} bytes (limit {limit})")]
+    TooLarge { name: String, size: u64, limit: u64 },
+    #[error("model {name} is not a text file (invalid UTF-8 at byte {at})")]
+    NotText { name: String, at: usize },
+    #[error("model {name}, line {line}: {problem}")]
+    Line {
+        name: String,
+        line: usize,
+        problem: String,
+    },
+    #[error("model {name} has more than {limit} {what}")]
+    TooMany {
+        name: String,
+        what: &'static str,
+        limit: usize,
+    },
+    #[error("model {name} has no faces")]
+    Empty { name: String },
+    #[error("model {name} has no face with an area (all points coincide or lie on a line)")]
+    Degenerate { name: String },
+    #[error("model {name} could not be parsed: {reason}")]
+    Parse { name: String, reason: String },
+}
+
+/// Loads an OBJ file as a mesh fitted to the unit view.
+pub fn load(path: &Path) -> Result<Mesh, ObjError> {
+    let name = display_path(path);
+    let read_error = |e: std::io::Error| ObjError::Read {
+        name: name.clone(),
+        reason: clean(&e.to_string()),
+    };
+    let meta = std::fs::metadata(path).map_err(read_error)?;
+    if !meta.is_file() {
+        return Err(ObjError::NotAFile { name });
+    }
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(ObjError::TooLarge {
+            name,
+            size: meta.len(),
+            limit: MAX_FILE_BYTES,
+        });
+    }
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
+        .map_err(read_error)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        // It grew between the size check and the read.
+        return Err(ObjError::TooLarge {
+            name,
+            size: bytes.len() as u64,
+            limit: MAX_FILE_BYTES,
+        });
+    }
+    let text = String::from_utf8(bytes).map_err(|e| ObjError::NotText {
+        name: name.clone(),
+        at: e.utf8_error().valid_up_to(),
+    })?;
+    parse(&name, &text)
+}
+
+/// Builds a mesh from OBJ text; `name` (already sanitised) is used in errors.
+pub fn parse(name: &str, text: &str) -> Result<Mesh, ObjError> {
+    let scan = scan(name, text)?;
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    // Materials are not used: never open the files a model names.
+    let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|e| ObjError::Parse {
+        name: name.to_string(),
+        reason: e.to_string(),
+    })?;
+    let corners = gather(&scan, &models);
+    if corners.is_empty() {
+        return Err(ObjError::Empty {
+            name: name.to_string(),
+        });
+    }
+    build(name, corners)
+}
+
+/// What the line check learnt about the file.
+#[derive(Debug, Default)]
+struct Scan {
+    positions: usize,
+    colored_positions: usize,
+    texcoords: usize,
+    normals: usize,
+    triangles: usize,
+    /// Every face corner names a texture coordinate / a normal.
+    all_uv: bool,
+    all_normals: bool,
+}
+
+/// A short, printable quote of a token from the file.
+fn quote(token: &str) -> String {
+    let mut s: String = clean(token).chars().take(24).collect();
+    if token.chars().count() > 24 {
+        s.push('…');
+    }
+    format!("'{s}'")
+}
+
+fn finite_numbers<'a>(
+    tokens: impl Iterator<Item = &'a str>,
+    count: usize,
+    what: &str,
+) -> Result<(), String> {
+    let mut seen = 0;
+    for token in tokens.take(count) {
+        match token.parse::<f32>() {
+            Ok(x) if x.is_finite() => seen += 1,
+            _ => return Err(format!("{what}: {} is not a finite number", quote(token))),
+        }
+    }
+    if seen < count {
+        return Err(format!("{what} needs {count} numbers, found {seen}"));
+    }
+    Ok(())
+}
+
+/// An OBJ index (1-based, or negative relative to the end) into `count` items.
+fn resolve(token: &str, count: usize, what: &str) -> Result<(), String> {
+    let index: i64 = token
+        .parse()
+        .map_err(|_| format!("{what} index {} is not a whole number", quote(token)))?;
+    let ok = match index {
+        i if i > 0 => (i as u64) <= count as u64,
+        i if i < 0 => i.unsigned_abs() <= count as u64,
+        _ => false,
+    };
+    if ok {
+        Ok(())
+    } else {
+        Err(format!(
+            "{what} index {index} is out of range (there are {count} so far)"
+        ))
+    }
+}
+
+/// Checks every line `tobj` will act on; counts against the limits.
+fn scan(name: &str, text: &str) -> Result<Scan, ObjError> {
+    let mut s = Scan {
+        all_uv: true,
+        all_normals: true,
+        ..Scan::default()
+    };
+    let too_many = |what, limit| ObjError::TooMany {
+        name: name.to_string(),
+        what,
+        limit,
+    };
+    for (number, line) in text.lines().enumerate() {
+        let at = |problem: String| ObjError::Line {
+            name: name.to_string(),
+            line: number + 1,
+            problem,
+        };
+        let mut tokens = line.split_whitespace();
+        match tokens.next() {
+            Some("v") => {
+                finite_numbers(&mut tokens, 3, "position").map_err(at)?;
+                let rest: Vec<&str> = tokens.collect();
+                match rest.len() {
+                    0 => {}
+                    1 => match rest[0].parse::<f32>() {
+                        Ok(w) if w.is_finite() && w != 0.0 => {}
+                        _ => return Err(at(format!("bad w {}", quote(rest[0])))),
+                    },
+                    3 => {
+                        finite_numbers(rest.into_iter(), 3, "vertex colour").map_err(at)?;
+                        s.colored_positions += 1;
+                    }
+                    n => return Err(at(format!("position has {} numbers", n + 3))),
+                }
+                s.positions += 1;
+                if s.positions > MAX_POSITIONS {
+                    return Err(too_many("vertices", MAX_POSITIONS));
+                }
+            }
+            Some("vt") => {
+                finite_numbers(tokens, 2, "texture coordinate").map_err(at)?;
+                s.texcoords += 1;
+                if s.texcoords > MAX_POSITIONS {
+                    return Err(too_many("texture coordinates", MAX_POSITIONS));
+                }
+            }
+            Some("vn") => {
+                finite_numbers(tokens, 3, "normal").map_err(at)?;
+                s.normals += 1;
+                if s.normals > MAX_POSITIONS {
+                    return Err(too_many("normals", MAX_POSITIONS));
+                }
+            }
+            Some("f") => {
+                let mut arity = 0usize;
+                for corner in tokens {
+                    let parts: Vec<&str> = corner.split('/').collect();
+                    if parts.len() > 3 || parts[0].is_empty() {
+                        return Err(at(format!("bad face corner {}", quote(corner))));
+                    }
+                    resolve(parts[0], s.positions, "vertex").map_err(at)?;
+                    match parts.get(1) {
+                        Some(t) if !t.is_empty() => {
+                            resolve(t, s.texcoords, "texture coordinate").map_err(at)?
+                        }
+                        _ => s.all_uv = false,
+                    }
+                    match parts.get(2) {
+                        Some(n) if !n.is_empty() => resolve(n, s.normals, "normal").map_err(at)?,
+                        _ => s.all_normals = false,
+                    }
+                    arity += 1;
+                }
+                // One or two corners are a point or a line: not drawn.
+                if arity >= 3 {
+                    s.triangles += arity - 2;
+                    if s.triangles > MAX_TRIANGLES {
+                        return Err(too_many("triangles", MAX_TRIANGLES));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    if s.triangles == 0 {
+        return Err(ObjError::Empty {
+            name: name.to_string(),
+        });
+    }
+    Ok(s)
+}
+
+/// One triangle corner as read from the file.
+#[derive(Clone, Copy)]
+struct Corner {
+    position: Vec3,
+    uv: Option<Vec2>,
+    normal: Option<Vec3>,
+    color: Option<Vec3>,
+}
+
+/// The corners of every triangle of every object, in order.
+fn gather(scan: &Scan, models: &[tobj::Model]) -> Vec<Corner> {
+    let mut corners = Vec::new();
+    let use_colors = scan.colored_positions == scan.positions;
+    for model in models {
+        let m = &model.mesh;
+        let has_uv = scan.all_uv && m.texcoord_indices.len() == m.indices.len();
+        let has_normals = scan.all_normals && m.normal_indices.len() == m.indices.len();
+        let has_colors = use_colors && m.vertex_color.len() == m.positions.len();
+        let whole = m.indices.len() / 3 * 3;
+        for k in 0..whole {
+            let read3 = |data: &[f32], i: u32| -> Option<Vec3> {
+                let i = i as usize * 3;
+                data.get(i..i + 3).map(Vec3::from_slice)
+            };
+            let Some(position) = read3(&m.positions, m.indices[k]) else {
+                continue;
+            };
+            let uv = has_uv
+                .then(|| {
+                    let i = m.texcoord_indices[k] as usize * 2;
+                    m.texcoords.get(i..i + 2).map(Vec2::from_slice)
+                })
+                .flatten();
+            let normal = has_normals
+                .then(|| read3(&m.normals, m.normal_indices[k]))
+                .flatten();
+            let color = has_colors
+                .then(|| read3(&m.vertex_color, m.indices[k]))
+                .flatten();
+            corners.push(Corner {
+                position,
+                uv,
+                normal,
+                color,
+            });
+        }
+        // A corner that could not be read drops its whole triangle.
+        corners.truncate(corners.len() / 3 * 3);
+    }
+    corners
+}
+
+/// Bits of a position, with −0 and +0 alike: the key that says two corners
+/// are the same point.
+fn position_key(p: Vec3) -> [u32; 3] {
+    (p + Vec3::ZERO).to_array().map(f32::to_bits)
+}
+
+/// Centre and scale so the farthest point is `FIT_RADIUS` away (in f64:
+/// coordinates near f32::MAX would overflow when subtracted).
+fn fit(corners: &mut [Corner]) -> bool {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for c in corners.iter() {
+        let p = c.position.as_dvec3();
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let center = (lo + hi) * 0.5;
+    let radius = corners
+        .iter()
+        .map(|c| (c.position.as_dvec3() - center).length())
+        .fold(0.0f64, f64::max);
+    if !(radius > 0.0 && radius.is_finite()) {
+        return false;
+    }
+    let scale = FIT_RADIUS as f64 / radius;
+    for c in corners.iter_mut() {
+        c.position = ((c.position.as_dvec3() - center) * scale).as_vec3();
+    }
+    true
+}
+
+/// What makes two corners one vertex: position, UV, normal and colour bits,
+/// and whether the face's texture axes are mirrored.
+type VertexKey = ([u32; 3], [u32; 2], [u32; 3], [u32; 3], bool);
+
+/// Angle of a triangle at corner `k`.
+fn corner_angle(p: [Vec3; 3], k: usize) -> f32 {
+    let a = p[(k + 1) % 3] - p[k];
+    let b = p[(k + 2) % 3] - p[k];
+    a.angle_between(b)
+}
+
+fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
+    if !fit(&mut corners) {
+        return Err(ObjError::Degenerate {
+            name: name.to_string(),
+        });
+    }
+    // Keep the triangles that have an area (and so a normal).
+    let mut tris: Vec<([Corner; 3], Vec3)> = corners
+        .chunks_exact(3)
+        .filter_map(|c| {
+            let c = [c[0], c[1], c[2]];
+            let [a, b, d] = c.map(|c| c.position);
+            let n = (b - a).cross(d - a).normalize_or_zero();
+            (n != Vec3::ZERO).then_some((c, n))
+        })
+        .collect();
+    if tris.is_empty() {
+        return Err(ObjError::Degenerate {
+            name: name.to_string(),
+        });
+    }
+    fill_normals(&mut tris);
+    // Missing UVs: box projection with the cube's texture axes.
+    for (c, n) in tris.iter_mut() {
+        if c.iter().any(|c| c.uv.is_none()) {
+            let (_, u_axis, v_axis) = FACES
+                .iter()
+                .copied()
+                .max_by(|x, y| n.dot(x.0).total_cmp(&n.dot(y.0)))
+                .unwrap_or(FACES[4]);
+            for corner in c.iter_mut() {
+                let p = corner.position / FIT_RADIUS;
+                corner.uv = Some(Vec2::new(
+                    0.5 + 0.5 * p.dot(u_axis),
+                    0.5 + 0.5 * p.dot(v_axis),
+                ));
+            }
+        }
+    }
+    let mut vertices: Vec<Vertex> = Vec::new();
+    let mut triangles = Vec::with_capacity(tris.len());
+    let mut index_of: HashMap<VertexKey, u32> = HashMap::new();
+    for (c, n) in &tris {
+        let positions = c.map(|c| c.position);
+        let uvs = c.map(|c| c.uv.unwrap_or(Vec2::ZERO));
+        let colors = c.map(|c| {
+            c.color
+                .map(|k| k.clamp(Vec3::ZERO, Vec3::ONE))
+                .unwrap_or_else(|| corner_color(c.position / FIT_RADIUS).min(Vec3::ONE))
+        });
+        let frame = face_frame(positions, uvs, *n);
+        let mirrored = frame.handedness(*n) < 0.0;
+        let mut indices = [0u32; 3];
+        for k in 0..3 {
+            let normal = c[k].normal.unwrap_or(*n);
+            let key = (
+                position_key(positions[k]),
+                uvs[k].to_array().map(f32::to_bits),
+                normal.to_array().map(f32::to_bits),
+                colors[k].to_array().map(f32::to_bits),
+                mirrored,
+            );
+            indices[k] = *index_of.entry(key).or_insert_with(|| {
+                vertices.push(Vertex {
+                    position: positions[k],
+                    normal,
+                    uv: uvs[k],
+                    color: colors[k],
+                    tangent_u: Vec3::ZERO,
+                    tangent_v: Vec3::ZERO,
+                });
+                (vertices.len() - 1) as u32
+            });
+        }
+        triangles.push(Triangle {
+            indices,
+            face_normal: *n,
+            face_tangent_u: frame.tangent_u,
+            face_tangent_v: frame.tangent_v,
+            facet_center: positions.iter().sum::<Vec3>() / 3.0,
+            facet_color: colors.iter().sum::<Vec3>() / 3.0,
+            textured: true,
+        });
+    }
+    let closed = is_closed(&triangles, &vertices);
+    let mut mesh = Mesh {
+        vertices,
+        triangles,
+        convex: false,
+        closed,
+    };
+    accumulate(&mut mesh);
+    Ok(mesh)
+}
+
+/// File normals are normalised (an unusable one is recomputed); missing ones
+/// are computed by angle weighting within the crease angle.
+fn fill_normals(tris: &mut [([Corner; 3], Vec3)]) {
+    let cos_crease = CREASE_DEGREES.to_radians().cos();
+    let mut around: HashMap<[u32; 3], Vec<(u32, u8)>> = HashMap::new();
+    for (t, (c, _)) in tris.iter().enumerate() {
+        for (k, corner) in c.iter().enumerate() {
+            around
+                .entry(position_key(corner.position))
+                .or_default()
+                .push((t as u32, k as u8));
+        }
+    }
+    // Around a position shared by very many faces (a cone's apex), the
+    // per-corner crease test would cost valence²: there all faces are
+    // averaged once instead.
+    let big: HashMap<[u32; 3], Vec3> = around
+        .iter()
+        .filter(|(_, list)| list.len() > MAX_VALENCE)
+        .map(|(&key, list)| {
+            let sum = list
+                .iter()
+                .map(|&(t, k)| {
+                    let (c, n) = &tris[t as usize];
+                    corner_angle(c.map(|c| c.position), k as usize) * *n
+                })
+                .sum::<Vec3>();
+            (key, sum)
+        })
+        .collect();
+    let computed: Vec<[Vec3; 3]> = tris
+        .iter()
+        .map(|(c, n)| {
+            let mut out = [Vec3::ZERO; 3];
+            for (k, corner) in c.iter().enumerate() {
+                if let Some(given) = corner.normal.and_then(|g| g.try_normalize()) {
+                    out[k] = given;
+                    continue;
+                }
+                let key = position_key(corner.position);
+                if let Some(sum) = big.get(&key) {
+                    out[k] = sum.normalize_or(*n);
+                    continue;
+                }
+                let mut sum = Vec3::ZERO;
+                for &(t2, k2) in &around[&key] {
+                    let (c2, n2) = &tris[t2 as usize];
+                    if n.dot(*n2) >= cos_crease {
+                        sum += corner_angle(c2.map(|c| c.position), k2 as usize) * *n2;
+                    }
+                }
+                out[k] = sum.normalize_or(*n);
+            }
+            out
+        })
+        .collect();
+    for ((c, _), normals) in tris.iter_mut().zip(computed) {
+        for (corner, normal) in c.iter_mut().zip(normals) {
+            corner.normal = Some(normal);
+        }
+    }
+}
+
+/// True when every edge (between positions) is used exactly twice, in
+/// opposite directions: a closed, consistently wound surface whose back
+/// faces can be culled.
+fn is_closed(triangles: &[Triangle], vertices: &[Vertex]) -> bool {
+    let mut edges: HashMap<([u32; 3], [u32; 3]), u32> = HashMap::new();
+    for tri in triangles {
+        let p = tri
+            .indices
+            .map(|i| position_key(vertices[i as usize].position));
+        for k in 0..3 {
+            *edges.entry((p[k], p[(k + 1) % 3])).or_default() += 1;
+        }
+    }
+    edges
+        .iter()
+        .all(|(&(a, b), &count)| count == 1 && edges.get(&(b, a)) == Some(&1))
+}
