@@ -89,6 +89,8 @@ impl Plasma {
             return Counters::default();
         }
         let light = (sanitize(light.0), sanitize(light.1));
+        // The article works on whole pixels.
+        let light_px = (light.0.round() as i64, light.1.round() as i64);
         let alt = self.heights.sample(w, h);
         let at = |x: usize, y: usize| alt[y * w + x] as i32;
         fb.pixels_mut()
@@ -102,7 +104,7 @@ impl Plasma {
                     let dx = at(right, y) - at(left, y);
                     let dy = at(x, down) - at(x, up);
                     let value = match normal {
-                        PlasmaNormal::Table => self.table_value(dx, dy, light, x, y),
+                        PlasmaNormal::Table => self.table_value(dx, dy, light_px, x, y),
                         PlasmaNormal::Exact => exact_value(dx, dy, light, x, y),
                     };
                     *px = [value; 3];
@@ -118,9 +120,9 @@ impl Plasma {
 
     /// The article's inner loop: integer slope plus light offset, clamped to
     /// ±127, looked up in the table.
-    fn table_value(&self, dx: i32, dy: i32, light: (f32, f32), x: usize, y: usize) -> u8 {
-        let lx = light.0.round() as i64 - x as i64;
-        let ly = light.1.round() as i64 - y as i64;
+    fn table_value(&self, dx: i32, dy: i32, light: (i64, i64), x: usize, y: usize) -> u8 {
+        let lx = light.0 - x as i64;
+        let ly = light.1 - y as i64;
         let i = (dx as i64 + lx).clamp(-127, 127) as i32;
         let j = (dy as i64 + ly).clamp(-127, 127) as i32;
         self.table.get(i, j)

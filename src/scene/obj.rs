@@ -373,15 +373,23 @@ fn fit(corners: &mut [Corner]) -> bool {
     true
 }
 
-/// What makes two corners one vertex: position, UV, normal and colour bits,
-/// and whether the face's texture axes are mirrored.
-type VertexKey = ([u32; 3], [u32; 2], [u32; 3], [u32; 3], bool);
+/// What makes two corners one vertex: position id, UV and normal bits, and
+/// whether the face's texture axes are mirrored.
+type VertexKey = (u32, [u32; 2], [u32; 3], bool);
 
 /// Angle of a triangle at corner `k`.
 fn corner_angle(p: [Vec3; 3], k: usize) -> f32 {
     let a = p[(k + 1) % 3] - p[k];
     let b = p[(k + 2) % 3] - p[k];
     a.angle_between(b)
+}
+
+/// A triangle being built: its corners, its normal, and the ids of its
+/// corners' positions (equal ids for equal points).
+struct Tri {
+    corners: [Corner; 3],
+    normal: Vec3,
+    position_ids: [u32; 3],
 }
 
 fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
@@ -391,7 +399,8 @@ fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
         });
     }
     // Keep the triangles that have an area (and so a normal).
-    let mut tris: Vec<([Corner; 3], Vec3)> = corners
+    let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut tris: Vec<Tri> = corners
         .chunks_exact(3)
         .filter_map(|c| {
             let c = [c[0], c[1], c[2]];
@@ -399,22 +408,34 @@ fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
             let n = (b - a).cross(d - a).normalize_or_zero();
             (n != Vec3::ZERO).then_some((c, n))
         })
+        .map(|(c, normal)| {
+            let position_ids = c.map(|corner| {
+                let next = ids.len() as u32;
+                *ids.entry(position_key(corner.position)).or_insert(next)
+            });
+            Tri {
+                corners: c,
+                normal,
+                position_ids,
+            }
+        })
         .collect();
     if tris.is_empty() {
         return Err(ObjError::Degenerate {
             name: name.to_string(),
         });
     }
-    fill_normals(&mut tris);
+    fill_normals(&mut tris, ids.len());
     // Missing UVs: box projection with the cube's texture axes.
-    for (c, n) in tris.iter_mut() {
-        if c.iter().any(|c| c.uv.is_none()) {
+    for tri in tris.iter_mut() {
+        if tri.corners.iter().any(|c| c.uv.is_none()) {
+            let n = tri.normal;
             let (_, u_axis, v_axis) = FACES
                 .iter()
                 .copied()
                 .max_by(|x, y| n.dot(x.0).total_cmp(&n.dot(y.0)))
                 .unwrap_or(FACES[4]);
-            for corner in c.iter_mut() {
+            for corner in tri.corners.iter_mut() {
                 let p = corner.position / FIT_RADIUS;
                 corner.uv = Some(Vec2::new(
                     0.5 + 0.5 * p.dot(u_axis),
@@ -426,24 +447,25 @@ fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
     let mut vertices: Vec<Vertex> = Vec::new();
     let mut triangles = Vec::with_capacity(tris.len());
     let mut index_of: HashMap<VertexKey, u32> = HashMap::new();
-    for (c, n) in &tris {
+    for tri in &tris {
+        let c = &tri.corners;
         let positions = c.map(|c| c.position);
         let uvs = c.map(|c| c.uv.unwrap_or(Vec2::ZERO));
+        // Colours belong to positions (the file's, or computed from the position).
         let colors = c.map(|c| {
             c.color
                 .map(|k| k.clamp(Vec3::ZERO, Vec3::ONE))
                 .unwrap_or_else(|| corner_color(c.position / FIT_RADIUS).min(Vec3::ONE))
         });
-        let frame = face_frame(positions, uvs, *n);
-        let mirrored = frame.handedness(*n) < 0.0;
+        let frame = face_frame(positions, uvs, tri.normal);
+        let mirrored = frame.handedness(tri.normal) < 0.0;
         let mut indices = [0u32; 3];
         for k in 0..3 {
-            let normal = c[k].normal.unwrap_or(*n);
+            let normal = c[k].normal.unwrap_or(tri.normal);
             let key = (
-                position_key(positions[k]),
+                tri.position_ids[k],
                 uvs[k].to_array().map(f32::to_bits),
                 normal.to_array().map(f32::to_bits),
-                colors[k].to_array().map(f32::to_bits),
                 mirrored,
             );
             indices[k] = *index_of.entry(key).or_insert_with(|| {
@@ -460,7 +482,7 @@ fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
         }
         triangles.push(Triangle {
             indices,
-            face_normal: *n,
+            face_normal: tri.normal,
             face_tangent_u: frame.tangent_u,
             face_tangent_v: frame.tangent_v,
             facet_center: positions.iter().sum::<Vec3>() / 3.0,
@@ -468,7 +490,7 @@ fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
             textured: true,
         });
     }
-    let closed = is_closed(&triangles, &vertices);
+    let closed = is_closed(&tris);
     let mut mesh = Mesh {
         vertices,
         triangles,
@@ -481,62 +503,65 @@ fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
 
 /// File normals are normalised (an unusable one is recomputed); missing ones
 /// are computed by angle weighting within the crease angle.
-fn fill_normals(tris: &mut [([Corner; 3], Vec3)]) {
+fn fill_normals(tris: &mut [Tri], positions: usize) {
     let cos_crease = CREASE_DEGREES.to_radians().cos();
-    let mut around: HashMap<[u32; 3], Vec<(u32, u8)>> = HashMap::new();
-    for (t, (c, _)) in tris.iter().enumerate() {
-        for (k, corner) in c.iter().enumerate() {
-            around
-                .entry(position_key(corner.position))
-                .or_default()
-                .push((t as u32, k as u8));
+    // The corners around each position, as one flat list (counting sort).
+    let mut start = vec![0u32; positions + 1];
+    for tri in tris.iter() {
+        for &p in &tri.position_ids {
+            start[p as usize + 1] += 1;
         }
     }
+    for i in 0..positions {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut around = vec![(0u32, 0u8); start[positions] as usize];
+    for (t, tri) in tris.iter().enumerate() {
+        for (k, &p) in tri.position_ids.iter().enumerate() {
+            around[fill[p as usize] as usize] = (t as u32, k as u8);
+            fill[p as usize] += 1;
+        }
+    }
+    let weighted = |&(t, k): &(u32, u8)| {
+        let tri = &tris[t as usize];
+        corner_angle(tri.corners.map(|c| c.position), k as usize) * tri.normal
+    };
     // Around a position shared by very many faces (a cone's apex), the
     // per-corner crease test would cost valence²: there all faces are
     // averaged once instead.
-    let big: HashMap<[u32; 3], Vec3> = around
-        .iter()
-        .filter(|(_, list)| list.len() > MAX_VALENCE)
-        .map(|(&key, list)| {
-            let sum = list
-                .iter()
-                .map(|&(t, k)| {
-                    let (c, n) = &tris[t as usize];
-                    corner_angle(c.map(|c| c.position), k as usize) * *n
-                })
-                .sum::<Vec3>();
-            (key, sum)
+    let big: HashMap<u32, Vec3> = (0..positions)
+        .filter(|&p| (start[p + 1] - start[p]) as usize > MAX_VALENCE)
+        .map(|p| {
+            let list = &around[start[p] as usize..start[p + 1] as usize];
+            (p as u32, list.iter().map(weighted).sum::<Vec3>())
         })
         .collect();
     let computed: Vec<[Vec3; 3]> = tris
         .iter()
-        .map(|(c, n)| {
+        .map(|tri| {
             let mut out = [Vec3::ZERO; 3];
-            for (k, corner) in c.iter().enumerate() {
-                if let Some(given) = corner.normal.and_then(|g| g.try_normalize()) {
+            for k in 0..3 {
+                if let Some(given) = tri.corners[k].normal.and_then(|g| g.try_normalize()) {
                     out[k] = given;
                     continue;
                 }
-                let key = position_key(corner.position);
-                if let Some(sum) = big.get(&key) {
-                    out[k] = sum.normalize_or(*n);
-                    continue;
-                }
-                let mut sum = Vec3::ZERO;
-                for &(t2, k2) in &around[&key] {
-                    let (c2, n2) = &tris[t2 as usize];
-                    if n.dot(*n2) >= cos_crease {
-                        sum += corner_angle(c2.map(|c| c.position), k2 as usize) * *n2;
-                    }
-                }
-                out[k] = sum.normalize_or(*n);
+                let p = tri.position_ids[k];
+                let sum = match big.get(&p) {
+                    Some(sum) => *sum,
+                    None => around[start[p as usize] as usize..start[p as usize + 1] as usize]
+                        .iter()
+                        .filter(|&&(t2, _)| tri.normal.dot(tris[t2 as usize].normal) >= cos_crease)
+                        .map(weighted)
+                        .sum(),
+                };
+                out[k] = sum.normalize_or(tri.normal);
             }
             out
         })
         .collect();
-    for ((c, _), normals) in tris.iter_mut().zip(computed) {
-        for (corner, normal) in c.iter_mut().zip(normals) {
+    for (tri, normals) in tris.iter_mut().zip(computed) {
+        for (corner, normal) in tri.corners.iter_mut().zip(normals) {
             corner.normal = Some(normal);
         }
     }
@@ -545,17 +570,18 @@ fn fill_normals(tris: &mut [([Corner; 3], Vec3)]) {
 /// True when every edge (between positions) is used exactly twice, in
 /// opposite directions: a closed, consistently wound surface whose back
 /// faces can be culled.
-fn is_closed(triangles: &[Triangle], vertices: &[Vertex]) -> bool {
-    let mut edges: HashMap<([u32; 3], [u32; 3]), u32> = HashMap::new();
-    for tri in triangles {
-        let p = tri
-            .indices
-            .map(|i| position_key(vertices[i as usize].position));
-        for k in 0..3 {
-            *edges.entry((p[k], p[(k + 1) % 3])).or_default() += 1;
-        }
-    }
-    edges
+fn is_closed(tris: &[Tri]) -> bool {
+    let mut edges: Vec<u64> = tris
         .iter()
-        .all(|(&(a, b), &count)| count == 1 && edges.get(&(b, a)) == Some(&1))
+        .flat_map(|t| {
+            let p = t.position_ids;
+            (0..3).map(move |k| (p[k] as u64) << 32 | p[(k + 1) % 3] as u64)
+        })
+        .collect();
+    edges.sort_unstable();
+    let unique = edges.windows(2).all(|w| w[0] != w[1]);
+    unique
+        && edges
+            .iter()
+            .all(|&e| edges.binary_search(&(e << 32 | e >> 32)).is_ok())
 }
