@@ -13,6 +13,7 @@ pub mod sanitize;
 pub mod scene;
 pub mod settings;
 pub mod shade;
+pub mod shadow;
 pub mod stats;
 pub mod term;
 pub mod texture;

@@ -9,7 +9,8 @@ use clap::Parser;
 
 use relief::cli::{Cli, Command, RenderArgs};
 use relief::sanitize::clean;
-use relief::{Framebuffer, Renderer, Scene};
+use relief::scene::{Built, build_scene};
+use relief::{Framebuffer, Renderer};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -34,10 +35,20 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         args.image.as_deref(),
         args.view.height_map.as_deref(),
     )?;
-    let scene = Scene::cube(Arc::new(texture), args.view.all_faces);
-    let settings = args.view.settings();
+    let view = &args.view;
+    let built = build_scene(view.scene, &view.model, Arc::new(texture), view.all_faces)?;
+    let settings = view.settings();
     let mut fb = Framebuffer::new(args.width as usize, args.height as usize);
-    Renderer::new().render(&scene, &settings, &mut fb);
+    match built {
+        Built::Scene(scene) => {
+            Renderer::new().render(&scene, &settings, &mut fb);
+        }
+        Built::Plasma(plasma) => {
+            let centre = (fb.width() as f32 / 2.0, fb.height() as f32 / 2.0);
+            let light = args.light.map_or(centre, |p| (p.x, p.y));
+            plasma.render(light, view.plasma_normal, &mut fb);
+        }
+    }
     if args.ansi {
         let mut out = std::io::stdout().lock();
         out.write_all(ansi_halfblocks(&fb).as_bytes())?;

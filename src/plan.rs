@@ -56,6 +56,9 @@ pub struct Plan {
     /// Anti-aliasing; multisampling only in fill display (lines and points
     /// have no coverage to sample).
     pub aa: AntiAlias,
+    /// The light (index in `lights`) whose shadows are drawn: only when
+    /// something can cast onto something else (see `shadow`).
+    pub shadow_light: Option<usize>,
 }
 
 impl Plan {
@@ -105,6 +108,7 @@ impl Plan {
         } else {
             settings.aa
         };
+        let shadow_light = crate::shadow::shadow_light(scene, settings, &lights);
         Plan {
             shading: settings.shading,
             face_normals: settings.normals == crate::settings::Normals::Face,
@@ -125,6 +129,7 @@ impl Plan {
             attenuation: settings.attenuation,
             display: settings.display,
             aa,
+            shadow_light,
         }
     }
 }

@@ -18,9 +18,10 @@ use crate::settings::{AntiAlias, Display, LightVector, Settings, Shading, Techni
 use crate::shade::dot3::Dot3Kernel;
 use crate::shade::emboss::EmbossKernel;
 use crate::shade::kernels::{GouraudKernel, PhongKernel};
-use crate::shade::lighting::{diffuse, finish};
+use crate::shade::lighting::{diffuse, diffuse_with, finish};
 use crate::shade::parallax::ParallaxKernel;
 use crate::shade::{GouraudTri, PhongTri, ShadeCtx, TexturedFlatTri, TriShader};
+use crate::shadow::{Shadow, ShadowMap};
 use crate::stats::{Counters, FrameStats};
 
 /// Rows per band: small enough to balance two or more threads on a
@@ -58,6 +59,8 @@ pub struct Renderer {
     /// Multisampled colours and depths, kept between frames.
     msaa_color: Vec<[Rgb; MSAA_SAMPLES]>,
     msaa_depth: Vec<[f32; MSAA_SAMPLES]>,
+    /// The shadow map, kept between frames.
+    shadow: ShadowMap,
 }
 
 impl Renderer {
@@ -84,7 +87,17 @@ impl Renderer {
         let mips_before = scene.material.texture.mips_built();
         // Supersampling draws k times larger, then box-filters down.
         let k = ssaa_factor(plan.aa, width, height);
-        let mut counters = self.prepare(scene, settings, &plan, width * k, height * k);
+        // Taken out of `self` for the frame so the shaders can borrow it.
+        let mut shadow_map = std::mem::take(&mut self.shadow);
+        let (shadow, mut counters) = shadow_pass(
+            &mut shadow_map,
+            scene,
+            settings,
+            &plan,
+            width * k,
+            height * k,
+        );
+        counters += self.prepare(scene, settings, &plan, shadow, width * k, height * k);
         counters.normal_map_builds +=
             scene.material.texture.normal_map_builds() - normal_maps_before;
         stats.plan_time = start.elapsed();
@@ -96,12 +109,13 @@ impl Renderer {
                 .take()
                 .unwrap_or_else(|| Framebuffer::new(0, 0));
             big.resize(width * k, height * k);
-            counters += self.rasterize(scene, &plan, &mut big, k);
+            counters += self.rasterize(scene, &plan, shadow, &mut big, k);
             resolve_box(&big, k, fb);
             self.supersampled = Some(big);
         } else {
-            counters += self.rasterize(scene, &plan, fb, 1);
+            counters += self.rasterize(scene, &plan, shadow, fb, 1);
         }
+        self.shadow = shadow_map;
         if !mips_before && scene.material.texture.mips_built() {
             counters.mip_builds += 1;
         }
@@ -121,7 +135,10 @@ impl Renderer {
         height: usize,
     ) -> (&[ScreenTri], &[TriShader]) {
         let plan = Plan::new(scene, settings);
-        self.prepare(scene, settings, &plan, width, height);
+        let mut shadow_map = std::mem::take(&mut self.shadow);
+        let (shadow, _) = shadow_pass(&mut shadow_map, scene, settings, &plan, width, height);
+        self.prepare(scene, settings, &plan, shadow, width, height);
+        self.shadow = shadow_map;
         (&self.tris, &self.shaders)
     }
 
@@ -133,6 +150,7 @@ impl Renderer {
         scene: &Scene,
         settings: &Settings,
         plan: &Plan,
+        shadow: Option<Shadow>,
         width: usize,
         height: usize,
     ) -> Counters {
@@ -144,7 +162,7 @@ impl Renderer {
         let view_proj = scene.camera.projection(aspect) * scene.camera.view();
         let eye = scene.camera.eye;
         let user_rotation = rotation_matrix(settings.rotation);
-        for object in &scene.objects {
+        for (object_index, object) in scene.objects.iter().enumerate() {
             let model = if object.rotates {
                 object.transform * user_rotation
             } else {
@@ -227,6 +245,8 @@ impl Renderer {
                     side,
                     &model,
                     &linear,
+                    shadow,
+                    object_index as u32,
                     &mut counters,
                 );
                 self.shaders.push(shader);
@@ -243,6 +263,7 @@ impl Renderer {
         &mut self,
         scene: &Scene,
         plan: &Plan,
+        shadow: Option<Shadow>,
         fb: &mut Framebuffer,
         brush: usize,
     ) -> Counters {
@@ -264,6 +285,7 @@ impl Renderer {
         let ctx = ShadeCtx {
             plan,
             texture: &scene.material.texture,
+            shadow,
         };
         let work: u64 = self
             .tris
@@ -521,6 +543,8 @@ fn build_shader(
     side: f32,
     model: &Mat4,
     linear: &Mat3,
+    shadow: Option<Shadow>,
+    object: u32,
     counters: &mut Counters,
 ) -> TriShader {
     let textured = tri.textured && plan.texture;
@@ -539,12 +563,13 @@ fn build_shader(
             let center = model.transform_point3(tri.facet_center);
             let albedo = if plan.colors { tri.facet_color } else { white };
             let lit = albedo
-                * diffuse(
+                * diffuse_with(
                     &plan.lights,
                     plan.ambient,
                     center,
                     face_normal,
                     plan.attenuation,
+                    |i| shadow.map_or(1.0, |s| s.factor(i, center, face_normal, object, counters)),
                 );
             if textured {
                 TriShader::FlatTextured(TexturedFlatTri { lit, uv })
@@ -560,7 +585,18 @@ fn build_shader(
                 } else {
                     v.normal * side
                 };
-                diffuse(&plan.lights, plan.ambient, v.position, n, plan.attenuation)
+                diffuse_with(
+                    &plan.lights,
+                    plan.ambient,
+                    v.position,
+                    n,
+                    plan.attenuation,
+                    |i| {
+                        shadow.map_or(1.0, |s| {
+                            s.factor(i, v.position, face_normal, object, counters)
+                        })
+                    },
+                )
             });
             TriShader::Gouraud(GouraudTri {
                 light,
@@ -598,9 +634,27 @@ fn build_shader(
                 uniform_tangents,
                 textured,
                 bumped,
+                object,
             })
         }
     }
+}
+
+/// Pass 1 of the shadows, when the plan asks for it: the map of the plan's
+/// shadow light, and what drawing it cost.
+fn shadow_pass<'a>(
+    map: &'a mut ShadowMap,
+    scene: &Scene,
+    settings: &Settings,
+    plan: &Plan,
+    width: usize,
+    height: usize,
+) -> (Option<Shadow<'a>>, Counters) {
+    let Some(light) = plan.shadow_light else {
+        return (None, Counters::default());
+    };
+    let counters = map.render(scene, settings, plan.lights[light].position, width, height);
+    (Some(Shadow { light, map }), counters)
 }
 
 /// Convenience for tests and tools: one frame of `scene` at `width × height`.

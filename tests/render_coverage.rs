@@ -50,6 +50,7 @@ fn counting_ctx<R>(f: impl FnOnce(&ShadeCtx) -> R) -> R {
     let ctx = ShadeCtx {
         plan: &plan,
         texture: &scene.material.texture,
+        shadow: None,
     };
     f(&ctx)
 }
@@ -85,6 +86,7 @@ fn every_cube_triangle_is_drawn_through_the_shader_dispatch() {
     let ctx = ShadeCtx {
         plan: &plan,
         texture: &scene.material.texture,
+        shadow: None,
     };
     let mut color = vec![scene.background; w * h];
     let mut band = Band {

@@ -196,12 +196,14 @@ impl Scene {
     }
 }
 
-/// Above and in front: the strong light at (3, 4, 6) throws the cube's
-/// shadow back and to the left, onto the floor behind it.
+/// Above, in front and to the left: the strong light at (3, 4, 6) throws
+/// the cube's shadow back and to the left, and a camera next to the light
+/// would see it hidden behind the cube, so this one looks across the
+/// light's direction (about 70° from it).
 pub fn shadow_camera() -> Camera {
     Camera {
-        eye: Vec3::new(0.0, 3.5, 7.0),
-        target: Vec3::new(-0.5, -1.0, -1.0),
+        eye: Vec3::new(-4.7, 4.1, 5.4),
+        target: Vec3::new(-0.3, -1.1, -0.9),
         ..Camera::default()
     }
 }

@@ -1,6 +1,5 @@
 //! What is drawn: meshes, material, lights, camera.
 
-pub mod attenuation;
 pub mod build;
 pub mod camera;
 pub mod cube;

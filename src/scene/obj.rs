@@ -540,11 +540,9 @@ fn fill_normals(tris: &mut [Tri], positions: usize) {
     let computed: Vec<[Vec3; 3]> = tris
         .iter()
         .map(|tri| {
-            let mut out = [Vec3::ZERO; 3];
-            for k in 0..3 {
+            let normal_at = |k: usize| {
                 if let Some(given) = tri.corners[k].normal.and_then(|g| g.try_normalize()) {
-                    out[k] = given;
-                    continue;
+                    return given;
                 }
                 let p = tri.position_ids[k];
                 let sum = match big.get(&p) {
@@ -555,9 +553,9 @@ fn fill_normals(tris: &mut [Tri], positions: usize) {
                         .map(weighted)
                         .sum(),
                 };
-                out[k] = sum.normalize_or(tri.normal);
-            }
-            out
+                sum.normalize_or(tri.normal)
+            };
+            [normal_at(0), normal_at(1), normal_at(2)]
         })
         .collect();
     for (tri, normals) in tris.iter_mut().zip(computed) {
@@ -583,5 +581,5 @@ fn is_closed(tris: &[Tri]) -> bool {
     unique
         && edges
             .iter()
-            .all(|&e| edges.binary_search(&(e << 32 | e >> 32)).is_ok())
+            .all(|&e| edges.binary_search(&e.rotate_right(32)).is_ok())
 }

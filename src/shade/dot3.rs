@@ -192,6 +192,7 @@ mod tests {
             uniform_tangents: true,
             textured: true,
             bumped: true,
+            object: 0,
         }
     }
 

@@ -3,9 +3,10 @@
 use glam::{Vec2, Vec3};
 
 use super::bump::blinn;
-use super::lighting::{diffuse, finish};
+use super::lighting::{diffuse_with, finish};
 use crate::framebuffer::Rgb;
 use crate::plan::Plan;
+use crate::shadow::Shadow;
 use crate::stats::Counters;
 use crate::texture::Texture;
 use crate::texture::filter::{Footprint, height_gradient, sample};
@@ -14,6 +15,8 @@ use crate::texture::filter::{Footprint, height_gradient, sample};
 pub struct ShadeCtx<'a> {
     pub plan: &'a Plan,
     pub texture: &'a Texture,
+    /// The shadow map of `plan.shadow_light`, when the plan asked for one.
+    pub shadow: Option<Shadow<'a>>,
 }
 
 /// One pixel's colour from the barycentric coordinates `b` of the pixel
@@ -132,6 +135,8 @@ pub struct PhongTri {
     pub uniform_tangents: bool,
     pub textured: bool,
     pub bumped: bool,
+    /// Index of the object in the scene (whose own shadow a convex one ignores).
+    pub object: u32,
 }
 
 /// The Phong kernel, with or without texture and Blinn bump.
@@ -170,7 +175,12 @@ impl<const TEX: bool, const BUMP: bool> PixelShader for PhongKernel<'_, TEX, BUM
             }
         }
         counters.light_evals += plan.lights.len() as u64;
-        let light = diffuse(&plan.lights, plan.ambient, p, n, plan.attenuation);
+        let shadow = ctx.shadow;
+        let light = diffuse_with(&plan.lights, plan.ambient, p, n, plan.attenuation, |i| {
+            shadow.map_or(1.0, |s| {
+                s.factor(i, p, tri.face_normal, tri.object, counters)
+            })
+        });
         finish(albedo * light, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {

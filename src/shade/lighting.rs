@@ -12,8 +12,22 @@ pub const ATTENUATION_QUADRATIC: f32 = 0.01;
 /// A light exactly at `p` (distance 0) has no direction and adds nothing.
 #[inline]
 pub fn diffuse(lights: &[ActiveLight], ambient: Vec3, p: Vec3, n: Vec3, attenuation: bool) -> Vec3 {
+    diffuse_with(lights, ambient, p, n, attenuation, |_| 1.0)
+}
+
+/// `diffuse` with each lit light's contribution scaled by `visibility(i)`
+/// (its shadow), asked only where light `i` faces the point.
+#[inline]
+pub fn diffuse_with(
+    lights: &[ActiveLight],
+    ambient: Vec3,
+    p: Vec3,
+    n: Vec3,
+    attenuation: bool,
+    mut visibility: impl FnMut(usize) -> f32,
+) -> Vec3 {
     let mut sum = ambient;
-    for light in lights {
+    for (i, light) in lights.iter().enumerate() {
         let d = light.position - p;
         let ndl = n.dot(d);
         // Test the sign before normalising: most back-lit points stop here.
@@ -24,7 +38,7 @@ pub fn diffuse(lights: &[ActiveLight], ambient: Vec3, p: Vec3, n: Vec3, attenuat
                 if attenuation {
                     k /= 1.0 + ATTENUATION_QUADRATIC * len2;
                 }
-                sum += light.color * k.min(1.0);
+                sum += light.color * (k.min(1.0) * visibility(i));
             }
         }
     }

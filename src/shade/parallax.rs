@@ -15,7 +15,7 @@ use glam::{Vec2, Vec3};
 use super::PhongTri;
 use super::bump::blinn;
 use super::kernels::{PixelShader, ShadeCtx};
-use super::lighting::diffuse;
+use super::lighting::diffuse_with;
 use super::tangent::Surface;
 use crate::framebuffer::Rgb;
 use crate::stats::Counters;
@@ -140,7 +140,12 @@ impl<const TEX: bool, const OCCLUSION: bool> PixelShader for ParallaxKernel<'_, 
         let (fu, fv) = height_gradient(ctx.texture, plan.height_derivative, plan.filter, uv, fp);
         let n = blinn(s.n, s.pu, s.pv, fu, fv, k);
         counters.light_evals += plan.lights.len() as u64;
-        let light = diffuse(&plan.lights, plan.ambient, s.p, n, plan.attenuation);
+        let (shadow, tri) = (ctx.shadow, self.tri);
+        let light = diffuse_with(&plan.lights, plan.ambient, s.p, n, plan.attenuation, |i| {
+            shadow.map_or(1.0, |sh| {
+                sh.factor(i, s.p, tri.face_normal, tri.object, counters)
+            })
+        });
         super::lighting::finish(albedo * light, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {

@@ -1,0 +1,100 @@
+//! The depth-only rasterizer of the shadow pass: no colour, no attributes,
+//! just the nearest distance along the light's axis per texel.
+
+use glam::{Mat3, Mat4, Vec3};
+
+use super::ShadowMap;
+use crate::scene::Mesh;
+
+/// Draws `mesh` (object `object`) placed by `model` into the map; returns
+/// the texels written.
+pub(super) fn draw_mesh(map: &mut ShadowMap, mesh: &Mesh, model: Mat4, object: u32) -> u64 {
+    let size = map.size as f32;
+    let normal_matrix = Mat3::from_mat4(model).inverse().transpose();
+    // Per vertex: texel coordinates and 1/w (None when too near the light).
+    let projected: Vec<Option<(f32, f32, f32, Vec3)>> = mesh
+        .vertices
+        .iter()
+        .map(|v| {
+            let world = model.transform_point3(v.position);
+            let clip = map.view_proj * world.extend(1.0);
+            (clip.w > map.near * 0.5 && clip.is_finite()).then(|| {
+                let inv_w = 1.0 / clip.w;
+                let x = (clip.x * inv_w * 0.5 + 0.5) * size;
+                let y = (0.5 - clip.y * inv_w * 0.5) * size;
+                (x, y, inv_w, world)
+            })
+        })
+        .collect();
+    let mut written = 0;
+    for tri in &mesh.triangles {
+        let Some(v) = tri
+            .indices
+            .iter()
+            .map(|&i| projected.get(i as usize).copied().flatten())
+            .collect::<Option<Vec<_>>>()
+        else {
+            continue;
+        };
+        if mesh.closed {
+            // Second depth: keep the faces turned away from the light.
+            let n = normal_matrix * tri.face_normal;
+            if n.dot(map.light - v[0].3) > 0.0 {
+                continue;
+            }
+        }
+        written += fill(
+            map,
+            [v[0], v[1], v[2]].map(|(x, y, q, _)| (x, y, q)),
+            object,
+        );
+    }
+    written
+}
+
+/// Fills one triangle (texel centres inside, either winding), keeping the
+/// nearest depth. `q` is 1/w, which is linear across the projected triangle.
+fn fill(map: &mut ShadowMap, v: [(f32, f32, f32); 3], object: u32) -> u64 {
+    let [(x0, y0, q0), (x1, y1, q1), (x2, y2, q2)] = v;
+    let area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
+    // Also refuses NaN.
+    if area.abs().partial_cmp(&1e-12) != Some(std::cmp::Ordering::Greater) {
+        return 0;
+    }
+    let size = map.size;
+    let lo_x = x0.min(x1).min(x2).floor().max(0.0) as usize;
+    let hi_x = (x0.max(x1).max(x2).ceil().min(size as f32)) as usize;
+    let lo_y = y0.min(y1).min(y2).floor().max(0.0) as usize;
+    let hi_y = (y0.max(y1).max(y2).ceil().min(size as f32)) as usize;
+    let inv_area = 1.0 / area;
+    let mut written = 0;
+    for ty in lo_y..hi_y {
+        let py = ty as f32 + 0.5;
+        let row = &mut map.depth[ty * size..(ty + 1) * size];
+        let owners = &mut map.owner[ty * size..(ty + 1) * size];
+        for ((tx, texel), owner) in row
+            .iter_mut()
+            .enumerate()
+            .zip(owners.iter_mut())
+            .take(hi_x)
+            .skip(lo_x)
+        {
+            let px = tx as f32 + 0.5;
+            // Barycentric weights, positive inside for either winding.
+            let b0 = ((x1 - px) * (y2 - py) - (x2 - px) * (y1 - py)) * inv_area;
+            let b1 = ((x2 - px) * (y0 - py) - (x0 - px) * (y2 - py)) * inv_area;
+            let b2 = 1.0 - b0 - b1;
+            if b0 < 0.0 || b1 < 0.0 || b2 < 0.0 {
+                continue;
+            }
+            let q = b0 * q0 + b1 * q1 + b2 * q2;
+            let depth = 1.0 / q;
+            if depth < *texel {
+                *texel = depth;
+                *owner = object;
+                written += 1;
+            }
+        }
+    }
+    written
+}

@@ -1,0 +1,320 @@
+//! Shadow mapping in two passes (seed 003): the depth of the casters seen
+//! from the strong light, then a lookup per shaded point that darkens that
+//! light's contribution only.
+//!
+//! - Which light: the strongest enabled one (the reference scene's white light).
+//! - When: only if something can cast onto something else (`shadow_light`):
+//!   never for a lone convex object, nor for a flat object with the light
+//!   and everything else on its front side (a floor lit from above).
+//! - The map: a perspective view from the light toward the casters, fitted
+//!   to their bounding sphere, so its texels are spent on them; a point
+//!   outside that cone, or nearer the light than its near plane, cannot be
+//!   behind a caster and is lit. It stores the distance along the light's
+//!   axis (w), interpolated as 1/w so it is exact on every triangle.
+//! - Closed casters are drawn by their faces turned away from the light
+//!   (second-depth shadow mapping): the lit side is never compared against
+//!   itself, so it cannot self-shadow ("acne"). Open casters draw both sides.
+//! - The lookup compares with a slope-scaled bias (one texel plus twice
+//!   tan θ texels, θ between the surface and the light) over a 3×3
+//!   percentage-closer filter: 9 depth compares, soft one-texel edges.
+
+mod depth;
+
+use glam::{Mat3, Mat4, Vec3};
+
+use crate::plan::ActiveLight;
+use crate::scene::{Mesh, Object, Scene, rotation_matrix};
+use crate::settings::Settings;
+use crate::stats::Counters;
+
+/// Smallest and largest shadow map side, in texels.
+pub const MIN_SIZE: usize = 256;
+pub const MAX_SIZE: usize = 2048;
+
+/// Texels per framebuffer pixel along the frame's longer side.
+const SIZE_PER_PIXEL: f32 = 1.5;
+
+/// The depth of the casters seen from one light, reused from frame to frame.
+#[derive(Clone, Debug, Default)]
+pub struct ShadowMap {
+    size: usize,
+    /// Distance along the light's axis of the nearest caster, per texel
+    /// (row 0 at the top); infinity where no caster is.
+    depth: Vec<f32>,
+    /// Which object (index in `Scene::objects`) that nearest caster is.
+    owner: Vec<u32>,
+    /// Per object: whether it may shade itself (not convex).
+    self_shadowing: Vec<bool>,
+    view_proj: Mat4,
+    light: Vec3,
+    near: f32,
+    /// Width of one texel at unit distance along the axis.
+    texel_per_depth: f32,
+}
+
+/// The shadow of one of the plan's lights, as the shaders see it.
+#[derive(Clone, Copy, Debug)]
+pub struct Shadow<'a> {
+    /// Index of the shadowed light in `Plan::lights`.
+    pub light: usize,
+    pub map: &'a ShadowMap,
+}
+
+impl Shadow<'_> {
+    /// The factor of light `index` at point `p` of object `object` with
+    /// geometric normal `normal`: 1 for the other lights; for the shadowed
+    /// one, the lit fraction (one lookup).
+    #[inline]
+    pub fn factor(
+        &self,
+        index: usize,
+        p: Vec3,
+        normal: Vec3,
+        object: u32,
+        counters: &mut Counters,
+    ) -> f32 {
+        if index != self.light {
+            return 1.0;
+        }
+        counters.shadow_lookups += 1;
+        self.map.visibility(p, normal, object)
+    }
+}
+
+/// An object's model matrix, as the renderer builds it.
+pub fn model_matrix(object: &Object, user_rotation: Mat4) -> Mat4 {
+    if object.rotates {
+        object.transform * user_rotation
+    } else {
+        object.transform
+    }
+}
+
+/// A sphere around `mesh` placed by `model`.
+fn bounding_sphere(mesh: &Mesh, model: Mat4) -> Option<(Vec3, f32)> {
+    let first = mesh.vertices.first()?.position;
+    let (mut lo, mut hi) = (first, first);
+    for v in &mesh.vertices {
+        lo = lo.min(v.position);
+        hi = hi.max(v.position);
+    }
+    let centre = (lo + hi) * 0.5;
+    let radius = mesh
+        .vertices
+        .iter()
+        .map(|v| (v.position - centre).length())
+        .fold(0.0f32, f32::max);
+    let linear = Mat3::from_mat4(model);
+    let scale = [linear.x_axis, linear.y_axis, linear.z_axis]
+        .iter()
+        .map(|a| a.length())
+        .fold(0.0f32, f32::max);
+    let sphere = (model.transform_point3(centre), radius * scale);
+    (sphere.0.is_finite() && sphere.1.is_finite()).then_some(sphere)
+}
+
+/// The plane of a flat mesh (all facets share one normal and one plane),
+/// in model space.
+fn plane_of(mesh: &Mesh) -> Option<(Vec3, Vec3)> {
+    let n = mesh.triangles.first()?.face_normal;
+    let p0 = mesh.vertices.first()?.position;
+    let flat = mesh
+        .triangles
+        .iter()
+        .all(|t| (t.face_normal - n).length_squared() < 1e-10)
+        && mesh
+            .vertices
+            .iter()
+            .all(|v| n.dot(v.position - p0).abs() < 1e-5);
+    flat.then_some((n, p0))
+}
+
+/// The objects that can throw a shadow on something, with their world spheres.
+fn casters(scene: &Scene, settings: &Settings, light: Vec3) -> Vec<(usize, Vec3, f32)> {
+    let rotation = rotation_matrix(settings.rotation);
+    let spheres: Vec<Option<(Vec3, f32)>> = scene
+        .objects
+        .iter()
+        .map(|o| bounding_sphere(&o.mesh, model_matrix(o, rotation)))
+        .collect();
+    let mut out = Vec::new();
+    for (i, object) in scene.objects.iter().enumerate() {
+        let Some((centre, radius)) = spheres[i] else {
+            continue;
+        };
+        // Alone, a convex or flat object cannot shade itself.
+        let others = scene.objects.len() > 1;
+        let plane = plane_of(&object.mesh);
+        if !others && (object.mesh.convex || plane.is_some()) {
+            continue;
+        }
+        if let Some((n, p0)) = plane {
+            let model = model_matrix(object, rotation);
+            let normal_matrix = Mat3::from_mat4(model).inverse().transpose();
+            let n = (normal_matrix * n).normalize_or_zero();
+            let p0 = model.transform_point3(p0);
+            let in_front = |c: Vec3, r: f32| n.dot(c - p0) >= r;
+            let everything_in_front = in_front(light, 0.0)
+                && spheres
+                    .iter()
+                    .enumerate()
+                    .all(|(j, s)| j == i || s.is_none_or(|(c, r)| in_front(c, r)));
+            if everything_in_front {
+                continue;
+            }
+        }
+        out.push((i, centre, radius));
+    }
+    out
+}
+
+/// The plan's choice: the index in `lights` of the light whose shadows are
+/// drawn this frame, or `None` when no shadow pass is needed.
+pub fn shadow_light(scene: &Scene, settings: &Settings, lights: &[ActiveLight]) -> Option<usize> {
+    // The cheap exit first: a lone convex object never needs the pass.
+    if scene.objects.len() < 2 && scene.objects.iter().all(|o| o.mesh.convex) {
+        return None;
+    }
+    let (index, light) = lights
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.color.element_sum().total_cmp(&b.1.color.element_sum()))?;
+    let casters = casters(scene, settings, light.position);
+    let (centre, radius) = enclose(&casters)?;
+    // A light inside the casters' bounds cannot see them through one frustum.
+    (light.position.distance(centre) > radius * 1.01).then_some(index)
+}
+
+/// A sphere around the casters' spheres.
+fn enclose(casters: &[(usize, Vec3, f32)]) -> Option<(Vec3, f32)> {
+    if casters.is_empty() {
+        return None;
+    }
+    let centre = casters.iter().map(|c| c.1).sum::<Vec3>() / casters.len() as f32;
+    let radius = casters
+        .iter()
+        .map(|&(_, c, r)| c.distance(centre) + r)
+        .fold(0.0f32, f32::max);
+    Some((centre, radius.max(1e-3)))
+}
+
+impl ShadowMap {
+    pub fn new() -> Self {
+        ShadowMap::default()
+    }
+
+    /// The map's side in texels for a frame of `width × height` pixels.
+    pub fn size_for(width: usize, height: usize) -> usize {
+        ((width.max(height) as f32 * SIZE_PER_PIXEL) as usize).clamp(MIN_SIZE, MAX_SIZE)
+    }
+
+    pub fn size(&self) -> usize {
+        self.size
+    }
+
+    /// Pass 1: the casters' depth seen from `light`, for a frame of
+    /// `width × height`. Returns the counters (texels written).
+    pub fn render(
+        &mut self,
+        scene: &Scene,
+        settings: &Settings,
+        light: Vec3,
+        width: usize,
+        height: usize,
+    ) -> Counters {
+        let mut counters = Counters::default();
+        let size = Self::size_for(width, height);
+        self.size = size;
+        self.light = light;
+        self.depth.clear();
+        self.depth.resize(size * size, f32::INFINITY);
+        self.owner.clear();
+        self.owner.resize(size * size, u32::MAX);
+        self.self_shadowing.clear();
+        self.self_shadowing
+            .extend(scene.objects.iter().map(|o| !o.mesh.convex));
+        let casters = casters(scene, settings, light);
+        let Some((centre, radius)) = enclose(&casters) else {
+            self.view_proj = Mat4::ZERO;
+            return counters;
+        };
+        let distance = light.distance(centre);
+        if distance.is_nan() || distance <= radius * 1.01 {
+            self.view_proj = Mat4::ZERO;
+            return counters;
+        }
+        let to_centre = (centre - light) / distance;
+        let up = if to_centre.cross(Vec3::Y).length_squared() > 1e-6 {
+            Vec3::Y
+        } else {
+            Vec3::X
+        };
+        // A small margin so silhouettes do not touch the border.
+        let half_angle = ((radius / distance).min(1.0).asin() * 1.05).min(80f32.to_radians());
+        self.near = (distance - radius) * 0.9;
+        let far = distance + radius;
+        let proj = Mat4::perspective_rh_gl(2.0 * half_angle, 1.0, self.near, far);
+        self.view_proj = proj * Mat4::look_at_rh(light, centre, up);
+        self.texel_per_depth = 2.0 * half_angle.tan() / size as f32;
+
+        let rotation = rotation_matrix(settings.rotation);
+        for &(i, _, _) in &casters {
+            let object = &scene.objects[i];
+            let model = model_matrix(object, rotation);
+            counters.shadow_texels += depth::draw_mesh(self, &object.mesh, model, i as u32);
+        }
+        counters
+    }
+
+    /// Pass 2: the lit fraction (0..1) of the point `p` of object `object`
+    /// whose geometric normal is `normal`, for the light the map was drawn
+    /// from. A convex object's own texels never shade it: it cannot cast
+    /// onto itself (only its smooth normals can light a side that faces
+    /// away, and that is the shading's business, as without shadows).
+    pub fn visibility(&self, p: Vec3, normal: Vec3, object: u32) -> f32 {
+        let size = self.size;
+        if size == 0 {
+            return 1.0;
+        }
+        let clip = self.view_proj * p.extend(1.0);
+        let w = clip.w;
+        if !w.is_finite() || w <= self.near {
+            return 1.0;
+        }
+        let (nx, ny) = (clip.x / w, clip.y / w);
+        if nx.is_nan() || ny.is_nan() || nx.abs() > 1.0 || ny.abs() > 1.0 {
+            return 1.0;
+        }
+        let tx = ((nx * 0.5 + 0.5) * size as f32) as i64;
+        let ty = ((0.5 - ny * 0.5) * size as f32) as i64;
+        // Slope-scaled bias: one texel, plus the depth change across two
+        // texels of a surface at angle θ to the light.
+        let to_light = (self.light - p).normalize_or_zero();
+        let cos = normal.normalize_or_zero().dot(to_light).abs().max(0.1);
+        let tan = (1.0 - cos * cos).max(0.0).sqrt() / cos;
+        let bias = w * self.texel_per_depth * (1.0 + 2.0 * tan);
+        let limit = w - bias;
+        let own_texels_count = self
+            .self_shadowing
+            .get(object as usize)
+            .copied()
+            .unwrap_or(true);
+        let mut lit = 0u32;
+        for dy in -1..=1 {
+            for dx in -1..=1 {
+                let (x, y) = (tx + dx, ty + dy);
+                let inside = x >= 0 && y >= 0 && (x as usize) < size && (y as usize) < size;
+                let at = if inside {
+                    y as usize * size + x as usize
+                } else {
+                    0
+                };
+                let blocked = inside
+                    && self.depth[at] < limit
+                    && (own_texels_count || self.owner[at] != object);
+                lit += u32::from(!blocked);
+            }
+        }
+        lit as f32 / 9.0
+    }
+}

@@ -1,0 +1,266 @@
+//! Shadow mapping: the shadow falls where geometry says, the pass runs only
+//! where something can cast onto something else.
+
+use std::sync::Arc;
+
+use glam::Vec3;
+use relief::plan::Plan;
+use relief::render::render_frame;
+use relief::scene::build::FLOOR_Y;
+use relief::scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
+use relief::settings::Shading;
+use relief::shadow::ShadowMap;
+use relief::texture::procedural;
+use relief::{Framebuffer, Settings};
+
+fn texture() -> Arc<relief::texture::Texture> {
+    Arc::new(procedural::brick())
+}
+
+fn scene(kind: SceneKind, model: ModelChoice) -> Scene {
+    match build_scene(kind, &model, texture(), false).unwrap() {
+        Built::Scene(s) => *s,
+        Built::Plasma(_) => panic!("a 3D scene"),
+    }
+}
+
+/// Object indices in the shadow scene.
+const CUBE: u32 = 0;
+const FLOOR: u32 = 1;
+
+fn shadow_scene() -> Scene {
+    scene(SceneKind::Shadow, ModelChoice::Cube)
+}
+
+/// Where the ray from `light` through `through` meets the floor.
+fn on_floor(light: Vec3, through: Vec3) -> Vec3 {
+    let t = (light.y - FLOOR_Y) / (light.y - through.y);
+    light + t * (through - light)
+}
+
+/// The pixel where world point `p` lands.
+fn pixel_of(scene: &Scene, p: Vec3, w: usize, h: usize) -> (usize, usize) {
+    let clip = scene.camera.projection(w as f32 / h as f32) * scene.camera.view() * p.extend(1.0);
+    let ndc = clip.truncate() / clip.w;
+    assert!(
+        clip.w > 0.0 && ndc.x.abs() < 1.0 && ndc.y.abs() < 1.0,
+        "{p} is out of view"
+    );
+    (
+        ((ndc.x * 0.5 + 0.5) * w as f32) as usize,
+        ((0.5 - ndc.y * 0.5) * h as f32) as usize,
+    )
+}
+
+#[test]
+fn the_floor_under_the_cube_is_in_shadow_and_far_out_is_lit() {
+    let scene = shadow_scene();
+    for rotation in [
+        Vec3::new(25.0, 35.0, 0.0),
+        Vec3::ZERO,
+        Vec3::new(-70.0, 10.0, 200.0),
+    ] {
+        let settings = Settings {
+            rotation,
+            ..Settings::default()
+        };
+        let plan = Plan::new(&scene, &settings);
+        assert_eq!(plan.shadow_light, Some(0), "the strong white light");
+        let light = plan.lights[0].position;
+        let mut map = ShadowMap::new();
+        let counters = map.render(&scene, &settings, light, 320, 240);
+        assert!(counters.shadow_texels > 0);
+        let under = on_floor(light, Vec3::ZERO);
+        assert_eq!(
+            map.visibility(under, Vec3::Y, FLOOR),
+            0.0,
+            "{rotation}: {under}"
+        );
+        // Around it too: the cube's shadow is about two units wide.
+        for d in [Vec3::X, Vec3::Z, -Vec3::X, -Vec3::Z] {
+            assert_eq!(map.visibility(under + 0.3 * d, Vec3::Y, FLOOR), 0.0);
+        }
+        // Far out on the floor, on the light's side, and beyond the shadow.
+        for far in [
+            Vec3::new(4.5, FLOOR_Y, 4.5),
+            Vec3::new(-5.0, FLOOR_Y, 3.0),
+            Vec3::new(4.0, FLOOR_Y, -4.0),
+        ] {
+            assert_eq!(
+                map.visibility(far, Vec3::Y, FLOOR),
+                1.0,
+                "{rotation}: {far}"
+            );
+        }
+        // Just behind the cube as seen from the light: a point of the floor
+        // there is in shadow, but the cube (convex) is never shaded by its
+        // own texels.
+        let back = -2.0 * light.normalize();
+        assert_eq!(map.visibility(back, -light.normalize(), CUBE), 1.0);
+        assert_eq!(map.visibility(back, -light.normalize(), FLOOR), 0.0);
+    }
+}
+
+#[test]
+fn the_shadow_darkens_only_the_white_lights_share() {
+    let (w, h) = (320, 240);
+    let scene = shadow_scene();
+    let settings = Settings::default();
+    let light = scene.lights[0].position;
+    let under = on_floor(light, Vec3::ZERO);
+    let far = Vec3::new(3.0, FLOOR_Y, 4.0);
+    // The same floor alone: no caster, so no shadow pass.
+    let mut floor_only = scene.clone();
+    floor_only.objects.remove(0);
+    let mut floor_dark = floor_only.clone();
+    floor_dark.lights[0].enabled = false;
+    let (with_cube, stats) = render_frame(&scene, &settings, w, h);
+    let (alone, alone_stats) = render_frame(&floor_only, &settings, w, h);
+    let (dark, _) = render_frame(&floor_dark, &settings, w, h);
+    assert!(stats.counters.shadow_lookups > 0);
+    assert_eq!(alone_stats.counters.shadow_texels, 0);
+    assert_eq!(alone_stats.counters.shadow_lookups, 0);
+    let (x, y) = pixel_of(&scene, under, w, h);
+    // In the shadow: exactly the floor without the white light.
+    assert_eq!(with_cube.get(x, y), dark.get(x, y), "pixel ({x}, {y})");
+    assert!(alone.get(x, y)[0] > dark.get(x, y)[0] + 40);
+    let (x, y) = pixel_of(&scene, far, w, h);
+    // Far from it: exactly the floor with all its light.
+    assert_eq!(with_cube.get(x, y), alone.get(x, y), "pixel ({x}, {y})");
+    assert_eq!(stats.counters.nonfinite, 0);
+}
+
+#[test]
+fn flat_and_gouraud_shading_see_the_shadow_too() {
+    let (w, h) = (320, 240);
+    let scene = shadow_scene();
+    let light = scene.lights[0].position;
+    let under = on_floor(light, Vec3::ZERO);
+    let (x, y) = pixel_of(&scene, under, w, h);
+    for shading in [Shading::Flat, Shading::Gouraud] {
+        let settings = Settings {
+            shading,
+            ..Settings::default()
+        };
+        let mut unshadowed = scene.clone();
+        // The cube moved far away: still two objects (and a pass), no shadow on the floor.
+        unshadowed.objects[0].transform = glam::Mat4::from_translation(Vec3::new(0.0, 0.0, 50.0));
+        let (a, stats) = render_frame(&scene, &settings, w, h);
+        let (b, _) = render_frame(&unshadowed, &settings, w, h);
+        assert!(stats.counters.shadow_lookups > 0, "{shading:?}");
+        // The floor is lit per cell (flat) or per vertex (Gouraud), so the
+        // whole neighbourhood of the shadow centre is at least as dark.
+        assert!(a.get(x, y)[0] < b.get(x, y)[0], "{shading:?}");
+    }
+}
+
+#[test]
+fn no_shadow_pass_for_a_lone_convex_or_flat_model() {
+    for model in [
+        ModelChoice::Cube,
+        ModelChoice::Sphere,
+        ModelChoice::Plane,
+        ModelChoice::Triangle,
+    ] {
+        let s = scene(SceneKind::Cube, model.clone());
+        for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+            let settings = Settings {
+                shading,
+                ..Settings::default()
+            };
+            assert_eq!(Plan::new(&s, &settings).shadow_light, None);
+            let (_, stats) = render_frame(&s, &settings, 160, 120);
+            assert_eq!(stats.counters.shadow_texels, 0, "{model} {shading:?}");
+            assert_eq!(stats.counters.shadow_lookups, 0, "{model} {shading:?}");
+        }
+    }
+    // The reference scene exactly as the lead's constructor builds it.
+    let reference = Scene::cube(texture(), true);
+    let (_, stats) = render_frame(&reference, &Settings::default(), 320, 240);
+    assert_eq!(
+        stats.counters.shadow_texels + stats.counters.shadow_lookups,
+        0
+    );
+}
+
+#[test]
+fn no_shadow_pass_without_lights_and_one_for_self_shadowing_models() {
+    let s = shadow_scene();
+    let off = Settings {
+        lights: false,
+        ..Settings::default()
+    };
+    let (_, stats) = render_frame(&s, &off, 160, 120);
+    assert_eq!(
+        stats.counters.shadow_texels + stats.counters.shadow_lookups,
+        0
+    );
+    let mut all_disabled = s.clone();
+    for l in &mut all_disabled.lights {
+        l.enabled = false;
+    }
+    assert_eq!(
+        Plan::new(&all_disabled, &Settings::default()).shadow_light,
+        None
+    );
+    // A lone OBJ is not known to be convex: its parts may shade each other.
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pyramid_relative.obj");
+    let obj = scene(SceneKind::Cube, ModelChoice::Obj(path));
+    let (fb, stats) = render_frame(&obj, &Settings::default(), 160, 120);
+    assert!(stats.counters.shadow_texels > 0);
+    assert_eq!(stats.counters.nonfinite, 0);
+    // Its lit faces are not darkened by themselves (no acne): the render
+    // equals the one without the shadow pass wherever the pyramid is convex,
+    // which is everywhere.
+    let mut plain = obj.clone();
+    plain.objects[0].mesh.convex = true;
+    let (fb_plain, stats_plain) = render_frame(&plain, &Settings::default(), 160, 120);
+    assert_eq!(stats_plain.counters.shadow_texels, 0);
+    assert_eq!(fb, fb_plain);
+}
+
+#[test]
+fn a_floor_lit_from_below_casts_onto_the_cube() {
+    // A flat object with the light behind it is a caster: here a smaller
+    // floor (so the light stays outside the casters' bounds) shades the
+    // cube's bottom from a light underneath.
+    let mut s = shadow_scene();
+    s.objects[1].mesh = relief::scene::plane::grid(2.5, 1.0, 4, |_| Vec3::ONE);
+    s.lights[0].position = Vec3::new(0.3, -9.0, 0.2);
+    let plan = Plan::new(&s, &Settings::default());
+    let index = plan.shadow_light.expect("a shadow pass");
+    let mut map = ShadowMap::new();
+    map.render(
+        &s,
+        &Settings::default(),
+        plan.lights[index].position,
+        160,
+        120,
+    );
+    assert_eq!(
+        map.visibility(Vec3::new(0.0, -1.0, 0.0), -Vec3::Y, CUBE),
+        0.0
+    );
+    // Seen from above the same floor casts nothing: no pass at all.
+    s.lights[0].position = Vec3::new(0.3, 9.0, 0.2);
+    let mut lone_floor = s.clone();
+    lone_floor.objects.remove(0);
+    assert_eq!(
+        Plan::new(&lone_floor, &Settings::default()).shadow_light,
+        None
+    );
+}
+
+#[test]
+fn any_size_renders_the_shadow_scene_without_trouble() {
+    let s = shadow_scene();
+    for (w, h) in [(1, 1), (1, 64), (64, 1), (7, 5), (2000, 30)] {
+        let mut fb = Framebuffer::new(w, h);
+        let stats = relief::Renderer::new().render(&s, &Settings::default(), &mut fb);
+        assert_eq!(stats.counters.nonfinite, 0, "{w}x{h}");
+    }
+    let size = ShadowMap::size_for(100_000, 3);
+    assert_eq!(size, relief::shadow::MAX_SIZE);
+    assert_eq!(ShadowMap::size_for(1, 1), relief::shadow::MIN_SIZE);
+}
