@@ -4,10 +4,13 @@ use glam::Vec3;
 
 /// N' = N + k·(F_u·(N × Pv) − F_v·(N × Pu)), normalised. `n` is unit length;
 /// (fu, fv) are the height derivatives per unit of texture coordinate and
-/// (pu, pv) = ∂P/∂u, ∂P/∂v. A perturbation that cancels the normal (or any
-/// non-finite input) falls back to the unperturbed normal.
+/// (pu, pv) = ∂P/∂u, ∂P/∂v. The formula assumes Pu × Pv points along N; on
+/// mirrored UVs it points the other way and the perturbation changes sign
+/// with it, so raised stays raised. A perturbation that cancels the normal
+/// (or any non-finite input) falls back to the unperturbed normal.
 #[inline]
 pub fn blinn(n: Vec3, pu: Vec3, pv: Vec3, fu: f32, fv: f32, k: f32) -> Vec3 {
+    let k = if pu.cross(pv).dot(n) < 0.0 { -k } else { k };
     let perturbed = n + k * (fu * n.cross(pv) - fv * n.cross(pu));
     let len2 = perturbed.length_squared();
     if len2 > 1e-20 && len2.is_finite() {
@@ -44,6 +47,16 @@ mod tests {
         let n = blinn(Vec3::Z, PU, PV, 0.0, 100.0, 0.005);
         let expected = Vec3::new(0.0, -1.0, 1.0).normalize();
         assert!((n - expected).length() < 1e-6, "{n}");
+    }
+
+    #[test]
+    fn mirrored_uvs_keep_raised_surfaces_raised() {
+        // Mirror u: Pu = −2X. Height rising along u now rises toward −X, so
+        // the normal must tilt toward +X (away from the slope), not −X.
+        let n = blinn(Vec3::Z, -PU, PV, 100.0, 0.0, 0.005);
+        assert!(n.x > 0.5, "{n}");
+        let n = blinn(Vec3::Z, PU, -PV, 0.0, 100.0, 0.005);
+        assert!(n.y > 0.5, "{n}");
     }
 
     #[test]
