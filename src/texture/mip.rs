@@ -25,9 +25,12 @@ fn texel_lengths(tex: &Texture, fp: Footprint) -> (f32, f32) {
 /// ones +∞ (the smallest level).
 #[inline]
 pub fn lod(tex: &Texture, fp: Footprint) -> f32 {
-    let (a, b) = texel_lengths(tex, fp);
-    let rho = a.max(b);
-    if rho > 1.0 { rho.log2() } else { 0.0 }
+    // log2 of the squared length, halved: no square roots per pixel.
+    let size = Vec2::new(tex.width() as f32, tex.height() as f32);
+    let rho2 = (fp.dx * size)
+        .length_squared()
+        .max((fp.dy * size).length_squared());
+    if rho2 > 1.0 { 0.5 * rho2.log2() } else { 0.0 }
 }
 
 /// The two levels a level of detail falls between and the blend weight of
