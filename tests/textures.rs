@@ -595,13 +595,17 @@ fn list_starts_with_the_built_ins_and_selects() {
     assert_eq!(list.len(), builtins().len());
     assert_eq!(list.current(), 0);
     assert!(list.texture().name.contains("brick"));
+    assert_eq!(list.summary(), "1/3 brick (built-in)");
+    let g0 = list.generation();
     list.select(1).unwrap();
     assert!(list.texture().name.contains("tiles"));
-    let before = Arc::clone(list.texture());
+    assert_eq!(list.summary(), "2/3 tiles (built-in)");
+    assert!(list.generation() > g0);
+    let (before, g1) = (Arc::clone(list.texture()), list.generation());
     let e = list.select(99).unwrap_err();
     assert!(matches!(e, ListError::NoEntry { index: 99, .. }));
     assert!(Arc::ptr_eq(&before, list.texture()));
-    assert_eq!(list.current(), 1);
+    assert_eq!((list.current(), list.generation()), (1, g1));
 }
 
 #[test]

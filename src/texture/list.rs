@@ -104,6 +104,8 @@ pub struct TextureList {
     /// the next time, not retried forever).
     cursor: usize,
     texture: Arc<Texture>,
+    /// Bumped each time the applied texture changes (a cache key for views).
+    generation: u64,
 }
 
 impl Default for TextureList {
@@ -129,6 +131,7 @@ impl TextureList {
             current: 0,
             cursor: 0,
             texture: Arc::new(texture),
+            generation: 0,
         }
     }
 
@@ -202,10 +205,26 @@ impl TextureList {
         &self.texture
     }
 
+    /// Changes each time the applied texture does (select, add, reload).
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// One line for a status bar: "4/5 photo.png".
+    pub fn summary(&self) -> String {
+        format!(
+            "{}/{} {}",
+            self.current + 1,
+            self.entries.len(),
+            self.entries[self.current].label
+        )
+    }
+
     fn apply(&mut self, index: usize, texture: Texture) {
         self.current = index;
         self.cursor = index;
         self.texture = Arc::new(texture);
+        self.generation += 1;
     }
 
     /// Index of an equal entry, or of the entry just appended.
@@ -289,6 +308,7 @@ impl TextureList {
     pub fn reload(&mut self) -> Result<(), ListError> {
         let texture = self.entries[self.current].load()?;
         self.texture = Arc::new(texture);
+        self.generation += 1;
         Ok(())
     }
 }
