@@ -717,3 +717,62 @@ fn list_from_command_line_arguments() {
     let (list, errors) = TextureList::from_args(&[], None);
     assert!(errors.is_empty() && list.current() == 0);
 }
+
+/// The other formats the `image` crate decodes: a PngSuite picture encoded
+/// by the crate itself, read back through the loader. Lossless formats give
+/// the same texels; GIF (palette), JPEG and Radiance HDR come back close.
+#[test]
+fn every_other_decoded_format_round_trips() {
+    use image::{DynamicImage, ImageFormat};
+    let path = data("formats/basn6a08.png");
+    let png = load_texture(&path).unwrap();
+    let img = image::open(&path).unwrap();
+    let rgba8 = DynamicImage::ImageRgba8(img.to_rgba8());
+    let rgb8 = DynamicImage::ImageRgb8(img.to_rgb8());
+    let cases: Vec<(&str, ImageFormat, DynamicImage, f32)> = vec![
+        ("t.tiff", ImageFormat::Tiff, rgba8.clone(), 0.0),
+        ("t.qoi", ImageFormat::Qoi, rgba8.clone(), 0.0),
+        ("t.webp", ImageFormat::WebP, rgba8.clone(), 0.0),
+        (
+            "t.ff",
+            ImageFormat::Farbfeld,
+            DynamicImage::ImageRgba16(img.to_rgba16()),
+            0.0,
+        ),
+        ("t.ico", ImageFormat::Ico, rgba8.clone(), 0.0),
+        (
+            "t.exr",
+            ImageFormat::OpenExr,
+            DynamicImage::ImageRgba32F(img.to_rgba32f()),
+            1e-6,
+        ),
+        ("t.gif", ImageFormat::Gif, rgba8.clone(), 0.1),
+        ("t.jpg", ImageFormat::Jpeg, rgb8.clone(), 0.1),
+        (
+            "t.hdr",
+            ImageFormat::Hdr,
+            DynamicImage::ImageRgb32F(img.to_rgb32f()),
+            0.02,
+        ),
+    ];
+    for (name, format, picture, tolerance) in cases {
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        picture.write_to(&mut bytes, format).unwrap();
+        let tex = load_texture_from_bytes(name, bytes.get_ref()).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!((tex.width(), tex.height()), (32, 32), "{name}");
+        let has_alpha = picture.color().has_alpha();
+        let mut worst = 0.0f32;
+        for (t, p) in tex.base().texels.iter().zip(&png.base().texels) {
+            // Colour where the original is opaque enough to be seen.
+            if p[3] > 0.5 || !has_alpha {
+                for c in 0..3 {
+                    worst = worst.max((t[c] - p[c]).abs());
+                }
+            }
+            if has_alpha && format != ImageFormat::Gif {
+                worst = worst.max((t[3] - p[3]).abs());
+            }
+        }
+        assert!(worst <= tolerance, "{name}: off by {worst}");
+    }
+}
