@@ -41,6 +41,7 @@ fn run(msgs: Vec<Msg>, close: bool) -> (Exit, usize, usize, State) {
         },
         background: [0, 0, 0],
         rx: &rx,
+        textures: None,
     }
     .run(&mut state)
     .unwrap();

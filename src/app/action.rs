@@ -82,6 +82,15 @@ pub enum Action {
     MouseUp,
     /// Bracketed paste (a file dragged onto the terminal arrives this way).
     Paste(String),
+    /// `f`: next texture filter.
+    CycleFilter,
+    /// `x` / `X`: next / previous texture of the list.
+    NextTexture,
+    PrevTexture,
+    /// `R`: re-read the current texture file.
+    ReloadTexture,
+    /// What a texture command did: the new texture's label, or the error.
+    TextureResult(Result<String, String>),
     /// The terminal changed size: nothing in the state changes, the frame must.
     Resize,
 }
@@ -117,9 +126,9 @@ pub fn action_for_event(state: &State, event: &Event) -> Option<Action> {
     }
 }
 
-/// The action a key asks for. Keys `f e a d o p l x R / k` are kept for the
-/// filter, technique, anti-aliasing, display, model, scene, lights, texture
-/// list, reload, texture path and cost panel.
+/// The action a key asks for. Keys `e a d o p l / k` are kept for the
+/// technique, anti-aliasing, display, model, scene, lights, texture path and
+/// cost panel.
 pub fn action_for_key(state: &State, key: &KeyEvent) -> Option<Action> {
     if key.kind == KeyEventKind::Release {
         return None;
@@ -166,6 +175,10 @@ pub fn action_for_key(state: &State, key: &KeyEvent) -> Option<Action> {
         KeyCode::Char('r') => Some(Action::ResetView),
         KeyCode::Char(' ') => Some(Action::ToggleAutoRotate),
         KeyCode::Char('s') => Some(Action::SavePng),
+        KeyCode::Char('f') => Some(Action::CycleFilter),
+        KeyCode::Char('x') => Some(Action::NextTexture),
+        KeyCode::Char('X') => Some(Action::PrevTexture),
+        KeyCode::Char('R') => Some(Action::ReloadTexture),
         KeyCode::Char('?') => Some(Action::ToggleHelp),
         KeyCode::Tab => Some(Action::PanelNext),
         KeyCode::BackTab => Some(Action::PanelPrev),

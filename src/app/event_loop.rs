@@ -82,6 +82,9 @@ pub struct Looper<'a, W: Write, R: FnMut(&Settings, &mut Framebuffer)> {
     pub render: R,
     pub background: Rgb,
     pub rx: &'a Receiver<Msg>,
+    /// The texture list the texture keys and pastes act on (the render
+    /// closure reads the applied texture from it).
+    pub textures: Option<&'a std::cell::RefCell<crate::texture::TextureList>>,
 }
 
 /// Frames written during the last second, for the fps figure.
@@ -105,10 +108,27 @@ impl FrameClock {
 }
 
 impl<W: Write, R: FnMut(&Settings, &mut Framebuffer)> Looper<'_, W, R> {
+    /// Runs a texture command on the list: the applied texture's label, or
+    /// the first error (the list and the texture then stay as they were).
+    fn texture_command(&self, command: Command) -> Option<Result<String, String>> {
+        let mut list = self.textures?.borrow_mut();
+        let errors = match command {
+            Command::CycleTexture(forward) => list.cycle(forward).err().into_iter().collect(),
+            Command::ReloadTexture => list.reload().err().into_iter().collect(),
+            Command::AddPaths(text) => list.add_paste(&text),
+            Command::SavePng => return None,
+        };
+        Some(match errors.first() {
+            None => Ok(list.summary()),
+            Some(e) if errors.len() > 1 => Err(format!("{e} (and {} more)", errors.len() - 1)),
+            Some(e) => Err(e.to_string()),
+        })
+    }
+
     /// Runs until the user quits, the terminal goes away or a signal comes.
     pub fn run(&mut self, state: &mut State) -> io::Result<Exit> {
         let mut fb = Framebuffer::new(0, 0);
-        let mut rendered: Option<(Settings, usize, usize)> = None;
+        let mut rendered: Option<(Settings, usize, usize, u64)> = None;
         let mut clock = FrameClock::default();
         let mut dirty = true;
         let mut last_tick = Instant::now();
@@ -139,9 +159,17 @@ impl<W: Write, R: FnMut(&Settings, &mut Framebuffer)> Looper<'_, W, R> {
                     Msg::Input(event) => {
                         if let Some(action) = action_for_event(state, &event) {
                             dirty = true;
-                            if update(state, action) == Some(Command::SavePng) {
-                                let result = save_png(&fb);
-                                update(state, Action::Saved(result));
+                            match update(state, action) {
+                                Some(Command::SavePng) => {
+                                    let result = save_png(&fb);
+                                    update(state, Action::Saved(result));
+                                }
+                                Some(command) => {
+                                    if let Some(result) = self.texture_command(command) {
+                                        update(state, Action::TextureResult(result));
+                                    }
+                                }
+                                None => {}
                             }
                         }
                     }
@@ -174,7 +202,8 @@ impl<W: Write, R: FnMut(&Settings, &mut Framebuffer)> Looper<'_, W, R> {
             let size = self.terminal.size()?;
             let areas = view::areas(ratatui::layout::Rect::new(0, 0, size.width, size.height));
             let (w, h) = view::framebuffer_size(areas.viewport);
-            let key = (state.settings, w, h);
+            let generation = self.textures.map_or(0, |t| t.borrow().generation());
+            let key = (state.settings, w, h, generation);
             if rendered != Some(key) {
                 fb.resize(w, h);
                 (self.render)(&state.settings, &mut fb);

@@ -51,7 +51,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         let text: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
         state.message = Some(crate::sanitize::clean(&text.join("; ")));
     }
-    let scene = crate::Scene::cube(textures.texture().clone(), cli.view.all_faces);
+    let mut scene = crate::Scene::cube(textures.texture().clone(), cli.view.all_faces);
+    let mut scene_generation = textures.generation();
+    let textures = std::cell::RefCell::new(textures);
 
     let (tx, rx) = mpsc::channel();
     let signals = spawn_signal_thread(tx.clone())?;
@@ -61,13 +63,20 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     backend.set_tolerance(cli.color_tolerance);
     let mut terminal = Terminal::new(backend)?;
     let mut renderer = crate::Renderer::new();
+    let background = scene.background;
     let exit = Looper {
         terminal: &mut terminal,
         render: |s: &crate::Settings, fb: &mut crate::Framebuffer| {
+            let list = textures.borrow();
+            if list.generation() != scene_generation {
+                scene = crate::Scene::cube(list.texture().clone(), cli.view.all_faces);
+                scene_generation = list.generation();
+            }
             renderer.render(&scene, s, fb);
         },
-        background: scene.background,
+        background,
         rx: &rx,
+        textures: Some(&textures),
     }
     .run(&mut state);
     drop(terminal);

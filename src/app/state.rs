@@ -76,9 +76,15 @@ pub struct State {
 }
 
 /// Something `update` asks the event loop to do.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Command {
     SavePng,
+    /// Apply the next (true) or previous texture of the list.
+    CycleTexture(bool),
+    /// Re-read the current texture from disk.
+    ReloadTexture,
+    /// Add the paths of a paste to the texture list and apply the last one.
+    AddPaths(String),
 }
 
 impl State {
@@ -161,6 +167,15 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
             }
         }
         Action::SavePng => return Some(Command::SavePng),
+        Action::CycleFilter => state.settings.filter = state.settings.filter.next(),
+        Action::NextTexture => return Some(Command::CycleTexture(true)),
+        Action::PrevTexture => return Some(Command::CycleTexture(false)),
+        Action::ReloadTexture => return Some(Command::ReloadTexture),
+        // Texture errors are one line, already sanitised, naming the file.
+        Action::TextureResult(Ok(label)) => {
+            state.message = Some(format!("texture {}", clean(&label)));
+        }
+        Action::TextureResult(Err(e)) => state.message = Some(clean(&e)),
         Action::Saved(Ok(path)) => state.message = Some(format!("saved {}", clean(&path))),
         Action::Saved(Err(e)) => state.message = Some(format!("not saved: {}", clean(&e))),
         Action::ToggleHelp => state.help = !state.help,
@@ -232,7 +247,12 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
                         update(state, Action::PanelInput(c));
                     }
                 }
-                None => state.message = Some(format!("pasted: {shown}")),
+                // A file dragged onto the terminal: into the texture list
+                // (the loop replaces this line with the outcome).
+                None => {
+                    state.message = Some(format!("pasted: {shown}"));
+                    return Some(Command::AddPaths(text));
+                }
             }
         }
         Action::Resize => {}

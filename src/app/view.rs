@@ -30,7 +30,13 @@ pub const HELP: &[(&str, &str)] = &[
     ("space", "auto-rotation on / off"),
     ("r", "reset the orientation"),
     ("s", "save the frame as a PNG"),
-    ("paste", "pasted text is shown in the status line"),
+    (
+        "f",
+        "texture filter: nearest, bilinear, trilinear, anisotropic",
+    ),
+    ("x X", "next / previous texture of the list"),
+    ("R", "re-read the current texture file"),
+    ("paste", "a pasted (dragged) file joins the texture list"),
     ("?", "this help (Esc closes it)"),
     ("q Esc Ctrl-C", "quit"),
 ];
