@@ -261,10 +261,11 @@ pub fn status_text(state: &State, detail: Detail) -> String {
         );
     }
     format!(
-        "{} │ normals {} │ texture {} │ colours {} │ bump {}{}{} │ {} │ {}{}{}",
+        "{} │ normals {} │ texture {} {} │ colours {} │ bump {}{}{} │ {} │ {}{}{}",
         s.shading.label(),
         s.normals.label(),
         on_off(s.texture),
+        s.filter.label(),
         on_off(s.colors),
         on_off(s.bump),
         if phong_only { " (Phong only)" } else { "" },
