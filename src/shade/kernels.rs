@@ -6,6 +6,7 @@ use super::bump::blinn;
 use super::lighting::{diffuse_with, finish};
 use crate::framebuffer::Rgb;
 use crate::plan::Plan;
+use crate::settings::{Filter, HeightDerivative};
 use crate::shadow::Shadow;
 use crate::stats::Counters;
 use crate::texture::Texture;
@@ -158,14 +159,27 @@ impl<const TEX: bool, const BUMP: bool> PixelShader for PhongKernel<'_, TEX, BUM
         let mut albedo = lerp3(b, &tri.color);
         if TEX || BUMP {
             let uv = lerp2(b, &tri.uv);
-            if TEX {
+            // Bilinear colour and filtered heights read the same texels: one
+            // neighbourhood serves both (the default, and the common case).
+            let fused = TEX
+                && BUMP
+                && plan.filter == Filter::Bilinear
+                && plan.height_derivative == HeightDerivative::Filtered;
+            let mut gradient = None;
+            if fused {
+                counters.texture_samples += 1;
+                let (texel, g) = ctx.texture.base().bilinear_with_gradient(uv.x, uv.y);
+                albedo *= rgb(texel);
+                gradient = Some(g);
+            } else if TEX {
                 counters.texture_samples += 1;
                 albedo *= rgb(sample(ctx.texture, plan.filter, uv, fp));
             }
             if BUMP {
                 counters.bump_evals += 1;
-                let (fu, fv) =
-                    height_gradient(ctx.texture, plan.height_derivative, plan.filter, uv, fp);
+                let (fu, fv) = gradient.unwrap_or_else(|| {
+                    height_gradient(ctx.texture, plan.height_derivative, plan.filter, uv, fp)
+                });
                 let (pu, pv) = if tri.uniform_tangents {
                     (tri.tangent_u[0], tri.tangent_v[0])
                 } else {

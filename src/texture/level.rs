@@ -110,7 +110,7 @@ impl Level {
     /// (wrapped), where (x0, y0) is the texel centre just below-left of the
     /// point, and the fractions (fx, fy) between x0 and x0 + 1, y0 and y0 + 1.
     /// No division: the coordinate is already reduced to one period.
-    #[inline]
+    #[inline(always)]
     fn neighbourhood(&self, u: f32, v: f32) -> ([usize; 4], [usize; 4], f32, f32) {
         let (w, h) = (self.width, self.height);
         let x = to_texel_space(u, w) - 0.5;
@@ -222,6 +222,32 @@ impl Level {
             (east - west) * 0.5 * self.width as f32,
             (north - south) * 0.5 * self.height as f32,
         )
+    }
+
+    /// Bilinear colour and the filtered height gradient at one point, from
+    /// one shared neighbourhood: what a textured, bumped pixel reads.
+    /// Identical to `bilinear` and `height_gradient_filtered` called apart.
+    #[inline]
+    pub fn bilinear_with_gradient(&self, u: f32, v: f32) -> (Texel, (f32, f32)) {
+        let (cols, rows, fx, fy) = self.neighbourhood(u, v);
+        let t = &self.texels;
+        let (t00, t10) = (t[rows[1] + cols[1]], t[rows[1] + cols[2]]);
+        let (t01, t11) = (t[rows[2] + cols[1]], t[rows[2] + cols[2]]);
+        let mut color = [0.0; 4];
+        for c in 0..4 {
+            let top = t00[c] + (t10[c] - t00[c]) * fx;
+            let bottom = t01[c] + (t11[c] - t01[c]) * fx;
+            color[c] = top + (bottom - top) * fy;
+        }
+        let east = self.height_quad(&cols, &rows, 2, 1, fx, fy);
+        let west = self.height_quad(&cols, &rows, 0, 1, fx, fy);
+        let north = self.height_quad(&cols, &rows, 1, 2, fx, fy);
+        let south = self.height_quad(&cols, &rows, 1, 0, fx, fy);
+        let gradient = (
+            (east - west) * 0.5 * self.width as f32,
+            (north - south) * 0.5 * self.height as f32,
+        );
+        (color, gradient)
     }
 
     /// Halves the level (box filter, odd sizes handled by weighting the
