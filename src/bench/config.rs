@@ -9,6 +9,7 @@
 use clap::ValueEnum;
 use glam::Vec3;
 
+use crate::scene::Scene;
 use crate::settings::{
     AntiAlias, Filter, HeightDerivative, LightVector, Normals, Settings, Shading, Technique,
 };
@@ -22,6 +23,36 @@ pub enum Threads {
     All,
 }
 
+/// The scene a row draws.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum SceneVariant {
+    /// The reference cube.
+    #[default]
+    Reference,
+    /// The same cube flagged as not convex, so the plan keeps the depth buffer
+    /// it otherwise skips: same image, and the row shows what skipping saves.
+    ForcedDepth,
+}
+
+impl SceneVariant {
+    pub fn apply(self, scene: &Scene) -> Scene {
+        let mut scene = scene.clone();
+        if self == SceneVariant::ForcedDepth {
+            for object in &mut scene.objects {
+                object.mesh.convex = false;
+            }
+        }
+        scene
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            SceneVariant::Reference => "reference",
+            SceneVariant::ForcedDepth => "forced-depth",
+        }
+    }
+}
+
 /// One row of the table.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Config {
@@ -30,6 +61,7 @@ pub struct Config {
     pub name: String,
     pub settings: Settings,
     pub threads: Threads,
+    pub variant: SceneVariant,
 }
 
 impl Config {
@@ -38,6 +70,7 @@ impl Config {
             name: name.into(),
             settings,
             threads,
+            variant: SceneVariant::Reference,
         }
     }
 }
@@ -140,6 +173,16 @@ pub fn full() -> Vec<Config> {
         }),
     );
     rows.extend(axis("aa", r.aa, |s, v: AntiAlias| s.aa = v));
+    // Work the plan leaves out: lights, and the depth buffer a convex cube does not need.
+    rows.push(Config::new(
+        "lights=off",
+        Settings { lights: false, ..r },
+        Threads::All,
+    ));
+    rows.push(Config {
+        variant: SceneVariant::ForcedDepth,
+        ..Config::new("depth buffer forced", r, Threads::All)
+    });
     // A few combinations.
     rows.push(Config::new(
         "flat, no texture, no bump",
@@ -240,7 +283,7 @@ mod tests {
         for (i, a) in rows.iter().enumerate() {
             for b in &rows[i + 1..] {
                 assert!(
-                    a.settings != b.settings || a.threads != b.threads,
+                    a.settings != b.settings || a.threads != b.threads || a.variant != b.variant,
                     "{} and {} are the same row",
                     a.name,
                     b.name
@@ -293,6 +336,8 @@ mod tests {
         assert!(has(&|c| !c.settings.texture));
         assert!(has(&|c| !c.settings.bump));
         assert!(has(&|c| c.threads == Threads::One));
+        assert!(has(&|c| c.variant == SceneVariant::ForcedDepth));
+        assert!(has(&|c| !c.settings.lights));
         // Single-axis rows differ from the reference setting in the named axis only.
         let one = rows.iter().find(|c| c.name == "filter=nearest").unwrap();
         assert_eq!(
@@ -310,6 +355,22 @@ mod tests {
         check_well_formed(&rows);
         assert!(rows.len() <= 6);
         assert!(rows.len() < full().len());
+    }
+
+    #[test]
+    fn forced_depth_changes_only_the_convex_flag() {
+        let scene = Scene::cube(
+            std::sync::Arc::new(crate::texture::procedural::brick()),
+            true,
+        );
+        let forced = SceneVariant::ForcedDepth.apply(&scene);
+        assert!(scene.objects.iter().all(|o| o.mesh.convex));
+        assert!(forced.objects.iter().all(|o| !o.mesh.convex));
+        assert_eq!(
+            forced.objects[0].mesh.vertices,
+            scene.objects[0].mesh.vertices
+        );
+        assert!(SceneVariant::Reference.apply(&scene).objects[0].mesh.convex);
     }
 
     #[test]

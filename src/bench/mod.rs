@@ -126,9 +126,10 @@ fn header(plan: &Plan, texture: &str) -> Vec<String> {
             f = plan.reference_factor
         ),
         format!(
-            "time: median and p10–p90 of {} ms or at least {} timed frames per row after a warm-up frame per orientation; Mpx/s = shaded pixels (or samples) per second",
+            "time: median and p10–p90 of {} ms or at least {} timed frames per row ({} interleaved rounds) after a warm-up frame per orientation; Mpx/s = shaded pixels (or samples) per second",
             plan.budget.as_millis(),
-            plan.min_frames
+            plan.min_frames,
+            plan.rounds
         ),
         "error against the reference, whole frames: PSNR (inf = identical), largest channel error (0–255), mean SSIM of luma; front = on the Pareto front of time and PSNR".into(),
     ];
@@ -155,14 +156,8 @@ pub fn run(args: &BenchArgs, out: &mut dyn Write, log: &mut dyn Write) -> anyhow
         plan.height,
         plan.orientations.len()
     )?;
-    let rows = runner::measure(&plan, &scene, |done, total, row| {
-        let _ = writeln!(
-            log,
-            "[{done}/{total}] {}: {} ms, {} dB",
-            row.config.name,
-            report::ms(row.median),
-            report::db(row.psnr)
-        );
+    let rows = runner::measure(&plan, &scene, |line| {
+        let _ = writeln!(log, "{}", crate::sanitize::clean(line));
     })?;
     let report = Report { header, rows };
     if args.markdown {

@@ -31,10 +31,12 @@ pub struct Plan {
     pub min_frames: usize,
     /// At most this many timed frames per row.
     pub max_frames: usize,
+    /// The timing is split into this many rounds over all rows.
+    pub rounds: usize,
 }
 
 impl Plan {
-    /// Every configuration, 8 orientations, reference at 8×8, ~1 s per row.
+    /// Every configuration, 8 orientations, reference at 8×8, ~1 s per row in 4 rounds.
     pub fn full(width: usize, height: usize, threads: usize) -> Self {
         Plan {
             width,
@@ -44,8 +46,9 @@ impl Plan {
             reference_factor: 8,
             threads,
             budget: Duration::from_millis(1000),
-            min_frames: 16,
+            min_frames: 32,
             max_frames: 4000,
+            rounds: 4,
         }
     }
 
@@ -61,6 +64,7 @@ impl Plan {
             budget: Duration::from_millis(50),
             min_frames: 4,
             max_frames: 200,
+            rounds: 1,
         }
     }
 
@@ -153,12 +157,24 @@ fn pool(pools: &[(usize, rayon::ThreadPool)], n: usize) -> &rayon::ThreadPool {
         .1
 }
 
-/// Renders the reference frames, then measures every row, calling
-/// `progress(done, total, row)` after each.
+/// A row being measured: its renderer and frame stay between rounds.
+struct Measuring {
+    renderer: Renderer,
+    fb: Framebuffer,
+    scene: Scene,
+    threads: usize,
+    times: Vec<Duration>,
+    row: Row,
+}
+
+/// Renders the reference frames, measures every row's error (which also warms
+/// it up), then times the rows in `plan.rounds` interleaved rounds, so a burst
+/// of load from elsewhere on the machine spreads over all rows instead of
+/// landing on one. `progress` gets a line per step.
 pub fn measure(
     plan: &Plan,
     scene: &Scene,
-    mut progress: impl FnMut(usize, usize, &Row),
+    mut progress: impl FnMut(&str),
 ) -> anyhow::Result<Vec<Row>> {
     anyhow::ensure!(
         plan.width > 0 && plan.height > 0,
@@ -173,37 +189,72 @@ pub fn measure(
             .map(|&r| reference::render(scene, r, plan.width, plan.height, plan.reference_factor))
             .collect()
     });
-    let mut rows = Vec::with_capacity(plan.configs.len());
-    for config in &plan.configs {
+    let total = plan.configs.len();
+    let mut rows: Vec<Measuring> = Vec::with_capacity(total);
+    for (i, config) in plan.configs.iter().enumerate() {
         let threads = plan.pool_size(config.threads);
-        let row = pool(&pools, threads)
-            .install(|| measure_row(plan, scene, config, threads, &references));
-        progress(rows.len() + 1, plan.configs.len(), &row);
-        rows.push(row);
+        let measuring = pool(&pools, threads).install(|| {
+            error_pass(
+                plan,
+                &config.variant.apply(scene),
+                config,
+                threads,
+                &references,
+            )
+        });
+        progress(&format!(
+            "[{}/{total}] {}: {} dB",
+            i + 1,
+            config.name,
+            super::report::db(measuring.row.psnr)
+        ));
+        rows.push(measuring);
     }
-    Ok(rows)
+    let rounds = plan.rounds.max(1);
+    let budget = plan.budget / rounds as u32;
+    let min_frames = plan.min_frames.div_ceil(rounds);
+    let max_frames = plan.max_frames.div_ceil(rounds);
+    for round in 0..rounds {
+        for m in rows.iter_mut() {
+            pool(&pools, m.threads)
+                .install(|| timed_burst(plan, m, budget, min_frames, max_frames));
+        }
+        progress(&format!("timing: round {}/{rounds} done", round + 1));
+    }
+    Ok(rows
+        .into_iter()
+        .map(|mut m| {
+            m.times.sort_unstable();
+            Row {
+                frames: m.times.len(),
+                median: quantile(&m.times, 0.5),
+                p10: quantile(&m.times, 0.1),
+                p90: quantile(&m.times, 0.9),
+                ..m.row
+            }
+        })
+        .collect())
 }
 
-fn measure_row(
+/// One frame per orientation, compared with the reference.
+fn error_pass(
     plan: &Plan,
     scene: &Scene,
     config: &Config,
     threads: usize,
     references: &[Framebuffer],
-) -> Row {
+) -> Measuring {
     let mut renderer = Renderer::new();
     let mut fb = Framebuffer::new(plan.width, plan.height);
-    let at = |rotation: Vec3| Settings {
-        rotation,
-        ..config.settings
-    };
-
-    // Error pass: one frame per orientation, which also warms caches up.
     let mut squared = SquaredError::default();
     let (mut max_error, mut ssim_sum, mut pixels) = (0u8, 0.0, 0u64);
     let (mut plan_time, mut raster_time) = (Duration::ZERO, Duration::ZERO);
     for (&rotation, reference) in plan.orientations.iter().zip(references) {
-        let stats = renderer.render(scene, &at(rotation), &mut fb);
+        let settings = Settings {
+            rotation,
+            ..config.settings
+        };
+        let stats = renderer.render(scene, &settings, &mut fb);
         squared.add(fb.pixels(), reference.pixels());
         max_error = max_error.max(metrics::max_channel_error(fb.pixels(), reference.pixels()));
         ssim_sum += metrics::ssim(fb.pixels(), reference.pixels(), plan.width, plan.height);
@@ -212,35 +263,52 @@ fn measure_row(
         raster_time += stats.raster_time;
     }
     let n = plan.orientations.len();
-
-    // Timed pass: whole rounds over the orientations until the budget is spent.
-    let mut times = Vec::new();
-    let start = Instant::now();
-    while times.len() < plan.min_frames
-        || (start.elapsed() < plan.budget && times.len() < plan.max_frames)
-    {
-        for &rotation in &plan.orientations {
-            let settings = at(rotation);
-            let t = Instant::now();
-            let stats = renderer.render(scene, &settings, &mut fb);
-            times.push(t.elapsed());
-            std::hint::black_box(stats);
-        }
-    }
-    times.sort_unstable();
-    Row {
-        config: config.clone(),
+    Measuring {
+        renderer,
+        fb,
+        scene: scene.clone(),
         threads,
-        frames: times.len(),
-        median: quantile(&times, 0.5),
-        p10: quantile(&times, 0.1),
-        p90: quantile(&times, 0.9),
-        pixels_per_frame: pixels as f64 / n as f64,
-        psnr: squared.psnr(),
-        max_error,
-        ssim: ssim_sum / n as f64,
-        plan_time: plan_time / n as u32,
-        raster_time: raster_time / n as u32,
+        times: Vec::new(),
+        row: Row {
+            config: config.clone(),
+            threads,
+            frames: 0,
+            median: Duration::ZERO,
+            p10: Duration::ZERO,
+            p90: Duration::ZERO,
+            pixels_per_frame: pixels as f64 / n as f64,
+            psnr: squared.psnr(),
+            max_error,
+            ssim: ssim_sum / n as f64,
+            plan_time: plan_time / n as u32,
+            raster_time: raster_time / n as u32,
+        },
+    }
+}
+
+/// Whole rounds over the orientations until `budget` is spent (at least
+/// `min_frames`, at most about `max_frames` frames), each frame timed.
+fn timed_burst(
+    plan: &Plan,
+    m: &mut Measuring,
+    budget: Duration,
+    min_frames: usize,
+    max_frames: usize,
+) {
+    let start = Instant::now();
+    let mut frames = 0;
+    while frames < min_frames || (start.elapsed() < budget && frames < max_frames) {
+        for &rotation in &plan.orientations {
+            let settings = Settings {
+                rotation,
+                ..m.row.config.settings
+            };
+            let t = Instant::now();
+            let stats = m.renderer.render(&m.scene, &settings, &mut m.fb);
+            m.times.push(t.elapsed());
+            std::hint::black_box(stats);
+            frames += 1;
+        }
     }
 }
 
