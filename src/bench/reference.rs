@@ -16,7 +16,7 @@ use crate::Renderer;
 use crate::framebuffer::Framebuffer;
 use crate::scene::Scene;
 use crate::settings::Settings;
-use crate::texture::{Texture, procedural};
+use crate::texture::{Texture, load, procedural};
 
 /// The reference frame at `rotation`, `width × height`, supersampled `factor × factor`.
 pub fn render(
@@ -44,24 +44,11 @@ const REFERENCE_TEXTURE: &str = concat!(
 
 /// The bench's texture and a line saying which it is.
 pub fn texture() -> (Arc<Texture>, String) {
-    match load(Path::new(REFERENCE_TEXTURE)) {
+    match load::load_texture(Path::new(REFERENCE_TEXTURE)) {
         Ok(t) => (Arc::new(t), "reference-brick.png (tests/data)".into()),
         Err(_) => (
             Arc::new(procedural::brick()),
             "built-in brick (tests/data/reference-brick.png not found)".into(),
         ),
     }
-}
-
-/// An RGBA image as a texture: RGB colour, alpha height.
-fn load(path: &Path) -> anyhow::Result<Texture> {
-    let image = image::open(path)?.to_rgba8();
-    let (w, h) = (image.width() as usize, image.height() as usize);
-    anyhow::ensure!(w > 0 && h > 0, "empty image");
-    Ok(Texture::from_rgba8(
-        "reference-brick.png",
-        w,
-        h,
-        image.as_raw(),
-    ))
 }
