@@ -36,6 +36,14 @@ fn quick_bench_writes_table_csv_and_plot() {
         assert!(!row.psnr.is_nan() && row.psnr > 0.0);
         assert!(row.ssim > -1.0 && row.ssim <= 1.0 + 1e-9);
         assert!(row.pixels_per_frame > 0.0, "{} shaded nothing", config.name);
+        // The turned cube changes cells, which costs more than the frame's
+        // synchronized-output marks (16 bytes); 256 colours cost no more.
+        assert!(
+            row.bytes_truecolor > 20.0 && row.bytes_256 > 20.0,
+            "{}",
+            config.name
+        );
+        assert!(row.bytes_256 <= row.bytes_truecolor, "{}", config.name);
     }
     assert_eq!(report.rows[1].threads, 1);
     assert_eq!(report.rows[0].threads, 2);

@@ -15,6 +15,7 @@ pub mod reference;
 pub mod report;
 pub mod resolve;
 pub mod runner;
+pub mod terminal;
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -132,6 +133,11 @@ fn header(plan: &Plan, texture: &str) -> Vec<String> {
             plan.rounds
         ),
         "error against the reference, whole frames: PSNR (inf = identical), largest channel error (0–255), mean SSIM of luma; front = on the Pareto front of time and PSNR".into(),
+        format!(
+            "terminal bytes: mean bytes the view's encoder writes for the picture after a {}° turn about Y (half blocks, colour tolerance {}), 24-bit and 256 colours",
+            terminal::STEP_DEGREES,
+            terminal::TOLERANCE
+        ),
     ];
     if cfg!(debug_assertions) {
         lines.push(

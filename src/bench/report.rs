@@ -55,7 +55,7 @@ pub fn db(psnr: f64) -> String {
     }
 }
 
-const HEADINGS: [&str; 10] = [
+const HEADINGS: [&str; 12] = [
     "#",
     "configuration",
     "threads",
@@ -65,8 +65,15 @@ const HEADINGS: [&str; 10] = [
     "PSNR dB",
     "max err",
     "SSIM",
+    "KB 24-bit",
+    "KB 256",
     "front",
 ];
+
+/// Kilobytes (1000 bytes) with one decimal.
+pub fn kb(bytes: f64) -> String {
+    format!("{:.1}", bytes / 1e3)
+}
 
 /// The cells of one row, in `HEADINGS` order.
 fn cells(index: usize, row: &Row, on_front: bool) -> Vec<String> {
@@ -80,6 +87,8 @@ fn cells(index: usize, row: &Row, on_front: bool) -> Vec<String> {
         db(row.psnr),
         row.max_error.to_string(),
         format!("{:.4}", row.ssim),
+        kb(row.bytes_truecolor),
+        kb(row.bytes_256),
         if on_front { "*".into() } else { String::new() },
     ]
 }
@@ -166,7 +175,7 @@ pub fn csv(report: &Report) -> String {
     let mut out = String::from(
         "index,configuration,threads,shading,normals,texture,filter,bump,technique,\
          height_derivative,light_vector,aa,scene,frames,median_ms,p10_ms,p90_ms,\
-         pixels_per_frame,pixels_per_second,psnr_db,max_error,ssim,plan_ms,raster_ms,pareto\n",
+         pixels_per_frame,pixels_per_second,psnr_db,max_error,ssim,bytes_truecolor,bytes_256,plan_ms,raster_ms,pareto\n",
     );
     let front = report.front();
     for (i, r) in report.rows.iter().enumerate() {
@@ -199,6 +208,8 @@ pub fn csv(report: &Report) -> String {
             },
             r.max_error.to_string(),
             format!("{:.6}", r.ssim),
+            format!("{:.0}", r.bytes_truecolor),
+            format!("{:.0}", r.bytes_256),
             msf(r.plan_time),
             msf(r.raster_time),
             front[i].to_string(),
@@ -229,6 +240,8 @@ mod tests {
             psnr,
             max_error: 9,
             ssim: 0.99,
+            bytes_truecolor: 41_234.0,
+            bytes_256: 20_000.0,
             plan_time: Duration::ZERO,
             raster_time: d,
         }
@@ -252,6 +265,7 @@ mod tests {
         assert_eq!(ms(Duration::from_micros(41_234)), "41.2");
         assert_eq!(db(f64::INFINITY), "inf");
         assert_eq!(db(31.256), "31.26");
+        assert_eq!(kb(41_260.0), "41.3");
         assert_eq!(field("a,b"), "\"a,b\"");
         assert_eq!(field("say \"x\""), "\"say \"\"x\"\"\"");
     }
@@ -283,7 +297,7 @@ mod tests {
         let lines: Vec<&str> = c.lines().collect();
         assert_eq!(lines.len(), 4);
         let columns = lines[0].split(',').count();
-        assert_eq!(columns, 25);
+        assert_eq!(columns, 27);
         assert!(lines[1].starts_with("1,\"fast, rough\",2,phong,vertex,true,bilinear,true,blinn,"));
         assert!(lines[3].contains(",inf,"));
         assert!(lines[1].ends_with(",true") && lines[2].ends_with(",false"));

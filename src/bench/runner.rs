@@ -8,10 +8,12 @@ use glam::Vec3;
 use super::config::{self, Config, Threads};
 use super::metrics::{self, SquaredError};
 use super::reference;
+use super::terminal;
 use crate::Renderer;
 use crate::framebuffer::Framebuffer;
 use crate::scene::Scene;
 use crate::settings::Settings;
+use crate::term::ColorDepth;
 
 /// What a run measures and how long it may take.
 #[derive(Clone, Debug)]
@@ -96,6 +98,10 @@ pub struct Row {
     pub max_error: u8,
     /// Mean SSIM over the orientations.
     pub ssim: f64,
+    /// Mean bytes the terminal encoder writes for the frame after a small
+    /// rotation, at 24-bit colour and at 256 colours.
+    pub bytes_truecolor: f64,
+    pub bytes_256: f64,
     /// Mean plan and raster+shade time reported by the renderer (error pass).
     pub plan_time: Duration,
     pub raster_time: Duration,
@@ -201,7 +207,7 @@ pub fn measure(
                 threads,
                 &references,
             )
-        });
+        })?;
         progress(&format!(
             "[{}/{total}] {}: {} dB",
             i + 1,
@@ -236,16 +242,19 @@ pub fn measure(
         .collect())
 }
 
-/// One frame per orientation, compared with the reference.
+/// One frame per orientation, compared with the reference, and the bytes
+/// the terminal gets for the frame after it.
 fn error_pass(
     plan: &Plan,
     scene: &Scene,
     config: &Config,
     threads: usize,
     references: &[Framebuffer],
-) -> Measuring {
+) -> anyhow::Result<Measuring> {
     let mut renderer = Renderer::new();
     let mut fb = Framebuffer::new(plan.width, plan.height);
+    let mut turned = Framebuffer::new(plan.width, plan.height);
+    let (mut bytes_truecolor, mut bytes_256) = (0u64, 0u64);
     let mut squared = SquaredError::default();
     let (mut max_error, mut ssim_sum, mut pixels) = (0u8, 0.0, 0u64);
     let (mut plan_time, mut raster_time) = (Duration::ZERO, Duration::ZERO);
@@ -261,9 +270,22 @@ fn error_pass(
         pixels += stats.counters.pixels_shaded;
         plan_time += stats.plan_time;
         raster_time += stats.raster_time;
+        // The next frame of a slow turn, as the terminal would receive it.
+        let step = Vec3::new(0.0, terminal::STEP_DEGREES, 0.0);
+        renderer.render(
+            scene,
+            &Settings {
+                rotation: rotation + step,
+                ..config.settings
+            },
+            &mut turned,
+        );
+        let bg = scene.background;
+        bytes_truecolor += terminal::bytes_after(&fb, &turned, ColorDepth::Truecolor, bg)?;
+        bytes_256 += terminal::bytes_after(&fb, &turned, ColorDepth::Palette256, bg)?;
     }
     let n = plan.orientations.len();
-    Measuring {
+    Ok(Measuring {
         renderer,
         fb,
         scene: scene.clone(),
@@ -280,10 +302,12 @@ fn error_pass(
             psnr: squared.psnr(),
             max_error,
             ssim: ssim_sum / n as f64,
+            bytes_truecolor: bytes_truecolor as f64 / n as f64,
+            bytes_256: bytes_256 as f64 / n as f64,
             plan_time: plan_time / n as u32,
             raster_time: raster_time / n as u32,
         },
-    }
+    })
 }
 
 /// Whole rounds over the orientations until `budget` is spent (at least
