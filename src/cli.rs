@@ -50,6 +50,8 @@ pub enum Command {
         #[arg(value_name = "DIR")]
         dir: PathBuf,
     },
+    /// Measure what each quality setting costs in time and accuracy (`relief bench --quick` for a smoke run).
+    Bench(crate::bench::BenchArgs),
 }
 
 #[derive(Args, Debug)]

@@ -3,6 +3,7 @@
 //! Data flows one way: scene → plan → raster/shade → framebuffer → term.
 
 pub mod app;
+pub mod bench;
 pub mod cli;
 pub mod framebuffer;
 pub mod plan;

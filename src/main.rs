@@ -17,6 +17,10 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
         Some(Command::Assets { dir }) => write_assets(&dir),
+        Some(Command::Bench(args)) => {
+            relief::bench::run(&args, &mut std::io::stdout().lock(), &mut std::io::stderr())
+                .map(|_| ())
+        }
         None => relief::app::run(cli),
     };
     match result {

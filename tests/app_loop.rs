@@ -38,6 +38,7 @@ fn run(msgs: Vec<Msg>, close: bool) -> (Exit, usize, usize, State) {
         render: |_: &Settings, fb: &mut relief::Framebuffer| {
             renders += 1;
             fb.fill([renders as u8 * 40, 0, 0]);
+            relief::FrameStats::default()
         },
         background: [0, 0, 0],
         rx: &rx,

@@ -103,7 +103,7 @@ fn quit_keys() {
 #[test]
 fn reserved_keys_do_nothing_yet() {
     let mut s = state();
-    for c in ['e', 'a', 'd', 'o', 'p', 'l', '/', 'k'] {
+    for c in ['e', 'a', 'd', 'o', 'p', 'l', '/'] {
         let m = if c.is_uppercase() {
             KeyModifiers::SHIFT
         } else {

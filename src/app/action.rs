@@ -55,6 +55,8 @@ pub enum Action {
     Saved(Result<String, String>),
     /// `?`
     ToggleHelp,
+    /// `k`: the cost panel.
+    ToggleCost,
     CloseHelp,
     /// Tab: into the orientation fields, then to the next field.
     PanelNext,
@@ -180,6 +182,7 @@ pub fn action_for_key(state: &State, key: &KeyEvent) -> Option<Action> {
         KeyCode::Char('X') => Some(Action::PrevTexture),
         KeyCode::Char('R') => Some(Action::ReloadTexture),
         KeyCode::Char('?') => Some(Action::ToggleHelp),
+        KeyCode::Char('k') => Some(Action::ToggleCost),
         KeyCode::Tab => Some(Action::PanelNext),
         KeyCode::BackTab => Some(Action::PanelPrev),
         _ => None,

@@ -14,10 +14,12 @@ use crossterm::event::Event;
 use ratatui::Terminal;
 
 use super::action::{Action, action_for_event};
+use super::cost::FrameCost;
 use super::state::{Command, State, update};
 use super::view;
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::settings::Settings;
+use crate::stats::{Counters, FrameStats};
 use crate::term::SgrBackend;
 use crate::term::input::InputParser;
 
@@ -77,7 +79,7 @@ pub fn spawn_input_reader(mut input: impl Read + Send + 'static, tx: Sender<Msg>
 }
 
 /// Everything the loop needs besides the state.
-pub struct Looper<'a, W: Write, R: FnMut(&Settings, &mut Framebuffer)> {
+pub struct Looper<'a, W: Write, R: FnMut(&Settings, &mut Framebuffer) -> FrameStats> {
     pub terminal: &'a mut Terminal<SgrBackend<W>>,
     pub render: R,
     pub background: Rgb,
@@ -107,7 +109,7 @@ impl FrameClock {
     }
 }
 
-impl<W: Write, R: FnMut(&Settings, &mut Framebuffer)> Looper<'_, W, R> {
+impl<W: Write, R: FnMut(&Settings, &mut Framebuffer) -> FrameStats> Looper<'_, W, R> {
     /// Runs a texture command on the list: the applied texture's label, or
     /// the first error (the list and the texture then stay as they were).
     fn texture_command(&self, command: Command) -> Option<Result<String, String>> {
@@ -132,6 +134,7 @@ impl<W: Write, R: FnMut(&Settings, &mut Framebuffer)> Looper<'_, W, R> {
         let mut clock = FrameClock::default();
         let mut dirty = true;
         let mut last_tick = Instant::now();
+        let mut last_counters = Counters::default();
         loop {
             // Wait: not at all when a frame is due, until the next auto-rotation
             // frame, or for as long as it takes.
@@ -204,17 +207,32 @@ impl<W: Write, R: FnMut(&Settings, &mut Framebuffer)> Looper<'_, W, R> {
             let (w, h) = view::framebuffer_size(areas.viewport);
             let generation = self.textures.map_or(0, |t| t.borrow().generation());
             let key = (state.settings, w, h, generation);
+            // A frame that only redraws the text costs no render time; the
+            // cost panel keeps the counters of the last render.
+            let mut stats = FrameStats {
+                counters: last_counters,
+                ..FrameStats::default()
+            };
             if rendered != Some(key) {
                 fb.resize(w, h);
-                (self.render)(&state.settings, &mut fb);
+                stats = (self.render)(&state.settings, &mut fb);
+                last_counters = stats.counters;
                 rendered = Some(key);
             }
+            let encode_start = Instant::now();
             let backend = self.terminal.backend_mut();
             backend.begin_frame()?;
             self.terminal
                 .draw(|frame| view::view(frame, state, &fb, self.background))?;
+            let write_start = Instant::now();
             let bytes = self.terminal.backend_mut().end_frame()?;
             let done = Instant::now();
+            state.costs.push(FrameCost::new(
+                &stats,
+                write_start - encode_start,
+                done - write_start,
+                bytes,
+            ));
             state.frame.frame_time = done - start;
             state.frame.bytes = bytes;
             state.frame.fps = clock.tick(done);

@@ -2,6 +2,7 @@
 //! pure [`update`] changes the [`State`], [`view`] draws it.
 
 pub mod action;
+pub mod cost;
 pub mod event_loop;
 pub mod state;
 pub mod view;
@@ -72,7 +73,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 scene = crate::Scene::cube(list.texture().clone(), cli.view.all_faces);
                 scene_generation = list.generation();
             }
-            renderer.render(&scene, s, fb);
+            renderer.render(&scene, s, fb)
         },
         background,
         rx: &rx,

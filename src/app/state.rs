@@ -5,6 +5,7 @@ use std::time::Duration;
 use glam::Vec3;
 
 use super::action::{Action, DragButton};
+use super::cost::CostHistory;
 use crate::cli::parse_finite;
 use crate::sanitize::clean;
 use crate::settings::{Settings, normalize_degrees};
@@ -72,6 +73,10 @@ pub struct State {
     /// One line of feedback (errors, saved file, paste), already sanitized.
     pub message: Option<String>,
     pub frame: FrameInfo,
+    /// Key `k`: the cost panel is shown.
+    pub cost_panel: bool,
+    /// Stage times of the last frames, for the cost panel.
+    pub costs: CostHistory,
     pub quit: bool,
 }
 
@@ -102,6 +107,8 @@ impl State {
             drag: None,
             message: None,
             frame: FrameInfo::default(),
+            cost_panel: false,
+            costs: CostHistory::default(),
             quit: false,
         }
     }
@@ -179,6 +186,7 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         Action::Saved(Ok(path)) => state.message = Some(format!("saved {}", clean(&path))),
         Action::Saved(Err(e)) => state.message = Some(format!("not saved: {}", clean(&e))),
         Action::ToggleHelp => state.help = !state.help,
+        Action::ToggleCost => state.cost_panel = !state.cost_panel,
         Action::CloseHelp => state.help = false,
         Action::PanelNext => {
             let next = state.panel.focus.map_or(0, |f| (f + 1) % 3);

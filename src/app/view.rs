@@ -37,6 +37,10 @@ pub const HELP: &[(&str, &str)] = &[
     ("x X", "next / previous texture of the list"),
     ("R", "re-read the current texture file"),
     ("paste", "a pasted (dragged) file joins the texture list"),
+    (
+        "k",
+        "cost panel: time per stage, frame times, active stages",
+    ),
     ("?", "this help (Esc closes it)"),
     ("q Esc Ctrl-C", "quit"),
 ];
@@ -119,7 +123,28 @@ pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf:
             .style(Style::new().add_modifier(Modifier::REVERSED))
             .render(status, buf);
     }
+    cost_panel(state, a.viewport, buf);
     help(state, screen, buf);
+}
+
+/// The cost panel (key `k`) in the top-right corner of the picture.
+fn cost_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
+    if !state.cost_panel {
+        return;
+    }
+    let width = 44.min(viewport.width);
+    let height = 16.min(viewport.height);
+    let area = Rect::new(
+        viewport.x + viewport.width - width,
+        viewport.y,
+        width,
+        height,
+    );
+    Clear.render(area, buf);
+    super::cost::CostPanel {
+        history: &state.costs,
+    }
+    .render(area, buf);
 }
 
 /// The orientation fields, then (on narrow screens) the frame cost, then the message.

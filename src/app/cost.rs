@@ -1,0 +1,313 @@
+//! The cost panel (key `k`): what the last frames cost, stage by stage.
+//!
+//! The renderer reports plan and raster+shade time in `FrameStats`; the event
+//! loop adds the time to encode the frame into terminal bytes (ratatui's diff
+//! and the SGR backend filling its buffer) and to write them out.
+
+use std::collections::VecDeque;
+use std::time::Duration;
+
+use ratatui::buffer::Buffer;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::text::Line;
+use ratatui::widgets::{Block, Borders, Paragraph, Sparkline, Widget, Wrap};
+
+use crate::stats::{Counters, FrameStats};
+
+/// Frames the panel remembers (and the sparkline shows at most).
+pub const HISTORY: usize = 120;
+
+/// The cost of one frame shown on the terminal.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameCost {
+    /// Deciding what runs and transforming vertices.
+    pub plan: Duration,
+    /// Rasterizing and shading.
+    pub raster: Duration,
+    /// Turning the framebuffer into terminal cells and escape sequences.
+    pub encode: Duration,
+    /// Handing the bytes to the terminal.
+    pub write: Duration,
+    pub counters: Counters,
+    /// Bytes sent to the terminal.
+    pub bytes: u64,
+}
+
+impl FrameCost {
+    /// A frame whose picture was rendered (`stats`), then encoded and written.
+    pub fn new(stats: &FrameStats, encode: Duration, write: Duration, bytes: u64) -> Self {
+        FrameCost {
+            plan: stats.plan_time,
+            raster: stats.raster_time,
+            encode,
+            write,
+            counters: stats.counters,
+            bytes,
+        }
+    }
+
+    pub fn total(&self) -> Duration {
+        self.plan + self.raster + self.encode + self.write
+    }
+}
+
+/// The last [`HISTORY`] frames, oldest first.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CostHistory {
+    frames: VecDeque<FrameCost>,
+}
+
+impl CostHistory {
+    pub fn push(&mut self, cost: FrameCost) {
+        if self.frames.len() == HISTORY {
+            self.frames.pop_front();
+        }
+        self.frames.push_back(cost);
+    }
+
+    pub fn len(&self) -> usize {
+        self.frames.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.frames.is_empty()
+    }
+
+    pub fn last(&self) -> Option<&FrameCost> {
+        self.frames.back()
+    }
+
+    /// Mean time of each stage over the remembered frames (counters and bytes
+    /// of the last frame).
+    pub fn mean(&self) -> Option<FrameCost> {
+        let last = *self.frames.back()?;
+        let n = self.frames.len() as u32;
+        let sum = |f: fn(&FrameCost) -> Duration| self.frames.iter().map(f).sum::<Duration>() / n;
+        Some(FrameCost {
+            plan: sum(|c| c.plan),
+            raster: sum(|c| c.raster),
+            encode: sum(|c| c.encode),
+            write: sum(|c| c.write),
+            ..last
+        })
+    }
+
+    /// Total time of each frame in microseconds, oldest first: the sparkline's data.
+    pub fn totals_us(&self) -> Vec<u64> {
+        self.frames
+            .iter()
+            .map(|c| c.total().as_micros().min(u64::MAX as u128) as u64)
+            .collect()
+    }
+}
+
+/// The stages that did work in a frame, with their counts: whatever is off
+/// (or cannot show) reads as absent here.
+pub fn active_stages(c: &Counters) -> Vec<String> {
+    [
+        ("triangles", c.triangles_drawn),
+        ("clipped", c.triangles_clipped),
+        ("pixels", c.pixels_shaded),
+        ("texture", c.texture_samples),
+        ("bump", c.bump_evals),
+        ("lights", c.light_evals),
+        ("depth", c.depth_tests),
+        ("mip builds", c.mip_builds),
+        ("normal maps", c.normal_map_builds),
+        ("shadow texels", c.shadow_texels),
+        ("shadow lookups", c.shadow_lookups),
+        ("non-finite", c.nonfinite),
+    ]
+    .into_iter()
+    .filter(|&(_, n)| n > 0)
+    .map(|(name, n)| format!("{name} {}", count(n)))
+    .collect()
+}
+
+/// 950, 12.3k, 4.56M.
+fn count(n: u64) -> String {
+    match n {
+        0..1_000 => n.to_string(),
+        1_000..1_000_000 => format!("{:.1}k", n as f64 / 1e3),
+        _ => format!("{:.2}M", n as f64 / 1e6),
+    }
+}
+
+fn ms(d: Duration) -> String {
+    format!("{:7.2} ms", d.as_secs_f64() * 1e3)
+}
+
+/// The panel's text lines: a line per stage (last frame and mean), the total.
+pub fn stage_lines(history: &CostHistory) -> Vec<String> {
+    let (Some(last), Some(mean)) = (history.last(), history.mean()) else {
+        return vec!["no frame yet".into()];
+    };
+    let mut lines = vec![format!(
+        "{:<13}{:>10}  {:>10}",
+        "stage",
+        "last",
+        format!("mean {}", history.len())
+    )];
+    for (name, l, m) in [
+        ("plan", last.plan, mean.plan),
+        ("raster+shade", last.raster, mean.raster),
+        ("encode", last.encode, mean.encode),
+        ("write", last.write, mean.write),
+        ("total", last.total(), mean.total()),
+    ] {
+        lines.push(format!("{name:<13}{}  {}", ms(l), ms(m)));
+    }
+    lines.push(format!("bytes sent   {:>10}", count(last.bytes)));
+    lines
+}
+
+/// The panel: stage times, a sparkline of frame times, the active stages.
+pub struct CostPanel<'a> {
+    pub history: &'a CostHistory,
+}
+
+impl Widget for CostPanel<'_> {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        let block = Block::default().borders(Borders::ALL).title(" cost (k) ");
+        let inner = block.inner(area);
+        block.render(area, buf);
+        let stages = stage_lines(self.history);
+        let [table, spark, active] = Layout::vertical([
+            Constraint::Length(stages.len() as u16),
+            Constraint::Length(3),
+            Constraint::Min(1),
+        ])
+        .areas(inner);
+        Paragraph::new(stages.into_iter().map(Line::from).collect::<Vec<_>>()).render(table, buf);
+        let data = self.history.totals_us();
+        // The newest frames, as many as there are columns.
+        let shown = &data[data.len().saturating_sub(spark.width as usize)..];
+        Sparkline::default()
+            .block(Block::default().title("frame time"))
+            .data(shown)
+            .render(spark, buf);
+        let stages = self
+            .history
+            .last()
+            .map(|c| active_stages(&c.counters).join(" · "))
+            .unwrap_or_default();
+        Paragraph::new(format!("active: {stages}"))
+            .wrap(Wrap { trim: true })
+            .render(active, buf);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(ms: u64) -> FrameCost {
+        FrameCost {
+            plan: Duration::from_micros(100),
+            raster: Duration::from_millis(ms),
+            encode: Duration::from_micros(300),
+            write: Duration::from_micros(50),
+            counters: Counters {
+                triangles_drawn: 6,
+                pixels_shaded: 11_700,
+                light_evals: 46_800,
+                ..Counters::default()
+            },
+            bytes: 42_000,
+        }
+    }
+
+    #[test]
+    fn history_keeps_the_last_frames_and_averages_them() {
+        let mut h = CostHistory::default();
+        assert!(h.mean().is_none());
+        for i in 0..HISTORY as u64 + 10 {
+            h.push(frame(i % 2 + 1));
+        }
+        assert_eq!(h.len(), HISTORY);
+        let mean = h.mean().unwrap();
+        assert_eq!(mean.raster, Duration::from_micros(1500));
+        assert_eq!(mean.plan, Duration::from_micros(100));
+        assert_eq!(h.totals_us().len(), HISTORY);
+        assert_eq!(*h.totals_us().last().unwrap(), 100 + 2000 + 300 + 50);
+    }
+
+    #[test]
+    fn only_stages_that_worked_are_active() {
+        let c = frame(1).counters;
+        assert_eq!(
+            active_stages(&c),
+            vec!["triangles 6", "pixels 11.7k", "lights 46.8k"]
+        );
+        assert!(active_stages(&Counters::default()).is_empty());
+    }
+
+    #[test]
+    fn panel_draws_stages_sparkline_and_active_list() {
+        let mut h = CostHistory::default();
+        for i in 0..30 {
+            h.push(frame(1 + i % 3));
+        }
+        let area = Rect::new(0, 0, 44, 16);
+        let mut buf = Buffer::empty(area);
+        CostPanel { history: &h }.render(area, &mut buf);
+        let text: String = (0..area.height)
+            .map(|y| {
+                (0..area.width)
+                    .map(|x| buf[(x, y)].symbol().to_string())
+                    .collect::<String>()
+                    + "\n"
+            })
+            .collect();
+        for needle in [
+            "cost (k)",
+            "raster+shade",
+            "encode",
+            "write",
+            "total",
+            "frame time",
+            "active:",
+            "pixels 11.7k",
+        ] {
+            assert!(text.contains(needle), "{needle} missing from\n{text}");
+        }
+        // The sparkline drew bars.
+        assert!(text.chars().any(|c| "▁▂▃▄▅▆▇█".contains(c)), "{text}");
+        // An empty history and a tiny area draw without panicking.
+        let mut small = Buffer::empty(Rect::new(0, 0, 3, 2));
+        CostPanel {
+            history: &CostHistory::default(),
+        }
+        .render(small.area, &mut small);
+    }
+
+    #[test]
+    fn key_k_toggles_the_panel_in_the_view() {
+        use crate::app::action::{Action, action_for_key};
+        use crate::app::state::{State, update};
+        use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+        let mut state = State::new(
+            crate::Settings::default(),
+            crate::term::ColorDepth::Truecolor,
+        );
+        let k = KeyEvent::new(KeyCode::Char('k'), KeyModifiers::NONE);
+        assert_eq!(action_for_key(&state, &k), Some(Action::ToggleCost));
+        let screen = Rect::new(0, 0, 80, 24);
+        let fb = crate::Framebuffer::new(80, 44);
+        let shows = |state: &State| {
+            let mut buf = Buffer::empty(screen);
+            crate::app::view::draw(state, &fb, [0, 0, 0], screen, &mut buf);
+            (0..screen.height).any(|y| {
+                (0..screen.width)
+                    .map(|x| buf[(x, y)].symbol().to_string())
+                    .collect::<String>()
+                    .contains("cost (k)")
+            })
+        };
+        assert!(!shows(&state));
+        update(&mut state, Action::ToggleCost);
+        assert!(state.cost_panel && shows(&state));
+        update(&mut state, Action::ToggleCost);
+        assert!(!state.cost_panel && !shows(&state));
+    }
+}

@@ -1,0 +1,388 @@
+//! Which settings the bench measures.
+//!
+//! Not the full cross product: one axis at a time is varied away from the
+//! reference setting (Phong, vertex normals, bilinear texture, Blinn bump),
+//! plus a few combinations people actually pick. Axes are enumerated from the
+//! `Settings` enums, so a technique, filter or AA level added there gets its
+//! row without touching this file.
+
+use clap::ValueEnum;
+use glam::Vec3;
+
+use crate::scene::Scene;
+use crate::settings::{
+    AntiAlias, Filter, HeightDerivative, LightVector, Normals, Settings, Shading, Technique,
+};
+
+/// How many threads a row renders with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Threads {
+    /// A pool of one thread.
+    One,
+    /// A pool of the bench's thread count (`--threads`, default: every core).
+    All,
+}
+
+/// The scene a row draws.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum SceneVariant {
+    /// The reference cube.
+    #[default]
+    Reference,
+    /// The same cube flagged as not convex, so the plan keeps the depth buffer
+    /// it otherwise skips: same image, and the row shows what skipping saves.
+    ForcedDepth,
+}
+
+impl SceneVariant {
+    pub fn apply(self, scene: &Scene) -> Scene {
+        let mut scene = scene.clone();
+        if self == SceneVariant::ForcedDepth {
+            for object in &mut scene.objects {
+                object.mesh.convex = false;
+            }
+        }
+        scene
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            SceneVariant::Reference => "reference",
+            SceneVariant::ForcedDepth => "forced-depth",
+        }
+    }
+}
+
+/// One row of the table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Config {
+    /// What differs from the reference setting, in the command line's spelling
+    /// (`filter=nearest`), or `reference setting`.
+    pub name: String,
+    pub settings: Settings,
+    pub threads: Threads,
+    pub variant: SceneVariant,
+}
+
+impl Config {
+    fn new(name: impl Into<String>, settings: Settings, threads: Threads) -> Self {
+        Config {
+            name: name.into(),
+            settings,
+            threads,
+            variant: SceneVariant::Reference,
+        }
+    }
+}
+
+/// The command-line spelling of an enum value (`nearest`, `2x2`, `pom`).
+pub fn value_name<E: ValueEnum>(value: E) -> String {
+    value
+        .to_possible_value()
+        .map(|v| v.get_name().to_string())
+        .unwrap_or_else(|| "?".into())
+}
+
+/// The setting every row starts from: Phong, vertex normals, bilinear texture,
+/// Blinn bump with the filtered derivative, no AA.
+pub fn reference_setting() -> Settings {
+    Settings::default()
+}
+
+/// The settings of the reference image (before its supersampling): per-pixel
+/// lighting, the finest filter and the filtered derivative.
+pub fn reference_image_setting() -> Settings {
+    Settings {
+        shading: Shading::Phong,
+        filter: Filter::Anisotropic,
+        height_derivative: HeightDerivative::Filtered,
+        light_vector: LightVector::Pixel,
+        aa: AntiAlias::Off,
+        ..reference_setting()
+    }
+}
+
+/// Every variant of `E` but `skip`, each applied to the reference setting by `apply`.
+fn axis<E: ValueEnum + PartialEq + Copy>(
+    key: &str,
+    skip: E,
+    apply: impl Fn(&mut Settings, E),
+) -> Vec<Config> {
+    E::value_variants()
+        .iter()
+        .filter(|&&v| v != skip)
+        .map(|&v| {
+            let mut s = reference_setting();
+            apply(&mut s, v);
+            Config::new(format!("{key}={}", value_name(v)), s, Threads::All)
+        })
+        .collect()
+}
+
+/// Flat lighting, no texture, no bump: the cheapest frame.
+fn flat_untextured() -> Settings {
+    Settings {
+        shading: Shading::Flat,
+        texture: false,
+        bump: false,
+        ..reference_setting()
+    }
+}
+
+/// The rows of a full run.
+pub fn full() -> Vec<Config> {
+    let r = reference_setting();
+    let mut rows = vec![
+        Config::new("reference setting", r, Threads::All),
+        Config::new("reference setting, 1 thread", r, Threads::One),
+    ];
+    rows.extend(axis("shading", r.shading, |s, v: Shading| s.shading = v));
+    rows.extend(axis("normals", r.normals, |s, v: Normals| s.normals = v));
+    rows.push(Config::new(
+        "texture=off",
+        Settings {
+            texture: false,
+            ..r
+        },
+        Threads::All,
+    ));
+    rows.extend(axis("filter", r.filter, |s, v: Filter| s.filter = v));
+    rows.push(Config::new(
+        "bump=off",
+        Settings { bump: false, ..r },
+        Threads::All,
+    ));
+    rows.extend(axis("technique", r.technique, |s, v: Technique| {
+        s.technique = v
+    }));
+    rows.extend(axis(
+        "derivative",
+        r.height_derivative,
+        |s, v: HeightDerivative| s.height_derivative = v,
+    ));
+    // The light vector only matters to dot3: measured there, against dot3's default.
+    rows.extend(
+        axis("light-vector", r.light_vector, |s, v: LightVector| {
+            s.technique = Technique::Dot3;
+            s.light_vector = v
+        })
+        .into_iter()
+        .map(|c| Config {
+            name: format!("technique=dot3, {}", c.name),
+            ..c
+        }),
+    );
+    rows.extend(axis("aa", r.aa, |s, v: AntiAlias| s.aa = v));
+    // Work the plan leaves out: lights, and the depth buffer a convex cube does not need.
+    rows.push(Config::new(
+        "lights=off",
+        Settings { lights: false, ..r },
+        Threads::All,
+    ));
+    rows.push(Config {
+        variant: SceneVariant::ForcedDepth,
+        ..Config::new("depth buffer forced", r, Threads::All)
+    });
+    // A few combinations.
+    rows.push(Config::new(
+        "flat, no texture, no bump",
+        flat_untextured(),
+        Threads::All,
+    ));
+    rows.push(Config::new(
+        "flat, no texture, no bump, 1 thread",
+        flat_untextured(),
+        Threads::One,
+    ));
+    rows.push(Config::new(
+        "Gouraud, nearest, no bump",
+        Settings {
+            shading: Shading::Gouraud,
+            filter: Filter::Nearest,
+            bump: false,
+            ..r
+        },
+        Threads::All,
+    ));
+    rows.push(Config::new(
+        "dot3, trilinear",
+        Settings {
+            technique: Technique::Dot3,
+            filter: Filter::Trilinear,
+            ..r
+        },
+        Threads::All,
+    ));
+    // The closest a frame at the target size gets to the reference image.
+    rows.push(Config::new(
+        "filter=anisotropic, aa=4x4",
+        Settings {
+            aa: AntiAlias::Ssaa4,
+            ..reference_image_setting()
+        },
+        Threads::All,
+    ));
+    rows
+}
+
+/// The rows of `--quick`: enough to see the table work, and the two speed goals.
+pub fn quick() -> Vec<Config> {
+    let r = reference_setting();
+    vec![
+        Config::new("reference setting", r, Threads::All),
+        Config::new("reference setting, 1 thread", r, Threads::One),
+        Config::new("bump=off", Settings { bump: false, ..r }, Threads::All),
+        Config::new(
+            "filter=nearest",
+            Settings {
+                filter: Filter::Nearest,
+                ..r
+            },
+            Threads::All,
+        ),
+        Config::new("flat, no texture, no bump", flat_untextured(), Threads::All),
+    ]
+}
+
+/// Seed of the orientations: the same views on every run and machine.
+pub const SEED: u64 = 0x5EED_CAFE;
+
+/// `n` model rotations (degrees about X, Y, Z) drawn from a fixed-seed
+/// SplitMix64 stream; the first is the reference scene's own rotation.
+pub fn orientations(n: usize, seed: u64) -> Vec<Vec3> {
+    let mut state = seed;
+    let mut next = move || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        // 24 random bits → [0, 360).
+        (z >> 40) as f32 / (1u64 << 24) as f32 * 360.0
+    };
+    let mut out = Vec::with_capacity(n);
+    if n > 0 {
+        out.push(crate::settings::DEFAULT_ROTATION);
+    }
+    while out.len() < n {
+        out.push(Vec3::new(next(), next(), next()));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+
+    fn check_well_formed(rows: &[Config]) {
+        assert!(!rows.is_empty());
+        let names: HashSet<&str> = rows.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(names.len(), rows.len(), "row names are unique");
+        // No two rows measure the same thing.
+        for (i, a) in rows.iter().enumerate() {
+            for b in &rows[i + 1..] {
+                assert!(
+                    a.settings != b.settings || a.threads != b.threads || a.variant != b.variant,
+                    "{} and {} are the same row",
+                    a.name,
+                    b.name
+                );
+            }
+            assert!(a.name.chars().all(|c| !c.is_control()));
+        }
+        assert_eq!(rows[0].name, "reference setting");
+        assert_eq!(rows[0].settings, reference_setting());
+    }
+
+    #[test]
+    fn full_list_is_well_formed_and_covers_every_axis_value() {
+        let rows = full();
+        check_well_formed(&rows);
+        let has = |f: &dyn Fn(&Config) -> bool| rows.iter().any(f);
+        for &v in Shading::value_variants() {
+            assert!(has(&|c| c.settings.shading == v), "{v:?}");
+        }
+        for &v in Normals::value_variants() {
+            assert!(has(&|c| c.settings.normals == v), "{v:?}");
+        }
+        for &v in Filter::value_variants() {
+            assert!(
+                has(&|c| c.settings.texture && c.settings.filter == v),
+                "{v:?}"
+            );
+        }
+        for &v in Technique::value_variants() {
+            assert!(
+                has(&|c| c.settings.bump && c.settings.technique == v),
+                "{v:?}"
+            );
+        }
+        for &v in HeightDerivative::value_variants() {
+            assert!(
+                has(&|c| c.settings.bump && c.settings.height_derivative == v),
+                "{v:?}"
+            );
+        }
+        for &v in LightVector::value_variants() {
+            assert!(
+                has(&|c| c.settings.technique == Technique::Dot3 && c.settings.light_vector == v),
+                "{v:?}"
+            );
+        }
+        for &v in AntiAlias::value_variants() {
+            assert!(has(&|c| c.settings.aa == v), "{v:?}");
+        }
+        assert!(has(&|c| !c.settings.texture));
+        assert!(has(&|c| !c.settings.bump));
+        assert!(has(&|c| c.threads == Threads::One));
+        assert!(has(&|c| c.variant == SceneVariant::ForcedDepth));
+        assert!(has(&|c| !c.settings.lights));
+        // Single-axis rows differ from the reference setting in the named axis only.
+        let one = rows.iter().find(|c| c.name == "filter=nearest").unwrap();
+        assert_eq!(
+            one.settings,
+            Settings {
+                filter: Filter::Nearest,
+                ..reference_setting()
+            }
+        );
+    }
+
+    #[test]
+    fn quick_list_is_well_formed_and_short() {
+        let rows = quick();
+        check_well_formed(&rows);
+        assert!(rows.len() <= 6);
+        assert!(rows.len() < full().len());
+    }
+
+    #[test]
+    fn forced_depth_changes_only_the_convex_flag() {
+        let scene = Scene::cube(
+            std::sync::Arc::new(crate::texture::procedural::brick()),
+            true,
+        );
+        let forced = SceneVariant::ForcedDepth.apply(&scene);
+        assert!(scene.objects.iter().all(|o| o.mesh.convex));
+        assert!(forced.objects.iter().all(|o| !o.mesh.convex));
+        assert_eq!(
+            forced.objects[0].mesh.vertices,
+            scene.objects[0].mesh.vertices
+        );
+        assert!(SceneVariant::Reference.apply(&scene).objects[0].mesh.convex);
+    }
+
+    #[test]
+    fn orientations_are_fixed_and_in_range() {
+        let a = orientations(8, SEED);
+        assert_eq!(a, orientations(8, SEED));
+        assert_ne!(a, orientations(8, SEED + 1));
+        assert_eq!(a[0], crate::settings::DEFAULT_ROTATION);
+        assert_eq!(a.len(), 8);
+        for r in &a[1..] {
+            assert!(r.to_array().iter().all(|d| (0.0..360.0).contains(d)));
+        }
+        assert!(orientations(0, SEED).is_empty());
+    }
+}

@@ -1,0 +1,88 @@
+//! `relief bench --quick` end to end, through the library (the binary's code
+//! path minus argument parsing), on a tiny frame so it stays fast.
+
+use relief::bench::{self, BenchArgs};
+
+#[test]
+fn quick_bench_writes_table_csv_and_plot() {
+    let dir = std::env::temp_dir().join(format!("relief-bench-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("bench.csv");
+    let plot = dir.join("bench.png");
+    let args = BenchArgs {
+        size: Some((40, 30)),
+        quick: true,
+        csv: Some(csv.clone()),
+        markdown: true,
+        plot: Some(plot.clone()),
+        threads: Some(2),
+    };
+    let (mut out, mut log) = (Vec::new(), Vec::new());
+    let report = bench::run(&args, &mut out, &mut log).unwrap();
+    let out = String::from_utf8(out).unwrap();
+
+    // One measured row per configuration of the quick list.
+    let configs = bench::config::quick();
+    assert_eq!(report.rows.len(), configs.len());
+    for (row, config) in report.rows.iter().zip(&configs) {
+        assert_eq!(&row.config, config);
+        assert!(
+            row.frames >= 4,
+            "{} timed {} frames",
+            config.name,
+            row.frames
+        );
+        assert!(row.p10 <= row.median && row.median <= row.p90);
+        assert!(!row.psnr.is_nan() && row.psnr > 0.0);
+        assert!(row.ssim > -1.0 && row.ssim <= 1.0 + 1e-9);
+        assert!(row.pixels_per_frame > 0.0, "{} shaded nothing", config.name);
+        // The turned cube changes cells, which costs more than the frame's
+        // synchronized-output marks (16 bytes); 256 colours cost no more.
+        assert!(
+            row.bytes_truecolor > 20.0 && row.bytes_256 > 20.0,
+            "{}",
+            config.name
+        );
+        assert!(row.bytes_256 <= row.bytes_truecolor, "{}", config.name);
+    }
+    assert_eq!(report.rows[1].threads, 1);
+    assert_eq!(report.rows[0].threads, 2);
+    // Rendering is identical for any thread count, so the error is too.
+    assert_eq!(report.rows[0].psnr, report.rows[1].psnr);
+    assert_eq!(report.rows[0].max_error, report.rows[1].max_error);
+    // The reference setting is closer to the reference than flat, untextured, bare.
+    let flat = report
+        .rows
+        .iter()
+        .find(|r| r.config.name.starts_with("flat"))
+        .unwrap();
+    assert!(report.rows[0].psnr > flat.psnr);
+
+    // Markdown table: header row, alignment row, a row per configuration.
+    let table: Vec<&str> = out.lines().filter(|l| l.starts_with('|')).collect();
+    assert_eq!(table.len(), 2 + configs.len());
+    assert!(out.contains("40x30"));
+    assert!(out.contains("texture: "));
+
+    let csv_text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(csv_text.lines().count(), 1 + configs.len());
+
+    let image = image::open(&plot).unwrap();
+    assert!(image.width() > 400 && image.height() > 300);
+
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn unwritable_outputs_are_errors_not_panics() {
+    let args = BenchArgs {
+        size: Some((16, 12)),
+        quick: true,
+        csv: Some(std::path::PathBuf::from(
+            "/nonexistent-dir/relief/bench.csv",
+        )),
+        ..Default::default()
+    };
+    let err = bench::run(&args, &mut Vec::new(), &mut Vec::new()).unwrap_err();
+    assert!(format!("{err:#}").contains("bench.csv"));
+}
