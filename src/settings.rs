@@ -143,6 +143,21 @@ pub enum HeightDerivative {
     Filtered,
 }
 
+impl HeightDerivative {
+    pub fn toggle(self) -> Self {
+        match self {
+            HeightDerivative::Texel => HeightDerivative::Filtered,
+            HeightDerivative::Filtered => HeightDerivative::Texel,
+        }
+    }
+    pub fn label(self) -> &'static str {
+        match self {
+            HeightDerivative::Texel => "texel",
+            HeightDerivative::Filtered => "filtered",
+        }
+    }
+}
+
 /// Where dot3 normalises the tangent-space light vector.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
 pub enum LightVector {

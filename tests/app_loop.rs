@@ -35,7 +35,7 @@ fn run(msgs: Vec<Msg>, close: bool) -> (Exit, usize, usize, State) {
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     let exit = Looper {
         terminal: &mut term,
-        render: |_: &Settings, fb: &mut relief::Framebuffer| {
+        render: |_: &State, fb: &mut relief::Framebuffer| {
             renders += 1;
             fb.fill([renders as u8 * 40, 0, 0]);
             relief::FrameStats::default()
@@ -43,6 +43,7 @@ fn run(msgs: Vec<Msg>, close: bool) -> (Exit, usize, usize, State) {
         background: [0, 0, 0],
         rx: &rx,
         textures: None,
+        stage: None,
     }
     .run(&mut state)
     .unwrap();

@@ -50,16 +50,30 @@ fn status_line_shows_every_mode_and_the_frame_cost() {
     let s = state();
     let buf = screen(&s, 160, 20);
     let status = row_text(&buf, 19);
+    assert_eq!(
+        status.trim_end(),
+        "Phong │ vertex │ tex on │ col on │ bump on │ Blinn │ bilinear │ dH filtered │ AA off │ fill │ cube │ lights on │ att off │ 24-bit │ 3.2 ms │ 30 fps │ 41.2 kB"
+    );
+    let status = row_text(&screen(&s, 250, 20), 19);
     for want in [
         "Phong",
         "normals vertex",
         "texture on",
         "colours on",
-        "bump on",
+        "bump on k=0.006",
+        "Blinn",
+        "bilinear",
+        "dH filtered",
+        "AA off",
+        "fill",
+        "model cube",
+        "lights on",
+        "attenuation off",
         "24-bit",
         "3.2 ms",
         "30 fps",
         "41.2 kB",
+        "? help",
     ] {
         assert!(status.contains(want), "{want:?} missing in {status:?}");
     }
@@ -74,16 +88,16 @@ fn status_line_follows_each_toggle() {
     assert!(st.starts_with("flat"), "{st}");
     assert!(st.contains("bump on (Phong only)"), "{st}");
     update(&mut s, Action::CycleShading);
-    assert!(status_line(&s, 200).starts_with("Gouraud"));
+    assert!(status_line(&s, 250).starts_with("Gouraud"));
     update(&mut s, Action::ToggleNormals);
     update(&mut s, Action::ToggleTexture);
     update(&mut s, Action::ToggleColors);
-    let st = status_line(&s, 200);
+    let st = status_line(&s, 250);
     for want in ["normals face", "texture off", "colours off", "(Phong only)"] {
         assert!(st.contains(want), "{want:?} in {st}");
     }
     update(&mut s, Action::ToggleBump);
-    let st = status_line(&s, 200);
+    let st = status_line(&s, 250);
     assert!(
         st.contains("bump off") && !st.contains("Phong only"),
         "{st}"
@@ -100,14 +114,16 @@ fn narrow_terminals_split_modes_and_cost_over_two_lines() {
     update(&mut s, Action::CycleShading);
     let buf = screen(&s, 40, 12);
     let status = row_text(&buf, 11);
-    assert_eq!(status.trim_end(), "flat V T+ C+ B+ (Phong only) 24b");
+    assert_eq!(status.trim_end(), "flat V T+ C+ B+ (Phong only) cube 24b");
     let panel = row_text(&buf, 10);
     assert_eq!(panel.trim_end(), "X25° Y35° Z0° 3.2ms 30fps 41.2kB");
-    // 80 columns: short words, cost still on the status line.
-    let status = row_text(&screen(&state(), 80, 12), 11);
+    // 80 columns: the abbreviated modes, the cost on the line above with
+    // the full-size fields.
+    let buf = screen(&state(), 80, 12);
+    assert_eq!(row_text(&buf, 11).trim_end(), "Phong V T+ C+ B+ cube 24b");
     assert_eq!(
-        status.trim_end(),
-        "Phong │ vertex │ tex on │ col on │ bump on │ 24-bit │ 3.2 ms │ 30 fps │ 41.2 kB"
+        row_text(&buf, 10).trim_end(),
+        " X     25° Y     35° Z      0°  3.2 ms │ 30 fps │ 41.2 kB"
     );
     // Whatever the size, nothing panics, down to one cell.
     for (w, h) in [(10, 3), (3, 2), (1, 1), (1, 5), (200, 1), (0, 0)] {
@@ -176,11 +192,14 @@ fn help_overlay_lists_every_key_and_mouse_action() {
     let mut s = state();
     assert!(!all_text(&screen(&s, 100, 30)).contains("keys and mouse"));
     update(&mut s, Action::ToggleHelp);
-    let text = all_text(&screen(&s, 100, 30));
-    assert!(text.contains("keys and mouse"));
-    for (k, t) in HELP {
-        assert!(text.contains(k), "{k}");
-        assert!(text.contains(t), "{t}");
+    // One column when it fits the height, two when it fits the width.
+    for (w, h) in [(160, 48), (160, 30)] {
+        let text = all_text(&screen(&s, w, h));
+        assert!(text.contains("keys and mouse"));
+        for (k, t) in HELP {
+            assert!(text.contains(k), "{k} at {w}x{h}");
+            assert!(text.contains(t), "{t} at {w}x{h}");
+        }
     }
     for key in [
         "m",
@@ -198,9 +217,89 @@ fn help_overlay_lists_every_key_and_mouse_action() {
         "s",
         "?",
         "q Esc Ctrl-C",
+        "e",
+        "v",
+        "h",
+        "a",
+        "d",
+        "l",
+        "1 2 3 4",
+        "L",
+        "o",
+        "p",
+        "z",
+        "pointer",
     ] {
         assert!(HELP.iter().any(|(k, _)| *k == key), "{key} not in help");
     }
     // In a tiny terminal the overlay is cut, not a crash.
     let _ = screen(&s, 12, 4);
+}
+
+#[test]
+fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
+    use relief::plasma::PlasmaNormal;
+    use relief::scene::{ModelChoice, SceneKind};
+    let mut s = state();
+    for a in [
+        Action::CycleTechnique,
+        Action::CycleTechnique,
+        Action::ToggleLightVector,
+        Action::ToggleHeightDerivative,
+        Action::CycleAntiAlias,
+        Action::CycleDisplay,
+        Action::ToggleLight(1),
+        Action::ToggleLight(3),
+        Action::ToggleAttenuation,
+        Action::SceneBuilt(Ok((SceneKind::Cube, ModelChoice::Sphere))),
+    ] {
+        update(&mut s, a);
+    }
+    let full = status_line(&s, 300);
+    for want in [
+        "dot3 (L per vertex)",
+        "dH texel",
+        "AA SSAA 2x2",
+        "│ points │",
+        "model sphere",
+        "lights on (red, blue off)",
+        "attenuation on",
+    ] {
+        assert!(full.contains(want), "{want:?} in {full}");
+    }
+    let short = row_text(&screen(&s, 160, 20), 19);
+    assert!(
+        short.contains("lights 1·3·") && short.contains("att on"),
+        "{short}"
+    );
+    assert_eq!(
+        row_text(&screen(&s, 40, 12), 11).trim_end(),
+        "Phong V T+ C+ B+ sphere dot3 Lv dH texel"
+    );
+    assert_eq!(
+        status_line(&s, 60),
+        "Phong V T+ C+ B+ sphere dot3 Lv dH texel 2x2 points L1·3· att 24b"
+    );
+    update(&mut s, Action::ToggleLights);
+    assert!(status_line(&s, 300).contains("lights off"));
+    update(
+        &mut s,
+        Action::SceneBuilt(Ok((SceneKind::Shadow, ModelChoice::Sphere))),
+    );
+    assert!(status_line(&s, 300).contains("│ shadow │"));
+    // The plasma has its own line: the normal mode and the light.
+    update(
+        &mut s,
+        Action::SceneBuilt(Ok((SceneKind::Plasma, ModelChoice::Sphere))),
+    );
+    let st = status_line(&s, 160);
+    assert!(
+        st.starts_with("plasma │ Z² table │ light centre │ 24-bit │ 3.2 ms"),
+        "{st}"
+    );
+    update(&mut s, Action::TogglePlasmaNormal);
+    update(&mut s, Action::Pointer { col: 10, row: 4 });
+    assert!(status_line(&s, 160).contains("exact normal │ light 10,9"));
+    assert_eq!(status_line(&s, 20), "plasma exact 24b");
+    assert_eq!(s.plasma_normal, PlasmaNormal::Exact);
 }

@@ -162,12 +162,10 @@ fn assert_restored(t: &Tmux) {
 
 #[test]
 fn keys_drag_and_quit_in_a_real_terminal() {
-    let Some(t) = Tmux::start("keys", 140, 36, &command("keys", "COLORTERM=truecolor", "")) else {
+    let Some(t) = Tmux::start("keys", 160, 48, &command("keys", "COLORTERM=truecolor", "")) else {
         return;
     };
-    let s = t.wait_for("first frame", |s| {
-        status(s).starts_with("Phong │ normals vertex")
-    });
+    let s = t.wait_for("first frame", |s| status(s).starts_with("Phong │ vertex"));
     assert!(status(&s).contains("24-bit"), "{s}");
     // Only button and drag reports with SGR coordinates: no all-motion mode.
     assert_eq!(t.format("#{alternate_on}"), "1");
@@ -177,9 +175,9 @@ fn keys_drag_and_quit_in_a_real_terminal() {
 
     let steps: [(&str, &[&str], &[&str]); 5] = [
         ("m", &["flat │", "bump on (Phong only)"], &[]),
-        ("n", &["normals face"], &[]),
-        ("t", &["texture off"], &[]),
-        ("c", &["colours off"], &[]),
+        ("n", &["│ face │"], &[]),
+        ("t", &["tex off"], &[]),
+        ("c", &["col off"], &[]),
         ("b", &["bump off"], &["Phong only"]),
     ];
     for (key, want, not) in steps {
@@ -194,7 +192,7 @@ fn keys_drag_and_quit_in_a_real_terminal() {
     t.keys(&["m", "m", "t", "c", "b"]);
     t.wait_for("Phong again", |s| {
         let st = status(s);
-        st.starts_with("Phong") && st.contains("texture on") && st.contains("bump on")
+        st.starts_with("Phong") && st.contains("tex on") && st.contains("bump on")
     });
     let before = viewport(&t.picture());
     t.literal("\x1b[<0;70;18M");
@@ -209,6 +207,39 @@ fn keys_drag_and_quit_in_a_real_terminal() {
     let after = viewport(&t.picture());
     assert_ne!(before, after, "the picture changed");
 
+    // Technique, anti-aliasing and display show in the status line.
+    let steps: [(&str, &str); 3] = [
+        ("e", "│ emboss │"),
+        ("a", "│ AA SSAA 2x2 │"),
+        ("d", "│ points │"),
+    ];
+    for (key, want) in steps {
+        t.keys(&[key]);
+        t.wait_for(&format!("status after {key}"), |s| status(s).contains(want));
+    }
+
+    // Twice `p`: the plasma, the only scene asking for every pointer motion.
+    t.keys(&["p"]);
+    t.wait_for("shadow scene", |s| status(s).contains("│ shadow │"));
+    assert_eq!(t.format("#{mouse_all_flag}"), "0");
+    t.keys(&["p"]);
+    t.wait_for("plasma", |s| {
+        status(s).starts_with("plasma │ Z² table │ light centre")
+    });
+    assert_eq!(t.format("#{mouse_all_flag}"), "1");
+    let before = viewport(&t.picture());
+    // Motion without a button (SGR code 35) at column 30, row 8 (1-based):
+    // the light goes to pixel (29, 2·7 + 1).
+    t.literal("\x1b[<35;30;8M");
+    t.wait_for("light at the pointer", |s| {
+        status(s).contains("light 29,15")
+    });
+    let after = viewport(&t.picture());
+    assert_ne!(before, after, "the light moved");
+    t.keys(&["p"]);
+    t.wait_for("back to the model", |s| status(s).contains("│ cube │"));
+    assert_eq!(t.format("#{mouse_all_flag}"), "0");
+
     t.keys(&["q"]);
     assert_eq!(t.wait_exit(), "0");
     assert_restored(&t);
@@ -222,7 +253,7 @@ fn small_terminal_resizes_and_signals_restore_the_terminal() {
             return;
         };
         t.wait_for("first frame", |s| {
-            status(s).starts_with("Phong V T+ C+ B+ 24b")
+            status(s).starts_with("Phong V T+ C+ B+ cube 24b")
         });
         for (w, h) in [("1", "1"), ("3", "2"), ("60", "20"), ("40", "12")] {
             t.run(&["resize-window", "-x", w, "-y", h]);
@@ -247,7 +278,7 @@ fn forced_palette_shows_in_the_status_line() {
     let Some(t) = Tmux::start("palette", 120, 20, &cmd) else {
         return;
     };
-    t.wait_for("256 colours", |s| status(s).contains("256 colours"));
+    t.wait_for("256 colours", |s| status(s).ends_with("cube 256c"));
     // The picture uses palette colours, not 24-bit ones.
     let pic = t.picture();
     assert!(pic.contains("8;5;") && !pic.contains("8;2;"), "{pic}");

@@ -64,13 +64,14 @@ fn run(list: &RefCell<TextureList>, msgs: Vec<Msg>) -> State {
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     Looper {
         terminal: &mut term,
-        render: |_: &Settings, fb: &mut relief::Framebuffer| {
+        render: |_: &State, fb: &mut relief::Framebuffer| {
             fb.fill([1, 2, 3]);
             relief::FrameStats::default()
         },
         background: [0, 0, 0],
         rx: &rx,
         textures: Some(list),
+        stage: None,
     }
     .run(&mut state)
     .unwrap();

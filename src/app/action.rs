@@ -8,6 +8,7 @@ use crossterm::event::{
 };
 
 use super::state::State;
+use crate::scene::{ModelChoice, SceneKind};
 
 /// Which button drags.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -93,6 +94,35 @@ pub enum Action {
     ReloadTexture,
     /// What a texture command did: the new texture's label, or the error.
     TextureResult(Result<String, String>),
+    /// `e`: Blinn → emboss → dot3 → parallax → POM.
+    CycleTechnique,
+    /// `v`: dot3's light vector per vertex / per pixel.
+    ToggleLightVector,
+    /// `h`: height derivative per texel / filtered.
+    ToggleHeightDerivative,
+    /// `a`: off → SSAA 2×2 → SSAA 4×4 → MSAA 4.
+    CycleAntiAlias,
+    /// `d`: points → lines → fill.
+    CycleDisplay,
+    /// `l`: all lights on / off.
+    ToggleLights,
+    /// `L`: distance attenuation on / off.
+    ToggleAttenuation,
+    /// `1`–`4`: one reference light (0 = white, red, green, blue) on / off.
+    ToggleLight(usize),
+    /// `z`: plasma Z² table / exact normal.
+    TogglePlasmaNormal,
+    /// `o`: next model (the loop builds it, then reports with `SceneBuilt`).
+    NextModel,
+    /// `p`: model → shadow → plasma.
+    NextScene,
+    /// Outcome of a scene build: what is now shown, or the error (the old scene stays).
+    SceneBuilt(Result<(SceneKind, ModelChoice), String>),
+    /// The pointer is at a cell (the plasma's light follows it).
+    Pointer {
+        col: u16,
+        row: u16,
+    },
     /// The terminal changed size: nothing in the state changes, the frame must.
     Resize,
 }
@@ -111,6 +141,15 @@ pub fn action_for_event(state: &State, event: &Event) -> Option<Action> {
                 MouseButton::Middle => None,
             };
             let (col, row) = (mouse.column, mouse.row);
+            if state.scene == SceneKind::Plasma {
+                // The light follows the pointer, pressed or not; nothing turns.
+                return match mouse.kind {
+                    MouseEventKind::Moved | MouseEventKind::Down(_) | MouseEventKind::Drag(_) => {
+                        Some(Action::Pointer { col, row })
+                    }
+                    _ => None,
+                };
+            }
             match mouse.kind {
                 MouseEventKind::Down(b) => {
                     button(b).map(|button| Action::MouseDown { button, col, row })
@@ -128,9 +167,8 @@ pub fn action_for_event(state: &State, event: &Event) -> Option<Action> {
     }
 }
 
-/// The action a key asks for. Keys `e a d o p l / k` are kept for the
-/// technique, anti-aliasing, display, model, scene, lights, texture path and
-/// cost panel.
+/// The action a key asks for. Keys `/ k` are kept for the texture path
+/// and cost panel.
 pub fn action_for_key(state: &State, key: &KeyEvent) -> Option<Action> {
     if key.kind == KeyEventKind::Release {
         return None;
@@ -181,6 +219,17 @@ pub fn action_for_key(state: &State, key: &KeyEvent) -> Option<Action> {
         KeyCode::Char('x') => Some(Action::NextTexture),
         KeyCode::Char('X') => Some(Action::PrevTexture),
         KeyCode::Char('R') => Some(Action::ReloadTexture),
+        KeyCode::Char('e') => Some(Action::CycleTechnique),
+        KeyCode::Char('v') => Some(Action::ToggleLightVector),
+        KeyCode::Char('h') => Some(Action::ToggleHeightDerivative),
+        KeyCode::Char('a') => Some(Action::CycleAntiAlias),
+        KeyCode::Char('d') => Some(Action::CycleDisplay),
+        KeyCode::Char('l') => Some(Action::ToggleLights),
+        KeyCode::Char('L') => Some(Action::ToggleAttenuation),
+        KeyCode::Char(c @ '1'..='4') => Some(Action::ToggleLight(c as usize - '1' as usize)),
+        KeyCode::Char('z') => Some(Action::TogglePlasmaNormal),
+        KeyCode::Char('o') => Some(Action::NextModel),
+        KeyCode::Char('p') => Some(Action::NextScene),
         KeyCode::Char('?') => Some(Action::ToggleHelp),
         KeyCode::Char('k') => Some(Action::ToggleCost),
         KeyCode::Tab => Some(Action::PanelNext),

@@ -5,6 +5,7 @@
 //! applied all at once and only the latest state is rendered, so a slow
 //! link drops stale frames instead of queueing them.
 
+use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::io::{self, Read, Write};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
@@ -15,13 +16,19 @@ use ratatui::Terminal;
 
 use super::action::{Action, action_for_event};
 use super::cost::FrameCost;
-use super::state::{Command, State, update};
+use super::stage::Stage;
+use super::state::{Command, Look, State, update};
 use super::view;
 use crate::framebuffer::{Framebuffer, Rgb};
-use crate::settings::Settings;
+use crate::scene::SceneKind;
 use crate::stats::{Counters, FrameStats};
 use crate::term::SgrBackend;
 use crate::term::input::InputParser;
+
+/// Mouse mode 1003: every pointer motion is reported (the plasma's light follows it).
+pub const MOTION_ON: &[u8] = b"\x1b[?1003h";
+/// Back to button and drag reports only.
+pub const MOTION_OFF: &[u8] = b"\x1b[?1003l";
 
 /// Auto-rotation frame pacing.
 pub const FRAME_INTERVAL: Duration = Duration::from_millis(33);
@@ -79,14 +86,17 @@ pub fn spawn_input_reader(mut input: impl Read + Send + 'static, tx: Sender<Msg>
 }
 
 /// Everything the loop needs besides the state.
-pub struct Looper<'a, W: Write, R: FnMut(&Settings, &mut Framebuffer) -> FrameStats> {
+pub struct Looper<'a, W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> {
     pub terminal: &'a mut Terminal<SgrBackend<W>>,
+    /// Draws the state's picture (from the stage, in the app).
     pub render: R,
     pub background: Rgb,
     pub rx: &'a Receiver<Msg>,
     /// The texture list the texture keys and pastes act on (the render
     /// closure reads the applied texture from it).
-    pub textures: Option<&'a std::cell::RefCell<crate::texture::TextureList>>,
+    pub textures: Option<&'a RefCell<crate::texture::TextureList>>,
+    /// The scene that `o` and `p` rebuild (the render closure draws it).
+    pub stage: Option<&'a RefCell<Stage>>,
 }
 
 /// Frames written during the last second, for the fps figure.
@@ -109,7 +119,17 @@ impl FrameClock {
     }
 }
 
-impl<W: Write, R: FnMut(&Settings, &mut Framebuffer) -> FrameStats> Looper<'_, W, R> {
+impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R> {
+    /// Runs a scene build on the stage: what is shown now, or the error
+    /// (the old scene stays). Without a stage there is nothing to build.
+    fn build_scene(&self, kind: SceneKind, model: crate::scene::ModelChoice) -> Action {
+        let result = match self.stage {
+            Some(stage) => stage.borrow_mut().build(kind, &model),
+            None => Ok(()),
+        };
+        Action::SceneBuilt(result.map(|()| (kind, model)))
+    }
+
     /// Runs a texture command on the list: the applied texture's label, or
     /// the first error (the list and the texture then stay as they were).
     fn texture_command(&self, command: Command) -> Option<Result<String, String>> {
@@ -118,7 +138,7 @@ impl<W: Write, R: FnMut(&Settings, &mut Framebuffer) -> FrameStats> Looper<'_, W
             Command::CycleTexture(forward) => list.cycle(forward).err().into_iter().collect(),
             Command::ReloadTexture => list.reload().err().into_iter().collect(),
             Command::AddPaths(text) => list.add_paste(&text),
-            Command::SavePng => return None,
+            Command::SavePng | Command::BuildScene(..) => return None,
         };
         Some(match errors.first() {
             None => Ok(list.summary()),
@@ -130,7 +150,9 @@ impl<W: Write, R: FnMut(&Settings, &mut Framebuffer) -> FrameStats> Looper<'_, W
     /// Runs until the user quits, the terminal goes away or a signal comes.
     pub fn run(&mut self, state: &mut State) -> io::Result<Exit> {
         let mut fb = Framebuffer::new(0, 0);
-        let mut rendered: Option<(Settings, usize, usize, u64)> = None;
+        let mut rendered: Option<(Look, usize, usize, u64)> = None;
+        // The guard's setup leaves all-motion reports off.
+        let mut motion = false;
         let mut clock = FrameClock::default();
         let mut dirty = true;
         let mut last_tick = Instant::now();
@@ -166,6 +188,10 @@ impl<W: Write, R: FnMut(&Settings, &mut Framebuffer) -> FrameStats> Looper<'_, W
                                 Some(Command::SavePng) => {
                                     let result = save_png(&fb);
                                     update(state, Action::Saved(result));
+                                }
+                                Some(Command::BuildScene(kind, model)) => {
+                                    let built = self.build_scene(kind, model);
+                                    update(state, built);
                                 }
                                 Some(command) => {
                                     if let Some(result) = self.texture_command(command) {
@@ -206,21 +232,27 @@ impl<W: Write, R: FnMut(&Settings, &mut Framebuffer) -> FrameStats> Looper<'_, W
             let areas = view::areas(ratatui::layout::Rect::new(0, 0, size.width, size.height));
             let (w, h) = view::framebuffer_size(areas.viewport);
             let generation = self.textures.map_or(0, |t| t.borrow().generation());
-            let key = (state.settings, w, h, generation);
+            let key = (state.look(), w, h, generation);
             // A frame that only redraws the text costs no render time; the
             // cost panel keeps the counters of the last render.
             let mut stats = FrameStats {
                 counters: last_counters,
                 ..FrameStats::default()
             };
-            if rendered != Some(key) {
+            if rendered.as_ref() != Some(&key) {
                 fb.resize(w, h);
-                stats = (self.render)(&state.settings, &mut fb);
+                stats = (self.render)(state, &mut fb);
                 last_counters = stats.counters;
                 rendered = Some(key);
             }
             let encode_start = Instant::now();
             let backend = self.terminal.backend_mut();
+            // Only the plasma asks for every pointer motion.
+            let want_motion = state.scene == SceneKind::Plasma;
+            if want_motion != motion {
+                backend.write_raw(if want_motion { MOTION_ON } else { MOTION_OFF })?;
+                motion = want_motion;
+            }
             backend.begin_frame()?;
             self.terminal
                 .draw(|frame| view::view(frame, state, &fb, self.background))?;

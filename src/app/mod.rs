@@ -4,6 +4,7 @@
 pub mod action;
 pub mod cost;
 pub mod event_loop;
+pub mod stage;
 pub mod state;
 pub mod view;
 
@@ -21,6 +22,7 @@ use crate::cli::{Cli, ColorDepthArg};
 use crate::term::guard::{GuardedStdout, TerminalGuard};
 use crate::term::{ColorDepth, SgrBackend};
 use event_loop::{Exit, Looper, Msg, spawn_input_reader};
+use stage::Stage;
 
 /// The colour depth to use: `--color` when given, else what the terminal announces.
 pub fn color_depth(arg: Option<ColorDepthArg>) -> ColorDepth {
@@ -52,8 +54,21 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         let text: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
         state.message = Some(crate::sanitize::clean(&text.join("; ")));
     }
-    let mut scene = crate::Scene::cube(textures.texture().clone(), cli.view.all_faces);
-    let mut scene_generation = textures.generation();
+    state.scene = cli.view.scene;
+    state.model = cli.view.model.clone();
+    if let crate::scene::ModelChoice::Obj(path) = &cli.view.model {
+        state.obj = Some(path.clone());
+    }
+    state.plasma_normal = cli.view.plasma_normal;
+    // A --model file that cannot be read stops here, before the terminal is touched.
+    let stage = Stage::new(
+        cli.view.scene,
+        cli.view.model.clone(),
+        textures.texture().clone(),
+        cli.view.all_faces,
+    )?;
+    let stage = std::cell::RefCell::new(stage);
+    let mut stage_generation = textures.generation();
     let textures = std::cell::RefCell::new(textures);
 
     let (tx, rx) = mpsc::channel();
@@ -64,20 +79,21 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     backend.set_tolerance(cli.color_tolerance);
     let mut terminal = Terminal::new(backend)?;
     let mut renderer = crate::Renderer::new();
-    let background = scene.background;
     let exit = Looper {
         terminal: &mut terminal,
-        render: |s: &crate::Settings, fb: &mut crate::Framebuffer| {
+        render: |s: &State, fb: &mut crate::Framebuffer| {
+            let mut stage = stage.borrow_mut();
             let list = textures.borrow();
-            if list.generation() != scene_generation {
-                scene = crate::Scene::cube(list.texture().clone(), cli.view.all_faces);
-                scene_generation = list.generation();
+            if list.generation() != stage_generation {
+                stage.set_texture(list.texture().clone());
+                stage_generation = list.generation();
             }
-            renderer.render(&scene, s, fb)
+            stage.render(&mut renderer, s, fb)
         },
-        background,
+        background: crate::scene::BACKGROUND,
         rx: &rx,
         textures: Some(&textures),
+        stage: Some(&stage),
     }
     .run(&mut state);
     drop(terminal);

@@ -1,5 +1,6 @@
 //! The interactive view's state and the pure `update` that every action goes through.
 
+use std::path::PathBuf;
 use std::time::Duration;
 
 use glam::Vec3;
@@ -7,7 +8,9 @@ use glam::Vec3;
 use super::action::{Action, DragButton};
 use super::cost::CostHistory;
 use crate::cli::parse_finite;
+use crate::plasma::PlasmaNormal;
 use crate::sanitize::clean;
+use crate::scene::{ModelChoice, SceneKind};
 use crate::settings::{Settings, normalize_degrees};
 use crate::term::ColorDepth;
 
@@ -27,6 +30,8 @@ pub const BUMP_MIN: f32 = 0.0005;
 const FIELD_MAX: usize = 24;
 /// Axis names of the orientation fields.
 pub const AXES: [&str; 3] = ["X", "Y", "Z"];
+/// The reference lights in scene order, as keys `1`–`4` name them.
+pub const LIGHT_NAMES: [&str; 4] = ["white", "red", "green", "blue"];
 
 /// The three orientation fields (degrees about X, Y, Z).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -78,6 +83,31 @@ pub struct State {
     /// Stage times of the last frames, for the cost panel.
     pub costs: CostHistory,
     pub quit: bool,
+    /// The scene shown (changed only once it is built: see [`Action::SceneBuilt`]).
+    pub scene: SceneKind,
+    /// The model of the model scene.
+    pub model: ModelChoice,
+    /// The OBJ file given with `--model`: `o` goes to it after the sphere.
+    pub obj: Option<PathBuf>,
+    /// Keys `1`–`4`: each reference light on or off (the scene applies them
+    /// when rendering; `settings.lights` switches them all).
+    pub light_on: [bool; 4],
+    /// Key `z`: the plasma's Z² table or exact normal.
+    pub plasma_normal: PlasmaNormal,
+    /// The last pointer cell in the plasma scene (`None`: light at the centre).
+    pub pointer: Option<(u16, u16)>,
+}
+
+/// Everything the picture depends on besides its size and the texture:
+/// the loop renders again only when this changes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Look {
+    pub settings: Settings,
+    pub scene: SceneKind,
+    pub model: ModelChoice,
+    pub light_on: [bool; 4],
+    pub plasma_normal: PlasmaNormal,
+    pub pointer: Option<(u16, u16)>,
 }
 
 /// Something `update` asks the event loop to do.
@@ -90,6 +120,8 @@ pub enum Command {
     ReloadTexture,
     /// Add the paths of a paste to the texture list and apply the last one.
     AddPaths(String),
+    /// Build this scene (and model); the loop answers with [`Action::SceneBuilt`].
+    BuildScene(SceneKind, ModelChoice),
 }
 
 impl State {
@@ -110,6 +142,33 @@ impl State {
             cost_panel: false,
             costs: CostHistory::default(),
             quit: false,
+            scene: SceneKind::Cube,
+            model: ModelChoice::Cube,
+            obj: None,
+            light_on: [true; 4],
+            plasma_normal: PlasmaNormal::Table,
+            pointer: None,
+        }
+    }
+
+    /// What the picture depends on (the pointer only counts in the plasma).
+    pub fn look(&self) -> Look {
+        Look {
+            settings: self.settings,
+            scene: self.scene,
+            model: self.model.clone(),
+            light_on: self.light_on,
+            plasma_normal: self.plasma_normal,
+            pointer: self.pointer.filter(|_| self.scene == SceneKind::Plasma),
+        }
+    }
+
+    /// The model `o` shows next: triangle → plane → cube → sphere → the
+    /// `--model` OBJ (if any) → triangle.
+    pub fn next_model(&self) -> ModelChoice {
+        match (&self.model, &self.obj) {
+            (ModelChoice::Sphere, Some(path)) => ModelChoice::Obj(path.clone()),
+            (m, _) => m.next(),
         }
     }
 
@@ -124,6 +183,16 @@ impl State {
     fn rotate(&mut self, delta: Vec3) {
         let r = self.settings.rotation + delta;
         self.settings.rotation = r.to_array().map(normalize_degrees).into();
+    }
+}
+
+/// The plasma light for a pointer cell: cell (col, row) covers pixels
+/// (col, 2·row) and (col, 2·row + 1), and the light goes on the lower one,
+/// where the pointer's tip is drawn. No pointer yet: the centre.
+pub fn plasma_light(pointer: Option<(u16, u16)>, width: usize, height: usize) -> (f32, f32) {
+    match pointer {
+        Some((col, row)) => (col as f32, 2.0 * row as f32 + 1.0),
+        None => (width as f32 / 2.0, height as f32 / 2.0),
     }
 }
 
@@ -183,6 +252,46 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
             state.message = Some(format!("texture {}", clean(&label)));
         }
         Action::TextureResult(Err(e)) => state.message = Some(clean(&e)),
+        Action::CycleTechnique => s.technique = s.technique.next(),
+        Action::ToggleLightVector => s.light_vector = s.light_vector.toggle(),
+        Action::ToggleHeightDerivative => s.height_derivative = s.height_derivative.toggle(),
+        Action::CycleAntiAlias => s.aa = s.aa.next(),
+        Action::CycleDisplay => s.display = s.display.next(),
+        Action::ToggleLights => s.lights = !s.lights,
+        Action::ToggleAttenuation => s.attenuation = !s.attenuation,
+        Action::ToggleLight(i) => {
+            if let Some(on) = state.light_on.get_mut(i) {
+                *on = !*on;
+            }
+        }
+        Action::TogglePlasmaNormal => state.plasma_normal = state.plasma_normal.toggle(),
+        Action::NextModel => {
+            // From another scene, `o` first goes back to the model.
+            let model = if state.scene == SceneKind::Cube {
+                state.next_model()
+            } else {
+                state.model.clone()
+            };
+            return Some(Command::BuildScene(SceneKind::Cube, model));
+        }
+        Action::NextScene => {
+            return Some(Command::BuildScene(state.scene.next(), state.model.clone()));
+        }
+        Action::SceneBuilt(Ok((scene, model))) => {
+            if scene != state.scene {
+                // A new scene starts with its light in the middle and no drag.
+                state.pointer = None;
+                state.drag = None;
+            }
+            state.scene = scene;
+            state.model = model;
+        }
+        Action::SceneBuilt(Err(e)) => state.message = Some(clean(&e)),
+        Action::Pointer { col, row } => {
+            if state.scene == SceneKind::Plasma {
+                state.pointer = Some((col, row));
+            }
+        }
         Action::Saved(Ok(path)) => state.message = Some(format!("saved {}", clean(&path))),
         Action::Saved(Err(e)) => state.message = Some(format!("not saved: {}", clean(&e))),
         Action::ToggleHelp => state.help = !state.help,

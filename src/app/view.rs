@@ -8,9 +8,11 @@ use ratatui::style::{Modifier, Style};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Clear, Paragraph, Widget};
 
-use super::state::{AXES, State};
+use super::state::{AXES, LIGHT_NAMES, State, plasma_light};
 use crate::framebuffer::{Framebuffer, Rgb};
-use crate::settings::Shading;
+use crate::plasma::PlasmaNormal;
+use crate::scene::SceneKind;
+use crate::settings::{AntiAlias, Filter, LightVector, Settings, Shading, Technique};
 use crate::term::HalfBlocks;
 
 /// Every key and mouse action, as `?` lists them.
@@ -41,9 +43,27 @@ pub const HELP: &[(&str, &str)] = &[
         "k",
         "cost panel: time per stage, frame times, active stages",
     ),
+    (
+        "e",
+        "bump technique: Blinn → emboss → dot3 → parallax → POM",
+    ),
+    ("v", "dot3 light vector: per pixel / per vertex"),
+    ("h", "height derivative: filtered / per texel"),
+    ("a", "anti-aliasing: off → SSAA 2x2 → SSAA 4x4 → MSAA 4"),
+    ("d", "display: points → lines → fill"),
+    ("l", "all lights on / off"),
+    ("1 2 3 4", "white / red / green / blue light on / off"),
+    ("L", "distance attenuation on / off"),
+    ("o", "model: triangle → plane → cube → sphere → OBJ"),
+    ("p", "scene: model → shadow → plasma"),
+    ("z", "plasma: Z² table / exact normal"),
+    ("pointer", "plasma: the light follows the mouse"),
     ("?", "this help (Esc closes it)"),
     ("q Esc Ctrl-C", "quit"),
 ];
+
+/// Screens narrower than this get the short orientation fields.
+pub const COMPACT_BELOW: u16 = 80;
 
 /// Where each part of the screen goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -108,14 +128,16 @@ pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf:
         pad: background,
     }
     .render(a.viewport, buf);
-    let status_text = status_line(state, screen.width as usize);
-    // A compact status line leaves the frame cost to the line above.
-    let compact = status_text == status_modes(state);
+    let (status_text, detail) = status_choice(state, screen.width as usize);
+    // Narrow screens shorten the fields; a status line without the frame
+    // cost leaves it to the line above.
+    let compact = screen.width < COMPACT_BELOW;
+    let cost_above = !detail.is_some_and(Detail::has_cost);
     if let Some(panel) = a.panel {
-        panel_line(state, compact).render(panel, buf);
+        panel_line(state, compact, cost_above).render(panel, buf);
     } else if let (Some(status), Some(_)) = (a.status, state.panel.focus) {
         // No room for both: while editing, the fields take the status line.
-        panel_line(state, true).render(status, buf);
+        panel_line(state, true, false).render(status, buf);
         return help(state, screen, buf);
     }
     if let Some(status) = a.status {
@@ -148,7 +170,7 @@ fn cost_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
 }
 
 /// The orientation fields, then (on narrow screens) the frame cost, then the message.
-fn panel_line(state: &State, compact: bool) -> Line<'static> {
+fn panel_line(state: &State, compact: bool, cost: bool) -> Line<'static> {
     let mut spans = Vec::new();
     for (axis, name) in AXES.iter().enumerate() {
         let focused = state.panel.focus == Some(axis);
@@ -176,8 +198,10 @@ fn panel_line(state: &State, compact: bool) -> Line<'static> {
         } else {
             "  Enter apply · Esc cancel"
         }));
-    } else if compact {
+    } else if cost && compact {
         spans.push(Span::raw(format!(" {}", cost_text(state, true))));
+    } else if cost {
+        spans.push(Span::raw(format!("  {}", cost_text(state, false))));
     }
     if let Some(msg) = &state.message {
         spans.push(Span::raw(format!("  {msg}")));
@@ -186,19 +210,25 @@ fn panel_line(state: &State, compact: bool) -> Line<'static> {
 }
 
 /// The status line: the longest form that fits in `width` columns. The
-/// shortest form keeps the modes and colour depth; the frame cost then
-/// moves to the orientation line.
+/// shorter forms leave the frame cost to the line above; the shortest keeps
+/// the modes and colour depth.
 pub fn status_line(state: &State, width: usize) -> String {
+    status_choice(state, width).0
+}
+
+/// The status text and its detail (`None`: the abbreviated form).
+fn status_choice(state: &State, width: usize) -> (String, Option<Detail>) {
     [
         Detail::Full,
         Detail::NoHint,
         Detail::NoStrength,
         Detail::Short,
+        Detail::Modes,
     ]
     .into_iter()
-    .map(|d| status_text(state, d))
-    .find(|t| t.chars().count() <= width)
-    .unwrap_or_else(|| status_modes(state))
+    .map(|d| (status_text(state, d), Some(d)))
+    .find(|(t, _)| t.chars().count() <= width)
+    .unwrap_or_else(|| (status_modes(state), None))
 }
 
 /// How much the status line says.
@@ -210,8 +240,17 @@ pub enum Detail {
     NoHint,
     /// Without the hint and the bump strength.
     NoStrength,
-    /// Short words (fits 80 columns).
+    /// Short words.
     Short,
+    /// Short words without the frame cost (it moves to the line above).
+    Modes,
+}
+
+impl Detail {
+    /// Whether this form carries the frame cost.
+    pub fn has_cost(self) -> bool {
+        self != Detail::Modes
+    }
 }
 
 /// Frame time, frames per second and bytes of the last frame.
@@ -229,12 +268,137 @@ pub fn cost_text(state: &State, compact: bool) -> String {
     }
 }
 
-/// The abbreviated status line: every mode and the colour depth.
-pub fn status_modes(state: &State) -> String {
-    let s = &state.settings;
-    let flag = |b: bool| if b { '+' } else { '-' };
+/// What is shown: the model, the shadow scene or the plasma.
+fn scene_label(state: &State, short: bool) -> String {
+    match state.scene {
+        SceneKind::Cube if short => state.model.label(),
+        SceneKind::Cube => format!("model {}", state.model.label()),
+        SceneKind::Shadow => "shadow".into(),
+        SceneKind::Plasma => "plasma".into(),
+    }
+}
+
+/// The lights: all on, all off, or which are off (`l`, `1`–`4`).
+fn lights_text(state: &State, short: bool) -> String {
+    if !state.settings.lights {
+        return "lights off".into();
+    }
+    if state.light_on.iter().all(|&on| on) {
+        return "lights on".into();
+    }
+    if short {
+        let keys: String = (0..LIGHT_NAMES.len())
+            .map(|i| {
+                if state.light_on[i] {
+                    char::from(b'1' + i as u8)
+                } else {
+                    '·'
+                }
+            })
+            .collect();
+        return format!("lights {keys}");
+    }
+    let off: Vec<&str> = LIGHT_NAMES
+        .iter()
+        .zip(state.light_on)
+        .filter(|(_, on)| !on)
+        .map(|(name, _)| *name)
+        .collect();
+    format!("lights on ({} off)", off.join(", "))
+}
+
+/// The bump technique, with dot3's light vector.
+fn technique_text(s: &Settings) -> String {
+    if s.technique == Technique::Dot3 {
+        format!("dot3 ({})", s.light_vector.label())
+    } else {
+        s.technique.label().into()
+    }
+}
+
+/// The plasma's own line: its normal mode and where the light is.
+fn plasma_text(state: &State, detail: Detail) -> String {
+    let light = match state.pointer {
+        Some(_) => {
+            let (x, y) = plasma_light(state.pointer, 0, 0);
+            format!("light {x:.0},{y:.0}")
+        }
+        None => "light centre".into(),
+    };
+    let cost = if detail.has_cost() {
+        format!(" │ {}", cost_text(state, false))
+    } else {
+        String::new()
+    };
+    let hint = if detail == Detail::Full {
+        " │ ? help"
+    } else {
+        ""
+    };
     format!(
-        "{} {} T{} C{} B{}{} {}{}",
+        "plasma │ {} │ {light} │ {}{cost}{hint}",
+        state.plasma_normal.label(),
+        state.depth.label(),
+    )
+}
+
+/// The abbreviated status line: the 3D modes, the scene, the modes that
+/// differ from their defaults, and the colour depth.
+pub fn status_modes(state: &State) -> String {
+    if state.scene == SceneKind::Plasma {
+        let normal = match state.plasma_normal {
+            PlasmaNormal::Table => "Z²",
+            PlasmaNormal::Exact => "exact",
+        };
+        return format!("plasma {normal} {}", short_depth(state));
+    }
+    let s = &state.settings;
+    let d = Settings::default();
+    let flag = |b: bool| if b { '+' } else { '-' };
+    let mut extras = String::new();
+    let mut add = |t: &str| {
+        extras.push(' ');
+        extras.push_str(t);
+    };
+    if s.technique != d.technique {
+        add(s.technique.label());
+    }
+    if s.technique == Technique::Dot3 && s.light_vector == LightVector::Vertex {
+        add("Lv");
+    }
+    if s.filter != d.filter {
+        add(match s.filter {
+            Filter::Nearest => "near",
+            Filter::Bilinear => "bil",
+            Filter::Trilinear => "tri",
+            Filter::Anisotropic => "aniso",
+        });
+    }
+    if s.height_derivative != d.height_derivative {
+        add(&format!("dH {}", s.height_derivative.label()));
+    }
+    if s.aa != d.aa {
+        add(match s.aa {
+            AntiAlias::Off => "AA-",
+            AntiAlias::Ssaa2 => "2x2",
+            AntiAlias::Ssaa4 => "4x4",
+            AntiAlias::Msaa4 => "MS4",
+        });
+    }
+    if s.display != d.display {
+        add(s.display.label());
+    }
+    if !s.lights {
+        add("L-");
+    } else if !state.light_on.iter().all(|&on| on) {
+        add(&lights_text(state, true).replace("lights ", "L"));
+    }
+    if s.attenuation {
+        add("att");
+    }
+    let what: String = scene_label(state, true).chars().take(12).collect();
+    format!(
+        "{} {} T{} C{} B{}{} {what}{extras} {}{}",
         s.shading.label(),
         if s.normals == crate::settings::Normals::Vertex {
             "V"
@@ -258,47 +422,64 @@ fn on_off(b: bool) -> &'static str {
     if b { "on" } else { "off" }
 }
 
-/// Every mode and the last frame's cost.
+/// Every mode and (unless `Modes`) the last frame's cost.
 pub fn status_text(state: &State, detail: Detail) -> String {
+    if state.scene == SceneKind::Plasma {
+        return plasma_text(state, detail);
+    }
     let s = &state.settings;
     let phong_only = s.bump && s.shading != Shading::Phong;
     let strength = match detail {
-        Detail::NoStrength | Detail::Short => String::new(),
-        _ => format!(" k={}", format_strength(s.bump_strength)),
+        Detail::Full | Detail::NoHint => format!(" k={}", format_strength(s.bump_strength)),
+        _ => String::new(),
     };
     let hint = if detail == Detail::Full {
         " │ ? help"
     } else {
         ""
     };
-    if detail == Detail::Short {
+    let cost = if detail.has_cost() {
+        format!(" │ {}", cost_text(state, false))
+    } else {
+        String::new()
+    };
+    let auto = if state.auto_rotate { " │ auto" } else { "" };
+    let po = if phong_only { " (Phong only)" } else { "" };
+    if matches!(detail, Detail::Short | Detail::Modes) {
         return format!(
-            "{} │ {} │ tex {} │ col {} │ bump {}{} │ {} │ {}{}",
+            "{} │ {} │ tex {} │ col {} │ bump {}{po} │ {} │ {} │ dH {} │ AA {} │ {} │ {} │ {} │ att {} │ {}{cost}{auto}",
             s.shading.label(),
             s.normals.label(),
             on_off(s.texture),
             on_off(s.colors),
             on_off(s.bump),
-            if phong_only { " (Phong only)" } else { "" },
+            technique_text(s),
+            s.filter.label(),
+            s.height_derivative.label(),
+            s.aa.label(),
+            s.display.label(),
+            scene_label(state, true),
+            lights_text(state, true),
+            on_off(s.attenuation),
             state.depth.label(),
-            cost_text(state, false),
-            if state.auto_rotate { " │ auto" } else { "" },
         );
     }
     format!(
-        "{} │ normals {} │ texture {} {} │ colours {} │ bump {}{}{} │ {} │ {}{}{}",
+        "{} │ normals {} │ texture {} │ colours {} │ bump {}{po}{strength} │ {} │ {} │ dH {} │ AA {} │ {} │ {} │ {} │ attenuation {} │ {}{cost}{auto}{hint}",
         s.shading.label(),
         s.normals.label(),
         on_off(s.texture),
-        s.filter.label(),
         on_off(s.colors),
         on_off(s.bump),
-        if phong_only { " (Phong only)" } else { "" },
-        strength,
+        technique_text(s),
+        s.filter.label(),
+        s.height_derivative.label(),
+        s.aa.label(),
+        s.display.label(),
+        scene_label(state, false),
+        lights_text(state, false),
+        on_off(s.attenuation),
         state.depth.label(),
-        cost_text(state, false),
-        if state.auto_rotate { " │ auto" } else { "" },
-        hint,
     )
 }
 
@@ -327,7 +508,8 @@ pub fn format_bytes(n: u64) -> String {
     }
 }
 
-/// The help overlay, centred, cut to the screen.
+/// The help overlay, centred; in two columns when one does not fit the
+/// height but two fit the width; cut to the screen.
 fn help(state: &State, screen: Rect, buf: &mut Buffer) {
     if !state.help {
         return;
@@ -342,24 +524,40 @@ fn help(state: &State, screen: Rect, buf: &mut Buffer) {
         .map(|(_, t)| t.chars().count())
         .max()
         .unwrap_or(0);
-    let width = ((key_w + text_w + 6) as u16).min(screen.width);
-    let height = ((HELP.len() + 2) as u16).min(screen.height);
+    let entry_w = key_w + 2 + text_w;
+    let two =
+        HELP.len() + 2 > screen.height as usize && 2 * entry_w + 3 + 4 <= screen.width as usize;
+    let rows = if two {
+        HELP.len().div_ceil(2)
+    } else {
+        HELP.len()
+    };
+    let inner_w = if two { 2 * entry_w + 3 } else { entry_w };
+    let width = ((inner_w + 4) as u16).min(screen.width);
+    let height = ((rows + 2) as u16).min(screen.height);
     let area = Rect::new(
         screen.x + (screen.width - width) / 2,
         screen.y + (screen.height - height) / 2,
         width,
         height,
     );
-    let lines: Vec<Line> = HELP
-        .iter()
-        .map(|(k, t)| {
-            Line::from(vec![
-                Span::styled(
-                    format!("{k:>key_w$}"),
-                    Style::new().add_modifier(Modifier::BOLD),
-                ),
-                Span::raw(format!("  {t}")),
-            ])
+    let entry = |(k, t): &(&str, &str)| {
+        vec![
+            Span::styled(
+                format!("{k:>key_w$}"),
+                Style::new().add_modifier(Modifier::BOLD),
+            ),
+            Span::raw(format!("  {t:<text_w$}")),
+        ]
+    };
+    let lines: Vec<Line> = (0..rows)
+        .map(|r| {
+            let mut spans = entry(&HELP[r]);
+            if two && let Some(right) = HELP.get(r + rows) {
+                spans.push(Span::raw("   "));
+                spans.extend(entry(right));
+            }
+            Line::from(spans)
         })
         .collect();
     Clear.render(area, buf);

@@ -13,8 +13,9 @@ pub const SETUP: &[u8] =
 /// Everything `SETUP` switched on, switched off again, in reverse order. The
 /// alternate screen is cleared before leaving it: after a resize, tmux
 /// otherwise copies rows of it onto the shell's screen.
+/// 1003 (all motion, switched on in the plasma scene) goes off too.
 pub const RESTORE: &[u8] =
-    b"\x1b[?2026l\x1b[?2004l\x1b[?1006l\x1b[?1002l\x1b[?1000l\x1b[0m\x1b[2J\x1b[?25h\x1b[?1049l";
+    b"\x1b[?2026l\x1b[?2004l\x1b[?1006l\x1b[?1003l\x1b[?1002l\x1b[?1000l\x1b[0m\x1b[2J\x1b[?25h\x1b[?1049l";
 
 static ACTIVE: AtomicBool = AtomicBool::new(false);
 static HOOK: Once = Once::new();

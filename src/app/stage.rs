@@ -1,0 +1,104 @@
+//! What the interactive view shows: the built scene (3D or plasma), rebuilt
+//! when the user picks another scene or model, kept when that fails.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use crate::framebuffer::Framebuffer;
+use crate::render::Renderer;
+use crate::sanitize::clean;
+use crate::scene::obj::ObjError;
+use crate::scene::{Built, ModelChoice, SceneKind, build_scene};
+use crate::stats::FrameStats;
+use crate::texture::Texture;
+
+use super::state::{State, plasma_light};
+
+/// The shown scene, with what it was built from.
+pub struct Stage {
+    built: Built,
+    kind: SceneKind,
+    model: ModelChoice,
+    /// Kept across the plasma (which has none) for the next 3D scene.
+    texture: Arc<Texture>,
+    all_faces: bool,
+}
+
+impl Stage {
+    /// Builds the starting scene (a bad `--model` file is an error).
+    pub fn new(
+        kind: SceneKind,
+        model: ModelChoice,
+        texture: Arc<Texture>,
+        all_faces: bool,
+    ) -> Result<Stage, ObjError> {
+        let built = build_scene(kind, &model, texture.clone(), all_faces)?;
+        Ok(Stage {
+            built,
+            kind,
+            model,
+            texture,
+            all_faces,
+        })
+    }
+
+    /// The scene and model shown.
+    pub fn shown(&self) -> (SceneKind, &ModelChoice) {
+        (self.kind, &self.model)
+    }
+
+    pub fn built(&self) -> &Built {
+        &self.built
+    }
+
+    /// Shows `kind` with `model` (the texture stays). On error the scene
+    /// shown stays and the error comes back one line long, sanitised.
+    pub fn build(&mut self, kind: SceneKind, model: &ModelChoice) -> Result<(), String> {
+        if (kind, model) == (self.kind, &self.model) {
+            return Ok(());
+        }
+        let built = build_scene(kind, model, self.texture.clone(), self.all_faces)
+            .map_err(|e| clean(&e.to_string()))?;
+        self.built = built;
+        self.kind = kind;
+        self.model = model.clone();
+        Ok(())
+    }
+
+    /// Applies another texture to the shown scene and to those built later.
+    pub fn set_texture(&mut self, texture: Arc<Texture>) {
+        if let Built::Scene(scene) = &mut self.built {
+            scene.material.texture = texture.clone();
+        }
+        self.texture = texture;
+    }
+
+    /// Draws the state's picture: the 3D scene with the state's light
+    /// switches, or the plasma lit from the pointer.
+    /// What it cost goes to the cost panel (the plasma is all "raster").
+    pub fn render(
+        &mut self,
+        renderer: &mut Renderer,
+        state: &State,
+        fb: &mut Framebuffer,
+    ) -> FrameStats {
+        match &mut self.built {
+            Built::Scene(scene) => {
+                for (light, on) in scene.lights.iter_mut().zip(state.light_on) {
+                    light.enabled = on;
+                }
+                renderer.render(scene, &state.settings, fb)
+            }
+            Built::Plasma(plasma) => {
+                let start = Instant::now();
+                let light = plasma_light(state.pointer, fb.width(), fb.height());
+                let counters = plasma.render(light, state.plasma_normal, fb);
+                FrameStats {
+                    counters,
+                    raster_time: start.elapsed(),
+                    ..FrameStats::default()
+                }
+            }
+        }
+    }
+}

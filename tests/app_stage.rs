@@ -1,0 +1,214 @@
+//! The shown scene: rebuilt by `o` and `p`, kept when a model fails to
+//! load, and the all-motion mouse mode switched with the plasma.
+
+use std::cell::RefCell;
+use std::sync::{Arc, Mutex, mpsc};
+
+use crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
+use ratatui::Terminal;
+use relief::app::State;
+use relief::app::event_loop::{Exit, Looper, MOTION_OFF, MOTION_ON, Msg};
+use relief::app::stage::Stage;
+use relief::scene::{Built, ModelChoice, SceneKind};
+use relief::settings::Settings;
+use relief::term::{ColorDepth, SgrBackend};
+use relief::texture::procedural::brick;
+use relief::{Framebuffer, Renderer};
+
+fn stage() -> Stage {
+    Stage::new(SceneKind::Cube, ModelChoice::Cube, Arc::new(brick()), false).unwrap()
+}
+
+/// A model file whose face points at a vertex that does not exist.
+fn bad_obj(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("relief-stage-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, "v 0 0 0\nv 1 0 0\nf 1 2 7\n").unwrap();
+    path
+}
+
+fn picture(stage: &mut Stage, state: &State) -> Framebuffer {
+    let mut fb = Framebuffer::new(64, 48);
+    let stats = stage.render(&mut Renderer::new(), state, &mut fb);
+    // The cost panel hears what was drawn, plasma included.
+    assert!(stats.counters.pixels_shaded > 0);
+    fb
+}
+
+#[test]
+fn a_bad_obj_keeps_the_old_scene_and_says_why() {
+    let mut st = stage();
+    let state = State::new(Settings::default(), ColorDepth::Truecolor);
+    let before = picture(&mut st, &state);
+    let path = bad_obj("broken\x1b[31m.obj");
+    let err = st
+        .build(SceneKind::Cube, &ModelChoice::Obj(path.clone()))
+        .unwrap_err();
+    assert!(err.contains("broken") && err.contains(".obj"), "{err}");
+    assert!(!err.chars().any(char::is_control), "sanitised: {err:?}");
+    assert_eq!(st.shown(), (SceneKind::Cube, &ModelChoice::Cube));
+    assert_eq!(picture(&mut st, &state), before, "the same cube");
+    std::fs::remove_file(path).unwrap();
+}
+
+#[test]
+fn scenes_switch_and_the_texture_stays_across_the_plasma() {
+    let mut st = stage();
+    let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
+    let cube = picture(&mut st, &state);
+    st.build(SceneKind::Plasma, &ModelChoice::Cube).unwrap();
+    assert!(matches!(st.built(), Built::Plasma(_)));
+    state.scene = SceneKind::Plasma;
+    let plasma = picture(&mut st, &state);
+    assert_ne!(plasma, cube);
+    // The light follows the pointer.
+    state.pointer = Some((5, 3));
+    let moved = picture(&mut st, &state);
+    assert_ne!(moved, plasma);
+    st.build(SceneKind::Cube, &ModelChoice::Cube).unwrap();
+    state.scene = SceneKind::Cube;
+    state.pointer = None;
+    assert_eq!(picture(&mut st, &state), cube, "same texture, same cube");
+    st.build(SceneKind::Shadow, &ModelChoice::Cube).unwrap();
+    assert!(matches!(st.built(), Built::Scene(s) if s.objects.len() == 2));
+}
+
+#[test]
+fn light_switches_reach_the_scene() {
+    let mut st = stage();
+    let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
+    let all = picture(&mut st, &state);
+    state.light_on[0] = false;
+    let no_white = picture(&mut st, &state);
+    assert_ne!(all, no_white);
+    let dim = |fb: &Framebuffer| {
+        fb.pixels()
+            .iter()
+            .map(|p| p.iter().map(|&c| c as u64).sum::<u64>())
+            .sum::<u64>()
+    };
+    assert!(
+        dim(&no_white) < dim(&all),
+        "the white light is the strong one"
+    );
+    state.light_on = [true; 4];
+    assert_eq!(picture(&mut st, &state), all);
+}
+
+fn key(c: char) -> Msg {
+    Msg::Input(Event::Key(KeyEvent::new(
+        KeyCode::Char(c),
+        KeyModifiers::NONE,
+    )))
+}
+
+/// A terminal that tells the test each time a frame was written.
+struct Tap {
+    bytes: Arc<Mutex<Vec<u8>>>,
+    written: mpsc::Sender<()>,
+}
+
+impl std::io::Write for Tap {
+    fn write(&mut self, data: &[u8]) -> std::io::Result<usize> {
+        self.bytes.lock().unwrap().extend_from_slice(data);
+        let _ = self.written.send(());
+        Ok(data.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// Runs the loop with a stage; each batch of keys is sent after the
+/// previous frame was written. Returns the state and the bytes written.
+fn run(stage: &RefCell<Stage>, mut state: State, batches: Vec<Vec<char>>) -> (State, Vec<u8>) {
+    let (tx, rx) = mpsc::channel();
+    let (written_tx, written) = mpsc::channel();
+    let bytes = Arc::new(Mutex::new(Vec::new()));
+    let tap = Tap {
+        bytes: bytes.clone(),
+        written: written_tx,
+    };
+    let driver = std::thread::spawn(move || {
+        for batch in batches {
+            written.recv().unwrap();
+            for c in batch {
+                tx.send(key(c)).unwrap();
+            }
+        }
+        let _ = written.recv();
+        drop(tx);
+    });
+    let mut term = Terminal::new(SgrBackend::with_size(tap, 40, 12)).unwrap();
+    let mut renderer = Renderer::new();
+    let exit = Looper {
+        terminal: &mut term,
+        render: |s: &State, fb: &mut Framebuffer| stage.borrow_mut().render(&mut renderer, s, fb),
+        background: [0, 0, 0],
+        rx: &rx,
+        textures: None,
+        stage: Some(stage),
+    }
+    .run(&mut state)
+    .unwrap();
+    assert!(matches!(exit, Exit::InputClosed(_)));
+    driver.join().unwrap();
+    let out = bytes.lock().unwrap().clone();
+    (state, out)
+}
+
+fn count(haystack: &[u8], needle: &[u8]) -> usize {
+    haystack
+        .windows(needle.len())
+        .filter(|w| *w == needle)
+        .count()
+}
+
+fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {
+    haystack.windows(needle.len()).position(|w| w == needle)
+}
+
+#[test]
+fn the_loop_rebuilds_keeps_the_scene_on_error_and_switches_mouse_motion() {
+    let path = bad_obj("loop.obj");
+    let st = RefCell::new(stage());
+    let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
+    state.model = ModelChoice::Sphere;
+    state.obj = Some(path.clone());
+    st.borrow_mut()
+        .build(SceneKind::Cube, &ModelChoice::Sphere)
+        .unwrap();
+    // `o` from the sphere tries the bad file: refused, the sphere stays;
+    // then twice `p`: the plasma, which asks for every motion; then `p`
+    // back to the model, motion off again.
+    let (state, bytes) = run(&st, state, vec![vec!['o'], vec!['p', 'p'], vec!['p']]);
+    assert_eq!(state.model, ModelChoice::Sphere);
+    assert_eq!(state.scene, SceneKind::Cube);
+    assert_eq!(st.borrow().shown(), (SceneKind::Cube, &ModelChoice::Sphere));
+    let msg = state.message.clone().unwrap();
+    assert!(msg.contains("loop.obj"), "{msg}");
+    assert_eq!(
+        (count(&bytes, MOTION_ON), count(&bytes, MOTION_OFF)),
+        (1, 1)
+    );
+    assert!(find(&bytes, MOTION_ON) < find(&bytes, MOTION_OFF));
+    std::fs::remove_file(path).unwrap();
+}
+
+#[test]
+fn a_texture_applied_to_the_stage_stays_through_rebuilds() {
+    let mut list = relief::texture::TextureList::new();
+    list.cycle(true).unwrap();
+    let other = list.texture().clone();
+    let state = State::new(Settings::default(), ColorDepth::Truecolor);
+    let mut want = Stage::new(SceneKind::Cube, ModelChoice::Cube, other.clone(), false).unwrap();
+    let want = picture(&mut want, &state);
+    let mut st = stage();
+    assert_ne!(picture(&mut st, &state), want);
+    st.set_texture(other);
+    assert_eq!(picture(&mut st, &state), want, "applied to the shown scene");
+    st.build(SceneKind::Plasma, &ModelChoice::Cube).unwrap();
+    st.build(SceneKind::Cube, &ModelChoice::Cube).unwrap();
+    assert_eq!(picture(&mut st, &state), want, "and to the rebuilt one");
+}
