@@ -103,7 +103,7 @@ fn quit_keys() {
 #[test]
 fn unbound_keys_do_nothing() {
     let mut s = state();
-    for c in ['/', 'g', 'j', 'u', 'y', 'Q'] {
+    for c in ['g', 'j', 'u', 'y', 'Q'] {
         let m = if c.is_uppercase() {
             KeyModifiers::SHIFT
         } else {
@@ -367,4 +367,46 @@ fn resize_changes_nothing_in_the_state() {
     assert_eq!(a, Action::Resize);
     update(&mut s, a);
     assert_eq!(s, state());
+}
+
+#[test]
+fn slash_opens_a_path_prompt_that_takes_every_key() {
+    let mut s = state();
+    assert_eq!(ch(&mut s, '/'), None);
+    assert_eq!(s.prompt.as_deref(), Some(""));
+    // Mode keys are text while the prompt is open.
+    type_text(&mut s, "my bricks.mxq");
+    assert_eq!(s.settings, Settings::default());
+    press(&mut s, KeyCode::Backspace);
+    press(&mut s, KeyCode::Backspace);
+    type_text(&mut s, "pm");
+    assert_eq!(s.prompt.as_deref(), Some("my bricks.mpm"));
+    // A paste goes into the prompt, not into the texture list.
+    assert_eq!(update(&mut s, Action::Paste("\x1b[31m\n".into())), None);
+    assert_eq!(s.prompt.as_deref(), Some("my bricks.mpm\x1b[31m"));
+    press(&mut s, KeyCode::Backspace);
+    press(&mut s, KeyCode::Backspace);
+    press(&mut s, KeyCode::Backspace);
+    press(&mut s, KeyCode::Backspace);
+    press(&mut s, KeyCode::Backspace);
+    assert_eq!(
+        press(&mut s, KeyCode::Enter),
+        Some(Command::AddPaths("my bricks.mpm".into()))
+    );
+    assert_eq!(s.prompt, None);
+    assert!(s.message.as_deref().unwrap().contains("my bricks.mpm"));
+}
+
+#[test]
+fn the_prompt_cancels_with_esc_and_refuses_an_empty_path() {
+    let mut s = state();
+    ch(&mut s, '/');
+    type_text(&mut s, "x.png");
+    assert_eq!(press(&mut s, KeyCode::Esc), None);
+    assert_eq!(s.prompt, None);
+    assert!(!s.quit, "Esc closes the prompt, it does not quit");
+    ch(&mut s, '/');
+    type_text(&mut s, "   ");
+    assert_eq!(press(&mut s, KeyCode::Enter), None);
+    assert_eq!(s.message.as_deref(), Some("no path typed"));
 }

@@ -303,3 +303,23 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
     assert_eq!(status_line(&s, 20), "plasma exact 24b");
     assert_eq!(s.plasma_normal, PlasmaNormal::Exact);
 }
+
+#[test]
+fn the_path_prompt_is_shown_with_control_characters_replaced() {
+    let mut s = relief::app::State::new(
+        relief::Settings::default(),
+        relief::term::ColorDepth::Truecolor,
+    );
+    s.prompt = Some("tex/\x1b[2Jbrick.png".into());
+    for (w, h) in [(160, 48), (40, 12)] {
+        let text = all_text(&screen(&s, w, h));
+        assert!(text.contains("texture path:"), "{w}x{h}");
+        assert!(!text.contains('\x1b'));
+    }
+    let text = all_text(&screen(&s, 160, 48));
+    assert!(text.contains("tex/?[2Jbrick.png_"));
+    // The help lists the key.
+    s.prompt = None;
+    s.help = true;
+    assert!(all_text(&screen(&s, 160, 48)).contains("type a texture path"));
+}

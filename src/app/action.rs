@@ -92,6 +92,15 @@ pub enum Action {
     PrevTexture,
     /// `R`: re-read the current texture file.
     ReloadTexture,
+    /// `/`: open the prompt to type a texture path.
+    OpenPrompt,
+    /// A character typed into the prompt.
+    PromptInput(char),
+    PromptBackspace,
+    /// Enter in the prompt: load the typed path(s).
+    PromptSubmit,
+    /// Esc in the prompt.
+    PromptCancel,
     /// What a texture command did: the new texture's label, or the error.
     TextureResult(Result<String, String>),
     /// `e`: Blinn → emboss → dot3 → parallax → POM.
@@ -180,6 +189,15 @@ pub fn action_for_key(state: &State, key: &KeyEvent) -> Option<Action> {
     if key.modifiers.contains(KeyModifiers::ALT) {
         return None;
     }
+    if state.prompt.is_some() {
+        return match key.code {
+            KeyCode::Enter => Some(Action::PromptSubmit),
+            KeyCode::Esc => Some(Action::PromptCancel),
+            KeyCode::Backspace => Some(Action::PromptBackspace),
+            KeyCode::Char(c) if !ctrl => Some(Action::PromptInput(c)),
+            _ => None,
+        };
+    }
     if state.panel.focus.is_some() {
         return match key.code {
             KeyCode::Tab => Some(Action::PanelNext),
@@ -219,6 +237,7 @@ pub fn action_for_key(state: &State, key: &KeyEvent) -> Option<Action> {
         KeyCode::Char('x') => Some(Action::NextTexture),
         KeyCode::Char('X') => Some(Action::PrevTexture),
         KeyCode::Char('R') => Some(Action::ReloadTexture),
+        KeyCode::Char('/') => Some(Action::OpenPrompt),
         KeyCode::Char('e') => Some(Action::CycleTechnique),
         KeyCode::Char('v') => Some(Action::ToggleLightVector),
         KeyCode::Char('h') => Some(Action::ToggleHeightDerivative),

@@ -96,7 +96,12 @@ pub struct State {
     pub plasma_normal: PlasmaNormal,
     /// The last pointer cell in the plasma scene (`None`: light at the centre).
     pub pointer: Option<(u16, u16)>,
+    /// Key `/`: the texture path being typed (`None`: no prompt).
+    pub prompt: Option<String>,
 }
+
+/// Longest path the prompt takes.
+const PROMPT_MAX: usize = 4096;
 
 /// Everything the picture depends on besides its size and the texture:
 /// the loop renders again only when this changes.
@@ -148,6 +153,7 @@ impl State {
             light_on: [true; 4],
             plasma_normal: PlasmaNormal::Table,
             pointer: None,
+            prompt: None,
         }
     }
 
@@ -247,6 +253,33 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         Action::NextTexture => return Some(Command::CycleTexture(true)),
         Action::PrevTexture => return Some(Command::CycleTexture(false)),
         Action::ReloadTexture => return Some(Command::ReloadTexture),
+        Action::OpenPrompt => {
+            state.panel = Panel::default();
+            state.prompt = Some(String::new());
+        }
+        Action::PromptInput(c) => {
+            if let Some(text) = &mut state.prompt
+                && text.len() < PROMPT_MAX
+            {
+                text.push(c);
+            }
+        }
+        Action::PromptBackspace => {
+            if let Some(text) = &mut state.prompt {
+                text.pop();
+            }
+        }
+        Action::PromptCancel => state.prompt = None,
+        Action::PromptSubmit => {
+            let text = state.prompt.take().unwrap_or_default();
+            if text.trim().is_empty() {
+                state.message = Some("no path typed".to_string());
+            } else {
+                // The loop replaces this line with the outcome.
+                state.message = Some(format!("loading {}", clean(text.trim())));
+                return Some(Command::AddPaths(text));
+            }
+        }
         // Texture errors are one line, already sanitised, naming the file.
         Action::TextureResult(Ok(label)) => {
             state.message = Some(format!("texture {}", clean(&label)));
@@ -357,6 +390,12 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         }
         Action::MouseUp => state.drag = None,
         Action::Paste(text) => {
+            if let Some(line) = &mut state.prompt {
+                // Into the prompt as typed text; line breaks end nothing here.
+                let room = PROMPT_MAX.saturating_sub(line.len());
+                line.extend(text.chars().filter(|c| *c != '\n' && *c != '\r').take(room));
+                return None;
+            }
             let shown: String = clean(&text).chars().take(200).collect();
             match state.panel.focus {
                 Some(_) => {

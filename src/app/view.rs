@@ -38,6 +38,7 @@ pub const HELP: &[(&str, &str)] = &[
     ),
     ("x X", "next / previous texture of the list"),
     ("R", "re-read the current texture file"),
+    ("/", "type a texture path (Enter loads, Esc cancels)"),
     ("paste", "a pasted (dragged) file joins the texture list"),
     (
         "k",
@@ -133,7 +134,16 @@ pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf:
     // cost leaves it to the line above.
     let compact = screen.width < COMPACT_BELOW;
     let cost_above = !detail.is_some_and(Detail::has_cost);
-    if let Some(panel) = a.panel {
+    if let Some(line) = prompt_line(state) {
+        // The prompt takes the line above the status (or the status itself).
+        if let Some(area) = a.panel.or(a.status) {
+            Clear.render(area, buf);
+            line.render(area, buf);
+        }
+        if a.panel.is_none() {
+            return help(state, screen, buf);
+        }
+    } else if let Some(panel) = a.panel {
         panel_line(state, compact, cost_above).render(panel, buf);
     } else if let (Some(status), Some(_)) = (a.status, state.panel.focus) {
         // No room for both: while editing, the fields take the status line.
@@ -167,6 +177,24 @@ fn cost_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
         history: &state.costs,
     }
     .render(area, buf);
+}
+
+/// The texture path prompt (key `/`), its end kept in view when it is long.
+fn prompt_line(state: &State) -> Option<Line<'static>> {
+    let text = state.prompt.as_ref()?;
+    let shown = crate::sanitize::clean(text);
+    let tail: String = {
+        let chars: Vec<char> = shown.chars().collect();
+        chars[chars.len().saturating_sub(120)..].iter().collect()
+    };
+    Some(Line::from(vec![
+        Span::styled(" texture path: ", Style::new().add_modifier(Modifier::BOLD)),
+        Span::styled(
+            format!("{tail}_"),
+            Style::new().add_modifier(Modifier::REVERSED),
+        ),
+        Span::raw("  Enter load · Esc cancel"),
+    ]))
 }
 
 /// The orientation fields, then (on narrow screens) the frame cost, then the message.
