@@ -68,7 +68,10 @@ fn queued_input_is_applied_at_once_and_rendered_once() {
     let (exit, renders, frames, state) = run(msgs, true);
     assert!(matches!(exit, Exit::InputClosed(_)));
     assert_eq!(renders, 1, "one render for the whole batch");
-    assert_eq!(frames, 1, "one frame written");
+    assert_eq!(
+        frames, 2,
+        "one frame written, then its figures in the status line"
+    );
     assert_eq!(state.settings.rotation.y, 70.0);
     assert_eq!(state.settings.shading, relief::settings::Shading::Gouraud);
     assert!(state.frame.bytes > 0, "the frame's bytes are recorded");
@@ -76,9 +79,11 @@ fn queued_input_is_applied_at_once_and_rendered_once() {
 
 #[test]
 fn nothing_to_do_means_one_first_frame_and_no_more() {
-    let (exit, renders, frames, _) = run(vec![], true);
+    // The picture, then one text-only write of its figures, then nothing.
+    let (exit, renders, frames, state) = run(vec![], true);
     assert!(matches!(exit, Exit::InputClosed(_)));
-    assert_eq!((renders, frames), (1, 1));
+    assert_eq!((renders, frames), (1, 2));
+    assert!(state.frame.bytes > 0 && !state.frame.frame_time.is_zero());
 }
 
 #[test]

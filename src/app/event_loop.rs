@@ -155,6 +155,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         let mut motion = false;
         let mut clock = FrameClock::default();
         let mut dirty = true;
+        // After a new picture, one more (text-only) write lets the status
+        // line show that picture's own time and bytes instead of the
+        // previous one's; skipped while auto-rotation draws anyway.
+        let mut refresh_status = false;
         let mut last_tick = Instant::now();
         let mut last_counters = Counters::default();
         loop {
@@ -162,6 +166,8 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             // frame, or for as long as it takes.
             let first = if dirty {
                 None
+            } else if refresh_status {
+                self.rx.try_recv().ok()
             } else if state.auto_rotate {
                 let wait = (last_tick + FRAME_INTERVAL).saturating_duration_since(Instant::now());
                 match self.rx.recv_timeout(wait) {
@@ -221,7 +227,9 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             } else {
                 last_tick = now;
             }
-            if !dirty {
+            let status_only = refresh_status && !dirty;
+            refresh_status = false;
+            if !dirty && !status_only {
                 continue;
             }
             dirty = false;
@@ -239,7 +247,8 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 counters: last_counters,
                 ..FrameStats::default()
             };
-            if rendered.as_ref() != Some(&key) {
+            let new_picture = rendered.as_ref() != Some(&key);
+            if new_picture {
                 fb.resize(w, h);
                 stats = (self.render)(state, &mut fb);
                 last_counters = stats.counters;
@@ -259,6 +268,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             let write_start = Instant::now();
             let bytes = self.terminal.backend_mut().end_frame()?;
             let done = Instant::now();
+            if status_only {
+                // Only the figures changed: they keep describing the picture.
+                continue;
+            }
             state.costs.push(FrameCost::new(
                 &stats,
                 write_start - encode_start,
@@ -268,6 +281,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             state.frame.frame_time = done - start;
             state.frame.bytes = bytes;
             state.frame.fps = clock.tick(done);
+            refresh_status = new_picture && !state.auto_rotate;
         }
     }
 }
