@@ -12,15 +12,12 @@
 //! Resolves average the 8-bit values the renderer writes (the same space as
 //! every other pixel: no linear-light conversion), rounded to nearest.
 
-use glam::Vec3;
-
-use super::scan::{Band, FootprintSetup, raster_triangle};
+use super::scan::{Band, FootprintSetup, raster_triangle, shade_at};
 use super::setup::{ONE, ScreenTri};
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::settings::AntiAlias;
 use crate::shade::{PixelShader, ShadeCtx};
 use crate::stats::Counters;
-use crate::texture::filter::Footprint;
 
 /// Samples per pixel of multisampling.
 pub const MSAA_SAMPLES: usize = 4;
@@ -233,20 +230,7 @@ pub fn raster_triangle_msaa<S: PixelShader>(
                     }
                 }
                 let l = [0, 1, 2].map(|i| (e[i] as f32 + sum[i] as f32 / count) * inv_area);
-                let w = [l[0] * tri.q[0], l[1] * tri.q[1], l[2] * tri.q[2]];
-                let q_sum = w[0] + w[1] + w[2];
-                let inv = 1.0 / q_sum;
-                let b = Vec3::new(w[0] * inv, w[1] * inv, w[2] * inv);
-                let b = if tri.unclipped {
-                    b
-                } else {
-                    tri.bary[0] * b.x + tri.bary[1] * b.y + tri.bary[2] * b.z
-                };
-                let fp = match &footprint {
-                    Some(f) => f.at(w, q_sum),
-                    None => Footprint::default(),
-                };
-                let color = shader.shade(ctx, b, fp, counters);
+                let color = shade_at(tri, shader, ctx, footprint.as_ref(), l, counters);
                 let slots = &mut band.samples[row + px];
                 for (s, slot) in slots.iter_mut().enumerate() {
                     if mask & (1 << s) != 0 {

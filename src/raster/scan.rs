@@ -115,20 +115,8 @@ pub fn raster_triangle<S: PixelShader>(
                     None => true,
                 };
                 if covered {
-                    let w = [l[0] * tri.q[0], l[1] * tri.q[1], l[2] * tri.q[2]];
-                    let q_sum = w[0] + w[1] + w[2];
-                    let inv = 1.0 / q_sum;
-                    let b = Vec3::new(w[0] * inv, w[1] * inv, w[2] * inv);
-                    let b = if tri.unclipped {
-                        b
-                    } else {
-                        tri.bary[0] * b.x + tri.bary[1] * b.y + tri.bary[2] * b.z
-                    };
-                    let fp = match &footprint {
-                        Some(f) => f.at(w, q_sum),
-                        None => Footprint::default(),
-                    };
-                    band.color[row + px] = shader.shade(ctx, b, fp, counters);
+                    band.color[row + px] =
+                        shade_at(tri, shader, ctx, footprint.as_ref(), l, counters);
                 }
             }
             e[0] += steps[0].0;
@@ -136,4 +124,32 @@ pub fn raster_triangle<S: PixelShader>(
             e[2] += steps[2].0;
         }
     }
+}
+
+/// Shades the point with screen-space barycentrics `l` (summing to 1):
+/// perspective-correct weights, mapped back to the source triangle when the
+/// triangle was clipped, and the texture footprint there when one is wanted.
+#[inline(always)]
+pub(crate) fn shade_at<S: PixelShader>(
+    tri: &ScreenTri,
+    shader: &S,
+    ctx: &ShadeCtx,
+    footprint: Option<&FootprintSetup>,
+    l: [f32; 3],
+    counters: &mut Counters,
+) -> Rgb {
+    let w = [l[0] * tri.q[0], l[1] * tri.q[1], l[2] * tri.q[2]];
+    let q_sum = w[0] + w[1] + w[2];
+    let inv = 1.0 / q_sum;
+    let b = Vec3::new(w[0] * inv, w[1] * inv, w[2] * inv);
+    let b = if tri.unclipped {
+        b
+    } else {
+        tri.bary[0] * b.x + tri.bary[1] * b.y + tri.bary[2] * b.z
+    };
+    let fp = match footprint {
+        Some(f) => f.at(w, q_sum),
+        None => Footprint::default(),
+    };
+    shader.shade(ctx, b, fp, counters)
 }
