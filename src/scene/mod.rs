@@ -57,18 +57,7 @@ pub const BACKGROUND: Rgb = [16, 24, 32];
 impl Scene {
     /// The documented cube scene with the given texture.
     pub fn cube(texture: Arc<Texture>, all_faces: bool) -> Self {
-        Scene {
-            objects: vec![Object {
-                mesh: cube::cube(all_faces),
-                transform: Mat4::IDENTITY,
-                rotates: true,
-            }],
-            material: Material { texture },
-            lights: light::reference_lights(),
-            ambient: AMBIENT,
-            camera: Camera::default(),
-            background: BACKGROUND,
-        }
+        Scene::model(cube::cube(all_faces), texture)
     }
 }
 
