@@ -183,11 +183,7 @@ pub fn raster_triangle_msaa<S: PixelShader>(
     let cx = xa as i64 * ONE + ONE / 2;
     for py in ya..yb {
         let cy = py as i64 * ONE + ONE / 2;
-        let mut e = [
-            tri.edge(0, cx, cy),
-            tri.edge(1, cx, cy),
-            tri.edge(2, cx, cy),
-        ];
+        let mut e = tri.edges(cx, cy);
         let row = (py - band.y0) * width;
         for px in xa..=xb {
             let mut mask = 0u8;

@@ -87,11 +87,7 @@ pub fn raster_triangle<S: PixelShader>(
     let width = band.width;
     for py in ya..yb {
         let cy = py as i64 * ONE + ONE / 2;
-        let mut e = [
-            tri.edge(0, cx, cy),
-            tri.edge(1, cx, cy),
-            tri.edge(2, cx, cy),
-        ];
+        let mut e = tri.edges(cx, cy);
         let row = (py - band.y0) * width;
         for px in x0..=tri.x1 as usize {
             if (e[0] + tri.bias[0]) | (e[1] + tri.bias[1]) | (e[2] + tri.bias[2]) >= 0 {

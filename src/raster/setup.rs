@@ -45,6 +45,16 @@ impl ScreenTri {
         (self.y[b] - self.y[a]) * (px - self.x[a]) - (self.x[b] - self.x[a]) * (py - self.y[a])
     }
 
+    /// All three edge functions at a fixed-point point.
+    #[inline]
+    pub fn edges(&self, px: i64, py: i64) -> [i64; 3] {
+        [
+            self.edge(0, px, py),
+            self.edge(1, px, py),
+            self.edge(2, px, py),
+        ]
+    }
+
     /// Change of edge `i` for one pixel step in x and in y.
     #[inline]
     pub fn edge_steps(&self, i: usize) -> (i64, i64) {
