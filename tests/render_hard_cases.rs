@@ -487,10 +487,10 @@ proptest! {
     ) {
         let scene = reference_scene(all_faces);
         let settings = Settings { rotation: Vec3::new(rx, ry, rz), ..settings };
-        let (fb, stats) = render(&scene, &settings, 64, 48);
+        let (_, stats) = render(&scene, &settings, 64, 48);
         prop_assert_eq!(stats.counters.nonfinite, 0);
         // The cube at 5 units always covers between ~6% and ~25% of the view.
-        let c = covered(&scene, &fb);
+        let c = coverage(&scene, &settings, 64, 48);
         prop_assert!((150..800).contains(&c), "covered {}", c);
         prop_assert_eq!(stats.counters.pixels_shaded as usize, c);
     }

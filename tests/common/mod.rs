@@ -22,10 +22,25 @@ pub fn render(scene: &Scene, settings: &Settings, w: usize, h: usize) -> (Frameb
     render_frame(scene, settings, w, h)
 }
 
-/// Pixels that are not the background.
+/// Pixels that are not the background. A shaded pixel may by chance take
+/// the background's exact colour; where that matters use [`coverage`].
 pub fn covered(scene: &Scene, fb: &Framebuffer) -> usize {
     fb.pixels()
         .iter()
         .filter(|&&p| p != scene.background)
+        .count()
+}
+
+/// Pixels the renderer writes, counted exactly: the frame is drawn over two
+/// different backgrounds, and no shaded pixel can equal both.
+pub fn coverage(scene: &Scene, settings: &Settings, w: usize, h: usize) -> usize {
+    let mut other = scene.clone();
+    other.background = scene.background.map(|c| c ^ 0x80);
+    let (a, _) = render(scene, settings, w, h);
+    let (b, _) = render(&other, settings, w, h);
+    a.pixels()
+        .iter()
+        .zip(b.pixels())
+        .filter(|&(&pa, &pb)| pa != scene.background || pb != other.background)
         .count()
 }
