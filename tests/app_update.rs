@@ -214,6 +214,22 @@ fn question_mark_opens_help_and_escape_closes_it_without_quitting() {
     ch(&mut s, '?');
     ch(&mut s, 'm');
     assert_eq!(s.settings.shading, Shading::Flat);
+    // But the scrolling keys scroll the help, not the model.
+    let before = s.settings.rotation;
+    press(&mut s, KeyCode::Down);
+    press(&mut s, KeyCode::PageDown);
+    assert_eq!(s.help_scroll, 9);
+    press(&mut s, KeyCode::Up);
+    assert_eq!(s.help_scroll, 8);
+    press(&mut s, KeyCode::Home);
+    assert_eq!(s.help_scroll, 0);
+    press(&mut s, KeyCode::Up);
+    assert_eq!(s.help_scroll, 0);
+    assert_eq!(s.settings.rotation, before);
+    // With the help closed the arrows rotate again.
+    press(&mut s, KeyCode::Esc);
+    press(&mut s, KeyCode::Down);
+    assert_ne!(s.settings.rotation, before);
 }
 
 #[test]

@@ -236,6 +236,82 @@ fn help_overlay_lists_every_key_and_mouse_action() {
     let _ = screen(&s, 12, 4);
 }
 
+/// The help entries a screen shows, read back: every text line of the
+/// overlay, the key column and the wrapped text joined.
+fn help_rows(buf: &Buffer) -> Vec<String> {
+    (0..buf.area.height)
+        .map(|y| row_text(buf, y))
+        .filter(|r| r.starts_with('│'))
+        .map(|r| r.trim_matches(|c| c == '│' || c == ' ').to_string())
+        .collect()
+}
+
+#[test]
+fn help_too_tall_for_the_screen_scrolls_to_every_entry() {
+    let mut s = state();
+    update(&mut s, Action::ToggleHelp);
+    let (w, h) = (40, 12);
+    let first = screen(&s, w, h);
+    let title = row_text(&first, 0);
+    assert!(title.contains("lines 1-10/"), "{title}");
+    assert!(help_rows(&first)[0].starts_with("m  lighting"));
+    // Page by page to the end: every entry's key and every word of its text shows up.
+    let mut seen = String::new();
+    let max = relief::app::view::help_max_scroll(w, h);
+    for _ in 0..=max {
+        seen.push_str(&help_rows(&screen(&s, w, h)).join("\n"));
+        seen.push('\n');
+        update(&mut s, Action::HelpScroll(1));
+        s.help_scroll = s.help_scroll.min(relief::app::view::help_max_scroll(w, h));
+    }
+    for (k, t) in HELP {
+        assert!(seen.contains(k), "{k}");
+        for word in t.split(' ') {
+            assert!(seen.contains(word), "{word} of {t}");
+        }
+    }
+    let last = screen(&s, w, h);
+    let rows = help_rows(&last);
+    assert!(
+        rows.last().unwrap().starts_with("q Esc Ctrl-C  quit"),
+        "{rows:?}"
+    );
+    // Scrolled as far as it goes: one line back shows at once.
+    assert_eq!(s.help_scroll, max);
+    update(&mut s, Action::HelpScroll(-1));
+    assert_ne!(help_rows(&screen(&s, w, h)), rows);
+    // A screen where it fits does not scroll at all.
+    assert_eq!(relief::app::view::help_max_scroll(160, 48), 0);
+    // Reopening starts at the top.
+    update(&mut s, Action::ToggleHelp);
+    update(&mut s, Action::ToggleHelp);
+    assert_eq!(s.help_scroll, 0);
+}
+
+#[test]
+fn help_on_a_narrow_screen_wraps_its_text_inside_the_border() {
+    let mut s = state();
+    update(&mut s, Action::ToggleHelp);
+    update(&mut s, Action::HelpScroll(i32::MAX));
+    for w in [20u16, 33, 47, 60] {
+        s.help_scroll = 0;
+        let buf = screen(&s, w, 200);
+        let text = all_text(&buf);
+        // Nothing is cut: each text's words all appear, in order, within the box.
+        for (_, t) in HELP {
+            for word in t.split(' ') {
+                assert!(text.contains(word), "{word} at width {w}");
+            }
+        }
+        for y in 0..buf.area.height {
+            let row = row_text(&buf, y);
+            if row.starts_with('│') {
+                assert!(row.trim_end().ends_with('│'), "{row:?} at width {w}");
+            }
+        }
+    }
+}
+
 #[test]
 fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
     use relief::plasma::PlasmaNormal;

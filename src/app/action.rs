@@ -134,7 +134,12 @@ pub enum Action {
     },
     /// The terminal changed size: nothing in the state changes, the frame must.
     Resize,
+    /// Scroll the help by this many lines (arrows, pages, Home/End while it is open).
+    HelpScroll(i32),
 }
+
+/// Lines PgUp / PgDn scroll the help.
+const HELP_PAGE: i32 = 8;
 
 /// Degrees an arrow key turns the model.
 pub const ARROW_STEP: f32 = 5.0;
@@ -213,6 +218,21 @@ pub fn action_for_key(state: &State, key: &KeyEvent) -> Option<Action> {
         return None;
     }
     let step = |axis: usize, degrees: f32| Some(Action::RotateStep { axis, degrees });
+    if state.help {
+        // The open help takes the scrolling keys (it may not fit the screen).
+        let lines = match key.code {
+            KeyCode::Up => Some(-1),
+            KeyCode::Down => Some(1),
+            KeyCode::PageUp => Some(-HELP_PAGE),
+            KeyCode::PageDown => Some(HELP_PAGE),
+            KeyCode::Home => Some(i32::MIN),
+            KeyCode::End => Some(i32::MAX),
+            _ => None,
+        };
+        if let Some(lines) = lines {
+            return Some(Action::HelpScroll(lines));
+        }
+    }
     match key.code {
         KeyCode::Char('q') => Some(Action::Quit),
         KeyCode::Esc if state.help => Some(Action::CloseHelp),

@@ -237,6 +237,11 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             // Render only when what the picture depends on changed.
             let start = Instant::now();
             let size = self.terminal.size()?;
+            // The help cannot scroll past what this screen needs: keep the
+            // state there so the first key back moves it.
+            state.help_scroll = state
+                .help_scroll
+                .min(view::help_max_scroll(size.width, size.height));
             let areas = view::areas(ratatui::layout::Rect::new(0, 0, size.width, size.height));
             let (w, h) = view::framebuffer_size(areas.viewport);
             let generation = self.textures.map_or(0, |t| t.borrow().generation());

@@ -72,6 +72,8 @@ pub struct State {
     /// Ordered dithering in 256 and 16 colours.
     pub dither: bool,
     pub help: bool,
+    /// First help line shown when the help is taller than the screen.
+    pub help_scroll: u16,
     pub auto_rotate: bool,
     pub panel: Panel,
     pub drag: Option<Drag>,
@@ -99,6 +101,10 @@ pub struct State {
     /// Key `/`: the texture path being typed (`None`: no prompt).
     pub prompt: Option<String>,
 }
+
+/// More lines than the help can ever have (the view clamps to what the
+/// screen needs; the loop clamps the state with it).
+const HELP_SCROLL_MAX: u16 = 1000;
 
 /// Longest path the prompt takes.
 const PROMPT_MAX: usize = 4096;
@@ -139,6 +145,7 @@ impl State {
             depth,
             dither: false,
             help: false,
+            help_scroll: 0,
             auto_rotate: false,
             panel: Panel::default(),
             drag: None,
@@ -327,7 +334,14 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         }
         Action::Saved(Ok(path)) => state.message = Some(format!("saved {}", clean(&path))),
         Action::Saved(Err(e)) => state.message = Some(format!("not saved: {}", clean(&e))),
-        Action::ToggleHelp => state.help = !state.help,
+        Action::ToggleHelp => {
+            state.help = !state.help;
+            state.help_scroll = 0;
+        }
+        Action::HelpScroll(lines) => {
+            let to = i64::from(state.help_scroll) + i64::from(lines);
+            state.help_scroll = to.clamp(0, i64::from(HELP_SCROLL_MAX)) as u16;
+        }
         Action::ToggleCost => state.cost_panel = !state.cost_panel,
         Action::CloseHelp => state.help = false,
         Action::PanelNext => {

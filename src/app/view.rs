@@ -59,7 +59,7 @@ pub const HELP: &[(&str, &str)] = &[
     ("p", "scene: model → shadow → plasma"),
     ("z", "plasma: Z² table / exact normal"),
     ("pointer", "plasma: the light follows the mouse"),
-    ("?", "this help (Esc closes it)"),
+    ("?", "this help (Esc closes it; ↑↓ PgUp PgDn scroll it)"),
     ("q Esc Ctrl-C", "quit"),
 ];
 
@@ -537,59 +537,157 @@ pub fn format_bytes(n: u64) -> String {
 }
 
 /// The help overlay, centred; in two columns when one does not fit the
-/// height but two fit the width; cut to the screen.
+/// height but two fit the width; on a narrow screen each text wraps under
+/// itself; when it is still too tall it scrolls (`state.help_scroll`).
 fn help(state: &State, screen: Rect, buf: &mut Buffer) {
     if !state.help {
         return;
     }
-    let key_w = HELP
-        .iter()
-        .map(|(k, _)| k.chars().count())
-        .max()
-        .unwrap_or(0);
-    let text_w = HELP
-        .iter()
-        .map(|(_, t)| t.chars().count())
-        .max()
-        .unwrap_or(0);
-    let entry_w = key_w + 2 + text_w;
-    let two =
-        HELP.len() + 2 > screen.height as usize && 2 * entry_w + 3 + 4 <= screen.width as usize;
-    let rows = if two {
-        HELP.len().div_ceil(2)
+    let layout = help_layout(screen);
+    let scroll = state.help_scroll.min(layout.max_scroll);
+    let title = if layout.max_scroll > 0 {
+        let shown = layout.area.height.saturating_sub(2) as usize;
+        let last = (scroll as usize + shown).min(layout.lines.len());
+        let span = format!("{}-{}/{}", scroll as usize + 1, last, layout.lines.len());
+        let long = format!(" help, lines {span} · ↑↓ PgUp PgDn ");
+        if long.chars().count() + 2 <= layout.area.width as usize {
+            long
+        } else {
+            format!(" {span} ")
+        }
     } else {
-        HELP.len()
+        " relief: keys and mouse ".to_string()
     };
-    let inner_w = if two { 2 * entry_w + 3 } else { entry_w };
+    Clear.render(layout.area, buf);
+    Paragraph::new(layout.lines)
+        .scroll((scroll, 0))
+        .block(Block::bordered().title(title))
+        .render(layout.area, buf);
+}
+
+/// Where the help goes on `screen`, its lines, and how far it can scroll.
+struct HelpLayout {
+    area: Rect,
+    lines: Vec<Line<'static>>,
+    max_scroll: u16,
+}
+
+/// Widest key name and widest text of [`HELP`], in characters.
+fn help_widths() -> (usize, usize) {
+    let widest = |f: fn(&(&str, &str)) -> usize| HELP.iter().map(f).max().unwrap_or(0);
+    (
+        widest(|(k, _)| k.chars().count()),
+        widest(|(_, t)| t.chars().count()),
+    )
+}
+
+fn help_layout(screen: Rect) -> HelpLayout {
+    let (key_w, text_w) = help_widths();
+    let entry_w = key_w + 2 + text_w;
+    let (sw, sh) = (screen.width as usize, screen.height as usize);
+    let two = HELP.len() + 2 > sh && 2 * entry_w + 3 + 4 <= sw;
+    let key = |k: &str| {
+        Span::styled(
+            format!("{k:>key_w$}"),
+            Style::new().add_modifier(Modifier::BOLD),
+        )
+    };
+    let (lines, inner_w): (Vec<Line<'static>>, usize) = if two {
+        let rows = HELP.len().div_ceil(2);
+        let entry = |(k, t): &(&str, &str)| vec![key(k), Span::raw(format!("  {t:<text_w$}"))];
+        let lines = (0..rows)
+            .map(|r| {
+                let mut spans = entry(&HELP[r]);
+                if let Some(right) = HELP.get(r + rows) {
+                    spans.push(Span::raw("   "));
+                    spans.extend(entry(right));
+                }
+                Line::from(spans)
+            })
+            .collect();
+        (lines, 2 * entry_w + 3)
+    } else if sw >= 4 + key_w + 2 + NARROW_HELP_TEXT {
+        // The text beside its key, wrapped under itself.
+        let room = (sw - 4 - key_w - 2).min(text_w);
+        let mut lines = Vec::new();
+        for (k, t) in HELP {
+            for (i, piece) in wrap_words(t, room).into_iter().enumerate() {
+                let first = if i == 0 { key(k) } else { key("") };
+                lines.push(Line::from(vec![first, Span::raw(format!("  {piece}"))]));
+            }
+        }
+        (lines, key_w + 2 + room)
+    } else {
+        // Too narrow for two columns: each key on its line, its text below.
+        let room = sw.saturating_sub(4 + 2).max(1);
+        let mut lines = Vec::new();
+        for (k, t) in HELP {
+            lines.push(Line::from(Span::styled(
+                k.to_string(),
+                Style::new().add_modifier(Modifier::BOLD),
+            )));
+            for piece in wrap_words(t, room) {
+                lines.push(Line::from(format!("  {piece}")));
+            }
+        }
+        (lines, room + 2)
+    };
     let width = ((inner_w + 4) as u16).min(screen.width);
-    let height = ((rows + 2) as u16).min(screen.height);
+    let height = ((lines.len() + 2) as u16).min(screen.height);
+    let shown = height.saturating_sub(2) as usize;
+    let max_scroll = lines.len().saturating_sub(shown) as u16;
     let area = Rect::new(
         screen.x + (screen.width - width) / 2,
         screen.y + (screen.height - height) / 2,
         width,
         height,
     );
-    let entry = |(k, t): &(&str, &str)| {
-        vec![
-            Span::styled(
-                format!("{k:>key_w$}"),
-                Style::new().add_modifier(Modifier::BOLD),
-            ),
-            Span::raw(format!("  {t:<text_w$}")),
-        ]
-    };
-    let lines: Vec<Line> = (0..rows)
-        .map(|r| {
-            let mut spans = entry(&HELP[r]);
-            if two && let Some(right) = HELP.get(r + rows) {
-                spans.push(Span::raw("   "));
-                spans.extend(entry(right));
+    HelpLayout {
+        area,
+        lines,
+        max_scroll,
+    }
+}
+
+/// Fewest characters of text worth showing beside the keys.
+const NARROW_HELP_TEXT: usize = 16;
+
+/// How far the help can scroll on a screen of this size (the loop clamps
+/// `State::help_scroll` with it, so scrolling back responds at once).
+pub fn help_max_scroll(width: u16, height: u16) -> u16 {
+    help_layout(Rect::new(0, 0, width, height)).max_scroll
+}
+
+/// `text` cut into lines of at most `width` characters, at spaces where it
+/// can be (a word longer than a line is cut).
+fn wrap_words(text: &str, width: usize) -> Vec<String> {
+    let width = width.max(1);
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    for word in text.split(' ') {
+        let mut word: Vec<char> = word.chars().collect();
+        loop {
+            let used = line.chars().count();
+            let gap = usize::from(used > 0);
+            if used + gap + word.len() <= width {
+                if gap == 1 {
+                    line.push(' ');
+                }
+                line.extend(word.iter());
+                break;
             }
-            Line::from(spans)
-        })
-        .collect();
-    Clear.render(area, buf);
-    Paragraph::new(lines)
-        .block(Block::bordered().title(" relief: keys and mouse "))
-        .render(area, buf);
+            if used > 0 {
+                lines.push(std::mem::take(&mut line));
+                continue;
+            }
+            // A word longer than a whole line.
+            let rest = word.split_off(width);
+            lines.push(word.iter().collect());
+            word = rest;
+        }
+    }
+    if !line.is_empty() || lines.is_empty() {
+        lines.push(line);
+    }
+    lines
 }
