@@ -286,3 +286,41 @@ fn forced_palette_shows_in_the_status_line() {
     assert_eq!(t.wait_exit(), "0");
     assert_restored(&t);
 }
+
+/// The child half of `a_panic_restores_the_terminal`: run by it inside tmux
+/// (ignored in a normal run, where it would take over the test's terminal).
+#[test]
+#[ignore = "run by a_panic_restores_the_terminal in its own terminal"]
+fn panic_child_with_a_frame_in_flight() {
+    use relief::term::guard::{GuardedStdout, TerminalGuard};
+    use std::io::Write;
+    let _guard = TerminalGuard::enter().expect("a terminal");
+    let mut out = std::io::BufWriter::new(GuardedStdout::new().unwrap());
+    // A frame half written when the panic comes: unwinding flushes it after
+    // the hook has restored the terminal, and it must go nowhere.
+    out.write_all("\x1b[H▀▀▀▀▀▀▀▀".repeat(50).as_bytes())
+        .unwrap();
+    panic!("relief-test-panic");
+}
+
+#[test]
+fn a_panic_restores_the_terminal() {
+    let exe = std::env::current_exe().unwrap();
+    let cmd = format!(
+        "RUST_BACKTRACE=0 {} --ignored --exact panic_child_with_a_frame_in_flight --nocapture \
+         --test-threads 1; echo RELIEF-EXITED $?; echo TTY $(stty -a | tr -s ' ;' '\\n\\n' \
+         | grep -x -E -- '-?(icanon|echo)'); sleep 60",
+        exe.display()
+    );
+    let Some(t) = Tmux::start("panic", 100, 30, &cmd) else {
+        return;
+    };
+    // libtest reports a failed test with 101.
+    assert_eq!(t.wait_exit(), "101");
+    let screen = t.wait_for("stty's report", |s| s.contains("TTY "));
+    assert!(screen.contains("relief-test-panic"), "{screen}");
+    assert_restored(&t);
+    // Raw mode is off again: canonical input and echo.
+    let stty = screen.lines().find(|l| l.starts_with("TTY ")).unwrap();
+    assert_eq!(stty.trim_end(), "TTY icanon echo", "{screen}");
+}
