@@ -2,7 +2,8 @@
 
 use glam::Vec2;
 
-use super::{Texture, level::Texel, mip};
+use super::mip::{AnisoPlan, HeightField};
+use super::{Level, Texture, level::Texel, mip};
 use crate::settings::{Filter, HeightDerivative};
 
 /// Screen-space derivatives of the texture coordinates at a pixel
@@ -52,6 +53,49 @@ pub fn height_gradient(
         }
         (HeightDerivative::Filtered, Filter::Anisotropic) => {
             mip::anisotropic_gradient(tex, uv, footprint)
+        }
+    }
+}
+
+/// A quantity computed from heights, read with the same care as the colour:
+/// `read(level, uv)` evaluated on the level(s) and at the taps the filter
+/// would read for this pixel, blended and averaged the same way. `read` must
+/// work in the level's own texels (a "one texel" shift means one texel of
+/// that level), so on a coarser level it sees the filtered height field.
+///
+/// `Texel` reads the base level whatever the filter (the documented
+/// per-texel reads), and so do nearest and bilinear, exactly as before any
+/// mip chain existed: `read(base, uv)`. Trilinear reads the footprint's mip
+/// level(s), anisotropic its taps; both read only the base level, and never
+/// build the chain, while the pixel is magnified.
+#[inline]
+pub fn read_heights(
+    tex: &Texture,
+    mode: HeightDerivative,
+    filter: Filter,
+    uv: Vec2,
+    footprint: Footprint,
+    read: impl Fn(&Level, Vec2) -> f32,
+) -> f32 {
+    match (mode, filter) {
+        (HeightDerivative::Texel, _) | (_, Filter::Nearest | Filter::Bilinear) => {
+            read(tex.base(), uv)
+        }
+        (HeightDerivative::Filtered, Filter::Trilinear) => {
+            HeightField::at_lod(tex, mip::lod(tex, footprint)).blend(|level| read(level, uv))
+        }
+        (HeightDerivative::Filtered, Filter::Anisotropic) => {
+            let plan = AnisoPlan::new(tex, footprint);
+            let field = HeightField::at_lod(tex, plan.lod);
+            if plan.taps == 1 {
+                return field.blend(|level| read(level, uv));
+            }
+            let mut sum = 0.0;
+            for i in 0..plan.taps {
+                let at = plan.tap(uv, i);
+                sum += field.blend(|level| read(level, at));
+            }
+            sum / plan.taps as f32
         }
     }
 }

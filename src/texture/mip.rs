@@ -85,6 +85,51 @@ pub fn trilinear_gradient(tex: &Texture, uv: Vec2, lod: f32) -> (f32, f32) {
     }
 }
 
+/// The height map as a filter reads it at one level of detail: one level,
+/// or two blended like trilinear. The base level (lod ≤ 0 or NaN) never
+/// builds the chain.
+#[derive(Clone, Copy, Debug)]
+pub struct HeightField<'a> {
+    fine: &'a Level,
+    coarse: &'a Level,
+    /// Weight of `coarse`; at 0 only `fine` is read.
+    t: f32,
+}
+
+impl<'a> HeightField<'a> {
+    /// The base level alone.
+    #[inline]
+    pub fn base(tex: &'a Texture) -> Self {
+        HeightField {
+            fine: tex.base(),
+            coarse: tex.base(),
+            t: 0.0,
+        }
+    }
+
+    /// The level(s) trilinear filtering reads at `lod`.
+    #[inline]
+    pub fn at_lod(tex: &'a Texture, lod: f32) -> Self {
+        match levels_for(tex, lod) {
+            None => HeightField::base(tex),
+            Some((fine, coarse, t)) => HeightField { fine, coarse, t },
+        }
+    }
+
+    /// `read` on the fine level, blended toward `read` on the coarse one.
+    /// `read` gets the level and must treat it as a height field of that
+    /// level's resolution (a shift of one texel means one texel of *that*
+    /// level). With one level the result is `read(fine)` bit for bit.
+    #[inline]
+    pub fn blend(&self, read: impl Fn(&Level) -> f32) -> f32 {
+        let a = read(self.fine);
+        if self.t == 0.0 {
+            return a;
+        }
+        a + (read(self.coarse) - a) * self.t
+    }
+}
+
 /// How an anisotropic sample is taken: `taps` trilinear reads at `lod`,
 /// spread evenly along `axis` (the footprint's long axis in UV units),
 /// centred on the pixel.
