@@ -9,6 +9,13 @@
 //! (the tangent part of L is zero, so is the shift), and no renormalisation —
 //! steep slopes and grazing light over- or under-brighten, and features
 //! narrower than the shift get doubled edges.
+//!
+//! The heights are read like the colour (`filter::read_heights`): on a
+//! minified pixel, trilinear and anisotropic difference the footprint's mip
+//! level(s) and shift by one texel *of that level*, so a far or grazing
+//! surface shows the relief it has at the pixel's scale instead of aliased
+//! base-level texels. Magnified, or with nearest/bilinear or the `texel`
+//! derivative, it is the base level and one base texel, as documented.
 
 use glam::{Vec2, Vec3};
 
@@ -19,7 +26,8 @@ use super::tangent::Surface;
 use crate::framebuffer::Rgb;
 use crate::plan::ActiveLight;
 use crate::stats::Counters;
-use crate::texture::filter::{Footprint, sample};
+use crate::texture::Level;
+use crate::texture::filter::{Footprint, read_heights, sample};
 
 /// The light emboss follows: the brightest active one (the first on ties),
 /// or `None` when no light is on.
@@ -39,42 +47,57 @@ pub struct EmbossKernel<'a, const TEX: bool> {
     pub tri: &'a PhongTri,
     /// Index of the embossed light in the plan's lights (`usize::MAX`: none).
     pub strong: usize,
-    /// Shift length in texture coordinates: one texel of the larger side.
-    pub texel: f32,
 }
 
 impl<'a, const TEX: bool> EmbossKernel<'a, TEX> {
     pub fn new(tri: &'a PhongTri, ctx: &ShadeCtx) -> Self {
-        let base = ctx.texture.base();
         EmbossKernel {
             tri,
             strong: strongest_light(&ctx.plan.lights).unwrap_or(usize::MAX),
-            texel: 1.0 / base.width.max(base.height) as f32,
         }
     }
 }
 
+/// The emboss term of strength `k` on one level: F(uv) − F(uv + Δ) with Δ
+/// one texel of that level (of its larger side) along `toward`, divided by
+/// that texel, so levels of any size give terms on the same scale.
+#[inline]
+fn level_difference(level: &Level, uv: Vec2, toward: Vec2, m: f32, k: f32) -> f32 {
+    let texel = 1.0 / level.width.max(level.height) as f32;
+    let shift = toward * (texel / m);
+    let here = level.bilinear_height(uv.x, uv.y);
+    let there = level.bilinear_height(uv.x + shift.x, uv.y + shift.y);
+    (here - there) * (k * m / texel)
+}
+
 /// The emboss term for unit light direction `l`: F(uv) − F(uv + Δ), scaled
 /// so that on a gentle slope it equals the change of N·L Blinn's formula
-/// gives to first order, −k·(|Pv|·F_u·L_T + |Pu|·F_v·L_B). Two height reads.
+/// gives to first order, −k·(|Pv|·F_u·L_T + |Pu|·F_v·L_B). Two height reads
+/// per level and tap the filter reads (see `filter::read_heights`).
 #[inline]
 pub fn emboss_term(
     ctx: &ShadeCtx,
     s: &Surface,
     l: Vec3,
-    texel: f32,
+    fp: Footprint,
     counters: &mut Counters,
 ) -> f32 {
     let frame = s.frame();
     let (lt, lb) = (l.dot(frame.t), l.dot(frame.b));
     let m = frame.len_u.max(frame.len_v);
     // Shift toward the light, weighted like Blinn's cross products.
-    let shift = Vec2::new(frame.len_v * lt, frame.len_u * lb) * (texel / m);
-    let base = ctx.texture.base();
+    let toward = Vec2::new(frame.len_v * lt, frame.len_u * lb);
+    let plan = ctx.plan;
+    let k = plan.bump_strength;
     counters.texture_samples += 2;
-    let here = base.bilinear_height(s.uv.x, s.uv.y);
-    let there = base.bilinear_height(s.uv.x + shift.x, s.uv.y + shift.y);
-    (here - there) * (ctx.plan.bump_strength * m / texel)
+    read_heights(
+        ctx.texture,
+        plan.height_derivative,
+        plan.filter,
+        s.uv,
+        fp,
+        |level, uv| level_difference(level, uv, toward, m, k),
+    )
 }
 
 impl<const TEX: bool> PixelShader for EmbossKernel<'_, TEX> {
@@ -104,7 +127,7 @@ impl<const TEX: bool> PixelShader for EmbossKernel<'_, TEX> {
                     let len = len2.sqrt();
                     let mut k = ndl / len;
                     if i == self.strong {
-                        k = (k + emboss_term(ctx, &s, d / len, self.texel, counters)).max(0.0);
+                        k = (k + emboss_term(ctx, &s, d / len, fp, counters)).max(0.0);
                     }
                     if plan.attenuation {
                         k /= 1.0 + ATTENUATION_QUADRATIC * len2;

@@ -1,0 +1,263 @@
+//! Emboss reads its heights like the colour: on a minified surface,
+//! trilinear and anisotropic difference the footprint's mip level, so the
+//! frame comes closer to emboss's own supersampled render than base-level
+//! heights do; magnified, nothing changes and no mip chain is built.
+//!
+//! The `texel` height derivative keeps emboss on the base level whatever the
+//! filter, so it is the "before" of every comparison here: the same frame,
+//! colour filtering included, with heights read as they were.
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec2, Vec3};
+use proptest::prelude::*;
+use relief::bench::metrics::psnr;
+use relief::bench::resolve::box_downsample;
+use relief::render::render_frame;
+use relief::scene::{Object, plane};
+use relief::settings::{Filter, HeightDerivative, Technique};
+use relief::texture::filter::{Footprint, read_heights};
+use relief::texture::{Level, Texture};
+use relief::{Framebuffer, Scene, Settings};
+
+/// A repeatable value in 0..1 per texel.
+fn noise(x: usize, y: usize) -> f32 {
+    let mut h = (x as u32).wrapping_mul(0x9E37_79B9) ^ (y as u32).wrapping_mul(0x85EB_CA6B);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x2C1B_3C6D);
+    h ^= h >> 12;
+    (h & 0xFFFF) as f32 / 65535.0
+}
+
+/// `n × n` texels: a coarse two-tone colour checker, `height` per texel.
+fn texture(n: usize, height: impl Fn(usize, usize) -> f32) -> Arc<Texture> {
+    let mut level = Level::solid(n, n, [0.0; 4]);
+    for y in 0..n {
+        for x in 0..n {
+            let c = if (x / 16 + y / 16) % 2 == 0 {
+                0.85
+            } else {
+                0.55
+            };
+            level.texels[y * n + x] = [c, 0.7, 1.0 - c, height(x, y)];
+        }
+    }
+    Arc::new(Texture::new("test", level))
+}
+
+/// The reference cube, pulled back until its faces are a few texels per pixel.
+fn far_cube() -> Scene {
+    let mut scene = Scene::cube(texture(128, noise), true);
+    scene.camera.eye = Vec3::new(0.0, 0.0, 14.0);
+    scene
+}
+
+/// A large plane turned nearly edge-on, with a fine checker height.
+fn grazing_plane() -> Scene {
+    let checker = |x: usize, y: usize| {
+        if (x / 2 + y / 2).is_multiple_of(2) {
+            1.0
+        } else {
+            0.0
+        }
+    };
+    let mut scene = Scene::model(plane::plane(), texture(128, checker));
+    scene.objects = vec![Object {
+        mesh: plane::plane(),
+        transform: Mat4::from_scale(Vec3::splat(2.5)),
+        rotates: true,
+    }];
+    scene
+}
+
+fn emboss(filter: Filter, height_derivative: HeightDerivative, rotation: Vec3) -> Settings {
+    Settings {
+        technique: Technique::Emboss,
+        filter,
+        height_derivative,
+        rotation,
+        ..Settings::default()
+    }
+}
+
+const W: usize = 160;
+const H: usize = 120;
+
+/// Emboss supersampled 16 × 16 and box-resolved: base-level heights at far
+/// more samples than texels, averaged, as the eye would integrate them.
+fn reference(scene: &Scene, rotation: Vec3) -> Framebuffer {
+    let s = emboss(Filter::Bilinear, HeightDerivative::Texel, rotation);
+    box_downsample(&render_frame(scene, &s, W * 16, H * 16).0, 16)
+}
+
+/// PSNR (dB) of the filtered and base-level (texel) heights against the
+/// reference, per filter.
+fn gains(scene: &Scene, rotation: Vec3) -> Vec<(Filter, f64, f64)> {
+    let reference = reference(scene, rotation);
+    [Filter::Trilinear, Filter::Anisotropic]
+        .into_iter()
+        .map(|filter| {
+            let db = |mode| {
+                let (fb, stats) = render_frame(scene, &emboss(filter, mode, rotation), W, H);
+                assert_eq!(stats.counters.nonfinite, 0);
+                psnr(fb.pixels(), reference.pixels())
+            };
+            (
+                filter,
+                db(HeightDerivative::Texel),
+                db(HeightDerivative::Filtered),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn a_minified_noise_cube_comes_much_closer_to_its_supersampled_render() {
+    let scene = far_cube();
+    for (filter, before, after) in gains(&scene, Vec3::new(25.0, 35.0, 0.0)) {
+        eprintln!("far cube, {filter:?}: {before:.2} -> {after:.2} dB");
+        assert!(
+            after > before + 5.0,
+            "{filter:?}: {before:.2} -> {after:.2} dB"
+        );
+    }
+    assert!(scene.material.texture.mips_built());
+}
+
+#[test]
+fn a_grazing_checker_plane_comes_closer_to_its_supersampled_render() {
+    let scene = grazing_plane();
+    for (filter, before, after) in gains(&scene, Vec3::new(-78.0, 0.0, 10.0)) {
+        eprintln!("grazing plane, {filter:?}: {before:.2} -> {after:.2} dB");
+        assert!(
+            after > before + 1.0,
+            "{filter:?}: {before:.2} -> {after:.2} dB"
+        );
+    }
+}
+
+#[test]
+fn magnified_bump_techniques_read_the_base_level_only() {
+    // The front face seen straight on covers 104 × 104 pixels at 320 × 240:
+    // a 96 × 96 texture is magnified on every pixel.
+    for technique in [Technique::Emboss, Technique::Parallax, Technique::Pom] {
+        let scene = Scene::cube(texture(96, noise), true);
+        let frame = |filter, height_derivative| {
+            let s = Settings {
+                technique,
+                filter,
+                height_derivative,
+                rotation: Vec3::ZERO,
+                ..Settings::default()
+            };
+            let (fb, stats) = render_frame(&scene, &s, 320, 240);
+            assert_eq!(stats.counters.pixels_shaded, 104 * 104);
+            assert!(stats.counters.bump_evals > 0);
+            fb
+        };
+        let bilinear = frame(Filter::Bilinear, HeightDerivative::Filtered);
+        for filter in [Filter::Trilinear, Filter::Anisotropic] {
+            let fb = frame(filter, HeightDerivative::Filtered);
+            // The same bits as bilinear filtering: colour, heights and
+            // gradient all come from the base level.
+            assert!(fb == bilinear, "{technique:?} {filter:?}");
+        }
+        assert!(
+            !scene.material.texture.mips_built(),
+            "{technique:?}: no mip chain while magnified"
+        );
+    }
+}
+
+#[test]
+fn nearest_and_bilinear_emboss_is_the_documented_base_level_emboss() {
+    let scene = far_cube();
+    for filter in [Filter::Nearest, Filter::Bilinear] {
+        let r = Vec3::new(25.0, 35.0, 0.0);
+        let filtered = render_frame(&scene, &emboss(filter, HeightDerivative::Filtered, r), W, H);
+        let texel = render_frame(&scene, &emboss(filter, HeightDerivative::Texel, r), W, H);
+        assert!(filtered.0 == texel.0, "{filter:?}");
+    }
+    assert!(
+        !scene.material.texture.mips_built(),
+        "minified, but never read"
+    );
+}
+
+fn any_f32() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        proptest::num::f32::ANY,
+        -4.0f32..4.0,
+        -0.05f32..0.05,
+        Just(0.0),
+        Just(f32::NAN),
+        Just(f32::INFINITY),
+        Just(f32::NEG_INFINITY),
+        Just(f32::MAX),
+    ]
+}
+
+fn small_texture() -> &'static Arc<Texture> {
+    static TEX: std::sync::OnceLock<Arc<Texture>> = std::sync::OnceLock::new();
+    TEX.get_or_init(|| texture(64, noise))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(1000))]
+
+    /// Whatever the footprint: filtered heights stay heights, and a
+    /// one-texel difference on any level is a slope no steeper than one
+    /// height unit per base texel.
+    #[test]
+    fn any_footprint_reads_heights_in_range(
+        u in any_f32(), v in any_f32(),
+        a in any_f32(), b in any_f32(), c in any_f32(), d in any_f32(),
+        angle in 0.0f32..std::f32::consts::TAU,
+    ) {
+        let tex = small_texture();
+        let uv = Vec2::new(u, v);
+        let fp = Footprint { dx: Vec2::new(a, b), dy: Vec2::new(c, d) };
+        let toward = Vec2::from_angle(angle);
+        for filter in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear, Filter::Anisotropic] {
+            for mode in [HeightDerivative::Texel, HeightDerivative::Filtered] {
+                let h = read_heights(tex, mode, filter, uv, fp, |l, p| l.bilinear_height(p.x, p.y));
+                prop_assert!((-1e-5..=1.0 + 1e-5).contains(&h), "{filter:?} {mode:?}: {h}");
+                let slope = read_heights(tex, mode, filter, uv, fp, |l, p| {
+                    let texel = 1.0 / l.width.max(l.height) as f32;
+                    let q = p + toward * texel;
+                    (l.bilinear_height(p.x, p.y) - l.bilinear_height(q.x, q.y)) / texel
+                });
+                prop_assert!(slope.is_finite(), "{filter:?} {mode:?}");
+                prop_assert!(slope.abs() <= tex.width() as f32 + 1e-2, "{slope}");
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// Any view distance, turn and strength: emboss, parallax and POM with
+    /// the mip filters put nothing non-finite in the frame.
+    #[test]
+    fn any_view_of_a_minified_bumped_cube_stays_finite(
+        distance in prop_oneof![2.5f32..60.0, Just(1e4f32)],
+        rx in -360.0f32..360.0, ry in -360.0f32..360.0,
+        k in prop_oneof![0.0f32..0.2, Just(1e6f32), Just(f32::MAX)],
+        which in 0usize..3,
+        aniso in any::<bool>(),
+    ) {
+        let mut scene = far_cube();
+        scene.camera.eye = Vec3::new(0.0, 0.0, distance);
+        scene.camera.far = 2e4;
+        let s = Settings {
+            technique: [Technique::Emboss, Technique::Parallax, Technique::Pom][which],
+            filter: if aniso { Filter::Anisotropic } else { Filter::Trilinear },
+            bump_strength: k,
+            rotation: Vec3::new(rx, ry, 0.0),
+            ..Settings::default()
+        };
+        let (_, stats) = render_frame(&scene, &s, 64, 48);
+        prop_assert_eq!(stats.counters.nonfinite, 0);
+    }
+}
