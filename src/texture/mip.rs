@@ -13,10 +13,15 @@ use super::{Level, Texture, level::Texel};
 /// Most trilinear taps an anisotropic sample takes.
 pub const MAX_ANISOTROPY: usize = 16;
 
-/// The footprint's two axes measured in base-level texels.
+/// A texture's base-level size in texels.
 #[inline]
-fn texel_lengths(tex: &Texture, fp: Footprint) -> (f32, f32) {
-    let size = Vec2::new(tex.width() as f32, tex.height() as f32);
+fn size_of(tex: &Texture) -> Vec2 {
+    Vec2::new(tex.width() as f32, tex.height() as f32)
+}
+
+/// The footprint's two axes measured in texels of a `size` base level.
+#[inline]
+fn texel_lengths(size: Vec2, fp: Footprint) -> (f32, f32) {
     ((fp.dx * size).length(), (fp.dy * size).length())
 }
 
@@ -25,8 +30,13 @@ fn texel_lengths(tex: &Texture, fp: Footprint) -> (f32, f32) {
 /// ones +∞ (the smallest level).
 #[inline]
 pub fn lod(tex: &Texture, fp: Footprint) -> f32 {
+    lod_at(size_of(tex), fp)
+}
+
+/// [`lod`] for a map of `size` base texels (a normal map reads its own).
+#[inline]
+pub fn lod_at(size: Vec2, fp: Footprint) -> f32 {
     // log2 of the squared length, halved: no square roots per pixel.
-    let size = Vec2::new(tex.width() as f32, tex.height() as f32);
     let rho2 = (fp.dx * size)
         .length_squared()
         .max((fp.dy * size).length_squared());
@@ -145,7 +155,12 @@ impl AnisoPlan {
     /// at most 16); the short axis sets the level of detail, raised when
     /// the ratio exceeds 16 so that the taps still cover the long axis.
     pub fn new(tex: &Texture, fp: Footprint) -> AnisoPlan {
-        let (lx, ly) = texel_lengths(tex, fp);
+        AnisoPlan::at(size_of(tex), fp)
+    }
+
+    /// The plan for a map of `size` base texels (a normal map reads its own).
+    pub fn at(size: Vec2, fp: Footprint) -> AnisoPlan {
+        let (lx, ly) = texel_lengths(size, fp);
         let (major, minor, axis) = if lx >= ly {
             (lx, ly, fp.dx)
         } else {
