@@ -3,18 +3,43 @@
 //!
 //! One derivation serves colour and grey images alike, since the height is
 //! the alpha channel (or the mean of R, G, B when an image has none).
+//!
+//! Minified reads go through a mip chain of the map, built the first time a
+//! minified pixel asks for it: each level is the area-weighted mean of the
+//! finer one's vectors, *not* renormalised, so a level holds the mean unit
+//! normal of the base texels it covers. Where the relief is rough at the
+//! pixel's scale that mean is short, and N·L with it is the mean of the
+//! texels' N·L (what supersampling integrates) instead of a renormalised,
+//! too bright, single direction.
+
+use std::sync::OnceLock;
+
+use glam::Vec2;
 
 use super::Level;
 
 /// Unit normals in tangent space (x along +u, y along +v, z out of the
 /// surface), one per texel, bottom row first like `Level`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct NormalMap {
     pub width: usize,
     pub height: usize,
     /// The slope scale the map was built with (see [`NormalMap::build`]).
     pub scale: f32,
     pub normals: Vec<[f32; 3]>,
+    /// Levels 1.. (x, y, z in the first three channels, the fourth 0),
+    /// built on the first minified read; same sizes as the texture's chain.
+    mips: OnceLock<Vec<Level>>,
+}
+
+/// Equal when the base maps are: the chain is a cache derived from them.
+impl PartialEq for NormalMap {
+    fn eq(&self, other: &Self) -> bool {
+        self.width == other.width
+            && self.height == other.height
+            && self.scale.to_bits() == other.scale.to_bits()
+            && self.normals == other.normals
+    }
 }
 
 impl NormalMap {
@@ -42,7 +67,65 @@ impl NormalMap {
             height: h,
             scale: s,
             normals,
+            mips: OnceLock::new(),
         }
+    }
+
+    /// True once the mip chain has been built (tests use it to show that
+    /// nothing builds it while no pixel is minified).
+    pub fn mips_built(&self) -> bool {
+        self.mips.get().is_some()
+    }
+
+    /// Levels 1.. of the map's mip chain, built once on first call by the
+    /// texture's own downsampling rule (area-weighted means): the vectors
+    /// are averaged as they are, never renormalised.
+    pub fn mip_levels(&self) -> &[Level] {
+        self.mips.get_or_init(|| {
+            let base = Level {
+                width: self.width,
+                height: self.height,
+                texels: self
+                    .normals
+                    .iter()
+                    .map(|&[x, y, z]| [x, y, z, 0.0])
+                    .collect(),
+            };
+            base.build_chain()
+        })
+    }
+
+    /// The map read at level of detail `lod` (as `texture::mip::lod`
+    /// measures it on this map's size): bilinear on the two levels around
+    /// it, blended. `lod` ≤ 0 or NaN is [`NormalMap::bilinear`] on the base
+    /// level, bit for bit, without building the chain.
+    #[inline]
+    pub fn trilinear(&self, uv: Vec2, lod: f32) -> [f32; 3] {
+        // Written so that NaN also takes the base level.
+        if lod.is_nan() || lod <= 0.0 {
+            return self.bilinear(uv.x, uv.y);
+        }
+        let chain = self.mip_levels();
+        let read = |i: usize| -> [f32; 3] {
+            if i == 0 || chain.is_empty() {
+                self.bilinear(uv.x, uv.y)
+            } else {
+                let t = chain[(i - 1).min(chain.len() - 1)].bilinear(uv.x, uv.y);
+                [t[0], t[1], t[2]]
+            }
+        };
+        let last = chain.len(); // index of the smallest level
+        if lod >= last as f32 {
+            return read(last);
+        }
+        let l0 = lod.floor();
+        let (i, t) = (l0 as usize, lod - l0);
+        let a = read(i);
+        if t == 0.0 {
+            return a;
+        }
+        let b = read(i + 1);
+        std::array::from_fn(|c| a[c] + (b[c] - a[c]) * t)
     }
 
     /// The scale a map built for `scale` uses: non-finite or negative is 0.
