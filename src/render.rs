@@ -85,6 +85,9 @@ impl Renderer {
         let normal_maps_before = scene.material.texture.normal_map_builds();
         let plan = Plan::new(scene, settings);
         let mips_before = scene.material.texture.mips_built();
+        let normal_mips_built =
+            |plan: &Plan| plan.normal_map.as_ref().is_some_and(|m| m.mips_built());
+        let normal_mips_before = normal_mips_built(&plan);
         // Supersampling draws k times larger, then box-filters down.
         let k = ssaa_factor(plan.aa, width, height);
         // Taken out of `self` for the frame so the shaders can borrow it.
@@ -117,6 +120,9 @@ impl Renderer {
         }
         self.shadow = shadow_map;
         if !mips_before && scene.material.texture.mips_built() {
+            counters.mip_builds += 1;
+        }
+        if !normal_mips_before && normal_mips_built(&plan) {
             counters.mip_builds += 1;
         }
         stats.raster_time = raster_start.elapsed();

@@ -21,7 +21,7 @@ pub struct Counters {
     pub light_evals: u64,
     /// Depth comparisons.
     pub depth_tests: u64,
-    /// Mip chains built this frame.
+    /// Mip chains built this frame (the texture's and the dot3 normal map's).
     pub mip_builds: u64,
     /// Dot3 normal maps built this frame.
     pub normal_map_builds: u64,

@@ -13,6 +13,13 @@
 //! units wide, the reference cube), so on the reference cube dot3 and Blinn
 //! agree at texel centres; between texels dot3 interpolates normals where
 //! Blinn interpolates heights.
+//!
+//! The normal map is read like the colour (`filter::read_normal`): on a
+//! minified pixel, trilinear and anisotropic with the filtered derivative
+//! read the footprint's level(s) of the map's mip chain, whose vectors are
+//! averaged and left short, so N·L is the mean over the footprint and a far
+//! or grazing surface stops shimmering. Magnified, or with nearest/bilinear
+//! or the `texel` derivative, it is the base map, as documented.
 
 use glam::{Vec2, Vec3};
 
@@ -24,7 +31,7 @@ use crate::framebuffer::Rgb;
 use crate::plan::ActiveLight;
 use crate::stats::Counters;
 use crate::texture::NormalMap;
-use crate::texture::filter::{Footprint, sample};
+use crate::texture::filter::{Footprint, read_normal, sample};
 
 /// |∂P/∂u| of the reference cube's faces: the normal map's slope scale is
 /// Blinn's k times this, so both techniques show the same relief there.
@@ -130,7 +137,13 @@ impl<const TEX: bool, const PER_PIXEL: bool> PixelShader for Dot3Kernel<'_, TEX,
             let t = sample(ctx.texture, plan.filter, uv, fp);
             albedo *= Vec3::new(t[0], t[1], t[2]);
         }
-        let normal = Vec3::from(self.map.bilinear(uv.x, uv.y));
+        let normal = Vec3::from(read_normal(
+            self.map,
+            plan.height_derivative,
+            plan.filter,
+            uv,
+            fp,
+        ));
         counters.light_evals += plan.lights.len() as u64;
         let mut sum = plan.ambient;
         if PER_PIXEL {

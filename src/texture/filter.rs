@@ -3,7 +3,7 @@
 use glam::Vec2;
 
 use super::mip::{AnisoPlan, HeightField};
-use super::{Level, Texture, level::Texel, mip};
+use super::{Level, NormalMap, Texture, level::Texel, mip};
 use crate::settings::{Filter, HeightDerivative};
 
 /// Screen-space derivatives of the texture coordinates at a pixel
@@ -96,6 +96,48 @@ pub fn read_heights(
                 sum += field.blend(|level| read(level, at));
             }
             sum / plan.taps as f32
+        }
+    }
+}
+
+/// The dot3 normal map at `uv`, read with the same footprint as the colour.
+///
+/// `Texel`, nearest and bilinear read the base map bilinearly, exactly as
+/// before the map had a mip chain. With the filtered derivative, trilinear
+/// reads the footprint's level(s) of the map's chain and anisotropic the mean
+/// of the same taps; both read only the base map, and never build its chain,
+/// while the pixel is magnified. The result is not renormalised (see
+/// `normal_map`): it is shorter than 1 where the normals it averages differ.
+#[inline]
+pub fn read_normal(
+    map: &NormalMap,
+    mode: HeightDerivative,
+    filter: Filter,
+    uv: Vec2,
+    footprint: Footprint,
+) -> [f32; 3] {
+    let size = Vec2::new(map.width as f32, map.height as f32);
+    match (mode, filter) {
+        (HeightDerivative::Texel, _) | (_, Filter::Nearest | Filter::Bilinear) => {
+            map.bilinear(uv.x, uv.y)
+        }
+        (HeightDerivative::Filtered, Filter::Trilinear) => {
+            map.trilinear(uv, mip::lod_at(size, footprint))
+        }
+        (HeightDerivative::Filtered, Filter::Anisotropic) => {
+            let plan = AnisoPlan::at(size, footprint);
+            if plan.taps == 1 {
+                return map.trilinear(uv, plan.lod);
+            }
+            let mut acc = [0.0f32; 3];
+            for i in 0..plan.taps {
+                let n = map.trilinear(plan.tap(uv, i), plan.lod);
+                for c in 0..3 {
+                    acc[c] += n[c];
+                }
+            }
+            let n = plan.taps as f32;
+            acc.map(|a| a / n)
         }
     }
 }
