@@ -204,6 +204,16 @@ pub fn full() -> Vec<Config> {
         },
         Threads::All,
     ));
+    // Emboss and dot3 read the footprint's mip level with trilinear filtering.
+    rows.push(Config::new(
+        "emboss, trilinear",
+        Settings {
+            technique: Technique::Emboss,
+            filter: Filter::Trilinear,
+            ..r
+        },
+        Threads::All,
+    ));
     rows.push(Config::new(
         "dot3, trilinear",
         Settings {
