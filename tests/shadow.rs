@@ -8,7 +8,7 @@ use relief::plan::Plan;
 use relief::render::render_frame;
 use relief::scene::build::FLOOR_Y;
 use relief::scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
-use relief::settings::Shading;
+use relief::settings::{LightVector, Shading, Technique};
 use relief::shadow::ShadowMap;
 use relief::texture::procedural;
 use relief::{Framebuffer, Settings};
@@ -154,6 +154,153 @@ fn flat_and_gouraud_shading_see_the_shadow_too() {
     }
 }
 
+/// Every bump technique in Phong, and dot3's two light vectors.
+fn every_technique() -> Vec<Settings> {
+    let mut all = Vec::new();
+    for technique in [
+        Technique::Blinn,
+        Technique::Emboss,
+        Technique::Dot3,
+        Technique::Parallax,
+        Technique::Pom,
+    ] {
+        for light_vector in [LightVector::Pixel, LightVector::Vertex] {
+            if light_vector == LightVector::Vertex && technique != Technique::Dot3 {
+                continue;
+            }
+            for bump in [true, false] {
+                all.push(Settings {
+                    technique,
+                    light_vector,
+                    bump,
+                    ..Settings::default()
+                });
+            }
+        }
+    }
+    all
+}
+
+#[test]
+fn the_floor_shadow_shows_whatever_the_cubes_technique() {
+    let (w, h) = (320, 240);
+    let scene = shadow_scene();
+    let light = scene.lights[0].position;
+    let (x, y) = pixel_of(&scene, on_floor(light, Vec3::ZERO), w, h);
+    let far = pixel_of(&scene, Vec3::new(3.0, FLOOR_Y, 4.0), w, h);
+    let mut unshadowed = scene.clone();
+    // The cube moved far away: the same two objects and pass, no shadow on the floor.
+    unshadowed.objects[0].transform = glam::Mat4::from_translation(Vec3::new(0.0, 0.0, 50.0));
+    for settings in every_technique() {
+        let what = format!(
+            "{:?} {:?} bump {}",
+            settings.technique, settings.light_vector, settings.bump
+        );
+        let (a, stats) = render_frame(&scene, &settings, w, h);
+        let (b, _) = render_frame(&unshadowed, &settings, w, h);
+        assert!(stats.counters.shadow_lookups > 0, "{what}");
+        assert_eq!(stats.counters.nonfinite, 0, "{what}");
+        // The white light's share is gone under the cube...
+        let (dark, lit) = (a.get(x, y), b.get(x, y));
+        for c in 0..3 {
+            assert!(dark[c] + 40 < lit[c], "{what}: {dark:?} vs {lit:?}");
+        }
+        // ...and nothing changes far from it.
+        assert_eq!(a.get(far.0, far.1), b.get(far.0, far.1), "{what}");
+    }
+}
+
+/// The reference cube (bumped on every face) with a small square between the
+/// white light and the centre of the face turned most toward the camera:
+/// the square shades that face's centre. Returns the scene, the pixel of the
+/// shaded point, and the same scene with the square moved far away.
+fn cube_under_a_caster(settings: &Settings, w: usize, h: usize) -> (Scene, (usize, usize), Scene) {
+    let mut scene = Scene::cube(texture(), true);
+    let turn = relief::scene::rotation_matrix(settings.rotation);
+    let to_eye = scene.camera.eye.normalize();
+    let normal = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z]
+        .map(|n| turn.transform_vector3(n))
+        .into_iter()
+        .max_by(|a, b| a.dot(to_eye).total_cmp(&b.dot(to_eye)))
+        .unwrap();
+    let p = normal; // the face centre of a cube of side 2
+    let light = scene.lights[0].position;
+    let toward = (light - p).normalize();
+    assert!(toward.dot(normal) > 0.3, "the white light faces that face");
+    let square = relief::scene::plane::grid(0.12, 1.0, 1, |_| Vec3::ONE);
+    let place = |at: Vec3| {
+        glam::Mat4::from_translation(at)
+            * glam::Mat4::from_quat(glam::Quat::from_rotation_arc(Vec3::Z, toward))
+    };
+    scene.objects.push(relief::scene::Object {
+        mesh: square,
+        transform: place(p + 0.5 * toward),
+        rotates: false,
+    });
+    let mut away = scene.clone();
+    away.objects[1].transform = place(Vec3::new(0.0, 40.0, 0.0));
+    let pixel = pixel_of(&scene, p, w, h);
+    (scene, pixel, away)
+}
+
+#[test]
+fn every_bump_technique_sees_a_shadow_on_the_bumped_cube() {
+    let (w, h) = (320, 240);
+    for settings in every_technique() {
+        let what = format!(
+            "{:?} {:?} bump {}",
+            settings.technique, settings.light_vector, settings.bump
+        );
+        let (scene, (x, y), away) = cube_under_a_caster(&settings, w, h);
+        let (a, stats) = render_frame(&scene, &settings, w, h);
+        let (b, _) = render_frame(&away, &settings, w, h);
+        assert!(stats.counters.shadow_lookups > 0, "{what}");
+        assert!(stats.counters.bump_evals > 0 || !settings.bump, "{what}");
+        assert_eq!(stats.counters.nonfinite, 0, "{what}");
+        let (dark, lit) = (a.get(x, y), b.get(x, y));
+        // The white light's share is gone in every channel (dot3 with the
+        // per-vertex light vector has the least of it: the interpolated
+        // vector is short at a face centre).
+        for c in 0..3 {
+            assert!(
+                dark[c] + 8 < lit[c],
+                "{what}: {dark:?} vs {lit:?} at ({x}, {y})"
+            );
+        }
+    }
+}
+
+#[test]
+fn in_the_embossed_lights_shadow_its_relief_goes_with_it() {
+    // Emboss adds its relief to the strongest light's N·L; where the caster
+    // hides that light the point is lit by the weak lights on the smooth
+    // surface: what Phong without bump gives there.
+    let (w, h) = (320, 240);
+    let emboss = Settings {
+        technique: Technique::Emboss,
+        ..Settings::default()
+    };
+    let smooth = Settings {
+        bump: false,
+        ..Settings::default()
+    };
+    let (scene, (x, y), away) = cube_under_a_caster(&emboss, w, h);
+    let (a, _) = render_frame(&scene, &emboss, w, h);
+    let (b, _) = render_frame(&scene, &smooth, w, h);
+    let (a, b) = (a.get(x, y), b.get(x, y));
+    for c in 0..3 {
+        assert!(a[c].abs_diff(b[c]) <= 1, "emboss {a:?} smooth {b:?}");
+    }
+    // In the light, emboss shows relief on that face.
+    let (a, _) = render_frame(&away, &emboss, w, h);
+    let (b, _) = render_frame(&away, &smooth, w, h);
+    let differ = (y.saturating_sub(8)..y + 8)
+        .flat_map(|yy| (x.saturating_sub(8)..x + 8).map(move |xx| (xx, yy)))
+        .filter(|&(xx, yy)| a.get(xx, yy) != b.get(xx, yy))
+        .count();
+    assert!(differ > 50, "{differ}");
+}
+
 #[test]
 fn no_shadow_pass_for_a_lone_convex_or_flat_model() {
     for model in [
@@ -172,6 +319,12 @@ fn no_shadow_pass_for_a_lone_convex_or_flat_model() {
             let (_, stats) = render_frame(&s, &settings, 160, 120);
             assert_eq!(stats.counters.shadow_texels, 0, "{model} {shading:?}");
             assert_eq!(stats.counters.shadow_lookups, 0, "{model} {shading:?}");
+        }
+        for settings in every_technique() {
+            let (_, stats) = render_frame(&s, &settings, 160, 120);
+            let what = format!("{model} {:?}", settings.technique);
+            assert_eq!(stats.counters.shadow_texels, 0, "{what}");
+            assert_eq!(stats.counters.shadow_lookups, 0, "{what}");
         }
     }
     // The reference scene exactly as the lead's constructor builds it.

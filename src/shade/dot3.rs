@@ -20,6 +20,9 @@
 //! averaged and left short, so N·L is the mean over the footprint and a far
 //! or grazing surface stops shimmering. Magnified, or with nearest/bilinear
 //! or the `texel` derivative, it is the base map, as documented.
+//!
+//! Like every kernel, each light is scaled by what the shadow map (when the
+//! plan drew one) says reaches the point.
 
 use glam::{Vec2, Vec3};
 
@@ -115,6 +118,14 @@ impl<'a, const TEX: bool, const PER_PIXEL: bool> Dot3Kernel<'a, TEX, PER_PIXEL> 
             vertex_lights: (!PER_PIXEL).then(|| VertexLights::new(tri, &ctx.plan.lights)),
         }
     }
+
+    /// How much of light `i` reaches `p` past the shadow map (1 without one).
+    #[inline]
+    fn seen(&self, ctx: &ShadeCtx, i: usize, p: Vec3, counters: &mut Counters) -> f32 {
+        ctx.shadow.map_or(1.0, |sh| {
+            sh.factor(i, p, self.tri.face_normal, self.tri.object, counters)
+        })
+    }
 }
 
 impl<const TEX: bool, const PER_PIXEL: bool> PixelShader for Dot3Kernel<'_, TEX, PER_PIXEL> {
@@ -148,7 +159,7 @@ impl<const TEX: bool, const PER_PIXEL: bool> PixelShader for Dot3Kernel<'_, TEX,
         let mut sum = plan.ambient;
         if PER_PIXEL {
             let frame = Surface::at(tri, b).frame();
-            for light in &plan.lights {
+            for (i, light) in plan.lights.iter().enumerate() {
                 let d = light.position - p;
                 let len2 = d.length_squared();
                 if len2 > 0.0 && len2.is_finite() {
@@ -160,7 +171,7 @@ impl<const TEX: bool, const PER_PIXEL: bool> PixelShader for Dot3Kernel<'_, TEX,
                         if plan.attenuation {
                             k /= 1.0 + ATTENUATION_QUADRATIC * len2;
                         }
-                        sum += light.color * k.min(1.0);
+                        sum += light.color * (k.min(1.0) * self.seen(ctx, i, p, counters));
                     }
                 }
             }
@@ -173,7 +184,7 @@ impl<const TEX: bool, const PER_PIXEL: bool> PixelShader for Dot3Kernel<'_, TEX,
                     if plan.attenuation {
                         k /= 1.0 + ATTENUATION_QUADRATIC * (light.position - p).length_squared();
                     }
-                    sum += light.color * k.min(1.0);
+                    sum += light.color * (k.min(1.0) * self.seen(ctx, j, p, counters));
                 }
             }
         }

@@ -8,7 +8,10 @@
 //! light the smooth surface), no relief when the light is straight above
 //! (the tangent part of L is zero, so is the shift), and no renormalisation —
 //! steep slopes and grazing light over- or under-brighten, and features
-//! narrower than the shift get doubled edges.
+//! narrower than the shift get doubled edges. In the shadow of the
+//! embossed light the relief fades with that light (the term is part of its
+//! N·L, and the shadow scales the whole); the other lights still light the
+//! smooth surface there.
 //!
 //! The heights are read like the colour (`filter::read_heights`): on a
 //! minified pixel, trilinear and anisotropic difference the footprint's mip
@@ -132,7 +135,12 @@ impl<const TEX: bool> PixelShader for EmbossKernel<'_, TEX> {
                     if plan.attenuation {
                         k /= 1.0 + ATTENUATION_QUADRATIC * len2;
                     }
-                    sum += light.color * k.min(1.0);
+                    // In the shadow of the embossed light its relief goes
+                    // with its light: the whole term is scaled.
+                    let seen = ctx.shadow.map_or(1.0, |sh| {
+                        sh.factor(i, s.p, self.tri.face_normal, self.tri.object, counters)
+                    });
+                    sum += light.color * (k.min(1.0) * seen);
                 }
             }
         }
