@@ -18,6 +18,19 @@ pub struct ActiveLight {
     pub color: Vec3,
 }
 
+/// The brightest active light (the first on ties), or `None` when no light
+/// is on: the one emboss follows and the one whose shadows are drawn.
+pub fn strongest_light(lights: &[ActiveLight]) -> Option<usize> {
+    let mut best: Option<(usize, f32)> = None;
+    for (i, l) in lights.iter().enumerate() {
+        let power = l.color.element_sum();
+        if best.is_none_or(|(_, p)| power > p) {
+            best = Some((i, power));
+        }
+    }
+    best.map(|(i, _)| i)
+}
+
 /// The stages of one frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
@@ -131,5 +144,26 @@ impl Plan {
             aa,
             shadow_light,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn light(c: f32) -> ActiveLight {
+        ActiveLight {
+            position: Vec3::ONE,
+            color: Vec3::splat(c),
+        }
+    }
+
+    #[test]
+    fn strongest_is_the_brightest_first_on_ties() {
+        assert_eq!(strongest_light(&[]), None);
+        assert_eq!(
+            strongest_light(&[light(0.3), light(1.0), light(1.0)]),
+            Some(1)
+        );
     }
 }

@@ -8,7 +8,7 @@ use relief::plan::Plan;
 use relief::render::render_frame;
 use relief::scene::build::FLOOR_Y;
 use relief::scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
-use relief::settings::{LightVector, Shading, Technique};
+use relief::settings::{Display, LightVector, Shading, Technique};
 use relief::shadow::ShadowMap;
 use relief::texture::procedural;
 use relief::{Framebuffer, Settings};
@@ -464,4 +464,35 @@ fn every_technique_darkens_a_textured_floor_in_the_shadow() {
             );
         }
     }
+}
+
+#[test]
+fn points_and_lines_draw_no_shadow_map() {
+    // Their colours never read it: the pass would be work for nothing.
+    let s = shadow_scene();
+    for display in [Display::Points, Display::Lines, Display::Fill] {
+        let settings = Settings {
+            display,
+            ..Settings::default()
+        };
+        let (_, stats) = render_frame(&s, &settings, 160, 120);
+        let drawn = stats.counters.shadow_texels > 0;
+        assert_eq!(drawn, display == Display::Fill, "{display:?}");
+        assert_eq!(Plan::new(&s, &settings).shadow_light.is_some(), drawn);
+    }
+}
+
+#[test]
+fn the_shadowed_light_is_the_one_emboss_follows_even_on_a_tie() {
+    let mut s = shadow_scene();
+    // Two equally bright white lights: the first is both emboss's light
+    // and the shadow map's.
+    s.lights[1].color = s.lights[0].color;
+    s.lights[1].position = Vec3::new(-3.0, 5.0, 4.0);
+    let plan = Plan::new(&s, &Settings::default());
+    assert_eq!(
+        plan.shadow_light,
+        relief::plan::strongest_light(&plan.lights)
+    );
+    assert_eq!(plan.shadow_light, Some(0));
 }

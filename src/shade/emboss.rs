@@ -27,23 +27,10 @@ use super::kernels::{PixelShader, ShadeCtx};
 use super::lighting::ATTENUATION_QUADRATIC;
 use super::tangent::Surface;
 use crate::framebuffer::Rgb;
-use crate::plan::ActiveLight;
+use crate::plan::strongest_light;
 use crate::stats::Counters;
 use crate::texture::Level;
 use crate::texture::filter::{Footprint, read_heights, sample};
-
-/// The light emboss follows: the brightest active one (the first on ties),
-/// or `None` when no light is on.
-pub fn strongest_light(lights: &[ActiveLight]) -> Option<usize> {
-    let mut best: Option<(usize, f32)> = None;
-    for (i, l) in lights.iter().enumerate() {
-        let power = l.color.element_sum();
-        if best.is_none_or(|(_, p)| power > p) {
-            best = Some((i, power));
-        }
-    }
-    best.map(|(i, _)| i)
-}
 
 /// The emboss kernel, with or without the colour texture.
 pub struct EmbossKernel<'a, const TEX: bool> {
@@ -128,18 +115,19 @@ impl<const TEX: bool> PixelShader for EmbossKernel<'_, TEX> {
                 let len2 = d.length_squared();
                 if len2 > 0.0 && len2.is_finite() {
                     let len = len2.sqrt();
+                    // In the shadow of the embossed light its relief goes
+                    // with its light: the whole term is scaled (and in full
+                    // shadow the height reads are skipped).
+                    let seen = ctx.shadow.map_or(1.0, |sh| {
+                        sh.factor(i, s.p, self.tri.face_normal, self.tri.object, counters)
+                    });
                     let mut k = ndl / len;
-                    if i == self.strong {
+                    if i == self.strong && seen > 0.0 {
                         k = (k + emboss_term(ctx, &s, d / len, fp, counters)).max(0.0);
                     }
                     if plan.attenuation {
                         k /= 1.0 + ATTENUATION_QUADRATIC * len2;
                     }
-                    // In the shadow of the embossed light its relief goes
-                    // with its light: the whole term is scaled.
-                    let seen = ctx.shadow.map_or(1.0, |sh| {
-                        sh.factor(i, s.p, self.tri.face_normal, self.tri.object, counters)
-                    });
                     sum += light.color * (k.min(1.0) * seen);
                 }
             }
@@ -148,26 +136,5 @@ impl<const TEX: bool> PixelShader for EmbossKernel<'_, TEX> {
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.tri.uv)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn light(c: f32) -> ActiveLight {
-        ActiveLight {
-            position: Vec3::ONE,
-            color: Vec3::splat(c),
-        }
-    }
-
-    #[test]
-    fn strongest_is_the_brightest_first_on_ties() {
-        assert_eq!(strongest_light(&[]), None);
-        assert_eq!(
-            strongest_light(&[light(0.3), light(1.0), light(1.0)]),
-            Some(1)
-        );
     }
 }

@@ -22,9 +22,9 @@ mod depth;
 
 use glam::{Mat3, Mat4, Vec3};
 
-use crate::plan::ActiveLight;
+use crate::plan::{ActiveLight, strongest_light};
 use crate::scene::{Mesh, Object, Scene, rotation_matrix};
-use crate::settings::Settings;
+use crate::settings::{Display, Settings};
 use crate::stats::Counters;
 
 /// Smallest and largest shadow map side, in texels.
@@ -175,10 +175,13 @@ pub fn shadow_light(scene: &Scene, settings: &Settings, lights: &[ActiveLight]) 
     if scene.objects.len() < 2 && scene.objects.iter().all(|o| o.mesh.convex) {
         return None;
     }
-    let (index, light) = lights
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.color.element_sum().total_cmp(&b.1.color.element_sum()))?;
+    // Points and lines are coloured without the map.
+    if settings.display != Display::Fill {
+        return None;
+    }
+    // The light emboss follows too (the first of equally bright ones).
+    let index = strongest_light(lights)?;
+    let light = &lights[index];
     let casters = casters(scene, settings, light.position);
     let (centre, radius) = enclose(&casters)?;
     // A light inside the casters' bounds cannot see them through one frustum.
