@@ -114,13 +114,13 @@ fn narrow_terminals_split_modes_and_cost_over_two_lines() {
     update(&mut s, Action::CycleShading);
     let buf = screen(&s, 40, 12);
     let status = row_text(&buf, 11);
-    assert_eq!(status.trim_end(), "flat V T+ C+ B+ (Phong only) cube 24b");
+    assert_eq!(status.trim_end(), "flat V T+ C+ B+ (Phong only) 24b cube");
     let panel = row_text(&buf, 10);
     assert_eq!(panel.trim_end(), "X25° Y35° Z0° 3.2ms 30fps 41.2kB");
     // 80 columns: the abbreviated modes, the cost on the line above with
     // the full-size fields.
     let buf = screen(&state(), 80, 12);
-    assert_eq!(row_text(&buf, 11).trim_end(), "Phong V T+ C+ B+ cube 24b");
+    assert_eq!(row_text(&buf, 11).trim_end(), "Phong V T+ C+ B+ 24b cube");
     assert_eq!(
         row_text(&buf, 10).trim_end(),
         " X     25° Y     35° Z      0°  3.2 ms │ 30 fps │ 41.2 kB"
@@ -348,13 +348,14 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
         short.contains("lights 1·3·") && short.contains("att on"),
         "{short}"
     );
+    // At 40 columns the changed modes are cut, never the colour depth.
     assert_eq!(
         row_text(&screen(&s, 40, 12), 11).trim_end(),
-        "Phong V T+ C+ B+ sphere dot3 Lv dH texel"
+        "Phong V T+ C+ B+ 24b sphere dot3 Lv dH t"
     );
     assert_eq!(
         status_line(&s, 60),
-        "Phong V T+ C+ B+ sphere dot3 Lv dH texel 2x2 points L1·3· att 24b"
+        "Phong V T+ C+ B+ 24b sphere dot3 Lv dH texel 2x2 points L1·3· att"
     );
     update(&mut s, Action::ToggleLights);
     assert!(status_line(&s, 300).contains("lights off"));

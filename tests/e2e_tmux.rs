@@ -253,7 +253,7 @@ fn small_terminal_resizes_and_signals_restore_the_terminal() {
             return;
         };
         t.wait_for("first frame", |s| {
-            status(s).starts_with("Phong V T+ C+ B+ cube 24b")
+            status(s).starts_with("Phong V T+ C+ B+ 24b cube")
         });
         for (w, h) in [("1", "1"), ("3", "2"), ("60", "20"), ("40", "12")] {
             t.run(&["resize-window", "-x", w, "-y", h]);
@@ -278,7 +278,7 @@ fn forced_palette_shows_in_the_status_line() {
     let Some(t) = Tmux::start("palette", 120, 20, &cmd) else {
         return;
     };
-    t.wait_for("256 colours", |s| status(s).ends_with("cube 256c"));
+    t.wait_for("256 colours", |s| status(s).ends_with("256c cube"));
     // The picture uses palette colours, not 24-bit ones.
     let pic = t.picture();
     assert!(pic.contains("8;5;") && !pic.contains("8;2;"), "{pic}");

@@ -425,8 +425,11 @@ pub fn status_modes(state: &State) -> String {
         add("att");
     }
     let what: String = scene_label(state, true).chars().take(12).collect();
+    // What the status line must always show comes first (the colour depth
+    // included, and auto-rotation); the scene and the changed modes follow
+    // and are what a narrow screen cuts.
     format!(
-        "{} {} T{} C{} B{}{} {what}{extras} {}{}",
+        "{} {} T{} C{} B{}{} {}{} {what}{extras}",
         s.shading.label(),
         if s.normals == crate::settings::Normals::Vertex {
             "V"
