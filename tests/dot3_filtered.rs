@@ -8,69 +8,22 @@
 //! filter, so it is the "before" of every comparison here: the same frame,
 //! colour filtering included, with normals read as they were.
 
+mod common;
+
 use std::sync::Arc;
 
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use proptest::prelude::*;
 use relief::bench::metrics::psnr;
 use relief::bench::resolve::box_downsample;
 use relief::render::{Renderer, render_frame};
-use relief::scene::{Object, plane};
 use relief::settings::{Filter, HeightDerivative, LightVector, Technique};
 use relief::texture::filter::{Footprint, read_normal};
 use relief::texture::mip::{self, AnisoPlan};
-use relief::texture::{Level, NormalMap, Texture};
+use relief::texture::{NormalMap, Texture};
 use relief::{Framebuffer, Scene, Settings};
 
-/// A repeatable value in 0..1 per texel.
-fn noise(x: usize, y: usize) -> f32 {
-    let mut h = (x as u32).wrapping_mul(0x9E37_79B9) ^ (y as u32).wrapping_mul(0x85EB_CA6B);
-    h ^= h >> 15;
-    h = h.wrapping_mul(0x2C1B_3C6D);
-    h ^= h >> 12;
-    (h & 0xFFFF) as f32 / 65535.0
-}
-
-/// `n × n` texels: a coarse two-tone colour checker, `height` per texel.
-fn texture(n: usize, height: impl Fn(usize, usize) -> f32) -> Arc<Texture> {
-    let mut level = Level::solid(n, n, [0.0; 4]);
-    for y in 0..n {
-        for x in 0..n {
-            let c = if (x / 16 + y / 16) % 2 == 0 {
-                0.85
-            } else {
-                0.55
-            };
-            level.texels[y * n + x] = [c, 0.7, 1.0 - c, height(x, y)];
-        }
-    }
-    Arc::new(Texture::new("test", level))
-}
-
-/// The reference cube, pulled back until its faces are a few texels per pixel.
-fn far_cube() -> Scene {
-    let mut scene = Scene::cube(texture(128, noise), true);
-    scene.camera.eye = Vec3::new(0.0, 0.0, 14.0);
-    scene
-}
-
-/// A large plane turned nearly edge-on, with a fine checker height.
-fn grazing_plane() -> Scene {
-    let checker = |x: usize, y: usize| {
-        if (x / 2 + y / 2).is_multiple_of(2) {
-            1.0
-        } else {
-            0.0
-        }
-    };
-    let mut scene = Scene::model(plane::plane(), texture(128, checker));
-    scene.objects = vec![Object {
-        mesh: plane::plane(),
-        transform: Mat4::from_scale(Vec3::splat(2.5)),
-        rotates: true,
-    }];
-    scene
-}
+use common::minified::{any_f32, far_cube, grazing_plane, noise, texture};
 
 fn dot3(
     filter: Filter,
@@ -281,19 +234,6 @@ fn the_map_chain_averages_the_vectors_without_renormalising() {
         let n = map.trilinear(Vec2::new(0.3, 0.8), lod);
         assert_eq!(n, [last[0], last[1], last[2]], "{lod}");
     }
-}
-
-fn any_f32() -> impl Strategy<Value = f32> {
-    prop_oneof![
-        proptest::num::f32::ANY,
-        -4.0f32..4.0,
-        -0.05f32..0.05,
-        Just(0.0),
-        Just(f32::NAN),
-        Just(f32::INFINITY),
-        Just(f32::NEG_INFINITY),
-        Just(f32::MAX),
-    ]
 }
 
 fn small_map() -> &'static (Arc<Texture>, Arc<NormalMap>) {

@@ -3,6 +3,8 @@
 
 use std::sync::Arc;
 
+pub mod minified;
+
 use relief::render::render_frame;
 use relief::texture::{Texture, procedural};
 use relief::{FrameStats, Framebuffer, Scene, Settings};
