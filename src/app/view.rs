@@ -476,42 +476,32 @@ pub fn status_text(state: &State, detail: Detail) -> String {
     };
     let auto = if state.auto_rotate { " │ auto" } else { "" };
     let po = if phong_only { " (Phong only)" } else { "" };
-    if matches!(detail, Detail::Short | Detail::Modes) {
-        return format!(
-            "{} │ {} │ tex {} │ col {} │ bump {}{po} │ {} │ {} │ dH {} │ AA {} │ {} │ {} │ {} │ att {} │ {}{cost}{auto}",
-            s.shading.label(),
-            s.normals.label(),
-            on_off(s.texture),
-            on_off(s.colors),
-            on_off(s.bump),
-            technique_text(s),
-            s.filter.label(),
-            s.height_derivative.label(),
-            s.aa.label(),
-            s.display.label(),
-            scene_label(state, true),
-            lights_text(state, true),
-            on_off(s.attenuation),
-            state.depth.label(),
-        );
-    }
-    format!(
-        "{} │ normals {} │ texture {} │ colours {} │ bump {}{po}{strength} │ {} │ {} │ dH {} │ AA {} │ {} │ {} │ {} │ attenuation {} │ {}{cost}{auto}{hint}",
-        s.shading.label(),
-        s.normals.label(),
-        on_off(s.texture),
-        on_off(s.colors),
-        on_off(s.bump),
+    // Short words in the short forms, whole words otherwise.
+    let short = matches!(detail, Detail::Short | Detail::Modes);
+    let named = |long: &str, brief: &str, value: &str| {
+        format!("{} {value}", if short { brief } else { long })
+    };
+    let fields = [
+        s.shading.label().to_string(),
+        if short {
+            s.normals.label().to_string()
+        } else {
+            format!("normals {}", s.normals.label())
+        },
+        named("texture", "tex", on_off(s.texture)),
+        named("colours", "col", on_off(s.colors)),
+        format!("bump {}{po}{strength}", on_off(s.bump)),
         technique_text(s),
-        s.filter.label(),
-        s.height_derivative.label(),
-        s.aa.label(),
-        s.display.label(),
-        scene_label(state, false),
-        lights_text(state, false),
-        on_off(s.attenuation),
-        state.depth.label(),
-    )
+        s.filter.label().to_string(),
+        format!("dH {}", s.height_derivative.label()),
+        format!("AA {}", s.aa.label()),
+        s.display.label().to_string(),
+        scene_label(state, short),
+        lights_text(state, short),
+        named("attenuation", "att", on_off(s.attenuation)),
+        state.depth.label().to_string(),
+    ];
+    format!("{}{cost}{auto}{hint}", fields.join(" │ "))
 }
 
 fn short_depth(state: &State) -> &'static str {
