@@ -420,7 +420,6 @@ fn any_size_renders_the_shadow_scene_without_trouble() {
 
 #[test]
 fn every_technique_darkens_a_textured_floor_in_the_shadow() {
-    use relief::settings::{LightVector, Technique};
     let (w, h) = (320, 240);
     let mut scene = shadow_scene();
     for tri in &mut scene.objects[FLOOR as usize].mesh.triangles {
@@ -432,37 +431,25 @@ fn every_technique_darkens_a_textured_floor_in_the_shadow() {
     let (x, y) = pixel_of(&scene, on_floor(light, Vec3::ZERO), w, h);
     let (fx, fy) = pixel_of(&scene, Vec3::new(3.0, FLOOR_Y, 4.0), w, h);
     let lone = Scene::cube(texture(), true);
-    for technique in [
-        Technique::Blinn,
-        Technique::Emboss,
-        Technique::Dot3,
-        Technique::Parallax,
-        Technique::Pom,
-    ] {
-        for light_vector in [LightVector::Pixel, LightVector::Vertex] {
-            let settings = Settings {
-                technique,
-                light_vector,
-                ..Settings::default()
-            };
-            let (a, stats) = render_frame(&scene, &settings, w, h);
-            let (b, _) = render_frame(&away, &settings, w, h);
-            assert!(stats.counters.shadow_lookups > 0, "{technique:?}");
-            // Summed over a 5×5 patch: emboss may zero a lit texel's light.
-            let patch = |fb: &Framebuffer| -> u32 {
-                (0..25)
-                    .map(|i| fb.get(x + i % 5 - 2, y + i / 5 - 2))
-                    .map(|c| c.iter().map(|&v| v as u32).sum::<u32>())
-                    .sum()
-            };
-            assert!(patch(&a) < patch(&b), "{technique:?}");
-            assert_eq!(a.get(fx, fy), b.get(fx, fy), "{technique:?} lit pixel");
-            let (_, lone_stats) = render_frame(&lone, &settings, w, h);
-            assert_eq!(
-                lone_stats.counters.shadow_lookups + lone_stats.counters.shadow_texels,
-                0
-            );
-        }
+    for settings in every_technique() {
+        let technique = settings.technique;
+        let (a, stats) = render_frame(&scene, &settings, w, h);
+        let (b, _) = render_frame(&away, &settings, w, h);
+        assert!(stats.counters.shadow_lookups > 0, "{technique:?}");
+        // Summed over a 5×5 patch: emboss may zero a lit texel's light.
+        let patch = |fb: &Framebuffer| -> u32 {
+            (0..25)
+                .map(|i| fb.get(x + i % 5 - 2, y + i / 5 - 2))
+                .map(|c| c.iter().map(|&v| v as u32).sum::<u32>())
+                .sum()
+        };
+        assert!(patch(&a) < patch(&b), "{technique:?}");
+        assert_eq!(a.get(fx, fy), b.get(fx, fy), "{technique:?} lit pixel");
+        let (_, lone_stats) = render_frame(&lone, &settings, w, h);
+        assert_eq!(
+            lone_stats.counters.shadow_lookups + lone_stats.counters.shadow_texels,
+            0
+        );
     }
 }
 
