@@ -14,8 +14,6 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
-use relief::bench::metrics::psnr;
-use relief::bench::resolve::box_downsample;
 use relief::render::{Renderer, render_frame};
 use relief::settings::{Filter, HeightDerivative, LightVector, Technique};
 use relief::texture::filter::{Footprint, read_normal};
@@ -23,7 +21,7 @@ use relief::texture::mip::{self, AnisoPlan};
 use relief::texture::{NormalMap, Texture};
 use relief::{Framebuffer, Scene, Settings};
 
-use common::minified::{any_f32, far_cube, grazing_plane, noise, texture};
+use common::minified::{H, W, any_f32, far_cube, gains, grazing_plane, noise, texture};
 
 fn dot3(
     filter: Filter,
@@ -41,48 +39,19 @@ fn dot3(
     }
 }
 
-const W: usize = 160;
-const H: usize = 120;
-
-/// Dot3 supersampled 16 × 16 and box-resolved: base-map normals at far more
-/// samples than texels, N·L averaged, as the eye would integrate it.
-fn reference(scene: &Scene, light_vector: LightVector, rotation: Vec3) -> Framebuffer {
-    let s = dot3(
-        Filter::Bilinear,
-        HeightDerivative::Texel,
-        light_vector,
-        rotation,
-    );
-    box_downsample(&render_frame(scene, &s, W * 16, H * 16).0, 16)
-}
-
-/// PSNR (dB) of base-map (texel) and filtered normals against the
-/// reference, per filter.
-fn gains(scene: &Scene, light_vector: LightVector, rotation: Vec3) -> Vec<(Filter, f64, f64)> {
-    let reference = reference(scene, light_vector, rotation);
-    [Filter::Trilinear, Filter::Anisotropic]
-        .into_iter()
-        .map(|filter| {
-            let db = |mode| {
-                let s = dot3(filter, mode, light_vector, rotation);
-                let (fb, stats) = render_frame(scene, &s, W, H);
-                assert_eq!(stats.counters.nonfinite, 0);
-                psnr(fb.pixels(), reference.pixels())
-            };
-            (
-                filter,
-                db(HeightDerivative::Texel),
-                db(HeightDerivative::Filtered),
-            )
-        })
-        .collect()
-}
-
 #[test]
 fn a_minified_noise_cube_comes_much_closer_to_its_supersampled_render() {
     let scene = far_cube();
     for lv in [LightVector::Pixel, LightVector::Vertex] {
-        for (filter, before, after) in gains(&scene, lv, Vec3::new(25.0, 35.0, 0.0)) {
+        for (filter, before, after) in gains(
+            &scene,
+            &dot3(
+                Filter::Bilinear,
+                HeightDerivative::Texel,
+                lv,
+                Vec3::new(25.0, 35.0, 0.0),
+            ),
+        ) {
             eprintln!("far cube, {lv:?} {filter:?}: {before:.2} -> {after:.2} dB");
             assert!(
                 after > before + 6.0,
@@ -95,7 +64,15 @@ fn a_minified_noise_cube_comes_much_closer_to_its_supersampled_render() {
 #[test]
 fn a_grazing_checker_plane_comes_closer_to_its_supersampled_render() {
     let scene = grazing_plane();
-    for (filter, before, after) in gains(&scene, LightVector::Pixel, Vec3::new(-78.0, 0.0, 10.0)) {
+    for (filter, before, after) in gains(
+        &scene,
+        &dot3(
+            Filter::Bilinear,
+            HeightDerivative::Texel,
+            LightVector::Pixel,
+            Vec3::new(-78.0, 0.0, 10.0),
+        ),
+    ) {
         eprintln!("grazing plane, {filter:?}: {before:.2} -> {after:.2} dB");
         assert!(
             after > before + 4.0,

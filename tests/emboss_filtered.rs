@@ -13,16 +13,14 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
-use relief::bench::metrics::psnr;
-use relief::bench::resolve::box_downsample;
 use relief::render::render_frame;
 use relief::settings::{Filter, HeightDerivative, Technique};
 use relief::texture::Texture;
 use relief::texture::filter::{Footprint, read_heights};
 use relief::texture::mip::HeightField;
-use relief::{Framebuffer, Scene, Settings};
+use relief::{Scene, Settings};
 
-use common::minified::{any_f32, far_cube, grazing_plane, noise, texture};
+use common::minified::{H, W, any_f32, far_cube, gains, grazing_plane, noise, texture};
 
 fn emboss(filter: Filter, height_derivative: HeightDerivative, rotation: Vec3) -> Settings {
     Settings {
@@ -34,41 +32,17 @@ fn emboss(filter: Filter, height_derivative: HeightDerivative, rotation: Vec3) -
     }
 }
 
-const W: usize = 160;
-const H: usize = 120;
-
-/// Emboss supersampled 16 × 16 and box-resolved: base-level heights at far
-/// more samples than texels, averaged, as the eye would integrate them.
-fn reference(scene: &Scene, rotation: Vec3) -> Framebuffer {
-    let s = emboss(Filter::Bilinear, HeightDerivative::Texel, rotation);
-    box_downsample(&render_frame(scene, &s, W * 16, H * 16).0, 16)
-}
-
-/// PSNR (dB) of the filtered and base-level (texel) heights against the
-/// reference, per filter.
-fn gains(scene: &Scene, rotation: Vec3) -> Vec<(Filter, f64, f64)> {
-    let reference = reference(scene, rotation);
-    [Filter::Trilinear, Filter::Anisotropic]
-        .into_iter()
-        .map(|filter| {
-            let db = |mode| {
-                let (fb, stats) = render_frame(scene, &emboss(filter, mode, rotation), W, H);
-                assert_eq!(stats.counters.nonfinite, 0);
-                psnr(fb.pixels(), reference.pixels())
-            };
-            (
-                filter,
-                db(HeightDerivative::Texel),
-                db(HeightDerivative::Filtered),
-            )
-        })
-        .collect()
-}
-
 #[test]
 fn a_minified_noise_cube_comes_much_closer_to_its_supersampled_render() {
     let scene = far_cube();
-    for (filter, before, after) in gains(&scene, Vec3::new(25.0, 35.0, 0.0)) {
+    for (filter, before, after) in gains(
+        &scene,
+        &emboss(
+            Filter::Bilinear,
+            HeightDerivative::Texel,
+            Vec3::new(25.0, 35.0, 0.0),
+        ),
+    ) {
         eprintln!("far cube, {filter:?}: {before:.2} -> {after:.2} dB");
         assert!(
             after > before + 5.0,
@@ -81,7 +55,14 @@ fn a_minified_noise_cube_comes_much_closer_to_its_supersampled_render() {
 #[test]
 fn a_grazing_checker_plane_comes_closer_to_its_supersampled_render() {
     let scene = grazing_plane();
-    for (filter, before, after) in gains(&scene, Vec3::new(-78.0, 0.0, 10.0)) {
+    for (filter, before, after) in gains(
+        &scene,
+        &emboss(
+            Filter::Bilinear,
+            HeightDerivative::Texel,
+            Vec3::new(-78.0, 0.0, 10.0),
+        ),
+    ) {
         eprintln!("grazing plane, {filter:?}: {before:.2} -> {after:.2} dB");
         assert!(
             after > before + 1.0,

@@ -5,9 +5,13 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 use proptest::prelude::*;
-use relief::Scene;
+use relief::bench::metrics::psnr;
+use relief::bench::resolve::box_downsample;
+use relief::render::render_frame;
 use relief::scene::{Object, plane};
+use relief::settings::{Filter, HeightDerivative};
 use relief::texture::{Level, Texture};
+use relief::{Framebuffer, Scene, Settings};
 
 /// A repeatable value in 0..1 per texel.
 pub fn noise(x: usize, y: usize) -> f32 {
@@ -71,4 +75,46 @@ pub fn any_f32() -> impl Strategy<Value = f32> {
         Just(f32::NEG_INFINITY),
         Just(f32::MAX),
     ]
+}
+
+/// Frame size of the comparisons.
+pub const W: usize = 160;
+pub const H: usize = 120;
+
+/// `base` (a technique, view and light vector) supersampled 16 × 16 with
+/// base-level heights and box-resolved: far more samples than texels,
+/// averaged, as the eye would integrate them.
+pub fn reference(scene: &Scene, base: &Settings) -> Framebuffer {
+    let s = Settings {
+        filter: Filter::Bilinear,
+        height_derivative: HeightDerivative::Texel,
+        ..*base
+    };
+    box_downsample(&render_frame(scene, &s, W * 16, H * 16).0, 16)
+}
+
+/// PSNR (dB) against [`reference`] of base-level (texel) and filtered
+/// reads, per mip filter.
+pub fn gains(scene: &Scene, base: &Settings) -> Vec<(Filter, f64, f64)> {
+    let reference = reference(scene, base);
+    [Filter::Trilinear, Filter::Anisotropic]
+        .into_iter()
+        .map(|filter| {
+            let db = |height_derivative| {
+                let s = Settings {
+                    filter,
+                    height_derivative,
+                    ..*base
+                };
+                let (fb, stats) = render_frame(scene, &s, W, H);
+                assert_eq!(stats.counters.nonfinite, 0);
+                psnr(fb.pixels(), reference.pixels())
+            };
+            (
+                filter,
+                db(HeightDerivative::Texel),
+                db(HeightDerivative::Filtered),
+            )
+        })
+        .collect()
 }
