@@ -1,0 +1,471 @@
+//! A real SSH session over a slow link, all inside network namespaces made here.
+//!
+//! Three namespaces: the client (`…c`), the link (`…m`) and the server (`…s`), joined by
+//! two veth pairs. The link namespace holds the bottleneck: a `tbf` rate limit on each of
+//! its two ports (the same rate both ways) and a user-space delay line between them (see
+//! `delay_line`). The client and the server have one address each in a private /30 and
+//! see each other as on one wire; nothing outside the namespaces is touched.
+//!
+//! The server runs its own `sshd` (own config, keys and port, no `AcceptEnv`, so
+//! `COLORTERM` is not forwarded, as on a typical server); the client runs a private tmux
+//! server whose one pane runs `ssh -tt` to it, executing a relief binary there.
+//! Everything is undone on drop, also after a failed assertion.
+
+#![allow(dead_code)]
+
+pub mod delay_line;
+
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+use delay_line::DelayLine;
+
+const CLIENT_ADDR: &str = "10.77.0.1";
+const SERVER_ADDR: &str = "10.77.0.2";
+const SSH_PORT: u16 = 2222;
+/// The pane's marker line once the session has ended, followed by ssh's exit status.
+pub const EXITED: &str = "RELIEF-EXITED ";
+
+/// What one session is made of.
+pub struct Options {
+    /// The relief binary run on the server.
+    pub binary: PathBuf,
+    /// Rate of the link in kbit/s, each way.
+    pub rate_kbit: u32,
+    /// One-way delay of the link.
+    pub delay: Duration,
+    /// Value of relief's `--color`.
+    pub color: String,
+    pub width: u16,
+    pub height: u16,
+}
+
+/// Why a session cannot be had on this machine (the test then skips).
+pub struct Unavailable(pub String);
+
+/// The namespaces, the link, sshd and the tmux pane running `ssh -tt … relief`.
+pub struct Session {
+    tag: String,
+    dir: PathBuf,
+    namespaces: Vec<String>,
+    delay: Option<DelayLine>,
+    sshd: Option<Child>,
+    tmux: Option<String>,
+    /// Link bytes towards the client when the pane started (the login check's).
+    bytes_before_pane: u64,
+}
+
+/// The first missing prerequisite, if any: root, and the tools run here.
+pub fn missing_prerequisite() -> Option<String> {
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } != 0 {
+        return Some("not root (network namespaces need it)".into());
+    }
+    for (tool, package) in [
+        ("ip", "iproute2"),
+        ("tc", "iproute2"),
+        ("ssh", "openssh-client"),
+        ("ssh-keygen", "openssh-client"),
+        ("tmux", "tmux"),
+    ] {
+        if find_program(tool).is_none() {
+            return Some(format!("`{tool}` not found (apt-get install {package})"));
+        }
+    }
+    if find_program("sshd").is_none() {
+        return Some("`sshd` not found (apt-get install openssh-server)".into());
+    }
+    None
+}
+
+/// A program on PATH or in the usual sbin directories (sshd must be run by its full path).
+fn find_program(name: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    std::env::split_paths(&path)
+        .chain(["/usr/sbin", "/sbin", "/usr/local/sbin"].map(PathBuf::from))
+        .map(|d| d.join(name))
+        .find(|p| p.is_file())
+}
+
+/// Runs a command to completion; its stdout, or what went wrong.
+fn run(program: &str, args: &[&str]) -> Result<String, String> {
+    let out = Command::new(program)
+        .args(args)
+        .stdin(Stdio::null())
+        .output()
+        .map_err(|e| format!("{program}: {e}"))?;
+    if out.status.success() {
+        Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+    } else {
+        Err(format!(
+            "`{program} {}` failed: {}",
+            args.join(" "),
+            String::from_utf8_lossy(&out.stderr).trim()
+        ))
+    }
+}
+
+/// Runs a command inside a namespace.
+fn run_in(ns: &str, args: &[&str]) -> Result<String, String> {
+    let mut all = vec!["netns", "exec", ns];
+    all.extend_from_slice(args);
+    run("ip", &all)
+}
+
+impl Session {
+    /// Builds the link, starts sshd, checks a login, then starts the pane.
+    /// `Err` when namespaces or the rate limit cannot be had; panics when they can
+    /// but the session still fails (that is a bug in relief or here).
+    pub fn start(opts: &Options) -> Result<Session, Unavailable> {
+        static COUNT: AtomicUsize = AtomicUsize::new(0);
+        let tag = format!(
+            "relief-ssh-{}-{}",
+            std::process::id(),
+            COUNT.fetch_add(1, Ordering::Relaxed)
+        );
+        let mut s = Session {
+            dir: std::env::temp_dir().join(&tag),
+            tag,
+            namespaces: Vec::new(),
+            delay: None,
+            sshd: None,
+            tmux: None,
+            bytes_before_pane: 0,
+        };
+        s.build_link(opts).map_err(Unavailable)?;
+        s.start_sshd().unwrap_or_else(|e| panic!("sshd: {e}"));
+        s.start_pane(opts);
+        Ok(s)
+    }
+
+    fn ns(&self, side: char) -> String {
+        format!("{}{side}", self.tag)
+    }
+
+    fn build_link(&mut self, opts: &Options) -> Result<(), String> {
+        for side in ['c', 'm', 's'] {
+            let ns = self.ns(side);
+            run("ip", &["netns", "add", &ns])?;
+            self.namespaces.push(ns.clone());
+            // No IPv6: its neighbour discovery would only add chatter to the counts.
+            let _ = run_in(
+                &ns,
+                &[
+                    "sh",
+                    "-c",
+                    "echo 1 > /proc/sys/net/ipv6/conf/default/disable_ipv6",
+                ],
+            );
+            run_in(&ns, &["ip", "link", "set", "lo", "up"])?;
+        }
+        let (c, m, s) = (self.ns('c'), self.ns('m'), self.ns('s'));
+        // Client port "vc" <-> link port "mc"; link port "ms" <-> server port "vs".
+        for (end, end_ns, port) in [("vc", &c, "mc"), ("vs", &s, "ms")] {
+            run(
+                "ip",
+                &[
+                    "link", "add", end, "netns", end_ns, "type", "veth", "peer", "name", port,
+                    "netns", &m,
+                ],
+            )?;
+            // Frames of one MTU at most, as on a real wire (and through the delay line).
+            run_in(
+                end_ns,
+                &[
+                    "ip",
+                    "link",
+                    "set",
+                    end,
+                    "gso_max_size",
+                    "1500",
+                    "gso_max_segs",
+                    "1",
+                ],
+            )?;
+        }
+        run_in(
+            &c,
+            &[
+                "ip",
+                "addr",
+                "add",
+                &format!("{CLIENT_ADDR}/30"),
+                "dev",
+                "vc",
+            ],
+        )?;
+        run_in(
+            &s,
+            &[
+                "ip",
+                "addr",
+                "add",
+                &format!("{SERVER_ADDR}/30"),
+                "dev",
+                "vs",
+            ],
+        )?;
+        // The bottleneck: the same rate each way, a bucket of a few ms of data
+        // (at least three full frames) and up to 200 ms of queue.
+        let burst = (opts.rate_kbit as u64 * 1000 / 8 / 250).max(4542);
+        for port in ["mc", "ms"] {
+            run(
+                "tc",
+                &[
+                    "-n",
+                    &m,
+                    "qdisc",
+                    "add",
+                    "dev",
+                    port,
+                    "root",
+                    "tbf",
+                    "rate",
+                    &format!("{}kbit", opts.rate_kbit),
+                    "burst",
+                    &burst.to_string(),
+                    "latency",
+                    "200ms",
+                ],
+            )?;
+        }
+        self.delay = Some(
+            DelayLine::start(&m, "mc", "ms", opts.delay).map_err(|e| format!("delay line: {e}"))?,
+        );
+        for (ns, dev) in [(&c, "vc"), (&m, "mc"), (&m, "ms"), (&s, "vs")] {
+            run_in(ns, &["ip", "link", "set", dev, "up"])?;
+        }
+        Ok(())
+    }
+
+    fn start_sshd(&mut self) -> Result<(), String> {
+        std::fs::create_dir_all(&self.dir).map_err(|e| e.to_string())?;
+        // sshd's privilege-separation directory, absent where sshd never ran.
+        std::fs::create_dir_all("/run/sshd").map_err(|e| format!("/run/sshd: {e}"))?;
+        let d = &self.dir;
+        for key in ["host", "client"] {
+            let path = d.join(key);
+            run(
+                "ssh-keygen",
+                &[
+                    "-q",
+                    "-t",
+                    "ed25519",
+                    "-N",
+                    "",
+                    "-f",
+                    &path.to_string_lossy(),
+                ],
+            )?;
+        }
+        std::fs::copy(d.join("client.pub"), d.join("authorized_keys"))
+            .map_err(|e| e.to_string())?;
+        let config = format!(
+            "ListenAddress {SERVER_ADDR}\n\
+             Port {SSH_PORT}\n\
+             HostKey {host}\n\
+             AuthorizedKeysFile {keys}\n\
+             PidFile none\n\
+             PermitRootLogin prohibit-password\n\
+             PubkeyAuthentication yes\n\
+             PasswordAuthentication no\n\
+             KbdInteractiveAuthentication no\n\
+             UsePAM no\n\
+             StrictModes no\n\
+             UseDNS no\n\
+             PrintMotd no\n\
+             PrintLastLog no\n\
+             LogLevel ERROR\n",
+            host = d.join("host").display(),
+            keys = d.join("authorized_keys").display(),
+        );
+        let config_path = d.join("sshd_config");
+        std::fs::write(&config_path, config).map_err(|e| e.to_string())?;
+        let log = std::fs::File::create(d.join("sshd.log")).map_err(|e| e.to_string())?;
+        let sshd = find_program("sshd").ok_or("sshd not found")?;
+        self.sshd = Some(
+            Command::new("ip")
+                .args(["netns", "exec", &self.ns('s')])
+                .arg(&sshd)
+                .args(["-D", "-e", "-f"])
+                .arg(&config_path)
+                .stdin(Stdio::null())
+                .stdout(Stdio::null())
+                .stderr(log)
+                .spawn()
+                .map_err(|e| e.to_string())?,
+        );
+        // Logged in once without a terminal: sshd listens and the key is accepted.
+        let start = Instant::now();
+        loop {
+            let mut args = vec!["ssh".to_string()];
+            args.extend(self.ssh_args());
+            args.push("true".into());
+            let args: Vec<&str> = args.iter().map(String::as_str).collect();
+            match run_in(&self.ns('c'), &args) {
+                Ok(_) => return Ok(()),
+                Err(e) if start.elapsed() > Duration::from_secs(20) => {
+                    let log = std::fs::read_to_string(d.join("sshd.log")).unwrap_or_default();
+                    return Err(format!("no login: {e}\nsshd log:\n{log}"));
+                }
+                Err(_) => std::thread::sleep(Duration::from_millis(100)),
+            }
+        }
+    }
+
+    /// The client's arguments up to the destination: no user or system config,
+    /// no known-hosts file, only the session's key.
+    fn ssh_args(&self) -> Vec<String> {
+        let key = self.dir.join("client");
+        [
+            "-F",
+            "/dev/null",
+            "-p",
+            &SSH_PORT.to_string(),
+            "-i",
+            &key.to_string_lossy(),
+            "-o",
+            "IdentitiesOnly=yes",
+            "-o",
+            "BatchMode=yes",
+            "-o",
+            "StrictHostKeyChecking=no",
+            "-o",
+            "UserKnownHostsFile=/dev/null",
+            "-o",
+            "LogLevel=ERROR",
+            &format!("root@{SERVER_ADDR}"),
+        ]
+        .map(String::from)
+        .to_vec()
+    }
+
+    fn start_pane(&mut self, opts: &Options) {
+        let socket = self.tag.clone();
+        let ssh = self.ssh_args().join(" ");
+        let remote = format!("exec {} --color {}", opts.binary.display(), opts.color);
+        let command = format!("ssh -tt {ssh} '{remote}'; echo {EXITED}$?; sleep 600");
+        let (w, h) = (opts.width.to_string(), opts.height.to_string());
+        self.bytes_before_pane = self.bytes_to_client();
+        run_in(
+            &self.ns('c'),
+            &[
+                "tmux",
+                "-L",
+                &socket,
+                "-f",
+                "/dev/null",
+                "new-session",
+                "-d",
+                "-x",
+                &w,
+                "-y",
+                &h,
+                &command,
+            ],
+        )
+        .unwrap_or_else(|e| panic!("tmux: {e}"));
+        self.tmux = Some(socket);
+    }
+
+    /// The namespaces and the directory this session made (all gone after drop).
+    pub fn leftovers(&self) -> (Vec<String>, PathBuf) {
+        (self.namespaces.clone(), self.dir.clone())
+    }
+
+    /// Bytes that crossed the link towards the client since the pane started.
+    pub fn bytes_since_pane_start(&self) -> u64 {
+        self.bytes_to_client() - self.bytes_before_pane
+    }
+
+    /// Bytes that crossed the link from the server to the client so far
+    /// (Ethernet frames: relief's output with SSH, TCP and IP around it).
+    pub fn bytes_to_client(&self) -> u64 {
+        self.port_bytes("mc")
+    }
+
+    /// Bytes that crossed the link from the client to the server so far.
+    pub fn bytes_to_server(&self) -> u64 {
+        self.port_bytes("ms")
+    }
+
+    fn port_bytes(&self, port: &str) -> u64 {
+        let path = format!("/sys/class/net/{port}/statistics/tx_bytes");
+        run_in(&self.ns('m'), &["cat", &path])
+            .expect("the link's counters")
+            .trim()
+            .parse()
+            .expect("a byte count")
+    }
+
+    pub fn tmux(&self, args: &[&str]) -> String {
+        let socket = self.tmux.as_deref().expect("the pane runs");
+        let mut all = vec!["-L", socket];
+        all.extend_from_slice(args);
+        run("tmux", &all).unwrap_or_else(|e| panic!("tmux: {e}"))
+    }
+
+    /// The pane's text with colours (what a frame put there).
+    pub fn picture(&self) -> String {
+        self.tmux(&["capture-pane", "-p", "-e", "-N"])
+    }
+
+    /// The pane's text.
+    pub fn screen(&self) -> String {
+        self.tmux(&["capture-pane", "-p"])
+    }
+
+    /// A tmux format of the pane, e.g. `#{alternate_on}`.
+    pub fn format(&self, f: &str) -> String {
+        self.tmux(&["display-message", "-p", f]).trim().to_string()
+    }
+
+    /// Named keys (`Right`, `q`), as typed.
+    pub fn keys(&self, keys: &[&str]) {
+        let mut args = vec!["send-keys"];
+        args.extend_from_slice(keys);
+        self.tmux(&args);
+    }
+
+    /// Bytes as typed, e.g. an SGR mouse report.
+    pub fn literal(&self, text: &str) {
+        self.tmux(&["send-keys", "-l", text]);
+    }
+
+    /// The server's log so far (for a failure message).
+    pub fn sshd_log(&self) -> String {
+        std::fs::read_to_string(self.dir.join("sshd.log")).unwrap_or_default()
+    }
+}
+
+impl Drop for Session {
+    fn drop(&mut self) {
+        if let Some(socket) = self.tmux.take() {
+            let _ = run("tmux", &["-L", &socket, "kill-server"]);
+        }
+        if let Some(mut sshd) = self.sshd.take() {
+            let _ = sshd.kill();
+            let _ = sshd.wait();
+        }
+        // Whatever still runs inside the namespaces was started by this session
+        // (sshd's session processes, relief, ssh): end each by its id.
+        for ns in &self.namespaces {
+            for pid in run("ip", &["netns", "pids", ns])
+                .unwrap_or_default()
+                .split_whitespace()
+            {
+                if let Ok(pid) = pid.parse::<libc::pid_t>() {
+                    // SAFETY: kill has no memory preconditions.
+                    unsafe { libc::kill(pid, libc::SIGKILL) };
+                }
+            }
+        }
+        self.delay = None;
+        for ns in self.namespaces.drain(..).rev() {
+            let _ = run("ip", &["netns", "del", &ns]);
+        }
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
