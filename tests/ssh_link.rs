@@ -54,7 +54,8 @@ const DRAG_STEPS: i32 = 40;
 /// One measured input of one session.
 struct Figure {
     input: &'static str,
-    bytes: u64,
+    /// Bytes towards the client (none for the round trip).
+    bytes: Option<u64>,
     lag: Duration,
 }
 
@@ -158,7 +159,7 @@ fn measure(
     assert_eq!(orientation(&screen), Some(want), "after {name}:\n{screen}");
     Figure {
         input: name,
-        bytes,
+        bytes: Some(bytes),
         lag,
     }
 }
@@ -200,8 +201,14 @@ fn run_session(rate_kbit: u32) -> Option<Vec<Figure>> {
     let bytes = s.bytes_since_pane_start();
     figures.push(Figure {
         input: "connect, first frame",
-        bytes,
+        bytes: Some(bytes),
         lag,
+    });
+    // The link's round trip, idle (what a terminal query's answer takes at least).
+    figures.push(Figure {
+        input: "round trip (TCP connect, idle link)",
+        bytes: None,
+        lag: s.round_trip(),
     });
 
     // One arrow key: Y + 5°.
@@ -278,7 +285,7 @@ fn run_session(rate_kbit: u32) -> Option<Vec<Figure>> {
     let lag = input.elapsed();
     figures.push(Figure {
         input: "`q` right after a drag (screen restored)",
-        bytes: s.bytes_to_client() - b0,
+        bytes: Some(s.bytes_to_client() - b0),
         lag,
     });
     assert_restored(&s);
@@ -330,7 +337,7 @@ fn rate_name(kbit: u32) -> String {
 /// The Markdown table: per rate and input, the median bytes and lag over the sessions.
 fn table(runs: &[(u32, Vec<Figure>)], binary: &str, color: &str) -> String {
     // (rate, input's place) -> (input, bytes of each session, lag of each session)
-    type Row<'a> = (&'a str, Vec<u64>, Vec<Duration>);
+    type Row<'a> = (&'a str, Vec<Option<u64>>, Vec<Duration>);
     let mut by: BTreeMap<(u32, usize), Row> = BTreeMap::new();
     for (rate, figures) in runs {
         for (i, f) in figures.iter().enumerate() {
@@ -343,16 +350,16 @@ fn table(runs: &[(u32, Vec<Figure>)], binary: &str, color: &str) -> String {
     }
     let mut out = format!(
         "relief over ssh -tt, 160x48, --color {color}, link 20 ms each way ({binary})\n\n\
-         | link | input | bytes to client | last input → final picture | range | n |\n\
+         | link | input | bytes to client | time: last input → final picture | range | n |\n\
          |---|---|--:|--:|--:|--:|\n"
     );
     for ((rate, _), (input, bytes, lags)) in by {
         let n = lags.len();
         let (lo, hi) = (*lags.iter().min().unwrap(), *lags.iter().max().unwrap());
         out += &format!(
-            "| {} | {input} | {:.0} kB | {:.2} s | {:.2}–{:.2} s | {n} |\n",
+            "| {} | {input} | {} | {:.3} s | {:.3}–{:.3} s | {n} |\n",
             rate_name(rate),
-            median(bytes) as f64 / 1000.0,
+            median(bytes).map_or("—".into(), |b| format!("{:.0} kB", b as f64 / 1000.0)),
             median(lags).as_secs_f64(),
             lo.as_secs_f64(),
             hi.as_secs_f64(),

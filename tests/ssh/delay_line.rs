@@ -36,19 +36,8 @@ impl DelayLine {
     /// Bridges interfaces `a` and `b` of the named namespace (`ip netns` name),
     /// delaying each frame by `delay`.
     pub fn start(netns: &str, a: &str, b: &str, delay: Duration) -> io::Result<DelayLine> {
-        let (netns, a, b) = (netns.to_string(), a.to_string(), b.to_string());
-        // The sockets are made on a thread that joins the namespace, so the test's own
-        // threads stay where they are; a socket keeps its namespace wherever it is used.
-        let (fa, fb) = std::thread::spawn(move || -> io::Result<(OwnedFd, OwnedFd)> {
-            let ns = File::open(format!("/run/netns/{netns}"))?;
-            // SAFETY: setns on a valid descriptor affects only this thread.
-            if unsafe { libc::setns(ns.as_raw_fd(), libc::CLONE_NEWNET) } != 0 {
-                return Err(io::Error::last_os_error());
-            }
-            Ok((packet_socket(&a)?, packet_socket(&b)?))
-        })
-        .join()
-        .expect("the namespace thread does not panic")?;
+        let (a, b) = (a.to_string(), b.to_string());
+        let (fa, fb) = in_namespace(netns, move || Ok((packet_socket(&a)?, packet_socket(&b)?)))?;
         let (fa, fb) = (Arc::new(fa), Arc::new(fb));
         let stop = Arc::new(AtomicBool::new(false));
         let mut threads = Vec::new();
@@ -70,6 +59,26 @@ impl Drop for DelayLine {
             let _ = t.join();
         }
     }
+}
+
+/// Runs `f` on a thread that has joined the named network namespace (`ip netns`
+/// name), so the test's own threads stay where they are. Sockets made there keep
+/// their namespace wherever they are used afterwards.
+pub fn in_namespace<T: Send + 'static>(
+    netns: &str,
+    f: impl FnOnce() -> io::Result<T> + Send + 'static,
+) -> io::Result<T> {
+    let path = format!("/run/netns/{netns}");
+    std::thread::spawn(move || {
+        let ns = File::open(path)?;
+        // SAFETY: setns on a valid descriptor affects only this thread.
+        if unsafe { libc::setns(ns.as_raw_fd(), libc::CLONE_NEWNET) } != 0 {
+            return Err(io::Error::last_os_error());
+        }
+        f()
+    })
+    .join()
+    .expect("the namespace thread does not panic")
 }
 
 /// A raw packet socket on one interface, with the virtio-net header, a short

@@ -375,6 +375,23 @@ impl Session {
         (self.namespaces.clone(), self.dir.clone())
     }
 
+    /// The link's round trip as TCP sees it: the median time of five connections
+    /// from the client to sshd (SYN out, SYN-ACK back), idle link.
+    pub fn round_trip(&self) -> Duration {
+        let mut times = delay_line::in_namespace(&self.ns('c'), || {
+            (0..5)
+                .map(|_| {
+                    let t = Instant::now();
+                    std::net::TcpStream::connect((SERVER_ADDR, SSH_PORT))?;
+                    Ok(t.elapsed())
+                })
+                .collect::<std::io::Result<Vec<Duration>>>()
+        })
+        .expect("a connection to sshd");
+        times.sort();
+        times[2]
+    }
+
     /// Bytes that crossed the link towards the client since the pane started.
     pub fn bytes_since_pane_start(&self) -> u64 {
         self.bytes_to_client() - self.bytes_before_pane
