@@ -107,6 +107,13 @@ fn run(program: &str, args: &[&str]) -> Result<String, String> {
     }
 }
 
+/// Runs a command given as one line of words (none with a space inside).
+fn words(line: &str) -> Result<String, String> {
+    let mut words = line.split_whitespace();
+    let program = words.next().expect("a program");
+    run(program, &words.collect::<Vec<_>>())
+}
+
 /// Runs a command inside a namespace.
 fn run_in(ns: &str, args: &[&str]) -> Result<String, String> {
     let mut all = vec!["netns", "exec", ns];
@@ -150,92 +157,36 @@ impl Session {
             run("ip", &["netns", "add", &ns])?;
             self.namespaces.push(ns.clone());
             // No IPv6: its neighbour discovery would only add chatter to the counts.
-            let _ = run_in(
-                &ns,
-                &[
-                    "sh",
-                    "-c",
-                    "echo 1 > /proc/sys/net/ipv6/conf/default/disable_ipv6",
-                ],
-            );
-            run_in(&ns, &["ip", "link", "set", "lo", "up"])?;
+            let no_ipv6 = "echo 1 > /proc/sys/net/ipv6/conf/default/disable_ipv6";
+            let _ = run_in(&ns, &["sh", "-c", no_ipv6]);
+            words(&format!("ip -n {ns} link set lo up"))?;
         }
         let (c, m, s) = (self.ns('c'), self.ns('m'), self.ns('s'));
         // Client port "vc" <-> link port "mc"; link port "ms" <-> server port "vs".
         for (end, end_ns, port) in [("vc", &c, "mc"), ("vs", &s, "ms")] {
-            run(
-                "ip",
-                &[
-                    "link", "add", end, "netns", end_ns, "type", "veth", "peer", "name", port,
-                    "netns", &m,
-                ],
-            )?;
+            words(&format!(
+                "ip link add {end} netns {end_ns} type veth peer name {port} netns {m}"
+            ))?;
             // Frames of one MTU at most, as on a real wire (and through the delay line).
-            run_in(
-                end_ns,
-                &[
-                    "ip",
-                    "link",
-                    "set",
-                    end,
-                    "gso_max_size",
-                    "1500",
-                    "gso_max_segs",
-                    "1",
-                ],
-            )?;
+            words(&format!(
+                "ip -n {end_ns} link set {end} gso_max_size 1500 gso_max_segs 1"
+            ))?;
         }
-        run_in(
-            &c,
-            &[
-                "ip",
-                "addr",
-                "add",
-                &format!("{CLIENT_ADDR}/30"),
-                "dev",
-                "vc",
-            ],
-        )?;
-        run_in(
-            &s,
-            &[
-                "ip",
-                "addr",
-                "add",
-                &format!("{SERVER_ADDR}/30"),
-                "dev",
-                "vs",
-            ],
-        )?;
+        words(&format!("ip -n {c} addr add {CLIENT_ADDR}/30 dev vc"))?;
+        words(&format!("ip -n {s} addr add {SERVER_ADDR}/30 dev vs"))?;
         // The bottleneck: the same rate each way, a bucket of a few ms of data
         // (at least three full frames) and up to 200 ms of queue.
-        let burst = (opts.rate_kbit as u64 * 1000 / 8 / 250).max(4542);
+        let rate = opts.rate_kbit;
+        let burst = (rate as u64 * 1000 / 8 / 250).max(4542);
         for port in ["mc", "ms"] {
-            run(
-                "tc",
-                &[
-                    "-n",
-                    &m,
-                    "qdisc",
-                    "add",
-                    "dev",
-                    port,
-                    "root",
-                    "tbf",
-                    "rate",
-                    &format!("{}kbit", opts.rate_kbit),
-                    "burst",
-                    &burst.to_string(),
-                    "latency",
-                    "200ms",
-                ],
-            )?;
+            words(&format!(
+                "tc -n {m} qdisc add dev {port} root tbf rate {rate}kbit burst {burst} latency 200ms"
+            ))?;
         }
-        self.delay = Some(
-            DelayLine::start(&m, "mc", "ms", opts.delay).map_err(|e| format!("delay line: {e}"))?,
-        );
+        let delay = DelayLine::start(&m, "mc", "ms", opts.delay);
+        self.delay = Some(delay.map_err(|e| format!("delay line: {e}"))?);
         for (ns, dev) in [(&c, "vc"), (&m, "mc"), (&m, "ms"), (&s, "vs")] {
-            run_in(ns, &["ip", "link", "set", dev, "up"])?;
+            words(&format!("ip -n {ns} link set {dev} up"))?;
         }
         Ok(())
     }
@@ -319,27 +270,13 @@ impl Session {
     /// no known-hosts file, only the session's key.
     fn ssh_args(&self) -> Vec<String> {
         let key = self.dir.join("client");
-        [
-            "-F",
-            "/dev/null",
-            "-p",
-            &SSH_PORT.to_string(),
-            "-i",
-            &key.to_string_lossy(),
-            "-o",
-            "IdentitiesOnly=yes",
-            "-o",
-            "BatchMode=yes",
-            "-o",
-            "StrictHostKeyChecking=no",
-            "-o",
-            "UserKnownHostsFile=/dev/null",
-            "-o",
-            "LogLevel=ERROR",
-            &format!("root@{SERVER_ADDR}"),
-        ]
-        .map(String::from)
-        .to_vec()
+        let line = format!(
+            "-F /dev/null -p {SSH_PORT} -i {} -o IdentitiesOnly=yes -o BatchMode=yes \
+             -o StrictHostKeyChecking=no -o UserKnownHostsFile=/dev/null -o LogLevel=ERROR \
+             root@{SERVER_ADDR}",
+            key.display()
+        );
+        line.split_whitespace().map(String::from).collect()
     }
 
     fn start_pane(&mut self, opts: &Options) {
@@ -347,26 +284,20 @@ impl Session {
         let ssh = self.ssh_args().join(" ");
         let remote = format!("exec {} --color {}", opts.binary.display(), opts.color);
         let command = format!("ssh -tt {ssh} '{remote}'; echo {EXITED}$?; sleep 600");
-        let (w, h) = (opts.width.to_string(), opts.height.to_string());
+        let size = format!("-x {} -y {}", opts.width, opts.height);
+        let mut args = vec![
+            "tmux",
+            "-L",
+            &socket,
+            "-f",
+            "/dev/null",
+            "new-session",
+            "-d",
+        ];
+        args.extend(size.split_whitespace());
+        args.push(&command);
         self.bytes_before_pane = self.bytes_to_client();
-        run_in(
-            &self.ns('c'),
-            &[
-                "tmux",
-                "-L",
-                &socket,
-                "-f",
-                "/dev/null",
-                "new-session",
-                "-d",
-                "-x",
-                &w,
-                "-y",
-                &h,
-                &command,
-            ],
-        )
-        .unwrap_or_else(|e| panic!("tmux: {e}"));
+        run_in(&self.ns('c'), &args).unwrap_or_else(|e| panic!("tmux: {e}"));
         self.tmux = Some(socket);
     }
 
