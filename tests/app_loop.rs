@@ -127,25 +127,36 @@ fn end_of_file_or_a_read_error_closes_the_input() {
 
 // ---- Pacing by the terminal's replies, with a fake terminal ----
 
+use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use relief::term::pacing::{Pacer, PacingConfig, QUERY};
 
-/// What the fake terminal saw: per write, the frames and queries in it,
-/// and the queries still unanswered when it came.
+/// A write of more bytes than this carries a picture (the test's pictures
+/// are noise: tens of kilobytes); smaller ones are status refreshes.
+const PICTURE: usize = 10_000;
+
+/// What the fake terminal saw, per write: whether it carried a picture,
+/// its queries, and the pictures whose query was still unanswered then.
 #[derive(Default)]
 struct Seen {
-    writes: Vec<(usize, usize, usize)>,
-    queries: usize,
-    answered: usize,
+    writes: Vec<(bool, usize, usize)>,
+    /// Unanswered queries, oldest first: true when one follows a picture.
+    pending: VecDeque<bool>,
 }
 
-/// A terminal that answers the pacing queries only when the test says
-/// so: every write is logged and announced on `wrote`.
+/// Replies sent by the fake terminal.
+type Answerer = Option<mpsc::Sender<(Duration, usize)>>;
+
+/// A terminal that logs every write and announces it on `wrote`; its
+/// queries are answered by the test (`answer`) or, with an answerer, on
+/// their own after a delay (in order, a picture's after `slow`).
 struct FakeTerm {
     seen: Arc<Mutex<Seen>>,
-    wrote: mpsc::Sender<usize>,
+    wrote: mpsc::Sender<(usize, bool)>,
+    answerer: Answerer,
+    slow: Duration,
 }
 
 fn count(data: &[u8], what: &[u8]) -> usize {
@@ -155,12 +166,20 @@ fn count(data: &[u8], what: &[u8]) -> usize {
 impl std::io::Write for FakeTerm {
     fn write(&mut self, data: &[u8]) -> std::io::Result<usize> {
         let queries = count(data, QUERY);
+        let picture = data.len() > PICTURE;
         let mut seen = self.seen.lock().unwrap();
-        let unanswered = seen.queries - seen.answered;
-        seen.writes
-            .push((count(data, BEGIN_SYNC), queries, unanswered));
-        seen.queries += queries;
-        let _ = self.wrote.send(queries);
+        let in_flight = seen.pending.iter().filter(|p| **p).count();
+        seen.writes.push((picture, queries, in_flight));
+        for i in 0..queries {
+            // A probe may come before the frame: the last query follows it.
+            seen.pending.push_back(picture && i + 1 == queries);
+        }
+        drop(seen);
+        if let Some(a) = &self.answerer {
+            let delay = if picture { self.slow } else { Duration::ZERO };
+            let _ = a.send((delay, queries));
+        }
+        let _ = self.wrote.send((queries, picture));
         Ok(data.len())
     }
     fn flush(&mut self) -> std::io::Result<()> {
@@ -171,26 +190,45 @@ impl std::io::Write for FakeTerm {
 /// The test's side: sends input and answers queries.
 struct Driver {
     tx: mpsc::Sender<Msg>,
-    wrote: mpsc::Receiver<usize>,
+    wrote: mpsc::Receiver<(usize, bool)>,
     seen: Arc<Mutex<Seen>>,
+    renders: Arc<Mutex<Vec<(f32, usize)>>>,
 }
 
 impl Driver {
-    /// Waits for the loop's next write; returns the queries in it.
-    fn next_write(&self) -> usize {
+    /// Waits for the loop's next write: its queries and whether it carried a picture.
+    fn next_write(&self) -> (usize, bool) {
         self.wrote
             .recv_timeout(Duration::from_secs(30))
             .expect("the loop writes")
     }
+    /// Waits for the next write that carries a picture, answering the
+    /// queries of the writes before it; returns its queries.
+    fn next_picture(&self) -> usize {
+        loop {
+            match self.next_write() {
+                (q, true) => return q,
+                (q, false) => self.answer(q),
+            }
+        }
+    }
     /// The terminal answers `n` queries.
     fn answer(&self, n: usize) {
         for _ in 0..n {
-            self.seen.lock().unwrap().answered += 1;
+            self.seen.lock().unwrap().pending.pop_front();
             self.tx.send(Msg::Shown(Instant::now())).unwrap();
         }
     }
+    /// Every query written so far.
+    fn answer_all(&self) {
+        let n = self.seen.lock().unwrap().pending.len();
+        self.answer(n);
+    }
     fn send(&self, m: Msg) {
         self.tx.send(m).unwrap();
+    }
+    fn renders(&self) -> Vec<(f32, usize)> {
+        self.renders.lock().unwrap().clone()
     }
 }
 
@@ -202,26 +240,52 @@ fn right() -> Msg {
 }
 
 /// Runs the loop on a 100×30 fake terminal with `config` while `drive`
-/// plays the terminal and the user. Returns the exit, the rotation and
-/// width of each render (a preview renders at half width), what the
-/// terminal saw, and the pacer's unanswered queries at the end.
+/// plays the user (and the terminal, unless `slow` is given: then the
+/// terminal answers by itself, a picture's query after `slow`). Returns
+/// the exit, the rotation and width of each render (a preview renders at
+/// half width), what the terminal saw, and the pacer's unanswered queries.
 fn paced(
     config: PacingConfig,
+    slow: Option<Duration>,
     drive: impl FnOnce(&Driver) + Send,
 ) -> (Exit, Vec<(f32, usize)>, Seen, usize) {
     let (tx, rx) = mpsc::channel();
     let (wrote_tx, wrote) = mpsc::channel();
     let seen = Arc::new(Mutex::new(Seen::default()));
+    let renders = Arc::new(Mutex::new(Vec::new()));
+    let answerer = slow.map(|_| {
+        let (a_tx, a_rx) = mpsc::channel::<(Duration, usize)>();
+        let tx = tx.clone();
+        let seen = seen.clone();
+        std::thread::spawn(move || {
+            // In order: each write's replies after the ones before.
+            for (delay, n) in a_rx {
+                for i in 0..n {
+                    // A probe before the picture comes back at once.
+                    if i + 1 == n {
+                        std::thread::sleep(delay);
+                    }
+                    seen.lock().unwrap().pending.pop_front();
+                    if tx.send(Msg::Shown(Instant::now())).is_err() {
+                        return;
+                    }
+                }
+            }
+        });
+        a_tx
+    });
     let driver = Driver {
         tx,
         wrote,
         seen: seen.clone(),
+        renders: renders.clone(),
     };
     let term = FakeTerm {
         seen: seen.clone(),
         wrote: wrote_tx,
+        answerer,
+        slow: slow.unwrap_or_default(),
     };
-    let mut renders = Vec::new();
     let (exit, outstanding) = std::thread::scope(|scope| {
         scope.spawn(move || drive(&driver));
         let mut terminal = Terminal::new(SgrBackend::with_size(term, 100, 30)).unwrap();
@@ -232,7 +296,10 @@ fn paced(
             // frame costs many bytes.
             render: |s: &State, fb: &mut relief::Framebuffer| {
                 let turn = s.settings.rotation.y as usize;
-                renders.push((s.settings.rotation.y, fb.width()));
+                renders
+                    .lock()
+                    .unwrap()
+                    .push((s.settings.rotation.y, fb.width()));
                 for y in 0..fb.height() {
                     for x in 0..fb.width() {
                         let v = (x * 7 + y * 13 + turn * 31) % 251;
@@ -250,7 +317,8 @@ fn paced(
         let exit = looper.run(&mut state).unwrap();
         (exit, looper.pacer.outstanding())
     });
-    let seen = Arc::into_inner(seen).unwrap().into_inner().unwrap();
+    let seen = std::mem::take(&mut *seen.lock().unwrap());
+    let renders = renders.lock().unwrap().clone();
     (exit, renders, seen, outstanding)
 }
 
@@ -264,22 +332,34 @@ fn patient() -> PacingConfig {
     }
 }
 
+/// No picture was written while another was still unanswered.
+fn one_picture_in_flight(seen: &Seen) {
+    for (i, &(picture, _, in_flight)) in seen.writes.iter().enumerate() {
+        assert!(
+            !picture || in_flight == 0,
+            "write {i} went with a picture in flight: {:?}",
+            seen.writes
+        );
+    }
+}
+
 #[test]
 fn one_frame_in_flight_and_input_meanwhile_folds_into_one_frame() {
-    let (exit, renders, seen, _) = paced(patient(), |d| {
+    let (exit, renders, seen, _) = paced(patient(), None, |d| {
         // The first write: a probe query, the first frame and its query.
-        assert_eq!(d.next_write(), 2);
+        assert_eq!(d.next_picture(), 2);
         // Keys while the frame is in flight: nothing is drawn for them yet.
         for _ in 0..5 {
             d.send(right());
         }
-        d.answer(2);
-        // One frame for all five keys.
-        assert_eq!(d.next_write(), 1);
-        d.answer(1);
+        d.answer_all();
+        // One frame for all five keys (a status refresh may come first).
+        assert_eq!(d.next_picture(), 1);
+        d.answer_all();
         // Then its figures in the status line, then nothing.
-        assert_eq!(d.next_write(), 1);
-        d.answer(1);
+        let (q, picture) = d.next_write();
+        assert!(!picture);
+        d.answer(q);
         d.send(Msg::InputClosed("end of input".into()));
     });
     assert!(matches!(exit, Exit::InputClosed(_)));
@@ -288,27 +368,26 @@ fn one_frame_in_flight_and_input_meanwhile_folds_into_one_frame() {
         vec![35.0, 60.0],
         "the first picture, then one with the latest state"
     );
-    // (The terminal's own restore when it is dropped is not a frame.)
-    let writes: Vec<_> = seen.writes.iter().filter(|w| w.0 > 0).collect();
-    assert_eq!(writes.len(), 3, "{writes:?}");
-    for (i, &&(frames, _, unanswered)) in writes.iter().enumerate() {
-        assert_eq!(frames, 1, "write {i} is one frame");
-        assert_eq!(unanswered, 0, "write {i} went with a frame in flight");
-    }
+    one_picture_in_flight(&seen);
+    assert_eq!(seen.writes.iter().filter(|w| w.0).count(), 2);
 }
 
 #[test]
 fn quitting_does_not_wait_for_the_frame_in_flight() {
-    let (exit, _, seen, outstanding) = paced(patient(), |d| {
-        assert_eq!(d.next_write(), 2);
-        // Never answered; the user quits.
+    let (exit, renders, seen, outstanding) = paced(patient(), None, |d| {
+        assert_eq!(d.next_picture(), 2);
+        // Never answered; the user turns, then quits.
         d.send(right());
         d.send(key('q'));
     });
     assert_eq!(exit, Exit::Quit);
-    let frames = seen.writes.iter().filter(|w| w.0 > 0).count();
-    assert_eq!(frames, 1, "nothing more was drawn: {:?}", seen.writes);
-    assert_eq!(outstanding, 2, "the loop ended with both replies still due");
+    assert_eq!(renders.len(), 1, "nothing more was drawn");
+    assert_eq!(seen.writes.iter().filter(|w| w.0).count(), 1);
+    assert!(
+        seen.pending.iter().any(|p| *p),
+        "the loop ended with the picture's reply still due"
+    );
+    assert!(outstanding >= 2, "the pacer knows the replies still due");
 }
 
 #[test]
@@ -317,85 +396,84 @@ fn a_terminal_that_never_answers_is_paced_by_writes_after_the_time_out() {
         first_reply: Duration::from_millis(50),
         ..patient()
     };
-    let (exit, renders, seen, _) = paced(config, |d| {
-        assert_eq!(d.next_write(), 2);
+    let (exit, renders, seen, _) = paced(config, None, |d| {
+        assert_eq!(d.next_picture(), 2);
         // No answer: after the time-out the key is drawn, with no query.
         d.send(right());
-        assert_eq!(d.next_write(), 0);
+        loop {
+            match d.next_write() {
+                (0, true) => break,
+                (_, true) => panic!("a picture with a query before the time-out"),
+                _ => {}
+            }
+        }
         // The late replies to the first queries are credited to them: they
-        // release nothing, and show the terminal does answer, so the
-        // next frame asks again and waits for its own reply.
-        d.answer(2);
+        // release nothing, and show the terminal does answer, so a later
+        // frame asks again and waits for its own reply.
+        d.answer_all();
         d.send(right());
-        assert_eq!(d.next_write(), 1);
-        d.answer(1);
-        assert_eq!(d.next_write(), 1, "the status refresh");
-        d.answer(1);
+        loop {
+            let (q, picture) = d.next_write();
+            d.answer(q);
+            if picture {
+                assert_eq!(q, 1, "asking again");
+                break;
+            }
+        }
+        d.answer_all();
         d.send(Msg::InputClosed("end of input".into()));
     });
     assert!(matches!(exit, Exit::InputClosed(_)));
-    assert_eq!(renders[0].0, 35.0);
     assert_eq!(
         renders.iter().map(|r| r.0).collect::<Vec<_>>(),
         vec![35.0, 40.0, 45.0]
     );
-    let frames: Vec<_> = seen.writes.iter().filter(|w| w.0 > 0).collect();
-    assert_eq!(frames.len(), 4, "{frames:?}");
-    // The frame after the late replies went with nothing in flight.
-    assert_eq!(frames[2].2, 0, "{frames:?}");
+    // The picture after the late replies went with nothing in flight.
+    let pictures: Vec<_> = seen.writes.iter().filter(|w| w.0).collect();
+    assert_eq!(pictures.len(), 3);
+    assert_eq!(*pictures[2], (true, 1, 0), "{pictures:?}");
 }
 
 #[test]
 fn a_burst_over_a_slow_link_gets_previews_then_the_exact_picture() {
     let config = PacingConfig {
         previews: true,
-        // Input counts as still coming for half a second: the test's own
+        // Input counts as still coming for two seconds: the test's own
         // pace never ends a burst by accident.
-        quiet_min: Duration::from_millis(500),
-        quiet_max: Duration::from_millis(500),
+        quiet_min: Duration::from_secs(2),
+        quiet_max: Duration::from_secs(2),
         ..patient()
     };
-    let (_, renders, _, _) = paced(config, |d| {
-        assert_eq!(d.next_write(), 2);
-        // The probe at once, the frame slowly: a slow link.
-        d.answer(1);
-        std::thread::sleep(Duration::from_millis(200));
-        d.answer(1);
-        assert_eq!(d.next_write(), 1); // the status refresh
-        d.answer(1);
-        // A burst of keys, each while a frame is in flight.
-        d.send(right());
-        for _ in 0..3 {
-            let q = d.next_write();
-            d.send(right());
-            d.send(right());
-            std::thread::sleep(Duration::from_millis(50));
-            d.answer(q);
+    // The terminal answers by itself, a picture after 150 ms: a slow link.
+    let (_, renders, seen, _) = paced(config, Some(Duration::from_millis(150)), |d| {
+        d.next_picture();
+        // Idle long enough for the first picture's reply to be measured.
+        while d.seen.lock().unwrap().pending.iter().any(|p| *p) {
+            std::thread::sleep(Duration::from_millis(20));
         }
-        // Input stops: the exact picture follows on its own, then its figures.
-        loop {
-            let q = d.next_write();
-            d.answer(q);
-            // The exact picture's status refresh is the last write.
-            let writes = d.seen.lock().unwrap().writes.len();
-            if q == 1 && writes >= 7 {
-                break;
-            }
+        std::thread::sleep(Duration::from_millis(600));
+        // A lone key after a pause.
+        d.send(right());
+        d.next_picture();
+        // A burst of keys.
+        for _ in 0..6 {
+            std::thread::sleep(Duration::from_millis(30));
+            d.send(right());
+        }
+        // Input stops: the exact picture of the latest state follows.
+        while d.renders().last() != Some(&(70.0, 100)) {
+            d.next_write();
         }
         d.send(Msg::InputClosed("end of input".into()));
     });
     let full = 100;
     assert_eq!(renders[0], (35.0, full), "the first picture is exact");
     assert_eq!(renders[1], (40.0, full), "a lone key is exact at once");
+    let burst = &renders[2..renders.len() - 1];
     assert!(
-        renders[2..renders.len() - 1]
-            .iter()
-            .all(|r| r.1 == full / 2),
+        !burst.is_empty() && burst.iter().all(|r| r.1 == full / 2),
         "previews at half resolution during the burst: {renders:?}"
     );
-    assert_eq!(
-        *renders.last().unwrap(),
-        (35.0 + 5.0 * 7.0, full),
-        "the exact picture of the latest state last: {renders:?}"
-    );
+    assert_eq!(*renders.last().unwrap(), (70.0, full));
+    one_picture_in_flight(&seen);
 }

@@ -200,9 +200,13 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             // meanwhile and folded into the next frame), not at all when a
             // frame is due, until the exact picture or the next
             // auto-rotation frame is due, or for as long as it takes.
-            let wait = if !ready {
+            let wait = if refresh_status && !dirty {
+                // The status refresh (a few hundred bytes) follows its
+                // picture at once, without waiting for it to be shown.
+                Some(now)
+            } else if !ready {
                 self.pacer.deadline()
-            } else if dirty || refresh_status {
+            } else if dirty {
                 Some(now)
             } else if let Some(at) = refine_at {
                 Some(at)
@@ -261,7 +265,8 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 }
             }
             let now = Instant::now();
-            if !self.pacer.ready(now) {
+            let refresh_due = refresh_status && !dirty;
+            if !refresh_due && !self.pacer.ready(now) {
                 // A frame in flight: what came meanwhile waits for the next.
                 continue;
             }

@@ -220,13 +220,18 @@ impl Pacer {
         // A late reply still proves the terminal answers: pace by replies again.
         self.answers = Answers::Yes;
         let took = at.saturating_duration_since(flight.sent);
+        // The base latency as known before this reply (none yet: no
+        // throughput from this one, it would count the latency as transfer).
+        let base = self.base_rtt().map(|b| b.min(took));
         self.rtt_samples.push_back(took);
         if self.rtt_samples.len() > RTT_WINDOW {
             self.rtt_samples.pop_front();
         }
-        let base = self.base_rtt().unwrap_or(took);
         self.round_trip = Some(smooth(self.round_trip, took.as_secs_f64()));
-        if flight.bytes >= THROUGHPUT_MIN_BYTES && !flight.abandoned {
+        if let Some(base) = base
+            && flight.bytes >= THROUGHPUT_MIN_BYTES
+            && !flight.abandoned
+        {
             // Delivery time = base latency + bytes / throughput.
             let transfer = (took.saturating_sub(base)).max(Duration::from_millis(1));
             let rate = flight.bytes as f64 / transfer.as_secs_f64();
