@@ -149,6 +149,7 @@ fn run(stage: &RefCell<Stage>, mut state: State, batches: Vec<Vec<char>>) -> (St
         rx: &rx,
         textures: None,
         stage: Some(stage),
+        pacer: relief::term::pacing::Pacer::by_writes(),
     }
     .run(&mut state)
     .unwrap();

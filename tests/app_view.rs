@@ -17,7 +17,7 @@ const BG: [u8; 3] = [16, 24, 32];
 fn state() -> State {
     let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
     s.frame.frame_time = Duration::from_micros(3_250);
-    s.frame.fps = 30.0;
+    s.frame.fps = Some(30.0);
     s.frame.bytes = 41_234;
     s
 }
@@ -52,7 +52,7 @@ fn status_line_shows_every_mode_and_the_frame_cost() {
     let status = row_text(&buf, 19);
     assert_eq!(
         status.trim_end(),
-        "Phong │ vertex │ tex on │ col on │ bump on │ Blinn │ bilinear │ dH filtered │ AA off │ fill │ cube │ lights on │ att off │ 24-bit │ 3.2 ms │ 30 fps │ 41.2 kB"
+        "Phong │ vertex │ tex on │ col on │ bump on │ Blinn │ bilinear │ dH filtered │ AA off │ fill │ cube │ lights on │ att off │ 24-bit │  3.2 ms │  30 fps │ 41.2 kB"
     );
     let status = row_text(&screen(&s, 250, 20), 19);
     for want in [
@@ -116,18 +116,103 @@ fn narrow_terminals_split_modes_and_cost_over_two_lines() {
     let status = row_text(&buf, 11);
     assert_eq!(status.trim_end(), "flat V T+ C+ B+ (Phong only) 24b cube");
     let panel = row_text(&buf, 10);
-    assert_eq!(panel.trim_end(), "X25° Y35° Z0° 3.2ms 30fps 41.2kB");
+    assert_eq!(panel.trim_end(), "X25° Y35° Z0°   3.2ms  30fps 41.2kB");
     // 80 columns: the abbreviated modes, the cost on the line above with
     // the full-size fields.
     let buf = screen(&state(), 80, 12);
     assert_eq!(row_text(&buf, 11).trim_end(), "Phong V T+ C+ B+ 24b cube");
     assert_eq!(
         row_text(&buf, 10).trim_end(),
-        " X     25° Y     35° Z      0°  3.2 ms │ 30 fps │ 41.2 kB"
+        " X     25° Y     35° Z      0°   3.2 ms │  30 fps │ 41.2 kB"
     );
     // Whatever the size, nothing panics, down to one cell.
     for (w, h) in [(10, 3), (3, 2), (1, 1), (1, 5), (200, 1), (0, 0)] {
         let _ = screen(&s, w, h);
+    }
+}
+
+/// The status and panel lines of a screen.
+fn text_lines(s: &State, w: u16) -> (String, String) {
+    let buf = screen(s, w, 12);
+    (row_text(&buf, 10), row_text(&buf, 11))
+}
+
+#[test]
+fn the_layout_does_not_move_with_the_figures() {
+    // Figures of every size, a lone frame (no rate) and a preview: at any
+    // width the status line keeps its form and the cost stays where it
+    // is, at the same columns.
+    let figures = [
+        (Duration::from_micros(3_250), Some(30.0), 41_234, false),
+        (Duration::from_micros(250), Some(8.0), 999, false),
+        (Duration::from_millis(12), None, 1_234, false),
+        (Duration::from_millis(1234), Some(99.0), 123_456, false),
+        (Duration::from_millis(40), Some(12.0), 5_678_901, true),
+    ];
+    for w in 20..=220u16 {
+        let mut shapes = Vec::new();
+        for (time, fps, bytes, preview) in figures {
+            let mut s = state();
+            s.frame.frame_time = time;
+            s.frame.fps = fps;
+            s.frame.bytes = bytes;
+            s.frame.preview = preview;
+            let (panel, status) = text_lines(&s, w);
+            // The column of the rate in each line (None: not there).
+            let col = |t: &str| t.find("fps").map(|i| t[..i].chars().count());
+            let form = status.split(" │ ").next().unwrap().to_string();
+            shapes.push((col(&panel), col(&status), form));
+        }
+        assert!(
+            shapes.windows(2).all(|p| p[0] == p[1]),
+            "{w} columns: {shapes:?}"
+        );
+    }
+    // The help opening and closing changes nothing either.
+    let mut s = state();
+    let before = text_lines(&s, 160);
+    update(&mut s, Action::ToggleHelp);
+    update(&mut s, Action::CloseHelp);
+    assert_eq!(text_lines(&s, 160), before);
+}
+
+#[test]
+fn idle_shows_no_rate_and_a_preview_says_so() {
+    let mut s = state();
+    s.frame.fps = None;
+    let status = status_line(&s, 250);
+    assert!(status.contains("  3.2 ms │   — fps │ 41.2 kB"), "{status}");
+    assert!(!status.contains("preview"));
+    s.frame.fps = Some(9.0);
+    s.frame.preview = true;
+    s.frame.bytes = 5_210;
+    let status = status_line(&s, 250);
+    assert!(status.contains("preview │   9 fps │ 5.21 kB"), "{status}");
+    // On a narrow screen the line above says it.
+    let (panel, _) = text_lines(&s, 40);
+    assert!(panel.contains("preview"), "{panel}");
+}
+
+#[test]
+fn a_message_longer_than_its_line_is_shown_whole() {
+    let mut s = state();
+    update(&mut s, Action::PanelNext);
+    for c in "abc".chars() {
+        update(&mut s, Action::PanelInput(c));
+    }
+    update(&mut s, Action::PanelNext);
+    for c in "1e999".chars() {
+        update(&mut s, Action::PanelInput(c));
+    }
+    update(&mut s, Action::PanelApply);
+    let msg = s.message.clone().unwrap();
+    assert!(msg.len() > 60, "{msg}");
+    for w in [40u16, 60, 80, 100] {
+        let text = all_text(&screen(&s, w, 12));
+        // Every word of the message is on the screen, in order.
+        let flat: String = text.split_whitespace().collect::<Vec<_>>().join(" ");
+        let words: String = msg.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(flat.contains(&words), "{w} columns:\n{text}");
     }
 }
 
@@ -371,7 +456,7 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
     );
     let st = status_line(&s, 160);
     assert!(
-        st.starts_with("plasma │ Z² table │ light centre │ 24-bit │ 3.2 ms"),
+        st.starts_with("plasma │ Z² table │ light centre │ 24-bit │  3.2 ms"),
         "{st}"
     );
     update(&mut s, Action::TogglePlasmaNormal);

@@ -3,15 +3,27 @@
 use crossterm::event::{
     Event, KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind,
 };
-use relief::term::input::InputParser;
+use relief::term::input::{Input, InputParser};
 
-fn parse(chunks: &[&[u8]]) -> Vec<Event> {
+/// Everything decoded from `chunks`, read one after the other.
+fn decode(chunks: &[&[u8]]) -> Vec<Input> {
     let mut p = InputParser::new();
     let mut out = Vec::new();
     for c in chunks {
         p.feed(c, &mut out);
     }
     out
+}
+
+/// The input events only (replies to queries are not input).
+fn parse(chunks: &[&[u8]]) -> Vec<Event> {
+    decode(chunks)
+        .into_iter()
+        .filter_map(|i| match i {
+            Input::Event(e) => Some(e),
+            Input::DeviceAttributes => None,
+        })
+        .collect()
 }
 
 fn key(code: KeyCode) -> Event {
@@ -73,6 +85,41 @@ fn a_lone_escape_is_the_escape_key_and_split_sequences_wait() {
         parse(&[&"é".as_bytes()[..1], &"é".as_bytes()[1..]]),
         vec![key(KeyCode::Char('é'))]
     );
+}
+
+#[test]
+fn device_attributes_replies_are_their_own_message_even_split_and_among_keys() {
+    let up = Input::Event(key(KeyCode::Up));
+    let m = Input::Event(key(KeyCode::Char('m')));
+    let da = Input::DeviceAttributes;
+    // xterm, tmux and the Linux console answers, mixed with keys.
+    assert_eq!(
+        decode(&[b"m\x1b[?64;1;2;6;22c\x1b[A\x1b[?1;2cm\x1b[?6c"]),
+        vec![
+            m.clone(),
+            da.clone(),
+            up.clone(),
+            da.clone(),
+            m.clone(),
+            da.clone()
+        ]
+    );
+    // Split across reads anywhere after the escape.
+    for cut in 2..b"\x1b[?62;22c".len() {
+        let reply = b"\x1b[?62;22c";
+        let (a, b) = reply.split_at(cut);
+        let mut second = b.to_vec();
+        second.extend_from_slice(b"\x1b[A");
+        assert_eq!(
+            decode(&[b"m", a, &second]),
+            vec![m.clone(), da.clone(), up.clone()],
+            "cut at {cut}"
+        );
+    }
+    // A reply never reaches the keys: no `?` (help), no digits, no Esc.
+    assert!(parse(&[b"\x1b[?62;4c", b"\x1b[?1;2c"]).is_empty());
+    // Modified F3 (`ESC [ 1 ; 2 R`) is not mistaken for a reply, nor a reply for it.
+    assert!(!decode(&[b"\x1b[1;2R"]).contains(&da));
 }
 
 #[test]

@@ -72,6 +72,7 @@ fn run(list: &RefCell<TextureList>, msgs: Vec<Msg>) -> State {
         rx: &rx,
         textures: Some(list),
         stage: None,
+        pacer: relief::term::pacing::Pacer::by_writes(),
     }
     .run(&mut state)
     .unwrap();

@@ -13,6 +13,7 @@ use ratatui::text::Line;
 use ratatui::widgets::{Block, Borders, Paragraph, Sparkline, Widget, Wrap};
 
 use crate::stats::{Counters, FrameStats};
+use crate::term::pacing::{Answers, LinkInfo};
 
 /// Frames the panel remembers (and the sparkline shows at most).
 pub const HISTORY: usize = 120;
@@ -161,9 +162,40 @@ pub fn stage_lines(history: &CostHistory) -> Vec<String> {
     lines
 }
 
-/// The panel: stage times, a sparkline of frame times, the active stages.
+/// The link to the terminal: round trip and throughput measured by the
+/// pacing queries, or why there are none.
+pub fn link_lines(link: &LinkInfo) -> Vec<String> {
+    let rtt = |d: std::time::Duration| format!("{:7.1} ms", d.as_secs_f64() * 1e3);
+    match (link.answers, link.round_trip) {
+        (Answers::No, _) => vec![
+            "round trip   no reply".into(),
+            "frames paced by the writes".into(),
+        ],
+        (_, None) => vec!["round trip   waiting".into(), "throughput   —".into()],
+        (_, Some(d)) => {
+            let rate = link.throughput.map_or_else(
+                || "—".to_string(),
+                |t| {
+                    let mbit = t * 8.0 / 1e6;
+                    if mbit < 10.0 {
+                        format!("{mbit:.2} Mbit/s")
+                    } else {
+                        format!("{mbit:.0} Mbit/s")
+                    }
+                },
+            );
+            vec![
+                format!("round trip  {}", rtt(d)),
+                format!("throughput  {rate:>10}"),
+            ]
+        }
+    }
+}
+
+/// The panel: stage times, the link, a sparkline of frame times, the active stages.
 pub struct CostPanel<'a> {
     pub history: &'a CostHistory,
+    pub link: &'a LinkInfo,
 }
 
 impl Widget for CostPanel<'_> {
@@ -171,7 +203,8 @@ impl Widget for CostPanel<'_> {
         let block = Block::default().borders(Borders::ALL).title(" cost (k) ");
         let inner = block.inner(area);
         block.render(area, buf);
-        let stages = stage_lines(self.history);
+        let mut stages = stage_lines(self.history);
+        stages.extend(link_lines(self.link));
         let [table, spark, active] = Layout::vertical([
             Constraint::Length(stages.len() as u16),
             Constraint::Length(3),
@@ -248,9 +281,19 @@ mod tests {
         for i in 0..30 {
             h.push(frame(1 + i % 3));
         }
-        let area = Rect::new(0, 0, 44, 16);
+        let area = Rect::new(0, 0, 44, 18);
         let mut buf = Buffer::empty(area);
-        CostPanel { history: &h }.render(area, &mut buf);
+        let link = LinkInfo {
+            answers: Answers::Yes,
+            round_trip: Some(Duration::from_millis(42)),
+            throughput: Some(125_000.0),
+            late_replies: 0,
+        };
+        CostPanel {
+            history: &h,
+            link: &link,
+        }
+        .render(area, &mut buf);
         let text: String = (0..area.height)
             .map(|y| {
                 (0..area.width)
@@ -268,6 +311,8 @@ mod tests {
             "frame time",
             "active:",
             "pixels 11.7k",
+            "round trip     42.0 ms",
+            "1.00 Mbit/s",
         ] {
             assert!(text.contains(needle), "{needle} missing from\n{text}");
         }
@@ -277,8 +322,15 @@ mod tests {
         let mut small = Buffer::empty(Rect::new(0, 0, 3, 2));
         CostPanel {
             history: &CostHistory::default(),
+            link: &LinkInfo::default(),
         }
         .render(small.area, &mut small);
+        assert_eq!(link_lines(&LinkInfo::default())[0], "round trip   waiting");
+        let silent = LinkInfo {
+            answers: Answers::No,
+            ..LinkInfo::default()
+        };
+        assert!(link_lines(&silent)[1].contains("paced by the writes"));
     }
 
     #[test]

@@ -1,9 +1,13 @@
 //! The event loop: wait for input, apply it, render once, write once.
 //!
-//! Idle means blocked on the channel: no frame, no CPU. Whatever queued up
-//! while a frame was being written (keys, drags, a storm of resizes) is
-//! applied all at once and only the latest state is rendered, so a slow
-//! link drops stale frames instead of queueing them.
+//! Idle means blocked on the channel: no frame, no CPU. Frames are paced by
+//! the terminal itself (see [`crate::term::pacing`]): each one ends with a
+//! query, and the next waits for its reply. Whatever arrives meanwhile
+//! (keys, drags, a storm of resizes) is applied all at once and only the
+//! latest state is rendered, so a slow link drops stale frames instead of
+//! queueing them. While input keeps coming over a link too slow for the
+//! exact picture, a half-resolution preview is sent, and the exact picture
+//! once input stops.
 
 use std::cell::RefCell;
 use std::collections::VecDeque;
@@ -23,7 +27,8 @@ use crate::framebuffer::{Framebuffer, Rgb};
 use crate::scene::SceneKind;
 use crate::stats::{Counters, FrameStats};
 use crate::term::SgrBackend;
-use crate::term::input::InputParser;
+use crate::term::input::{Input, InputParser};
+use crate::term::pacing::{Activity, Answers, Pacer, QUERY};
 
 /// Mouse mode 1003: every pointer motion is reported (the plasma's light follows it).
 pub const MOTION_ON: &[u8] = b"\x1b[?1003h";
@@ -43,6 +48,9 @@ pub enum Msg {
     Resized,
     /// SIGINT, SIGTERM or SIGHUP.
     Signal(i32),
+    /// The terminal answered a pacing query at this time: what was written
+    /// before the query is on screen.
+    Shown(Instant),
 }
 
 /// How the loop ended.
@@ -69,8 +77,13 @@ pub fn spawn_input_reader(mut input: impl Read + Send + 'static, tx: Sender<Msg>
                 }
                 Ok(n) => {
                     parser.feed(&buf[..n], &mut events);
+                    let at = Instant::now();
                     for e in events.drain(..) {
-                        if tx.send(Msg::Input(e)).is_err() {
+                        let msg = match e {
+                            Input::Event(e) => Msg::Input(e),
+                            Input::DeviceAttributes => Msg::Shown(at),
+                        };
+                        if tx.send(msg).is_err() {
                             return;
                         }
                     }
@@ -97,6 +110,8 @@ pub struct Looper<'a, W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats
     pub textures: Option<&'a RefCell<crate::texture::TextureList>>,
     /// The scene that `o` and `p` rebuild (the render closure draws it).
     pub stage: Option<&'a RefCell<Stage>>,
+    /// Frames in flight and the link's figures.
+    pub pacer: Pacer,
 }
 
 /// Frames written during the last second, for the fps figure.
@@ -106,7 +121,8 @@ struct FrameClock {
 }
 
 impl FrameClock {
-    fn tick(&mut self, now: Instant) -> f32 {
+    /// Frames in the last second, `None` for a lone frame (no rate).
+    fn tick(&mut self, now: Instant) -> Option<f32> {
         self.recent.push_back(now);
         while let Some(&t) = self.recent.front() {
             if now.duration_since(t) > Duration::from_secs(1) {
@@ -115,7 +131,8 @@ impl FrameClock {
                 break;
             }
         }
-        self.recent.len() as f32
+        let n = self.recent.len();
+        (n >= 2).then_some(n as f32)
     }
 }
 
@@ -148,8 +165,12 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
     }
 
     /// Runs until the user quits, the terminal goes away or a signal comes.
+    /// Quitting never waits for the terminal: whatever is still queued
+    /// towards it is at most one frame and its query.
     pub fn run(&mut self, state: &mut State) -> io::Result<Exit> {
         let mut fb = Framebuffer::new(0, 0);
+        // The half-resolution picture of a preview, before it is enlarged.
+        let mut coarse = Framebuffer::new(0, 0);
         let mut rendered: Option<(Look, usize, usize, u64)> = None;
         // The guard's setup leaves all-motion reports off.
         let mut motion = false;
@@ -161,27 +182,52 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         let mut refresh_status = false;
         let mut last_tick = Instant::now();
         let mut last_counters = Counters::default();
+        // Whether input keeps coming (previews) or has stopped (refine).
+        let mut activity = Activity::default();
+        // The picture on screen is a preview: the exact one is due once
+        // input stops.
+        let mut previewing = false;
+        // Bytes of the last exact picture: what the link must carry.
+        let mut exact_bytes: Option<u64> = None;
+        let mut probed = false;
         loop {
-            // Wait: not at all when a frame is due, until the next auto-rotation
-            // frame, or for as long as it takes.
-            let first = if dirty {
-                None
-            } else if refresh_status {
-                self.rx.try_recv().ok()
+            let now = Instant::now();
+            let ready = self.pacer.ready(now);
+            let quiet = self.pacer.quiet();
+            let refine_at = (previewing && !state.auto_rotate)
+                .then(|| activity.settled_at(quiet).unwrap_or(now));
+            // Wait: for the frame in flight to be shown (input is applied
+            // meanwhile and folded into the next frame), not at all when a
+            // frame is due, until the exact picture or the next
+            // auto-rotation frame is due, or for as long as it takes.
+            let wait = if refresh_status && !dirty {
+                // The status refresh (a few hundred bytes) follows its
+                // picture at once, without waiting for it to be shown.
+                Some(now)
+            } else if !ready {
+                self.pacer.deadline()
+            } else if dirty {
+                Some(now)
+            } else if let Some(at) = refine_at {
+                Some(at)
             } else if state.auto_rotate {
-                let wait = (last_tick + FRAME_INTERVAL).saturating_duration_since(Instant::now());
-                match self.rx.recv_timeout(wait) {
+                Some(last_tick + FRAME_INTERVAL)
+            } else {
+                None
+            };
+            let first = match wait {
+                Some(at) if at <= now => self.rx.try_recv().ok(),
+                Some(at) => match self.rx.recv_timeout(at - now) {
                     Ok(m) => Some(m),
                     Err(RecvTimeoutError::Timeout) => None,
                     Err(RecvTimeoutError::Disconnected) => {
                         return Ok(Exit::InputClosed("input ended".into()));
                     }
-                }
-            } else {
-                match self.rx.recv() {
+                },
+                None => match self.rx.recv() {
                     Ok(m) => Some(m),
                     Err(_) => return Ok(Exit::InputClosed("input ended".into())),
-                }
+                },
             };
             // Apply everything that is queued before drawing anything.
             let mut next = first;
@@ -190,6 +236,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                     Msg::Input(event) => {
                         if let Some(action) = action_for_event(state, &event) {
                             dirty = true;
+                            activity.input(Instant::now(), quiet);
                             match update(state, action) {
                                 Some(Command::SavePng) => {
                                     let result = save_png(&fb);
@@ -208,6 +255,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                             }
                         }
                     }
+                    Msg::Shown(at) => self.pacer.reply(at),
                     Msg::Resized => dirty = true,
                     Msg::InputClosed(why) => return Ok(Exit::InputClosed(why)),
                     Msg::Signal(sig) => return Ok(Exit::Signal(sig)),
@@ -217,6 +265,11 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 }
             }
             let now = Instant::now();
+            let refresh_due = refresh_status && !dirty;
+            if !refresh_due && !self.pacer.ready(now) {
+                // A frame in flight: what came meanwhile waits for the next.
+                continue;
+            }
             if state.auto_rotate {
                 if now >= last_tick + FRAME_INTERVAL {
                     let seconds = now.duration_since(last_tick).as_secs_f32();
@@ -227,12 +280,20 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             } else {
                 last_tick = now;
             }
+            if previewing && !state.auto_rotate && !activity.moving(now, quiet) {
+                // Input stopped: the exact picture replaces the preview.
+                dirty = true;
+            }
             let status_only = refresh_status && !dirty;
             refresh_status = false;
             if !dirty && !status_only {
                 continue;
             }
             dirty = false;
+            // While input keeps coming over a link too slow for the exact
+            // picture at the frame rate, send a cheaper one.
+            let moving = state.auto_rotate || activity.moving(now, quiet);
+            let cheaper = self.pacer.preview(moving, exact_bytes, FRAME_INTERVAL);
 
             // Render only when what the picture depends on changed.
             let start = Instant::now();
@@ -252,12 +313,27 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 counters: last_counters,
                 ..FrameStats::default()
             };
-            let new_picture = rendered.as_ref() != Some(&key);
+            let same = rendered.as_ref() == Some(&key);
+            // A preview is replaced by the exact picture even when nothing changed.
+            let new_picture = !same || (previewing && !cheaper);
             if new_picture {
-                fb.resize(w, h);
-                stats = (self.render)(state, &mut fb);
+                if cheaper {
+                    coarse.resize(w.div_ceil(2), h.div_ceil(2));
+                    stats = (self.render)(state, &mut coarse);
+                    fb.resize(w, h);
+                    enlarge(&coarse, &mut fb);
+                } else {
+                    fb.resize(w, h);
+                    stats = (self.render)(state, &mut fb);
+                }
                 last_counters = stats.counters;
                 rendered = Some(key);
+                previewing = cheaper;
+            }
+            state.frame.preview = previewing;
+            if status_only {
+                // Drawn only once nothing else is due: no frames are flowing.
+                state.frame.fps = None;
             }
             let encode_start = Instant::now();
             let backend = self.terminal.backend_mut();
@@ -267,12 +343,27 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 backend.write_raw(if want_motion { MOTION_ON } else { MOTION_OFF })?;
                 motion = want_motion;
             }
+            let asks = self.pacer.asks();
+            // The first write starts with a query of its own: its reply
+            // comes one round trip later whatever the frame's size, so a
+            // terminal that answers is known as such in time.
+            let probe = asks && !probed;
+            if probe {
+                backend.write_raw(QUERY)?;
+                probed = true;
+            }
             backend.begin_frame()?;
             self.terminal
                 .draw(|frame| view::view(frame, state, &fb, self.background))?;
             let write_start = Instant::now();
-            let bytes = self.terminal.backend_mut().end_frame()?;
+            let trailer: &[u8] = if asks { QUERY } else { &[] };
+            let bytes = self.terminal.backend_mut().end_frame_then(trailer)?;
             let done = Instant::now();
+            if probe {
+                self.pacer.sent(write_start, 0, true);
+            }
+            self.pacer.sent(write_start, bytes, asks);
+            state.link = self.pacer.info();
             if status_only {
                 // Only the figures changed: they keep describing the picture.
                 continue;
@@ -286,7 +377,53 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             state.frame.frame_time = done - start;
             state.frame.bytes = bytes;
             state.frame.fps = clock.tick(done);
-            refresh_status = new_picture && !state.auto_rotate;
+            if new_picture && !previewing {
+                exact_bytes = Some(bytes);
+            }
+            refresh_status = new_picture && !previewing && !state.auto_rotate;
+        }
+    }
+
+    /// After the loop ended and the screen was restored: reads the replies
+    /// to queries still on their way (at most `limit`), so they are not
+    /// echoed onto the shell once raw mode is off. Only for a terminal
+    /// known to answer.
+    pub fn drain_replies(&mut self, limit: Duration) {
+        if self.pacer.answers() != Answers::Yes {
+            return;
+        }
+        let deadline = Instant::now() + limit;
+        let mut left = self.pacer.outstanding();
+        while left > 0 {
+            let now = Instant::now();
+            if now >= deadline {
+                break;
+            }
+            match self.rx.recv_timeout(deadline - now) {
+                Ok(Msg::Shown(_)) => left -= 1,
+                Ok(_) => {}
+                Err(_) => break,
+            }
+        }
+    }
+}
+
+/// Nearest-neighbour enlargement of `small` to fill `big` (a preview: each
+/// pixel of the half-resolution picture becomes a 2×2 block, so a cell is
+/// one colour and its neighbour the same: fewer bytes to send).
+pub fn enlarge(small: &Framebuffer, big: &mut Framebuffer) {
+    let (sw, sh) = (small.width(), small.height());
+    if sw == 0 || sh == 0 {
+        big.fill([0, 0, 0]);
+        return;
+    }
+    let (bw, bh) = (big.width(), big.height());
+    for y in 0..bh {
+        let sy = (y * sh / bh).min(sh - 1);
+        let src = small.row(sy);
+        for x in 0..bw {
+            let sx = (x * sw / bw).min(sw - 1);
+            big.set(x, y, src[sx]);
         }
     }
 }

@@ -79,7 +79,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     backend.set_tolerance(cli.color_tolerance);
     let mut terminal = Terminal::new(backend)?;
     let mut renderer = crate::Renderer::new();
-    let exit = Looper {
+    let mut looper = Looper {
         terminal: &mut terminal,
         render: |s: &State, fb: &mut crate::Framebuffer| {
             let mut stage = stage.borrow_mut();
@@ -94,8 +94,16 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         rx: &rx,
         textures: Some(&textures),
         stage: Some(&stage),
+        pacer: crate::term::pacing::Pacer::default(),
+    };
+    let exit = looper.run(&mut state);
+    // The screen first (quitting never waits for the terminal), then the
+    // replies still on their way are read so the shell does not get them.
+    crate::term::guard::restore_screen();
+    if !matches!(exit, Ok(Exit::InputClosed(_))) {
+        looper.drain_replies(std::time::Duration::from_millis(500));
     }
-    .run(&mut state);
+    drop(looper);
     drop(terminal);
     drop(guard);
     signals.close();

@@ -13,6 +13,7 @@ use crate::sanitize::clean;
 use crate::scene::{ModelChoice, SceneKind};
 use crate::settings::{Settings, normalize_degrees};
 use crate::term::ColorDepth;
+use crate::term::pacing::LinkInfo;
 
 /// Degrees per column of a drag (a column is one pixel wide).
 pub const DEG_PER_COL: f32 = 2.0;
@@ -57,10 +58,14 @@ pub struct Drag {
 pub struct FrameInfo {
     /// Render, encode and write time of the last frame.
     pub frame_time: Duration,
-    /// Frames written in the last second.
-    pub fps: f32,
+    /// Frames written in the last second; `None` when frames are not
+    /// flowing (idle, or a lone frame).
+    pub fps: Option<f32>,
     /// Bytes the last frame sent to the terminal.
     pub bytes: u64,
+    /// The picture on screen is a preview (cheaper, while input keeps
+    /// coming over a slow link); the exact one follows.
+    pub preview: bool,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -84,6 +89,8 @@ pub struct State {
     pub cost_panel: bool,
     /// Stage times of the last frames, for the cost panel.
     pub costs: CostHistory,
+    /// Round trip and throughput to the terminal, for the cost panel.
+    pub link: LinkInfo,
     pub quit: bool,
     /// The scene shown (changed only once it is built: see [`Action::SceneBuilt`]).
     pub scene: SceneKind,
@@ -153,6 +160,7 @@ impl State {
             frame: FrameInfo::default(),
             cost_panel: false,
             costs: CostHistory::default(),
+            link: LinkInfo::default(),
             quit: false,
             scene: SceneKind::Cube,
             model: ModelChoice::Cube,

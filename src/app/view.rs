@@ -144,7 +144,20 @@ pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf:
             return help(state, screen, buf);
         }
     } else if let Some(panel) = a.panel {
-        panel_line(state, compact, cost_above).render(panel, buf);
+        let line = panel_line(state, compact, cost_above);
+        let long = state
+            .message
+            .as_deref()
+            .filter(|m| line.width() + 2 + m.chars().count() > panel.width as usize);
+        match long {
+            // Too long for the rest of the line: the whole message, wrapped,
+            // on the rows just above it.
+            Some(msg) => {
+                line.render(panel, buf);
+                message_above(msg, panel, a.viewport, buf);
+            }
+            None => with_message(line, state).render(panel, buf),
+        }
     } else if let (Some(status), Some(_)) = (a.status, state.panel.focus) {
         // No room for both: while editing, the fields take the status line.
         panel_line(state, true, false).render(status, buf);
@@ -165,7 +178,7 @@ fn cost_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
         return;
     }
     let width = 44.min(viewport.width);
-    let height = 16.min(viewport.height);
+    let height = 18.min(viewport.height);
     let area = Rect::new(
         viewport.x + viewport.width - width,
         viewport.y,
@@ -175,6 +188,7 @@ fn cost_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
     Clear.render(area, buf);
     super::cost::CostPanel {
         history: &state.costs,
+        link: &state.link,
     }
     .render(area, buf);
 }
@@ -231,10 +245,35 @@ fn panel_line(state: &State, compact: bool, cost: bool) -> Line<'static> {
     } else if cost {
         spans.push(Span::raw(format!("  {}", cost_text(state, false))));
     }
-    if let Some(msg) = &state.message {
-        spans.push(Span::raw(format!("  {msg}")));
-    }
     Line::from(spans)
+}
+
+/// The panel line with the message after it.
+fn with_message(mut line: Line<'static>, state: &State) -> Line<'static> {
+    if let Some(msg) = &state.message {
+        line.spans.push(Span::raw(format!("  {msg}")));
+    }
+    line
+}
+
+/// A message too long for the panel line, wrapped at the screen width on
+/// the rows just above `panel` (over the bottom of the picture).
+fn message_above(msg: &str, panel: Rect, viewport: Rect, buf: &mut Buffer) {
+    let width = (panel.width as usize).saturating_sub(2).max(1);
+    let lines = wrap_words(msg, width);
+    let rows = (lines.len() as u16).min(viewport.height);
+    if rows == 0 {
+        return;
+    }
+    let area = Rect::new(panel.x, panel.y - rows, panel.width, rows);
+    Clear.render(area, buf);
+    Paragraph::new(
+        lines[..rows as usize]
+            .iter()
+            .map(|l| Line::from(format!(" {l}")))
+            .collect::<Vec<_>>(),
+    )
+    .render(area, buf);
 }
 
 /// The status line: the longest form that fits in `width` columns. The
@@ -281,18 +320,35 @@ impl Detail {
     }
 }
 
-/// Frame time, frames per second and bytes of the last frame.
+/// Frame time, frames per second and bytes of the last frame; a preview
+/// says "preview" in place of its time. Every figure has a fixed width,
+/// so the status line keeps its layout whatever the figures: the form
+/// that fits is chosen by the screen width, never by a digit more.
 pub fn cost_text(state: &State, compact: bool) -> String {
     let f = &state.frame;
     let ms = f.frame_time.as_secs_f64() * 1e3;
-    if compact {
-        format!(
-            "{ms:.1}ms {:.0}fps {}",
-            f.fps,
-            format_bytes(f.bytes).replace(' ', "")
-        )
+    let ms = if ms < 99.95 {
+        format!("{ms:.1}")
     } else {
-        format!("{ms:.1} ms │ {:.0} fps │ {}", f.fps, format_bytes(f.bytes))
+        format!("{ms:.0}")
+    };
+    // No rate while idle (or for a lone frame).
+    let fps = f.fps.map_or_else(|| "—".to_string(), |r| format!("{r:.0}"));
+    if compact {
+        let time = if f.preview {
+            "preview".to_string()
+        } else {
+            format!("{ms:>5}ms")
+        };
+        let bytes = format_bytes(f.bytes).replace(' ', "");
+        format!("{time} {fps:>3}fps {bytes:>6}")
+    } else {
+        let time = if f.preview {
+            "preview".to_string()
+        } else {
+            format!("{ms:>4} ms")
+        };
+        format!("{time} │ {fps:>3} fps │ {:>7}", format_bytes(f.bytes))
     }
 }
 
@@ -518,14 +574,24 @@ fn format_strength(k: f32) -> String {
     s.strip_suffix('.').unwrap_or(s).to_string()
 }
 
-/// Bytes as the status line shows them.
+/// Bytes as the status line shows them: three significant digits, at
+/// most 7 characters below 1 GB.
 pub fn format_bytes(n: u64) -> String {
+    let three = |v: f64, unit: &str| {
+        if v < 9.995 {
+            format!("{v:.2} {unit}")
+        } else if v < 99.95 {
+            format!("{v:.1} {unit}")
+        } else {
+            format!("{v:.0} {unit}")
+        }
+    };
     if n < 1000 {
         format!("{n} B")
-    } else if n < 1_000_000 {
-        format!("{:.1} kB", n as f64 / 1e3)
+    } else if n < 999_500 {
+        three(n as f64 / 1e3, "kB")
     } else {
-        format!("{:.2} MB", n as f64 / 1e6)
+        three(n as f64 / 1e6, "MB")
     }
 }
 

@@ -102,7 +102,15 @@ impl<W: Write> SgrBackend<W> {
 
     /// Closes the frame and sends it; returns the bytes the frame took.
     pub fn end_frame(&mut self) -> io::Result<u64> {
+        self.end_frame_then(&[])
+    }
+
+    /// Closes the frame, appends `trailer` after the end of the
+    /// synchronized update (the pacing query) and sends both in one write;
+    /// returns the bytes they took.
+    pub fn end_frame_then(&mut self, trailer: &[u8]) -> io::Result<u64> {
         self.out.write_all(END_SYNC)?;
+        self.out.write_all(trailer)?;
         self.in_frame = false;
         self.out.flush()?;
         self.last_frame_bytes = self.sent() - self.frame_start;

@@ -4,7 +4,9 @@
 //! reader, which retries forever when the terminal reports end of file or an
 //! error (an SSH connection dropped) instead of returning. Decoded here:
 //! UTF-8 text, control keys, CSI/SS3 cursor keys, SGR mouse reports
-//! (`ESC [ < b ; x ; y M/m`) and bracketed paste (`ESC [ 200~ … ESC [ 201~`).
+//! (`ESC [ < b ; x ; y M/m`), bracketed paste (`ESC [ 200~ … ESC [ 201~`),
+//! and the terminal's answer to a device attributes query (`ESC [ ? … c`),
+//! which is the pacing's acknowledgement and never a key.
 
 use crossterm::event::{
     Event, KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind,
@@ -16,6 +18,15 @@ const PASTE_LIMIT: usize = 1 << 20;
 /// A control sequence longer than this is garbage and is dropped.
 const CSI_LIMIT: usize = 64;
 
+/// What the terminal sent: input, or a reply to a query.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Input {
+    Event(Event),
+    /// A primary device attributes reply: everything written before the
+    /// query has been processed.
+    DeviceAttributes,
+}
+
 /// Incremental decoder: feed it whatever `read` returned.
 #[derive(Debug, Default)]
 pub struct InputParser {
@@ -23,13 +34,17 @@ pub struct InputParser {
     paste: Option<Vec<u8>>,
 }
 
-fn key(code: KeyCode, modifiers: KeyModifiers) -> Event {
+fn key_event(code: KeyCode, modifiers: KeyModifiers) -> Event {
     Event::Key(KeyEvent::new(code, modifiers))
+}
+
+fn key(code: KeyCode, modifiers: KeyModifiers) -> Input {
+    Input::Event(key_event(code, modifiers))
 }
 
 enum Step {
     /// Consumed `n` bytes, maybe producing an event.
-    Done(usize, Option<Event>),
+    Done(usize, Option<Input>),
     /// Not enough bytes yet.
     Incomplete,
 }
@@ -41,7 +56,7 @@ impl InputParser {
 
     /// Decodes `bytes`, appending events to `out`. A lone `ESC` at the end
     /// of a read is the Escape key (terminals send sequences in one piece).
-    pub fn feed(&mut self, bytes: &[u8], out: &mut Vec<Event>) {
+    pub fn feed(&mut self, bytes: &[u8], out: &mut Vec<Input>) {
         self.pending.extend_from_slice(bytes);
         let mut start = 0;
         loop {
@@ -51,7 +66,7 @@ impl InputParser {
                     append_capped(paste, &rest[..end]);
                     let text = String::from_utf8_lossy(paste).into_owned();
                     self.paste = None;
-                    out.push(Event::Paste(text));
+                    out.push(Input::Event(Event::Paste(text)));
                     start += end + PASTE_END.len();
                     continue;
                 }
@@ -138,9 +153,9 @@ impl InputParser {
             _ => {
                 // ESC + key: Alt held.
                 match self.step(start + 1) {
-                    Step::Done(n, Some(Event::Key(mut k))) => {
+                    Step::Done(n, Some(Input::Event(Event::Key(mut k)))) => {
                         k.modifiers |= KeyModifiers::ALT;
-                        Step::Done(n + 1, Some(Event::Key(k)))
+                        Step::Done(n + 1, Some(Input::Event(Event::Key(k))))
                     }
                     Step::Done(n, other) => Step::Done(n + 1, other),
                     Step::Incomplete => Step::Incomplete,
@@ -161,6 +176,9 @@ impl InputParser {
         let final_byte = b[2 + end];
         let params = &b[2..2 + end];
         let len = 3 + end;
+        if params.first() == Some(&b'?') && final_byte == b'c' {
+            return Step::Done(len, Some(Input::DeviceAttributes));
+        }
         let event = match (params.first(), final_byte) {
             (Some(b'<'), b'M' | b'm') => sgr_mouse(&params[1..], final_byte == b'M'),
             (_, b'~') if params == b"200" => {
@@ -177,18 +195,18 @@ impl InputParser {
                     6 => Some(KeyCode::PageDown),
                     _ => None,
                 };
-                code.map(|c| key(c, modifiers(params)))
+                code.map(|c| key_event(c, modifiers(params)))
             }
-            (_, b'A') => Some(key(KeyCode::Up, modifiers(params))),
-            (_, b'B') => Some(key(KeyCode::Down, modifiers(params))),
-            (_, b'C') => Some(key(KeyCode::Right, modifiers(params))),
-            (_, b'D') => Some(key(KeyCode::Left, modifiers(params))),
-            (_, b'H') => Some(key(KeyCode::Home, modifiers(params))),
-            (_, b'F') => Some(key(KeyCode::End, modifiers(params))),
-            (_, b'Z') => Some(key(KeyCode::BackTab, KeyModifiers::SHIFT)),
+            (_, b'A') => Some(key_event(KeyCode::Up, modifiers(params))),
+            (_, b'B') => Some(key_event(KeyCode::Down, modifiers(params))),
+            (_, b'C') => Some(key_event(KeyCode::Right, modifiers(params))),
+            (_, b'D') => Some(key_event(KeyCode::Left, modifiers(params))),
+            (_, b'H') => Some(key_event(KeyCode::Home, modifiers(params))),
+            (_, b'F') => Some(key_event(KeyCode::End, modifiers(params))),
+            (_, b'Z') => Some(key_event(KeyCode::BackTab, KeyModifiers::SHIFT)),
             _ => None,
         };
-        Step::Done(len, event)
+        Step::Done(len, event.map(Input::Event))
     }
 }
 

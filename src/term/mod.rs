@@ -1,5 +1,6 @@
 //! Framebuffer → terminal: half-block cells, colour depth, a byte-frugal
-//! backend with synchronized frames, input decoding and terminal hygiene.
+//! backend with synchronized frames, input decoding, pacing by the
+//! terminal's replies and terminal hygiene.
 
 pub mod backend;
 pub mod color;
@@ -7,6 +8,7 @@ pub mod counting;
 pub mod guard;
 pub mod halfblock;
 pub mod input;
+pub mod pacing;
 
 pub use backend::SgrBackend;
 pub use color::ColorDepth;
