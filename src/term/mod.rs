@@ -7,6 +7,8 @@ pub mod counting;
 pub mod guard;
 pub mod halfblock;
 pub mod input;
+pub mod oklab;
+pub mod palette;
 
 pub use backend::SgrBackend;
 pub use color::ColorDepth;
