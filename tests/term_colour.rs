@@ -5,13 +5,11 @@
 
 use std::sync::Arc;
 
-use ratatui::buffer::Buffer;
-use ratatui::layout::Rect;
 use ratatui::style::Color;
-use ratatui::widgets::Widget;
+use relief::term::ColorDepth;
+use relief::term::ansi::{cells, shown_picture};
 use relief::term::color::{ANSI16, CUBE_LEVELS, nearest_16, nearest_256, shown_rgb};
 use relief::term::oklab::lab;
-use relief::term::{ColorDepth, HalfBlocks};
 use relief::{Framebuffer, Renderer, Scene, Settings};
 
 const BACKGROUND: [u8; 3] = relief::scene::BACKGROUND;
@@ -77,29 +75,8 @@ fn flat_frame() -> Framebuffer {
 
 /// The picture as the terminal would show it, through the view's widget.
 fn shown(fb: &Framebuffer, depth: ColorDepth, dither: bool) -> Framebuffer {
-    let (w, h) = (fb.width() as u16, fb.height().div_ceil(2) as u16);
-    let area = Rect::new(0, 0, w, h);
-    let mut buf = Buffer::empty(area);
-    HalfBlocks {
-        fb,
-        depth,
-        dither,
-        pad: BACKGROUND,
-    }
-    .render(area, &mut buf);
-    let mut out = Framebuffer::new(fb.width(), fb.height());
-    for y in 0..fb.height() {
-        for x in 0..fb.width() {
-            let cell = &buf[(x as u16, (y / 2) as u16)];
-            let c = if cell.symbol() == "▀" && y % 2 == 0 {
-                cell.fg
-            } else {
-                cell.bg
-            };
-            out.set(x, y, shown_rgb(c, BACKGROUND));
-        }
-    }
-    out
+    let buf = cells(fb, depth, dither, BACKGROUND);
+    shown_picture(&buf, fb.width(), fb.height(), BACKGROUND)
 }
 
 fn mean_error(a: &Framebuffer, b: &Framebuffer) -> f32 {

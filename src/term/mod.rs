@@ -1,6 +1,7 @@
 //! Framebuffer → terminal: half-block cells, colour depth, a byte-frugal
 //! backend with synchronized frames, input decoding and terminal hygiene.
 
+pub mod ansi;
 pub mod backend;
 pub mod color;
 pub mod counting;
