@@ -10,6 +10,7 @@ pub mod halfblock;
 pub mod input;
 pub mod oklab;
 pub mod palette;
+pub mod probe;
 
 pub use backend::SgrBackend;
 pub use color::ColorDepth;
