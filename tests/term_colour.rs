@@ -257,3 +257,19 @@ fn known_colours_map_to_the_expected_entries() {
     assert_eq!(ANSI16[nearest_16(BACKGROUND)].1, Color::Black);
     assert_eq!(ANSI16[nearest_16([120, 125, 130])].1, Color::DarkGray);
 }
+
+/// Writes `assets/colour-256-before.png` and `assets/colour-16-before.png`:
+/// the reference frame through the former mapping (the README's "before").
+/// `cargo test --release --test term_colour -- --ignored`
+#[test]
+#[ignore]
+fn write_the_before_pictures() {
+    let fb = reference_frame();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+    for (depth, name) in [
+        (ColorDepth::Palette256, "colour-256-before.png"),
+        (ColorDepth::Palette16, "colour-16-before.png"),
+    ] {
+        shown_before(&fb, depth).save_png(&dir.join(name)).unwrap();
+    }
+}
