@@ -76,12 +76,16 @@ fn gradient(shift: usize) -> Framebuffer {
 }
 
 fn cells(fb: &Framebuffer, depth: ColorDepth) -> Buffer {
+    cells_dithered(fb, depth, false)
+}
+
+fn cells_dithered(fb: &Framebuffer, depth: ColorDepth, dither: bool) -> Buffer {
     let area = Rect::new(0, 0, W, H);
     let mut buf = Buffer::empty(area);
     HalfBlocks {
         fb,
         depth,
-        dither: false,
+        dither,
         pad: [16, 24, 32],
     }
     .render(area, &mut buf);
@@ -159,8 +163,23 @@ fn byte_table() {
         ),
         (
             "blank → cube, 256 colours",
-            blank,
+            blank.clone(),
             cells(&cube(35.0), ColorDepth::Palette256),
+        ),
+        (
+            "blank → cube, 256 colours, --dither",
+            blank.clone(),
+            cells_dithered(&cube(35.0), ColorDepth::Palette256, true),
+        ),
+        (
+            "blank → cube, 16 colours",
+            blank.clone(),
+            cells(&cube(35.0), ColorDepth::Palette16),
+        ),
+        (
+            "blank → cube, 16 colours, --dither",
+            blank,
+            cells_dithered(&cube(35.0), ColorDepth::Palette16, true),
         ),
     ];
     println!("bytes per frame at {W}x{H} cells (ours includes the 16 bytes of sync brackets)");
@@ -208,6 +227,21 @@ fn benches(c: &mut Criterion) {
                     fb: black_box(&fb),
                     depth: ColorDepth::Palette256,
                     dither: false,
+                    pad: [16, 24, 32],
+                }
+                .render(area, &mut buf)
+            })
+        },
+    );
+
+    c.bench_function(
+        "fill 200x60 cells from the framebuffer (256 colours, --dither)",
+        |b| {
+            b.iter(|| {
+                HalfBlocks {
+                    fb: black_box(&fb),
+                    depth: ColorDepth::Palette256,
+                    dither: true,
                     pad: [16, 24, 32],
                 }
                 .render(area, &mut buf)

@@ -59,9 +59,15 @@ pub struct RenderArgs {
     /// Output PNG file.
     #[arg(long, value_name = "FILE.png", required_unless_present = "ansi")]
     pub out: Option<PathBuf>,
-    /// Print the frame to stdout as truecolor half-block text instead of writing a PNG.
+    /// Print the frame to stdout as half-block text instead of writing a PNG.
     #[arg(long)]
     pub ansi: bool,
+    /// Colour depth of the PNG or the text: the picture a terminal with that depth shows.
+    #[arg(long, value_enum, default_value_t = ColorDepthArg::Truecolor)]
+    pub color: ColorDepthArg,
+    /// Ordered dithering in 256 and 16 colours (where it lowers the error).
+    #[arg(long)]
+    pub dither: bool,
     /// Width in pixels.
     #[arg(long, default_value_t = 320, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub width: u32,

@@ -53,14 +53,26 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             plasma.render(light, view.plasma_normal, &mut fb);
         }
     }
+    let depth = relief::app::color_depth(Some(args.color));
+    let pad = relief::scene::BACKGROUND;
     if args.ansi {
         let mut out = std::io::stdout().lock();
-        out.write_all(ansi_halfblocks(&fb).as_bytes())?;
+        out.write_all(&relief::term::ansi::frame_text(
+            &fb,
+            depth,
+            args.dither,
+            pad,
+        )?)?;
         out.flush()?;
         return Ok(());
     }
     let out = args.out.as_ref().context("--out FILE.png is required")?;
-    fb.save_png(out)
+    if depth == relief::term::ColorDepth::Truecolor {
+        fb.save_png(out)
+    } else {
+        let cells = relief::term::ansi::cells(&fb, depth, args.dither, pad);
+        relief::term::ansi::shown_picture(&cells, fb.width(), fb.height(), pad).save_png(out)
+    }
 }
 
 /// `relief assets DIR` (hidden): writes the built-in textures as PNGs; this
@@ -70,27 +82,4 @@ fn write_assets(dir: &std::path::Path) -> anyhow::Result<()> {
         println!("{}", relief::sanitize::display_path(&path));
     }
     Ok(())
-}
-
-/// Truecolor `▀` text, one cell per two pixel rows.
-fn ansi_halfblocks(fb: &Framebuffer) -> String {
-    use std::fmt::Write as _;
-    let mut s = String::new();
-    for y in (0..fb.height()).step_by(2) {
-        for x in 0..fb.width() {
-            let top = fb.get(x, y);
-            let bottom = if y + 1 < fb.height() {
-                fb.get(x, y + 1)
-            } else {
-                [0, 0, 0]
-            };
-            let _ = write!(
-                s,
-                "\x1b[38;2;{};{};{}m\x1b[48;2;{};{};{}m▀",
-                top[0], top[1], top[2], bottom[0], bottom[1], bottom[2]
-            );
-        }
-        s.push_str("\x1b[0m\n");
-    }
-    s
 }

@@ -72,8 +72,50 @@ fn ansi_output_is_one_line_per_two_pixel_rows() {
     let text = String::from_utf8(o.stdout).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), 13);
-    assert!(lines.iter().all(|l| l.matches('▀').count() == 40));
-    assert!(text.contains("\x1b[38;2;16;24;32m"));
+    // Every cell is a half block or a space (the view's encoder picks the shorter).
+    for l in &lines {
+        let cells = l.matches(['▀', '▄', ' ']).count();
+        assert_eq!(cells, 40, "{l:?}");
+    }
+    assert!(text.contains("48;2;16;24;32m"));
+    assert!(
+        !text.contains("\x1b[H"),
+        "no absolute cursor move in a file"
+    );
+}
+
+#[test]
+fn color_flag_writes_the_picture_a_palette_terminal_shows() {
+    let o = relief(&[
+        "render", "--ansi", "--width", "40", "--height", "24", "--color", "256",
+    ]);
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        text.contains(";5;") && !text.contains(";2;"),
+        "indexed colours only"
+    );
+    let out = scratch("c16.png");
+    let o = relief(&[
+        "render",
+        "--out",
+        out.to_str().unwrap(),
+        "--width",
+        "40",
+        "--height",
+        "24",
+        "--color",
+        "16",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&out).unwrap().to_rgb8();
+    let ansi: Vec<[u8; 3]> = relief::term::color::ANSI16.iter().map(|c| c.0).collect();
+    assert!(
+        img.pixels().all(|p| ansi.contains(&p.0)),
+        "only the 16 colours"
+    );
+    let distinct: std::collections::HashSet<_> = img.pixels().map(|p| p.0).collect();
+    assert!(distinct.len() >= 3, "{distinct:?}");
 }
 
 fn fails_with(args: &[&str], needle: &str) {

@@ -386,3 +386,36 @@ fn fewer_bytes_than_the_stock_backend() {
         out_b.len()
     );
 }
+
+#[test]
+fn ansi_file_text_replays_to_the_same_cells_in_a_bounded_size() {
+    use relief::term::ansi::{cells, frame_text};
+    for depth in [
+        ColorDepth::Truecolor,
+        ColorDepth::Palette256,
+        ColorDepth::Palette16,
+    ] {
+        // Odd height: the last row's lower half is the background.
+        let fb = picture(37, 21, 5);
+        let text = frame_text(&fb, depth, false, PAD).unwrap();
+        let buf = cells(&fb, depth, false, PAD);
+        let mut screen = Screen::new(37, 11);
+        screen.feed(&text);
+        check_screen(&screen, &buf);
+        assert!(text.ends_with(b"\x1b[0m\n"));
+    }
+    // The reference frame at 160x120 pixels: timg writes 61 kB for it; the
+    // former per-cell truecolor text took 338 kB.
+    let scene = relief::Scene::cube(
+        std::sync::Arc::new(relief::texture::procedural::brick()),
+        false,
+    );
+    let mut fb = Framebuffer::new(160, 120);
+    relief::Renderer::new().render(&scene, &relief::Settings::default(), &mut fb);
+    let text = frame_text(&fb, ColorDepth::Truecolor, false, PAD).unwrap();
+    let mut screen = Screen::new(160, 60);
+    screen.feed(&text);
+    check_screen(&screen, &cells(&fb, ColorDepth::Truecolor, false, PAD));
+    println!("160x120 reference frame as text: {} bytes", text.len());
+    assert!(text.len() <= 61_000, "{}", text.len());
+}

@@ -154,18 +154,46 @@ fn sixteen_colours_pick_the_nearest_ansi_colour() {
 }
 
 #[test]
-fn dithering_mixes_neighbouring_palette_colours() {
-    // A grey halfway between two cube levels: dithered pixels use both.
-    let c = [115, 115, 40];
+fn dithering_mixes_palette_colours_on_gradients_only() {
+    // A dark blue between black and the first cube blue: the table gives it
+    // a dither partner, and ordered dithering uses both entries.
+    let c = [0, 0, 50];
     let seen: std::collections::HashSet<_> = (0..4)
         .flat_map(|y| (0..4).map(move |x| ColorDepth::Palette256.map(c, true, x, y)))
         .collect();
     assert!(seen.len() >= 2, "{seen:?}");
-    // Without dithering, one colour.
     let plain: std::collections::HashSet<_> = (0..4)
         .flat_map(|y| (0..4).map(move |x| ColorDepth::Palette256.map(c, false, x, y)))
         .collect();
     assert_eq!(plain.len(), 1);
+    // Through the widget: a flat area of that colour stays one colour even
+    // with dithering on; a gradient through it is dithered.
+    let colours = |fb: &Framebuffer| {
+        let area = Rect::new(0, 0, fb.width() as u16, fb.height().div_ceil(2) as u16);
+        let mut buf = Buffer::empty(area);
+        HalfBlocks {
+            fb,
+            depth: ColorDepth::Palette256,
+            dither: true,
+            pad: [16, 24, 32],
+        }
+        .render(area, &mut buf);
+        buf.content
+            .iter()
+            .flat_map(|c| [c.fg, c.bg])
+            .filter(|&c| c != Color::Reset)
+            .collect::<std::collections::HashSet<_>>()
+    };
+    let mut flat = Framebuffer::new(16, 16);
+    flat.pixels_mut().fill(c);
+    assert_eq!(colours(&flat).len(), 1);
+    let mut ramp = Framebuffer::new(16, 16);
+    for y in 0..16 {
+        for x in 0..16 {
+            ramp.set(x, y, [0, 0, 40 + x as u8]);
+        }
+    }
+    assert!(colours(&ramp).len() >= 2);
 }
 
 #[test]

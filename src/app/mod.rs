@@ -12,7 +12,8 @@ pub use action::{Action, DragButton, action_for_event, action_for_key};
 pub use state::{Command, State, update};
 pub use view::view;
 
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Read};
+use std::os::fd::AsFd;
 use std::sync::mpsc;
 
 use anyhow::{Context, bail};
@@ -20,11 +21,12 @@ use ratatui::Terminal;
 
 use crate::cli::{Cli, ColorDepthArg};
 use crate::term::guard::{GuardedStdout, TerminalGuard};
-use crate::term::{ColorDepth, SgrBackend};
+use crate::term::{ColorDepth, SgrBackend, probe};
 use event_loop::{Exit, Looper, Msg, spawn_input_reader};
 use stage::Stage;
 
-/// The colour depth to use: `--color` when given, else what the terminal announces.
+/// The colour depth to use: `--color` when given, else what the environment
+/// announces (the view then also asks the terminal, see [`crate::term::probe`]).
 pub fn color_depth(arg: Option<ColorDepthArg>) -> ColorDepth {
     match arg {
         Some(ColorDepthArg::Truecolor) => ColorDepth::Truecolor,
@@ -39,10 +41,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     if !std::io::stdout().is_terminal() {
         bail!("the interactive view needs a terminal on standard output (try `relief render`)");
     }
-    let input: Box<dyn std::io::Read + Send> = if std::io::stdin().is_terminal() {
-        Box::new(std::io::stdin())
+    let tty = if std::io::stdin().is_terminal() {
+        None
     } else {
-        Box::new(std::fs::File::open("/dev/tty").context("no terminal to read keys from")?)
+        Some(std::fs::File::open("/dev/tty").context("no terminal to read keys from")?)
     };
     let settings = cli.view.settings();
     let mut state = State::new(settings, color_depth(cli.color));
@@ -74,6 +76,26 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let (tx, rx) = mpsc::channel();
     let signals = spawn_signal_thread(tx.clone())?;
     let guard = TerminalGuard::enter().context("cannot set up the terminal")?;
+    // Ask the terminal for 24-bit colour when neither --color nor the
+    // environment settled it; keys typed meanwhile go to the decoder first.
+    let mut typed = Vec::new();
+    if cli.color.is_none() && state.depth != ColorDepth::Truecolor {
+        let stdin = std::io::stdin();
+        let fd = match &tty {
+            Some(file) => file.as_fd(),
+            None => stdin.as_fd(),
+        };
+        if let Ok(found) = probe::ask(fd, &mut std::io::stdout(), probe::TIMEOUT) {
+            if found.truecolor {
+                state.depth = ColorDepth::Truecolor;
+            }
+            typed = found.other;
+        }
+    }
+    let input: Box<dyn std::io::Read + Send> = match tty {
+        Some(file) => Box::new(std::io::Cursor::new(typed).chain(file)),
+        None => Box::new(std::io::Cursor::new(typed).chain(std::io::stdin())),
+    };
     spawn_input_reader(input, tx);
     let mut backend = SgrBackend::new(GuardedStdout::new()?);
     backend.set_tolerance(cli.color_tolerance);

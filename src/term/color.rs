@@ -2,6 +2,8 @@
 
 use ratatui::style::Color;
 
+use super::palette::Palette;
+pub use super::palette::{ANSI16, CUBE_LEVELS};
 use crate::framebuffer::Rgb;
 
 /// How many colours the terminal is sent.
@@ -48,126 +50,103 @@ impl ColorDepth {
         ColorDepth::detect(colorterm.as_deref(), term.as_deref())
     }
 
-    /// The terminal colour for pixel `rgb` at pixel position (`x`, `y`);
-    /// the position only matters with ordered dithering.
-    #[inline]
-    pub fn map(self, rgb: Rgb, dither: bool, x: usize, y: usize) -> Color {
+    /// The palette this depth maps onto (`None` for 24-bit).
+    pub fn palette(self) -> Option<&'static Palette> {
         match self {
-            ColorDepth::Truecolor => Color::Rgb(rgb[0], rgb[1], rgb[2]),
-            ColorDepth::Palette256 => {
-                let rgb = if dither { dithered(rgb, x, y, 40) } else { rgb };
-                Color::Indexed(nearest_256(rgb))
-            }
-            ColorDepth::Palette16 => {
-                let rgb = if dither { dithered(rgb, x, y, 96) } else { rgb };
-                ANSI16[nearest_16(rgb)].1
-            }
+            ColorDepth::Truecolor => None,
+            ColorDepth::Palette256 => Some(Palette::xterm256()),
+            ColorDepth::Palette16 => Some(Palette::ansi16()),
         }
     }
-}
 
-/// The six channel levels of the xterm colour cube (indices 16..=231).
-pub const CUBE_LEVELS: [u8; 6] = [0, 95, 135, 175, 215, 255];
+    /// A mapper for pictures drawn over `background`.
+    pub fn quantizer(self, background: Rgb) -> Quantizer {
+        let palette = self.palette();
+        Quantizer {
+            palette,
+            background: palette.map(|p| p.pick(background).best),
+            pad: Some(background),
+        }
+    }
 
-/// Index of the nearest cube level to a channel value (thresholds halfway between levels).
-#[inline]
-fn cube_step(v: u8) -> usize {
-    match v {
-        0..=47 => 0,
-        48..=114 => 1,
-        115..=154 => 2,
-        155..=194 => 3,
-        195..=234 => 4,
-        _ => 5,
+    /// The terminal colour for pixel `rgb` at pixel position (`x`, `y`),
+    /// with no background to keep clear of; the position only matters with
+    /// dithering. The view uses [`Quantizer`], which also knows the background.
+    pub fn map(self, rgb: Rgb, dither: bool, x: usize, y: usize) -> Color {
+        Quantizer {
+            palette: self.palette(),
+            background: None,
+            pad: None,
+        }
+        .pick(rgb, dither, x, y)
     }
 }
 
-#[inline]
-fn dist2(a: Rgb, b: Rgb) -> u32 {
-    a.iter()
-        .zip(b)
-        .map(|(&p, q)| {
-            let d = p as i32 - q as i32;
-            (d * d) as u32
-        })
-        .sum()
+/// Maps 24-bit pixels to the terminal's colours for one picture.
+///
+/// A pixel that is not the background never takes the background's palette
+/// entry (it takes its next best instead), so a dim surface or an edge
+/// against the background stays visible.
+#[derive(Clone, Copy)]
+pub struct Quantizer {
+    palette: Option<&'static Palette>,
+    /// Position of the background's entry.
+    background: Option<u8>,
+    pad: Option<Rgb>,
 }
 
-/// The xterm-256 index nearest to `rgb`: the closest of the cube colour and
-/// the grey-ramp colour (grey `232 + i` is `8 + 10·i`).
+impl Quantizer {
+    /// The colour for `rgb` at pixel (`x`, `y`); `dither` allows the ordered
+    /// dither pick (the caller allows it only off flat areas, and the
+    /// palette table only where mixing lowers the error).
+    #[inline]
+    pub fn pick(&self, rgb: Rgb, dither: bool, x: usize, y: usize) -> Color {
+        let Some(palette) = self.palette else {
+            return Color::Rgb(rgb[0], rgb[1], rgb[2]);
+        };
+        let p = palette.pick(rgb);
+        let mut pos = p.best;
+        // The background itself is never dithered, even at an edge.
+        if dither && BAYER4[y & 3][x & 3] < p.share && Some(rgb) != self.pad {
+            pos = p.partner;
+        }
+        if Some(pos) == self.background && Some(rgb) != self.pad {
+            pos = if p.best != pos { p.best } else { p.second };
+        }
+        palette.entries[pos as usize].color
+    }
+}
+
+/// What a terminal colour shows (xterm's default values), for pictures of
+/// what the terminal would display. `Reset` shows as `default`.
+pub fn shown_rgb(color: Color, default: Rgb) -> Rgb {
+    match color {
+        Color::Rgb(r, g, b) => [r, g, b],
+        Color::Indexed(i) if i >= 16 => {
+            let p = Palette::xterm256();
+            p.entries[i as usize - 16].rgb
+        }
+        Color::Indexed(i) => ANSI16[i as usize].0,
+        Color::Reset => default,
+        named => ANSI16
+            .iter()
+            .find(|(_, c)| *c == named)
+            .map_or(default, |(rgb, _)| *rgb),
+    }
+}
+
+/// The xterm-256 index perceptually nearest to `rgb` (see [`Palette`]).
 pub fn nearest_256(rgb: Rgb) -> u8 {
-    let [r, g, b] = rgb.map(cube_step);
-    let cube = [CUBE_LEVELS[r], CUBE_LEVELS[g], CUBE_LEVELS[b]];
-    let cube_index = 16 + 36 * r + 6 * g + b;
-    let mean = (rgb[0] as u32 + rgb[1] as u32 + rgb[2] as u32) / 3;
-    let grey_step = (mean.saturating_sub(3) / 10).min(23);
-    let grey_level = (8 + 10 * grey_step) as u8;
-    let grey = [grey_level; 3];
-    if dist2(rgb, grey) < dist2(rgb, cube) {
-        232 + grey_step as u8
-    } else {
-        cube_index as u8
+    match Palette::xterm256().entries[Palette::xterm256().nearest(rgb)].color {
+        Color::Indexed(i) => i,
+        _ => unreachable!("the 256-colour palette holds indexed colours"),
     }
 }
 
-/// The 16 ANSI colours with xterm's default RGB values.
-pub const ANSI16: [(Rgb, Color); 16] = [
-    ([0, 0, 0], Color::Black),
-    ([205, 0, 0], Color::Red),
-    ([0, 205, 0], Color::Green),
-    ([205, 205, 0], Color::Yellow),
-    ([0, 0, 238], Color::Blue),
-    ([205, 0, 205], Color::Magenta),
-    ([0, 205, 205], Color::Cyan),
-    ([229, 229, 229], Color::Gray),
-    ([127, 127, 127], Color::DarkGray),
-    ([255, 0, 0], Color::LightRed),
-    ([0, 255, 0], Color::LightGreen),
-    ([255, 255, 0], Color::LightYellow),
-    ([92, 92, 255], Color::LightBlue),
-    ([255, 0, 255], Color::LightMagenta),
-    ([0, 255, 255], Color::LightCyan),
-    ([255, 255, 255], Color::White),
-];
-
-/// Position in [`ANSI16`] of the colour nearest to `rgb`.
+/// Position in [`ANSI16`] of the colour perceptually nearest to `rgb`.
 pub fn nearest_16(rgb: Rgb) -> usize {
-    let mut best = 0;
-    let mut best_d = u32::MAX;
-    for (i, (c, _)) in ANSI16.iter().enumerate() {
-        let d = dist2(rgb, *c);
-        if d < best_d {
-            best = i;
-            best_d = d;
-        }
-    }
-    best
+    Palette::ansi16().nearest(rgb)
 }
 
 /// 4×4 Bayer matrix, values 0..16.
 const BAYER4: [[u8; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
-
-/// `rgb` shifted by the ordered-dither offset of pixel (`x`, `y`), spread over
-/// about one palette step (`step`).
-#[inline]
-fn dithered(rgb: Rgb, x: usize, y: usize, step: i32) -> Rgb {
-    let t = BAYER4[y & 3][x & 3] as i32;
-    // Offset in (-step/2, step/2).
-    let offset = (2 * t + 1 - 16) * step / 32;
-    rgb.map(|c| (c as i32 + offset).clamp(0, 255) as u8)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn dither_offsets_stay_within_half_a_step() {
-        for y in 0..4 {
-            for x in 0..4 {
-                let [r, _, _] = dithered([128, 128, 128], x, y, 40);
-                assert!((108..=148).contains(&r), "{r}");
-            }
-        }
-    }
-}

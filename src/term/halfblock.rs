@@ -20,7 +20,8 @@ pub const UPPER_HALF: char = '▀';
 pub struct HalfBlocks<'a> {
     pub fb: &'a Framebuffer,
     pub depth: ColorDepth,
-    /// Ordered dithering (256 and 16 colours only).
+    /// Ordered dithering (256 and 16 colours only), where it lowers the
+    /// error and never on flat areas.
     pub dither: bool,
     /// Colour of whatever the framebuffer does not cover.
     pub pad: Rgb,
@@ -51,15 +52,31 @@ impl Widget for HalfBlocks<'_> {
                 pad
             }
         };
+        let quantizer = self.depth.quantizer(pad);
+        // Dithering only off flat areas: a pixel equal to its four
+        // neighbours (the background, a flat-shaded face) keeps one colour.
+        // The picture's border counts as flat (neighbours clamp to it).
+        let dithers = |x: usize, y: usize, c: Rgb| {
+            if !self.dither || x >= fb_w || y >= fb_h {
+                return false;
+            }
+            let at = |x: usize, y: usize| self.fb.get(x.min(fb_w - 1), y.min(fb_h - 1));
+            at(x + 1, y) != c
+                || at(x, y + 1) != c
+                || at(x.saturating_sub(1), y) != c
+                || at(x, y.saturating_sub(1)) != c
+        };
+        let map = |x: usize, y: usize| {
+            let c = pixel(x, y);
+            quantizer.pick(c, dithers(x, y, c), x, y)
+        };
         for row in 0..area.height as usize {
             let (top_y, bottom_y) = (2 * row, 2 * row + 1);
             let start = buf.index_of(area.x, area.y + row as u16);
             let cells = &mut buf.content[start..start + area.width as usize];
             for (col, cell) in cells.iter_mut().enumerate() {
-                let fg = self.depth.map(pixel(col, top_y), self.dither, col, top_y);
-                let bg = self
-                    .depth
-                    .map(pixel(col, bottom_y), self.dither, col, bottom_y);
+                let fg = map(col, top_y);
+                let bg = map(col, bottom_y);
                 if fg == bg {
                     // Both pixels alike: a space with a background says it in fewer bytes.
                     cell.clone_from(&space);

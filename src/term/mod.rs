@@ -2,13 +2,17 @@
 //! backend with synchronized frames, input decoding, pacing by the
 //! terminal's replies and terminal hygiene.
 
+pub mod ansi;
 pub mod backend;
 pub mod color;
 pub mod counting;
 pub mod guard;
 pub mod halfblock;
 pub mod input;
+pub mod oklab;
 pub mod pacing;
+pub mod palette;
+pub mod probe;
 
 pub use backend::SgrBackend;
 pub use color::ColorDepth;

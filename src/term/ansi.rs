@@ -1,0 +1,84 @@
+//! One frame as text for a file or a pipe (`relief render --ansi`), and as
+//! the picture a terminal would show (`relief render --color 256`).
+//!
+//! The text goes through the view's own widget and backend: colours are sent
+//! only when they change, a cell is `▀`, `▄` or a space whichever takes fewer
+//! bytes, and rows are joined by `\r\n`. It starts where the cursor is (no
+//! absolute move, no alternate screen, no synchronized-output brackets).
+
+use std::io;
+
+use ratatui::backend::Backend;
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::widgets::Widget;
+
+use super::color::shown_rgb;
+use super::halfblock::{UPPER_HALF, cells_for_pixels};
+use super::{ColorDepth, HalfBlocks, SgrBackend};
+use crate::framebuffer::{Framebuffer, Rgb};
+
+/// The half-block cells of `fb` at `depth` over the background `pad`.
+pub fn cells(fb: &Framebuffer, depth: ColorDepth, dither: bool, pad: Rgb) -> Buffer {
+    let (w, h) = cells_for_pixels(fb.width(), fb.height());
+    let area = Rect::new(
+        0,
+        0,
+        w.min(u16::MAX as usize) as u16,
+        h.min(u16::MAX as usize) as u16,
+    );
+    let mut buf = Buffer::empty(area);
+    HalfBlocks {
+        fb,
+        depth,
+        dither,
+        pad,
+    }
+    .render(area, &mut buf);
+    buf
+}
+
+/// The frame as text: every cell, ending with an attribute reset and a newline.
+pub fn frame_text(
+    fb: &Framebuffer,
+    depth: ColorDepth,
+    dither: bool,
+    pad: Rgb,
+) -> io::Result<Vec<u8>> {
+    let buf = cells(fb, depth, dither, pad);
+    let (w, h) = (buf.area.width, buf.area.height);
+    let mut backend = SgrBackend::with_size(Vec::new(), w, h);
+    let cells = buf
+        .content
+        .iter()
+        .enumerate()
+        .map(|(i, c)| ((i % w as usize) as u16, (i / w as usize) as u16, c));
+    backend.draw(cells)?;
+    Backend::flush(&mut backend)?;
+    let mut text = std::mem::take(backend.writer_mut());
+    // The backend places the first cell with an absolute move to the top
+    // left; a file is shown where the cursor is.
+    if text.starts_with(b"\x1b[H") {
+        text.drain(..3);
+    }
+    text.push(b'\n');
+    Ok(text)
+}
+
+/// The picture the cells show (xterm's palette values), `width × height` pixels.
+pub fn shown_picture(buf: &Buffer, width: usize, height: usize, pad: Rgb) -> Framebuffer {
+    let mut out = Framebuffer::new(width, height);
+    for y in 0..height {
+        for x in 0..width {
+            let cell = &buf[(x as u16, (y / 2) as u16)];
+            let upper = cell.symbol().starts_with(UPPER_HALF);
+            let c = if upper && y % 2 == 0 {
+                cell.fg
+            } else {
+                cell.bg
+            };
+            out.set(x, y, shown_rgb(c, pad));
+        }
+    }
+    out
+}

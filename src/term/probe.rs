@@ -1,0 +1,302 @@
+//! Asking the terminal whether it takes 24-bit colour, for when the
+//! environment does not say (over SSH `COLORTERM` is rarely forwarded).
+//!
+//! Two questions, then a sentinel:
+//! - XTGETTCAP (`DCS + q <hex names> ST`) for the terminfo capabilities `RGB`
+//!   and `Tc`: a terminal that has one answers `DCS 1 + r <name>[=…] ST`, one
+//!   that lacks it `DCS 0 + r ST`.
+//! - DECRQSS: set the background to the 24-bit colour 1,2,3 and ask for the
+//!   current SGR (`DCS $ q m ST`); a terminal that keeps 24-bit colours reports
+//!   the same colour (`DCS 1 $ r …48:2::1:2:3m ST`), others a palette index.
+//! - Primary device attributes (`CSI c`), which every terminal answers, and
+//!   answers after the questions before it: once its reply is in, no other
+//!   answer is coming and there is nothing to wait for.
+//!
+//! Bytes that are not replies (keys typed meanwhile) are kept for the input
+//! decoder.
+
+use std::io::{self, Write};
+use std::os::fd::{AsRawFd, BorrowedFd};
+use std::time::{Duration, Instant};
+
+/// The questions, in the order the replies come back.
+pub const QUERY: &[u8] = b"\x1bP+q524742;5463\x1b\\\x1b[48:2::1:2:3m\x1bP$qm\x1b\\\x1b[0m\x1b[c";
+
+/// Longest wait for the replies (over SSH the round trip counts).
+pub const TIMEOUT: Duration = Duration::from_millis(250);
+
+/// What the replies said.
+#[derive(Debug, Default, PartialEq, Eq)]
+pub struct Outcome {
+    /// A positive answer to one of the questions.
+    pub truecolor: bool,
+    /// The device-attributes reply came (false: timed out).
+    pub answered: bool,
+    /// Input that was not part of a reply, in arrival order.
+    pub other: Vec<u8>,
+}
+
+/// Separates replies from other input, across reads of any size.
+#[derive(Debug, Default)]
+pub struct ReplyScanner {
+    pending: Vec<u8>,
+    outcome: Outcome,
+}
+
+/// A complete escape sequence at the start of `bytes`, or why not.
+enum Seq {
+    /// Needs more bytes.
+    Partial,
+    /// A device-control string: its body (between `ESC P` and `ESC \`) and length.
+    Dcs(usize, usize),
+    /// A control sequence: parameters end and length.
+    Csi(usize),
+    /// Not a sequence this scanner knows: pass one byte on.
+    Other,
+}
+
+fn sequence(bytes: &[u8]) -> Seq {
+    match bytes.get(1) {
+        None => Seq::Partial,
+        Some(b'P') => match bytes[2..].windows(2).position(|w| w == b"\x1b\\") {
+            Some(end) => Seq::Dcs(2 + end, 2 + end + 2),
+            None => Seq::Partial,
+        },
+        Some(b'[') => match bytes[2..].iter().position(|b| (0x40..=0x7e).contains(b)) {
+            Some(fin) => Seq::Csi(2 + fin + 1),
+            None => Seq::Partial,
+        },
+        Some(_) => Seq::Other,
+    }
+}
+
+/// True for a reply that says 24-bit colour.
+fn positive(body: &[u8]) -> bool {
+    if let Some(names) = body.strip_prefix(b"1+r") {
+        // `name[=value]` pairs separated by `;`; names hex-encoded.
+        return names.split(|&b| b == b';').any(|pair| {
+            let name = pair.split(|&b| b == b'=').next().unwrap_or(&[]);
+            name.eq_ignore_ascii_case(b"524742") || name.eq_ignore_ascii_case(b"5463")
+        });
+    }
+    if let Some(sgr) = body.strip_prefix(b"1$r") {
+        // The colour set before the question, with `:` or `;` separators and
+        // the colour-space field present or not.
+        let text: String = sgr.iter().map(|&b| b as char).collect();
+        let text = text.replace(';', ":");
+        return text.contains("48:2::1:2:3") || text.contains("48:2:1:2:3");
+    }
+    false
+}
+
+impl ReplyScanner {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Takes the next bytes read from the terminal.
+    pub fn feed(&mut self, bytes: &[u8]) {
+        self.pending.extend_from_slice(bytes);
+        let mut i = 0;
+        while i < self.pending.len() && !self.outcome.answered {
+            let rest = &self.pending[i..];
+            if rest[0] != 0x1b {
+                self.outcome.other.push(rest[0]);
+                i += 1;
+                continue;
+            }
+            match sequence(rest) {
+                Seq::Partial => break,
+                Seq::Dcs(end, len) => {
+                    if positive(&rest[2..end]) {
+                        self.outcome.truecolor = true;
+                    }
+                    i += len;
+                }
+                Seq::Csi(len) => {
+                    if rest[2] == b'?' && rest[len - 1] == b'c' {
+                        self.outcome.answered = true;
+                    } else {
+                        // A key (arrows, function keys): the decoder's.
+                        self.outcome.other.extend_from_slice(&rest[..len]);
+                    }
+                    i += len;
+                }
+                Seq::Other => {
+                    self.outcome.other.push(0x1b);
+                    i += 1;
+                }
+            }
+        }
+        self.pending.drain(..i);
+    }
+
+    /// True once the sentinel's reply is in.
+    pub fn done(&self) -> bool {
+        self.outcome.answered
+    }
+
+    /// The outcome; unfinished sequences and anything after the sentinel
+    /// go to the other input.
+    pub fn finish(mut self) -> Outcome {
+        self.outcome.other.append(&mut self.pending);
+        self.outcome
+    }
+}
+
+/// Asks the terminal on `out` and reads its replies from `input` (in raw
+/// mode) until the sentinel's reply or `timeout`.
+pub fn ask(input: BorrowedFd, out: &mut impl Write, timeout: Duration) -> io::Result<Outcome> {
+    out.write_all(QUERY)?;
+    out.flush()?;
+    let deadline = Instant::now() + timeout;
+    let mut scanner = ReplyScanner::new();
+    let mut buf = [0u8; 1024];
+    while !scanner.done() {
+        let left = deadline.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            break;
+        }
+        let mut fds = libc::pollfd {
+            fd: input.as_raw_fd(),
+            events: libc::POLLIN,
+            revents: 0,
+        };
+        let ms = left.as_millis().clamp(1, i32::MAX as u128) as libc::c_int;
+        // SAFETY: one valid pollfd, its count, a time-out.
+        let ready = unsafe { libc::poll(&mut fds, 1, ms) };
+        if ready < 0 {
+            let err = io::Error::last_os_error();
+            if err.kind() == io::ErrorKind::Interrupted {
+                continue;
+            }
+            return Err(err);
+        }
+        if ready == 0 {
+            break;
+        }
+        // SAFETY: reads at most buf.len() bytes into buf from an open descriptor.
+        let n = unsafe { libc::read(input.as_raw_fd(), buf.as_mut_ptr().cast(), buf.len()) };
+        if n < 0 {
+            let err = io::Error::last_os_error();
+            if err.kind() == io::ErrorKind::Interrupted {
+                continue;
+            }
+            return Err(err);
+        }
+        if n == 0 {
+            break;
+        }
+        scanner.feed(&buf[..n as usize]);
+    }
+    Ok(scanner.finish())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scan(chunks: &[&[u8]]) -> Outcome {
+        let mut s = ReplyScanner::new();
+        for c in chunks {
+            s.feed(c);
+        }
+        s.finish()
+    }
+
+    const DA1: &[u8] = b"\x1b[?64;1;2;6;22c";
+
+    #[test]
+    fn xtgettcap_positive_answers() {
+        // kitty style: the name with a value; xterm style: the bare name.
+        let o = scan(&[b"\x1bP1+r524742=382F382F38\x1b\\", DA1]);
+        assert!(o.truecolor && o.answered && o.other.is_empty(), "{o:?}");
+        let o = scan(&[b"\x1bP0+r524742\x1b\\\x1bP1+r5463\x1b\\", DA1]);
+        assert!(o.truecolor, "{o:?}");
+    }
+
+    #[test]
+    fn negative_answers_and_da1_alone_mean_no() {
+        let o = scan(&[b"\x1bP0+r\x1b\\\x1bP0$r\x1b\\", DA1]);
+        assert_eq!(
+            o,
+            Outcome {
+                truecolor: false,
+                answered: true,
+                other: vec![]
+            }
+        );
+        let o = scan(&[DA1]);
+        assert!(!o.truecolor && o.answered);
+    }
+
+    #[test]
+    fn decrqss_replies() {
+        for reply in [
+            &b"\x1bP1$r0;48:2::1:2:3m\x1b\\"[..],
+            b"\x1bP1$r48;2;1;2;3m\x1b\\",
+            b"\x1bP1$r0;48:2:1:2:3m\x1b\\",
+        ] {
+            assert!(scan(&[reply, DA1]).truecolor, "{reply:?}");
+        }
+        // A 256-colour terminal reports the palette colour it chose.
+        assert!(!scan(&[b"\x1bP1$r0;48;5;16m\x1b\\", DA1]).truecolor);
+    }
+
+    #[test]
+    fn replies_split_anywhere_are_read_whole() {
+        let all: Vec<u8> = [&b"\x1bP1+r5463\x1b\\"[..], DA1].concat();
+        for cut in 1..all.len() {
+            let (a, b) = all.split_at(cut);
+            let mut s = ReplyScanner::new();
+            s.feed(a);
+            assert!(!s.done() || cut == all.len());
+            s.feed(b);
+            assert!(s.done());
+            let o = s.finish();
+            assert!(o.truecolor && o.other.is_empty(), "cut {cut}: {o:?}");
+        }
+    }
+
+    #[test]
+    fn keys_typed_meanwhile_are_kept_in_order() {
+        let o = scan(&[
+            b"q",
+            b"\x1b[A\x1bP0+r\x1b\\x",
+            b"\x1b",
+            b"\x1b[1;5C",
+            DA1,
+            b"zz",
+        ]);
+        assert!(!o.truecolor && o.answered);
+        assert_eq!(o.other, b"q\x1b[Ax\x1b\x1b[1;5Czz");
+    }
+
+    #[test]
+    fn no_answer_keeps_everything() {
+        let o = scan(&[b"ab\x1b"]);
+        assert!(!o.answered && !o.truecolor);
+        assert_eq!(o.other, b"ab\x1b");
+    }
+
+    #[test]
+    fn a_terminal_that_answers_nothing_times_out() {
+        // A pipe nobody writes to: the time-out ends the wait.
+        let mut fds = [0; 2];
+        // SAFETY: fds has room for the two descriptors.
+        assert_eq!(unsafe { libc::pipe(fds.as_mut_ptr()) }, 0);
+        use std::os::fd::{FromRawFd, OwnedFd};
+        // SAFETY: both descriptors were just opened and are owned here only.
+        let (read, write) = unsafe { (OwnedFd::from_raw_fd(fds[0]), OwnedFd::from_raw_fd(fds[1])) };
+        let mut out = Vec::new();
+        let o = ask(
+            std::os::fd::AsFd::as_fd(&read),
+            &mut out,
+            Duration::from_millis(20),
+        )
+        .unwrap();
+        assert_eq!(out, QUERY);
+        assert!(!o.answered && !o.truecolor);
+        drop(write);
+    }
+}
