@@ -5,6 +5,7 @@
 pub mod app;
 pub mod bench;
 pub mod cli;
+pub mod contain;
 pub mod framebuffer;
 pub mod plan;
 pub mod plasma;

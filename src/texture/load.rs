@@ -277,6 +277,32 @@ fn decode_level(
     if xpm::looks_like_xpm(bytes) || file.to_ascii_lowercase().ends_with(".xpm") {
         return decode_xpm(bytes, file);
     }
+    // The decoders are third-party code fed untrusted bytes: a panic in one
+    // is this file's error, not the program's end.
+    crate::contain::contain(|| decode_image(bytes, file, hint)).unwrap_or_else(|cause| {
+        Err(TextureError::Corrupt {
+            file: file.to_owned(),
+            format: format_name(bytes, hint),
+            reason: format!("the decoder failed on it ({cause})"),
+        })
+    })
+}
+
+/// The format's name for messages ("PNG"), from the content or the hint.
+fn format_name(bytes: &[u8], hint: Option<ImageFormat>) -> String {
+    image::guess_format(bytes)
+        .ok()
+        .or(hint)
+        .map(|f| format!("{f:?}").to_uppercase())
+        .unwrap_or_else(|| "image".into())
+}
+
+/// The `image` crate's part of [`decode_level`].
+fn decode_image(
+    bytes: &[u8],
+    file: &str,
+    hint: Option<ImageFormat>,
+) -> Result<Level, TextureError> {
     let mut reader = ImageReader::new(Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| TextureError::Unreadable {
