@@ -4,6 +4,7 @@
 
 pub mod app;
 pub mod bench;
+pub mod budget;
 pub mod cli;
 pub mod contain;
 pub mod framebuffer;

@@ -42,7 +42,13 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let view = &args.view;
     let built = build_scene(view.scene, &view.model, Arc::new(texture), view.all_faces)?;
     let settings = view.settings();
-    let mut fb = Framebuffer::new(args.width as usize, args.height as usize);
+    let (width, height) = (args.width as usize, args.height as usize);
+    // The frame's memory is reserved before any of it exists.
+    let _frame = relief::budget::reserve(
+        &format!("a {width}x{height} frame"),
+        relief::budget::frame_bytes_for(width, height, settings.aa),
+    )?;
+    let mut fb = Framebuffer::new(width, height);
     match built {
         Built::Scene(scene) => {
             Renderer::new().render(&scene, &settings, &mut fb);
@@ -54,8 +60,8 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         }
     }
     if args.ansi {
-        let mut out = std::io::stdout().lock();
-        out.write_all(ansi_halfblocks(&fb).as_bytes())?;
+        let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+        write_ansi_halfblocks(&fb, &mut out)?;
         out.flush()?;
         return Ok(());
     }
@@ -72,10 +78,9 @@ fn write_assets(dir: &std::path::Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Truecolor `▀` text, one cell per two pixel rows.
-fn ansi_halfblocks(fb: &Framebuffer) -> String {
-    use std::fmt::Write as _;
-    let mut s = String::new();
+/// Truecolor `▀` text, one cell per two pixel rows, written row by row so
+/// the text is never held whole (a 16384² frame would be gigabytes of it).
+fn write_ansi_halfblocks(fb: &Framebuffer, out: &mut impl Write) -> std::io::Result<()> {
     for y in (0..fb.height()).step_by(2) {
         for x in 0..fb.width() {
             let top = fb.get(x, y);
@@ -84,13 +89,13 @@ fn ansi_halfblocks(fb: &Framebuffer) -> String {
             } else {
                 [0, 0, 0]
             };
-            let _ = write!(
-                s,
+            write!(
+                out,
                 "\x1b[38;2;{};{};{}m\x1b[48;2;{};{};{}m▀",
                 top[0], top[1], top[2], bottom[0], bottom[1], bottom[2]
-            );
+            )?;
         }
-        s.push_str("\x1b[0m\n");
+        out.write_all(b"\x1b[0m\n")?;
     }
-    s
+    Ok(())
 }

@@ -109,3 +109,38 @@ pub fn relief(args: &[&str]) -> Output {
         .output()
         .expect("relief runs")
 }
+
+/// Runs relief with `args` (stdout discarded, stderr kept) and returns its
+/// exit code, stderr and peak resident memory in bytes (the kernel's
+/// `ru_maxrss` from `wait4`; it may include the test process's own size at
+/// the fork, so it can only overstate).
+#[allow(clippy::zombie_processes)] // reaped by wait4, which std does not see
+pub fn relief_peak(args: &[&str]) -> (Option<i32>, String, u64) {
+    use std::io::Read;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("relief runs");
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    let mut status = 0;
+    // SAFETY: rusage is plain data; wait4 fills it for our own child.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let pid = child.id() as libc::pid_t;
+    let waited = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    assert_eq!(waited, pid, "wait4");
+    let code = if libc::WIFEXITED(status) {
+        Some(libc::WEXITSTATUS(status))
+    } else {
+        None
+    };
+    (code, err, usage.ru_maxrss as u64 * 1024)
+}
