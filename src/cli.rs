@@ -56,11 +56,12 @@ pub enum Command {
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Output PNG file.
+    /// Output picture, in the format its extension names (.png, .jpg, .bmp, .tga, .tif,
+    /// .ppm, .qoi, .ff; PNG without one); written to a temporary file and renamed.
     #[arg(long, value_name = "FILE.png", required_unless_present = "ansi")]
     pub out: Option<PathBuf>,
-    /// Print the frame to stdout as truecolor half-block text instead of writing a PNG.
-    #[arg(long)]
+    /// Print the frame to stdout as truecolor half-block text instead of writing a picture.
+    #[arg(long, conflicts_with = "out")]
     pub ansi: bool,
     /// Width in pixels.
     #[arg(long, default_value_t = 320, value_parser = clap::value_parser!(u32).range(1..=16384))]

@@ -34,6 +34,9 @@ fn main() -> ExitCode {
 
 /// `relief render`: one frame, to a PNG or to stdout as half-block text.
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
+    for note in check_render_flags(args)? {
+        eprintln!("relief: {}", clean(&note));
+    }
     // Errors name the file and are already free of control characters.
     let texture = relief::texture::load::load_for_view(
         args.image.as_deref(),
@@ -66,7 +69,106 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     let out = args.out.as_ref().context("--out FILE.png is required")?;
-    fb.save_png(out)
+    write_picture(&fb, out)
+}
+
+/// Things `render` was asked for that it cannot do, said on stderr before
+/// it does the rest; and what makes it stop before rendering.
+fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
+    use relief::scene::{ModelChoice, SceneKind};
+    let mut notes = Vec::new();
+    let view = &args.view;
+    if view.scene != SceneKind::Cube && view.model != ModelChoice::Cube {
+        notes.push(format!(
+            "--model {} is ignored: only --scene cube draws a chosen model (the {} scene has its own)",
+            clean(&view.model.to_string()),
+            if view.scene == SceneKind::Plasma { "plasma" } else { "shadow" },
+        ));
+    }
+    let (w, h) = (args.width as usize, args.height as usize);
+    let k = relief::raster::aa::ssaa_factor(view.aa, w, h);
+    let wanted = match view.aa {
+        relief::settings::AntiAlias::Ssaa2 => 2,
+        relief::settings::AntiAlias::Ssaa4 => 4,
+        _ => 1,
+    };
+    if k < wanted {
+        let now = if k == 1 {
+            "off".to_string()
+        } else {
+            format!("{k}x{k}")
+        };
+        notes.push(format!(
+            "--aa {wanted}x{wanted} falls back to {now} at {w}x{h}: the supersampled frame would exceed {} samples",
+            relief::raster::aa::MAX_SUPERSAMPLES
+        ));
+    }
+    if let Some(out) = &args.out {
+        output_format(out)?;
+        if let Ok(meta) = std::fs::metadata(out)
+            && !meta.is_file()
+        {
+            anyhow::bail!(
+                "cannot write {}: not a regular file (only a new or regular file is replaced)",
+                relief::sanitize::display_path(out)
+            );
+        }
+    }
+    Ok(notes)
+}
+
+/// The picture format `--out`'s extension names (PNG when it has none).
+fn output_format(out: &std::path::Path) -> anyhow::Result<image::ImageFormat> {
+    use image::ImageFormat as F;
+    let Some(ext) = out.extension() else {
+        return Ok(F::Png);
+    };
+    match F::from_extension(ext) {
+        Some(
+            f @ (F::Png | F::Jpeg | F::Bmp | F::Tga | F::Tiff | F::Pnm | F::Qoi | F::Farbfeld),
+        ) => Ok(f),
+        _ => anyhow::bail!(
+            "{}: unknown picture extension (use .png, .jpg, .bmp, .tga, .tif, .ppm, .qoi or .ff)",
+            relief::sanitize::display_path(out)
+        ),
+    }
+}
+
+/// Writes the frame in the format `out`'s extension names, through a
+/// temporary file in the same directory renamed over `out` at the end: a
+/// reader never sees half a picture, and nothing but a regular file is
+/// ever opened for writing (a FIFO would block forever).
+fn write_picture(fb: &Framebuffer, out: &std::path::Path) -> anyhow::Result<()> {
+    let format = output_format(out)?;
+    let shown = relief::sanitize::display_path(out);
+    if fb.width() == 0 || fb.height() == 0 {
+        anyhow::bail!("cannot write an empty {}x{} image", fb.width(), fb.height());
+    }
+    let dir = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let name = out.file_name().context("--out needs a file name")?;
+    let mut temp_name = std::ffi::OsString::from(".");
+    temp_name.push(name);
+    temp_name.push(format!(".{}.tmp", std::process::id()));
+    let temp = dir.join(temp_name);
+    let written = (|| -> anyhow::Result<()> {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&temp)?;
+        let mut writer = std::io::BufWriter::new(file);
+        fb.to_image().write_to(&mut writer, format)?;
+        writer.flush()?;
+        std::fs::rename(&temp, out)?;
+        Ok(())
+    })();
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&temp);
+        anyhow::bail!("cannot write {shown}: {}", clean(&e.to_string()));
+    }
+    Ok(())
 }
 
 /// `relief assets DIR` (hidden): writes the built-in textures as PNGs; this
