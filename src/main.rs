@@ -13,7 +13,10 @@ use relief::scene::{Built, build_scene};
 use relief::{Framebuffer, Renderer};
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return parse_failure(&e),
+    };
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
         Some(Command::Assets { dir }) => write_assets(&dir),
@@ -30,6 +33,21 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// The parser's message (usage errors, `--help`, `--version`) with the
+/// user's arguments made safe to print, and the parser's exit code: it
+/// quotes arguments as they were typed, escape sequences included.
+fn parse_failure(e: &clap::Error) -> ExitCode {
+    let text = relief::sanitize::clean_lines(&e.render().to_string());
+    if e.use_stderr() {
+        let _ = std::io::stderr().write_all(text.as_bytes());
+    } else {
+        let mut out = std::io::stdout().lock();
+        let _ = out.write_all(text.as_bytes());
+        let _ = out.flush();
+    }
+    ExitCode::from(e.exit_code().clamp(0, 255) as u8)
 }
 
 /// `relief render`: one frame, to a PNG or to stdout as half-block text.
