@@ -385,11 +385,66 @@ fn convert_error(e: ImageError, file: &str, format: &str) -> TextureError {
                 reason: "ends too early".into(),
             }
         }
+        ImageError::IoError(io) => TextureError::Unreadable {
+            file,
+            reason: one_line(&io.to_string()),
+        },
+        ImageError::Decoding(d) => TextureError::Corrupt {
+            file,
+            format,
+            reason: plain_reason(&d.to_string()),
+        },
+        ImageError::Parameter(p) => TextureError::Unsupported {
+            file,
+            format,
+            reason: plain_reason(&p.to_string()),
+        },
         other => TextureError::Corrupt {
             file,
             format,
-            reason: one_line(&other.to_string()),
+            reason: plain_reason(&other.to_string()),
         },
+    }
+}
+
+/// A decoder's message in plain words: the "Format error decoding Png:"
+/// prefix (the line already names the format) and any debug dump of the
+/// decoder's internals (`ChunkType { type: IHDR, … }`) dropped.
+fn plain_reason(message: &str) -> String {
+    let mut text = message.trim();
+    if let Some(rest) = text.strip_prefix("Format error") {
+        // "Format error decoding Png: …" or "Format error: …"
+        text = rest.split_once(':').map_or("", |(_, r)| r).trim();
+    }
+    // `ChunkType { type: IHDR, critical: true, … }` → `IHDR chunk`; other
+    // braces and their contents go.
+    let mut plain = String::new();
+    let mut rest = text;
+    while let Some(open) = rest.find('{') {
+        let head = rest[..open].trim_end();
+        let close = rest[open..].find('}').map_or(rest.len(), |i| open + i + 1);
+        let inside = &rest[open + 1..close.saturating_sub(1).max(open + 1)];
+        match (
+            head.strip_suffix("ChunkType"),
+            inside.trim().strip_prefix("type:"),
+        ) {
+            (Some(before), Some(kind)) => {
+                plain.push_str(before);
+                plain.push_str(kind.split(',').next().unwrap_or("").trim());
+                if !rest[close..].trim_start().starts_with("chunk") {
+                    plain.push_str(" chunk");
+                }
+            }
+            _ => plain.push_str(head),
+        }
+        rest = &rest[close..];
+    }
+    plain.push_str(rest);
+    let reason = one_line(plain.trim().trim_end_matches([':', ',']));
+    if reason.is_empty() {
+        "the data does not decode".into()
+    } else {
+        reason
     }
 }
 
@@ -490,5 +545,29 @@ fn level_from_image(image: &DynamicImage) -> Level {
             let buf = image.to_rgba32f();
             level_from_rows(w, h, has_alpha, |x, y| buf.get_pixel(x as u32, y as u32).0)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decoder_messages_in_plain_words() {
+        assert_eq!(
+            plain_reason("Format error decoding Png: ChunkType { type: IHDR, critical: true }"),
+            "IHDR chunk"
+        );
+        assert_eq!(
+            plain_reason(
+                "Format error decoding Png: CRC error: expected 0x1 have 0x2 while decoding ChunkType { type: IDAT, critical: true } chunk."
+            ),
+            "CRC error: expected 0x1 have 0x2 while decoding IDAT chunk."
+        );
+        assert_eq!(
+            plain_reason("Format error decoding Bmp: {}"),
+            "the data does not decode"
+        );
+        assert_eq!(plain_reason("bad\nheader"), "bad header");
     }
 }
