@@ -56,11 +56,13 @@ pub enum Command {
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Output PNG file.
+    /// Output picture, in the format its extension names (.png, .jpg, .bmp, .tga, .tif,
+    /// .ppm, .qoi, .ff; PNG without one); written to a temporary file and renamed.
     #[arg(long, value_name = "FILE.png", required_unless_present = "ansi")]
     pub out: Option<PathBuf>,
-    /// Print the frame to stdout as half-block text instead of writing a PNG.
-    #[arg(long)]
+    /// Print the frame to stdout as half-block text (in the depth --color names)
+    /// instead of writing a picture.
+    #[arg(long, conflicts_with = "out")]
     pub ansi: bool,
     /// Colour depth of the PNG or the text: the picture a terminal with that depth shows.
     #[arg(long, value_enum, default_value_t = ColorDepthArg::Truecolor)]

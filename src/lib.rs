@@ -4,7 +4,9 @@
 
 pub mod app;
 pub mod bench;
+pub mod budget;
 pub mod cli;
+pub mod contain;
 pub mod framebuffer;
 pub mod plan;
 pub mod plasma;

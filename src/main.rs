@@ -13,7 +13,10 @@ use relief::scene::{Built, build_scene};
 use relief::{Framebuffer, Renderer};
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return parse_failure(&e),
+    };
     let result = match cli.command {
         Some(Command::Render(args)) => render(&args),
         Some(Command::Assets { dir }) => write_assets(&dir),
@@ -32,8 +35,26 @@ fn main() -> ExitCode {
     }
 }
 
+/// The parser's message (usage errors, `--help`, `--version`) with the
+/// user's arguments made safe to print, and the parser's exit code: it
+/// quotes arguments as they were typed, escape sequences included.
+fn parse_failure(e: &clap::Error) -> ExitCode {
+    let text = relief::sanitize::clean_lines(&e.render().to_string());
+    if e.use_stderr() {
+        let _ = std::io::stderr().write_all(text.as_bytes());
+    } else {
+        let mut out = std::io::stdout().lock();
+        let _ = out.write_all(text.as_bytes());
+        let _ = out.flush();
+    }
+    ExitCode::from(e.exit_code().clamp(0, 255) as u8)
+}
+
 /// `relief render`: one frame, to a PNG or to stdout as half-block text.
 fn render(args: &RenderArgs) -> anyhow::Result<()> {
+    for note in check_render_flags(args)? {
+        eprintln!("relief: {}", clean(&note));
+    }
     // Errors name the file and are already free of control characters.
     let texture = relief::texture::load::load_for_view(
         args.image.as_deref(),
@@ -42,7 +63,13 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let view = &args.view;
     let built = build_scene(view.scene, &view.model, Arc::new(texture), view.all_faces)?;
     let settings = view.settings();
-    let mut fb = Framebuffer::new(args.width as usize, args.height as usize);
+    let (width, height) = (args.width as usize, args.height as usize);
+    // The frame's memory is reserved before any of it exists.
+    let _frame = relief::budget::reserve(
+        &format!("a {width}x{height} frame"),
+        relief::budget::frame_bytes_for(width, height, settings.aa),
+    )?;
+    let mut fb = Framebuffer::new(width, height);
     match built {
         Built::Scene(scene) => {
             Renderer::new().render(&scene, &settings, &mut fb);
@@ -56,23 +83,131 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let depth = relief::app::color_depth(Some(args.color));
     let pad = relief::scene::BACKGROUND;
     if args.ansi {
-        let mut out = std::io::stdout().lock();
-        out.write_all(&relief::term::ansi::frame_text(
-            &fb,
-            depth,
-            args.dither,
-            pad,
-        )?)?;
+        let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+        relief::term::ansi::write_frame_text(&fb, depth, args.dither, pad, &mut out)?;
         out.flush()?;
         return Ok(());
     }
     let out = args.out.as_ref().context("--out FILE.png is required")?;
     if depth == relief::term::ColorDepth::Truecolor {
-        fb.save_png(out)
+        write_picture(&fb, out)
     } else {
+        // The picture a terminal with that depth shows: its cells first.
+        let (w, h) = relief::term::halfblock::cells_for_pixels(fb.width(), fb.height());
+        let _cells = relief::budget::reserve(
+            &format!(
+                "the {w}x{h} cells of a {}x{} frame",
+                fb.width(),
+                fb.height()
+            ),
+            (w * h * std::mem::size_of::<ratatui::buffer::Cell>()
+                + fb.width() * fb.height() * relief::budget::FRAME_BYTES_PER_PIXEL as usize)
+                as u64,
+        )?;
         let cells = relief::term::ansi::cells(&fb, depth, args.dither, pad);
-        relief::term::ansi::shown_picture(&cells, fb.width(), fb.height(), pad).save_png(out)
+        let shown = relief::term::ansi::shown_picture(&cells, fb.width(), fb.height(), pad);
+        drop(cells);
+        write_picture(&shown, out)
     }
+}
+
+/// Things `render` was asked for that it cannot do, said on stderr before
+/// it does the rest; and what makes it stop before rendering.
+fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
+    use relief::scene::{ModelChoice, SceneKind};
+    let mut notes = Vec::new();
+    let view = &args.view;
+    if view.scene != SceneKind::Cube && view.model != ModelChoice::Cube {
+        notes.push(format!(
+            "--model {} is ignored: only --scene cube draws a chosen model (the {} scene has its own)",
+            clean(&view.model.to_string()),
+            if view.scene == SceneKind::Plasma { "plasma" } else { "shadow" },
+        ));
+    }
+    let (w, h) = (args.width as usize, args.height as usize);
+    let k = relief::raster::aa::ssaa_factor(view.aa, w, h);
+    let wanted = match view.aa {
+        relief::settings::AntiAlias::Ssaa2 => 2,
+        relief::settings::AntiAlias::Ssaa4 => 4,
+        _ => 1,
+    };
+    if k < wanted {
+        let now = if k == 1 {
+            "off".to_string()
+        } else {
+            format!("{k}x{k}")
+        };
+        notes.push(format!(
+            "--aa {wanted}x{wanted} falls back to {now} at {w}x{h}: the supersampled frame would exceed {} samples",
+            relief::raster::aa::MAX_SUPERSAMPLES
+        ));
+    }
+    if let Some(out) = &args.out {
+        output_format(out)?;
+        if let Ok(meta) = std::fs::metadata(out)
+            && !meta.is_file()
+        {
+            anyhow::bail!(
+                "cannot write {}: not a regular file (only a new or regular file is replaced)",
+                relief::sanitize::display_path(out)
+            );
+        }
+    }
+    Ok(notes)
+}
+
+/// The picture format `--out`'s extension names (PNG when it has none).
+fn output_format(out: &std::path::Path) -> anyhow::Result<image::ImageFormat> {
+    use image::ImageFormat as F;
+    let Some(ext) = out.extension() else {
+        return Ok(F::Png);
+    };
+    match F::from_extension(ext) {
+        Some(
+            f @ (F::Png | F::Jpeg | F::Bmp | F::Tga | F::Tiff | F::Pnm | F::Qoi | F::Farbfeld),
+        ) => Ok(f),
+        _ => anyhow::bail!(
+            "{}: unknown picture extension (use .png, .jpg, .bmp, .tga, .tif, .ppm, .qoi or .ff)",
+            relief::sanitize::display_path(out)
+        ),
+    }
+}
+
+/// Writes the frame in the format `out`'s extension names, through a
+/// temporary file in the same directory renamed over `out` at the end: a
+/// reader never sees half a picture, and nothing but a regular file is
+/// ever opened for writing (a FIFO would block forever).
+fn write_picture(fb: &Framebuffer, out: &std::path::Path) -> anyhow::Result<()> {
+    let format = output_format(out)?;
+    let shown = relief::sanitize::display_path(out);
+    if fb.width() == 0 || fb.height() == 0 {
+        anyhow::bail!("cannot write an empty {}x{} image", fb.width(), fb.height());
+    }
+    let dir = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let name = out.file_name().context("--out needs a file name")?;
+    let mut temp_name = std::ffi::OsString::from(".");
+    temp_name.push(name);
+    temp_name.push(format!(".{}.tmp", std::process::id()));
+    let temp = dir.join(temp_name);
+    let written = (|| -> anyhow::Result<()> {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&temp)?;
+        let mut writer = std::io::BufWriter::new(file);
+        fb.to_image().write_to(&mut writer, format)?;
+        writer.flush()?;
+        std::fs::rename(&temp, out)?;
+        Ok(())
+    })();
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&temp);
+        anyhow::bail!("cannot write {shown}: {}", clean(&e.to_string()));
+    }
+    Ok(())
 }
 
 /// `relief assets DIR` (hidden): writes the built-in textures as PNGs; this

@@ -3,11 +3,31 @@
 use std::path::Path;
 
 /// Replaces every control character (C0, DEL, C1) by `?`, so no escape
-/// sequence the user did not type ever reaches the terminal.
+/// sequence the user did not type ever reaches the terminal; bidirectional
+/// controls too, so `x\u{202e}gnp.obj` cannot pass for `xjbo.png`.
 pub fn clean(text: &str) -> String {
     text.chars()
-        .map(|c| if c.is_control() { '?' } else { c })
+        .map(|c| {
+            if c.is_control() || is_bidi_control(c) {
+                '?'
+            } else {
+                c
+            }
+        })
         .collect()
+}
+
+/// Like [`clean`] but keeps line breaks, for messages of several lines
+/// (the command line parser's usage errors).
+pub fn clean_lines(text: &str) -> String {
+    text.split('\n').map(clean).collect::<Vec<_>>().join("\n")
+}
+
+/// The characters that reorder the text around them: embeddings and
+/// overrides (U+202A..202E), isolates (U+2066..2069), marks (U+200E, U+200F,
+/// U+061C).
+fn is_bidi_control(c: char) -> bool {
+    matches!(c, '\u{202A}'..='\u{202E}' | '\u{2066}'..='\u{2069}' | '\u{200E}' | '\u{200F}' | '\u{061C}')
 }
 
 /// A path for display: lossy UTF-8, control characters replaced.
@@ -23,5 +43,18 @@ mod tests {
     fn escape_sequences_are_neutralised() {
         assert_eq!(clean("a\x1b[31mb\x07c\u{9b}d\ne"), "a?[31mb?c?d?e");
         assert_eq!(clean("brique.png"), "brique.png");
+    }
+
+    #[test]
+    fn bidi_controls_are_neutralised() {
+        assert_eq!(clean("x\u{202e}gnp.obj"), "x?gnp.obj");
+        for c in [
+            '\u{202A}', '\u{202D}', '\u{2066}', '\u{2069}', '\u{200E}', '\u{200F}', '\u{061C}',
+        ] {
+            assert_eq!(clean(&format!("a{c}b")), "a?b", "{:?}", c);
+        }
+        // Letters of right-to-left scripts stay.
+        assert_eq!(clean("שלום.png"), "שלום.png");
+        assert_eq!(clean_lines("a\x1b]52;c;x\x07\nb\r"), "a?]52;c;x?\nb?");
     }
 }

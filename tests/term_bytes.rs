@@ -395,14 +395,17 @@ fn ansi_file_text_replays_to_the_same_cells_in_a_bounded_size() {
         ColorDepth::Palette256,
         ColorDepth::Palette16,
     ] {
-        // Odd height: the last row's lower half is the background.
-        let fb = picture(37, 21, 5);
-        let text = frame_text(&fb, depth, false, PAD).unwrap();
-        let buf = cells(&fb, depth, false, PAD);
-        let mut screen = Screen::new(37, 11);
-        screen.feed(&text);
-        check_screen(&screen, &buf);
-        assert!(text.ends_with(b"\x1b[0m\n"));
+        for (h, dither) in [(21, false), (151, false), (151, true)] {
+            // Odd height: the last row's lower half is the background; 151
+            // pixel rows are 76 cell rows, streamed in several bands.
+            let fb = picture(37, h, 5);
+            let text = frame_text(&fb, depth, dither, PAD).unwrap();
+            let buf = cells(&fb, depth, dither, PAD);
+            let mut screen = Screen::new(37, h.div_ceil(2));
+            screen.feed(&text);
+            check_screen(&screen, &buf);
+            assert!(text.ends_with(b"\x1b[0m\n"));
+        }
     }
     // The reference frame at 160x120 pixels: timg writes 61 kB for it; the
     // former per-cell truecolor text took 338 kB.

@@ -113,7 +113,18 @@ pub fn load(path: &Path) -> Result<Mesh, ObjError> {
 }
 
 /// Builds a mesh from OBJ text; `name` (already sanitised) is used in errors.
+/// A panic inside the parser (third-party code fed the user's file) becomes
+/// an error like any other.
 pub fn parse(name: &str, text: &str) -> Result<Mesh, ObjError> {
+    crate::contain::contain(|| parse_unguarded(name, text)).unwrap_or_else(|cause| {
+        Err(ObjError::Parse {
+            name: name.to_string(),
+            reason: format!("the parser failed on it ({cause})"),
+        })
+    })
+}
+
+fn parse_unguarded(name: &str, text: &str) -> Result<Mesh, ObjError> {
     let scan = scan(name, text)?;
     let options = tobj::LoadOptions {
         triangulate: true,

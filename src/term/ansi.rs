@@ -38,6 +38,10 @@ pub fn cells(fb: &Framebuffer, depth: ColorDepth, dither: bool, pad: Rgb) -> Buf
     buf
 }
 
+/// Cell rows drawn at a time by [`write_frame_text`]: the text of a large
+/// frame is streamed band by band, never held whole.
+const BAND_ROWS: usize = 32;
+
 /// The frame as text: every cell, ending with an attribute reset and a newline.
 pub fn frame_text(
     fb: &Framebuffer,
@@ -45,24 +49,53 @@ pub fn frame_text(
     dither: bool,
     pad: Rgb,
 ) -> io::Result<Vec<u8>> {
-    let buf = cells(fb, depth, dither, pad);
-    let (w, h) = (buf.area.width, buf.area.height);
-    let mut backend = SgrBackend::with_size(Vec::new(), w, h);
-    let cells = buf
-        .content
-        .iter()
-        .enumerate()
-        .map(|(i, c)| ((i % w as usize) as u16, (i / w as usize) as u16, c));
-    backend.draw(cells)?;
-    Backend::flush(&mut backend)?;
-    let mut text = std::mem::take(backend.writer_mut());
-    // The backend places the first cell with an absolute move to the top
-    // left; a file is shown where the cursor is.
-    if text.starts_with(b"\x1b[H") {
-        text.drain(..3);
-    }
-    text.push(b'\n');
+    let mut text = Vec::new();
+    write_frame_text(fb, depth, dither, pad, &mut text)?;
     Ok(text)
+}
+
+/// Writes [`frame_text`] to `out`, a band of [`BAND_ROWS`] cell rows at a
+/// time (each band starts from the default pen and ends with a reset).
+pub fn write_frame_text(
+    fb: &Framebuffer,
+    depth: ColorDepth,
+    dither: bool,
+    pad: Rgb,
+    out: &mut impl io::Write,
+) -> io::Result<()> {
+    let (w, h) = cells_for_pixels(fb.width(), fb.height());
+    let w = w.min(u16::MAX as usize) as u16;
+    let widget = HalfBlocks {
+        fb,
+        depth,
+        dither,
+        pad,
+    };
+    let mut text = Vec::new();
+    for first in (0..h).step_by(BAND_ROWS) {
+        let rows = BAND_ROWS.min(h - first) as u16;
+        let area = Rect::new(0, 0, w, rows);
+        let mut buf = Buffer::empty(area);
+        widget.render_from_row(first, area, &mut buf);
+        let mut backend = SgrBackend::with_size(std::mem::take(&mut text), w, rows);
+        let cells = buf
+            .content
+            .iter()
+            .enumerate()
+            .map(|(i, c)| ((i % w as usize) as u16, (i / w as usize) as u16, c));
+        backend.draw(cells)?;
+        Backend::flush(&mut backend)?;
+        text = std::mem::take(backend.writer_mut());
+        // The backend places a band's first cell with an absolute move to
+        // the top left; the text goes on where the cursor is.
+        let body = text.strip_prefix(b"\x1b[H").unwrap_or(&text);
+        if first > 0 {
+            out.write_all(b"\r\n")?;
+        }
+        out.write_all(body)?;
+        text.clear();
+    }
+    out.write_all(b"\n")
 }
 
 /// The picture the cells show (xterm's palette values), `width × height` pixels.

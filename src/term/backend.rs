@@ -468,13 +468,16 @@ impl<W: Write> Backend for SgrBackend<W> {
     }
 
     fn size(&self) -> io::Result<Size> {
-        match self.fixed_size {
-            Some(size) => Ok(size),
-            None => {
-                let (w, h) = crossterm::terminal::size()?;
-                Ok(Size::new(w, h))
-            }
-        }
+        let (w, h) = match self.fixed_size {
+            Some(size) => (size.width, size.height),
+            None => crossterm::terminal::size()?,
+        };
+        // A huge reported size draws in the top-left corner: the cell
+        // buffers and the frame stay within the memory budget.
+        Ok(Size::new(
+            w.min(crate::budget::MAX_VIEW_COLUMNS),
+            h.min(crate::budget::MAX_VIEW_ROWS),
+        ))
     }
 
     fn window_size(&mut self) -> io::Result<WindowSize> {

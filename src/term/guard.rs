@@ -63,6 +63,10 @@ impl TerminalGuard {
         HOOK.call_once(|| {
             let previous = std::panic::take_hook();
             std::panic::set_hook(Box::new(move |info| {
+                // A decoder's panic caught by `contain` leaves the view as it is.
+                if crate::contain::is_containing() {
+                    return;
+                }
                 restore();
                 previous(info);
             }));

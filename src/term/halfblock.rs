@@ -34,6 +34,15 @@ pub fn cells_for_pixels(width: usize, height: usize) -> (usize, usize) {
 
 impl Widget for HalfBlocks<'_> {
     fn render(self, area: Rect, buf: &mut Buffer) {
+        self.render_from_row(0, area, buf);
+    }
+}
+
+impl HalfBlocks<'_> {
+    /// Draws cell rows `first_row..` of the picture into `area` (a band of a
+    /// picture taller than one buffer should hold); dithering and its
+    /// flat-area test still see the whole framebuffer.
+    pub fn render_from_row(&self, first_row: usize, area: Rect, buf: &mut Buffer) {
         let area = area.intersection(buf.area);
         if area.is_empty() {
             return;
@@ -71,7 +80,7 @@ impl Widget for HalfBlocks<'_> {
             quantizer.pick(c, dithers(x, y, c), x, y)
         };
         for row in 0..area.height as usize {
-            let (top_y, bottom_y) = (2 * row, 2 * row + 1);
+            let (top_y, bottom_y) = (2 * (first_row + row), 2 * (first_row + row) + 1);
             let start = buf.index_of(area.x, area.y + row as u16);
             let cells = &mut buf.content[start..start + area.width as usize];
             for (col, cell) in cells.iter_mut().enumerate() {

@@ -64,7 +64,7 @@ impl Entry {
             Source::File(p) => load_texture(p)?,
         };
         match &self.height_map {
-            Some(h) => Ok(with_height_map(color, &load_texture(h)?)),
+            Some(h) => with_height_map(color, &load_texture(h)?),
             None => Ok(color),
         }
     }

@@ -11,6 +11,7 @@ use std::path::Path;
 use image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader, Limits};
 
 use super::{Level, Texture, resample, xpm};
+use crate::budget::{self, Reservation};
 use crate::sanitize;
 
 /// Largest width or height accepted.
@@ -67,6 +68,8 @@ pub enum TextureError {
     },
     #[error("{file}: bad XPM file: {reason}")]
     Xpm { file: String, reason: String },
+    #[error("{file}: {reason}")]
+    OverBudget { file: String, reason: String },
 }
 
 impl TextureError {
@@ -84,7 +87,8 @@ impl TextureError {
             | TextureError::ZeroSize { file, .. }
             | TextureError::Corrupt { file, .. }
             | TextureError::Unsupported { file, .. }
-            | TextureError::Xpm { file, .. } => file,
+            | TextureError::Xpm { file, .. }
+            | TextureError::OverBudget { file, .. } => file,
         }
     }
 }
@@ -104,8 +108,8 @@ fn one_line(text: &str) -> String {
 pub fn load_texture(path: &Path) -> Result<Texture, TextureError> {
     let bytes = read_file(path)?;
     let name = sanitize::display_path(path);
-    let level = decode_level(&bytes, &name, format_hint(path))?;
-    Ok(Texture::new(name, level))
+    let (level, held) = decode_level(&bytes, &name, format_hint(path))?;
+    Ok(Texture::new(name, level).holding(held))
 }
 
 /// Loads a colour picture and takes its height from a second picture: that
@@ -115,7 +119,7 @@ pub fn load_texture(path: &Path) -> Result<Texture, TextureError> {
 pub fn load_texture_with_height(color: &Path, height: &Path) -> Result<Texture, TextureError> {
     let color_tex = load_texture(color)?;
     let height_tex = load_texture(height)?;
-    Ok(with_height_map(color_tex, &height_tex))
+    with_height_map(color_tex, &height_tex)
 }
 
 /// Like [`load_texture`] from bytes already in memory; `name` is used in
@@ -130,8 +134,8 @@ pub fn load_texture_from_bytes(name: &str, bytes: &[u8]) -> Result<Texture, Text
             limit: MAX_FILE_BYTES,
         });
     }
-    let level = decode_level(bytes, &clean, format_hint(Path::new(name)))?;
-    Ok(Texture::new(clean, level))
+    let (level, held) = decode_level(bytes, &clean, format_hint(Path::new(name)))?;
+    Ok(Texture::new(clean, level).holding(held))
 }
 
 /// Like [`load_texture_with_height`] from bytes in memory.
@@ -143,14 +147,35 @@ pub fn load_texture_with_height_from_bytes(
 ) -> Result<Texture, TextureError> {
     let color_tex = load_texture_from_bytes(color_name, color)?;
     let height_tex = load_texture_from_bytes(height_name, height)?;
-    Ok(with_height_map(color_tex, &height_tex))
+    with_height_map(color_tex, &height_tex)
 }
 
 /// The colour of `color` with the height of `height` (resampled to the
-/// colour's size when they differ). Named "colour + height".
-pub fn with_height_map(color: Texture, height: &Texture) -> Texture {
+/// colour's size when they differ). Named "colour + height". The new
+/// texture and the resize reserve their memory first.
+pub fn with_height_map(color: Texture, height: &Texture) -> Result<Texture, TextureError> {
     let base = color.base();
     let (w, h) = (base.width, base.height);
+    let name = format!("{} + {}", color.name, height.name);
+    let from = (height.width() as u64, height.height() as u64);
+    let to = (w as u64, h as u64);
+    let over = |e: budget::BudgetError| TextureError::OverBudget {
+        file: height.name.clone(),
+        reason: e.to_string(),
+    };
+    let held = budget::reserve(
+        &format!("a {}x{} texture with its height map", w, h),
+        budget::texture_bytes(to.0, to.1),
+    )
+    .map_err(over)?;
+    let resize = budget::reserve(
+        &format!(
+            "resizing a {}x{} height map to {}x{}",
+            from.0, from.1, to.0, to.1
+        ),
+        budget::resize_bytes(from, to),
+    )
+    .map_err(over)?;
     let heights = resample::grid(
         &height
             .base()
@@ -167,14 +192,16 @@ pub fn with_height_map(color: Texture, height: &Texture) -> Texture {
         .zip(heights)
         .map(|(t, hgt)| [t[0], t[1], t[2], hgt])
         .collect();
-    Texture::new(
-        format!("{} + {}", color.name, height.name),
+    drop(resize);
+    Ok(Texture::new(
+        name,
         Level {
             width: w,
             height: h,
             texels,
         },
     )
+    .holding(held))
 }
 
 /// What the texture for a view is: the picture at `image` (or the built-in
@@ -189,7 +216,7 @@ pub fn load_for_view(
         None => super::procedural::brick(),
     };
     match height_map {
-        Some(path) => Ok(with_height_map(color, &load_texture(path)?)),
+        Some(path) => with_height_map(color, &load_texture(path)?),
         None => Ok(color),
     }
 }
@@ -268,7 +295,7 @@ fn decode_level(
     bytes: &[u8],
     file: &str,
     hint: Option<ImageFormat>,
-) -> Result<Level, TextureError> {
+) -> Result<(Level, Reservation), TextureError> {
     if bytes.is_empty() {
         return Err(TextureError::Empty {
             file: file.to_owned(),
@@ -277,6 +304,32 @@ fn decode_level(
     if xpm::looks_like_xpm(bytes) || file.to_ascii_lowercase().ends_with(".xpm") {
         return decode_xpm(bytes, file);
     }
+    // The decoders are third-party code fed untrusted bytes: a panic in one
+    // is this file's error, not the program's end.
+    crate::contain::contain(|| decode_image(bytes, file, hint)).unwrap_or_else(|cause| {
+        Err(TextureError::Corrupt {
+            file: file.to_owned(),
+            format: format_name(bytes, hint),
+            reason: format!("the decoder failed on it ({cause})"),
+        })
+    })
+}
+
+/// The format's name for messages ("PNG"), from the content or the hint.
+fn format_name(bytes: &[u8], hint: Option<ImageFormat>) -> String {
+    image::guess_format(bytes)
+        .ok()
+        .or(hint)
+        .map(|f| format!("{f:?}").to_uppercase())
+        .unwrap_or_else(|| "image".into())
+}
+
+/// The `image` crate's part of [`decode_level`].
+fn decode_image(
+    bytes: &[u8],
+    file: &str,
+    hint: Option<ImageFormat>,
+) -> Result<(Level, Reservation), TextureError> {
     let mut reader = ImageReader::new(Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| TextureError::Unreadable {
@@ -307,8 +360,9 @@ fn decode_level(
     let decoder = reader.into_decoder().map_err(image_error)?;
     let (width, height) = decoder.dimensions();
     check_size(file, width, height)?;
+    let held = reserve_texture(file, width as usize, height as usize)?;
     let image = DynamicImage::from_decoder(decoder).map_err(image_error)?;
-    Ok(level_from_image(&image))
+    Ok((level_from_image(&image), held))
 }
 
 fn convert_error(e: ImageError, file: &str, format: &str) -> TextureError {
@@ -331,16 +385,91 @@ fn convert_error(e: ImageError, file: &str, format: &str) -> TextureError {
                 reason: "ends too early".into(),
             }
         }
+        ImageError::IoError(io) => TextureError::Unreadable {
+            file,
+            reason: one_line(&io.to_string()),
+        },
+        ImageError::Decoding(d) => TextureError::Corrupt {
+            file,
+            format,
+            reason: plain_reason(&d.to_string()),
+        },
+        ImageError::Parameter(p) => TextureError::Unsupported {
+            file,
+            format,
+            reason: plain_reason(&p.to_string()),
+        },
         other => TextureError::Corrupt {
             file,
             format,
-            reason: one_line(&other.to_string()),
+            reason: plain_reason(&other.to_string()),
         },
     }
 }
 
-fn decode_xpm(bytes: &[u8], file: &str) -> Result<Level, TextureError> {
-    let image = xpm::decode(bytes, MAX_TEXELS as usize).map_err(|e| TextureError::Xpm {
+/// A decoder's message in plain words: the "Format error decoding Png:"
+/// prefix (the line already names the format) and any debug dump of the
+/// decoder's internals (`ChunkType { type: IHDR, … }`) dropped.
+fn plain_reason(message: &str) -> String {
+    let mut text = message.trim();
+    if let Some(rest) = text.strip_prefix("Format error") {
+        // "Format error decoding Png: …" or "Format error: …"
+        text = rest.split_once(':').map_or("", |(_, r)| r).trim();
+    }
+    // `ChunkType { type: IHDR, critical: true, … }` → `IHDR chunk`; other
+    // braces and their contents go.
+    let mut plain = String::new();
+    let mut rest = text;
+    while let Some(open) = rest.find('{') {
+        let head = rest[..open].trim_end();
+        let close = rest[open..].find('}').map_or(rest.len(), |i| open + i + 1);
+        let inside = &rest[open + 1..close.saturating_sub(1).max(open + 1)];
+        match (
+            head.strip_suffix("ChunkType"),
+            inside.trim().strip_prefix("type:"),
+        ) {
+            (Some(before), Some(kind)) => {
+                plain.push_str(before);
+                plain.push_str(kind.split(',').next().unwrap_or("").trim());
+                if !rest[close..].trim_start().starts_with("chunk") {
+                    plain.push_str(" chunk");
+                }
+            }
+            _ => plain.push_str(head),
+        }
+        rest = &rest[close..];
+    }
+    plain.push_str(rest);
+    let reason = one_line(plain.trim().trim_end_matches([':', ',']));
+    if reason.is_empty() {
+        "the data does not decode".into()
+    } else {
+        reason
+    }
+}
+
+/// Holds the budget for a `width × height` texture's worst case.
+fn reserve_texture(file: &str, width: usize, height: usize) -> Result<Reservation, TextureError> {
+    budget::reserve(
+        &format!("a {width}x{height} picture"),
+        budget::texture_bytes(width as u64, height as u64),
+    )
+    .map_err(|e| TextureError::OverBudget {
+        file: file.to_owned(),
+        reason: e.to_string(),
+    })
+}
+
+/// The XPM reader builds its pixels before the texture exists: it may make
+/// no more than the budget has room for.
+fn xpm_texel_limit() -> usize {
+    let room = budget::BUDGET_BYTES.saturating_sub(budget::in_use());
+    let texels = (room as f64 / budget::TEXTURE_BYTES_PER_TEXEL) as u64;
+    texels.min(MAX_TEXELS) as usize
+}
+
+fn decode_xpm(bytes: &[u8], file: &str) -> Result<(Level, Reservation), TextureError> {
+    let image = xpm::decode(bytes, xpm_texel_limit()).map_err(|e| TextureError::Xpm {
         file: file.to_owned(),
         reason: one_line(&e.0),
     })?;
@@ -348,9 +477,9 @@ fn decode_xpm(bytes: &[u8], file: &str) -> Result<Level, TextureError> {
     if w > MAX_DIMENSION as usize || h > MAX_DIMENSION as usize {
         return Err(too_large(file, w as u64, h as u64));
     }
-    Ok(level_from_rows(w, h, image.has_alpha, |x, y| {
-        image.rgba[y * w + x]
-    }))
+    let held = reserve_texture(file, w, h)?;
+    let level = level_from_rows(w, h, image.has_alpha, |x, y| image.rgba[y * w + x]);
+    Ok((level, held))
 }
 
 /// A level from a pixel reader `px(x, y)` (y = 0 the top row, RGBA in 0..1):
@@ -416,5 +545,29 @@ fn level_from_image(image: &DynamicImage) -> Level {
             let buf = image.to_rgba32f();
             level_from_rows(w, h, has_alpha, |x, y| buf.get_pixel(x as u32, y as u32).0)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decoder_messages_in_plain_words() {
+        assert_eq!(
+            plain_reason("Format error decoding Png: ChunkType { type: IHDR, critical: true }"),
+            "IHDR chunk"
+        );
+        assert_eq!(
+            plain_reason(
+                "Format error decoding Png: CRC error: expected 0x1 have 0x2 while decoding ChunkType { type: IDAT, critical: true } chunk."
+            ),
+            "CRC error: expected 0x1 have 0x2 while decoding IDAT chunk."
+        );
+        assert_eq!(
+            plain_reason("Format error decoding Bmp: {}"),
+            "the data does not decode"
+        );
+        assert_eq!(plain_reason("bad\nheader"), "bad header");
     }
 }

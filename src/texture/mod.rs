@@ -40,6 +40,9 @@ pub struct Texture {
     normal_map: Mutex<Option<Arc<NormalMap>>>,
     /// Normal maps built so far (for the frame counters and tests).
     normal_map_builds: AtomicU64,
+    /// The memory budget held for the worst case of everything above (for
+    /// textures read from files).
+    reservation: Option<crate::budget::Reservation>,
 }
 
 impl Texture {
@@ -53,7 +56,14 @@ impl Texture {
             mips: OnceLock::new(),
             normal_map: Mutex::new(None),
             normal_map_builds: AtomicU64::new(0),
+            reservation: None,
         }
+    }
+
+    /// The texture holding `reservation` until it is dropped.
+    pub fn holding(mut self, reservation: crate::budget::Reservation) -> Self {
+        self.reservation = Some(reservation);
+        self
     }
 
     /// From 8-bit RGBA rows, **top row first** (as images are stored).

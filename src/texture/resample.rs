@@ -7,32 +7,48 @@
 
 /// `src` is `size.0 × size.1`, row-major; the result is `to.0 × to.1`.
 /// Sizes of 0 are treated as 1 (an empty source reads as 0).
+///
+/// The axis that shrinks the grid more goes first, so the intermediate grid
+/// is never larger than the larger of source and result (a 1×16384 map onto
+/// 16384×1 passes through 1×1, not 16384×16384).
 pub fn grid(src: &[f32], size: (usize, usize), to: (usize, usize)) -> Vec<f32> {
     let (sw, sh) = (size.0.max(1), size.1.max(1));
     let (dw, dh) = (to.0.max(1), to.1.max(1));
     let at = |i: usize| src.get(i).copied().unwrap_or(0.0);
-    // Rows first: sw → dw.
-    let mut rows = Vec::with_capacity(dw * sh);
-    let mut line = vec![0.0; sw];
-    let mut out = vec![0.0; dw];
-    for y in 0..sh {
-        for (x, v) in line.iter_mut().enumerate() {
-            *v = at(y * sw + x);
-        }
-        axis(&line, &mut out);
-        rows.extend_from_slice(&out);
+    let source: Vec<f32> = (0..sw * sh).map(at).collect();
+    if dw.saturating_mul(sh) <= sw.saturating_mul(dh) {
+        // Rows first (sw → dw), then columns (sh → dh).
+        let rows = along_rows(&source, sw, sh, dw);
+        along_columns(&rows, dw, sh, dh)
+    } else {
+        let columns = along_columns(&source, sw, sh, dh);
+        along_rows(&columns, sw, dh, dw)
     }
-    // Then columns: sh → dh.
-    let mut result = vec![0.0; dw * dh];
-    let mut column = vec![0.0; sh];
-    let mut out = vec![0.0; dh];
-    for x in 0..dw {
+}
+
+/// Each of the `h` rows of a `w`-wide grid resampled to `to` cells.
+fn along_rows(src: &[f32], w: usize, h: usize, to: usize) -> Vec<f32> {
+    let mut result = Vec::with_capacity(to * h);
+    let mut out = vec![0.0; to];
+    for row in src.chunks(w).take(h) {
+        axis(row, &mut out);
+        result.extend_from_slice(&out);
+    }
+    result
+}
+
+/// Each of the `w` columns of a `h`-tall grid resampled to `to` cells.
+fn along_columns(src: &[f32], w: usize, h: usize, to: usize) -> Vec<f32> {
+    let mut result = vec![0.0; w * to];
+    let mut column = vec![0.0; h];
+    let mut out = vec![0.0; to];
+    for x in 0..w {
         for (y, v) in column.iter_mut().enumerate() {
-            *v = rows[y * dw + x];
+            *v = src[y * w + x];
         }
         axis(&column, &mut out);
         for (y, v) in out.iter().enumerate() {
-            result[y * dw + x] = *v;
+            result[y * w + x] = *v;
         }
     }
     result
@@ -101,5 +117,29 @@ mod tests {
         // Same size: untouched; and along y.
         assert_eq!(grid(&[0.1, 0.2], (1, 2), (1, 2)), vec![0.1, 0.2]);
         assert_eq!(grid(&[0.3], (1, 1), (2, 3)), vec![0.3; 6]);
+    }
+
+    #[test]
+    fn either_axis_order_gives_the_same_grid() {
+        // 3×2 → 2×5 (rows first) and 2×5 → 3×2 (columns first): each equals
+        // resampling one axis then the other by hand.
+        let src = [0.0, 0.5, 1.0, 0.25, 0.75, 0.5];
+        let by_hand = |src: &[f32], (sw, sh): (usize, usize), (dw, dh): (usize, usize)| {
+            let cols = along_columns(src, sw, sh, dh);
+            along_rows(&cols, sw, dh, dw)
+        };
+        for (from, to) in [((3, 2), (2, 5)), ((3, 2), (7, 1)), ((1, 6), (6, 1))] {
+            let src = &src[..from.0 * from.1];
+            let got = grid(src, from, to);
+            let want = by_hand(src, from, to);
+            for (g, w) in got.iter().zip(&want) {
+                assert!((g - w).abs() < 1e-5, "{from:?}->{to:?}: {got:?} {want:?}");
+            }
+        }
+        let tall: Vec<f32> = (0..16384).map(|i| (i % 7) as f32 / 7.0).collect();
+        let wide = grid(&tall, (1, 16384), (16384, 1));
+        assert_eq!(wide.len(), 16384);
+        let mean = tall.iter().sum::<f32>() / 16384.0;
+        assert!(wide.iter().all(|v| (v - mean).abs() < 1e-3));
     }
 }

@@ -1,0 +1,177 @@
+//! One memory budget for everything relief derives from its inputs: decoded
+//! pictures with their mip chains and normal maps, resized height maps,
+//! frame buffers and the text of `render --ansi`.
+//!
+//! Each of them reserves its worst case here *before* allocating; a
+//! reservation that would take the total past [`BUDGET_BYTES`] is refused
+//! with an error naming the limit, so a tiny file that asks for gigabytes
+//! costs nothing. A reservation is given back when the value that holds it
+//! is dropped. The estimates are upper bounds of what the code allocates (a
+//! test measures the peak resident memory of the worst cases against them).
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The budget: relief's resident memory stays below this, whatever it reads.
+pub const BUDGET_BYTES: u64 = 1 << 30;
+
+/// The program itself (code, thread stacks, built-in textures, the
+/// terminal's cell buffers), counted as reserved from the start.
+pub const BASELINE_BYTES: u64 = 48 << 20;
+
+/// Largest view the interactive mode draws, in terminal cells: a larger
+/// terminal shows the picture in its top-left corner (the cell buffers of
+/// a 65535×65535 terminal alone would be hundreds of gigabytes).
+pub const MAX_VIEW_COLUMNS: u16 = 1024;
+pub const MAX_VIEW_ROWS: u16 = 512;
+
+/// Bytes per texel of a loaded texture at its worst: the base level (RGBA
+/// `f32`, 16), its mip chain (16/3), the dot3 normal map (12), the RGBA copy
+/// its chain is built from (16, freed after) and that chain (16/3). The
+/// decoder's own buffers (at most 16 + 16 per texel, for float pictures) are
+/// freed before the mip chains exist, and fit within this.
+pub const TEXTURE_BYTES_PER_TEXEL: f64 = 16.0 + 16.0 / 3.0 + 12.0 + 16.0 + 16.0 / 3.0;
+
+/// Bytes per frame pixel: the colour (3), a depth value (4) and the PNG's
+/// copy of the colour (3). Supersampling and MSAA add their own samples
+/// (see [`frame_bytes_for`]).
+pub const FRAME_BYTES_PER_PIXEL: u64 = 3 + 4 + 3;
+
+/// Bytes per sample of a supersampled or multisampled buffer: colour and depth.
+pub const SAMPLE_BYTES: u64 = 3 + 4;
+
+static RESERVED: AtomicU64 = AtomicU64::new(BASELINE_BYTES);
+
+/// A reservation that did not fit.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{what} would need {need} MiB, beyond relief's memory budget of {budget} MiB ({used} MiB already in use)",
+    need = mib(*.need),
+    budget = mib(BUDGET_BYTES),
+    used = mib(*.used)
+)]
+pub struct BudgetError {
+    /// What asked (already safe to print).
+    pub what: String,
+    pub need: u64,
+    pub used: u64,
+}
+
+fn mib(bytes: u64) -> u64 {
+    bytes.div_ceil(1 << 20)
+}
+
+/// Bytes held against the budget until dropped.
+#[derive(Debug)]
+pub struct Reservation {
+    bytes: u64,
+}
+
+impl Reservation {
+    pub fn bytes(&self) -> u64 {
+        self.bytes
+    }
+}
+
+impl Drop for Reservation {
+    fn drop(&mut self) {
+        RESERVED.fetch_sub(self.bytes, Ordering::SeqCst);
+    }
+}
+
+/// Reserves `bytes` for `what`, or says why not.
+pub fn reserve(what: &str, bytes: u64) -> Result<Reservation, BudgetError> {
+    let mut used = RESERVED.load(Ordering::SeqCst);
+    loop {
+        let total = used.saturating_add(bytes);
+        if total > BUDGET_BYTES {
+            return Err(BudgetError {
+                what: what.to_string(),
+                need: bytes,
+                used,
+            });
+        }
+        match RESERVED.compare_exchange(used, total, Ordering::SeqCst, Ordering::SeqCst) {
+            Ok(_) => return Ok(Reservation { bytes }),
+            Err(now) => used = now,
+        }
+    }
+}
+
+/// Bytes reserved now (the baseline included).
+pub fn in_use() -> u64 {
+    RESERVED.load(Ordering::SeqCst)
+}
+
+/// Worst case of a `width × height` texture (see [`TEXTURE_BYTES_PER_TEXEL`]).
+pub fn texture_bytes(width: u64, height: u64) -> u64 {
+    let texels = width.saturating_mul(height);
+    (texels as f64 * TEXTURE_BYTES_PER_TEXEL)
+        .ceil()
+        .min(u64::MAX as f64) as u64
+}
+
+/// A height map of `from` texels resized to `to`: its heights (4 bytes
+/// each), the one-axis intermediate (at most the larger of the two grids)
+/// and the result.
+pub fn resize_bytes(from: (u64, u64), to: (u64, u64)) -> u64 {
+    let a = from.0.saturating_mul(from.1);
+    let b = to.0.saturating_mul(to.1);
+    a.saturating_add(a.max(b))
+        .saturating_add(b)
+        .saturating_mul(4)
+}
+
+/// The shadow scene's depth and owner maps at their largest (2048², 4 + 4 bytes).
+pub const SHADOW_MAP_BYTES: u64 = 2048 * 2048 * 8;
+
+/// A frame of `width × height` pixels with a supersampled buffer of at
+/// most `supersamples` samples ([`SAMPLE_BYTES`] each) and a shadow map.
+pub fn frame_bytes(width: u64, height: u64, supersamples: u64) -> u64 {
+    width
+        .saturating_mul(height)
+        .saturating_mul(FRAME_BYTES_PER_PIXEL)
+        .saturating_add(supersamples.saturating_mul(SAMPLE_BYTES))
+        .saturating_add(SHADOW_MAP_BYTES)
+}
+
+/// [`frame_bytes`] for a frame rendered with `aa`.
+pub fn frame_bytes_for(width: usize, height: usize, aa: crate::settings::AntiAlias) -> u64 {
+    let k = crate::raster::aa::ssaa_factor(aa, width, height) as u64;
+    let (w, h) = (width as u64, height as u64);
+    let samples = if k > 1 {
+        w.saturating_mul(h).saturating_mul(k * k)
+    } else if aa == crate::settings::AntiAlias::Msaa4 {
+        w.saturating_mul(h).saturating_mul(4)
+    } else {
+        0
+    };
+    frame_bytes(w, h, samples)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reservations_add_up_and_are_given_back() {
+        let before = in_use();
+        let a = reserve("a", 10 << 20).unwrap();
+        assert!(in_use() >= before + (10 << 20));
+        let err = reserve("a huge picture", BUDGET_BYTES).unwrap_err();
+        assert!(
+            err.to_string().starts_with(
+                "a huge picture would need 1024 MiB, beyond relief's memory budget of 1024 MiB"
+            ),
+            "{err}"
+        );
+        drop(a);
+        assert!(reserve("u64::MAX", u64::MAX).is_err());
+    }
+
+    #[test]
+    fn estimates_saturate_instead_of_wrapping() {
+        assert_eq!(frame_bytes(u64::MAX, 2, 0), u64::MAX);
+        assert!(texture_bytes(u64::MAX, u64::MAX) > BUDGET_BYTES);
+        assert_eq!(resize_bytes((1, 16384), (16384, 1)), 4 * 3 * 16384);
+    }
+}

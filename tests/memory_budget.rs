@@ -1,0 +1,106 @@
+//! Tiny files that ask for huge memory stay under relief's memory budget:
+//! each case runs the binary and reads its peak resident memory.
+
+mod hostile;
+
+use std::path::Path;
+
+use relief::budget::BUDGET_BYTES;
+
+fn mib(bytes: u64) -> u64 {
+    bytes >> 20
+}
+
+/// Runs the case, prints its peak, checks it against the budget; returns
+/// the exit code and stderr.
+fn case(name: &str, args: &[&str]) -> (Option<i32>, String) {
+    let (code, err, peak) = hostile::relief_peak(args);
+    println!(
+        "{name}: peak {} MiB (budget {} MiB), exit {code:?}: {}",
+        mib(peak),
+        mib(BUDGET_BYTES),
+        err.trim()
+    );
+    assert!(peak < BUDGET_BYTES, "{name}: {} MiB", mib(peak));
+    assert!(code.is_some(), "{name}: killed by a signal: {err}");
+    (code, err)
+}
+
+fn write_png(path: &Path, w: u32, h: u32) {
+    let img = image::RgbaImage::from_fn(w, h, |x, y| {
+        image::Rgba([(x % 256) as u8, (y % 256) as u8, 128, ((x ^ y) % 256) as u8])
+    });
+    img.save(path).unwrap();
+}
+
+#[test]
+fn bad_inputs_stay_under_the_budget() {
+    let dir = hostile::scratch("budget");
+    let p = |n: &str| dir.join(n).to_str().unwrap().to_owned();
+    let out = p("out.png");
+
+    // A 1×16384 height map onto a 16384×1 picture.
+    std::fs::write(p("tall.png"), hostile::grey_png(1, 16_384, 90)).unwrap();
+    std::fs::write(p("wide.png"), hostile::grey_png(16_384, 1, 200)).unwrap();
+    let (code, err) = case(
+        "height map 1x16384 onto 16384x1",
+        &[
+            "render",
+            "--out",
+            &out,
+            "--height-map",
+            &p("tall.png"),
+            &p("wide.png"),
+        ],
+    );
+    assert_eq!(code, Some(0), "{err}");
+
+    // A 4096×4096 PNG (small on disk), dot3 and anisotropic filtering.
+    write_png(Path::new(&p("big.png")), 4096, 4096);
+    let (code, err) = case(
+        "4096x4096 PNG, dot3 + anisotropic",
+        &[
+            "render",
+            "--out",
+            &out,
+            "--technique",
+            "dot3",
+            "--filter",
+            "anisotropic",
+            "--all-faces",
+            &p("big.png"),
+        ],
+    );
+    assert!(code == Some(0) || err.contains("memory budget"), "{err}");
+
+    // A float picture of the same size.
+    let hdr = std::fs::File::create(p("big.hdr")).unwrap();
+    let pixels = vec![image::Rgb([0.5f32, 0.25, 1.0]); 4096 * 4096];
+    image::codecs::hdr::HdrEncoder::new(std::io::BufWriter::new(hdr))
+        .encode(&pixels, 4096, 4096)
+        .unwrap();
+    drop(pixels);
+    let (code, err) = case(
+        "4096x4096 HDR, dot3 + anisotropic",
+        &[
+            "render",
+            "--out",
+            &out,
+            "--technique",
+            "dot3",
+            "--filter",
+            "anisotropic",
+            &p("big.hdr"),
+        ],
+    );
+    assert!(code == Some(0) || err.contains("memory budget"), "{err}");
+
+    // The largest frame, as text and as a picture.
+    for extra in [&["--ansi"][..], &["--out", &out]] {
+        let mut args = vec!["render", "--width", "16384", "--height", "16384"];
+        args.extend_from_slice(extra);
+        let (code, err) = case(&format!("16384x16384 {}", extra[0]), &args);
+        assert!(code == Some(0) || err.contains("memory budget"), "{err}");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
