@@ -16,6 +16,7 @@ fn quick_bench_writes_table_csv_and_plot() {
         markdown: true,
         plot: Some(plot.clone()),
         threads: Some(2),
+        anchors: false,
     };
     let (mut out, mut log) = (Vec::new(), Vec::new());
     let report = bench::run(&args, &mut out, &mut log).unwrap();
@@ -85,4 +86,23 @@ fn unwritable_outputs_are_errors_not_panics() {
     };
     let err = bench::run(&args, &mut Vec::new(), &mut Vec::new()).unwrap_err();
     assert!(format!("{err:#}").contains("bench.csv"));
+}
+
+#[test]
+fn quick_anchors_bench_prints_every_variant_and_thread_count() {
+    let args = BenchArgs {
+        quick: true,
+        anchors: true,
+        threads: Some(2),
+        ..Default::default()
+    };
+    let (mut out, mut log) = (Vec::new(), Vec::new());
+    bench::run(&args, &mut out, &mut log).unwrap();
+    let out = String::from_utf8(out).unwrap();
+    for variant in ["flat", "gouraud", "phong"] {
+        for threads in [1, 2] {
+            let key = format!("variant={variant:<7} size=64x48 threads={threads} ");
+            assert!(out.contains(&key), "{key} missing in\n{out}");
+        }
+    }
 }

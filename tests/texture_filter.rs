@@ -21,7 +21,7 @@ fn close(a: [f32; 4], b: [f32; 4]) -> bool {
     a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-5)
 }
 
-/// A level from grey values (RGB = height = v), bottom row first.
+/// A level from grey values (RGB = height = v), row v = 0 (the picture's top) first.
 fn grey(width: usize, height: usize, values: &[f32]) -> Level {
     Level {
         width,
@@ -51,7 +51,7 @@ fn mean(level: &Level) -> [f32; 4] {
 
 #[test]
 fn bilinear_at_centres_midpoints_and_across_the_wrap() {
-    // 4×2, bottom row 0,1,2,3 ×0.1; top row 4..7 ×0.1.
+    // 4×2, first row (v = 0) 0,1,2,3 ×0.1; second row 4..7 ×0.1.
     let l = grey(4, 2, &[0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7]);
     let u = |x: f32| (x + 0.5) / 4.0;
     let v = |y: f32| (y + 0.5) / 2.0;
@@ -62,13 +62,13 @@ fn bilinear_at_centres_midpoints_and_across_the_wrap() {
             assert!(close(t, l.texels[y * 4 + x]), "{x},{y}: {t:?}");
         }
     }
-    // Midpoint between texels 1 and 2 of the bottom row: 0.15.
+    // Midpoint between texels 1 and 2 of the first row: 0.15.
     assert!((l.bilinear(u(1.5), v(0.0))[0] - 0.15).abs() < 1e-6);
     // Centre of the 2×2 block 1,2 × rows 0,1: (0.1+0.2+0.5+0.6)/4 = 0.35.
     assert!((l.bilinear(u(1.5), v(0.5))[0] - 0.35).abs() < 1e-6);
     // u = 0 is the border between the last and the first texel: (0.3+0)/2.
     assert!((l.bilinear(0.0, v(0.0))[0] - 0.15).abs() < 1e-6);
-    // v = 0 blends the bottom row with the top one (repeat): (0 + 0.4)/2.
+    // v = 0 blends the first row with the last one (repeat): (0 + 0.4)/2.
     assert!((l.bilinear(u(0.0), 0.0)[0] - 0.2).abs() < 1e-6);
     // Corner (0, 0): all four corner texels, (0 + 0.3 + 0.4 + 0.7)/4.
     assert!((l.bilinear(0.0, 0.0)[0] - 0.35).abs() < 1e-6);

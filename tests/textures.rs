@@ -29,7 +29,7 @@ fn scratch(name: &str) -> PathBuf {
 /// Texel at column x, row y counted from the top (as in the image file).
 fn at(tex: &Texture, x: usize, y: usize) -> [f32; 4] {
     let l = tex.base();
-    l.texels[(l.height - 1 - y) * l.width + x]
+    l.texels[y * l.width + x]
 }
 
 fn png_rgba(path: &Path) -> image::RgbaImage {

@@ -6,6 +6,7 @@
 //! channel error, SSIM). Output as an aligned table or Markdown, optionally
 //! CSV and a PNG plot of error against time with the Pareto front.
 
+pub mod anchors;
 pub mod config;
 pub mod font;
 pub mod metrics;
@@ -49,6 +50,10 @@ pub struct BenchArgs {
     /// Threads of the "all threads" rows [default: one per core].
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
     pub threads: Option<u16>,
+    /// Time the scene other CPU renderers are measured on (face normals,
+    /// flat / Gouraud / Phong, 320x240 and 640x480, 1 thread and all).
+    #[arg(long)]
+    pub anchors: bool,
 }
 
 /// Largest side `--size` accepts.
@@ -151,6 +156,13 @@ fn header(plan: &Plan, texture: &str) -> Vec<String> {
 /// the CSV and plot to their files. Returns the report.
 pub fn run(args: &BenchArgs, out: &mut dyn Write, log: &mut dyn Write) -> anyhow::Result<Report> {
     let plan = plan(args);
+    if args.anchors {
+        anchors::run(args.quick, args.markdown, plan.threads, out, log)?;
+        return Ok(Report {
+            header: Vec::new(),
+            rows: Vec::new(),
+        });
+    }
     let (texture, texture_line) = reference::texture();
     let scene = Scene::cube(texture, true);
     let header = header(&plan, &texture_line);

@@ -5,9 +5,11 @@ use glam::{Vec2, Vec3};
 
 use super::setup::{ONE, ScreenTri};
 use crate::framebuffer::Rgb;
+use crate::shade::packet::{self, LANES};
 use crate::shade::{PixelShader, ShadeCtx};
 use crate::stats::Counters;
 use crate::texture::filter::Footprint;
+use wide::f32x8;
 
 /// A horizontal band of the framebuffer (and depth buffer) owned by one task.
 pub struct Band<'a> {
@@ -75,6 +77,9 @@ pub fn raster_triangle<S: PixelShader>(
     if ya >= yb {
         return;
     }
+    if tri.unclipped && !ctx.plan.footprint && shader.packets(ctx) {
+        return raster_packets(tri, shader, ctx, band, counters, ya..yb);
+    }
     let footprint = if S::SAMPLES_TEXTURE && ctx.plan.footprint {
         shader.uvs().map(|uv| FootprintSetup::new(tri, uv))
     } else {
@@ -118,6 +123,92 @@ pub fn raster_triangle<S: PixelShader>(
             e[0] += steps[0].0;
             e[1] += steps[1].0;
             e[2] += steps[2].0;
+        }
+    }
+}
+
+/// The packet loop: per row, the covered span (found with the edge
+/// functions, one integer test per pixel), shaded eight pixels at a time.
+/// Coverage, depth and every lane's value are exactly those of the
+/// one-pixel loop.
+fn raster_packets<S: PixelShader>(
+    tri: &ScreenTri,
+    shader: &S,
+    ctx: &ShadeCtx,
+    band: &mut Band,
+    counters: &mut Counters,
+    rows: std::ops::Range<usize>,
+) {
+    let inv_area = (1.0 / tri.area as f64) as f32;
+    let steps = [tri.edge_steps(0), tri.edge_steps(1), tri.edge_steps(2)];
+    let (x0, x1) = (tri.x0 as usize, tri.x1 as usize);
+    let cx = tri.x0 as i64 * ONE + ONE / 2;
+    let width = band.width;
+    let inside =
+        |e: &[i64; 3]| (e[0] + tri.bias[0]) | (e[1] + tri.bias[1]) | (e[2] + tri.bias[2]) >= 0;
+    let at = |e: &[i64; 3], k: i64| {
+        [
+            e[0] + steps[0].0 * k,
+            e[1] + steps[1].0 * k,
+            e[2] + steps[2].0 * k,
+        ]
+    };
+    for py in rows {
+        let cy = py as i64 * ONE + ONE / 2;
+        let e_row = tri.edges(cx, cy);
+        // The covered pixels of a row are contiguous (the triangle is convex).
+        let Some(first) = (x0..=x1).find(|&px| inside(&at(&e_row, (px - x0) as i64))) else {
+            continue;
+        };
+        let last = (first..=x1)
+            .rev()
+            .find(|&px| inside(&at(&e_row, (px - x0) as i64)))
+            .unwrap_or(first);
+        let row = (py - band.y0) * width;
+        if let (Some(color), None) = (shader.solid(), band.depth.as_ref()) {
+            band.color[row + first..=row + last].fill(color);
+            counters.pixels_shaded += (last + 1 - first) as u64;
+            continue;
+        }
+        let mut px = first;
+        while px <= last {
+            let mut live = 0u32;
+            let mut l = [[0.0f32; LANES]; 3];
+            for lane in 0..LANES.min(last + 1 - px) {
+                let e = at(&e_row, (px + lane - x0) as i64);
+                if !inside(&e) {
+                    continue;
+                }
+                let lf = [
+                    e[0] as f32 * inv_area,
+                    e[1] as f32 * inv_area,
+                    e[2] as f32 * inv_area,
+                ];
+                if let Some(depth) = band.depth.as_deref_mut() {
+                    counters.depth_tests += 1;
+                    let z = lf[0] * tri.z[0] + lf[1] * tri.z[1] + lf[2] * tri.z[2];
+                    let slot = &mut depth[row + px + lane];
+                    if z < *slot {
+                        *slot = z;
+                    } else {
+                        continue;
+                    }
+                }
+                live |= 1 << lane;
+                for k in 0..3 {
+                    l[k][lane] = lf[k];
+                }
+            }
+            if live != 0 {
+                let b = packet::barycentrics(l.map(f32x8::from), tri.q);
+                let colors = shader.shade8(ctx, b, live, counters);
+                for (lane, c) in colors.iter().enumerate() {
+                    if live & (1 << lane) != 0 {
+                        band.color[row + px + lane] = *c;
+                    }
+                }
+            }
+            px += LANES;
         }
     }
 }

@@ -1,9 +1,11 @@
 //! The pixel kernels and the per-triangle data they read.
 
 use glam::{Vec2, Vec3};
+use wide::f32x8;
 
 use super::bump::blinn;
 use super::lighting::{diffuse_with, finish};
+use super::packet::{self, LANES, V3};
 use crate::framebuffer::Rgb;
 use crate::plan::Plan;
 use crate::settings::{Filter, HeightDerivative};
@@ -30,6 +32,41 @@ pub trait PixelShader {
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         None
     }
+    /// Whether `shade8` shades this triangle under this plan (bit for bit
+    /// as `shade` would).
+    fn packets(&self, _ctx: &ShadeCtx) -> bool {
+        false
+    }
+    /// The one colour of every pixel, for a kernel that has one: its rows
+    /// are filled, not shaded.
+    fn solid(&self) -> Option<Rgb> {
+        None
+    }
+    /// Eight pixels of a row at once, from their perspective-correct
+    /// barycentrics; `live` has a bit per covered lane (the others are
+    /// computed and thrown away, and not counted).
+    fn shade8(
+        &self,
+        _ctx: &ShadeCtx,
+        _b: [f32x8; 3],
+        _live: u32,
+        _counters: &mut Counters,
+    ) -> [Rgb; LANES] {
+        unreachable!("shade8 runs only where packets() said yes")
+    }
+}
+
+/// A bilinear read that a packet can make: the plan's filter is bilinear.
+#[inline]
+fn bilinear_colour(plan: &Plan) -> bool {
+    plan.filter == Filter::Bilinear
+}
+
+/// The filtered height gradient on the base level, as packets read it.
+#[inline]
+fn bilinear_gradient(plan: &Plan) -> bool {
+    matches!(plan.filter, Filter::Bilinear | Filter::Nearest)
+        && plan.height_derivative == HeightDerivative::Filtered
 }
 
 #[inline]
@@ -64,6 +101,23 @@ impl PixelShader for Rgb {
         counters.pixels_shaded += 1;
         *self
     }
+    fn packets(&self, _: &ShadeCtx) -> bool {
+        true
+    }
+    fn solid(&self) -> Option<Rgb> {
+        Some(*self)
+    }
+    #[inline]
+    fn shade8(
+        &self,
+        _: &ShadeCtx,
+        _: [f32x8; 3],
+        live: u32,
+        counters: &mut Counters,
+    ) -> [Rgb; LANES] {
+        counters.pixels_shaded += live.count_ones() as u64;
+        [*self; LANES]
+    }
 }
 
 /// Flat lighting, textured: the facet's lit colour times the texel.
@@ -84,6 +138,24 @@ impl PixelShader for TexturedFlatTri {
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.uv)
+    }
+    fn packets(&self, ctx: &ShadeCtx) -> bool {
+        bilinear_colour(ctx.plan)
+    }
+    #[inline]
+    fn shade8(
+        &self,
+        ctx: &ShadeCtx,
+        b: [f32x8; 3],
+        live: u32,
+        counters: &mut Counters,
+    ) -> [Rgb; LANES] {
+        let n = live.count_ones() as u64;
+        counters.pixels_shaded += n;
+        counters.texture_samples += n;
+        let (u, v) = packet::lerp2(&b, &self.uv);
+        let t = packet::bilinear::<true, false>(ctx.texture.base(), u, v);
+        packet::finish(V3::splat(self.lit).times(t.color), live, counters)
     }
 }
 
@@ -114,6 +186,28 @@ impl<const TEX: bool> PixelShader for GouraudKernel<'_, TEX> {
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
+    }
+    fn packets(&self, ctx: &ShadeCtx) -> bool {
+        !TEX || bilinear_colour(ctx.plan)
+    }
+    #[inline]
+    fn shade8(
+        &self,
+        ctx: &ShadeCtx,
+        b: [f32x8; 3],
+        live: u32,
+        counters: &mut Counters,
+    ) -> [Rgb; LANES] {
+        let tri = self.0;
+        let n = live.count_ones() as u64;
+        counters.pixels_shaded += n;
+        let mut albedo = packet::lerp3(&b, &tri.color);
+        if TEX {
+            counters.texture_samples += n;
+            let (u, v) = packet::lerp2(&b, &tri.uv);
+            albedo = albedo.times(packet::bilinear::<true, false>(ctx.texture.base(), u, v).color);
+        }
+        packet::finish(albedo.times(packet::lerp3(&b, &tri.light)), live, counters)
     }
 }
 
@@ -199,5 +293,53 @@ impl<const TEX: bool, const BUMP: bool> PixelShader for PhongKernel<'_, TEX, BUM
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
+    }
+    fn packets(&self, ctx: &ShadeCtx) -> bool {
+        ctx.shadow.is_none()
+            && (!TEX || bilinear_colour(ctx.plan))
+            && (!BUMP || bilinear_gradient(ctx.plan))
+    }
+    #[inline]
+    fn shade8(
+        &self,
+        ctx: &ShadeCtx,
+        b: [f32x8; 3],
+        live: u32,
+        counters: &mut Counters,
+    ) -> [Rgb; LANES] {
+        let tri = self.0;
+        let plan = ctx.plan;
+        let count = live.count_ones() as u64;
+        counters.pixels_shaded += count;
+        let p = packet::lerp3(&b, &tri.position);
+        let mut n = if tri.smooth {
+            packet::normalize_or(packet::lerp3(&b, &tri.normal), tri.face_normal)
+        } else {
+            V3::splat(tri.face_normal)
+        };
+        let mut albedo = packet::lerp3(&b, &tri.color);
+        if TEX || BUMP {
+            let (u, v) = packet::lerp2(&b, &tri.uv);
+            let t = packet::bilinear::<TEX, BUMP>(ctx.texture.base(), u, v);
+            if TEX {
+                counters.texture_samples += count;
+                albedo = albedo.times(t.color);
+            }
+            if BUMP {
+                counters.bump_evals += count;
+                let (pu, pv) = if tri.uniform_tangents {
+                    (V3::splat(tri.tangent_u[0]), V3::splat(tri.tangent_v[0]))
+                } else {
+                    (
+                        packet::lerp3(&b, &tri.tangent_u),
+                        packet::lerp3(&b, &tri.tangent_v),
+                    )
+                };
+                n = packet::blinn(n, pu, pv, t.fu, t.fv, plan.bump_strength);
+            }
+        }
+        counters.light_evals += count * plan.lights.len() as u64;
+        let light = packet::diffuse(&plan.lights, plan.ambient, p, n, plan.attenuation);
+        packet::finish(albedo.times(light), live, counters)
     }
 }

@@ -9,6 +9,7 @@ pub mod dot3;
 pub mod emboss;
 pub mod kernels;
 pub mod lighting;
+pub mod packet;
 pub mod parallax;
 pub mod tangent;
 

@@ -3,7 +3,9 @@
 /// RGB + height, each in 0..1.
 pub type Texel = [f32; 4];
 
-/// A `width × height` grid of texels, bottom row first.
+/// A `width × height` grid of texels, the picture's top row first: row `y`
+/// holds texture coordinate v in [y, y + 1) / height, so v = 0 is the top of
+/// the image, as in the other renderers relief is compared with.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Level {
     pub width: usize,
@@ -69,12 +71,13 @@ impl Level {
         }
     }
 
-    /// From 8-bit RGBA rows stored top row first (as images are).
+    /// From 8-bit RGBA rows stored top row first (as images are), kept in
+    /// that order.
     pub fn from_rgba8_top_down(width: usize, height: usize, rgba: &[u8]) -> Self {
         assert_eq!(rgba.len(), width * height * 4, "RGBA buffer size");
         assert!(width > 0 && height > 0, "a texture has at least one texel");
         let mut texels = Vec::with_capacity(width * height);
-        for row in (0..height).rev() {
+        for row in 0..height {
             for px in rgba[row * width * 4..(row + 1) * width * 4].chunks_exact(4) {
                 texels.push([
                     px[0] as f32 / 255.0,

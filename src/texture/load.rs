@@ -290,7 +290,7 @@ fn check_size(file: &str, width: u32, height: u32) -> Result<(), TextureError> {
     Ok(())
 }
 
-/// Decodes any supported picture into a level (bottom row first).
+/// Decodes any supported picture into a level (top row first).
 fn decode_level(
     bytes: &[u8],
     file: &str,
@@ -483,7 +483,8 @@ fn decode_xpm(bytes: &[u8], file: &str) -> Result<(Level, Reservation), TextureE
 }
 
 /// A level from a pixel reader `px(x, y)` (y = 0 the top row, RGBA in 0..1):
-/// rows flipped to bottom-first, height = alpha or mean of RGB.
+/// rows kept top first (v = 0 is the top of the picture), height = alpha or
+/// mean of RGB.
 fn level_from_rows(
     width: usize,
     height: usize,
@@ -491,7 +492,7 @@ fn level_from_rows(
     px: impl Fn(usize, usize) -> [f32; 4],
 ) -> Level {
     let mut texels = Vec::with_capacity(width * height);
-    for y in (0..height).rev() {
+    for y in 0..height {
         for x in 0..width {
             let [r, g, b, a] = px(x, y).map(|c| {
                 if c.is_finite() {

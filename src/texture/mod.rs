@@ -1,8 +1,10 @@
 //! Textures: colour in RGB, height (the bump map) in the fourth channel.
 //!
-//! Texels are stored as `f32` in 0..1, **bottom row first**, so texture
-//! coordinate v = 0 is the bottom of the picture and (u, v) index the storage
-//! directly, as in OpenGL. Coordinates wrap (repeat): u = 1.0 reads texel 0.
+//! Texels are stored as `f32` in 0..1, **top row first** (as image files
+//! are), and (u, v) index the storage directly: texture coordinate v = 0 is
+//! the top of the picture, as it is for OpenGL renderers fed an image's rows
+//! in file order (Mesa llvmpipe, euc) and in the documented program's files.
+//! Coordinates wrap (repeat): u = 1.0 reads texel 0.
 
 pub mod builtin;
 pub mod filter;

@@ -19,7 +19,7 @@ use glam::Vec2;
 use super::Level;
 
 /// Unit normals in tangent space (x along +u, y along +v, z out of the
-/// surface), one per texel, bottom row first like `Level`.
+/// surface), one per texel, in the same order as `Level`.
 #[derive(Clone, Debug)]
 pub struct NormalMap {
     pub width: usize,

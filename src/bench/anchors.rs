@@ -1,0 +1,254 @@
+//! `relief bench --anchors`: the scene other CPU renderers are measured on,
+//! timed the way their harnesses time it, so the three can be run one after
+//! the other and compared as ratios.
+//!
+//! The scene: the reference cube (side 2, rotation 25, 35, 0), face normals,
+//! the reference brick on all six faces with bilinear filtering, the four
+//! point lights, and three variants — flat (untextured), Gouraud + texture,
+//! Phong + texture + Blinn bump (filtered height derivative) — at 320×240 and
+//! 640×480, on one thread and on all threads. A timed frame is a whole
+//! `Renderer::render` (clear included) into a kept framebuffer.
+
+use std::io::Write;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use crate::Renderer;
+use crate::framebuffer::Framebuffer;
+use crate::scene::Scene;
+use crate::settings::{Normals, Settings, Shading};
+use crate::texture::Texture;
+
+/// The three variants, named as the other harnesses name them.
+pub const VARIANTS: [&str; 3] = ["flat", "gouraud", "phong"];
+
+/// The settings of variant `name` on the anchors' scene.
+pub fn settings(name: &str) -> Settings {
+    let base = Settings {
+        normals: Normals::Face,
+        ..Settings::default()
+    };
+    match name {
+        "flat" => Settings {
+            shading: Shading::Flat,
+            texture: false,
+            bump: false,
+            ..base
+        },
+        "gouraud" => Settings {
+            shading: Shading::Gouraud,
+            bump: false,
+            ..base
+        },
+        _ => base,
+    }
+}
+
+/// The anchors' scene: the reference cube, textured on all six faces.
+pub fn scene(texture: Arc<Texture>) -> Scene {
+    Scene::cube(texture, true)
+}
+
+/// One measured row.
+#[derive(Clone, Debug)]
+pub struct AnchorRow {
+    pub variant: &'static str,
+    pub width: usize,
+    pub height: usize,
+    pub threads: usize,
+    pub median: Duration,
+    pub min: Duration,
+    pub frames: usize,
+    pub covered: u64,
+}
+
+impl AnchorRow {
+    /// Nanoseconds per covered pixel.
+    pub fn ns_per_pixel(&self) -> f64 {
+        self.median.as_secs_f64() * 1e9 / self.covered.max(1) as f64
+    }
+}
+
+struct Cell {
+    row: AnchorRow,
+    settings: Settings,
+    renderer: Renderer,
+    fb: Framebuffer,
+    times: Vec<Duration>,
+}
+
+/// Times every variant × size × thread count in `rounds` interleaved rounds
+/// of `frames` frames each (after a warm-up), and returns the rows.
+pub fn measure(
+    texture: Arc<Texture>,
+    sizes: &[(usize, usize)],
+    threads: &[usize],
+    rounds: usize,
+    frames: usize,
+    mut progress: impl FnMut(&str),
+) -> anyhow::Result<Vec<AnchorRow>> {
+    let scene = scene(texture);
+    let pools: Vec<(usize, rayon::ThreadPool)> = threads
+        .iter()
+        .map(|&n| Ok((n, rayon::ThreadPoolBuilder::new().num_threads(n).build()?)))
+        .collect::<anyhow::Result<_>>()?;
+    let mut cells = Vec::new();
+    for &(width, height) in sizes {
+        for variant in VARIANTS {
+            for &(n, _) in &pools {
+                let settings = settings(variant);
+                let mut fb = Framebuffer::new(width, height);
+                let mut renderer = Renderer::new();
+                let stats = renderer.render(&scene, &settings, &mut fb);
+                cells.push(Cell {
+                    row: AnchorRow {
+                        variant,
+                        width,
+                        height,
+                        threads: n,
+                        median: Duration::ZERO,
+                        min: Duration::ZERO,
+                        frames: 0,
+                        covered: stats.counters.pixels_shaded,
+                    },
+                    settings,
+                    renderer,
+                    fb,
+                    times: Vec::new(),
+                });
+            }
+        }
+    }
+    for round in 0..rounds.max(1) {
+        for cell in cells.iter_mut() {
+            let pool = &pools
+                .iter()
+                .find(|(n, _)| *n == cell.row.threads)
+                .expect("a pool per thread count")
+                .1;
+            pool.install(|| {
+                // Warm-up: caches, the pool's threads, the kept buffers.
+                for _ in 0..3 {
+                    cell.renderer.render(&scene, &cell.settings, &mut cell.fb);
+                }
+                for _ in 0..frames.max(1) {
+                    let start = Instant::now();
+                    cell.renderer.render(&scene, &cell.settings, &mut cell.fb);
+                    cell.times.push(start.elapsed());
+                }
+            });
+        }
+        progress(&format!(
+            "anchors: round {}/{} done",
+            round + 1,
+            rounds.max(1)
+        ));
+    }
+    Ok(cells
+        .into_iter()
+        .map(|mut c| {
+            c.times.sort_unstable();
+            AnchorRow {
+                median: c.times[c.times.len() / 2],
+                min: c.times[0],
+                frames: c.times.len(),
+                ..c.row
+            }
+        })
+        .collect())
+}
+
+/// The rows as `key=value` lines, the format of the other harnesses.
+pub fn key_values(rows: &[AnchorRow]) -> String {
+    let mut s = String::new();
+    for r in rows {
+        s += &format!(
+            "variant={:<7} size={}x{} threads={} frames={} median_ms={:.4} min_ms={:.4} covered_px={} ns_per_px={:.1}\n",
+            r.variant,
+            r.width,
+            r.height,
+            r.threads,
+            r.frames,
+            r.median.as_secs_f64() * 1e3,
+            r.min.as_secs_f64() * 1e3,
+            r.covered,
+            r.ns_per_pixel()
+        );
+    }
+    s
+}
+
+/// The rows as a Markdown table.
+pub fn markdown(rows: &[AnchorRow]) -> String {
+    let mut s = String::from(
+        "| variant | size | threads | median ms | min ms | covered px | ns / px |\n|:--|:--|--:|--:|--:|--:|--:|\n",
+    );
+    for r in rows {
+        s += &format!(
+            "| {} | {}×{} | {} | {:.3} | {:.3} | {} | {:.1} |\n",
+            r.variant,
+            r.width,
+            r.height,
+            r.threads,
+            r.median.as_secs_f64() * 1e3,
+            r.min.as_secs_f64() * 1e3,
+            r.covered,
+            r.ns_per_pixel()
+        );
+    }
+    s
+}
+
+/// Runs the anchors' bench: `quick` is a smoke run (one small size, few frames).
+pub fn run(
+    quick: bool,
+    markdown_out: bool,
+    threads: usize,
+    out: &mut dyn Write,
+    log: &mut dyn Write,
+) -> anyhow::Result<Vec<AnchorRow>> {
+    let (texture, texture_line) = super::reference::texture();
+    let sizes: &[(usize, usize)] = if quick {
+        &[(64, 48)]
+    } else {
+        &[(320, 240), (640, 480)]
+    };
+    let mut counts = vec![1];
+    if threads > 1 {
+        counts.push(threads);
+    }
+    let (rounds, frames) = if quick { (1, 2) } else { (5, 60) };
+    writeln!(
+        out,
+        "relief bench --anchors: cube 25,35,0, face normals, {} on all faces (top row at v = 0), bilinear, 4 point lights; {rounds} interleaved rounds of {frames} frames, median and min per frame (whole render, clear included)",
+        crate::sanitize::clean(&texture_line)
+    )?;
+    let rows = measure(texture, sizes, &counts, rounds, frames, |line| {
+        let _ = writeln!(log, "{line}");
+    })?;
+    if markdown_out {
+        write!(out, "{}", markdown(&rows))?;
+    } else {
+        write!(out, "{}", key_values(&rows))?;
+    }
+    Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::procedural;
+
+    #[test]
+    fn every_variant_covers_the_same_pixels_and_reports_them() {
+        let tex = Arc::new(procedural::brick());
+        let rows = measure(tex, &[(64, 48)], &[1, 2], 1, 1, |_| {}).unwrap();
+        assert_eq!(rows.len(), 6);
+        let covered = rows[0].covered;
+        assert!(covered > 0);
+        assert!(rows.iter().all(|r| r.covered == covered && r.frames == 1));
+        let text = key_values(&rows);
+        assert_eq!(text.lines().count(), 6);
+        assert!(markdown(&rows).contains("| gouraud | 64×48 | 2 |"));
+    }
+}

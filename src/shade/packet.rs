@@ -1,0 +1,334 @@
+//! Eight pixels of a row shaded at once: the lane arithmetic of the kernels.
+//!
+//! Every operation here is the one the single-pixel kernel does, in the same
+//! order and on the same `f32` values (IEEE add, multiply, divide and square
+//! root round the same in every lane and on every instruction set, and Rust
+//! never fuses a multiply and an add behind our back), so a packet gives the
+//! very bits the one-pixel path gives. Only texel fetches are per lane.
+
+use glam::{Vec2, Vec3};
+use wide::{f32x8, i32x8};
+
+use crate::framebuffer::Rgb;
+use crate::plan::ActiveLight;
+use crate::shade::lighting::ATTENUATION_QUADRATIC;
+use crate::stats::Counters;
+use crate::texture::Level;
+
+/// Pixels per packet.
+pub const LANES: usize = 8;
+
+/// Eight 3-vectors, one component per register.
+#[derive(Clone, Copy)]
+pub struct V3 {
+    pub x: f32x8,
+    pub y: f32x8,
+    pub z: f32x8,
+}
+
+impl V3 {
+    #[inline(always)]
+    pub fn splat(v: Vec3) -> V3 {
+        V3 {
+            x: f32x8::splat(v.x),
+            y: f32x8::splat(v.y),
+            z: f32x8::splat(v.z),
+        }
+    }
+
+    /// glam's `Vec3::dot`: (x·x') + (y·y') + (z·z').
+    #[inline(always)]
+    pub fn dot(self, o: V3) -> f32x8 {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// glam's `Vec3::cross`, term for term.
+    #[inline(always)]
+    pub fn cross(self, o: V3) -> V3 {
+        V3 {
+            x: self.y * o.z - o.y * self.z,
+            y: self.z * o.x - o.z * self.x,
+            z: self.x * o.y - o.x * self.y,
+        }
+    }
+
+    #[inline(always)]
+    pub fn scale(self, s: f32x8) -> V3 {
+        V3 {
+            x: self.x * s,
+            y: self.y * s,
+            z: self.z * s,
+        }
+    }
+
+    #[inline(always)]
+    pub fn plus(self, o: V3) -> V3 {
+        V3 {
+            x: self.x + o.x,
+            y: self.y + o.y,
+            z: self.z + o.z,
+        }
+    }
+
+    #[inline(always)]
+    pub fn minus(self, o: V3) -> V3 {
+        V3 {
+            x: self.x - o.x,
+            y: self.y - o.y,
+            z: self.z - o.z,
+        }
+    }
+
+    #[inline(always)]
+    pub fn times(self, o: V3) -> V3 {
+        V3 {
+            x: self.x * o.x,
+            y: self.y * o.y,
+            z: self.z * o.z,
+        }
+    }
+
+    /// Lane-wise choice: `mask` lanes from `a`, the others from `b`.
+    #[inline(always)]
+    pub fn select(mask: f32x8, a: V3, b: V3) -> V3 {
+        V3 {
+            x: mask.select(a.x, b.x),
+            y: mask.select(a.y, b.y),
+            z: mask.select(a.z, b.z),
+        }
+    }
+}
+
+/// Perspective-correct barycentrics of eight pixels from their screen-space
+/// ones, as `shade_at` computes them for an unclipped triangle.
+#[inline(always)]
+pub fn barycentrics(l: [f32x8; 3], q: [f32; 3]) -> [f32x8; 3] {
+    let w = [
+        l[0] * f32x8::splat(q[0]),
+        l[1] * f32x8::splat(q[1]),
+        l[2] * f32x8::splat(q[2]),
+    ];
+    let inv = f32x8::ONE / (w[0] + w[1] + w[2]);
+    [w[0] * inv, w[1] * inv, w[2] * inv]
+}
+
+/// glam's `lerp3`: v0·b.x + v1·b.y + v2·b.z.
+#[inline(always)]
+pub fn lerp3(b: &[f32x8; 3], v: &[Vec3; 3]) -> V3 {
+    V3::splat(v[0])
+        .scale(b[0])
+        .plus(V3::splat(v[1]).scale(b[1]))
+        .plus(V3::splat(v[2]).scale(b[2]))
+}
+
+/// The texture coordinates at eight pixels.
+#[inline(always)]
+pub fn lerp2(b: &[f32x8; 3], v: &[Vec2; 3]) -> (f32x8, f32x8) {
+    let c = |k: usize| f32x8::splat(v[0][k]) * b[0] + f32x8::splat(v[1][k]) * b[1];
+    (
+        c(0) + f32x8::splat(v[2].x) * b[2],
+        c(1) + f32x8::splat(v[2].y) * b[2],
+    )
+}
+
+/// `normalize_or(fallback)` of glam, lane-wise.
+#[inline(always)]
+pub fn normalize_or(v: V3, fallback: Vec3) -> V3 {
+    let rcp = f32x8::ONE / v.dot(v).sqrt();
+    let ok = rcp.abs().simd_lt(f32x8::splat(f32::INFINITY)) & rcp.simd_gt(f32x8::ZERO);
+    V3::select(ok, v.scale(rcp), V3::splat(fallback))
+}
+
+/// Blinn's perturbed normal (see `bump::blinn`), lane-wise.
+#[inline(always)]
+pub fn blinn(n: V3, pu: V3, pv: V3, fu: f32x8, fv: f32x8, k: f32) -> V3 {
+    let flip = pu.cross(pv).dot(n).simd_lt(f32x8::ZERO);
+    let k = flip.select(f32x8::splat(-k), f32x8::splat(k));
+    let perturbed = n.plus(n.cross(pv).scale(fu).minus(n.cross(pu).scale(fv)).scale(k));
+    let len2 = perturbed.dot(perturbed);
+    let ok = len2.simd_gt(f32x8::splat(1e-20)) & len2.simd_lt(f32x8::splat(f32::INFINITY));
+    let len = len2.sqrt();
+    let unit = V3 {
+        x: perturbed.x / len,
+        y: perturbed.y / len,
+        z: perturbed.z / len,
+    };
+    V3::select(ok, unit, n)
+}
+
+/// Ambient + Σ colour · max(0, N·L) at eight points (see `diffuse_with`
+/// without shadows).
+#[inline(always)]
+pub fn diffuse(lights: &[ActiveLight], ambient: Vec3, p: V3, n: V3, attenuation: bool) -> V3 {
+    let mut sum = V3::splat(ambient);
+    for light in lights {
+        let d = V3::splat(light.position).minus(p);
+        let ndl = n.dot(d);
+        let facing = ndl.simd_gt(f32x8::ZERO);
+        if facing.none() {
+            continue;
+        }
+        let len2 = d.dot(d);
+        let ok = facing & len2.simd_gt(f32x8::ZERO) & len2.simd_lt(f32x8::splat(f32::INFINITY));
+        let mut k = ndl / len2.sqrt();
+        if attenuation {
+            k /= f32x8::ONE + f32x8::splat(ATTENUATION_QUADRATIC) * len2;
+        }
+        let s = ok.select(k.fast_min(f32x8::ONE), f32x8::ZERO);
+        let add = V3::splat(light.color).scale(s);
+        // A lane that gets no light adds +0, which leaves its sum as it was.
+        sum = sum.plus(add);
+    }
+    sum
+}
+
+/// Quantises eight colours as `finish` does (clamped, rounded, NaN to 0),
+/// counting the non-finite ones among the `live` lanes.
+#[inline(always)]
+pub fn finish(c: V3, live: u32, counters: &mut Counters) -> [Rgb; LANES] {
+    let inf = f32x8::splat(f32::INFINITY);
+    let finite = c.x.abs().simd_lt(inf) & c.y.abs().simd_lt(inf) & c.z.abs().simd_lt(inf);
+    let bad = !(finite.to_bitmask()) & live;
+    counters.nonfinite += bad.count_ones() as u64;
+    let q = |v: f32x8| -> [i32; LANES] {
+        // `ge` is false for NaN, which then becomes 0 like `f32::max` makes it.
+        let v = v.simd_ge(f32x8::ZERO).select(v, f32x8::ZERO);
+        let v = v.fast_min(f32x8::ONE) * f32x8::splat(255.0) + f32x8::splat(0.5);
+        v.fast_trunc_int().to_array()
+    };
+    let (r, g, b) = (q(c.x), q(c.y), q(c.z));
+    std::array::from_fn(|i| [r[i] as u8, g[i] as u8, b[i] as u8])
+}
+
+/// What a packet reads from the texture: bilinear colour, the filtered
+/// height gradient, or both (they share one neighbourhood of texels).
+pub struct TexelPacket {
+    pub color: V3,
+    pub fu: f32x8,
+    pub fv: f32x8,
+}
+
+/// The fraction of t in [0, 1) as `level::fract01` computes it.
+#[inline(always)]
+fn fract01(t: f32x8) -> f32x8 {
+    let valid = t.abs().simd_lt(f32x8::splat(8_388_608.0));
+    let t = valid.select(t, f32x8::ZERO);
+    let f = t - f32x8::from_i32x8(t.fast_trunc_int());
+    let f = f.simd_lt(f32x8::ZERO).select(f + f32x8::ONE, f);
+    f.simd_ge(f32x8::ONE).select(f32x8::ZERO, f)
+}
+
+/// The texel-space position minus a half texel, its floor (clamped as the
+/// one-pixel read clamps it) and the fraction past that floor.
+#[inline(always)]
+fn axis(t: f32x8, n: usize) -> ([i32; LANES], f32x8) {
+    let size = f32x8::splat(n as f32);
+    let x = fract01(t) * size;
+    let x = x.simd_lt(size).select(x, f32x8::ZERO) - f32x8::splat(0.5);
+    // x ≥ −0.5: its floor is −1 below 0, else its truncation.
+    let i = x
+        .simd_lt(f32x8::ZERO)
+        .select(f32x8::splat(-1.0), f32x8::from_i32x8(x.fast_trunc_int()));
+    let i = i.fast_min(f32x8::splat(n as f32 - 1.0));
+    let ii: i32x8 = i.fast_trunc_int();
+    (ii.to_array(), x - i)
+}
+
+/// Storage indices i − 1 .. i + 2 wrapped into 0..n (as the one-pixel read).
+#[inline(always)]
+fn around(i: i32, n: usize) -> [usize; 4] {
+    let n = n as i64;
+    let i = i as i64;
+    if i >= 1 && i + 2 < n {
+        let i = i as usize;
+        return [i - 1, i, i + 1, i + 2];
+    }
+    [i - 1, i, i + 1, i + 2].map(|k| {
+        if n == 1 {
+            0
+        } else if k < 0 {
+            (k + n) as usize
+        } else if k >= n {
+            (k - n) as usize
+        } else {
+            k as usize
+        }
+    })
+}
+
+/// Bilinear colour (when `COLOR`) and the filtered height gradient (when
+/// `GRADIENT`) at eight points of `level`: `Level::bilinear_with_gradient`,
+/// lane-wise, the texels gathered one lane at a time.
+#[inline(always)]
+pub fn bilinear<const COLOR: bool, const GRADIENT: bool>(
+    level: &Level,
+    u: f32x8,
+    v: f32x8,
+) -> TexelPacket {
+    let (w, h) = (level.width, level.height);
+    let (xi, fx) = axis(u, w);
+    let (yi, fy) = axis(v, h);
+    let t = &level.texels;
+    // Per lane: the four colour texels, and the eight heights around them.
+    let mut c = [[[0.0f32; LANES]; 4]; 4];
+    let mut hgt = [[0.0f32; LANES]; 8];
+    for lane in 0..LANES {
+        let cols = around(xi[lane], w);
+        let rows = around(yi[lane], h).map(|r| r * w);
+        let quad = [
+            t[rows[1] + cols[1]],
+            t[rows[1] + cols[2]],
+            t[rows[2] + cols[1]],
+            t[rows[2] + cols[2]],
+        ];
+        for (k, texel) in quad.iter().enumerate() {
+            for ch in 0..4 {
+                c[k][ch][lane] = texel[ch];
+            }
+        }
+        if GRADIENT {
+            let rim = [
+                t[rows[1] + cols[3]], // east: columns 2, 3
+                t[rows[2] + cols[3]],
+                t[rows[1] + cols[0]], // west: columns 0, 1
+                t[rows[2] + cols[0]],
+                t[rows[3] + cols[1]], // north: rows 2, 3
+                t[rows[3] + cols[2]],
+                t[rows[0] + cols[1]], // south: rows 0, 1
+                t[rows[0] + cols[2]],
+            ];
+            for (k, texel) in rim.iter().enumerate() {
+                hgt[k][lane] = texel[3];
+            }
+        }
+    }
+    let lerp = |a: f32x8, b: f32x8, f: f32x8| a + (b - a) * f;
+    let quad = |t00: f32x8, t10: f32x8, t01: f32x8, t11: f32x8| {
+        let top = lerp(t00, t10, fx);
+        let bottom = lerp(t01, t11, fx);
+        lerp(top, bottom, fy)
+    };
+    let ld = |k: usize, ch: usize| f32x8::from(c[k][ch]);
+    let color = if COLOR {
+        V3 {
+            x: quad(ld(0, 0), ld(1, 0), ld(2, 0), ld(3, 0)),
+            y: quad(ld(0, 1), ld(1, 1), ld(2, 1), ld(3, 1)),
+            z: quad(ld(0, 2), ld(1, 2), ld(2, 2), ld(3, 2)),
+        }
+    } else {
+        V3::splat(Vec3::ZERO)
+    };
+    let (mut fu, mut fv) = (f32x8::ZERO, f32x8::ZERO);
+    if GRADIENT {
+        let hq = |k: usize| f32x8::from(hgt[k]);
+        let (h00, h10, h01, h11) = (ld(0, 3), ld(1, 3), ld(2, 3), ld(3, 3));
+        let east = quad(h10, hq(0), h11, hq(1));
+        let west = quad(hq(2), h00, hq(3), h01);
+        let north = quad(h01, h11, hq(4), hq(5));
+        let south = quad(hq(6), hq(7), h00, h10);
+        let half = f32x8::splat(0.5);
+        fu = (east - west) * half * f32x8::splat(w as f32);
+        fv = (north - south) * half * f32x8::splat(h as f32);
+    }
+    TexelPacket { color, fu, fv }
+}

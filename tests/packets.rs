@@ -1,0 +1,155 @@
+//! Packet shading gives the very bits of the one-pixel loop: every triangle
+//! of a frame drawn with the kernel as it is (eight pixels at a time where
+//! the kernel can) and through a wrapper that hides its packet path.
+
+mod common;
+
+use glam::{Vec2, Vec3};
+use proptest::prelude::*;
+use relief::framebuffer::Rgb;
+use relief::plan::Plan;
+use relief::raster::{Band, raster_triangle};
+use relief::render::Renderer;
+use relief::settings::{Filter, HeightDerivative, Normals, Shading, Technique};
+use relief::shade::kernels::{GouraudKernel, PhongKernel};
+use relief::shade::{PixelShader, ShadeCtx, TriShader};
+use relief::stats::Counters;
+use relief::texture::filter::Footprint;
+use relief::{Scene, Settings};
+
+/// The kernel without its packet path: the one-pixel loop.
+struct OnePixel<'a, S>(&'a S);
+
+impl<S: PixelShader> PixelShader for OnePixel<'_, S> {
+    const SAMPLES_TEXTURE: bool = S::SAMPLES_TEXTURE;
+    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
+        self.0.shade(ctx, b, fp, counters)
+    }
+    fn uvs(&self) -> Option<&[Vec2; 3]> {
+        self.0.uvs()
+    }
+}
+
+/// Draws every triangle of the frame twice, with and without packets, and
+/// returns both pictures, their counters, and how many triangles could use packets.
+fn both(
+    scene: &Scene,
+    settings: &Settings,
+    w: usize,
+    h: usize,
+) -> (Vec<Rgb>, Vec<Rgb>, Counters, Counters, usize) {
+    let plan = Plan::new(scene, settings);
+    let mut renderer = Renderer::new();
+    let (tris, shaders) = renderer.screen_triangles(scene, settings, w, h);
+    let ctx = ShadeCtx {
+        plan: &plan,
+        texture: &scene.material.texture,
+        shadow: None,
+    };
+    let mut a = vec![[0u8; 3]; w * h];
+    let mut b = vec![[0u8; 3]; w * h];
+    let (mut ca, mut cb) = (Counters::default(), Counters::default());
+    let mut packed = 0;
+    for tri in tris {
+        let mut band_a = Band {
+            y0: 0,
+            width: w,
+            color: &mut a,
+            depth: None,
+        };
+        let mut band_b = Band {
+            y0: 0,
+            width: w,
+            color: &mut b,
+            depth: None,
+        };
+        macro_rules! draw {
+            ($k:expr) => {{
+                let k = $k;
+                if k.packets(&ctx) && tri.unclipped {
+                    packed += 1;
+                }
+                raster_triangle(tri, &k, &ctx, &mut band_a, &mut ca);
+                raster_triangle(tri, &OnePixel(&k), &ctx, &mut band_b, &mut cb);
+            }};
+        }
+        match &shaders[tri.shader as usize] {
+            TriShader::Solid(c) => draw!(*c),
+            TriShader::FlatTextured(s) => draw!(s.clone()),
+            TriShader::Gouraud(s) if s.textured => draw!(GouraudKernel::<true>(s)),
+            TriShader::Gouraud(s) => draw!(GouraudKernel::<false>(s)),
+            TriShader::Phong(s) => match (s.textured, s.bumped) {
+                (true, true) => draw!(PhongKernel::<true, true>(s)),
+                (true, false) => draw!(PhongKernel::<true, false>(s)),
+                (false, true) => draw!(PhongKernel::<false, true>(s)),
+                (false, false) => draw!(PhongKernel::<false, false>(s)),
+            },
+        }
+    }
+    (a, b, ca, cb, packed)
+}
+
+fn check(settings: Settings, w: usize, h: usize) {
+    let scene = common::reference_scene(true);
+    let (a, b, ca, cb, packed) = both(&scene, &settings, w, h);
+    assert!(packed > 0, "no triangle used packets: {settings:?}");
+    let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    assert_eq!(differ, 0, "{differ} pixels differ: {settings:?}");
+    assert_eq!(ca, cb, "counters differ: {settings:?}");
+}
+
+#[test]
+fn every_packet_kernel_matches_the_one_pixel_loop() {
+    for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+        for normals in [Normals::Face, Normals::Vertex] {
+            for (texture, bump) in [(true, true), (true, false), (false, true), (false, false)] {
+                for attenuation in [false, true] {
+                    check(
+                        Settings {
+                            shading,
+                            normals,
+                            texture,
+                            bump,
+                            attenuation,
+                            ..Settings::default()
+                        },
+                        160,
+                        120,
+                    );
+                }
+            }
+        }
+    }
+    // The bumped kernel with nearest colour reads packets only without texture.
+    check(
+        Settings {
+            texture: false,
+            filter: Filter::Nearest,
+            height_derivative: HeightDerivative::Filtered,
+            technique: Technique::Blinn,
+            ..Settings::default()
+        },
+        97,
+        61,
+    );
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    #[test]
+    fn any_orientation_size_and_strength_matches(
+        rx in -720.0f32..720.0, ry in -720.0f32..720.0, rz in -720.0f32..720.0,
+        w in 1usize..200, h in 1usize..150, k in 0.0f32..0.2, vertex in any::<bool>(),
+    ) {
+        let settings = Settings {
+            rotation: Vec3::new(rx, ry, rz),
+            bump_strength: k,
+            normals: if vertex { Normals::Vertex } else { Normals::Face },
+            ..Settings::default()
+        };
+        let scene = common::reference_scene(true);
+        let (a, b, ca, cb, _) = both(&scene, &settings, w, h);
+        prop_assert!(a == b);
+        prop_assert_eq!(ca, cb);
+    }
+}
