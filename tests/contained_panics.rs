@@ -75,6 +75,7 @@ fn decoder_panics_become_errors_and_leave_the_hook_silent() {
         rx: &rx,
         textures: Some(&list),
         stage: None,
+        pacer: relief::term::pacing::Pacer::by_writes(),
     }
     .run(&mut state)
     .unwrap();

@@ -33,6 +33,7 @@ fn a_huge_terminal_gets_a_capped_view() {
         rx: &rx,
         textures: None,
         stage: None,
+        pacer: relief::term::pacing::Pacer::by_writes(),
     }
     .run(&mut state)
     .unwrap();

@@ -180,3 +180,78 @@ fn garbage_is_dropped_without_panicking() {
         Some(&key(KeyCode::Char('q')))
     );
 }
+
+#[test]
+fn string_replies_are_swallowed_whole_however_they_are_split() {
+    // A late XTGETTCAP and DECRQSS answer (ST), an OSC colour answer (BEL),
+    // and an APC, between typed keys.
+    let all: &[u8] = b"m\x1bP1+r5463\x1b\\\x1bP1$r0;48:2::1:2:3m\x1b\\n\x1b]11;rgb:1010/1818/2020\x07\x1b_Gi=1;OK\x1b\\q";
+    let want = vec![
+        key(KeyCode::Char('m')),
+        key(KeyCode::Char('n')),
+        key(KeyCode::Char('q')),
+    ];
+    assert_eq!(parse(&[all]), want);
+    for cut in 1..all.len() {
+        let (a, b) = all.split_at(cut);
+        let mut p = InputParser::holding_escape();
+        let mut out = Vec::new();
+        p.feed(a, &mut out);
+        p.feed(b, &mut out);
+        let events: Vec<Event> = out
+            .into_iter()
+            .filter_map(|i| match i {
+                Input::Event(e) => Some(e),
+                Input::DeviceAttributes => None,
+            })
+            .collect();
+        assert_eq!(events, want, "cut at {cut}");
+    }
+}
+
+#[test]
+fn alt_keys_that_look_like_string_starts_stay_keys() {
+    let alt = |c: char| {
+        Event::Key(KeyEvent::new(
+            KeyCode::Char(c),
+            KeyModifiers::ALT | KeyModifiers::SHIFT,
+        ))
+    };
+    // Alone in a read: Alt+P.
+    assert_eq!(parse(&[b"\x1bP"]), vec![alt('P')]);
+    // Followed by Enter (a control byte no reply carries): Alt+P, Enter.
+    assert_eq!(
+        parse(&[b"\x1bP\rq"]),
+        vec![alt('P'), key(KeyCode::Enter), key(KeyCode::Char('q'))]
+    );
+    // Never terminated: given up after the limit, the bytes are input again.
+    let mut long = b"\x1b]".to_vec();
+    long.extend(std::iter::repeat_n(b'a', 2000));
+    let events = parse(&[&long]);
+    assert_eq!(events.len(), 2001);
+    assert_eq!(
+        events[0],
+        Event::Key(KeyEvent::new(KeyCode::Char(']'), KeyModifiers::ALT))
+    );
+    assert!(events[1..].iter().all(|e| *e == key(KeyCode::Char('a'))));
+}
+
+#[test]
+fn a_held_escape_waits_for_the_rest_of_its_sequence() {
+    let mut p = InputParser::holding_escape();
+    let mut out = Vec::new();
+    // A device-attributes reply split after its ESC: no Escape key.
+    p.feed(b"\x1b", &mut out);
+    assert!(out.is_empty() && p.waiting());
+    p.feed(b"[?62;22c", &mut out);
+    assert_eq!(out, vec![Input::DeviceAttributes]);
+    assert!(!p.waiting());
+    // Nothing follows: the caller flushes it as the Escape key.
+    out.clear();
+    p.feed(b"\x1b", &mut out);
+    assert!(out.is_empty());
+    p.flush_pending(&mut out);
+    assert_eq!(out, vec![Input::Event(key(KeyCode::Esc))]);
+    // A decoder that does not hold decides at the end of the read.
+    assert_eq!(parse(&[b"\x1b"]), vec![key(KeyCode::Esc)]);
+}

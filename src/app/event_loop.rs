@@ -12,6 +12,7 @@
 use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::io::{self, Read, Write};
+use std::os::fd::RawFd;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::time::{Duration, Instant};
 
@@ -64,9 +65,27 @@ pub enum Exit {
 /// Reads the terminal on its own thread and sends decoded events; ends
 /// (with `InputClosed`) at end of file or on a read error, so a dropped
 /// connection is never spun on.
-pub fn spawn_input_reader(mut input: impl Read + Send + 'static, tx: Sender<Msg>) {
+pub fn spawn_input_reader(input: impl Read + Send + 'static, tx: Sender<Msg>) {
+    spawn_reader(input, None, tx);
+}
+
+/// How long a lone `ESC` waits for the rest of a sequence before it is the
+/// Escape key: over SSH a terminal's reply can arrive split after its `ESC`
+/// (read alone, it would quit).
+pub const ESCAPE_WAIT: Duration = Duration::from_millis(50);
+
+/// [`spawn_input_reader`] for the terminal itself: `fd` is polled for the
+/// rest of a sequence split after its `ESC` (see [`ESCAPE_WAIT`]).
+pub fn spawn_terminal_reader(input: impl Read + Send + 'static, fd: RawFd, tx: Sender<Msg>) {
+    spawn_reader(input, Some(fd), tx);
+}
+
+fn spawn_reader(mut input: impl Read + Send + 'static, fd: Option<RawFd>, tx: Sender<Msg>) {
     std::thread::spawn(move || {
-        let mut parser = InputParser::new();
+        let mut parser = match fd {
+            Some(_) => InputParser::holding_escape(),
+            None => InputParser::new(),
+        };
         let mut buf = [0u8; 4096];
         let mut events = Vec::new();
         loop {
@@ -77,6 +96,12 @@ pub fn spawn_input_reader(mut input: impl Read + Send + 'static, tx: Sender<Msg>
                 }
                 Ok(n) => {
                     parser.feed(&buf[..n], &mut events);
+                    if let Some(fd) = fd
+                        && parser.waiting()
+                        && !crate::term::wait::readable_within(fd, ESCAPE_WAIT).unwrap_or(false)
+                    {
+                        parser.flush_pending(&mut events);
+                    }
                     let at = Instant::now();
                     for e in events.drain(..) {
                         let msg = match e {

@@ -13,7 +13,7 @@ pub use state::{Command, State, update};
 pub use view::view;
 
 use std::io::{IsTerminal, Read};
-use std::os::fd::AsFd;
+use std::os::fd::{AsFd, AsRawFd};
 use std::sync::mpsc;
 
 use anyhow::{Context, bail};
@@ -22,7 +22,7 @@ use ratatui::Terminal;
 use crate::cli::{Cli, ColorDepthArg};
 use crate::term::guard::{GuardedStdout, TerminalGuard};
 use crate::term::{ColorDepth, SgrBackend, probe};
-use event_loop::{Exit, Looper, Msg, spawn_input_reader};
+use event_loop::{Exit, Looper, Msg, spawn_terminal_reader};
 use stage::Stage;
 
 /// The colour depth to use: `--color` when given, else what the environment
@@ -92,11 +92,12 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             typed = found.other;
         }
     }
+    let fd = tty.as_ref().map_or(0, |file| file.as_raw_fd());
     let input: Box<dyn std::io::Read + Send> = match tty {
         Some(file) => Box::new(std::io::Cursor::new(typed).chain(file)),
         None => Box::new(std::io::Cursor::new(typed).chain(std::io::stdin())),
     };
-    spawn_input_reader(input, tx);
+    spawn_terminal_reader(input, fd, tx);
     let mut backend = SgrBackend::new(GuardedStdout::new()?);
     backend.set_tolerance(cli.color_tolerance);
     let mut terminal = Terminal::new(backend)?;

@@ -6,7 +6,10 @@
 //! UTF-8 text, control keys, CSI/SS3 cursor keys, SGR mouse reports
 //! (`ESC [ < b ; x ; y M/m`), bracketed paste (`ESC [ 200~ … ESC [ 201~`),
 //! and the terminal's answer to a device attributes query (`ESC [ ? … c`),
-//! which is the pacing's acknowledgement and never a key.
+//! which is the pacing's acknowledgement and never a key. String replies
+//! (`ESC P`, `ESC ]`, `ESC _`, `ESC ^`, `ESC X` up to `ESC \` or BEL), such
+//! as a capability answer arriving after the start-up probe gave up, are
+//! swallowed whole: none of their bytes may turn into keys.
 
 use crossterm::event::{
     Event, KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind,
@@ -17,6 +20,9 @@ const PASTE_END: &[u8] = b"\x1b[201~";
 const PASTE_LIMIT: usize = 1 << 20;
 /// A control sequence longer than this is garbage and is dropped.
 const CSI_LIMIT: usize = 64;
+/// A string reply longer than this without its terminator was not one:
+/// its introducer is read as an Alt key and the bytes after it as input.
+const STRING_LIMIT: usize = 1024;
 
 /// What the terminal sent: input, or a reply to a query.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -32,6 +38,10 @@ pub enum Input {
 pub struct InputParser {
     pending: Vec<u8>,
     paste: Option<Vec<u8>>,
+    /// Keep a trailing lone `ESC` (or `ESC` + string introducer) for
+    /// [`flush_pending`](Self::flush_pending) instead of deciding at the end
+    /// of each read: over a network a reply can be split after its `ESC`.
+    hold: bool,
 }
 
 fn key_event(code: KeyCode, modifiers: KeyModifiers) -> Event {
@@ -54,8 +64,55 @@ impl InputParser {
         Self::default()
     }
 
+    /// A decoder whose caller waits a moment after a read that ends in a
+    /// lone `ESC` and then calls [`flush_pending`](Self::flush_pending).
+    pub fn holding_escape() -> Self {
+        InputParser {
+            hold: true,
+            ..Self::default()
+        }
+    }
+
+    /// True when what is pending is a lone `ESC` or `ESC` + a string
+    /// introducer: a key if nothing follows soon, else the start of a sequence.
+    pub fn waiting(&self) -> bool {
+        self.paste.is_none()
+            && match self.pending[..] {
+                [0x1b] => true,
+                [0x1b, c] => is_string_introducer(c),
+                _ => false,
+            }
+    }
+
+    /// Nothing followed a [`waiting`](Self::waiting) `ESC`: it is the Escape
+    /// key (or Alt + the introducer's key).
+    pub fn flush_pending(&mut self, out: &mut Vec<Input>) {
+        if !self.waiting() {
+            return;
+        }
+        let pending = std::mem::take(&mut self.pending);
+        match pending[..] {
+            [_, c] => {
+                if let Step::Done(_, Some(Input::Event(Event::Key(mut k)))) =
+                    InputParser::default().step_bytes(&[c])
+                {
+                    k.modifiers |= KeyModifiers::ALT;
+                    out.push(Input::Event(Event::Key(k)));
+                }
+            }
+            _ => out.push(key(KeyCode::Esc, KeyModifiers::NONE)),
+        }
+    }
+
+    /// Decodes one complete item from `bytes` (for [`flush_pending`](Self::flush_pending)).
+    fn step_bytes(&mut self, bytes: &[u8]) -> Step {
+        self.pending = bytes.to_vec();
+        self.step(0)
+    }
+
     /// Decodes `bytes`, appending events to `out`. A lone `ESC` at the end
-    /// of a read is the Escape key (terminals send sequences in one piece).
+    /// of a read is the Escape key (terminals send sequences in one piece),
+    /// unless the decoder was made with [`holding_escape`](Self::holding_escape).
     pub fn feed(&mut self, bytes: &[u8], out: &mut Vec<Input>) {
         self.pending.extend_from_slice(bytes);
         let mut start = 0;
@@ -91,9 +148,8 @@ impl InputParser {
             }
         }
         self.pending.drain(..start);
-        if self.paste.is_none() && self.pending == [0x1b] {
-            self.pending.clear();
-            out.push(key(KeyCode::Esc, KeyModifiers::NONE));
+        if !self.hold {
+            self.flush_pending(out);
         }
     }
 
@@ -134,6 +190,11 @@ impl InputParser {
         }
         match b[1] {
             b'[' => self.csi(start),
+            c if is_string_introducer(c) => match string_end(&b[2..]) {
+                StringEnd::Found(n) => Step::Done(2 + n, None),
+                StringEnd::NotYet => Step::Incomplete,
+                StringEnd::NotAString => self.alt_key(start),
+            },
             b'O' => {
                 if b.len() < 3 {
                     return Step::Incomplete;
@@ -150,17 +211,19 @@ impl InputParser {
                 Step::Done(3, code.map(|c| key(c, KeyModifiers::NONE)))
             }
             0x1b => Step::Done(1, Some(key(KeyCode::Esc, KeyModifiers::NONE))),
-            _ => {
-                // ESC + key: Alt held.
-                match self.step(start + 1) {
-                    Step::Done(n, Some(Input::Event(Event::Key(mut k)))) => {
-                        k.modifiers |= KeyModifiers::ALT;
-                        Step::Done(n + 1, Some(Input::Event(Event::Key(k))))
-                    }
-                    Step::Done(n, other) => Step::Done(n + 1, other),
-                    Step::Incomplete => Step::Incomplete,
-                }
+            _ => self.alt_key(start),
+        }
+    }
+
+    /// ESC + key: Alt held.
+    fn alt_key(&mut self, start: usize) -> Step {
+        match self.step(start + 1) {
+            Step::Done(n, Some(Input::Event(Event::Key(mut k)))) => {
+                k.modifiers |= KeyModifiers::ALT;
+                Step::Done(n + 1, Some(Input::Event(Event::Key(k))))
             }
+            Step::Done(n, other) => Step::Done(n + 1, other),
+            Step::Incomplete => Step::Incomplete,
         }
     }
 
@@ -207,6 +270,42 @@ impl InputParser {
             _ => None,
         };
         Step::Done(len, event.map(Input::Event))
+    }
+}
+
+/// `ESC` + this byte starts a string: DCS, OSC, APC, PM or SOS.
+fn is_string_introducer(c: u8) -> bool {
+    matches!(c, b'P' | b']' | b'_' | b'^' | b'X')
+}
+
+enum StringEnd {
+    /// The string and its terminator take this many bytes.
+    Found(usize),
+    NotYet,
+    /// A control byte, a stray `ESC` or too many bytes: typed keys, not a reply.
+    NotAString,
+}
+
+/// Where the body of a string sequence ends (after `ESC \` or BEL).
+fn string_end(body: &[u8]) -> StringEnd {
+    for (i, &c) in body.iter().enumerate() {
+        match c {
+            0x07 => return StringEnd::Found(i + 1),
+            0x1b => {
+                return match body.get(i + 1) {
+                    Some(b'\\') => StringEnd::Found(i + 2),
+                    Some(_) => StringEnd::NotAString,
+                    None => StringEnd::NotYet,
+                };
+            }
+            c if c < 0x20 || i >= STRING_LIMIT => return StringEnd::NotAString,
+            _ => {}
+        }
+    }
+    if body.len() >= STRING_LIMIT {
+        StringEnd::NotAString
+    } else {
+        StringEnd::NotYet
     }
 }
 

@@ -13,6 +13,7 @@ pub mod oklab;
 pub mod pacing;
 pub mod palette;
 pub mod probe;
+pub mod wait;
 
 pub use backend::SgrBackend;
 pub use color::ColorDepth;

@@ -157,23 +157,10 @@ pub fn ask(input: BorrowedFd, out: &mut impl Write, timeout: Duration) -> io::Re
         if left.is_zero() {
             break;
         }
-        let mut fds = libc::pollfd {
-            fd: input.as_raw_fd(),
-            events: libc::POLLIN,
-            revents: 0,
-        };
-        let ms = left.as_millis().clamp(1, i32::MAX as u128) as libc::c_int;
-        // SAFETY: one valid pollfd, its count, a time-out.
-        let ready = unsafe { libc::poll(&mut fds, 1, ms) };
-        if ready < 0 {
-            let err = io::Error::last_os_error();
-            if err.kind() == io::ErrorKind::Interrupted {
-                continue;
-            }
-            return Err(err);
-        }
-        if ready == 0 {
-            break;
+        match super::wait::readable_within(input.as_raw_fd(), left) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(e) => return Err(e),
         }
         // SAFETY: reads at most buf.len() bytes into buf from an open descriptor.
         let n = unsafe { libc::read(input.as_raw_fd(), buf.as_mut_ptr().cast(), buf.len()) };
