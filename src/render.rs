@@ -9,10 +9,10 @@ use rayon::prelude::*;
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::plan::Plan;
 use crate::raster::aa::{
-    MSAA_SAMPLES, MsaaBand, RasterTarget, resolve_box, resolve_msaa, ssaa_factor,
+    MSAA_REACH, MSAA_SAMPLES, MsaaBand, RasterTarget, resolve_box, resolve_msaa, ssaa_factor,
 };
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
-use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup};
+use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
 use crate::scene::{Scene, rotation_matrix};
 use crate::settings::{AntiAlias, Display, LightVector, Settings, Shading, Technique};
 use crate::shade::dot3::Dot3Kernel;
@@ -168,6 +168,13 @@ impl Renderer {
         let view_proj = scene.camera.projection(aspect) * scene.camera.view();
         let eye = scene.camera.eye;
         let user_rotation = rotation_matrix(settings.rotation);
+        // Multisampling covers samples off the pixel centres: a sliver
+        // between two rows of centres still has samples inside.
+        let reach = if plan.aa == AntiAlias::Msaa4 {
+            MSAA_REACH
+        } else {
+            0
+        };
         for (object_index, object) in scene.objects.iter().enumerate() {
             let model = if object.rotates {
                 object.transform * user_rotation
@@ -229,13 +236,15 @@ impl Renderer {
                             pos: clip[k],
                             bary: Vec3::AXES[k],
                         });
-                        self.tris.extend(setup(v, width, height, shader_index));
+                        self.tris
+                            .extend(setup_reaching(v, width, height, shader_index, reach));
                     }
                     Clipped::Polygon => {
                         counters.triangles_clipped += 1;
                         for k in 1..self.polygon.len() - 1 {
                             let v = [self.polygon[0], self.polygon[k], self.polygon[k + 1]];
-                            self.tris.extend(setup(v, width, height, shader_index));
+                            self.tris
+                                .extend(setup_reaching(v, width, height, shader_index, reach));
                         }
                     }
                 }

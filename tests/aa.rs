@@ -181,3 +181,38 @@ fn multisampled_depth_keeps_the_nearer_surface_in_any_order() {
         assert_eq!(fb.get(80, 60 - 17), [0, 255, 0]);
     }
 }
+
+#[test]
+fn multisampling_keeps_a_sliver_between_two_rows_of_pixel_centres() {
+    // A white quad squashed to about half a pixel, centred on the screen's
+    // middle line (y = 60.0 at 160×120): it covers no pixel centre (59.5 and
+    // 60.5), but the samples 3/8 pixel off them (59.875, 60.125) lie inside.
+    let mut object = fixed(quad_mesh(1.0, 0.0, Vec2::ZERO, Vec2::ONE, Vec3::ONE));
+    // About 29 pixels per unit here: 0.02 units are about 0.6 pixel.
+    object.transform = glam::Mat4::from_scale(Vec3::new(1.0, 0.01, 1.0));
+    let scene = scene_of(vec![object], plain_texture(), Vec::new(), Vec3::ONE);
+    let background = scene.background;
+    let (plain, _) = render_frame(&scene, &aa(AntiAlias::Off), 160, 120);
+    assert!(
+        plain.pixels().iter().all(|&p| p == background),
+        "no pixel centre is covered"
+    );
+    let (ms, stats) = render_frame(&scene, &aa(AntiAlias::Msaa4), 160, 120);
+    assert!(stats.counters.pixels_shaded > 0);
+    for x in [60, 80, 100] {
+        for y in [59, 60] {
+            let p = ms.get(x, y);
+            // One or two of four samples: between the background and white.
+            assert!(
+                p != background && p[0] < 255 && p[0] > background[0],
+                "({x},{y}) {p:?}"
+            );
+        }
+    }
+    assert!(
+        (0..120)
+            .filter(|y| !(59..=60).contains(y))
+            .all(|y| (0..160).all(|x| ms.get(x, y) == background)),
+        "only the two middle rows"
+    );
+}

@@ -27,6 +27,10 @@ pub const MSAA_SAMPLES: usize = 4;
 /// No two samples share a row or a column, and they sum to zero.
 pub const MSAA4_OFFSETS: [(i64, i64); MSAA_SAMPLES] = [(-32, -96), (96, -32), (-96, 32), (32, 96)];
 
+/// How far a sample lies from its pixel centre at most, on either axis:
+/// the triangle setup's reach for multisampling.
+pub const MSAA_REACH: i64 = 96;
+
 /// Largest supersampled frame, in samples: beyond it the factor drops (to
 /// 2×2, then off) instead of allocating gigabytes.
 pub const MAX_SUPERSAMPLES: usize = 1 << 24;
@@ -156,15 +160,15 @@ pub fn raster_triangle_msaa<S: PixelShader>(
 ) {
     let width = band.width;
     let band_last = band.y0 + band.rows();
-    // The triangle's bounds hold the pixel centres it covers; a sample sits
-    // up to 3/8 pixel off its centre, so look one pixel further.
-    let ya = (tri.y0 as usize).saturating_sub(1).max(band.y0);
-    let yb = (tri.y1 as usize + 2).min(band_last);
+    // The triangle was set up with the samples' reach (`MSAA_REACH`): its
+    // bounds hold every pixel with a sample inside.
+    let ya = (tri.y0 as usize).max(band.y0);
+    let yb = (tri.y1 as usize + 1).min(band_last);
     if ya >= yb || width == 0 {
         return;
     }
-    let xa = (tri.x0 as usize).saturating_sub(1);
-    let xb = (tri.x1 as usize + 1).min(width - 1);
+    let xa = tri.x0 as usize;
+    let xb = (tri.x1 as usize).min(width - 1);
     let footprint = if S::SAMPLES_TEXTURE && ctx.plan.footprint {
         shader.uvs().map(|uv| FootprintSetup::new(tri, uv))
     } else {

@@ -9,4 +9,4 @@ pub mod wire;
 
 pub use clip::{ClipVertex, Clipped, clip_triangle};
 pub use scan::{Band, raster_triangle};
-pub use setup::{ScreenTri, setup};
+pub use setup::{ScreenTri, setup, setup_reaching};

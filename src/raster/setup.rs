@@ -96,6 +96,20 @@ fn is_top_left(ax: i64, ay: i64, bx: i64, by: i64) -> bool {
 /// up. Returns `None` for zero area, or when no pixel centre can be inside.
 /// Either winding is accepted (the caller has already culled back faces).
 pub fn setup(v: [ClipVertex; 3], width: usize, height: usize, shader: u32) -> Option<ScreenTri> {
+    setup_reaching(v, width, height, shader, 0)
+}
+
+/// [`setup`] for a rasterizer whose samples lie up to `reach` (in 1/[`ONE`]
+/// pixel) from the pixel centres: the bounds take every pixel one of whose
+/// samples can be inside, so a sliver between two rows of centres is kept
+/// (multisampling covers it).
+pub fn setup_reaching(
+    v: [ClipVertex; 3],
+    width: usize,
+    height: usize,
+    shader: u32,
+    reach: i64,
+) -> Option<ScreenTri> {
     let mut x = [0i64; 3];
     let mut y = [0i64; 3];
     let mut q = [0f32; 3];
@@ -128,9 +142,10 @@ pub fn setup(v: [ClipVertex; 3], width: usize, height: usize, shader: u32) -> Op
         bary.swap(1, 2);
         area = -area;
     }
-    // Pixel px is covered only if its centre px·ONE + HALF lies within the bounds.
-    let lo = |m: i64| (m - HALF + ONE - 1).div_euclid(ONE);
-    let hi = |m: i64| (m - HALF).div_euclid(ONE);
+    // Pixel px is covered only if its centre px·ONE + HALF lies within the bounds
+    // With samples off the centre, within `reach` of it.
+    let lo = |m: i64| (m - reach - HALF + ONE - 1).div_euclid(ONE);
+    let hi = |m: i64| (m + reach - HALF).div_euclid(ONE);
     let x0 = lo(*x.iter().min()?).max(0);
     let x1 = hi(*x.iter().max()?).min(width as i64 - 1);
     let y0 = lo(*y.iter().min()?).max(0);
