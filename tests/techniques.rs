@@ -311,3 +311,41 @@ fn techniques_need_phong_and_bump() {
         }
     }
 }
+
+#[test]
+fn parallax_follows_the_flat_face_not_its_rounded_vertex_normals() {
+    // A quad with normals leaning outward at its corners (as a cube's vertex
+    // normals do), stripes in u, heights below the surface, ambient light
+    // only: the picture is the texture read at the displaced coordinate, and
+    // the displacement must not depend on how the normals lean.
+    let texture = || {
+        texture_of(32, |x, _| {
+            let c = if (x / 2) % 2 == 0 { 1.0 } else { 0.2 };
+            [c, c, c, 0.2 + 0.6 * (x % 5) as f32 / 4.0]
+        })
+    };
+    let scene_with = |lean: f32| {
+        let mut mesh = quad_mesh(1.0, 0.0, Vec2::ZERO, Vec2::ONE, Vec3::ONE);
+        for v in &mut mesh.vertices {
+            v.normal = Vec3::new(lean * v.position.x, lean * v.position.y, 1.0).normalize();
+        }
+        scene_of(vec![fixed(mesh)], texture(), Vec::new(), Vec3::ONE)
+    };
+    for technique in [Technique::Parallax, Technique::Pom] {
+        let settings = Settings {
+            bump_strength: 4.0 * Settings::default().bump_strength,
+            ..with(technique, Normals::Vertex)
+        };
+        let (upright, _) = render_frame(&scene_with(0.0), &settings, 160, 120);
+        let (leaning, _) = render_frame(&scene_with(1.0), &settings, 160, 120);
+        assert!(upright == leaning, "{technique:?}: the texture bent");
+        // And the relief does show: the picture differs from plain Phong.
+        let plain = Settings {
+            bump: false,
+            ..settings.clone()
+        };
+        let (flat, _) = render_frame(&scene_with(0.0), &plain, 160, 120);
+        let d = max_diff(&flat, &upright);
+        assert!(d > 20, "{technique:?}: {d}");
+    }
+}

@@ -121,7 +121,15 @@ impl<const TEX: bool, const OCCLUSION: bool> PixelShader for ParallaxKernel<'_, 
         let s = Surface::at(self.tri, b);
         let k = plan.bump_strength;
         let depth = k * s.pu.cross(s.pv).length();
-        let ray = ViewRay::new(&s, self.eye, depth);
+        // The relief is carved into the flat triangle being drawn: the ray
+        // crosses it in the triangle's own plane. With vertex normals the
+        // interpolated normal leans (a cube's is rounded toward its edges)
+        // and would bend the texture on a flat face; it still lights.
+        let plane = Surface {
+            n: self.tri.face_normal,
+            ..s
+        };
+        let ray = ViewRay::new(&plane, self.eye, depth);
         let base = ctx.texture.base();
         let uv = if OCCLUSION {
             let (uv, reads) = pom_offset(base, s.uv, &ray);
