@@ -342,7 +342,7 @@ fn parallax_follows_the_flat_face_not_its_rounded_vertex_normals() {
         // And the relief does show: the picture differs from plain Phong.
         let plain = Settings {
             bump: false,
-            ..settings.clone()
+            ..settings
         };
         let (flat, _) = render_frame(&scene_with(0.0), &plain, 160, 120);
         let d = max_diff(&flat, &upright);
