@@ -322,9 +322,11 @@ impl Pacer {
     }
 
     /// How long without input before input counts as stopped: about one
-    /// round trip, within the configured bounds.
+    /// round trip of the link itself (the shortest recent one: the
+    /// smoothed figure also counts each frame's transfer, which says
+    /// nothing about how input is spaced), within the configured bounds.
     pub fn quiet(&self) -> Duration {
-        self.round_trip()
+        self.base_rtt()
             .unwrap_or(Duration::ZERO)
             .clamp(self.config.quiet_min, self.config.quiet_max)
     }
@@ -478,8 +480,20 @@ mod tests {
         assert!(!p.preview(false, Some(25_000), frame), "input stopped");
         assert!(!p.preview(true, Some(2_000), frame), "small enough");
         assert!(!p.preview(true, None, frame));
-        // The quiet time follows the round trip, within its bounds.
-        assert!(p.quiet() >= Duration::from_millis(60) && p.quiet() <= Duration::from_millis(150));
+        // The quiet time follows the link's own round trip (40 ms here, not
+        // the 240 ms the 25 kB frame took), within its bounds.
+        assert_eq!(p.quiet(), Duration::from_millis(60));
+        // Older samples leave the window; a slower link waits longer, up to 150 ms.
+        for i in 0..RTT_WINDOW as u64 {
+            p.sent(c.at(1000 + 200 * i), 20, true);
+            p.reply(c.at(1000 + 200 * i + 120));
+        }
+        assert_eq!(p.quiet(), Duration::from_millis(120));
+        for i in 0..RTT_WINDOW as u64 {
+            p.sent(c.at(9000 + 500 * i), 20, true);
+            p.reply(c.at(9000 + 500 * i + 400));
+        }
+        assert_eq!(p.quiet(), Duration::from_millis(150));
         let off = Pacer::new(PacingConfig {
             previews: false,
             ..PacingConfig::default()
