@@ -34,6 +34,16 @@ fn err<T>(msg: impl Into<String>) -> Result<T, XpmError> {
     Err(XpmError(msg.into()))
 }
 
+/// Text from the file as messages quote it: control characters replaced,
+/// at most 32 characters, in quotes.
+fn shown(text: &str) -> String {
+    let mut s: String = crate::sanitize::clean(text).chars().take(32).collect();
+    if text.chars().count() > 32 {
+        s.push('…');
+    }
+    format!("'{s}'")
+}
+
 /// Largest chars-per-pixel accepted (real files use 1 to 4).
 const MAX_CPP: usize = 8;
 
@@ -94,9 +104,9 @@ pub fn decode(bytes: &[u8], max_texels: usize) -> Result<XpmImage, XpmError> {
         has_alpha |= colour[3] < 1.0;
         if colours.insert(key, colour).is_some() {
             return err(format!(
-                "colour {}: pixel code '{}' defined twice",
+                "colour {}: pixel code {} defined twice",
                 i + 1,
-                String::from_utf8_lossy(key)
+                shown(&String::from_utf8_lossy(key))
             ));
         }
     }
@@ -121,10 +131,10 @@ pub fn decode(bytes: &[u8], max_texels: usize) -> Result<XpmImage, XpmError> {
                 Some(c) => rgba.push(*c),
                 None => {
                     return err(format!(
-                        "row {}, column {}: pixel code '{}' is not in the colour table",
+                        "row {}, column {}: pixel code {} is not in the colour table",
                         y + 1,
                         x + 1,
-                        String::from_utf8_lossy(code)
+                        shown(&String::from_utf8_lossy(code))
                     ));
                 }
             }
@@ -157,14 +167,15 @@ impl Header {
         };
         if numbers.len() != 4 && numbers.len() != 6 {
             return err(format!(
-                "header '{text}' must be \"width height colours chars-per-pixel [x y] [XPMEXT]\""
+                "header {} must be \"width height colours chars-per-pixel [x y] [XPMEXT]\"",
+                shown(text)
             ));
         }
         let mut values = [0usize; 6];
         for (slot, word) in values.iter_mut().zip(numbers) {
             *slot = word
                 .parse()
-                .map_err(|_| XpmError(format!("header: '{word}' is not a whole number")))?;
+                .map_err(|_| XpmError(format!("header: {} is not a whole number", shown(word))))?;
         }
         let [width, height, colors, cpp, ..] = values;
         if width == 0 || height == 0 {
@@ -299,7 +310,7 @@ fn parse_colour_entry(entry: &[u8], cpp: usize) -> Result<(&[u8], [f32; 4]), Xpm
         } else if let Some((_, value)) = pairs.last_mut() {
             value.push(word);
         } else {
-            return err(format!("'{word}' is not a key (c, m, g, g4 or s)"));
+            return err(format!("{} is not a key (c, m, g, g4 or s)", shown(word)));
         }
     }
     if let Some((key, _)) = pairs.iter().find(|(_, v)| v.is_empty()) {
@@ -319,12 +330,13 @@ fn parse_colour_entry(entry: &[u8], cpp: usize) -> Result<(&[u8], [f32; 4]), Xpm
 pub fn parse_colour(value: &str) -> Result<[f32; 4], XpmError> {
     if let Some(hex) = value.strip_prefix('#') {
         if !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
-            return err(format!("colour '{value}' has a non-hex digit"));
+            return err(format!("colour {} has a non-hex digit", shown(value)));
         }
         let digits = hex.len() / 3;
         if hex.len() % 3 != 0 || !(1..=4).contains(&digits) {
             return err(format!(
-                "colour '{value}' must be #RGB, #RRGGBB, #RRRGGGBBB or #RRRRGGGGBBBB"
+                "colour {} must be #RGB, #RRGGBB, #RRRGGGBBB or #RRRRGGGGBBBB",
+                shown(value)
             ));
         }
         let max = ((1u32 << (4 * digits)) - 1) as f32;
@@ -332,7 +344,7 @@ pub fn parse_colour(value: &str) -> Result<[f32; 4], XpmError> {
         for (c, slot) in rgb.iter_mut().enumerate() {
             let part = &hex[c * digits..(c + 1) * digits];
             let n = u32::from_str_radix(part, 16)
-                .map_err(|_| XpmError(format!("colour '{value}' has a non-hex digit")))?;
+                .map_err(|_| XpmError(format!("colour {} has a non-hex digit", shown(value))))?;
             *slot = n as f32 / max;
         }
         return Ok([rgb[0], rgb[1], rgb[2], 1.0]);
@@ -347,7 +359,8 @@ pub fn parse_colour(value: &str) -> Result<[f32; 4], XpmError> {
     }
     let rgb = named(&name).ok_or_else(|| {
         XpmError(format!(
-            "unknown colour name '{value}' (not an X11 colour name; use #RRGGBB)"
+            "unknown colour name {} (not an X11 colour name; use #RRGGBB)",
+            shown(value)
         ))
     })?;
     Ok([
