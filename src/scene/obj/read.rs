@@ -228,18 +228,20 @@ pub(super) fn read(name: &str, bytes: &[u8]) -> Result<ReadModel, ObjError> {
             Some(b"f") => {
                 face.clear();
                 for word in w {
-                    let parts: Vec<&[u8]> = word.split(|&b| b == b'/').collect();
-                    if parts.len() > 3 || parts[0].is_empty() {
-                        return Err(at(format!("bad face corner {}", quote_bytes(word))));
-                    }
-                    let position = resolve(parts[0], positions.len(), "vertex").map_err(&at)?;
-                    let uv = match parts.get(1) {
+                    let mut parts = word.split(|&b| b == b'/');
+                    let (p, t, n) = (parts.next(), parts.next(), parts.next());
+                    let p = match p {
+                        Some(p) if !p.is_empty() && parts.next().is_none() => p,
+                        _ => return Err(at(format!("bad face corner {}", quote_bytes(word)))),
+                    };
+                    let position = resolve(p, positions.len(), "vertex").map_err(&at)?;
+                    let uv = match t {
                         Some(t) if !t.is_empty() => {
                             Some(resolve(t, texcoords.len(), "texture coordinate").map_err(&at)?)
                         }
                         _ => None,
                     };
-                    let normal = match parts.get(2) {
+                    let normal = match n {
                         Some(n) if !n.is_empty() => {
                             Some(resolve(n, normals.len(), "normal").map_err(&at)?)
                         }
