@@ -1,4 +1,4 @@
-//! Panics in third-party parsers (image decoders, `tobj`) kept inside the
+//! Panics in parsers (third-party image decoders; the OBJ reader) kept inside the
 //! call that fed them untrusted bytes: the caller gets an error and goes on.
 //!
 //! A panic hook runs for every panic, caught or not, and the terminal guard's

@@ -102,5 +102,29 @@ fn bad_inputs_stay_under_the_budget() {
         let (code, err) = case(&format!("16384x16384 {}", extra[0]), &args);
         assert!(code == Some(0) || err.contains("memory budget"), "{err}");
     }
+
+    // A polygon of 999,999 corners, and one corner repeated 999,999 times:
+    // refused on their line before any triangle is made.
+    let mut poly = String::new();
+    for i in 0..999_999 {
+        let a = i as f32 * 1e-5;
+        poly += &format!("v {} {} 0\n", a.cos(), a.sin());
+    }
+    let corners: Vec<String> = (1..=999_999).map(|i| i.to_string()).collect();
+    let repeated = format!("{poly}f {}\n", "1 ".repeat(999_999));
+    poly += &format!("f {}\n", corners.join(" "));
+    std::fs::write(p("polygon.obj"), poly).unwrap();
+    std::fs::write(p("repeated.obj"), repeated).unwrap();
+    for model in ["polygon.obj", "repeated.obj"] {
+        let (code, err) = case(
+            &format!("OBJ {model}"),
+            &["render", "--out", &out, "--model", &p(model)],
+        );
+        assert_eq!(code, Some(1), "{err}");
+        assert!(
+            err.contains("line 1000000: a face of 999999 corners"),
+            "{err}"
+        );
+    }
     let _ = std::fs::remove_dir_all(dir);
 }

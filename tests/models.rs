@@ -457,7 +457,7 @@ fn sphere_obj(segments: u32, rings: u32) -> String {
 
 #[test]
 fn computed_normals_are_smooth_on_curved_surfaces() {
-    let mesh = obj::parse("sphere.obj", &sphere_obj(24, 12)).unwrap();
+    let mesh = obj::parse("sphere.obj", sphere_obj(24, 12)).unwrap();
     check_mesh("sphere.obj", &mesh);
     assert!(mesh.closed);
     for v in &mesh.vertices {
@@ -570,10 +570,18 @@ fn bad_text_is_refused_with_its_line() {
             "v 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3\n",
             "no face with an area",
         ),
+        ("v 0 0 0 1 1 1 1\n", "more than 6 numbers"),
+        ("vt\n", "needs 1 numbers"),
         (
-            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nusemtl\n",
-            "could not be parsed",
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3#\nf 1 2 4 # four\n",
+            "line 5: vertex index 4",
         ),
+        (
+            "\u{feff}v 0 0 0\nv 1 0 0\nf 1 2 3\n",
+            "line 3: vertex index 3",
+        ),
+        ("v 0 0 0\rv 1 0 0\rf 1 2 3\r", "line 3: vertex index 3"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 1 2 2 2\n", "no faces"),
         ("v 0 0 0\nf 1 1 1\nv 0 0 \u{1b}[31m\n", "'?[31m'"),
     ];
     for (text, expected) in cases {
@@ -600,7 +608,7 @@ fn huge_and_binary_files_are_refused() {
 
     std::fs::write(&path, b"v 0 0 0\n\xff\xfe\x00 binary\n").unwrap();
     let e = failure(obj::load(&path));
-    assert!(matches!(e, ObjError::NotText { at: 8, .. }), "{e:?}");
+    assert!(matches!(e, ObjError::NotText { at: 10, .. }), "{e:?}");
     std::fs::remove_file(&path).unwrap();
 
     // A name with control characters never reaches the message raw.
@@ -623,9 +631,15 @@ fn too_many_vertices_or_triangles_are_refused() {
         "{e:?}"
     );
     one_clean_line(&e);
-    // One polygon of a million and two corners is a million triangles and one.
-    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf".into();
-    text += &" 1 2 3".repeat(obj::MAX_TRIANGLES / 3 + 2);
+    // A polygon is bounded on its own line, before anything is built from it.
+    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\n# a huge polygon\nf".into();
+    text += &" 1 2 3".repeat(obj::MAX_FACE_CORNERS / 3 + 1);
+    let e = failure(obj::parse("big.obj", &text));
+    assert!(matches!(e, ObjError::Line { line: 5, .. }), "{e:?}");
+    assert!(one_clean_line(&e).contains("limit 65536"), "{e}");
+    // A million triangles and one.
+    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\n".into();
+    text += &"f 1 2 3\n".repeat(obj::MAX_TRIANGLES + 1);
     let e = failure(obj::parse("big.obj", &text));
     assert!(
         matches!(

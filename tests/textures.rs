@@ -196,6 +196,27 @@ fn xpm_matches_the_png() {
     }
 }
 
+/// An icon written the way real ones are: X11 names in any case and with
+/// blanks, symbolic names, no ',' before the first row, one row too many.
+#[test]
+fn xpm_with_x11_names_and_real_icon_quirks_loads() {
+    let path = data("xpm/icon_names.xpm");
+    let raw = xpm::decode(&std::fs::read(&path).unwrap(), 1 << 20).unwrap();
+    assert_eq!((raw.width, raw.height, raw.has_alpha), (4, 3, true));
+    let px = |x: usize, y: usize| raw.rgba[y * 4 + x].map(|c| (c * 255.0).round() as u8);
+    assert_eq!(px(0, 0), [0, 0, 0, 0]);
+    assert_eq!(px(1, 0), [99, 184, 255, 255]);
+    assert_eq!(px(2, 0), [238, 221, 130, 255]);
+    assert_eq!(px(3, 0), [85, 107, 47, 255]);
+    assert_eq!(px(0, 1), [0, 0, 0, 255]);
+    assert_eq!(px(1, 1), [255, 255, 255, 255]);
+    assert_eq!(px(2, 1), [70, 130, 180, 255]);
+    assert_eq!(px(3, 1), [245, 222, 179, 255]);
+    assert_eq!(px(0, 2), px(3, 1));
+    let tex = load_texture(&path).unwrap();
+    assert_eq!((tex.base().width, tex.base().height), (4, 3));
+}
+
 fn pngsuite_files() -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(data("pngsuite"))
         .unwrap()

@@ -1,9 +1,10 @@
-//! Wavefront OBJ models (`--model file.obj`), read with `tobj`.
+//! Wavefront OBJ models (`--model file.obj`).
 //!
-//! The file is checked line by line first (sizes, counts, finite numbers,
-//! every index in range), so a bad file gets a one-line error with its line
-//! number and `tobj` only ever sees indices it can use. Then:
-//! - polygons are triangulated (fans, by `tobj`);
+//! The file is read line by line by relief's own reader (`read`: what it
+//! accepts is listed there), so a bad file gets a one-line error with its
+//! line number, and counts, face sizes and the memory budget are checked
+//! before anything of the model's size is allocated. Then:
+//! - polygons are split into fans;
 //! - the model is centred on its bounding box and scaled so its farthest
 //!   point is `FIT_RADIUS` from the centre;
 //! - missing normals are computed per corner, weighted by the corner's angle,
@@ -18,6 +19,8 @@
 //!   handedness of the texture axes differ, so hard edges and UV seams stay
 //!   hard;
 //! - tangents are accumulated per vertex (see `tangents`).
+
+mod read;
 
 use std::collections::HashMap;
 use std::io::Read;
@@ -35,8 +38,13 @@ use crate::sanitize::{clean, display_path};
 pub const MAX_FILE_BYTES: u64 = 64 << 20;
 /// Most `v` lines a model may have.
 pub const MAX_POSITIONS: usize = 1_000_000;
-/// Most triangles a model may have after triangulation.
+/// Most triangles a model may have after triangulation (the memory budget
+/// may allow fewer: see `read::MODEL_BYTES_PER_TRIANGLE`).
 pub const MAX_TRIANGLES: usize = 1_000_000;
+/// Most corners one face may have: a polygon is split into a fan, and a
+/// fan of a million corners is a million thin triangles.
+pub const MAX_FACE_CORNERS: usize = 65_536;
+pub use read::MODEL_BYTES_PER_TRIANGLE;
 /// Distance from the model's centre to its farthest point once loaded.
 pub const FIT_RADIUS: f32 = 1.5;
 /// Faces meeting at a larger angle keep separate normals when normals are computed.
@@ -53,7 +61,7 @@ pub enum ObjError {
     NotAFile { name: String },
     #[error("model {name} is too large: {size} bytes (limit {limit})")]
     TooLarge { name: String, size: u64, limit: u64 },
-    #[error("model {name} is not a text file (invalid UTF-8 at byte {at})")]
+    #[error("model {name} is not a text file (a NUL byte at offset {at})")]
     NotText { name: String, at: usize },
     #[error("model {name}, line {line}: {problem}")]
     Line {
@@ -73,6 +81,9 @@ pub enum ObjError {
     Degenerate { name: String },
     #[error("model {name} could not be parsed: {reason}")]
     Parse { name: String, reason: String },
+    /// `reason` names the model and the limit.
+    #[error("{reason}")]
+    Budget { name: String, reason: String },
 }
 
 /// Loads an OBJ file as a mesh fitted to the unit view.
@@ -105,61 +116,33 @@ pub fn load(path: &Path) -> Result<Mesh, ObjError> {
             limit: MAX_FILE_BYTES,
         });
     }
-    let text = String::from_utf8(bytes).map_err(|e| ObjError::NotText {
-        name: name.clone(),
-        at: e.utf8_error().valid_up_to(),
-    })?;
-    parse(&name, &text)
+    // Text in any 8-bit encoding is read (names and comments are not
+    // used); a NUL byte says it is not text at all.
+    if let Some(at) = bytes.iter().position(|&b| b == 0) {
+        return Err(ObjError::NotText { name, at });
+    }
+    parse(&name, &bytes)
 }
 
-/// Builds a mesh from OBJ text; `name` (already sanitised) is used in errors.
-/// A panic inside the parser (third-party code fed the user's file) becomes
+/// Builds a mesh from OBJ text (any 8-bit encoding); `name` (already
+/// sanitised) is used in errors. A panic while reading or building becomes
 /// an error like any other.
-pub fn parse(name: &str, text: &str) -> Result<Mesh, ObjError> {
+pub fn parse(name: &str, text: impl AsRef<[u8]>) -> Result<Mesh, ObjError> {
+    let text = text.as_ref();
     crate::contain::contain(|| parse_unguarded(name, text)).unwrap_or_else(|cause| {
         Err(ObjError::Parse {
             name: name.to_string(),
-            reason: format!("the parser failed on it ({cause})"),
+            reason: format!("the reader failed on it ({cause})"),
         })
     })
 }
 
-fn parse_unguarded(name: &str, text: &str) -> Result<Mesh, ObjError> {
-    let scan = scan(name, text)?;
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: false,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    // Materials are not used: never open the files a model names.
-    let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| {
-        Err(tobj::LoadError::OpenFileFailed)
-    })
-    .map_err(|e| ObjError::Parse {
-        name: name.to_string(),
-        reason: e.to_string(),
-    })?;
-    let corners = gather(&scan, &models);
-    if corners.is_empty() {
-        return Err(ObjError::Empty {
-            name: name.to_string(),
-        });
-    }
-    build(name, corners)
-}
-
-/// What the line check learnt about the file.
-#[derive(Debug, Default)]
-struct Scan {
-    positions: usize,
-    colored_positions: usize,
-    texcoords: usize,
-    normals: usize,
-    triangles: usize,
-    /// Every face corner names a texture coordinate / a normal.
-    all_uv: bool,
-    all_normals: bool,
+fn parse_unguarded(name: &str, text: &[u8]) -> Result<Mesh, ObjError> {
+    let model = read::read(name, text)?;
+    // The reservation covers building too.
+    let mesh = build(name, model.corners);
+    drop(model.reservation);
+    mesh
 }
 
 /// A short, printable quote of a token from the file.
@@ -171,136 +154,6 @@ fn quote(token: &str) -> String {
     format!("'{s}'")
 }
 
-fn finite_numbers<'a>(
-    tokens: impl Iterator<Item = &'a str>,
-    count: usize,
-    what: &str,
-) -> Result<(), String> {
-    let mut seen = 0;
-    for token in tokens.take(count) {
-        match token.parse::<f32>() {
-            Ok(x) if x.is_finite() => seen += 1,
-            _ => return Err(format!("{what}: {} is not a finite number", quote(token))),
-        }
-    }
-    if seen < count {
-        return Err(format!("{what} needs {count} numbers, found {seen}"));
-    }
-    Ok(())
-}
-
-/// An OBJ index (1-based, or negative relative to the end) into `count` items.
-fn resolve(token: &str, count: usize, what: &str) -> Result<(), String> {
-    let index: i64 = token
-        .parse()
-        .map_err(|_| format!("{what} index {} is not a whole number", quote(token)))?;
-    let ok = match index {
-        i if i > 0 => (i as u64) <= count as u64,
-        i if i < 0 => i.unsigned_abs() <= count as u64,
-        _ => false,
-    };
-    if ok {
-        Ok(())
-    } else {
-        Err(format!(
-            "{what} index {index} is out of range (there are {count} so far)"
-        ))
-    }
-}
-
-/// Checks every line `tobj` will act on; counts against the limits.
-fn scan(name: &str, text: &str) -> Result<Scan, ObjError> {
-    let mut s = Scan {
-        all_uv: true,
-        all_normals: true,
-        ..Scan::default()
-    };
-    let too_many = |what, limit| ObjError::TooMany {
-        name: name.to_string(),
-        what,
-        limit,
-    };
-    for (number, line) in text.lines().enumerate() {
-        let at = |problem: String| ObjError::Line {
-            name: name.to_string(),
-            line: number + 1,
-            problem,
-        };
-        let mut tokens = line.split_whitespace();
-        match tokens.next() {
-            Some("v") => {
-                finite_numbers(&mut tokens, 3, "position").map_err(at)?;
-                let rest: Vec<&str> = tokens.collect();
-                match rest.len() {
-                    0 => {}
-                    1 => match rest[0].parse::<f32>() {
-                        Ok(w) if w.is_finite() && w != 0.0 => {}
-                        _ => return Err(at(format!("bad w {}", quote(rest[0])))),
-                    },
-                    3 => {
-                        finite_numbers(rest.into_iter(), 3, "vertex colour").map_err(at)?;
-                        s.colored_positions += 1;
-                    }
-                    n => return Err(at(format!("position has {} numbers", n + 3))),
-                }
-                s.positions += 1;
-                if s.positions > MAX_POSITIONS {
-                    return Err(too_many("vertices", MAX_POSITIONS));
-                }
-            }
-            Some("vt") => {
-                finite_numbers(tokens, 2, "texture coordinate").map_err(at)?;
-                s.texcoords += 1;
-                if s.texcoords > MAX_POSITIONS {
-                    return Err(too_many("texture coordinates", MAX_POSITIONS));
-                }
-            }
-            Some("vn") => {
-                finite_numbers(tokens, 3, "normal").map_err(at)?;
-                s.normals += 1;
-                if s.normals > MAX_POSITIONS {
-                    return Err(too_many("normals", MAX_POSITIONS));
-                }
-            }
-            Some("f") => {
-                let mut arity = 0usize;
-                for corner in tokens {
-                    let parts: Vec<&str> = corner.split('/').collect();
-                    if parts.len() > 3 || parts[0].is_empty() {
-                        return Err(at(format!("bad face corner {}", quote(corner))));
-                    }
-                    resolve(parts[0], s.positions, "vertex").map_err(at)?;
-                    match parts.get(1) {
-                        Some(t) if !t.is_empty() => {
-                            resolve(t, s.texcoords, "texture coordinate").map_err(at)?
-                        }
-                        _ => s.all_uv = false,
-                    }
-                    match parts.get(2) {
-                        Some(n) if !n.is_empty() => resolve(n, s.normals, "normal").map_err(at)?,
-                        _ => s.all_normals = false,
-                    }
-                    arity += 1;
-                }
-                // One or two corners are a point or a line: not drawn.
-                if arity >= 3 {
-                    s.triangles += arity - 2;
-                    if s.triangles > MAX_TRIANGLES {
-                        return Err(too_many("triangles", MAX_TRIANGLES));
-                    }
-                }
-            }
-            _ => {}
-        }
-    }
-    if s.triangles == 0 {
-        return Err(ObjError::Empty {
-            name: name.to_string(),
-        });
-    }
-    Ok(s)
-}
-
 /// One triangle corner as read from the file.
 #[derive(Clone, Copy)]
 struct Corner {
@@ -308,49 +161,6 @@ struct Corner {
     uv: Option<Vec2>,
     normal: Option<Vec3>,
     color: Option<Vec3>,
-}
-
-/// The corners of every triangle of every object, in order.
-fn gather(scan: &Scan, models: &[tobj::Model]) -> Vec<Corner> {
-    let mut corners = Vec::new();
-    let use_colors = scan.colored_positions == scan.positions;
-    for model in models {
-        let m = &model.mesh;
-        let has_uv = scan.all_uv && m.texcoord_indices.len() == m.indices.len();
-        let has_normals = scan.all_normals && m.normal_indices.len() == m.indices.len();
-        let has_colors = use_colors && m.vertex_color.len() == m.positions.len();
-        let whole = m.indices.len() / 3 * 3;
-        for k in 0..whole {
-            let read3 = |data: &[f32], i: u32| -> Option<Vec3> {
-                let i = i as usize * 3;
-                data.get(i..i + 3).map(Vec3::from_slice)
-            };
-            let Some(position) = read3(&m.positions, m.indices[k]) else {
-                continue;
-            };
-            let uv = has_uv
-                .then(|| {
-                    let i = m.texcoord_indices[k] as usize * 2;
-                    m.texcoords.get(i..i + 2).map(Vec2::from_slice)
-                })
-                .flatten();
-            let normal = has_normals
-                .then(|| read3(&m.normals, m.normal_indices[k]))
-                .flatten();
-            let color = has_colors
-                .then(|| read3(&m.vertex_color, m.indices[k]))
-                .flatten();
-            corners.push(Corner {
-                position,
-                uv,
-                normal,
-                color,
-            });
-        }
-        // A corner that could not be read drops its whole triangle.
-        corners.truncate(corners.len() / 3 * 3);
-    }
-    corners
 }
 
 /// Bits of a position, with −0 and +0 alike: the key that says two corners
@@ -431,6 +241,8 @@ fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
             }
         })
         .collect();
+    // The triangles hold copies of the corners: free them before the mesh grows.
+    drop(corners);
     if tris.is_empty() {
         return Err(ObjError::Degenerate {
             name: name.to_string(),

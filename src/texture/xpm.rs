@@ -1,13 +1,19 @@
-//! A small, strict XPM3 decoder (no crate in the ecosystem reads XPM).
+//! A small XPM3 decoder (no crate in the ecosystem reads XPM), as lenient as
+//! libXpm where real icons need it and strict elsewhere.
 //!
 //! Accepted: the `/* XPM */` comment, a C array of string literals (comments
-//! allowed between them), the `"width height ncolors cpp [x y] [XPMEXT]"`
+//! allowed between them, the ',' between two strings optional), the `"width height ncolors cpp [x y] [XPMEXT]"`
 //! header, a colour table whose entries carry a `c` key (or, failing that,
 //! `g`, `g4` or `m`), colours written `#RGB`, `#RRGGBB`, `#RRRRGGGGBBBB`,
-//! `None` (transparent) or an X11 name from a short table, and pixel rows of
-//! `width × cpp` characters. Anything else is an error that says what and where.
+//! `#RRRGGGBBB`, `None` or `transparent`, or any X11 colour name (the whole
+//! `rgb.txt` list, in any case, blanks ignored), and pixel rows of
+//! `width × cpp` characters; strings after the last row (extensions, a stray
+//! row) are ignored. Anything else is an error that says what and where.
 
 use std::collections::HashMap;
+
+mod colors;
+use colors::X11_COLORS;
 
 /// A decoded XPM: RGBA in 0..1, **top row first** (as written in the file).
 #[derive(Clone, Debug, PartialEq)]
@@ -26,6 +32,16 @@ pub struct XpmError(pub String);
 
 fn err<T>(msg: impl Into<String>) -> Result<T, XpmError> {
     Err(XpmError(msg.into()))
+}
+
+/// Text from the file as messages quote it: control characters replaced,
+/// at most 32 characters, in quotes.
+fn shown(text: &str) -> String {
+    let mut s: String = crate::sanitize::clean(text).chars().take(32).collect();
+    if text.chars().count() > 32 {
+        s.push('…');
+    }
+    format!("'{s}'")
 }
 
 /// Largest chars-per-pixel accepted (real files use 1 to 4).
@@ -76,8 +92,9 @@ pub fn decode(bytes: &[u8], max_texels: usize) -> Result<XpmImage, XpmError> {
         ));
     }
     let (table, rest) = rest.split_at(header.colors);
-    let (rows, extra) = rest.split_at(header.height);
-    check_extensions(extra, header.extensions)?;
+    // Strings after the last row (XPMEXT extensions, or a stray extra row
+    // as some real icons have) are ignored, as libXpm ignores them.
+    let rows = &rest[..header.height];
 
     let mut colours: HashMap<&[u8], [f32; 4]> = HashMap::with_capacity(table.len());
     let mut has_alpha = false;
@@ -87,9 +104,9 @@ pub fn decode(bytes: &[u8], max_texels: usize) -> Result<XpmImage, XpmError> {
         has_alpha |= colour[3] < 1.0;
         if colours.insert(key, colour).is_some() {
             return err(format!(
-                "colour {}: pixel code '{}' defined twice",
+                "colour {}: pixel code {} defined twice",
                 i + 1,
-                String::from_utf8_lossy(key)
+                shown(&String::from_utf8_lossy(key))
             ));
         }
     }
@@ -114,10 +131,10 @@ pub fn decode(bytes: &[u8], max_texels: usize) -> Result<XpmImage, XpmError> {
                 Some(c) => rgba.push(*c),
                 None => {
                     return err(format!(
-                        "row {}, column {}: pixel code '{}' is not in the colour table",
+                        "row {}, column {}: pixel code {} is not in the colour table",
                         y + 1,
                         x + 1,
-                        String::from_utf8_lossy(code)
+                        shown(&String::from_utf8_lossy(code))
                     ));
                 }
             }
@@ -136,7 +153,6 @@ struct Header {
     height: usize,
     colors: usize,
     cpp: usize,
-    extensions: bool,
 }
 
 impl Header {
@@ -151,14 +167,15 @@ impl Header {
         };
         if numbers.len() != 4 && numbers.len() != 6 {
             return err(format!(
-                "header '{text}' must be \"width height colours chars-per-pixel [x y] [XPMEXT]\""
+                "header {} must be \"width height colours chars-per-pixel [x y] [XPMEXT]\"",
+                shown(text)
             ));
         }
         let mut values = [0usize; 6];
         for (slot, word) in values.iter_mut().zip(numbers) {
             *slot = word
                 .parse()
-                .map_err(|_| XpmError(format!("header: '{word}' is not a whole number")))?;
+                .map_err(|_| XpmError(format!("header: {} is not a whole number", shown(word))))?;
         }
         let [width, height, colors, cpp, ..] = values;
         if width == 0 || height == 0 {
@@ -177,24 +194,8 @@ impl Header {
             height,
             colors,
             cpp,
-            extensions,
         })
     }
-}
-
-/// After the pixel rows: nothing, or (when the header says XPMEXT) extension
-/// strings ending with `XPMENDEXT`.
-fn check_extensions(extra: &[&[u8]], announced: bool) -> Result<(), XpmError> {
-    if extra.is_empty() {
-        return Ok(());
-    }
-    if announced && extra.last().is_some_and(|s| s.starts_with(b"XPMENDEXT")) {
-        return Ok(());
-    }
-    err(format!(
-        "{} string(s) after the last pixel row",
-        extra.len()
-    ))
 }
 
 /// The C string literals of the array, in order, without quotes. Comments
@@ -240,7 +241,7 @@ fn string_literals(bytes: &[u8]) -> Result<Vec<&[u8]>, XpmError> {
     if !opened {
         return err("no '{' opening the array of strings");
     }
-    let mut expect_string = true;
+    let mut after_string = false;
     loop {
         let Some(&b) = bytes.get(i) else {
             return err("truncated: the array of strings never closes with '}'");
@@ -252,10 +253,9 @@ fn string_literals(bytes: &[u8]) -> Result<Vec<&[u8]>, XpmError> {
             }
             b if b.is_ascii_whitespace() => i += 1,
             b'/' if bytes.get(i + 1) == Some(&b'*') => skip_comment(&mut i, &mut line)?,
+            // A missing ',' between two strings is read as libXpm reads
+            // it (two strings), not as C would (one).
             b'"' => {
-                if !expect_string {
-                    return err(format!("line {line}: missing ',' between strings"));
-                }
                 let start = i + 1;
                 let mut j = start;
                 loop {
@@ -274,10 +274,10 @@ fn string_literals(bytes: &[u8]) -> Result<Vec<&[u8]>, XpmError> {
                 }
                 out.push(&bytes[start..j]);
                 i = j + 1;
-                expect_string = false;
+                after_string = true;
             }
-            b',' if !expect_string => {
-                expect_string = true;
+            b',' if after_string => {
+                after_string = false;
                 i += 1;
             }
             b'}' => {
@@ -310,7 +310,7 @@ fn parse_colour_entry(entry: &[u8], cpp: usize) -> Result<(&[u8], [f32; 4]), Xpm
         } else if let Some((_, value)) = pairs.last_mut() {
             value.push(word);
         } else {
-            return err(format!("'{word}' is not a key (c, m, g, g4 or s)"));
+            return err(format!("{} is not a key (c, m, g, g4 or s)", shown(word)));
         }
     }
     if let Some((key, _)) = pairs.iter().find(|(_, v)| v.is_empty()) {
@@ -325,13 +325,18 @@ fn parse_colour_entry(entry: &[u8], cpp: usize) -> Result<(&[u8], [f32; 4]), Xpm
     Ok((code, parse_colour(&value)?))
 }
 
-/// `#RGB`, `#RRGGBB`, `#RRRRGGGGBBBB`, `None` or an X11 name.
+/// `#RGB`, `#RRGGBB`, `#RRRGGGBBB`, `#RRRRGGGGBBBB`, `None`/`transparent`
+/// or an X11 name.
 pub fn parse_colour(value: &str) -> Result<[f32; 4], XpmError> {
     if let Some(hex) = value.strip_prefix('#') {
+        if !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
+            return err(format!("colour {} has a non-hex digit", shown(value)));
+        }
         let digits = hex.len() / 3;
-        if hex.len() % 3 != 0 || !matches!(digits, 1 | 2 | 4) {
+        if hex.len() % 3 != 0 || !(1..=4).contains(&digits) {
             return err(format!(
-                "colour '{value}' must be #RGB, #RRGGBB or #RRRRGGGGBBBB"
+                "colour {} must be #RGB, #RRGGBB, #RRRGGGBBB or #RRRRGGGGBBBB",
+                shown(value)
             ));
         }
         let max = ((1u32 << (4 * digits)) - 1) as f32;
@@ -339,7 +344,7 @@ pub fn parse_colour(value: &str) -> Result<[f32; 4], XpmError> {
         for (c, slot) in rgb.iter_mut().enumerate() {
             let part = &hex[c * digits..(c + 1) * digits];
             let n = u32::from_str_radix(part, 16)
-                .map_err(|_| XpmError(format!("colour '{value}' has a non-hex digit")))?;
+                .map_err(|_| XpmError(format!("colour {} has a non-hex digit", shown(value))))?;
             *slot = n as f32 / max;
         }
         return Ok([rgb[0], rgb[1], rgb[2], 1.0]);
@@ -349,11 +354,15 @@ pub fn parse_colour(value: &str) -> Result<[f32; 4], XpmError> {
         .filter(|c| !c.is_whitespace())
         .flat_map(char::to_lowercase)
         .collect();
-    if name == "none" {
+    if name == "none" || name == "transparent" {
         return Ok([0.0, 0.0, 0.0, 0.0]);
     }
-    let rgb = named(&name)
-        .ok_or_else(|| XpmError(format!("unknown colour name '{value}' (use #RRGGBB)")))?;
+    let rgb = named(&name).ok_or_else(|| {
+        XpmError(format!(
+            "unknown colour name {} (not an X11 colour name; use #RRGGBB)",
+            shown(value)
+        ))
+    })?;
     Ok([
         rgb[0] as f32 / 255.0,
         rgb[1] as f32 / 255.0,
@@ -362,47 +371,13 @@ pub fn parse_colour(value: &str) -> Result<[f32; 4], XpmError> {
     ])
 }
 
-/// X11's greyN levels (rgb.txt), N = 0..=100: its rounding is not one formula.
-const GREY_LEVELS: [u8; 101] = [
-    0, 3, 5, 8, 10, 13, 15, 18, 20, 23, 26, 28, 31, 33, 36, 38, 41, 43, 46, 48, 51, 54, 56, 59, 61,
-    64, 66, 69, 71, 74, 77, 79, 82, 84, 87, 89, 92, 94, 97, 99, 102, 105, 107, 110, 112, 115, 117,
-    120, 122, 125, 127, 130, 133, 135, 138, 140, 143, 145, 148, 150, 153, 156, 158, 161, 163, 166,
-    168, 171, 173, 176, 179, 181, 184, 186, 189, 191, 194, 196, 199, 201, 204, 207, 209, 212, 214,
-    217, 219, 222, 224, 227, 229, 232, 235, 237, 240, 242, 245, 247, 250, 252, 255,
-];
-
-/// A few X11 colour names (lower case, no spaces), enough for the files
-/// ImageMagick and GIMP write.
+/// An X11 colour name (already lower case, without blanks) from the whole
+/// `rgb.txt` list.
 fn named(name: &str) -> Option<[u8; 3]> {
-    let grey = name
-        .strip_prefix("gray")
-        .or_else(|| name.strip_prefix("grey"));
-    if let Some(level) = grey
-        && !level.is_empty()
-    {
-        let n: usize = level.parse().ok()?;
-        let v = *GREY_LEVELS.get(n)?;
-        return Some([v, v, v]);
-    }
-    Some(match name {
-        "black" => [0, 0, 0],
-        "white" => [255, 255, 255],
-        "red" => [255, 0, 0],
-        "green" => [0, 255, 0],
-        "blue" => [0, 0, 255],
-        "yellow" => [255, 255, 0],
-        "cyan" => [0, 255, 255],
-        "magenta" => [255, 0, 255],
-        "gray" | "grey" => [190, 190, 190],
-        "lightgray" | "lightgrey" => [211, 211, 211],
-        "darkgray" | "darkgrey" => [169, 169, 169],
-        "dimgray" | "dimgrey" => [105, 105, 105],
-        "gainsboro" => [220, 220, 220],
-        "orange" => [255, 165, 0],
-        "brown" => [165, 42, 42],
-        "navy" | "navyblue" => [0, 0, 128],
-        _ => return None,
-    })
+    X11_COLORS
+        .binary_search_by(|(key, _)| key.cmp(&name))
+        .ok()
+        .map(|i| X11_COLORS[i].1)
 }
 
 #[cfg(test)]
@@ -421,19 +396,100 @@ mod tests {
         assert_eq!(img.rgba[5], [1.0, 0.0, 0.0, 1.0]);
     }
 
+    fn rgb8(value: &str) -> [u8; 3] {
+        let c = parse_colour(value).unwrap_or_else(|e| panic!("{value}: {e}"));
+        assert_eq!(c[3], 1.0, "{value} is opaque");
+        [c[0], c[1], c[2]].map(|x| (x * 255.0).round() as u8)
+    }
+
     #[test]
     fn colours_in_every_notation() {
         assert_eq!(parse_colour("#fff").unwrap(), [1.0; 4]);
         assert_eq!(parse_colour("#000000").unwrap(), [0.0, 0.0, 0.0, 1.0]);
+        assert_eq!(parse_colour("#FFF000000").unwrap(), [1.0, 0.0, 0.0, 1.0]);
         assert_eq!(parse_colour("#FFFF00000000").unwrap(), [1.0, 0.0, 0.0, 1.0]);
+        assert_eq!(rgb8("#4682b4"), [70, 130, 180]);
         assert_eq!(parse_colour("None").unwrap(), [0.0; 4]);
+        assert_eq!(parse_colour("none").unwrap(), [0.0; 4]);
+        assert_eq!(parse_colour("Transparent").unwrap(), [0.0; 4]);
         assert_eq!(parse_colour("White").unwrap(), [1.0; 4]);
         assert_eq!(parse_colour("light gray").unwrap()[0], 211.0 / 255.0);
         assert_eq!(parse_colour("grey50").unwrap()[1], 127.0 / 255.0);
-        assert!(parse_colour("#12").is_err());
-        assert!(parse_colour("#GGGGGG").is_err());
-        assert!(parse_colour("gray101").is_err());
-        assert!(parse_colour("chartreuse-ish").is_err());
+        for bad in [
+            "#12",
+            "#GGGGGG",
+            "#+f+f+f",
+            "#\u{e9}ab",
+            "#1234567890123",
+            "#",
+        ] {
+            assert!(parse_colour(bad).is_err(), "{bad} must be refused");
+        }
+    }
+
+    #[test]
+    fn every_x11_name_is_known_in_any_case_and_spacing() {
+        // Values as X.Org's rgb.txt gives them.
+        let cases: &[(&str, [u8; 3])] = &[
+            ("steelblue1", [99, 184, 255]),
+            ("SteelBlue1", [99, 184, 255]),
+            ("darkolivegreen", [85, 107, 47]),
+            ("DarkOliveGreen", [85, 107, 47]),
+            ("dark olive green", [85, 107, 47]),
+            ("wheat", [245, 222, 179]),
+            ("tan", [210, 180, 140]),
+            ("light goldenrod", [238, 221, 130]),
+            ("LightGoldenrod", [238, 221, 130]),
+            ("LIGHTGOLDENRODYELLOW", [250, 250, 210]),
+            ("gray", [190, 190, 190]),
+            ("gray0", [0, 0, 0]),
+            ("grey0", [0, 0, 0]),
+            ("gray1", [3, 3, 3]),
+            ("gray50", [127, 127, 127]),
+            ("Grey51", [130, 130, 130]),
+            ("gray100", [255, 255, 255]),
+            ("grey100", [255, 255, 255]),
+            ("dark grey", [169, 169, 169]),
+            ("navy blue", [0, 0, 128]),
+            ("aliceblue", [240, 248, 255]),
+            ("yellowgreen", [154, 205, 50]),
+            ("mediumpurple4", [93, 71, 139]),
+        ];
+        for (name, rgb) in cases {
+            assert_eq!(rgb8(name), *rgb, "{name}");
+        }
+        for bad in [
+            "gray101",
+            "grey-1",
+            "steelblue5",
+            "chartreuse-ish",
+            "",
+            "bluee",
+            "aliceblu",
+            "zzz",
+            "#",
+            "light_gray",
+            "r\u{e9}d",
+        ] {
+            let e = parse_colour(bad).unwrap_err();
+            assert!(e.0.contains("colour"), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn the_name_table_is_sorted_unique_and_normalised() {
+        assert!(X11_COLORS.len() > 600);
+        for pair in X11_COLORS.windows(2) {
+            assert!(pair[0].0 < pair[1].0, "{} before {}", pair[0].0, pair[1].0);
+        }
+        for (name, _) in X11_COLORS {
+            assert!(
+                name.bytes()
+                    .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit()),
+                "{name}"
+            );
+            assert!(named(name).is_some());
+        }
     }
 
     #[test]
@@ -457,10 +513,6 @@ mod tests {
                 "never closes",
             ),
             (
-                "/* XPM */ static char *x[] = {\"1 1 1 1\" \"a c #000\", \"a\"};",
-                "missing ','",
-            ),
-            (
                 "/* XPM */ static char *x[] = {\"1 1 1 1\", \"a q #000\", \"a\"};",
                 "not a key",
             ),
@@ -477,10 +529,6 @@ mod tests {
                 "twice",
             ),
             (
-                "/* XPM */ static char *x[] = {\"1 1 1 1\", \"a m white\", \"a\", \"extra\"};",
-                "after the last",
-            ),
-            (
                 "/* XPM */ static char *x[] = {\"99999 99999 1 1\", \"a c #000\", \"a\"};",
                 "too large",
             ),
@@ -489,6 +537,20 @@ mod tests {
             let e = decode(text.as_bytes(), 1 << 24).unwrap_err();
             assert!(e.0.contains(needle), "{text:?}: {e} (wanted '{needle}')");
         }
+    }
+
+    #[test]
+    fn read_as_libxpm_reads_real_icons() {
+        // No ',' between two strings, and a stray row after the last one.
+        let text = "/* XPM */\nstatic char *x[] = {\n\"2 2 2 1\",\n\". c steelblue1\",\n\"# c light goldenrod\"\n\".#\",\n\"#.\",\n\"..\"};\n";
+        let img = decode(text.as_bytes(), 10).unwrap();
+        assert_eq!((img.width, img.height), (2, 2));
+        let sb = [99.0 / 255.0, 184.0 / 255.0, 1.0, 1.0];
+        let lg = [238.0 / 255.0, 221.0 / 255.0, 130.0 / 255.0, 1.0];
+        assert_eq!(img.rgba, vec![sb, lg, lg, sb]);
+        // Extensions after the rows are skipped.
+        let ext = "/* XPM */ static char *x[] = {\"1 1 1 1 XPMEXT\", \"a c tan\", \"a\", \"XPMEXT x\", \"XPMENDEXT\"};";
+        assert_eq!(decode(ext.as_bytes(), 10).unwrap().rgba.len(), 1);
     }
 
     #[test]
