@@ -19,9 +19,6 @@ pub enum Mode {
     /// The help overlay is open: it takes the scrolling keys and Esc; the
     /// other keys still act on the picture.
     Help,
-    /// The texture panel is open: it takes the keys that move through the
-    /// list; the other keys still act on the picture.
-    Textures,
     /// Typing into the orientation fields.
     Fields,
     /// Typing a texture path.
@@ -30,13 +27,7 @@ pub enum Mode {
 
 impl Mode {
     /// Every mode, in the order the help lists them.
-    pub const ALL: [Mode; 5] = [
-        Mode::Normal,
-        Mode::Help,
-        Mode::Textures,
-        Mode::Fields,
-        Mode::Prompt,
-    ];
+    pub const ALL: [Mode; 4] = [Mode::Normal, Mode::Help, Mode::Fields, Mode::Prompt];
 
     /// The mode the state is in: a field being edited or a prompt takes
     /// every key; an open overlay takes only its own.
@@ -47,8 +38,6 @@ impl Mode {
             Mode::Fields
         } else if state.help {
             Mode::Help
-        } else if state.texture_panel {
-            Mode::Textures
         } else {
             Mode::Normal
         }
@@ -58,7 +47,7 @@ impl Mode {
     /// does nothing).
     pub fn fallback(self) -> Option<Mode> {
         match self {
-            Mode::Help | Mode::Textures => Some(Mode::Normal),
+            Mode::Help => Some(Mode::Normal),
             Mode::Normal | Mode::Fields | Mode::Prompt => None,
         }
     }
@@ -68,7 +57,6 @@ impl Mode {
         match self {
             Mode::Normal => None,
             Mode::Help => Some("while this help is open"),
-            Mode::Textures => Some("in the texture panel (T)"),
             Mode::Fields => Some("in the orientation fields (Tab)"),
             Mode::Prompt => Some("in the texture path prompt (/)"),
         }

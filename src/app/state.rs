@@ -129,8 +129,6 @@ pub struct State {
     pub distance: f32,
     /// Distance `r` goes back to (`--distance`).
     pub start_distance: f32,
-    /// Key `T`: the texture panel is open.
-    pub texture_panel: bool,
 }
 
 /// More lines than the help can ever have (the view clamps to what the
@@ -195,7 +193,6 @@ impl State {
             plasma_normal: PlasmaNormal::Table,
             pointer: None,
             prompt: None,
-            texture_panel: false,
             distance: REFERENCE_DISTANCE,
             start_distance: REFERENCE_DISTANCE,
         }
