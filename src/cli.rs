@@ -175,6 +175,9 @@ pub struct ViewArgs {
     /// Plasma scene: the article's Z² lookup table or the exact per-pixel normal.
     #[arg(long, value_enum, default_value_t = PlasmaNormal::Table)]
     pub plasma_normal: PlasmaNormal,
+    /// Camera distance (zoom), 5 being the reference view; from 2.5 (closest: never inside the model) to 40.
+    #[arg(long, value_name = "D", default_value_t = crate::scene::camera::REFERENCE_DISTANCE, value_parser = parse_distance)]
+    pub distance: f32,
 }
 
 impl ViewArgs {
@@ -244,6 +247,17 @@ fn parse_strength(text: &str) -> Result<f32, String> {
         return Err(format!("bump strength must be 0 or more, got {k}"));
     }
     Ok(k)
+}
+
+fn parse_distance(text: &str) -> Result<f32, String> {
+    use crate::scene::camera::{MAX_DISTANCE, MIN_DISTANCE};
+    let d = parse_finite(text)?;
+    if !(MIN_DISTANCE..=MAX_DISTANCE).contains(&d) {
+        return Err(format!(
+            "distance must be from {MIN_DISTANCE} to {MAX_DISTANCE}, got {d}"
+        ));
+    }
+    Ok(d)
 }
 
 #[cfg(test)]

@@ -71,7 +71,8 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     )?;
     let mut fb = Framebuffer::new(width, height);
     match built {
-        Built::Scene(scene) => {
+        Built::Scene(mut scene) => {
+            scene.camera = scene.camera.at_distance(view.distance);
             Renderer::new().render(&scene, &settings, &mut fb);
         }
         Built::Plasma(plasma) => {

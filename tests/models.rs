@@ -233,7 +233,7 @@ fn sphere_tangents_are_the_surface_derivatives() {
             assert!(v.tangent_u.normalize().dot(Vec3::X) > 0.999);
         }
     }
-    // Accumulating per face (seed 004) finds the same directions.
+    // Accumulating per face (docs/bump-dot3.md) finds the same directions.
     let mut acc = mesh.clone();
     tangents::accumulate(&mut acc);
     for (a, b) in mesh.vertices.iter().zip(&acc.vertices) {

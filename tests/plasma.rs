@@ -1,4 +1,4 @@
-//! The 2D plasma bump effect of seed 001, on the raw framebuffer.
+//! The 2D plasma bump effect (docs/plasma.md), on the raw framebuffer.
 
 use relief::Framebuffer;
 use relief::plasma::{Plasma, PlasmaNormal};

@@ -1,4 +1,4 @@
-//! DESIGN.md's hard cases for the renderer, one named test each, plus a
+//! The renderer's hard cases (docs/hard-cases.md), one named test each, plus a
 //! property test over orientations and every mode combination.
 
 mod common;

@@ -1,5 +1,6 @@
 //! The reference cube scene checked against numbers derived by hand (in f64,
-//! from DESIGN.md's formulas, independently of the renderer's code).
+//! from the formulas of docs/shading.md and docs/bump-blinn.md,
+//! independently of the renderer's code).
 
 mod common;
 
@@ -76,7 +77,7 @@ fn front_view(settings: Settings) -> Settings {
 
 #[test]
 fn reference_view_covers_the_documented_pixel_count() {
-    // DESIGN.md: at 320×240 the cube covers 11,741 pixels in the reference view.
+    // README "The reference scene": at 320×240 the cube covers 11,741 pixels.
     let scene = reference_scene(true);
     let (fb, stats) = render(&scene, &Settings::default(), W, H);
     assert_eq!(covered(&scene, &fb), 11_741);

@@ -1,14 +1,13 @@
 //! What the user asked for: every key, mouse report and paste becomes an `Action`.
 //!
-//! Adding a control is one `Action` variant, one arm in [`action_for_key`]
-//! and one arm in `update`.
+//! Adding a control is one `Action` variant, one row in the key table
+//! ([`super::keys::KEYS`]) and one arm in `update`.
 
-use crossterm::event::{
-    Event, KeyCode, KeyEvent, KeyEventKind, KeyModifiers, MouseButton, MouseEventKind,
-};
+use crossterm::event::{Event, MouseButton, MouseEventKind};
 
-use super::state::State;
+use super::state::{FrameDone, State};
 use crate::scene::{ModelChoice, SceneKind};
+use crate::term::pacing::LinkInfo;
 
 /// Which button drags.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -42,8 +41,12 @@ pub enum Action {
         axis: usize,
         degrees: f32,
     },
-    /// `r`: back to the start orientation, auto-rotation off.
+    /// `r`: back to the start orientation and distance, auto-rotation off.
     ResetView,
+    /// Wheel up or `i`: the camera one step closer.
+    ZoomIn,
+    /// Wheel down or `I`: the camera one step farther.
+    ZoomOut,
     /// Space.
     ToggleAutoRotate,
     /// Auto-rotation advances by `seconds` of time.
@@ -136,13 +139,24 @@ pub enum Action {
     Resize,
     /// Scroll the help by this many lines (arrows, pages, Home/End while it is open).
     HelpScroll(i32),
+    /// The help on this screen scrolls at most this far (the loop reports
+    /// it before each frame, so scrolling back responds at once).
+    HelpFits(u16),
+    /// A frame is about to be drawn: whether its picture is a preview, and
+    /// whether it only redraws the text while no frames flow (no rate then).
+    FrameStart {
+        preview: bool,
+        idle: bool,
+    },
+    /// A frame was written: the link's figures, and the frame's cost
+    /// (`None` for a redraw of the text only).
+    FrameEnd {
+        link: LinkInfo,
+        frame: Option<Box<FrameDone>>,
+    },
 }
 
-/// Lines PgUp / PgDn scroll the help.
-const HELP_PAGE: i32 = 8;
-
-/// Degrees an arrow key turns the model.
-pub const ARROW_STEP: f32 = 5.0;
+pub use super::keys::{ARROW_STEP, action_for_key};
 
 /// The action a terminal event asks for in this state, if any.
 pub fn action_for_event(state: &State, event: &Event) -> Option<Action> {
@@ -172,107 +186,13 @@ pub fn action_for_event(state: &State, event: &Event) -> Option<Action> {
                     button(b).map(|button| Action::MouseDrag { button, col, row })
                 }
                 MouseEventKind::Up(_) => Some(Action::MouseUp),
+                MouseEventKind::ScrollUp => Some(Action::ZoomIn),
+                MouseEventKind::ScrollDown => Some(Action::ZoomOut),
                 _ => None,
             }
         }
         Event::Paste(text) => Some(Action::Paste(text.clone())),
         Event::Resize(..) => Some(Action::Resize),
-        _ => None,
-    }
-}
-
-/// The action a key asks for. Keys `/ k` are kept for the texture path
-/// and cost panel.
-pub fn action_for_key(state: &State, key: &KeyEvent) -> Option<Action> {
-    if key.kind == KeyEventKind::Release {
-        return None;
-    }
-    let ctrl = key.modifiers.contains(KeyModifiers::CONTROL);
-    if ctrl && matches!(key.code, KeyCode::Char('c') | KeyCode::Char('C')) {
-        return Some(Action::Quit);
-    }
-    if key.modifiers.contains(KeyModifiers::ALT) {
-        return None;
-    }
-    if state.prompt.is_some() {
-        return match key.code {
-            KeyCode::Enter => Some(Action::PromptSubmit),
-            KeyCode::Esc => Some(Action::PromptCancel),
-            KeyCode::Backspace => Some(Action::PromptBackspace),
-            KeyCode::Char(c) if !ctrl => Some(Action::PromptInput(c)),
-            _ => None,
-        };
-    }
-    if state.panel.focus.is_some() {
-        return match key.code {
-            KeyCode::Tab => Some(Action::PanelNext),
-            KeyCode::BackTab => Some(Action::PanelPrev),
-            KeyCode::Enter => Some(Action::PanelApply),
-            KeyCode::Esc => Some(Action::PanelCancel),
-            KeyCode::Backspace => Some(Action::PanelBackspace),
-            KeyCode::Char(c) if !ctrl => Some(Action::PanelInput(c)),
-            _ => None,
-        };
-    }
-    if ctrl {
-        return None;
-    }
-    let step = |axis: usize, degrees: f32| Some(Action::RotateStep { axis, degrees });
-    if state.help {
-        // The open help takes the scrolling keys (it may not fit the screen).
-        let lines = match key.code {
-            KeyCode::Up => Some(-1),
-            KeyCode::Down => Some(1),
-            KeyCode::PageUp => Some(-HELP_PAGE),
-            KeyCode::PageDown => Some(HELP_PAGE),
-            KeyCode::Home => Some(i32::MIN),
-            KeyCode::End => Some(i32::MAX),
-            _ => None,
-        };
-        if let Some(lines) = lines {
-            return Some(Action::HelpScroll(lines));
-        }
-    }
-    match key.code {
-        KeyCode::Char('q') => Some(Action::Quit),
-        KeyCode::Esc if state.help => Some(Action::CloseHelp),
-        KeyCode::Esc => Some(Action::Quit),
-        KeyCode::Char('m') => Some(Action::CycleShading),
-        KeyCode::Char('n') => Some(Action::ToggleNormals),
-        KeyCode::Char('t') => Some(Action::ToggleTexture),
-        KeyCode::Char('c') => Some(Action::ToggleColors),
-        KeyCode::Char('b') => Some(Action::ToggleBump),
-        KeyCode::Char('+') | KeyCode::Char('=') => Some(Action::BumpStronger),
-        KeyCode::Char('-') | KeyCode::Char('_') => Some(Action::BumpWeaker),
-        KeyCode::Left => step(1, -ARROW_STEP),
-        KeyCode::Right => step(1, ARROW_STEP),
-        KeyCode::Up => step(0, -ARROW_STEP),
-        KeyCode::Down => step(0, ARROW_STEP),
-        KeyCode::PageUp => step(2, ARROW_STEP),
-        KeyCode::PageDown => step(2, -ARROW_STEP),
-        KeyCode::Char('r') => Some(Action::ResetView),
-        KeyCode::Char(' ') => Some(Action::ToggleAutoRotate),
-        KeyCode::Char('s') => Some(Action::SavePng),
-        KeyCode::Char('f') => Some(Action::CycleFilter),
-        KeyCode::Char('x') => Some(Action::NextTexture),
-        KeyCode::Char('X') => Some(Action::PrevTexture),
-        KeyCode::Char('R') => Some(Action::ReloadTexture),
-        KeyCode::Char('/') => Some(Action::OpenPrompt),
-        KeyCode::Char('e') => Some(Action::CycleTechnique),
-        KeyCode::Char('v') => Some(Action::ToggleLightVector),
-        KeyCode::Char('h') => Some(Action::ToggleHeightDerivative),
-        KeyCode::Char('a') => Some(Action::CycleAntiAlias),
-        KeyCode::Char('d') => Some(Action::CycleDisplay),
-        KeyCode::Char('l') => Some(Action::ToggleLights),
-        KeyCode::Char('L') => Some(Action::ToggleAttenuation),
-        KeyCode::Char(c @ '1'..='4') => Some(Action::ToggleLight(c as usize - '1' as usize)),
-        KeyCode::Char('z') => Some(Action::TogglePlasmaNormal),
-        KeyCode::Char('o') => Some(Action::NextModel),
-        KeyCode::Char('p') => Some(Action::NextScene),
-        KeyCode::Char('?') => Some(Action::ToggleHelp),
-        KeyCode::Char('k') => Some(Action::ToggleCost),
-        KeyCode::Tab => Some(Action::PanelNext),
-        KeyCode::BackTab => Some(Action::PanelPrev),
         _ => None,
     }
 }

@@ -1,5 +1,9 @@
 //! The event loop: wait for input, apply it, render once, write once.
 //!
+//! The loop never writes the state itself: what it learns (input, a save's
+//! outcome, a frame's cost, the screen's size) goes through `update` as an
+//! [`Action`].
+//!
 //! Idle means blocked on the channel: no frame, no CPU. Frames are paced by
 //! the terminal itself (see [`crate::term::pacing`]): each one ends with a
 //! query, and the next waits for its reply. Whatever arrives meanwhile
@@ -22,7 +26,7 @@ use ratatui::Terminal;
 use super::action::{Action, action_for_event};
 use super::cost::FrameCost;
 use super::stage::Stage;
-use super::state::{Command, Look, State, update};
+use super::state::{Command, FrameDone, Look, State, update};
 use super::view;
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::scene::SceneKind;
@@ -325,9 +329,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             let size = self.terminal.size()?;
             // The help cannot scroll past what this screen needs: keep the
             // state there so the first key back moves it.
-            state.help_scroll = state
-                .help_scroll
-                .min(view::help_max_scroll(size.width, size.height));
+            update(
+                state,
+                Action::HelpFits(view::help_max_scroll(size.width, size.height)),
+            );
             let areas = view::areas(ratatui::layout::Rect::new(0, 0, size.width, size.height));
             let (w, h) = view::framebuffer_size(areas.viewport);
             let generation = self.textures.map_or(0, |t| t.borrow().generation());
@@ -355,11 +360,15 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 rendered = Some(key);
                 previewing = cheaper;
             }
-            state.frame.preview = previewing;
-            if status_only {
-                // Drawn only once nothing else is due: no frames are flowing.
-                state.frame.fps = None;
-            }
+            // A status-only redraw comes once nothing else is due: no
+            // frames are flowing.
+            update(
+                state,
+                Action::FrameStart {
+                    preview: previewing,
+                    idle: status_only,
+                },
+            );
             let encode_start = Instant::now();
             let backend = self.terminal.backend_mut();
             // Only the plasma asks for every pointer motion.
@@ -388,20 +397,31 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 self.pacer.sent(write_start, 0, true);
             }
             self.pacer.sent(write_start, bytes, asks);
-            state.link = self.pacer.info();
+            // A status-only redraw changes only the link's figures: the
+            // frame's keep describing the picture.
+            let frame = (!status_only).then(|| {
+                Box::new(FrameDone {
+                    cost: FrameCost::new(
+                        &stats,
+                        write_start - encode_start,
+                        done - write_start,
+                        bytes,
+                    ),
+                    time: done - start,
+                    bytes,
+                    fps: clock.tick(done),
+                })
+            });
+            update(
+                state,
+                Action::FrameEnd {
+                    link: self.pacer.info(),
+                    frame,
+                },
+            );
             if status_only {
-                // Only the figures changed: they keep describing the picture.
                 continue;
             }
-            state.costs.push(FrameCost::new(
-                &stats,
-                write_start - encode_start,
-                done - write_start,
-                bytes,
-            ));
-            state.frame.frame_time = done - start;
-            state.frame.bytes = bytes;
-            state.frame.fps = clock.tick(done);
             if new_picture && !previewing {
                 exact_bytes = Some(bytes);
             }

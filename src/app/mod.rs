@@ -4,6 +4,7 @@
 pub mod action;
 pub mod cost;
 pub mod event_loop;
+pub mod keys;
 pub mod stage;
 pub mod state;
 pub mod view;
@@ -47,7 +48,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(std::fs::File::open("/dev/tty").context("no terminal to read keys from")?)
     };
     let settings = cli.view.settings();
-    let mut state = State::new(settings, color_depth(cli.color));
+    let mut state = State::new(settings, color_depth(cli.color)).with_distance(cli.view.distance);
     state.dither = cli.dither;
     // The first image that loads is applied; the others wait for the texture list.
     let (textures, errors) =

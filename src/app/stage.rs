@@ -8,7 +8,7 @@ use crate::framebuffer::Framebuffer;
 use crate::render::Renderer;
 use crate::sanitize::clean;
 use crate::scene::obj::ObjError;
-use crate::scene::{Built, ModelChoice, SceneKind, build_scene};
+use crate::scene::{Built, Camera, ModelChoice, SceneKind, build_scene};
 use crate::stats::FrameStats;
 use crate::texture::Texture;
 
@@ -22,6 +22,16 @@ pub struct Stage {
     /// Kept across the plasma (which has none) for the next 3D scene.
     texture: Arc<Texture>,
     all_faces: bool,
+    /// The scene's own camera, which the zoom moves along its line of sight.
+    camera: Camera,
+}
+
+/// The camera a built scene comes with (the plasma has none).
+fn camera_of(built: &Built) -> Camera {
+    match built {
+        Built::Scene(scene) => scene.camera,
+        Built::Plasma(_) => Camera::default(),
+    }
 }
 
 impl Stage {
@@ -34,6 +44,7 @@ impl Stage {
     ) -> Result<Stage, ObjError> {
         let built = build_scene(kind, &model, texture.clone(), all_faces)?;
         Ok(Stage {
+            camera: camera_of(&built),
             built,
             kind,
             model,
@@ -59,6 +70,7 @@ impl Stage {
         }
         let built = build_scene(kind, model, self.texture.clone(), self.all_faces)
             .map_err(|e| clean(&e.to_string()))?;
+        self.camera = camera_of(&built);
         self.built = built;
         self.kind = kind;
         self.model = model.clone();
@@ -87,6 +99,7 @@ impl Stage {
                 for (light, on) in scene.lights.iter_mut().zip(state.light_on) {
                     light.enabled = on;
                 }
+                scene.camera = self.camera.at_distance(state.distance);
                 renderer.render(scene, &state.settings, fb)
             }
             Built::Plasma(plasma) => {

@@ -6,10 +6,11 @@ use std::time::Duration;
 use glam::Vec3;
 
 use super::action::{Action, DragButton};
-use super::cost::CostHistory;
+use super::cost::{CostHistory, FrameCost};
 use crate::cli::parse_finite;
 use crate::plasma::PlasmaNormal;
 use crate::sanitize::clean;
+use crate::scene::camera::{MAX_DISTANCE, MIN_DISTANCE, REFERENCE_DISTANCE};
 use crate::scene::{ModelChoice, SceneKind};
 use crate::settings::{Settings, normalize_degrees};
 use crate::term::ColorDepth;
@@ -27,6 +28,9 @@ pub const BUMP_FACTOR: f32 = 1.25;
 pub const BUMP_MAX: f32 = 1.0;
 /// Below this `-` goes to 0 (no bump); from 0, `+` starts here.
 pub const BUMP_MIN: f32 = 0.0005;
+/// A zoom step (wheel notch, `i` or `I`) divides or multiplies the camera
+/// distance by this.
+pub const ZOOM_STEP: f32 = 1.125;
 /// Longest text an orientation field takes.
 const FIELD_MAX: usize = 24;
 /// Axis names of the orientation fields.
@@ -68,6 +72,19 @@ pub struct FrameInfo {
     pub preview: bool,
 }
 
+/// What writing a frame cost, as the loop reports it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameDone {
+    /// Time per stage, for the cost panel.
+    pub cost: FrameCost,
+    /// Render, encode and write time.
+    pub time: Duration,
+    /// Bytes sent to the terminal.
+    pub bytes: u64,
+    /// Frames in the last second (`None` for a lone frame).
+    pub fps: Option<f32>,
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct State {
     pub settings: Settings,
@@ -107,6 +124,11 @@ pub struct State {
     pub pointer: Option<(u16, u16)>,
     /// Key `/`: the texture path being typed (`None`: no prompt).
     pub prompt: Option<String>,
+    /// Camera distance in reference units (wheel, `i` / `I`): 5 is the
+    /// reference view; kept within [`MIN_DISTANCE`]..=[`MAX_DISTANCE`].
+    pub distance: f32,
+    /// Distance `r` goes back to (`--distance`).
+    pub start_distance: f32,
 }
 
 /// More lines than the help can ever have (the view clamps to what the
@@ -126,6 +148,8 @@ pub struct Look {
     pub light_on: [bool; 4],
     pub plasma_normal: PlasmaNormal,
     pub pointer: Option<(u16, u16)>,
+    /// Camera distance (not in the plasma, which has no camera).
+    pub distance: Option<f32>,
 }
 
 /// Something `update` asks the event loop to do.
@@ -169,6 +193,8 @@ impl State {
             plasma_normal: PlasmaNormal::Table,
             pointer: None,
             prompt: None,
+            distance: REFERENCE_DISTANCE,
+            start_distance: REFERENCE_DISTANCE,
         }
     }
 
@@ -181,6 +207,7 @@ impl State {
             light_on: self.light_on,
             plasma_normal: self.plasma_normal,
             pointer: self.pointer.filter(|_| self.scene == SceneKind::Plasma),
+            distance: Some(self.distance).filter(|_| self.scene != SceneKind::Plasma),
         }
     }
 
@@ -191,6 +218,18 @@ impl State {
             (ModelChoice::Sphere, Some(path)) => ModelChoice::Obj(path.clone()),
             (m, _) => m.next(),
         }
+    }
+
+    /// Starts at `distance` (`--distance`), which `r` comes back to.
+    pub fn with_distance(mut self, distance: f32) -> Self {
+        let d = if distance.is_finite() {
+            distance.clamp(MIN_DISTANCE, MAX_DISTANCE)
+        } else {
+            REFERENCE_DISTANCE
+        };
+        self.distance = d;
+        self.start_distance = d;
+        self
     }
 
     /// Text shown in orientation field `axis`: the edit, or the live angle.
@@ -250,8 +289,11 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
             d[axis.min(2)] = degrees;
             state.rotate(d);
         }
+        Action::ZoomIn => state.distance = (state.distance / ZOOM_STEP).max(MIN_DISTANCE),
+        Action::ZoomOut => state.distance = (state.distance * ZOOM_STEP).min(MAX_DISTANCE),
         Action::ResetView => {
             state.settings.rotation = state.start_rotation;
+            state.distance = state.start_distance;
             state.auto_rotate = false;
             state.drag = None;
         }
@@ -434,6 +476,22 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
             }
         }
         Action::Resize => {}
+        Action::HelpFits(max) => state.help_scroll = state.help_scroll.min(max),
+        Action::FrameStart { preview, idle } => {
+            state.frame.preview = preview;
+            if idle {
+                state.frame.fps = None;
+            }
+        }
+        Action::FrameEnd { link, frame } => {
+            state.link = link;
+            if let Some(f) = frame {
+                state.costs.push(f.cost);
+                state.frame.frame_time = f.time;
+                state.frame.bytes = f.bytes;
+                state.frame.fps = f.fps;
+            }
+        }
     }
     None
 }

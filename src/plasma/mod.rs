@@ -1,4 +1,4 @@
-//! The 2D bump effect of seed 001 (Plouf, PrograZine #10): a plasma height
+//! The 2D bump effect of docs/plasma.md ([001], Plouf, PrograZine #10): a plasma height
 //! field lit by a light that follows the mouse pointer.
 //!
 //! Per pixel the article takes the height differences to the right/left and

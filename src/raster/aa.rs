@@ -1,4 +1,4 @@
-//! Anti-aliasing (seed 003: SSAA, MSAA).
+//! Anti-aliasing (docs/antialiasing.md: SSAA, MSAA).
 //!
 //! - Supersampling k×k: the frame is drawn at k times the resolution into a
 //!   scratch framebuffer, then each pixel is the exact box average of its k²

@@ -1,4 +1,4 @@
-//! The points and lines display modes (seed 000 §3.2.3): each visible
+//! The points and lines display modes ([000] §3.2.3, docs/sources.md): each visible
 //! triangle's vertices as dots, or its edges as lines.
 //!
 //! "Visible" means what fill draws before depth: back faces of closed meshes

@@ -25,7 +25,7 @@ pub enum SceneKind {
     Cube,
     /// The cube over a floor: the strong white light casts its shadow.
     Shadow,
-    /// The 2D bump effect of seed 001, lit from the pointer.
+    /// The 2D bump effect (docs/plasma.md), lit from the pointer.
     Plasma,
 }
 

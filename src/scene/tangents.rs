@@ -1,5 +1,5 @@
 //! Tangent frames: ∂P/∂u and ∂P/∂v per face from positions and UVs, then
-//! accumulated per vertex and renormalised (seed 004 §III-C).
+//! accumulated per vertex and renormalised (docs/bump-dot3.md, from [004] §III-C).
 //!
 //! Both axes are kept, never rebuilt as N × T, so mirrored UVs keep their
 //! handedness: a face whose texture is flipped gets Pu × Pv pointing inward,
@@ -67,7 +67,7 @@ fn in_plane(v: Vec3, n: Vec3) -> Option<Vec3> {
 
 /// Per-vertex tangents from the triangles that use each vertex.
 ///
-/// As in seed 004: each face's Pu and Pv are normalised and summed at its
+/// As in [004] (docs/sources.md): each face's Pu and Pv are normalised and summed at its
 /// three vertices, then the sums are renormalised. Here they are also made
 /// perpendicular to the vertex normal (the shading frame must lie in the
 /// tangent plane) and given back a length, the mean of the faces' |Pu| and

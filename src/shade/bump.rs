@@ -1,4 +1,4 @@
-//! Blinn's perturbed normal (seed 000 §1.2, §2.1).
+//! Blinn's perturbed normal (docs/bump-blinn.md).
 
 use glam::Vec3;
 

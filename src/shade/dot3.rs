@@ -1,4 +1,4 @@
-//! Dot3 normal mapping (seeds 000 §1.3.2, 004): a normal map derived from the
+//! Dot3 normal mapping (docs/bump-dot3.md): a normal map derived from the
 //! height map, dotted with the light vector expressed in tangent space.
 //!
 //! Two ways to get the tangent-space light vector, as the tutorial shows:

@@ -1,4 +1,4 @@
-//! Emboss bump mapping (seed 000 §1.3.1): the height map shifted toward the
+//! Emboss bump mapping (docs/bump-emboss.md): the height map shifted toward the
 //! light in texture space and subtracted from itself.
 //!
 //! F(uv) − F(uv + Δ), with Δ about one texel along the light's direction in

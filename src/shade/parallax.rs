@@ -1,4 +1,4 @@
-//! Parallax mapping and parallax occlusion mapping (seed 003): the texture
+//! Parallax mapping and parallax occlusion mapping (docs/bump-parallax.md): the texture
 //! coordinate moves along the view direction in tangent space, as if the
 //! height map were carved into the face.
 //!

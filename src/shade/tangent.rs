@@ -1,4 +1,4 @@
-//! The tangent frame T, B, N at a pixel (seeds 003, 004 §III), and the
+//! The tangent frame T, B, N at a pixel (docs/bump-dot3.md), and the
 //! interpolated surface the bump techniques start from.
 //!
 //! The frame is orthonormal: T is ∂P/∂u made perpendicular to N, and

@@ -1,4 +1,4 @@
-//! Shadow mapping in two passes (seed 003): the depth of the casters seen
+//! Shadow mapping in two passes (docs/shadows.md): the depth of the casters seen
 //! from the strong light, then a lookup per shaded point that darkens that
 //! light's contribution only.
 //!

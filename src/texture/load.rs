@@ -2,7 +2,7 @@
 //! crate decodes, plus XPM, with limits so a hostile file costs nothing.
 //!
 //! RGB is the colour; the height (bump map) is the alpha channel, or the
-//! mean of R, G and B when the picture has no alpha (seed 000 §3.2.4).
+//! mean of R, G and B when the picture has no alpha ([000] §3.2.4, docs/sources.md).
 
 use std::fs::File;
 use std::io::{Cursor, Read};

@@ -1,6 +1,6 @@
 //! Mipmap filtering: the level of detail from a pixel's footprint, trilinear
 //! between two levels, anisotropic as several trilinear taps along the
-//! footprint's long axis (seed 003; the EXT_texture_filter_anisotropic rule).
+//! footprint's long axis (docs/filters.md; the EXT_texture_filter_anisotropic rule).
 //!
 //! A level of detail ≤ 0 means the pixel is not minified: the reads then
 //! touch only the base level and never build the chain.

@@ -1,5 +1,5 @@
 //! The dot3 normal map: tangent-space unit normals derived from the height
-//! map (seeds 000 §1.3.2, 003 "obtention de la carte de normales").
+//! map (docs/bump-dot3.md).
 //!
 //! One derivation serves colour and grey images alike, since the height is
 //! the alpha channel (or the mean of R, G, B when an image has none).

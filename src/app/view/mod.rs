@@ -1,0 +1,135 @@
+//! What the screen shows: the picture, the line above the status
+//! ([`fields`]), the status line ([`status`]), the panels over the picture
+//! ([`panels`]) and the help overlay ([`help`]). Drawing only: every
+//! decision is in `State`.
+
+mod fields;
+pub mod help;
+mod panels;
+pub mod status;
+mod wrap;
+
+use ratatui::Frame;
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::style::{Modifier, Style};
+use ratatui::widgets::{Clear, Paragraph, Widget};
+
+use super::state::State;
+use crate::framebuffer::{Framebuffer, Rgb};
+use crate::term::HalfBlocks;
+use fields::{message_above, panel_line, prompt_line, with_message};
+use help::help;
+pub use help::{help_lines, help_max_scroll};
+use panels::cost_panel;
+use status::status_choice;
+pub use status::{Detail, cost_text, format_bytes, status_line, status_modes, status_text};
+
+/// Screens narrower than this get the short orientation fields.
+pub const COMPACT_BELOW: u16 = 80;
+
+/// Where each part of the screen goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Areas {
+    /// The picture (may be empty).
+    pub viewport: Rect,
+    /// Orientation fields and messages.
+    pub panel: Option<Rect>,
+    pub status: Option<Rect>,
+}
+
+/// Splits the screen: picture on top, then the orientation line, then the
+/// status line. Small terminals drop the orientation line (height 2) and
+/// the status line too (height 1: the picture wins).
+pub fn areas(screen: Rect) -> Areas {
+    let row = |y: u16| Rect::new(screen.x, screen.y + y, screen.width, 1);
+    match screen.height {
+        0 | 1 => Areas {
+            viewport: screen,
+            panel: None,
+            status: None,
+        },
+        2 => Areas {
+            viewport: Rect {
+                height: 1,
+                ..screen
+            },
+            panel: None,
+            status: Some(row(1)),
+        },
+        h => Areas {
+            viewport: Rect {
+                height: h - 2,
+                ..screen
+            },
+            panel: Some(row(h - 2)),
+            status: Some(row(h - 1)),
+        },
+    }
+}
+
+/// Framebuffer size for a viewport: a column is a pixel wide and a row two
+/// pixels tall, so pixels are about square and the aspect is right.
+pub fn framebuffer_size(viewport: Rect) -> (usize, usize) {
+    (viewport.width as usize, viewport.height as usize * 2)
+}
+
+/// Draws the whole screen.
+pub fn view(frame: &mut Frame, state: &State, fb: &Framebuffer, background: Rgb) {
+    let screen = frame.area();
+    let buf = frame.buffer_mut();
+    draw(state, fb, background, screen, buf);
+}
+
+/// [`view`] on a bare buffer (the benchmark and tests use it directly).
+pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf: &mut Buffer) {
+    let a = areas(screen);
+    HalfBlocks {
+        fb,
+        depth: state.depth,
+        dither: state.dither,
+        pad: background,
+    }
+    .render(a.viewport, buf);
+    let (status_text, detail) = status_choice(state, screen.width as usize);
+    // Narrow screens shorten the fields; a status line without the frame
+    // cost leaves it to the line above.
+    let compact = screen.width < COMPACT_BELOW;
+    let cost_above = !detail.is_some_and(Detail::has_cost);
+    if let Some(line) = prompt_line(state) {
+        // The prompt takes the line above the status (or the status itself).
+        if let Some(area) = a.panel.or(a.status) {
+            Clear.render(area, buf);
+            line.render(area, buf);
+        }
+        if a.panel.is_none() {
+            return help(state, screen, buf);
+        }
+    } else if let Some(panel) = a.panel {
+        let line = panel_line(state, compact, cost_above);
+        let long = state
+            .message
+            .as_deref()
+            .filter(|m| line.width() + 2 + m.chars().count() > panel.width as usize);
+        match long {
+            // Too long for the rest of the line: the whole message, wrapped,
+            // on the rows just above it.
+            Some(msg) => {
+                line.render(panel, buf);
+                message_above(msg, panel, a.viewport, buf);
+            }
+            None => with_message(line, state).render(panel, buf),
+        }
+    } else if let (Some(status), Some(_)) = (a.status, state.panel.focus) {
+        // No room for both: while editing, the fields take the status line.
+        panel_line(state, true, false).render(status, buf);
+        return help(state, screen, buf);
+    }
+    if let Some(status) = a.status {
+        Paragraph::new(status_text)
+            .style(Style::new().add_modifier(Modifier::REVERSED))
+            .render(status, buf);
+    }
+    cost_panel(state, a.viewport, buf);
+    help(state, screen, buf);
+}

@@ -1,0 +1,29 @@
+//! Panels drawn over the picture: the cost panel (key `k`).
+
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::widgets::{Clear, Widget};
+
+use crate::app::cost::CostPanel;
+use crate::app::state::State;
+
+/// The cost panel (key `k`) in the top-right corner of the picture.
+pub(super) fn cost_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
+    if !state.cost_panel {
+        return;
+    }
+    let width = 44.min(viewport.width);
+    let height = 18.min(viewport.height);
+    let area = Rect::new(
+        viewport.x + viewport.width - width,
+        viewport.y,
+        width,
+        height,
+    );
+    Clear.render(area, buf);
+    CostPanel {
+        history: &state.costs,
+        link: &state.link,
+    }
+    .render(area, buf);
+}
