@@ -56,6 +56,38 @@ pub trait PixelShader {
     }
 }
 
+/// Why a frame of `plan` shades one pixel at a time, or `None` when its
+/// triangles go through the eight-pixel packets (all but those cut by the
+/// near plane, which keep their own barycentric mapping). Mirrors the
+/// kernels' `packets` and the rasterizer's conditions.
+pub fn one_pixel_reason(plan: &Plan) -> Option<&'static str> {
+    use crate::settings::{AntiAlias, Display, Shading, Technique};
+    let textured = plan.texture;
+    let bumped = plan.bump && plan.shading == Shading::Phong;
+    if plan.display != Display::Fill {
+        return Some("points and lines are drawn, not shaded");
+    }
+    if plan.aa == AntiAlias::Msaa4 {
+        return Some("MSAA: coverage and depth per sample");
+    }
+    if plan.footprint {
+        return Some("mip filters: a level and footprint per pixel");
+    }
+    if bumped && plan.technique != Technique::Blinn {
+        return Some("emboss, dot3, parallax and POM have no packet kernel yet");
+    }
+    if plan.shadow_light.is_some() && plan.shading == Shading::Phong {
+        return Some("shadow-map lookups per pixel");
+    }
+    if textured && !bilinear_colour(plan) {
+        return Some("nearest colour reads have no packet kernel yet");
+    }
+    if bumped && !bilinear_gradient(plan) {
+        return Some("the per-texel height derivative has no packet kernel yet");
+    }
+    None
+}
+
 /// A bilinear read that a packet can make: the plan's filter is bilinear.
 #[inline]
 fn bilinear_colour(plan: &Plan) -> bool {
