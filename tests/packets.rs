@@ -123,7 +123,30 @@ fn every_packet_kernel_matches_the_one_pixel_loop() {
             }
         }
     }
-    // The bumped kernel with nearest colour reads packets only without texture.
+    // Every filter and height derivative: the mip filters read per lane
+    // with the lane's footprint, like the one-pixel kernels.
+    for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+        for filter in [Filter::Nearest, Filter::Trilinear, Filter::Anisotropic] {
+            for height_derivative in [HeightDerivative::Texel, HeightDerivative::Filtered] {
+                for (texture, bump) in [(true, true), (true, false), (false, true)] {
+                    check(
+                        Settings {
+                            shading,
+                            filter,
+                            height_derivative,
+                            texture,
+                            bump,
+                            // Turned far over: minified, so the mip chain is read.
+                            rotation: Vec3::new(70.0, 35.0, 10.0),
+                            ..Settings::default()
+                        },
+                        48,
+                        36,
+                    );
+                }
+            }
+        }
+    }
     check(
         Settings {
             texture: false,

@@ -320,15 +320,14 @@ mod tests {
         );
         let reason = |s: Settings| one_pixel_reason(&Plan::new(&scene, &s));
         assert_eq!(reason(Settings::default()), None);
+        for filter in [Filter::Nearest, Filter::Trilinear, Filter::Anisotropic] {
+            let s = Settings {
+                filter,
+                ..Settings::default()
+            };
+            assert_eq!(reason(s), None, "{s:?}");
+        }
         for s in [
-            Settings {
-                filter: Filter::Trilinear,
-                ..Settings::default()
-            },
-            Settings {
-                filter: Filter::Nearest,
-                ..Settings::default()
-            },
             Settings {
                 aa: AntiAlias::Msaa4,
                 ..Settings::default()

@@ -77,7 +77,7 @@ pub fn raster_triangle<S: PixelShader>(
     if ya >= yb {
         return;
     }
-    if tri.unclipped && !ctx.plan.footprint && shader.packets(ctx) {
+    if tri.unclipped && shader.packets(ctx) {
         return raster_packets(tri, shader, ctx, band, counters, ya..yb);
     }
     let footprint = if S::SAMPLES_TEXTURE && ctx.plan.footprint {
@@ -139,6 +139,11 @@ fn raster_packets<S: PixelShader>(
     counters: &mut Counters,
     rows: std::ops::Range<usize>,
 ) {
+    let footprint = if S::SAMPLES_TEXTURE && ctx.plan.footprint {
+        shader.uvs().map(|uv| FootprintSetup::new(tri, uv))
+    } else {
+        None
+    };
     let inv_area = (1.0 / tri.area as f64) as f32;
     let steps = [tri.edge_steps(0), tri.edge_steps(1), tri.edge_steps(2)];
     let (x0, x1) = (tri.x0 as usize, tri.x1 as usize);
@@ -206,7 +211,15 @@ fn raster_packets<S: PixelShader>(
             }
             if live != 0 {
                 let b = packet::barycentrics(l.map(f32x8::from), tri.q);
-                let colors = shader.shade8(ctx, b, live, counters);
+                let mut fp = [Footprint::default(); LANES];
+                if let Some(f) = &footprint {
+                    // Each live lane's footprint as `shade_at` computes it.
+                    for lane in (0..LANES).filter(|k| live & (1 << k) != 0) {
+                        let w = [0, 1, 2].map(|k| l[k][lane] * tri.q[k]);
+                        fp[lane] = f.at(w, w[0] + w[1] + w[2]);
+                    }
+                }
+                let colors = shader.shade8(ctx, b, &fp, live, counters);
                 let out = &mut band.color[row + px..row + px + lanes];
                 if live == (1 << LANES) - 1 {
                     out.copy_from_slice(&colors);
