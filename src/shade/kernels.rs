@@ -373,30 +373,28 @@ impl<const TEX: bool, const BUMP: bool> PixelShader for PhongKernel<'_, TEX, BUM
                 packet::bilinear::<TEX, BUMP>(ctx.texture.base(), u, v)
             } else {
                 // Mip levels, footprints and per-texel differences: each
-                // lane reads as the one-pixel kernel does.
-                let mut t = [[0.0f32; LANES]; 5];
-                let (ua, va) = (u.to_array(), v.to_array());
-                for lane in (0..LANES).filter(|l| live & (1 << l) != 0) {
-                    let uv = Vec2::new(ua[lane], va[lane]);
-                    if TEX {
-                        let c = sample(ctx.texture, plan.filter, uv, fp[lane]);
-                        (t[0][lane], t[1][lane], t[2][lane]) = (c[0], c[1], c[2]);
+                // lane reads as the one-pixel kernel does, except the
+                // filtered derivative on the base level, which is a packet read.
+                let color = if TEX {
+                    colour8(ctx, u, v, fp, live)
+                } else {
+                    V3::splat(Vec3::ZERO)
+                };
+                let (mut fu, mut fv) = (f32x8::ZERO, f32x8::ZERO);
+                if BUMP && bilinear_gradient(plan) {
+                    let g = packet::bilinear::<false, true>(ctx.texture.base(), u, v);
+                    (fu, fv) = (g.fu, g.fv);
+                } else if BUMP {
+                    let mut g = [[0.0f32; LANES]; 2];
+                    let (ua, va) = (u.to_array(), v.to_array());
+                    let (d, f) = (plan.height_derivative, plan.filter);
+                    for lane in (0..LANES).filter(|l| live & (1 << l) != 0) {
+                        let uv = Vec2::new(ua[lane], va[lane]);
+                        (g[0][lane], g[1][lane]) = height_gradient(ctx.texture, d, f, uv, fp[lane]);
                     }
-                    if BUMP {
-                        let (d, f) = (plan.height_derivative, plan.filter);
-                        (t[3][lane], t[4][lane]) = height_gradient(ctx.texture, d, f, uv, fp[lane]);
-                    }
+                    (fu, fv) = (f32x8::from(g[0]), f32x8::from(g[1]));
                 }
-                let [red, green, blue, fu, fv] = t.map(f32x8::from);
-                packet::TexelPacket {
-                    color: V3 {
-                        x: red,
-                        y: green,
-                        z: blue,
-                    },
-                    fu,
-                    fv,
-                }
+                packet::TexelPacket { color, fu, fv }
             };
             if TEX {
                 counters.texture_samples += count;
