@@ -11,6 +11,7 @@ use crate::plan::Plan;
 use crate::raster::aa::{
     MSAA_REACH, MSAA_SAMPLES, MsaaBand, RasterTarget, resolve_box, resolve_msaa, ssaa_factor,
 };
+use crate::raster::setup::ONE;
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
 use crate::scene::{Scene, rotation_matrix};
@@ -24,13 +25,17 @@ use crate::shade::{GouraudTri, PhongTri, ShadeCtx, TexturedFlatTri, TriShader};
 use crate::shadow::{Shadow, ShadowMap};
 use crate::stats::{Counters, FrameStats};
 
-/// Rows per band: small enough to balance two or more threads on a
-/// 240-row frame, large enough that per-band overhead stays negligible.
-const BAND_ROWS: usize = 16;
+/// Bands of equal estimated work per thread: one would leave a thread idle
+/// whenever the estimate is off; a few let the first to finish take another.
+const CHUNKS_PER_THREAD: usize = 4;
 
-/// Below this much estimated work (covered bounding-box pixels, weighted by
-/// kernel cost) one thread is faster than splitting the frame.
-const PARALLEL_MIN_WORK: u64 = 16_384;
+/// Below this much estimated work (covered pixels weighted by kernel cost,
+/// plus the clear) one thread is faster than splitting the frame.
+const PARALLEL_MIN_WORK: f64 = 16_384.0;
+
+/// Work units of a row that one triangle spans, besides its pixels: finding
+/// the covered span.
+const ROW_SETUP_WORK: f64 = 4.0;
 
 /// A vertex after the model transform, in world space.
 #[derive(Clone, Copy, Debug)]
@@ -302,21 +307,15 @@ impl Renderer {
             texture: &scene.material.texture,
             shadow,
         };
-        let work: u64 = self
-            .tris
-            .iter()
-            .map(|t| {
-                let area = (t.x1 - t.x0 + 1) as u64 * (t.y1 - t.y0 + 1) as u64;
-                match self.shaders[t.shader as usize] {
-                    TriShader::Solid(_) => area / 4,
-                    _ => area,
-                }
-            })
-            .sum::<u64>()
-            + (width * height / 16) as u64;
-        let parallel = work >= PARALLEL_MIN_WORK && rayon::current_num_threads() > 1;
+        let work = RowWork::new(&self.tris, &self.shaders, width, height);
+        let threads = rayon::current_num_threads();
+        let parallel = work.total() >= PARALLEL_MIN_WORK && threads > 1;
+        let bounds = if parallel {
+            work.split(threads * CHUNKS_PER_THREAD)
+        } else {
+            vec![0, height]
+        };
 
-        let chunk = BAND_ROWS * width;
         let tris = &self.tris;
         let shaders = &self.shaders;
         if plan.aa == AntiAlias::Msaa4 {
@@ -327,23 +326,19 @@ impl Renderer {
                 self.msaa_depth.clear();
                 self.msaa_depth
                     .resize(width * height, [f32::INFINITY; MSAA_SAMPLES]);
-                self.msaa_color
-                    .chunks_mut(chunk)
-                    .zip(self.msaa_depth.chunks_mut(chunk))
-                    .enumerate()
-                    .map(|(i, (samples, depth))| MsaaBand {
-                        y0: i * BAND_ROWS,
+                split_rows(&mut self.msaa_color, width, &bounds)
+                    .zip(split_rows(&mut self.msaa_depth, width, &bounds))
+                    .map(|((y0, samples), (_, depth))| MsaaBand {
+                        y0,
                         width,
                         samples,
                         depth: Some(depth),
                     })
                     .collect()
             } else {
-                self.msaa_color
-                    .chunks_mut(chunk)
-                    .enumerate()
-                    .map(|(i, samples)| MsaaBand {
-                        y0: i * BAND_ROWS,
+                split_rows(&mut self.msaa_color, width, &bounds)
+                    .map(|(y0, samples)| MsaaBand {
+                        y0,
                         width,
                         samples,
                         depth: None,
@@ -358,23 +353,19 @@ impl Renderer {
         let mut bands: Vec<Band> = if plan.depth {
             self.depth.clear();
             self.depth.resize(width * height, f32::INFINITY);
-            fb.pixels_mut()
-                .chunks_mut(chunk)
-                .zip(self.depth.chunks_mut(chunk))
-                .enumerate()
-                .map(|(i, (color, depth))| Band {
-                    y0: i * BAND_ROWS,
+            split_rows(fb.pixels_mut(), width, &bounds)
+                .zip(split_rows(&mut self.depth, width, &bounds))
+                .map(|((y0, color), (_, depth))| Band {
+                    y0,
                     width,
                     color,
                     depth: Some(depth),
                 })
                 .collect()
         } else {
-            fb.pixels_mut()
-                .chunks_mut(chunk)
-                .enumerate()
-                .map(|(i, color)| Band {
-                    y0: i * BAND_ROWS,
+            split_rows(fb.pixels_mut(), width, &bounds)
+                .map(|(y0, color)| Band {
+                    y0,
                     width,
                     color,
                     depth: None,
@@ -383,6 +374,80 @@ impl Renderer {
         };
         draw_bands(&mut bands, parallel, tris, shaders, &ctx, background)
     }
+}
+
+/// The estimated work of each row: a triangle's covered area spread evenly
+/// over its rows (a flat colour counts a quarter: its rows are fills), a
+/// setup cost per row it spans, and the clear.
+struct RowWork {
+    /// `before[y]`: the work of rows 0..y (`height + 1` entries).
+    before: Vec<f64>,
+}
+
+impl RowWork {
+    fn new(tris: &[ScreenTri], shaders: &[TriShader], width: usize, height: usize) -> Self {
+        // Per-row increments, summed once at the end.
+        let mut delta = vec![0.0f64; height + 1];
+        let px_per_unit = 1.0 / (2 * ONE * ONE) as f64;
+        for t in tris {
+            let weight = match shaders[t.shader as usize] {
+                TriShader::Solid(_) => 0.25,
+                _ => 1.0,
+            };
+            let rows = (t.y1 - t.y0 + 1) as f64;
+            let per_row = t.area as f64 * px_per_unit * weight / rows + ROW_SETUP_WORK;
+            delta[t.y0 as usize] += per_row;
+            delta[t.y1 as usize + 1] -= per_row;
+        }
+        let clear = width as f64 / 16.0;
+        let mut before = Vec::with_capacity(height + 1);
+        let (mut sum, mut rate) = (0.0, 0.0);
+        before.push(0.0);
+        for d in &delta[..height] {
+            rate += d;
+            sum += rate.max(0.0) + clear;
+            before.push(sum);
+        }
+        RowWork { before }
+    }
+
+    fn total(&self) -> f64 {
+        *self.before.last().unwrap_or(&0.0)
+    }
+
+    /// Row bounds of at most `parts` bands of about equal work, from 0 to
+    /// the height.
+    fn split(&self, parts: usize) -> Vec<usize> {
+        let height = self.before.len() - 1;
+        let total = self.total();
+        let mut bounds = vec![0];
+        let mut y = 0;
+        for k in 1..parts {
+            let goal = total * k as f64 / parts as f64;
+            while y < height && self.before[y] < goal {
+                y += 1;
+            }
+            if y > *bounds.last().unwrap_or(&0) && y < height {
+                bounds.push(y);
+            }
+        }
+        bounds.push(height);
+        bounds
+    }
+}
+
+/// Cuts a frame-sized buffer into the bands between consecutive row
+/// `bounds`, each with its first row.
+fn split_rows<'a, T>(
+    mut buf: &'a mut [T],
+    width: usize,
+    bounds: &'a [usize],
+) -> impl Iterator<Item = (usize, &'a mut [T])> + 'a {
+    bounds.windows(2).map(move |b| {
+        let (band, rest) = std::mem::take(&mut buf).split_at_mut((b[1] - b[0]) * width);
+        buf = rest;
+        (b[0], band)
+    })
 }
 
 /// Clears each band and draws every triangle into it, in parallel or not
@@ -404,7 +469,8 @@ fn draw_bands<T: RasterTarget + Send>(
         counters
     };
     let per_band: Vec<Counters> = if parallel {
-        bands.par_iter_mut().map(draw).collect()
+        // One band per task, so an idle thread can take any band left.
+        bands.par_iter_mut().with_max_len(1).map(draw).collect()
     } else {
         bands.iter_mut().map(draw).collect()
     };

@@ -4,6 +4,8 @@
 
 mod common;
 
+use std::sync::Arc;
+
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
 use relief::framebuffer::Rgb;
@@ -14,6 +16,7 @@ use relief::settings::{Filter, HeightDerivative, Normals, Shading, Technique};
 use relief::shade::kernels::{GouraudKernel, PhongKernel};
 use relief::shade::{PixelShader, ShadeCtx, TriShader};
 use relief::stats::Counters;
+use relief::texture::Texture;
 use relief::texture::filter::Footprint;
 use relief::{Scene, Settings};
 
@@ -120,7 +123,30 @@ fn every_packet_kernel_matches_the_one_pixel_loop() {
             }
         }
     }
-    // The bumped kernel with nearest colour reads packets only without texture.
+    // Every filter and height derivative: the mip filters read per lane
+    // with the lane's footprint, like the one-pixel kernels.
+    for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+        for filter in [Filter::Nearest, Filter::Trilinear, Filter::Anisotropic] {
+            for height_derivative in [HeightDerivative::Texel, HeightDerivative::Filtered] {
+                for (texture, bump) in [(true, true), (true, false), (false, true)] {
+                    check(
+                        Settings {
+                            shading,
+                            filter,
+                            height_derivative,
+                            texture,
+                            bump,
+                            // Turned far over: minified, so the mip chain is read.
+                            rotation: Vec3::new(70.0, 35.0, 10.0),
+                            ..Settings::default()
+                        },
+                        48,
+                        36,
+                    );
+                }
+            }
+        }
+    }
     check(
         Settings {
             texture: false,
@@ -132,6 +158,27 @@ fn every_packet_kernel_matches_the_one_pixel_loop() {
         97,
         61,
     );
+}
+
+/// Textures too small for the unwrapped fast path (under 4 texels on an
+/// axis) and odd sizes, where lanes wrap at either border.
+#[test]
+fn small_and_odd_textures_match_the_one_pixel_loop() {
+    for (w, h) in [(1, 1), (2, 3), (3, 5), (4, 4), (5, 7), (17, 4)] {
+        let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * 89 % 251) as u8).collect();
+        let texture = Texture::from_rgba8("odd", w, h, &rgba);
+        let scene = Scene::cube(Arc::new(texture), true);
+        for shading in [Shading::Gouraud, Shading::Phong] {
+            let settings = Settings {
+                shading,
+                ..Settings::default()
+            };
+            let (a, b, ca, cb, packed) = both(&scene, &settings, 120, 90);
+            assert!(packed > 0);
+            assert!(a == b, "{w}x{h} {shading:?}");
+            assert_eq!(ca, cb);
+        }
+    }
 }
 
 proptest! {

@@ -9,7 +9,7 @@ use common::*;
 use glam::{Mat4, Vec2, Vec3};
 use proptest::prelude::*;
 use relief::scene::{Camera, Light, Mesh, Object, Triangle, Vertex};
-use relief::settings::{Filter, HeightDerivative, Normals, Settings, Shading};
+use relief::settings::{AntiAlias, Filter, HeightDerivative, Normals, Settings, Shading};
 use relief::texture::{Level, Texture};
 use relief::{Framebuffer, Renderer, Scene};
 
@@ -370,6 +370,11 @@ fn the_same_bits_for_any_number_of_threads() {
         Settings {
             shading: Shading::Flat,
             texture: false,
+            ..Settings::default()
+        },
+        // Bands of samples, cut at the same rows.
+        Settings {
+            aa: AntiAlias::Msaa4,
             ..Settings::default()
         },
     ] {

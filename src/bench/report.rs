@@ -139,7 +139,37 @@ pub fn text(report: &Report) -> String {
     for row in &rows {
         let _ = writeln!(out, "{}", line(row));
     }
+    for note in one_pixel_notes(report) {
+        let _ = writeln!(out, "{note}");
+    }
     out
+}
+
+/// Footnotes naming the rows shaded one pixel at a time, grouped by reason
+/// (the others shade eight pixels of a row at once).
+pub fn one_pixel_notes(report: &Report) -> Vec<String> {
+    let mut reasons: Vec<(&str, Vec<String>)> = Vec::new();
+    for (i, row) in report.rows.iter().enumerate() {
+        if let Some(reason) = row.one_pixel {
+            match reasons.iter_mut().find(|(r, _)| *r == reason) {
+                Some((_, rows)) => rows.push((i + 1).to_string()),
+                None => reasons.push((reason, vec![(i + 1).to_string()])),
+            }
+        }
+    }
+    if reasons.is_empty() {
+        return Vec::new();
+    }
+    let mut notes = vec![
+        String::new(),
+        "Shaded one pixel at a time (every other row shades eight pixels of a row at once):"
+            .to_string(),
+    ];
+    for (reason, rows) in reasons {
+        let label = if rows.len() == 1 { "row" } else { "rows" };
+        notes.push(format!("- {label} {}: {reason}", rows.join(", ")));
+    }
+    notes
 }
 
 /// Header lines as a paragraph, then a Markdown table (numbers right-aligned).
@@ -157,6 +187,9 @@ pub fn markdown(report: &Report) -> String {
     for row in all_cells(report) {
         let escaped: Vec<String> = row.iter().map(|c| c.replace('|', "\\|")).collect();
         let _ = writeln!(out, "| {} |", escaped.join(" | "));
+    }
+    for note in one_pixel_notes(report) {
+        let _ = writeln!(out, "{note}");
     }
     out
 }
@@ -243,6 +276,7 @@ mod tests {
             bytes_truecolor: 41_234.0,
             bytes_256: 20_000.0,
             plan_time: Duration::ZERO,
+            one_pixel: None,
             raster_time: d,
         }
     }
@@ -256,6 +290,62 @@ mod tests {
                 row("exact", 50.0, f64::INFINITY),
             ],
         }
+    }
+
+    #[test]
+    fn rows_shaded_one_pixel_at_a_time_are_noted_by_reason() {
+        let mut r = report();
+        assert!(one_pixel_notes(&r).is_empty());
+        assert!(!markdown(&r).contains("one pixel at a time"));
+        r.rows[0].one_pixel = Some("mip filters");
+        r.rows[2].one_pixel = Some("mip filters");
+        r.rows[1].one_pixel = Some("MSAA");
+        let notes = one_pixel_notes(&r);
+        assert!(notes.contains(&"- rows 1, 3: mip filters".to_string()));
+        assert!(notes.contains(&"- row 2: MSAA".to_string()));
+        assert!(text(&r).contains("- rows 1, 3: mip filters"));
+        assert!(markdown(&r).contains("- row 2: MSAA"));
+    }
+
+    /// The reasons follow the plan: the reference setting shades in packets,
+    /// each setting that leaves them says why.
+    #[test]
+    fn one_pixel_reasons_follow_the_settings() {
+        use crate::plan::Plan;
+        use crate::settings::{AntiAlias, Filter, Settings, Technique};
+        use crate::shade::kernels::one_pixel_reason;
+        let scene = crate::Scene::cube(
+            std::sync::Arc::new(crate::texture::procedural::brick()),
+            true,
+        );
+        let reason = |s: Settings| one_pixel_reason(&Plan::new(&scene, &s));
+        assert_eq!(reason(Settings::default()), None);
+        for filter in [Filter::Nearest, Filter::Trilinear, Filter::Anisotropic] {
+            let s = Settings {
+                filter,
+                ..Settings::default()
+            };
+            assert_eq!(reason(s), None, "{s:?}");
+        }
+        for s in [
+            Settings {
+                aa: AntiAlias::Msaa4,
+                ..Settings::default()
+            },
+            Settings {
+                technique: Technique::Pom,
+                ..Settings::default()
+            },
+        ] {
+            assert!(reason(s).is_some(), "{s:?}");
+        }
+        assert_eq!(
+            reason(Settings {
+                aa: AntiAlias::Ssaa2,
+                ..Settings::default()
+            }),
+            None
+        );
     }
 
     #[test]

@@ -105,6 +105,8 @@ pub struct Row {
     /// Mean plan and raster+shade time reported by the renderer (error pass).
     pub plan_time: Duration,
     pub raster_time: Duration,
+    /// Why this setting shades one pixel at a time (`None`: eight at a time).
+    pub one_pixel: Option<&'static str>,
 }
 
 impl Row {
@@ -306,6 +308,10 @@ fn error_pass(
             bytes_256: bytes_256 as f64 / n as f64,
             plan_time: plan_time / n as u32,
             raster_time: raster_time / n as u32,
+            one_pixel: crate::shade::kernels::one_pixel_reason(&crate::plan::Plan::new(
+                scene,
+                &config.settings,
+            )),
         },
     })
 }

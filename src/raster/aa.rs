@@ -88,6 +88,20 @@ pub fn resolve_msaa(samples: &[[Rgb; MSAA_SAMPLES]], dst: &mut [Rgb]) {
     }
 }
 
+/// `slice.fill(value)` by doubling copies: a 3-byte pixel filled one at a
+/// time costs more than its pixels' shading on a small frame, a copy of a
+/// few hundred bytes at once does not.
+fn fill<T: Copy>(slice: &mut [T], value: T) {
+    let seed = slice.len().min(64);
+    slice[..seed].fill(value);
+    let mut done = seed;
+    while done < slice.len() {
+        let n = done.min(slice.len() - done);
+        slice.copy_within(..n, done);
+        done += n;
+    }
+}
+
 /// What a triangle is drawn into: a band of pixels, or of samples.
 pub trait RasterTarget {
     /// Fills the band with the background.
@@ -104,7 +118,7 @@ pub trait RasterTarget {
 
 impl RasterTarget for Band<'_> {
     fn clear(&mut self, color: Rgb) {
-        self.color.fill(color);
+        fill(self.color, color);
     }
     #[inline]
     fn raster<S: PixelShader>(
@@ -120,7 +134,7 @@ impl RasterTarget for Band<'_> {
 
 impl RasterTarget for MsaaBand<'_> {
     fn clear(&mut self, color: Rgb) {
-        self.samples.fill([color; MSAA_SAMPLES]);
+        fill(self.samples, [color; MSAA_SAMPLES]);
     }
     #[inline]
     fn raster<S: PixelShader>(

@@ -77,7 +77,7 @@ pub fn raster_triangle<S: PixelShader>(
     if ya >= yb {
         return;
     }
-    if tri.unclipped && !ctx.plan.footprint && shader.packets(ctx) {
+    if tri.unclipped && shader.packets(ctx) {
         return raster_packets(tri, shader, ctx, band, counters, ya..yb);
     }
     let footprint = if S::SAMPLES_TEXTURE && ctx.plan.footprint {
@@ -139,13 +139,16 @@ fn raster_packets<S: PixelShader>(
     counters: &mut Counters,
     rows: std::ops::Range<usize>,
 ) {
+    let footprint = if S::SAMPLES_TEXTURE && ctx.plan.footprint {
+        shader.uvs().map(|uv| FootprintSetup::new(tri, uv))
+    } else {
+        None
+    };
     let inv_area = (1.0 / tri.area as f64) as f32;
     let steps = [tri.edge_steps(0), tri.edge_steps(1), tri.edge_steps(2)];
     let (x0, x1) = (tri.x0 as usize, tri.x1 as usize);
     let cx = tri.x0 as i64 * ONE + ONE / 2;
     let width = band.width;
-    let inside =
-        |e: &[i64; 3]| (e[0] + tri.bias[0]) | (e[1] + tri.bias[1]) | (e[2] + tri.bias[2]) >= 0;
     let at = |e: &[i64; 3], k: i64| {
         [
             e[0] + steps[0].0 * k,
@@ -153,17 +156,15 @@ fn raster_packets<S: PixelShader>(
             e[2] + steps[2].0 * k,
         ]
     };
+    let span_steps = steps.map(|s| s.0);
     for py in rows {
         let cy = py as i64 * ONE + ONE / 2;
         let e_row = tri.edges(cx, cy);
         // The covered pixels of a row are contiguous (the triangle is convex).
-        let Some(first) = (x0..=x1).find(|&px| inside(&at(&e_row, (px - x0) as i64))) else {
+        let Some((first, last)) = covered_span(&e_row, &tri.bias, &span_steps, x1 - x0) else {
             continue;
         };
-        let last = (first..=x1)
-            .rev()
-            .find(|&px| inside(&at(&e_row, (px - x0) as i64)))
-            .unwrap_or(first);
+        let (first, last) = (x0 + first, x0 + last);
         let row = (py - band.y0) * width;
         if let (Some(color), None) = (shader.solid(), band.depth.as_ref()) {
             band.color[row + first..=row + last].fill(color);
@@ -172,45 +173,96 @@ fn raster_packets<S: PixelShader>(
         }
         let mut px = first;
         while px <= last {
-            let mut live = 0u32;
+            let lanes = LANES.min(last + 1 - px);
+            let mut live = (1u32 << lanes) - 1;
             let mut l = [[0.0f32; LANES]; 3];
-            for lane in 0..LANES.min(last + 1 - px) {
-                let e = at(&e_row, (px + lane - x0) as i64);
-                if !inside(&e) {
-                    continue;
-                }
-                let lf = [
-                    e[0] as f32 * inv_area,
-                    e[1] as f32 * inv_area,
-                    e[2] as f32 * inv_area,
-                ];
-                if let Some(depth) = band.depth.as_deref_mut() {
-                    counters.depth_tests += 1;
-                    let z = lf[0] * tri.z[0] + lf[1] * tri.z[1] + lf[2] * tri.z[2];
-                    let slot = &mut depth[row + px + lane];
-                    if z < *slot {
-                        *slot = z;
-                    } else {
-                        continue;
-                    }
-                }
-                live |= 1 << lane;
+            if band.depth.is_none() {
+                // Every pixel of the span is inside. The edge values are
+                // integers below 2^53, exact in f64: e + step·lane there
+                // rounds to f32 exactly as the integer does.
+                let e = at(&e_row, (px - x0) as i64);
                 for k in 0..3 {
-                    l[k][lane] = lf[k];
+                    let (e, s) = (e[k] as f64, steps[k].0 as f64);
+                    l[k] = std::array::from_fn(|lane| (e + s * lane as f64) as f32 * inv_area);
+                }
+            } else {
+                for lane in 0..lanes {
+                    let e = at(&e_row, (px + lane - x0) as i64);
+                    let lf = [
+                        e[0] as f32 * inv_area,
+                        e[1] as f32 * inv_area,
+                        e[2] as f32 * inv_area,
+                    ];
+                    if let Some(depth) = band.depth.as_deref_mut() {
+                        counters.depth_tests += 1;
+                        let z = lf[0] * tri.z[0] + lf[1] * tri.z[1] + lf[2] * tri.z[2];
+                        let slot = &mut depth[row + px + lane];
+                        if z < *slot {
+                            *slot = z;
+                        } else {
+                            live &= !(1 << lane);
+                            continue;
+                        }
+                    }
+                    for k in 0..3 {
+                        l[k][lane] = lf[k];
+                    }
                 }
             }
             if live != 0 {
                 let b = packet::barycentrics(l.map(f32x8::from), tri.q);
-                let colors = shader.shade8(ctx, b, live, counters);
-                for (lane, c) in colors.iter().enumerate() {
-                    if live & (1 << lane) != 0 {
-                        band.color[row + px + lane] = *c;
+                let mut fp = [Footprint::default(); LANES];
+                if let Some(f) = &footprint {
+                    // Each live lane's footprint as `shade_at` computes it.
+                    for lane in (0..LANES).filter(|k| live & (1 << k) != 0) {
+                        let w = [0, 1, 2].map(|k| l[k][lane] * tri.q[k]);
+                        fp[lane] = f.at(w, w[0] + w[1] + w[2]);
+                    }
+                }
+                let colors = shader.shade8(ctx, b, &fp, live, counters);
+                let out = &mut band.color[row + px..row + px + lanes];
+                if live == (1 << LANES) - 1 {
+                    out.copy_from_slice(&colors);
+                } else {
+                    for (lane, (o, c)) in out.iter_mut().zip(colors).enumerate() {
+                        if live & (1 << lane) != 0 {
+                            *o = c;
+                        }
                     }
                 }
             }
             px += LANES;
         }
     }
+}
+
+/// The first and last pixel offsets k in 0..=len of a row whose edge values
+/// `e + step·k` (plus the fill-rule bias) are all ≥ 0, solved per edge in
+/// exact integers: the very pixels the one-pixel test accepts.
+#[inline]
+fn covered_span(
+    e: &[i64; 3],
+    bias: &[i64; 3],
+    step: &[i64; 3],
+    len: usize,
+) -> Option<(usize, usize)> {
+    let (mut lo, mut hi) = (0i64, len as i64);
+    for i in 0..3 {
+        let a = e[i] + bias[i];
+        let s = step[i];
+        if s > 0 {
+            // a + s·k ≥ 0 ⇔ k ≥ ⌈−a / s⌉.
+            let n = -a;
+            let q = n.div_euclid(s) + (n.rem_euclid(s) != 0) as i64;
+            lo = lo.max(q);
+        } else if s < 0 {
+            // a + s·k ≥ 0 ⇔ k ≤ ⌊a / −s⌋.
+            hi = hi.min(a.div_euclid(-s));
+        } else if a < 0 {
+            return None;
+        }
+    }
+    (lo <= hi).then_some((lo as usize, hi as usize))
 }
 
 /// Shades the point with screen-space barycentrics `l` (summing to 1):
@@ -239,4 +291,40 @@ pub(crate) fn shade_at<S: PixelShader>(
         None => Footprint::default(),
     };
     shader.shade(ctx, b, fp, counters)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::covered_span;
+
+    /// The span solved per edge is the run of pixels the one-pixel test
+    /// accepts, for edges rising, falling and flat, with and without bias.
+    #[test]
+    fn covered_span_is_the_run_the_pixel_test_accepts() {
+        let mut seed = 0x2545_f491_u64;
+        let mut next = |range: i64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % (2 * range as u64 + 1)) as i64 - range
+        };
+        for _ in 0..20_000 {
+            let len = next(40).unsigned_abs() as usize;
+            let step = [next(3) * 256, next(600), next(2)];
+            let e = [next(9000), next(9000), next(600)];
+            let bias = [0, -next(1).abs(), -1];
+            let inside = |k: i64| (0..3).all(|i| e[i] + bias[i] + step[i] * k >= 0);
+            let accepted: Vec<usize> = (0..=len).filter(|&k| inside(k as i64)).collect();
+            let want = accepted.first().map(|&a| (a, *accepted.last().unwrap()));
+            // Convex: the accepted pixels are contiguous.
+            if let Some((a, b)) = want {
+                assert_eq!(accepted.len(), b - a + 1);
+            }
+            assert_eq!(
+                covered_span(&e, &bias, &step, len),
+                want,
+                "{e:?} {step:?} {bias:?}"
+            );
+        }
+    }
 }

@@ -43,17 +43,64 @@ pub trait PixelShader {
         None
     }
     /// Eight pixels of a row at once, from their perspective-correct
-    /// barycentrics; `live` has a bit per covered lane (the others are
-    /// computed and thrown away, and not counted).
+    /// barycentrics and (when the plan wants them) texture footprints;
+    /// `live` has a bit per covered lane (the others are computed and
+    /// thrown away, and not counted).
     fn shade8(
         &self,
         _ctx: &ShadeCtx,
         _b: [f32x8; 3],
+        _fp: &[Footprint; LANES],
         _live: u32,
         _counters: &mut Counters,
     ) -> [Rgb; LANES] {
         unreachable!("shade8 runs only where packets() said yes")
     }
+}
+
+/// Why a frame of `plan` shades one pixel at a time, or `None` when its
+/// triangles go through the eight-pixel packets (all but those cut by the
+/// near plane, which keep their own barycentric mapping). Mirrors the
+/// kernels' `packets` and the rasterizer's conditions.
+pub fn one_pixel_reason(plan: &Plan) -> Option<&'static str> {
+    use crate::settings::{AntiAlias, Display, Shading, Technique};
+    let bumped = plan.bump && plan.shading == Shading::Phong;
+    if plan.display != Display::Fill {
+        return Some("points and lines are drawn, not shaded");
+    }
+    if plan.aa == AntiAlias::Msaa4 {
+        return Some("MSAA: coverage and depth per sample");
+    }
+    if bumped && plan.technique != Technique::Blinn {
+        return Some("emboss, dot3, parallax and POM have no packet kernel yet");
+    }
+    if plan.shadow_light.is_some() && plan.shading == Shading::Phong {
+        return Some("shadow-map lookups per pixel");
+    }
+    None
+}
+
+/// The colour texels of eight pixels (RGB): the bilinear packet read, or
+/// for the other filters each live lane's own read (mip level and
+/// footprint per pixel), exactly as the one-pixel kernels read them.
+#[inline(always)]
+fn colour8(ctx: &ShadeCtx, u: f32x8, v: f32x8, fp: &[Footprint; LANES], live: u32) -> V3 {
+    if bilinear_colour(ctx.plan) {
+        return packet::bilinear::<true, false>(ctx.texture.base(), u, v).color;
+    }
+    let mut c = [[0.0f32; LANES]; 3];
+    let (ua, va) = (u.to_array(), v.to_array());
+    for lane in (0..LANES).filter(|l| live & (1 << l) != 0) {
+        let t = sample(
+            ctx.texture,
+            ctx.plan.filter,
+            Vec2::new(ua[lane], va[lane]),
+            fp[lane],
+        );
+        (c[0][lane], c[1][lane], c[2][lane]) = (t[0], t[1], t[2]);
+    }
+    let [x, y, z] = c.map(f32x8::from);
+    V3 { x, y, z }
 }
 
 /// A bilinear read that a packet can make: the plan's filter is bilinear.
@@ -112,6 +159,7 @@ impl PixelShader for Rgb {
         &self,
         _: &ShadeCtx,
         _: [f32x8; 3],
+        _: &[Footprint; LANES],
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
@@ -139,14 +187,15 @@ impl PixelShader for TexturedFlatTri {
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.uv)
     }
-    fn packets(&self, ctx: &ShadeCtx) -> bool {
-        bilinear_colour(ctx.plan)
+    fn packets(&self, _: &ShadeCtx) -> bool {
+        true
     }
     #[inline]
     fn shade8(
         &self,
         ctx: &ShadeCtx,
         b: [f32x8; 3],
+        fp: &[Footprint; LANES],
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
@@ -154,8 +203,8 @@ impl PixelShader for TexturedFlatTri {
         counters.pixels_shaded += n;
         counters.texture_samples += n;
         let (u, v) = packet::lerp2(&b, &self.uv);
-        let t = packet::bilinear::<true, false>(ctx.texture.base(), u, v);
-        packet::finish(V3::splat(self.lit).times(t.color), live, counters)
+        let t = colour8(ctx, u, v, fp, live);
+        packet::finish(V3::splat(self.lit).times(t), live, counters)
     }
 }
 
@@ -187,14 +236,15 @@ impl<const TEX: bool> PixelShader for GouraudKernel<'_, TEX> {
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
     }
-    fn packets(&self, ctx: &ShadeCtx) -> bool {
-        !TEX || bilinear_colour(ctx.plan)
+    fn packets(&self, _: &ShadeCtx) -> bool {
+        true
     }
     #[inline]
     fn shade8(
         &self,
         ctx: &ShadeCtx,
         b: [f32x8; 3],
+        fp: &[Footprint; LANES],
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
@@ -205,7 +255,7 @@ impl<const TEX: bool> PixelShader for GouraudKernel<'_, TEX> {
         if TEX {
             counters.texture_samples += n;
             let (u, v) = packet::lerp2(&b, &tri.uv);
-            albedo = albedo.times(packet::bilinear::<true, false>(ctx.texture.base(), u, v).color);
+            albedo = albedo.times(colour8(ctx, u, v, fp, live));
         }
         packet::finish(albedo.times(packet::lerp3(&b, &tri.light)), live, counters)
     }
@@ -296,14 +346,13 @@ impl<const TEX: bool, const BUMP: bool> PixelShader for PhongKernel<'_, TEX, BUM
     }
     fn packets(&self, ctx: &ShadeCtx) -> bool {
         ctx.shadow.is_none()
-            && (!TEX || bilinear_colour(ctx.plan))
-            && (!BUMP || bilinear_gradient(ctx.plan))
     }
     #[inline]
     fn shade8(
         &self,
         ctx: &ShadeCtx,
         b: [f32x8; 3],
+        fp: &[Footprint; LANES],
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
@@ -320,7 +369,33 @@ impl<const TEX: bool, const BUMP: bool> PixelShader for PhongKernel<'_, TEX, BUM
         let mut albedo = packet::lerp3(&b, &tri.color);
         if TEX || BUMP {
             let (u, v) = packet::lerp2(&b, &tri.uv);
-            let t = packet::bilinear::<TEX, BUMP>(ctx.texture.base(), u, v);
+            let t = if (!TEX || bilinear_colour(plan)) && (!BUMP || bilinear_gradient(plan)) {
+                packet::bilinear::<TEX, BUMP>(ctx.texture.base(), u, v)
+            } else {
+                // Mip levels, footprints and per-texel differences: each
+                // lane reads as the one-pixel kernel does, except the
+                // filtered derivative on the base level, which is a packet read.
+                let color = if TEX {
+                    colour8(ctx, u, v, fp, live)
+                } else {
+                    V3::splat(Vec3::ZERO)
+                };
+                let (mut fu, mut fv) = (f32x8::ZERO, f32x8::ZERO);
+                if BUMP && bilinear_gradient(plan) {
+                    let g = packet::bilinear::<false, true>(ctx.texture.base(), u, v);
+                    (fu, fv) = (g.fu, g.fv);
+                } else if BUMP {
+                    let mut g = [[0.0f32; LANES]; 2];
+                    let (ua, va) = (u.to_array(), v.to_array());
+                    let (d, f) = (plan.height_derivative, plan.filter);
+                    for lane in (0..LANES).filter(|l| live & (1 << l) != 0) {
+                        let uv = Vec2::new(ua[lane], va[lane]);
+                        (g[0][lane], g[1][lane]) = height_gradient(ctx.texture, d, f, uv, fp[lane]);
+                    }
+                    (fu, fv) = (f32x8::from(g[0]), f32x8::from(g[1]));
+                }
+                packet::TexelPacket { color, fu, fv }
+            };
             if TEX {
                 counters.texture_samples += count;
                 albedo = albedo.times(t.color);

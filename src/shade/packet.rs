@@ -7,7 +7,7 @@
 //! very bits the one-pixel path gives. Only texel fetches are per lane.
 
 use glam::{Vec2, Vec3};
-use wide::{f32x8, i32x8};
+use wide::{f32x4, f32x8, i32x8};
 
 use crate::framebuffer::Rgb;
 use crate::plan::ActiveLight;
@@ -190,14 +190,23 @@ pub fn finish(c: V3, live: u32, counters: &mut Counters) -> [Rgb; LANES] {
     let finite = c.x.abs().simd_lt(inf) & c.y.abs().simd_lt(inf) & c.z.abs().simd_lt(inf);
     let bad = !(finite.to_bitmask()) & live;
     counters.nonfinite += bad.count_ones() as u64;
-    let q = |v: f32x8| -> [i32; LANES] {
+    let q = |v: f32x8| -> i32x8 {
         // `ge` is false for NaN, which then becomes 0 like `f32::max` makes it.
         let v = v.simd_ge(f32x8::ZERO).select(v, f32x8::ZERO);
         let v = v.fast_min(f32x8::ONE) * f32x8::splat(255.0) + f32x8::splat(0.5);
-        v.fast_trunc_int().to_array()
+        v.fast_trunc_int()
     };
-    let (r, g, b) = (q(c.x), q(c.y), q(c.z));
-    std::array::from_fn(|i| [r[i] as u8, g[i] as u8, b[i] as u8])
+    // Each lane's 0..=255 channels packed as R | G << 8 | B << 16, written
+    // four bytes at a time three bytes apart (each store's top byte is
+    // overwritten by the next lane's red).
+    let packed: [i32; LANES] = (q(c.x) | (q(c.y) << 8_i32) | (q(c.z) << 16_i32)).to_array();
+    let mut bytes = [0u8; 3 * LANES + 1];
+    for (lane, p) in packed.iter().enumerate() {
+        bytes[3 * lane..3 * lane + 4].copy_from_slice(&p.to_le_bytes());
+    }
+    let mut out = [[0u8; 3]; LANES];
+    out.as_flattened_mut().copy_from_slice(&bytes[..3 * LANES]);
+    out
 }
 
 /// What a packet reads from the texture: bilinear colour, the filtered
@@ -219,9 +228,11 @@ fn fract01(t: f32x8) -> f32x8 {
 }
 
 /// The texel-space position minus a half texel, its floor (clamped as the
-/// one-pixel read clamps it) and the fraction past that floor.
+/// one-pixel read clamps it) and the fraction past that floor; and whether
+/// every lane's floor is at least one texel from either end (1 ..= n − 3),
+/// where the neighbourhood needs no wrapping.
 #[inline(always)]
-fn axis(t: f32x8, n: usize) -> ([i32; LANES], f32x8) {
+fn axis(t: f32x8, n: usize) -> ([i32; LANES], f32x8, bool) {
     let size = f32x8::splat(n as f32);
     let x = fract01(t) * size;
     let x = x.simd_lt(size).select(x, f32x8::ZERO) - f32x8::splat(0.5);
@@ -230,8 +241,10 @@ fn axis(t: f32x8, n: usize) -> ([i32; LANES], f32x8) {
         .simd_lt(f32x8::ZERO)
         .select(f32x8::splat(-1.0), f32x8::from_i32x8(x.fast_trunc_int()));
     let i = i.fast_min(f32x8::splat(n as f32 - 1.0));
+    let interior =
+        (i.simd_ge(f32x8::ONE) & i.simd_le(f32x8::splat(n as f32 - 3.0))).to_bitmask() == 0xff;
     let ii: i32x8 = i.fast_trunc_int();
-    (ii.to_array(), x - i)
+    (ii.to_array(), x - i, interior)
 }
 
 /// Storage indices i − 1 .. i + 2 wrapped into 0..n (as the one-pixel read).
@@ -258,7 +271,10 @@ fn around(i: i32, n: usize) -> [usize; 4] {
 
 /// Bilinear colour (when `COLOR`) and the filtered height gradient (when
 /// `GRADIENT`) at eight points of `level`: `Level::bilinear_with_gradient`,
-/// lane-wise, the texels gathered one lane at a time.
+/// lane-wise. Each lane reads its texels and blends its four channels (or
+/// its four height quads) in one 4-wide register, the very operations of
+/// the one-pixel read; the results are then transposed to one register per
+/// channel.
 #[inline(always)]
 pub fn bilinear<const COLOR: bool, const GRADIENT: bool>(
     level: &Level,
@@ -266,69 +282,92 @@ pub fn bilinear<const COLOR: bool, const GRADIENT: bool>(
     v: f32x8,
 ) -> TexelPacket {
     let (w, h) = (level.width, level.height);
-    let (xi, fx) = axis(u, w);
-    let (yi, fy) = axis(v, h);
-    let t = &level.texels;
-    // Per lane: the four colour texels, and the eight heights around them.
-    let mut c = [[[0.0f32; LANES]; 4]; 4];
-    let mut hgt = [[0.0f32; LANES]; 8];
-    for lane in 0..LANES {
-        let cols = around(xi[lane], w);
-        let rows = around(yi[lane], h).map(|r| r * w);
-        let quad = [
-            t[rows[1] + cols[1]],
-            t[rows[1] + cols[2]],
-            t[rows[2] + cols[1]],
-            t[rows[2] + cols[2]],
-        ];
-        for (k, texel) in quad.iter().enumerate() {
-            for ch in 0..4 {
-                c[k][ch][lane] = texel[ch];
-            }
+    let (xi, fx, x_inside) = axis(u, w);
+    let (yi, fy, y_inside) = axis(v, h);
+    let (fx, fy) = (fx.to_array(), fy.to_array());
+    let t = &level.texels[..];
+    let mut color = [f32x4::ZERO; LANES];
+    // East, west, north and south bilinear heights of each lane.
+    let mut heights = [f32x4::ZERO; LANES];
+    if x_inside && y_inside {
+        // No lane wraps: texel (row r, column c) of the 4×4 neighbourhood
+        // is at a fixed offset from the lane's (x0, y0).
+        assert!(w >= 4 && h >= 4 && t.len() == w * h);
+        for lane in 0..LANES {
+            let centre = yi[lane] as usize * w + xi[lane] as usize;
+            let at = |r: usize, c: usize| {
+                let k = centre + r * w + c - w - 1;
+                debug_assert!(centre > w && k < t.len());
+                // SAFETY: 1 ≤ x0 ≤ w − 3 and 1 ≤ y0 ≤ h − 3 (checked by
+                // `axis` for every lane), so for r, c in 0..4 the index
+                // (y0 + r − 1)·w + x0 + c − 1 lies in 0..w·h = t.len().
+                unsafe { *t.get_unchecked(k) }
+            };
+            (color[lane], heights[lane]) = blend::<COLOR, GRADIENT>(at, fx[lane], fy[lane]);
         }
-        if GRADIENT {
-            let rim = [
-                t[rows[1] + cols[3]], // east: columns 2, 3
-                t[rows[2] + cols[3]],
-                t[rows[1] + cols[0]], // west: columns 0, 1
-                t[rows[2] + cols[0]],
-                t[rows[3] + cols[1]], // north: rows 2, 3
-                t[rows[3] + cols[2]],
-                t[rows[0] + cols[1]], // south: rows 0, 1
-                t[rows[0] + cols[2]],
-            ];
-            for (k, texel) in rim.iter().enumerate() {
-                hgt[k][lane] = texel[3];
-            }
+    } else {
+        for lane in 0..LANES {
+            let cols = around(xi[lane], w);
+            let rows = around(yi[lane], h).map(|r| r * w);
+            let at = |r: usize, c: usize| t[rows[r] + cols[c]];
+            (color[lane], heights[lane]) = blend::<COLOR, GRADIENT>(at, fx[lane], fy[lane]);
         }
     }
-    let lerp = |a: f32x8, b: f32x8, f: f32x8| a + (b - a) * f;
-    let quad = |t00: f32x8, t10: f32x8, t01: f32x8, t11: f32x8| {
-        let top = lerp(t00, t10, fx);
-        let bottom = lerp(t01, t11, fx);
-        lerp(top, bottom, fy)
-    };
-    let ld = |k: usize, ch: usize| f32x8::from(c[k][ch]);
     let color = if COLOR {
-        V3 {
-            x: quad(ld(0, 0), ld(1, 0), ld(2, 0), ld(3, 0)),
-            y: quad(ld(0, 1), ld(1, 1), ld(2, 1), ld(3, 1)),
-            z: quad(ld(0, 2), ld(1, 2), ld(2, 2), ld(3, 2)),
-        }
+        let [r, g, b, _] = channels(&color);
+        V3 { x: r, y: g, z: b }
     } else {
         V3::splat(Vec3::ZERO)
     };
     let (mut fu, mut fv) = (f32x8::ZERO, f32x8::ZERO);
     if GRADIENT {
-        let hq = |k: usize| f32x8::from(hgt[k]);
-        let (h00, h10, h01, h11) = (ld(0, 3), ld(1, 3), ld(2, 3), ld(3, 3));
-        let east = quad(h10, hq(0), h11, hq(1));
-        let west = quad(hq(2), h00, hq(3), h01);
-        let north = quad(h01, h11, hq(4), hq(5));
-        let south = quad(hq(6), hq(7), h00, h10);
+        let [east, west, north, south] = channels(&heights);
         let half = f32x8::splat(0.5);
         fu = (east - west) * half * f32x8::splat(w as f32);
         fv = (north - south) * half * f32x8::splat(h as f32);
     }
     TexelPacket { color, fu, fv }
+}
+
+/// One lane's bilinear colour (RGBA) and its east, west, north and south
+/// bilinear heights, from its 4×4 neighbourhood `at(row, column)` (the
+/// point between rows 1, 2 and columns 1, 2) and fractions.
+#[inline(always)]
+fn blend<const COLOR: bool, const GRADIENT: bool>(
+    at: impl Fn(usize, usize) -> [f32; 4],
+    fx: f32,
+    fy: f32,
+) -> (f32x4, f32x4) {
+    let lerp = |a: f32x4, b: f32x4, f: f32x4| a + (b - a) * f;
+    let (fx, fy) = (f32x4::splat(fx), f32x4::splat(fy));
+    let (t00, t10, t01, t11) = (at(1, 1), at(1, 2), at(2, 1), at(2, 2));
+    let mut color = f32x4::ZERO;
+    let mut heights = f32x4::ZERO;
+    if COLOR {
+        let top = lerp(f32x4::from(t00), f32x4::from(t10), fx);
+        let bottom = lerp(f32x4::from(t01), f32x4::from(t11), fx);
+        color = lerp(top, bottom, fy);
+    }
+    if GRADIENT {
+        let hh = |r: usize, c: usize| at(r, c)[3];
+        let (h00, h10, h01, h11) = (t00[3], t10[3], t01[3], t11[3]);
+        // Corner k of the east, west, north and south quads.
+        let c00 = f32x4::new([h10, hh(1, 0), h01, hh(0, 1)]);
+        let c10 = f32x4::new([hh(1, 3), h00, h11, hh(0, 2)]);
+        let c01 = f32x4::new([h11, hh(2, 0), hh(3, 1), h00]);
+        let c11 = f32x4::new([hh(2, 3), h01, hh(3, 2), h10]);
+        heights = lerp(lerp(c00, c10, fx), lerp(c01, c11, fx), fy);
+    }
+    (color, heights)
+}
+
+/// Eight lanes of four values each, as four registers of eight lanes.
+#[inline(always)]
+fn channels(lanes: &[f32x4; LANES]) -> [f32x8; 4] {
+    let lo = f32x4::transpose([lanes[0], lanes[1], lanes[2], lanes[3]]);
+    let hi = f32x4::transpose([lanes[4], lanes[5], lanes[6], lanes[7]]);
+    std::array::from_fn(|c| {
+        let (a, b) = (lo[c].to_array(), hi[c].to_array());
+        f32x8::new([a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]])
+    })
 }
