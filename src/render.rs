@@ -27,7 +27,7 @@ use crate::stats::{Counters, FrameStats};
 
 /// Bands of equal estimated work per thread: one would leave a thread idle
 /// whenever the estimate is off; a few let the first to finish take another.
-const CHUNKS_PER_THREAD: usize = 4;
+const CHUNKS_PER_THREAD: usize = 8;
 
 /// Below this much estimated work (covered pixels weighted by kernel cost,
 /// plus the clear) one thread is faster than splitting the frame.
