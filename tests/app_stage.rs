@@ -21,9 +21,7 @@ fn stage() -> Stage {
 
 /// A model file whose face points at a vertex that does not exist.
 fn bad_obj(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("relief-stage-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
+    let path = std::env::temp_dir().join(format!("relief-stage-{}-{name}", std::process::id()));
     std::fs::write(&path, "v 0 0 0\nv 1 0 0\nf 1 2 7\n").unwrap();
     path
 }
