@@ -14,7 +14,7 @@ use crate::raster::aa::{
 use crate::raster::setup::ONE;
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
-use crate::scene::{Scene, rotation_matrix};
+use crate::scene::{Scene, normal_matrix, rotation_matrix};
 use crate::settings::{AntiAlias, Display, LightVector, Settings, Shading, Technique};
 use crate::shade::dot3::Dot3Kernel;
 use crate::shade::emboss::EmbossKernel;
@@ -181,18 +181,9 @@ impl Renderer {
             0
         };
         for (object_index, object) in scene.objects.iter().enumerate() {
-            let model = if object.rotates {
-                object.transform * user_rotation
-            } else {
-                object.transform
-            };
+            let model = object.model_matrix(user_rotation);
             let linear = Mat3::from_mat4(model);
-            let normal_matrix = linear.inverse().transpose();
-            let normal_matrix = if normal_matrix.is_finite() {
-                normal_matrix
-            } else {
-                linear
-            };
+            let normal_matrix = normal_matrix(model);
             self.world.clear();
             self.clip.clear();
             for v in &object.mesh.vertices {

@@ -1,7 +1,7 @@
 //! The depth-only rasterizer of the shadow pass: no colour, no attributes,
 //! just the nearest distance along the light's axis per texel.
 
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat4, Vec3};
 
 use super::ShadowMap;
 use crate::scene::Mesh;
@@ -10,7 +10,7 @@ use crate::scene::Mesh;
 /// the texels written.
 pub(super) fn draw_mesh(map: &mut ShadowMap, mesh: &Mesh, model: Mat4, object: u32) -> u64 {
     let size = map.size as f32;
-    let normal_matrix = Mat3::from_mat4(model).inverse().transpose();
+    let normal_matrix = crate::scene::normal_matrix(model);
     // Per vertex: texel coordinates and 1/w (None when too near the light).
     let projected: Vec<Option<(f32, f32, f32, Vec3)>> = mesh
         .vertices

@@ -23,7 +23,7 @@ mod depth;
 use glam::{Mat3, Mat4, Vec3};
 
 use crate::plan::{ActiveLight, strongest_light};
-use crate::scene::{Mesh, Object, Scene, rotation_matrix};
+use crate::scene::{Mesh, Scene, normal_matrix, rotation_matrix};
 use crate::settings::{Display, Settings};
 use crate::stats::Counters;
 
@@ -81,15 +81,6 @@ impl Shadow<'_> {
     }
 }
 
-/// An object's model matrix, as the renderer builds it.
-pub fn model_matrix(object: &Object, user_rotation: Mat4) -> Mat4 {
-    if object.rotates {
-        object.transform * user_rotation
-    } else {
-        object.transform
-    }
-}
-
 /// A sphere around `mesh` placed by `model`.
 fn bounding_sphere(mesh: &Mesh, model: Mat4) -> Option<(Vec3, f32)> {
     let first = mesh.vertices.first()?.position;
@@ -135,7 +126,7 @@ fn casters(scene: &Scene, settings: &Settings, light: Vec3) -> Vec<(usize, Vec3,
     let spheres: Vec<Option<(Vec3, f32)>> = scene
         .objects
         .iter()
-        .map(|o| bounding_sphere(&o.mesh, model_matrix(o, rotation)))
+        .map(|o| bounding_sphere(&o.mesh, o.model_matrix(rotation)))
         .collect();
     let mut out = Vec::new();
     for (i, object) in scene.objects.iter().enumerate() {
@@ -149,8 +140,8 @@ fn casters(scene: &Scene, settings: &Settings, light: Vec3) -> Vec<(usize, Vec3,
             continue;
         }
         if let Some((n, p0)) = plane {
-            let model = model_matrix(object, rotation);
-            let normal_matrix = Mat3::from_mat4(model).inverse().transpose();
+            let model = object.model_matrix(rotation);
+            let normal_matrix = normal_matrix(model);
             let n = (normal_matrix * n).normalize_or_zero();
             let p0 = model.transform_point3(p0);
             let in_front = |c: Vec3, r: f32| n.dot(c - p0) >= r;
@@ -263,7 +254,7 @@ impl ShadowMap {
         let rotation = rotation_matrix(settings.rotation);
         for &(i, _, _) in &casters {
             let object = &scene.objects[i];
-            let model = model_matrix(object, rotation);
+            let model = object.model_matrix(rotation);
             counters.shadow_texels += depth::draw_mesh(self, &object.mesh, model, i as u32);
         }
         counters
