@@ -136,7 +136,7 @@ pub fn frame_bytes(width: u64, height: u64, supersamples: u64) -> u64 {
 
 /// [`frame_bytes`] for a frame rendered with `aa`.
 pub fn frame_bytes_for(width: usize, height: usize, aa: crate::settings::AntiAlias) -> u64 {
-    let k = crate::raster::aa::ssaa_factor(aa, width, height) as u64;
+    let k = crate::settings::ssaa_factor(aa, width, height) as u64;
     let (w, h) = (width as u64, height as u64);
     let samples = if k > 1 {
         w.saturating_mul(h).saturating_mul(k * k)

@@ -3,13 +3,15 @@
 
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 
-use crate::scene::Scene;
+use crate::scene::casters::{Caster, casters, enclose};
+use crate::scene::{Scene, rotation_matrix};
 use crate::settings::{
     AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
 };
 use crate::texture::NormalMap;
+use crate::texture::normal_map::normal_map_scale;
 
 /// A light that can change a pixel: enabled, with a non-black colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -69,9 +71,13 @@ pub struct Plan {
     /// Anti-aliasing; multisampling only in fill display (lines and points
     /// have no coverage to sample).
     pub aa: AntiAlias,
+    /// The user's rotation of the model.
+    pub rotation: Mat4,
     /// The light (index in `lights`) whose shadows are drawn: only when
     /// something can cast onto something else (see `shadow`).
     pub shadow_light: Option<usize>,
+    /// What casts the shadows of `shadow_light` (empty without one).
+    pub shadow_casters: Vec<Caster>,
 }
 
 impl Plan {
@@ -113,7 +119,7 @@ impl Plan {
             Technique::Blinn
         };
         let normal_map = (technique == Technique::Dot3).then(|| {
-            let scale = crate::shade::dot3::normal_map_scale(strength);
+            let scale = normal_map_scale(strength);
             scene.material.texture.normal_map(scale).0
         });
         let aa = if settings.aa == AntiAlias::Msaa4 && settings.display != Display::Fill {
@@ -121,7 +127,9 @@ impl Plan {
         } else {
             settings.aa
         };
-        let shadow_light = crate::shadow::shadow_light(scene, settings, &lights);
+        let rotation = rotation_matrix(settings.rotation);
+        let (shadow_light, shadow_casters) =
+            shadow_light(scene, settings.display, rotation, &lights).unzip();
         Plan {
             shading: settings.shading,
             face_normals: settings.normals == crate::settings::Normals::Face,
@@ -142,9 +150,36 @@ impl Plan {
             attenuation: settings.attenuation,
             display: settings.display,
             aa,
+            rotation,
             shadow_light,
+            shadow_casters: shadow_casters.unwrap_or_default(),
         }
     }
+}
+
+/// The light (index in `lights`) whose shadows are drawn this frame and
+/// what casts them, or `None` when no shadow pass is needed.
+fn shadow_light(
+    scene: &Scene,
+    display: Display,
+    rotation: Mat4,
+    lights: &[ActiveLight],
+) -> Option<(usize, Vec<Caster>)> {
+    // The cheap exit first: a lone convex object never needs the pass.
+    if scene.objects.len() < 2 && scene.objects.iter().all(|o| o.mesh.convex) {
+        return None;
+    }
+    // Points and lines are coloured without the map.
+    if display != Display::Fill {
+        return None;
+    }
+    // The light emboss follows too (the first of equally bright ones).
+    let index = strongest_light(lights)?;
+    let light = lights[index].position;
+    let casters = casters(scene, rotation, light);
+    let (centre, radius) = enclose(&casters)?;
+    // A light inside the casters' bounds cannot see them through one frustum.
+    (light.distance(centre) > radius * 1.01).then_some((index, casters))
 }
 
 #[cfg(test)]

@@ -14,7 +14,7 @@ use crate::raster::aa::{
 use crate::raster::setup::ONE;
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
-use crate::scene::{Scene, normal_matrix, rotation_matrix};
+use crate::scene::{Scene, normal_matrix};
 use crate::settings::{AntiAlias, Display, LightVector, Settings, Shading, Technique};
 use crate::shade::dot3::Dot3Kernel;
 use crate::shade::emboss::EmbossKernel;
@@ -97,15 +97,9 @@ impl Renderer {
         let k = ssaa_factor(plan.aa, width, height);
         // Taken out of `self` for the frame so the shaders can borrow it.
         let mut shadow_map = std::mem::take(&mut self.shadow);
-        let (shadow, mut counters) = shadow_pass(
-            &mut shadow_map,
-            scene,
-            settings,
-            &plan,
-            width * k,
-            height * k,
-        );
-        counters += self.prepare(scene, settings, &plan, shadow, width * k, height * k);
+        let (shadow, mut counters) =
+            shadow_pass(&mut shadow_map, scene, &plan, width * k, height * k);
+        counters += self.prepare(scene, &plan, shadow, width * k, height * k);
         counters.normal_map_builds +=
             scene.material.texture.normal_map_builds() - normal_maps_before;
         stats.plan_time = start.elapsed();
@@ -147,8 +141,8 @@ impl Renderer {
     ) -> (&[ScreenTri], &[TriShader]) {
         let plan = Plan::new(scene, settings);
         let mut shadow_map = std::mem::take(&mut self.shadow);
-        let (shadow, _) = shadow_pass(&mut shadow_map, scene, settings, &plan, width, height);
-        self.prepare(scene, settings, &plan, shadow, width, height);
+        let (shadow, _) = shadow_pass(&mut shadow_map, scene, &plan, width, height);
+        self.prepare(scene, &plan, shadow, width, height);
         self.shadow = shadow_map;
         (&self.tris, &self.shaders)
     }
@@ -159,7 +153,6 @@ impl Renderer {
     fn prepare(
         &mut self,
         scene: &Scene,
-        settings: &Settings,
         plan: &Plan,
         shadow: Option<Shadow>,
         width: usize,
@@ -172,7 +165,7 @@ impl Renderer {
         let aspect = width as f32 / height as f32;
         let view_proj = scene.camera.projection(aspect) * scene.camera.view();
         let eye = scene.camera.eye;
-        let user_rotation = rotation_matrix(settings.rotation);
+        let user_rotation = plan.rotation;
         // Multisampling covers samples off the pixel centres: a sliver
         // between two rows of centres still has samples inside.
         let reach = if plan.aa == AntiAlias::Msaa4 {
@@ -717,7 +710,6 @@ fn build_shader(
 fn shadow_pass<'a>(
     map: &'a mut ShadowMap,
     scene: &Scene,
-    settings: &Settings,
     plan: &Plan,
     width: usize,
     height: usize,
@@ -725,7 +717,14 @@ fn shadow_pass<'a>(
     let Some(light) = plan.shadow_light else {
         return (None, Counters::default());
     };
-    let counters = map.render(scene, settings, plan.lights[light].position, width, height);
+    let counters = map.render(
+        scene,
+        plan.rotation,
+        plan.lights[light].position,
+        &plan.shadow_casters,
+        width,
+        height,
+    );
     (Some(Shadow { light, map }), counters)
 }
 

@@ -217,6 +217,25 @@ impl AntiAlias {
     }
 }
 
+/// Largest supersampled frame, in samples: beyond it the factor drops (to
+/// 2×2, then off) instead of allocating gigabytes.
+pub const MAX_SUPERSAMPLES: usize = 1 << 24;
+
+/// The supersampling factor k for a frame of `width × height`: 1 for no
+/// supersampling, or when even 2×2 would exceed [`MAX_SUPERSAMPLES`].
+pub fn ssaa_factor(aa: AntiAlias, width: usize, height: usize) -> usize {
+    let wanted = match aa {
+        AntiAlias::Ssaa2 => 2,
+        AntiAlias::Ssaa4 => 4,
+        AntiAlias::Off | AntiAlias::Msaa4 => 1,
+    };
+    let mut k = wanted;
+    while k > 1 && width.saturating_mul(height).saturating_mul(k * k) > MAX_SUPERSAMPLES {
+        k /= 2;
+    }
+    k
+}
+
 /// How primitives are drawn.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
 pub enum Display {

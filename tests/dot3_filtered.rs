@@ -88,7 +88,7 @@ fn default_map(scene: &Scene) -> Arc<NormalMap> {
     let (map, built) = scene
         .material
         .texture
-        .normal_map(relief::shade::dot3::normal_map_scale(k));
+        .normal_map(relief::texture::normal_map::normal_map_scale(k));
     assert!(!built, "a frame has built it already");
     map
 }

@@ -68,7 +68,7 @@ fn the_floor_under_the_cube_is_in_shadow_and_far_out_is_lit() {
         assert_eq!(plan.shadow_light, Some(0), "the strong white light");
         let light = plan.lights[0].position;
         let mut map = ShadowMap::new();
-        let counters = map.render(&scene, &settings, light, 320, 240);
+        let counters = map.render(&scene, plan.rotation, light, &plan.shadow_casters, 320, 240);
         assert!(counters.shadow_texels > 0);
         let under = on_floor(light, Vec3::ZERO);
         assert_eq!(
@@ -386,8 +386,9 @@ fn a_floor_lit_from_below_casts_onto_the_cube() {
     let mut map = ShadowMap::new();
     map.render(
         &s,
-        &Settings::default(),
+        plan.rotation,
         plan.lights[index].position,
+        &plan.shadow_casters,
         160,
         120,
     );

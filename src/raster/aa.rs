@@ -15,7 +15,6 @@
 use super::scan::{Band, FootprintSetup, raster_triangle, shade_at};
 use super::setup::{ONE, ScreenTri};
 use crate::framebuffer::{Framebuffer, Rgb};
-use crate::settings::AntiAlias;
 use crate::shade::{PixelShader, ShadeCtx};
 use crate::stats::Counters;
 
@@ -31,24 +30,9 @@ pub const MSAA4_OFFSETS: [(i64, i64); MSAA_SAMPLES] = [(-32, -96), (96, -32), (-
 /// the triangle setup's reach for multisampling.
 pub const MSAA_REACH: i64 = 96;
 
-/// Largest supersampled frame, in samples: beyond it the factor drops (to
-/// 2×2, then off) instead of allocating gigabytes.
-pub const MAX_SUPERSAMPLES: usize = 1 << 24;
-
-/// The supersampling factor k for a frame of `width × height`: 1 for no
-/// supersampling, or when even 2×2 would exceed [`MAX_SUPERSAMPLES`].
-pub fn ssaa_factor(aa: AntiAlias, width: usize, height: usize) -> usize {
-    let wanted = match aa {
-        AntiAlias::Ssaa2 => 2,
-        AntiAlias::Ssaa4 => 4,
-        AntiAlias::Off | AntiAlias::Msaa4 => 1,
-    };
-    let mut k = wanted;
-    while k > 1 && width.saturating_mul(height).saturating_mul(k * k) > MAX_SUPERSAMPLES {
-        k /= 2;
-    }
-    k
-}
+// The supersampling factor is a settings decision (the memory budget needs
+// it too, and sits below the rasterizer).
+pub use crate::settings::{MAX_SUPERSAMPLES, ssaa_factor};
 
 /// Box-filters `src` (k times `dst` in each direction) into `dst`.
 pub fn resolve_box(src: &Framebuffer, k: usize, dst: &mut Framebuffer) {
@@ -262,6 +246,7 @@ pub fn raster_triangle_msaa<S: PixelShader>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::settings::AntiAlias;
 
     #[test]
     fn pattern_is_a_centred_rotated_grid() {

@@ -2,6 +2,7 @@
 
 pub mod build;
 pub mod camera;
+pub mod casters;
 pub mod cube;
 pub mod light;
 pub mod mesh;

@@ -36,15 +36,6 @@ use crate::stats::Counters;
 use crate::texture::NormalMap;
 use crate::texture::filter::{Footprint, read_normal, sample};
 
-/// |∂P/∂u| of the reference cube's faces: the normal map's slope scale is
-/// Blinn's k times this, so both techniques show the same relief there.
-pub const REFERENCE_TANGENT_LENGTH: f32 = 2.0;
-
-/// The normal map's slope scale for bump strength `k`.
-pub fn normal_map_scale(k: f32) -> f32 {
-    k * REFERENCE_TANGENT_LENGTH
-}
-
 /// Lights whose per-vertex vectors are kept inline (more spill to the heap).
 const INLINE_LIGHTS: usize = 8;
 

@@ -3,7 +3,8 @@
 //! light's contribution only.
 //!
 //! - Which light: the strongest enabled one (the reference scene's white light).
-//! - When: only if something can cast onto something else (`shadow_light`):
+//! - When: only if something can cast onto something else (the plan's
+//!   `shadow_light`, from `scene::casters`):
 //!   never for a lone convex object, nor for a flat object with the light
 //!   and everything else on its front side (a floor lit from above).
 //! - The map: a perspective view from the light toward the casters, fitted
@@ -20,11 +21,10 @@
 
 mod depth;
 
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat4, Vec3};
 
-use crate::plan::{ActiveLight, strongest_light};
-use crate::scene::{Mesh, Scene, normal_matrix, rotation_matrix};
-use crate::settings::{Display, Settings};
+use crate::scene::Scene;
+use crate::scene::casters::{Caster, enclose};
 use crate::stats::Counters;
 
 /// Smallest and largest shadow map side, in texels.
@@ -81,117 +81,6 @@ impl Shadow<'_> {
     }
 }
 
-/// A sphere around `mesh` placed by `model`.
-fn bounding_sphere(mesh: &Mesh, model: Mat4) -> Option<(Vec3, f32)> {
-    let first = mesh.vertices.first()?.position;
-    let (mut lo, mut hi) = (first, first);
-    for v in &mesh.vertices {
-        lo = lo.min(v.position);
-        hi = hi.max(v.position);
-    }
-    let centre = (lo + hi) * 0.5;
-    let radius = mesh
-        .vertices
-        .iter()
-        .map(|v| (v.position - centre).length())
-        .fold(0.0f32, f32::max);
-    let linear = Mat3::from_mat4(model);
-    let scale = [linear.x_axis, linear.y_axis, linear.z_axis]
-        .iter()
-        .map(|a| a.length())
-        .fold(0.0f32, f32::max);
-    let sphere = (model.transform_point3(centre), radius * scale);
-    (sphere.0.is_finite() && sphere.1.is_finite()).then_some(sphere)
-}
-
-/// The plane of a flat mesh (all facets share one normal and one plane),
-/// in model space.
-fn plane_of(mesh: &Mesh) -> Option<(Vec3, Vec3)> {
-    let n = mesh.triangles.first()?.face_normal;
-    let p0 = mesh.vertices.first()?.position;
-    let flat = mesh
-        .triangles
-        .iter()
-        .all(|t| (t.face_normal - n).length_squared() < 1e-10)
-        && mesh
-            .vertices
-            .iter()
-            .all(|v| n.dot(v.position - p0).abs() < 1e-5);
-    flat.then_some((n, p0))
-}
-
-/// The objects that can throw a shadow on something, with their world spheres.
-fn casters(scene: &Scene, settings: &Settings, light: Vec3) -> Vec<(usize, Vec3, f32)> {
-    let rotation = rotation_matrix(settings.rotation);
-    let spheres: Vec<Option<(Vec3, f32)>> = scene
-        .objects
-        .iter()
-        .map(|o| bounding_sphere(&o.mesh, o.model_matrix(rotation)))
-        .collect();
-    let mut out = Vec::new();
-    for (i, object) in scene.objects.iter().enumerate() {
-        let Some((centre, radius)) = spheres[i] else {
-            continue;
-        };
-        // Alone, a convex or flat object cannot shade itself.
-        let others = scene.objects.len() > 1;
-        let plane = plane_of(&object.mesh);
-        if !others && (object.mesh.convex || plane.is_some()) {
-            continue;
-        }
-        if let Some((n, p0)) = plane {
-            let model = object.model_matrix(rotation);
-            let normal_matrix = normal_matrix(model);
-            let n = (normal_matrix * n).normalize_or_zero();
-            let p0 = model.transform_point3(p0);
-            let in_front = |c: Vec3, r: f32| n.dot(c - p0) >= r;
-            let everything_in_front = in_front(light, 0.0)
-                && spheres
-                    .iter()
-                    .enumerate()
-                    .all(|(j, s)| j == i || s.is_none_or(|(c, r)| in_front(c, r)));
-            if everything_in_front {
-                continue;
-            }
-        }
-        out.push((i, centre, radius));
-    }
-    out
-}
-
-/// The plan's choice: the index in `lights` of the light whose shadows are
-/// drawn this frame, or `None` when no shadow pass is needed.
-pub fn shadow_light(scene: &Scene, settings: &Settings, lights: &[ActiveLight]) -> Option<usize> {
-    // The cheap exit first: a lone convex object never needs the pass.
-    if scene.objects.len() < 2 && scene.objects.iter().all(|o| o.mesh.convex) {
-        return None;
-    }
-    // Points and lines are coloured without the map.
-    if settings.display != Display::Fill {
-        return None;
-    }
-    // The light emboss follows too (the first of equally bright ones).
-    let index = strongest_light(lights)?;
-    let light = &lights[index];
-    let casters = casters(scene, settings, light.position);
-    let (centre, radius) = enclose(&casters)?;
-    // A light inside the casters' bounds cannot see them through one frustum.
-    (light.position.distance(centre) > radius * 1.01).then_some(index)
-}
-
-/// A sphere around the casters' spheres.
-fn enclose(casters: &[(usize, Vec3, f32)]) -> Option<(Vec3, f32)> {
-    if casters.is_empty() {
-        return None;
-    }
-    let centre = casters.iter().map(|c| c.1).sum::<Vec3>() / casters.len() as f32;
-    let radius = casters
-        .iter()
-        .map(|&(_, c, r)| c.distance(centre) + r)
-        .fold(0.0f32, f32::max);
-    Some((centre, radius.max(1e-3)))
-}
-
 impl ShadowMap {
     pub fn new() -> Self {
         ShadowMap::default()
@@ -206,13 +95,15 @@ impl ShadowMap {
         self.size
     }
 
-    /// Pass 1: the casters' depth seen from `light`, for a frame of
-    /// `width × height`. Returns the counters (texels written).
+    /// Pass 1: the depth of `casters` (the plan's, found for this light)
+    /// seen from `light`, the user's rotation being `rotation`, for a frame
+    /// of `width × height`. Returns the counters (texels written).
     pub fn render(
         &mut self,
         scene: &Scene,
-        settings: &Settings,
+        rotation: Mat4,
         light: Vec3,
+        casters: &[Caster],
         width: usize,
         height: usize,
     ) -> Counters {
@@ -227,8 +118,7 @@ impl ShadowMap {
         self.self_shadowing.clear();
         self.self_shadowing
             .extend(scene.objects.iter().map(|o| !o.mesh.convex));
-        let casters = casters(scene, settings, light);
-        let Some((centre, radius)) = enclose(&casters) else {
+        let Some((centre, radius)) = enclose(casters) else {
             self.view_proj = Mat4::ZERO;
             return counters;
         };
@@ -251,8 +141,8 @@ impl ShadowMap {
         self.view_proj = proj * Mat4::look_at_rh(light, centre, up);
         self.texel_per_depth = 2.0 * half_angle.tan() / size as f32;
 
-        let rotation = rotation_matrix(settings.rotation);
-        for &(i, _, _) in &casters {
+        for caster in casters {
+            let i = caster.object;
             let object = &scene.objects[i];
             let model = object.model_matrix(rotation);
             counters.shadow_texels += depth::draw_mesh(self, &object.mesh, model, i as u32);

@@ -18,6 +18,15 @@ use glam::Vec2;
 
 use super::Level;
 
+/// |∂P/∂u| of the reference cube's faces: the normal map's slope scale is
+/// Blinn's k times this, so both techniques show the same relief there.
+pub const REFERENCE_TANGENT_LENGTH: f32 = 2.0;
+
+/// The normal map's slope scale for bump strength `k`.
+pub fn normal_map_scale(k: f32) -> f32 {
+    k * REFERENCE_TANGENT_LENGTH
+}
+
 /// Unit normals in tangent space (x along +u, y along +v, z out of the
 /// surface), one per texel, in the same order as `Level`.
 #[derive(Clone, Debug)]

@@ -1,0 +1,111 @@
+//! Which objects can cast a shadow onto something, and the sphere that
+//! holds them: scene geometry the plan decides with and the shadow pass
+//! fits its map to, computed once per frame.
+
+use glam::{Mat3, Mat4, Vec3};
+
+use super::{Mesh, Scene, normal_matrix};
+
+/// An object that can shade something, with its world bounding sphere.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Caster {
+    /// Index in the scene's objects.
+    pub object: usize,
+    pub centre: Vec3,
+    pub radius: f32,
+}
+
+/// A sphere around `mesh` placed by `model`.
+fn bounding_sphere(mesh: &Mesh, model: Mat4) -> Option<(Vec3, f32)> {
+    let first = mesh.vertices.first()?.position;
+    let (mut lo, mut hi) = (first, first);
+    for v in &mesh.vertices {
+        lo = lo.min(v.position);
+        hi = hi.max(v.position);
+    }
+    let centre = (lo + hi) * 0.5;
+    let radius = mesh
+        .vertices
+        .iter()
+        .map(|v| (v.position - centre).length())
+        .fold(0.0f32, f32::max);
+    let linear = Mat3::from_mat4(model);
+    let scale = [linear.x_axis, linear.y_axis, linear.z_axis]
+        .iter()
+        .map(|a| a.length())
+        .fold(0.0f32, f32::max);
+    let sphere = (model.transform_point3(centre), radius * scale);
+    (sphere.0.is_finite() && sphere.1.is_finite()).then_some(sphere)
+}
+
+/// The plane of a flat mesh (all facets share one normal and one plane),
+/// in model space.
+fn plane_of(mesh: &Mesh) -> Option<(Vec3, Vec3)> {
+    let n = mesh.triangles.first()?.face_normal;
+    let p0 = mesh.vertices.first()?.position;
+    let flat = mesh
+        .triangles
+        .iter()
+        .all(|t| (t.face_normal - n).length_squared() < 1e-10)
+        && mesh
+            .vertices
+            .iter()
+            .all(|v| n.dot(v.position - p0).abs() < 1e-5);
+    flat.then_some((n, p0))
+}
+
+/// The objects that can throw a shadow on something when lit from `light`,
+/// with their world spheres, the user's rotation being `rotation`.
+pub fn casters(scene: &Scene, rotation: Mat4, light: Vec3) -> Vec<Caster> {
+    let spheres: Vec<Option<(Vec3, f32)>> = scene
+        .objects
+        .iter()
+        .map(|o| bounding_sphere(&o.mesh, o.model_matrix(rotation)))
+        .collect();
+    let mut out = Vec::new();
+    for (i, object) in scene.objects.iter().enumerate() {
+        let Some((centre, radius)) = spheres[i] else {
+            continue;
+        };
+        // Alone, a convex or flat object cannot shade itself.
+        let others = scene.objects.len() > 1;
+        let plane = plane_of(&object.mesh);
+        if !others && (object.mesh.convex || plane.is_some()) {
+            continue;
+        }
+        if let Some((n, p0)) = plane {
+            let model = object.model_matrix(rotation);
+            let normal_matrix = normal_matrix(model);
+            let n = (normal_matrix * n).normalize_or_zero();
+            let p0 = model.transform_point3(p0);
+            let in_front = |c: Vec3, r: f32| n.dot(c - p0) >= r;
+            let everything_in_front = in_front(light, 0.0)
+                && spheres
+                    .iter()
+                    .enumerate()
+                    .all(|(j, s)| j == i || s.is_none_or(|(c, r)| in_front(c, r)));
+            if everything_in_front {
+                continue;
+            }
+        }
+        out.push(Caster {
+            object: i,
+            centre,
+            radius,
+        });
+    }
+    out
+}
+
+/// A sphere around the casters' spheres.
+pub fn enclose(casters: &[Caster]) -> Option<(Vec3, f32)> {
+    if casters.is_empty() {
+        return None;
+    }
+    let centre = casters.iter().map(|c| c.centre).sum::<Vec3>() / casters.len() as f32;
+    let radius = casters
+        .iter()
+        .map(|c| c.centre.distance(centre) + c.radius)
+        .fold(0.0f32, f32::max);
+    Some((centre, radius.max(1e-3)))
+}
