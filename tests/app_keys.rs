@@ -19,6 +19,7 @@ fn state_in(mode: Mode) -> State {
     match mode {
         Mode::Normal => {}
         Mode::Help => s.help = true,
+        Mode::Textures => s.textures.open = true,
         Mode::Fields => s.panel.focus = Some(0),
         Mode::Prompt => s.prompt = Some(String::new()),
     }

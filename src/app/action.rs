@@ -5,7 +5,10 @@
 
 use crossterm::event::{Event, MouseButton, MouseEventKind};
 
+use ratatui::layout::Rect;
+
 use super::state::{FrameDone, State};
+use super::textures::TextureListing;
 use crate::scene::{ModelChoice, SceneKind};
 use crate::term::pacing::LinkInfo;
 
@@ -93,6 +96,31 @@ pub enum Action {
     /// `x` / `X`: next / previous texture of the list.
     NextTexture,
     PrevTexture,
+    /// `T`: open / close the texture panel.
+    ToggleTextures,
+    /// Esc in the texture panel.
+    CloseTextures,
+    /// ↑ ↓ j k Home End in the texture panel: move the cursor this many entries.
+    TexturesMove(i32),
+    /// Enter in the texture panel: apply the entry under the cursor.
+    TexturesChoose,
+    /// `H` in the texture panel: the heights from the entry under the
+    /// cursor (again: each texture's own).
+    TexturesHeights,
+    /// A click on the texture panel: the left button applies the entry
+    /// there, the right one takes its heights.
+    TexturesClick {
+        button: DragButton,
+        col: u16,
+        row: u16,
+    },
+    /// The wheel over the texture panel: scroll it by this many entries.
+    TexturesScroll(i32),
+    /// What the texture panel shows, from the loop after each texture command.
+    TexturesListed(TextureListing),
+    /// Where the texture panel is drawn on this screen (the loop reports it
+    /// before each frame, as it does the help's height).
+    TexturesFit(Option<Rect>),
     /// `R`: re-read the current texture file.
     ReloadTexture,
     /// `/`: open the prompt to type a texture path.
@@ -169,6 +197,22 @@ pub fn action_for_event(state: &State, event: &Event) -> Option<Action> {
                 MouseButton::Middle => None,
             };
             let (col, row) = (mouse.column, mouse.row);
+            if state.textures.contains(col, row) {
+                // Over the open texture panel: the rows take the clicks and
+                // the wheel scrolls them (a drag from outside goes on).
+                return match mouse.kind {
+                    MouseEventKind::Down(b) => {
+                        button(b).map(|button| Action::TexturesClick { button, col, row })
+                    }
+                    MouseEventKind::ScrollUp => Some(Action::TexturesScroll(-1)),
+                    MouseEventKind::ScrollDown => Some(Action::TexturesScroll(1)),
+                    MouseEventKind::Drag(b) if state.drag.is_some() => {
+                        button(b).map(|button| Action::MouseDrag { button, col, row })
+                    }
+                    MouseEventKind::Up(_) => Some(Action::MouseUp),
+                    _ => None,
+                };
+            }
             if state.scene == SceneKind::Plasma {
                 // The light follows the pointer, pressed or not; nothing turns.
                 return match mouse.kind {

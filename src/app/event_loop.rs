@@ -27,6 +27,7 @@ use super::action::{Action, action_for_event};
 use super::cost::FrameCost;
 use super::stage::Stage;
 use super::state::{Command, FrameDone, Look, State, update};
+use super::textures;
 use super::view;
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::scene::SceneKind;
@@ -184,13 +185,24 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             Command::CycleTexture(forward) => list.cycle(forward).err().into_iter().collect(),
             Command::ReloadTexture => list.reload().err().into_iter().collect(),
             Command::AddPaths(text) => list.add_paste(&text),
-            Command::SavePng | Command::BuildScene(..) => return None,
+            Command::SelectTexture(i) => list.select(i).err().into_iter().collect(),
+            Command::SetHeights(h) => list.set_heights(h).err().into_iter().collect(),
+            Command::ListTextures | Command::SavePng | Command::BuildScene(..) => return None,
         };
         Some(match errors.first() {
             None => Ok(list.summary()),
             Some(e) if errors.len() > 1 => Err(format!("{e} (and {} more)", errors.len() - 1)),
             Some(e) => Err(e.to_string()),
         })
+    }
+
+    /// Sends the texture panel what the list holds now (with the
+    /// thumbnails while it is open: each made once, by the list).
+    fn report_textures(&self, state: &mut State) {
+        if let Some(list) = self.textures {
+            let listing = textures::listing(&mut list.borrow_mut(), state.textures.open);
+            update(state, Action::TexturesListed(listing));
+        }
     }
 
     /// Runs until the user quits, the terminal goes away or a signal comes.
@@ -219,6 +231,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         // Bytes of the last exact picture: what the link must carry.
         let mut exact_bytes: Option<u64> = None;
         let mut probed = false;
+        self.report_textures(state);
         loop {
             let now = Instant::now();
             let ready = self.pacer.ready(now);
@@ -279,6 +292,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                                     if let Some(result) = self.texture_command(command) {
                                         update(state, Action::TextureResult(result));
                                     }
+                                    self.report_textures(state);
                                 }
                                 None => {}
                             }
@@ -334,6 +348,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 Action::HelpFits(view::help_max_scroll(size.width, size.height)),
             );
             let areas = view::areas(ratatui::layout::Rect::new(0, 0, size.width, size.height));
+            update(
+                state,
+                Action::TexturesFit(view::texture_panel_area(areas.viewport, state)),
+            );
             let (w, h) = view::framebuffer_size(areas.viewport);
             let generation = self.textures.map_or(0, |t| t.borrow().generation());
             let key = (state.look(), w, h, generation);

@@ -19,6 +19,9 @@ pub enum Mode {
     /// The help overlay is open: it takes the scrolling keys and Esc; the
     /// other keys still act on the picture.
     Help,
+    /// The texture panel is open: it takes the keys that move in the list,
+    /// pick a row and close it; the other keys still act on the picture.
+    Textures,
     /// Typing into the orientation fields.
     Fields,
     /// Typing a texture path.
@@ -27,10 +30,17 @@ pub enum Mode {
 
 impl Mode {
     /// Every mode, in the order the help lists them.
-    pub const ALL: [Mode; 4] = [Mode::Normal, Mode::Help, Mode::Fields, Mode::Prompt];
+    pub const ALL: [Mode; 5] = [
+        Mode::Normal,
+        Mode::Help,
+        Mode::Textures,
+        Mode::Fields,
+        Mode::Prompt,
+    ];
 
     /// The mode the state is in: a field being edited or a prompt takes
-    /// every key; an open overlay takes only its own.
+    /// every key; an open overlay takes only its own (the help, drawn on
+    /// top, before the texture panel).
     pub fn of(state: &State) -> Mode {
         if state.prompt.is_some() {
             Mode::Prompt
@@ -38,6 +48,8 @@ impl Mode {
             Mode::Fields
         } else if state.help {
             Mode::Help
+        } else if state.textures.open {
+            Mode::Textures
         } else {
             Mode::Normal
         }
@@ -47,7 +59,7 @@ impl Mode {
     /// does nothing).
     pub fn fallback(self) -> Option<Mode> {
         match self {
-            Mode::Help => Some(Mode::Normal),
+            Mode::Help | Mode::Textures => Some(Mode::Normal),
             Mode::Normal | Mode::Fields | Mode::Prompt => None,
         }
     }
@@ -57,6 +69,7 @@ impl Mode {
         match self {
             Mode::Normal => None,
             Mode::Help => Some("while this help is open"),
+            Mode::Textures => Some("in the texture panel (T)"),
             Mode::Fields => Some("in the orientation fields (Tab)"),
             Mode::Prompt => Some("in the texture path prompt (/)"),
         }
@@ -163,7 +176,7 @@ fn light(c: char) -> Action {
     Action::ToggleLight(c as usize - '1' as usize)
 }
 
-use Mode::{Fields, Normal, Prompt};
+use Mode::{Fields, Normal, Prompt, Textures};
 
 /// Every key of every mode, and the mouse gestures, in the help's order.
 pub const KEYS: &[Binding] = &[
@@ -276,9 +289,10 @@ pub const KEYS: &[Binding] = &[
         Normal,
         &[c('x')],
         Action::NextTexture,
-        Line("x X", "next / previous texture of the list"),
+        Line("x X T", "next / previous texture; T: the texture panel"),
     ),
     row(Normal, &[c('X')], Action::PrevTexture, Above),
+    row(Normal, &[c('T')], Action::ToggleTextures, Above),
     row(
         Normal,
         &[c('R')],
@@ -424,6 +438,49 @@ pub const KEYS: &[Binding] = &[
         &[Plain(Esc)],
         Action::CloseHelp,
         Line("Esc ?", "close the help"),
+    ),
+    // The texture panel.
+    row(
+        Textures,
+        &[Plain(Up), c('k')],
+        Action::TexturesMove(-1),
+        Line("↑ ↓ j k", "move in the list (Home End: first / last)"),
+    ),
+    row(
+        Textures,
+        &[Plain(Down), c('j')],
+        Action::TexturesMove(1),
+        Above,
+    ),
+    row(
+        Textures,
+        &[Plain(Home)],
+        Action::TexturesMove(i32::MIN),
+        Above,
+    ),
+    row(
+        Textures,
+        &[Plain(End)],
+        Action::TexturesMove(i32::MAX),
+        Above,
+    ),
+    row(
+        Textures,
+        &[Plain(Enter)],
+        Action::TexturesChoose,
+        Line("Enter H", "use it / take its heights (H again: their own)"),
+    ),
+    row(Textures, &[c('H')], Action::TexturesHeights, Above),
+    gesture(
+        Textures,
+        "click wheel",
+        "left: use it; right: its heights; wheel: scroll",
+    ),
+    row(
+        Textures,
+        &[Plain(Esc), c('T')],
+        Action::CloseTextures,
+        Line("Esc T", "close the panel"),
     ),
     // The orientation fields.
     row(

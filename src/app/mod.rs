@@ -7,6 +7,7 @@ pub mod event_loop;
 pub mod keys;
 pub mod stage;
 pub mod state;
+pub mod textures;
 pub mod view;
 
 pub use action::{Action, DragButton, action_for_event, action_for_key};

@@ -7,6 +7,7 @@ use glam::Vec3;
 
 use super::action::{Action, DragButton};
 use super::cost::{CostHistory, FrameCost};
+use super::textures::TexturePanel;
 use crate::cli::parse_finite;
 use crate::plasma::PlasmaNormal;
 use crate::sanitize::clean;
@@ -124,6 +125,8 @@ pub struct State {
     pub pointer: Option<(u16, u16)>,
     /// Key `/`: the texture path being typed (`None`: no prompt).
     pub prompt: Option<String>,
+    /// Key `T`: the texture panel, and what it shows of the texture list.
+    pub textures: TexturePanel,
     /// Camera distance in reference units (wheel, `i` / `I`): 5 is the
     /// reference view; kept within [`MIN_DISTANCE`]..=[`MAX_DISTANCE`].
     pub distance: f32,
@@ -160,6 +163,12 @@ pub enum Command {
     CycleTexture(bool),
     /// Re-read the current texture from disk.
     ReloadTexture,
+    /// Report the texture list with its previews (the texture panel opened).
+    ListTextures,
+    /// Apply entry `i` of the texture list.
+    SelectTexture(usize),
+    /// Take the heights from this entry of the list (`None`: each texture's own).
+    SetHeights(Option<usize>),
     /// Add the paths of a paste to the texture list and apply the last one.
     AddPaths(String),
     /// Build this scene (and model); the loop answers with [`Action::SceneBuilt`].
@@ -193,6 +202,7 @@ impl State {
             plasma_normal: PlasmaNormal::Table,
             pointer: None,
             prompt: None,
+            textures: TexturePanel::default(),
             distance: REFERENCE_DISTANCE,
             start_distance: REFERENCE_DISTANCE,
         }
@@ -310,6 +320,44 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         Action::NextTexture => return Some(Command::CycleTexture(true)),
         Action::PrevTexture => return Some(Command::CycleTexture(false)),
         Action::ReloadTexture => return Some(Command::ReloadTexture),
+        Action::ToggleTextures if state.textures.open => state.textures.open = false,
+        Action::ToggleTextures => {
+            let t = &mut state.textures;
+            t.open = true;
+            t.cursor = t.listing.current;
+            t.show_cursor();
+            return Some(Command::ListTextures);
+        }
+        Action::CloseTextures => state.textures.open = false,
+        Action::TexturesMove(delta) => state.textures.move_cursor(delta),
+        Action::TexturesChoose => {
+            let t = &state.textures;
+            if t.cursor < t.listing.rows.len() {
+                return Some(Command::SelectTexture(t.cursor));
+            }
+        }
+        Action::TexturesHeights => {
+            let t = &state.textures;
+            if t.cursor < t.listing.rows.len() {
+                return Some(Command::SetHeights(t.heights_for(t.cursor)));
+            }
+        }
+        Action::TexturesClick { button, col, row } => {
+            let t = &mut state.textures;
+            if let Some(i) = t.entry_at(col, row) {
+                t.cursor = i;
+                return Some(match button {
+                    DragButton::Left => Command::SelectTexture(i),
+                    DragButton::Right => Command::SetHeights(t.heights_for(i)),
+                });
+            }
+        }
+        Action::TexturesScroll(delta) => state.textures.scroll_by(delta),
+        Action::TexturesListed(listing) => state.textures.set_listing(listing),
+        Action::TexturesFit(area) => {
+            state.textures.area = area;
+            state.textures.scroll = state.textures.first_shown();
+        }
         Action::OpenPrompt => {
             state.panel = Panel::default();
             state.prompt = Some(String::new());

@@ -3,6 +3,7 @@
 //! operation that fails returns the error and leaves the list and the current
 //! texture exactly as they were.
 
+use std::collections::HashMap;
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -10,6 +11,7 @@ use std::sync::Arc;
 use super::Texture;
 use super::builtin::{Builtin, builtins};
 use super::load::{TextureError, load_texture, with_height_map};
+use super::thumbnail::Preview;
 use crate::sanitize;
 
 /// Where an entry's pixels come from.
@@ -106,6 +108,12 @@ pub struct TextureList {
     texture: Arc<Texture>,
     /// Bumped each time the applied texture changes (a cache key for views).
     generation: u64,
+    /// The entry whose heights the applied texture takes (`None`: the
+    /// applied entry's own, as loaded).
+    heights: Option<usize>,
+    /// Each entry's preview, made the first time it is asked for (`None`:
+    /// the entry did not load then).
+    previews: HashMap<usize, Option<Arc<Preview>>>,
 }
 
 impl Default for TextureList {
@@ -132,6 +140,8 @@ impl TextureList {
             cursor: 0,
             texture: Arc::new(texture),
             generation: 0,
+            heights: None,
+            previews: HashMap::new(),
         }
     }
 
@@ -210,14 +220,81 @@ impl TextureList {
         self.generation
     }
 
-    /// One line for a status bar: "4/5 photo.png".
+    /// One line for a status bar: "4/5 photo.png", and where the heights
+    /// come from when another entry gives them.
     pub fn summary(&self) -> String {
+        let heights = match self.heights {
+            Some(h) => format!(" (heights: {})", self.entries[h].label),
+            None => String::new(),
+        };
         format!(
-            "{}/{} {}",
+            "{}/{} {}{heights}",
             self.current + 1,
             self.entries.len(),
             self.entries[self.current].label
         )
+    }
+
+    /// The entry whose heights the applied texture takes, when it is not
+    /// the applied entry's own (see [`TextureList::set_heights`]).
+    pub fn heights(&self) -> Option<usize> {
+        self.heights
+    }
+
+    /// `color` with the heights of the chosen heights entry, if any.
+    fn with_heights(&self, color: Texture) -> Result<Texture, ListError> {
+        match self.heights {
+            Some(h) => Ok(with_height_map(color, &self.entries[h].load()?)?),
+            None => Ok(color),
+        }
+    }
+
+    /// Entry `index`'s colour with the chosen heights.
+    fn load_applied(&self, index: usize) -> Result<Texture, ListError> {
+        self.with_heights(self.entries[index].load()?)
+    }
+
+    /// Takes the heights (the bump) from entry `index` whatever texture is
+    /// applied, as a separate height map does; `None`: each texture's own
+    /// again. On failure nothing changes.
+    pub fn set_heights(&mut self, index: Option<usize>) -> Result<(), ListError> {
+        if let Some(i) = index
+            && i >= self.entries.len()
+        {
+            return Err(ListError::NoEntry {
+                index: i,
+                len: self.entries.len(),
+            });
+        }
+        let old = std::mem::replace(&mut self.heights, index);
+        match self.load_applied(self.current) {
+            Ok(texture) => {
+                self.texture = Arc::new(texture);
+                self.generation += 1;
+                Ok(())
+            }
+            Err(e) => {
+                self.heights = old;
+                Err(e)
+            }
+        }
+    }
+
+    /// Entry `index`'s size and thumbnail, made once (the applied entry's
+    /// from the texture in use, the others by loading them); `None` when it
+    /// does not load.
+    pub fn preview(&mut self, index: usize) -> Option<Arc<Preview>> {
+        if let Some(p) = self.previews.get(&index) {
+            return p.clone();
+        }
+        let made = if index == self.current {
+            Some(Arc::new(Preview::of(&self.texture)))
+        } else {
+            let entry = self.entries.get(index)?;
+            entry.load().ok().map(|t| Arc::new(Preview::of(&t)))
+        };
+        self.previews.insert(index, made.clone());
+        made
     }
 
     fn apply(&mut self, index: usize, texture: Texture) {
@@ -240,8 +317,10 @@ impl TextureList {
 
     /// Loads an entry and, if it loads, puts it in the list (once) and applies it.
     fn add_entry(&mut self, entry: Entry) -> Result<usize, ListError> {
-        let texture = entry.load()?;
+        let texture = self.with_heights(entry.load()?)?;
         let index = self.push_unique(entry);
+        // Read again: an entry already listed may have changed on disk.
+        self.previews.remove(&index);
         self.apply(index, texture);
         Ok(index)
     }
@@ -254,7 +333,7 @@ impl TextureList {
                 len: self.entries.len(),
             });
         };
-        let texture = entry.load()?;
+        let texture = self.with_heights(entry.load()?)?;
         self.apply(index, texture);
         Ok(())
     }
@@ -306,7 +385,8 @@ impl TextureList {
     /// Re-reads the applied entry from disk. On failure the texture in use
     /// stays.
     pub fn reload(&mut self) -> Result<(), ListError> {
-        let texture = self.entries[self.current].load()?;
+        let texture = self.load_applied(self.current)?;
+        self.previews.remove(&self.current);
         self.texture = Arc::new(texture);
         self.generation += 1;
         Ok(())

@@ -1,12 +1,14 @@
 //! What the screen shows: the picture, the line above the status
 //! ([`fields`]), the status line ([`status`]), the panels over the picture
-//! ([`panels`]) and the help overlay ([`help`]). Drawing only: every
+//! ([`panels`]), the texture panel ([`textures`]) and the help overlay
+//! ([`help`]). Drawing only: every
 //! decision is in `State`.
 
 mod fields;
 pub mod help;
 mod panels;
 pub mod status;
+pub mod textures;
 mod wrap;
 
 use ratatui::Frame;
@@ -24,6 +26,8 @@ pub use help::{help_lines, help_max_scroll};
 use panels::cost_panel;
 use status::status_choice;
 pub use status::{Detail, cost_text, format_bytes, status_line, status_modes, status_text};
+use textures::texture_panel;
+pub use textures::texture_panel_area;
 
 /// Screens narrower than this get the short orientation fields.
 pub const COMPACT_BELOW: u16 = 80;
@@ -131,5 +135,6 @@ pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf:
             .render(status, buf);
     }
     cost_panel(state, a.viewport, buf);
+    texture_panel(state, a.viewport, buf);
     help(state, screen, buf);
 }

@@ -214,6 +214,9 @@ pub fn status_modes(state: &State) -> String {
     if state.distance != REFERENCE_DISTANCE {
         add(&format!("d{}", format_distance(state.distance)));
     }
+    if let Some(h) = heights_text(state, true) {
+        add(&h);
+    }
     let what: String = scene_label(state, true).chars().take(12).collect();
     // What the status line must always show comes first (the colour depth
     // included, and auto-rotation); the scene and the changed modes follow
@@ -300,7 +303,28 @@ pub fn status_text(state: &State, detail: Detail) -> String {
     } else {
         String::new()
     };
-    format!("{}{zoom}{cost}{auto}{hint}", fields.join(" │ "))
+    let heights = heights_text(state, short).map_or(String::new(), |h| format!(" │ {h}"));
+    format!("{}{heights}{zoom}{cost}{auto}{hint}", fields.join(" │ "))
+}
+
+/// Where the heights come from, when another texture of the list gives
+/// them (texture panel, `H`): its name, cut to a few words.
+fn heights_text(state: &State, short: bool) -> Option<String> {
+    let label = state.textures.listing.heights_label()?;
+    let label = label.strip_suffix(" (built-in)").unwrap_or(label);
+    let max = if short { 12 } else { 24 };
+    let n = label.chars().count();
+    let cut: String = if n > max {
+        let tail: String = label.chars().skip(n - (max - 1)).collect();
+        format!("…{tail}")
+    } else {
+        label.to_string()
+    };
+    Some(if short {
+        format!("H:{cut}")
+    } else {
+        format!("heights {cut}")
+    })
 }
 
 fn short_depth(state: &State) -> &'static str {
