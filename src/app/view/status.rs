@@ -185,6 +185,7 @@ pub fn status_modes(state: &State) -> String {
         add(match s.filter {
             Filter::Nearest => "near",
             Filter::Bilinear => "bil",
+            Filter::NearestMip => "nmip",
             Filter::Trilinear => "tri",
             Filter::Anisotropic => "aniso",
         });
@@ -210,6 +211,9 @@ pub fn status_modes(state: &State) -> String {
     }
     if s.attenuation {
         add("att");
+    }
+    if s.specular {
+        add(&format!("spec{}", format_shininess(s.shininess)));
     }
     if state.distance != REFERENCE_DISTANCE {
         add(&format!("d{}", format_distance(state.distance)));
@@ -300,7 +304,22 @@ pub fn status_text(state: &State, detail: Detail) -> String {
     } else {
         String::new()
     };
-    format!("{}{zoom}{cost}{auto}{hint}", fields.join(" │ "))
+    // Highlights show only when on: the reference picture has none.
+    let specular = if s.specular {
+        format!(
+            " │ {} s={}",
+            if short { "spec" } else { "specular" },
+            format_shininess(s.shininess)
+        )
+    } else {
+        String::new()
+    };
+    format!("{}{specular}{zoom}{cost}{auto}{hint}", fields.join(" │ "))
+}
+
+/// The specular exponent without needless decimals.
+fn format_shininess(s: f32) -> String {
+    format!("{}", (s * 100.0).round() / 100.0)
 }
 
 fn short_depth(state: &State) -> &'static str {
