@@ -42,18 +42,25 @@ pub fn view_dir8(eye: Vec3, p: V3) -> V3 {
     e.scale(f32x8::ONE / e.dot(e).sqrt())
 }
 
-/// `blinn_phong` at eight points.
+/// `blinn_phong` at eight points; the power is taken only in the lanes
+/// whose bit is set in `lit` (the others are thrown away: 0 here).
 #[inline(always)]
-pub fn blinn_phong8(n: V3, d: V3, len2: f32x8, view: V3, shininess: f32) -> f32x8 {
+pub fn blinn_phong8(n: V3, d: V3, len2: f32x8, view: V3, shininess: f32, lit: u32) -> f32x8 {
     let l = d.scale(f32x8::ONE / len2.sqrt());
     let h = l.plus(view);
     let ndh = (n.dot(h) / h.dot(h).sqrt()).to_array();
-    f32x8::from(ndh.map(|c| if c > 0.0 { c.powf(shininess) } else { 0.0 }))
+    let mut out = [0.0f32; LANES];
+    for lane in (0..LANES).filter(|l| lit & (1 << l) != 0) {
+        let c = ndh[lane];
+        if c > 0.0 {
+            out[lane] = c.powf(shininess);
+        }
+    }
+    f32x8::from(out)
 }
 
 /// `gloss` at eight points (the packet bilinear read is the one-pixel one, lane-wise).
 #[inline(always)]
 pub fn gloss8(map: &Level, u: f32x8, v: f32x8) -> f32x8 {
-    const { assert!(LANES == 8) };
     packet::bilinear::<true, false>(map, u, v).color.x
 }
