@@ -197,8 +197,7 @@ pub fn light<const SPEC: bool>(
         let ok = facing & len2.simd_gt(f32x8::ZERO) & len2.simd_lt(f32x8::splat(f32::INFINITY));
         let mut k = ndl / len2.sqrt();
         let mut ks = if SPEC {
-            let lit = ok.to_bitmask();
-            crate::shade::specular::blinn_phong8(n, d, len2, view, shininess, lit)
+            crate::shade::specular::blinn_phong8(n, d, len2, view, shininess)
         } else {
             f32x8::ZERO
         };
