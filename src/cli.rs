@@ -172,6 +172,15 @@ pub struct ViewArgs {
     /// Distance attenuation of the lights: 1/(1 + 0.01·d²), d the distance to the light.
     #[arg(long, value_enum, default_value_t = Toggle::Off)]
     pub attenuation: Toggle,
+    /// Blinn-Phong specular highlights (docs/specular.md): per pixel in Phong, per vertex in Gouraud, per facet in flat.
+    #[arg(long, value_enum, default_value_t = Toggle::Off)]
+    pub specular: Toggle,
+    /// Specular exponent s of (N·H)^s: higher gives smaller, sharper highlights.
+    #[arg(long, value_name = "S", default_value_t = crate::settings::DEFAULT_SHININESS, value_parser = parse_shininess)]
+    pub shininess: f32,
+    /// Grey image whose value (mean of R, G, B) scales the highlight, read with the texture coordinates.
+    #[arg(long, value_name = "PATH")]
+    pub specular_map: Option<PathBuf>,
     /// Plasma scene: the article's Z² lookup table or the exact per-pixel normal.
     #[arg(long, value_enum, default_value_t = PlasmaNormal::Table)]
     pub plasma_normal: PlasmaNormal,
@@ -199,7 +208,19 @@ impl ViewArgs {
             display: self.display,
             lights: self.lights.on(),
             attenuation: self.attenuation.on(),
+            specular: self.specular.on(),
+            shininess: self.shininess,
         }
+    }
+}
+
+/// A specular exponent: finite and > 0.
+pub fn parse_shininess(text: &str) -> Result<f32, String> {
+    let s = parse_finite(text)?;
+    if s > 0.0 {
+        Ok(s)
+    } else {
+        Err(format!("the shininess must be above 0, got '{text}'"))
     }
 }
 

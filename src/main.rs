@@ -61,6 +61,12 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         args.view.height_map.as_deref(),
     )?;
     let view = &args.view;
+    let specular_map = match &view.specular_map {
+        Some(path) => Some(Arc::new(relief::texture::specular_map::load_specular_map(
+            path,
+        )?)),
+        None => None,
+    };
     let built = build_scene(view.scene, &view.model, Arc::new(texture), view.all_faces)?;
     let settings = view.settings();
     let (width, height) = (args.width as usize, args.height as usize);
@@ -73,6 +79,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     match built {
         Built::Scene(mut scene) => {
             scene.camera = scene.camera.at_distance(view.distance);
+            scene.material.specular_map = specular_map;
             Renderer::new().render(&scene, &settings, &mut fb);
         }
         Built::Plasma(plasma) => {

@@ -10,8 +10,8 @@ use crate::scene::{Scene, rotation_matrix};
 use crate::settings::{
     AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
 };
-use crate::texture::NormalMap;
 use crate::texture::normal_map::normal_map_scale;
+use crate::texture::{Level, NormalMap};
 
 /// A light that can change a pixel: enabled, with a non-black colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,6 +31,15 @@ pub fn strongest_light(lights: &[ActiveLight]) -> Option<usize> {
         }
     }
     best.map(|(i, _)| i)
+}
+
+/// Blinn-Phong highlights, when the plan draws them (docs/specular.md).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Specular {
+    /// The exponent s of (N·H)^s: finite and > 0.
+    pub shininess: f32,
+    /// Grey map scaling the highlight on triangles with texture coordinates.
+    pub map: Option<Arc<Level>>,
 }
 
 /// The stages of one frame.
@@ -67,6 +76,9 @@ pub struct Plan {
     pub lights: Vec<ActiveLight>,
     /// Distance attenuation of the lights.
     pub attenuation: bool,
+    /// Highlights: only when asked for, with a usable exponent and a light
+    /// to reflect (and filled triangles: points and lines show none).
+    pub specular: Option<Specular>,
     pub display: Display,
     /// Anti-aliasing; multisampling only in fill display (lines and points
     /// have no coverage to sample).
@@ -130,6 +142,15 @@ impl Plan {
         let rotation = rotation_matrix(settings.rotation);
         let (shadow_light, shadow_casters) =
             shadow_light(scene, settings.display, rotation, &lights).unzip();
+        let specular = (settings.specular
+            && settings.shininess.is_finite()
+            && settings.shininess > 0.0
+            && !lights.is_empty()
+            && settings.display == Display::Fill)
+            .then(|| Specular {
+                shininess: settings.shininess,
+                map: scene.material.specular_map.clone(),
+            });
         Plan {
             shading: settings.shading,
             face_normals: settings.normals == crate::settings::Normals::Face,
@@ -148,6 +169,7 @@ impl Plan {
             ambient: scene.ambient,
             lights,
             attenuation: settings.attenuation,
+            specular,
             display: settings.display,
             aa,
             rotation,

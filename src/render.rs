@@ -18,9 +18,10 @@ use crate::scene::{Scene, normal_matrix};
 use crate::settings::{AntiAlias, Display, LightVector, Settings, Shading, Technique};
 use crate::shade::dot3::Dot3Kernel;
 use crate::shade::emboss::EmbossKernel;
-use crate::shade::kernels::{GouraudKernel, PhongKernel};
-use crate::shade::lighting::{diffuse, diffuse_with, finish};
+use crate::shade::kernels::{FlatHighlightKernel, GouraudKernel, PhongKernel};
+use crate::shade::lighting::{diffuse, finish, light_with};
 use crate::shade::parallax::ParallaxKernel;
+use crate::shade::specular::{gloss, view_dir};
 use crate::shade::{GouraudTri, PhongTri, ShadeCtx, TexturedFlatTri, TriShader};
 use crate::shadow::{Shadow, ShadowMap};
 use crate::stats::{Counters, FrameStats};
@@ -486,23 +487,41 @@ pub fn draw_into<T: RasterTarget>(
 ) {
     match shader {
         TriShader::Solid(color) => target.raster(tri, color, ctx, counters),
-        TriShader::FlatTextured(s) => target.raster(tri, s, ctx, counters),
-        TriShader::Gouraud(s) => {
-            if s.textured {
-                target.raster(tri, &GouraudKernel::<true>(s), ctx, counters)
-            } else {
-                target.raster(tri, &GouraudKernel::<false>(s), ctx, counters)
-            }
+        TriShader::FlatTextured(s) if ctx.plan.specular.is_some() => {
+            target.raster(tri, &FlatHighlightKernel(s), ctx, counters)
         }
+        TriShader::FlatTextured(s) => target.raster(tri, s, ctx, counters),
+        TriShader::Gouraud(s) => match (s.textured, ctx.plan.specular.is_some()) {
+            (true, true) => target.raster(tri, &GouraudKernel::<true, true>(s), ctx, counters),
+            (true, false) => target.raster(tri, &GouraudKernel::<true, false>(s), ctx, counters),
+            (false, true) => target.raster(tri, &GouraudKernel::<false, true>(s), ctx, counters),
+            (false, false) => target.raster(tri, &GouraudKernel::<false, false>(s), ctx, counters),
+        },
         TriShader::Phong(s) => match (s.textured, s.bumped) {
             (_, true) if ctx.plan.technique != Technique::Blinn => {
                 draw_technique(tri, s, ctx, target, counters)
             }
-            (true, true) => target.raster(tri, &PhongKernel::<true, true>(s), ctx, counters),
-            (true, false) => target.raster(tri, &PhongKernel::<true, false>(s), ctx, counters),
-            (false, true) => target.raster(tri, &PhongKernel::<false, true>(s), ctx, counters),
-            (false, false) => target.raster(tri, &PhongKernel::<false, false>(s), ctx, counters),
+            (true, true) => phong::<T, true, true>(tri, s, ctx, target, counters),
+            (true, false) => phong::<T, true, false>(tri, s, ctx, target, counters),
+            (false, true) => phong::<T, false, true>(tri, s, ctx, target, counters),
+            (false, false) => phong::<T, false, false>(tri, s, ctx, target, counters),
         },
+    }
+}
+
+/// A Phong triangle, with highlights when the plan has them (chosen here,
+/// once per triangle, so the kernel without them does no specular work).
+fn phong<T: RasterTarget, const TEX: bool, const BUMP: bool>(
+    tri: &ScreenTri,
+    s: &PhongTri,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
+    if ctx.plan.specular.is_some() {
+        target.raster(tri, &PhongKernel::<TEX, BUMP, true>(s), ctx, counters)
+    } else {
+        target.raster(tri, &PhongKernel::<TEX, BUMP, false>(s), ctx, counters)
     }
 }
 
@@ -528,9 +547,9 @@ fn draw_technique<T: RasterTarget>(
             let Some(map) = plan.normal_map.as_deref() else {
                 // The plan builds the map whenever dot3 runs; without one, Blinn.
                 return if textured {
-                    target.raster(tri, &PhongKernel::<true, true>(s), ctx, counters)
+                    phong::<T, true, true>(tri, s, ctx, target, counters)
                 } else {
-                    target.raster(tri, &PhongKernel::<false, true>(s), ctx, counters)
+                    phong::<T, false, true>(tri, s, ctx, target, counters)
                 };
             };
             match (textured, plan.light_vector) {
@@ -568,12 +587,8 @@ fn draw_technique<T: RasterTarget>(
             let k = ParallaxKernel::<false, true> { tri: s, eye };
             target.raster(tri, &k, ctx, counters)
         }
-        (Technique::Blinn, true) => {
-            target.raster(tri, &PhongKernel::<true, true>(s), ctx, counters)
-        }
-        (Technique::Blinn, false) => {
-            target.raster(tri, &PhongKernel::<false, true>(s), ctx, counters)
-        }
+        (Technique::Blinn, true) => phong::<T, true, true>(tri, s, ctx, target, counters),
+        (Technique::Blinn, false) => phong::<T, false, true>(tri, s, ctx, target, counters),
     }
 }
 
@@ -614,6 +629,7 @@ fn build_shader(
 ) -> TriShader {
     let textured = tri.textured && plan.texture;
     let bumped = tri.textured && plan.bump;
+    let glossy = tri.textured && plan.specular.as_ref().is_some_and(|s| s.map.is_some());
     let uv = verts.map(|v| v.uv);
     let white = Vec3::ONE;
     let color = if plan.colors {
@@ -627,47 +643,52 @@ fn build_shader(
             counters.light_evals += lights;
             let center = model.transform_point3(tri.facet_center);
             let albedo = if plan.colors { tri.facet_color } else { white };
-            let lit = albedo
-                * diffuse_with(
-                    &plan.lights,
-                    plan.ambient,
-                    center,
-                    face_normal,
-                    plan.attenuation,
-                    |i| shadow.map_or(1.0, |s| s.factor(i, center, face_normal, object, counters)),
-                );
+            let (light, highlight) = lights_at(
+                plan,
+                center,
+                face_normal,
+                |i, c: &mut Counters| {
+                    shadow.map_or(1.0, |s| s.factor(i, center, face_normal, object, c))
+                },
+                counters,
+            );
+            // One highlight per facet, the specular map read at its centre.
+            let gloss_uv = (uv[0] + uv[1] + uv[2]) / 3.0;
+            let highlight = highlight * glossiness(plan, glossy, gloss_uv);
+            let lit = albedo * light;
             if textured {
-                TriShader::FlatTextured(TexturedFlatTri { lit, uv })
+                TriShader::FlatTextured(TexturedFlatTri { lit, uv, highlight })
+            } else if plan.specular.is_some() {
+                TriShader::Solid(finish(lit + highlight, counters))
             } else {
                 TriShader::Solid(finish(lit, counters))
             }
         }
         Shading::Gouraud => {
             counters.light_evals += 3 * lights;
-            let light = verts.map(|v| {
+            let lit = verts.map(|v| {
                 let n = if plan.face_normals {
                     face_normal
                 } else {
                     v.normal * side
                 };
-                diffuse_with(
-                    &plan.lights,
-                    plan.ambient,
+                lights_at(
+                    plan,
                     v.position,
                     n,
-                    plan.attenuation,
-                    |i| {
-                        shadow.map_or(1.0, |s| {
-                            s.factor(i, v.position, face_normal, object, counters)
-                        })
+                    |i, c: &mut Counters| {
+                        shadow.map_or(1.0, |s| s.factor(i, v.position, face_normal, object, c))
                     },
+                    counters,
                 )
             });
             TriShader::Gouraud(GouraudTri {
-                light,
+                light: lit.map(|l| l.0),
+                highlight: lit.map(|l| l.1),
                 color,
                 uv,
                 textured,
+                glossy,
             })
         }
         Shading::Phong => {
@@ -699,9 +720,56 @@ fn build_shader(
                 uniform_tangents,
                 textured,
                 bumped,
+                glossy,
                 object,
             })
         }
+    }
+}
+
+/// The diffuse light and (when the plan has them) the highlights at one
+/// point of a flat or Gouraud triangle, each light's shadow asked once.
+fn lights_at(
+    plan: &Plan,
+    p: Vec3,
+    n: Vec3,
+    mut visibility: impl FnMut(usize, &mut Counters) -> f32,
+    counters: &mut Counters,
+) -> (Vec3, Vec3) {
+    let (ambient, attenuation) = (plan.ambient, plan.attenuation);
+    match &plan.specular {
+        Some(spec) => {
+            counters.specular_evals += plan.lights.len() as u64;
+            let view = view_dir(plan.eye, p);
+            light_with::<true>(
+                &plan.lights,
+                ambient,
+                p,
+                n,
+                attenuation,
+                view,
+                spec.shininess,
+                |i| visibility(i, counters),
+            )
+        }
+        None => light_with::<false>(
+            &plan.lights,
+            ambient,
+            p,
+            n,
+            attenuation,
+            Vec3::ZERO,
+            0.0,
+            |i| visibility(i, counters),
+        ),
+    }
+}
+
+/// The specular map's value at `uv` for a `glossy` triangle, else 1.
+fn glossiness(plan: &Plan, glossy: bool, uv: Vec2) -> f32 {
+    match plan.specular.as_ref().and_then(|s| s.map.as_deref()) {
+        Some(map) if glossy => gloss(map, uv),
+        _ => 1.0,
     }
 }
 

@@ -67,6 +67,8 @@ pub enum Filter {
     Nearest,
     #[default]
     Bilinear,
+    /// Bilinear on the one nearest mip level (GL's LINEAR_MIPMAP_NEAREST).
+    NearestMip,
     /// Bilinear on the two nearest mip levels, blended.
     Trilinear,
     /// Several trilinear taps along the major axis of the pixel footprint.
@@ -77,7 +79,8 @@ impl Filter {
     pub fn next(self) -> Self {
         match self {
             Filter::Nearest => Filter::Bilinear,
-            Filter::Bilinear => Filter::Trilinear,
+            Filter::Bilinear => Filter::NearestMip,
+            Filter::NearestMip => Filter::Trilinear,
             Filter::Trilinear => Filter::Anisotropic,
             Filter::Anisotropic => Filter::Nearest,
         }
@@ -86,13 +89,17 @@ impl Filter {
         match self {
             Filter::Nearest => "nearest",
             Filter::Bilinear => "bilinear",
+            Filter::NearestMip => "nearest-mip",
             Filter::Trilinear => "trilinear",
             Filter::Anisotropic => "anisotropic",
         }
     }
     /// True when the filter reads a mip chain (and so needs UV derivatives).
     pub fn uses_mips(self) -> bool {
-        matches!(self, Filter::Trilinear | Filter::Anisotropic)
+        matches!(
+            self,
+            Filter::NearestMip | Filter::Trilinear | Filter::Anisotropic
+        )
     }
 }
 
@@ -285,6 +292,11 @@ pub struct Settings {
     pub lights: bool,
     /// Distance attenuation of point lights.
     pub attenuation: bool,
+    /// Key `g`: Blinn-Phong highlights (docs/specular.md); off keeps the
+    /// documented picture.
+    pub specular: bool,
+    /// Blinn-Phong exponent s of (N·H)^s (keys `y`, `Y`): higher, smaller highlights.
+    pub shininess: f32,
     /// Model rotation in degrees about X, then Y, then Z.
     pub rotation: Vec3,
 }
@@ -306,6 +318,8 @@ impl Default for Settings {
             display: Display::Fill,
             lights: true,
             attenuation: false,
+            specular: false,
+            shininess: DEFAULT_SHININESS,
             rotation: DEFAULT_ROTATION,
         }
     }
@@ -313,6 +327,10 @@ impl Default for Settings {
 
 /// Blinn bump strength of the reference scene.
 pub const DEFAULT_BUMP_STRENGTH: f32 = 0.006;
+/// Blinn-Phong exponent when none is given.
+pub const DEFAULT_SHININESS: f32 = 32.0;
+/// The range keys `y` and `Y` keep the exponent in (each press doubles or halves it).
+pub const SHININESS_RANGE: (f32, f32) = (1.0, 1024.0);
 /// Model rotation of the reference scene, in degrees.
 pub const DEFAULT_ROTATION: Vec3 = Vec3::new(25.0, 35.0, 0.0);
 

@@ -19,6 +19,8 @@ pub struct Counters {
     pub bump_evals: u64,
     /// Light × point evaluations (N·L).
     pub light_evals: u64,
+    /// Light × point highlight evaluations ((N·H)^s); 0 when specular is off.
+    pub specular_evals: u64,
     /// Depth comparisons.
     pub depth_tests: u64,
     /// Mip chains built this frame (the texture's and the dot3 normal map's).
@@ -41,6 +43,7 @@ impl AddAssign for Counters {
         self.texture_samples += o.texture_samples;
         self.bump_evals += o.bump_evals;
         self.light_evals += o.light_evals;
+        self.specular_evals += o.specular_evals;
         self.depth_tests += o.depth_tests;
         self.mip_builds += o.mip_builds;
         self.normal_map_builds += o.normal_map_builds;

@@ -12,6 +12,7 @@ mod common;
 
 use std::sync::Arc;
 
+use clap::ValueEnum;
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
 use relief::render::{Renderer, render_frame};
@@ -222,12 +223,10 @@ fn small_map() -> &'static (Arc<Texture>, Arc<NormalMap>) {
     })
 }
 
-const FILTERS: [Filter; 4] = [
-    Filter::Nearest,
-    Filter::Bilinear,
-    Filter::Trilinear,
-    Filter::Anisotropic,
-];
+/// Every filter, so a new one is checked here too.
+fn filters() -> impl Iterator<Item = Filter> {
+    Filter::value_variants().iter().copied()
+}
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(1000))]
@@ -248,11 +247,12 @@ proptest! {
         let size = Vec2::new(map.width as f32, map.height as f32);
         let plan = AnisoPlan::at(size, fp);
         let magnified = |filter| match filter {
+            Filter::NearestMip => mip::lod_at(size, fp) <= 0.5,
             Filter::Trilinear => mip::lod_at(size, fp) <= 0.0,
             Filter::Anisotropic => plan.taps == 1 && plan.lod == 0.0,
             _ => false,
         };
-        for filter in FILTERS {
+        for filter in filters() {
             for mode in [HeightDerivative::Texel, HeightDerivative::Filtered] {
                 let n = read_normal(map, mode, filter, uv, fp);
                 prop_assert!(n.iter().all(|c| c.is_finite()), "{filter:?} {mode:?}: {n:?}");
@@ -277,7 +277,7 @@ proptest! {
         let tex = texture(16, noise);
         let (map, _) = tex.normal_map(1.0);
         let fp = Footprint { dx: Vec2::new(a, b), dy: Vec2::new(c, d) };
-        for filter in FILTERS {
+        for filter in filters() {
             read_normal(&map, HeightDerivative::Texel, filter, Vec2::new(u, v), fp);
         }
         for filter in [Filter::Nearest, Filter::Bilinear] {

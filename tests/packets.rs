@@ -6,6 +6,7 @@ mod common;
 
 use std::sync::Arc;
 
+use clap::ValueEnum;
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
 use relief::framebuffer::Rgb;
@@ -13,7 +14,7 @@ use relief::plan::Plan;
 use relief::raster::{Band, raster_triangle};
 use relief::render::Renderer;
 use relief::settings::{Filter, HeightDerivative, Normals, Shading, Technique};
-use relief::shade::kernels::{GouraudKernel, PhongKernel};
+use relief::shade::kernels::{FlatHighlightKernel, GouraudKernel, PhongKernel};
 use relief::shade::{PixelShader, ShadeCtx, TriShader};
 use relief::stats::Counters;
 use relief::texture::Texture;
@@ -76,16 +77,26 @@ fn both(
                 raster_triangle(tri, &OnePixel(&k), &ctx, &mut band_b, &mut cb);
             }};
         }
+        let spec = plan.specular.is_some();
         match &shaders[tri.shader as usize] {
             TriShader::Solid(c) => draw!(*c),
+            TriShader::FlatTextured(s) if spec => draw!(FlatHighlightKernel(s)),
             TriShader::FlatTextured(s) => draw!(s.clone()),
-            TriShader::Gouraud(s) if s.textured => draw!(GouraudKernel::<true>(s)),
-            TriShader::Gouraud(s) => draw!(GouraudKernel::<false>(s)),
-            TriShader::Phong(s) => match (s.textured, s.bumped) {
-                (true, true) => draw!(PhongKernel::<true, true>(s)),
-                (true, false) => draw!(PhongKernel::<true, false>(s)),
-                (false, true) => draw!(PhongKernel::<false, true>(s)),
-                (false, false) => draw!(PhongKernel::<false, false>(s)),
+            TriShader::Gouraud(s) => match (s.textured, spec) {
+                (true, true) => draw!(GouraudKernel::<true, true>(s)),
+                (true, false) => draw!(GouraudKernel::<true, false>(s)),
+                (false, true) => draw!(GouraudKernel::<false, true>(s)),
+                (false, false) => draw!(GouraudKernel::<false, false>(s)),
+            },
+            TriShader::Phong(s) => match (s.textured, s.bumped, spec) {
+                (true, true, true) => draw!(PhongKernel::<true, true, true>(s)),
+                (true, false, true) => draw!(PhongKernel::<true, false, true>(s)),
+                (false, true, true) => draw!(PhongKernel::<false, true, true>(s)),
+                (false, false, true) => draw!(PhongKernel::<false, false, true>(s)),
+                (true, true, false) => draw!(PhongKernel::<true, true, false>(s)),
+                (true, false, false) => draw!(PhongKernel::<true, false, false>(s)),
+                (false, true, false) => draw!(PhongKernel::<false, true, false>(s)),
+                (false, false, false) => draw!(PhongKernel::<false, false, false>(s)),
             },
         }
     }
@@ -93,8 +104,11 @@ fn both(
 }
 
 fn check(settings: Settings, w: usize, h: usize) {
-    let scene = common::reference_scene(true);
-    let (a, b, ca, cb, packed) = both(&scene, &settings, w, h);
+    check_in(&common::reference_scene(true), settings, w, h);
+}
+
+fn check_in(scene: &Scene, settings: Settings, w: usize, h: usize) {
+    let (a, b, ca, cb, packed) = both(scene, &settings, w, h);
     assert!(packed > 0, "no triangle used packets: {settings:?}");
     let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
     assert_eq!(differ, 0, "{differ} pixels differ: {settings:?}");
@@ -126,7 +140,7 @@ fn every_packet_kernel_matches_the_one_pixel_loop() {
     // Every filter and height derivative: the mip filters read per lane
     // with the lane's footprint, like the one-pixel kernels.
     for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
-        for filter in [Filter::Nearest, Filter::Trilinear, Filter::Anisotropic] {
+        for &filter in Filter::value_variants() {
             for height_derivative in [HeightDerivative::Texel, HeightDerivative::Filtered] {
                 for (texture, bump) in [(true, true), (true, false), (false, true)] {
                     check(
@@ -160,6 +174,52 @@ fn every_packet_kernel_matches_the_one_pixel_loop() {
     );
 }
 
+/// The highlight kernels (flat, Gouraud, Phong with and without texture,
+/// bump and a specular map), as the one-pixel loop draws them.
+#[test]
+fn specular_kernels_match_the_one_pixel_loop() {
+    let plain = common::reference_scene(true);
+    let mut mapped = common::reference_scene(true);
+    // A grey map varying over texels, with odd sizes so lanes wrap.
+    let rgba: Vec<u8> = (0..13 * 7 * 4).map(|i| (i * 37 % 256) as u8).collect();
+    let grey = relief::texture::specular_map::grey(&Texture::from_rgba8("gloss", 13, 7, &rgba));
+    mapped.material.specular_map = Some(Arc::new(grey));
+    for scene in [&plain, &mapped] {
+        for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+            for normals in [Normals::Face, Normals::Vertex] {
+                for (texture, bump) in [(true, true), (true, false), (false, true), (false, false)]
+                {
+                    for (attenuation, shininess) in [(false, 32.0), (true, 1.0), (false, 500.0)] {
+                        let s = Settings {
+                            shading,
+                            normals,
+                            texture,
+                            bump,
+                            attenuation,
+                            specular: true,
+                            shininess,
+                            ..Settings::default()
+                        };
+                        check_in(scene, s, 80, 60);
+                        let (_, stats) = relief::render::render_frame(scene, &s, 80, 60);
+                        assert!(stats.counters.specular_evals > 0, "{s:?}");
+                    }
+                }
+            }
+        }
+        // The mip filters read per lane beside the highlight.
+        for &filter in Filter::value_variants() {
+            let s = Settings {
+                filter,
+                specular: true,
+                rotation: Vec3::new(70.0, 35.0, 10.0),
+                ..Settings::default()
+            };
+            check_in(scene, s, 48, 36);
+        }
+    }
+}
+
 /// Textures too small for the unwrapped fast path (under 4 texels on an
 /// axis) and odd sizes, where lanes wrap at either border.
 #[test]
@@ -187,8 +247,11 @@ proptest! {
     fn any_orientation_size_and_strength_matches(
         rx in -720.0f32..720.0, ry in -720.0f32..720.0, rz in -720.0f32..720.0,
         w in 1usize..200, h in 1usize..150, k in 0.0f32..0.2, vertex in any::<bool>(),
+        specular in any::<bool>(), shininess in 0.5f32..300.0,
     ) {
         let settings = Settings {
+            specular,
+            shininess,
             rotation: Vec3::new(rx, ry, rz),
             bump_strength: k,
             normals: if vertex { Normals::Vertex } else { Normals::Face },

@@ -6,6 +6,7 @@ use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, mpsc};
 
+use clap::ValueEnum;
 use crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
 use ratatui::Terminal;
 use relief::app::event_loop::{Looper, Msg};
@@ -32,8 +33,19 @@ fn texture_keys_and_paste_become_commands() {
     assert_eq!(act(&s, 'X'), Action::PrevTexture);
     assert_eq!(act(&s, 'R'), Action::ReloadTexture);
     let f = act(&s, 'f');
-    assert_eq!(update(&mut s, f), None);
-    assert_eq!(s.settings.filter, Filter::Trilinear);
+    assert_eq!(update(&mut s, f.clone()), None);
+    assert_eq!(s.settings.filter, Filter::NearestMip);
+    // `f` visits every filter and comes back.
+    let mut seen = vec![s.settings.filter];
+    for _ in 1..Filter::value_variants().len() {
+        update(&mut s, f.clone());
+        seen.push(s.settings.filter);
+    }
+    for v in Filter::value_variants() {
+        assert!(seen.contains(v), "{v:?}");
+    }
+    update(&mut s, f.clone());
+    assert_eq!(s.settings.filter, Filter::NearestMip);
     assert_eq!(
         update(&mut s, Action::NextTexture),
         Some(Command::CycleTexture(true))

@@ -3,6 +3,7 @@
 
 use std::sync::OnceLock;
 
+use clap::ValueEnum;
 use glam::Vec2;
 use proptest::prelude::*;
 use relief::settings::{Filter, HeightDerivative};
@@ -10,12 +11,10 @@ use relief::texture::filter::{Footprint, height_gradient, sample};
 use relief::texture::mip::{AnisoPlan, MAX_ANISOTROPY, lod, trilinear};
 use relief::texture::{Level, Texture, procedural};
 
-const FILTERS: [Filter; 4] = [
-    Filter::Nearest,
-    Filter::Bilinear,
-    Filter::Trilinear,
-    Filter::Anisotropic,
-];
+/// Every filter, so a new one is checked here too.
+fn filters() -> impl Iterator<Item = Filter> {
+    Filter::value_variants().iter().copied()
+}
 
 fn close(a: [f32; 4], b: [f32; 4]) -> bool {
     a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-5)
@@ -184,7 +183,7 @@ fn trilinear_at_an_integer_lod_is_bilinear_of_that_level() {
 fn no_chain_is_built_while_no_pixel_is_minified() {
     let tex = procedural::brick();
     let uv = Vec2::new(0.3, 0.6);
-    for filter in FILTERS {
+    for filter in filters() {
         for texels in [0.01, 0.5, 1.0] {
             let t = sample(&tex, filter, uv, footprint(&tex, texels));
             if filter != Filter::Nearest {
@@ -304,7 +303,7 @@ fn filtered_heights_follow_the_footprint() {
     );
     // The documented per-texel derivative ignores filters and footprints.
     let texel = tex.base().height_gradient_texel(uv.x, uv.y);
-    for filter in FILTERS {
+    for filter in filters() {
         assert_eq!(
             height_gradient(&tex, HeightDerivative::Texel, filter, uv, minified),
             texel
@@ -383,7 +382,7 @@ proptest! {
         let tex = &textures()[which];
         let uv = Vec2::new(u, v);
         let fp = Footprint { dx: Vec2::new(a, b), dy: Vec2::new(c, d) };
-        for filter in FILTERS {
+        for filter in filters() {
             let t = sample(tex, filter, uv, fp);
             prop_assert!(t.iter().all(|x| (0.0..=1.0).contains(x)), "{filter:?} {t:?}");
             for mode in [HeightDerivative::Texel, HeightDerivative::Filtered] {
@@ -392,6 +391,62 @@ proptest! {
                 let bound = tex.width().max(tex.height()) as f32 + 1e-3;
                 prop_assert!(gu.is_finite() && gv.is_finite(), "{filter:?} {mode:?}");
                 prop_assert!(gu.abs() <= bound && gv.abs() <= bound, "{gu} {gv}");
+            }
+        }
+    }
+}
+
+/// Nearest-mip reads exactly one level: at any level of detail its sample
+/// is the hand-computed bilinear blend of the four texels of level
+/// ⌈λ + ½⌉ − 1 around the point (the base up to λ = ½), and never a mix of two.
+#[test]
+fn nearest_mip_reads_one_level_bilinearly() {
+    let tex = procedural::brick();
+    let last = tex.level_count() - 1;
+    // Bilinear by hand in f64: texel centres at (i + ½)/n, wrapped.
+    let by_hand = |level: &Level, u: f64, v: f64| -> [f64; 4] {
+        let (w, h) = (level.width as i64, level.height as i64);
+        let x = u.rem_euclid(1.0) * w as f64 - 0.5;
+        let y = v.rem_euclid(1.0) * h as f64 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let at = |i: i64, j: i64| level.texels[(j.rem_euclid(h) * w + i.rem_euclid(w)) as usize];
+        let (i, j) = (x0 as i64, y0 as i64);
+        std::array::from_fn(|c| {
+            let t = |a: i64, b: i64| at(a, b)[c] as f64;
+            (1.0 - fx) * (1.0 - fy) * t(i, j)
+                + fx * (1.0 - fy) * t(i + 1, j)
+                + (1.0 - fx) * fy * t(i, j + 1)
+                + fx * fy * t(i + 1, j + 1)
+        })
+    };
+    // (λ, the level it must read)
+    let cases = [
+        (0.3f32, 0usize),
+        (0.45, 0),
+        (0.55, 1),
+        (1.2, 1),
+        (1.45, 1),
+        (1.7, 2),
+        (3.0, 3),
+        (40.0, last),
+    ];
+    for (lambda, want) in cases {
+        // An isotropic footprint 2^λ texels across.
+        let fp = footprint(&tex, 2f32.powf(lambda));
+        for &(u, v) in &[(0.1f64, 0.2f64), (0.53, 0.47), (0.93, 0.07)] {
+            let got = sample(&tex, Filter::NearestMip, Vec2::new(u as f32, v as f32), fp);
+            let expect = by_hand(tex.level(want), u, v);
+            for c in 0..4 {
+                assert!(
+                    (got[c] as f64 - expect[c]).abs() < 1e-5,
+                    "λ {lambda}, level {want}, ({u}, {v}) channel {c}: {got:?} vs {expect:?}"
+                );
+            }
+            // Not the neighbouring level's read (the brick differs between levels).
+            if want < last {
+                let other = by_hand(tex.level(want + 1), u, v);
+                assert!((0..3).any(|c| (got[c] as f64 - other[c]).abs() > 1e-4));
             }
         }
     }

@@ -4,18 +4,17 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use clap::ValueEnum;
 use glam::Vec3;
 use relief::render::render_frame;
 use relief::settings::{Filter, HeightDerivative};
 use relief::texture::{Texture, builtins, load_texture};
 use relief::{Scene, Settings};
 
-const FILTERS: [Filter; 4] = [
-    Filter::Nearest,
-    Filter::Bilinear,
-    Filter::Trilinear,
-    Filter::Anisotropic,
-];
+/// Every filter, so a new one is checked here too.
+fn filters() -> impl Iterator<Item = Filter> {
+    Filter::value_variants().iter().copied()
+}
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -59,7 +58,7 @@ fn every_accepted_file_renders_with_every_filter() {
     assert!(files.len() > 190);
     for path in &files {
         let tex = Arc::new(load_texture(path).unwrap());
-        for filter in FILTERS {
+        for filter in filters() {
             // 40×30 pixels: the cube covers a few hundred of them.
             assert!(render(&tex, filter, 40, 30) > 100, "{}", path.display());
         }
@@ -85,7 +84,7 @@ fn the_chain_is_built_only_for_minified_textures() {
             texels,
         },
     ));
-    for filter in FILTERS {
+    for filter in filters() {
         assert_eq!(
             render_turned(&small, filter, 320, 240, Vec3::ZERO),
             104 * 104

@@ -148,6 +148,12 @@ pub enum Action {
     ToggleLights,
     /// `L`: distance attenuation on / off.
     ToggleAttenuation,
+    /// `g`: specular highlights on / off.
+    ToggleSpecular,
+    /// `y`: shininess doubled (smaller highlights).
+    ShinierSpecular,
+    /// `Y`: shininess halved (larger highlights).
+    DullerSpecular,
     /// `1`–`4`: one reference light (0 = white, red, green, blue) on / off.
     ToggleLight(usize),
     /// `z`: plasma Z² table / exact normal.

@@ -112,6 +112,7 @@ pub fn active_stages(c: &Counters) -> Vec<String> {
         ("texture", c.texture_samples),
         ("bump", c.bump_evals),
         ("lights", c.light_evals),
+        ("specular", c.specular_evals),
         ("depth", c.depth_tests),
         ("mip builds", c.mip_builds),
         ("normal maps", c.normal_map_builds),

@@ -282,7 +282,7 @@ pub const KEYS: &[Binding] = &[
         Action::CycleFilter,
         Line(
             "f",
-            "texture filter: nearest, bilinear, trilinear, anisotropic",
+            "filter: nearest, bilinear, nearest-mip, trilinear, aniso",
         ),
     ),
     row(
@@ -370,6 +370,19 @@ pub const KEYS: &[Binding] = &[
         Action::ToggleAttenuation,
         Line("L", "distance attenuation on / off"),
     ),
+    row(
+        Normal,
+        &[c('g')],
+        Action::ToggleSpecular,
+        Line("g", "specular highlights (Blinn-Phong) on / off"),
+    ),
+    row(
+        Normal,
+        &[c('y')],
+        Action::ShinierSpecular,
+        Line("y Y", "shininess ×2 / ÷2: smaller / larger highlights"),
+    ),
+    row(Normal, &[c('Y')], Action::DullerSpecular, Above),
     row(
         Normal,
         &[c('o')],

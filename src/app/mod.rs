@@ -16,7 +16,7 @@ pub use view::view;
 
 use std::io::{IsTerminal, Read};
 use std::os::fd::{AsFd, AsRawFd};
-use std::sync::mpsc;
+use std::sync::{Arc, mpsc};
 
 use anyhow::{Context, bail};
 use ratatui::Terminal;
@@ -70,7 +70,13 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         cli.view.model.clone(),
         textures.texture().clone(),
         cli.view.all_faces,
-    )?;
+    )?
+    .with_specular_map(match &cli.view.specular_map {
+        Some(path) => Some(Arc::new(crate::texture::specular_map::load_specular_map(
+            path,
+        )?)),
+        None => None,
+    });
     let stage = std::cell::RefCell::new(stage);
     let mut stage_generation = textures.generation();
     let textures = std::cell::RefCell::new(textures);

@@ -10,7 +10,7 @@ use crate::sanitize::clean;
 use crate::scene::obj::ObjError;
 use crate::scene::{Built, Camera, ModelChoice, SceneKind, build_scene};
 use crate::stats::FrameStats;
-use crate::texture::Texture;
+use crate::texture::{Level, Texture};
 
 use super::state::{State, plasma_light};
 
@@ -22,6 +22,8 @@ pub struct Stage {
     /// Kept across the plasma (which has none) for the next 3D scene.
     texture: Arc<Texture>,
     all_faces: bool,
+    /// `--specular-map`, given to every 3D scene shown.
+    specular_map: Option<Arc<Level>>,
     /// The scene's own camera, which the zoom moves along its line of sight.
     camera: Camera,
 }
@@ -50,7 +52,14 @@ impl Stage {
             model,
             texture,
             all_faces,
+            specular_map: None,
         })
+    }
+
+    /// Gives the 3D scenes this specular map.
+    pub fn with_specular_map(mut self, map: Option<Arc<Level>>) -> Stage {
+        self.specular_map = map;
+        self
     }
 
     /// The scene and model shown.
@@ -96,6 +105,7 @@ impl Stage {
     ) -> FrameStats {
         match &mut self.built {
             Built::Scene(scene) => {
+                scene.material.specular_map = self.specular_map.clone();
                 for (light, on) in scene.lights.iter_mut().zip(state.light_on) {
                     light.enabled = on;
                 }

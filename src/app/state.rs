@@ -13,7 +13,7 @@ use crate::plasma::PlasmaNormal;
 use crate::sanitize::clean;
 use crate::scene::camera::{MAX_DISTANCE, MIN_DISTANCE, REFERENCE_DISTANCE};
 use crate::scene::{ModelChoice, SceneKind};
-use crate::settings::{Settings, normalize_degrees};
+use crate::settings::{SHININESS_RANGE, Settings, normalize_degrees};
 use crate::term::ColorDepth;
 use crate::term::pacing::LinkInfo;
 
@@ -397,6 +397,9 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         Action::CycleDisplay => s.display = s.display.next(),
         Action::ToggleLights => s.lights = !s.lights,
         Action::ToggleAttenuation => s.attenuation = !s.attenuation,
+        Action::ToggleSpecular => s.specular = !s.specular,
+        Action::ShinierSpecular => s.shininess = (s.shininess * 2.0).min(SHININESS_RANGE.1),
+        Action::DullerSpecular => s.shininess = (s.shininess / 2.0).max(SHININESS_RANGE.0),
         Action::ToggleLight(i) => {
             if let Some(on) = state.light_on.get_mut(i) {
                 *on = !*on;

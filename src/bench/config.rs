@@ -152,6 +152,14 @@ pub fn full() -> Vec<Config> {
         Settings { bump: false, ..r },
         Threads::All,
     ));
+    rows.push(Config::new(
+        "specular=on",
+        Settings {
+            specular: true,
+            ..r
+        },
+        Threads::All,
+    ));
     rows.extend(axis("technique", r.technique, |s, v: Technique| {
         s.technique = v
     }));
@@ -322,6 +330,7 @@ mod tests {
                 "{v:?}"
             );
         }
+        assert!(has(&|c| c.settings.specular), "specular");
         for &v in Technique::value_variants() {
             assert!(
                 has(&|c| c.settings.bump && c.settings.technique == v),

@@ -314,13 +314,14 @@ mod tests {
         use crate::plan::Plan;
         use crate::settings::{AntiAlias, Filter, Settings, Technique};
         use crate::shade::kernels::one_pixel_reason;
+        use clap::ValueEnum;
         let scene = crate::Scene::cube(
             std::sync::Arc::new(crate::texture::procedural::brick()),
             true,
         );
         let reason = |s: Settings| one_pixel_reason(&Plan::new(&scene, &s));
         assert_eq!(reason(Settings::default()), None);
-        for filter in [Filter::Nearest, Filter::Trilinear, Filter::Anisotropic] {
+        for &filter in Filter::value_variants() {
             let s = Settings {
                 filter,
                 ..Settings::default()

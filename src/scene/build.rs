@@ -168,7 +168,10 @@ impl Scene {
                 transform: Mat4::IDENTITY,
                 rotates: true,
             }],
-            material: Material { texture },
+            material: Material {
+                texture,
+                specular_map: None,
+            },
             lights: light::reference_lights(),
             ambient: AMBIENT,
             camera: Camera::default(),

@@ -29,6 +29,8 @@ use crate::texture::Texture;
 #[derive(Clone, Debug)]
 pub struct Material {
     pub texture: Arc<Texture>,
+    /// Grey map scaling the specular highlight (docs/specular.md); none: 1 everywhere.
+    pub specular_map: Option<Arc<crate::texture::Level>>,
 }
 
 /// A mesh placed in the world. `rotates` objects follow the user's rotation.

@@ -207,6 +207,7 @@ mod tests {
             uniform_tangents: true,
             textured: true,
             bumped: true,
+            glossy: false,
             object: 0,
         }
     }

@@ -4,8 +4,9 @@ use glam::{Vec2, Vec3};
 use wide::f32x8;
 
 use super::bump::blinn;
-use super::lighting::{diffuse_with, finish};
+use super::lighting::{finish, light_with};
 use super::packet::{self, LANES, V3};
+use super::specular::{gloss, gloss8, view_dir, view_dir8};
 use crate::framebuffer::Rgb;
 use crate::plan::Plan;
 use crate::settings::{Filter, HeightDerivative};
@@ -173,6 +174,48 @@ impl PixelShader for Rgb {
 pub struct TexturedFlatTri {
     pub lit: Vec3,
     pub uv: [Vec2; 3],
+    /// The facet's highlight (zero when specular is off), added after the texel.
+    pub highlight: Vec3,
+}
+
+/// Flat textured with its facet's highlight added: chosen per triangle, so
+/// the plain kernel does no extra work when specular is off.
+pub struct FlatHighlightKernel<'a>(pub &'a TexturedFlatTri);
+
+impl PixelShader for FlatHighlightKernel<'_> {
+    const SAMPLES_TEXTURE: bool = true;
+    #[inline]
+    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
+        let tri = self.0;
+        counters.pixels_shaded += 1;
+        counters.texture_samples += 1;
+        let t = sample(ctx.texture, ctx.plan.filter, lerp2(b, &tri.uv), fp);
+        finish(tri.lit * rgb(t) + tri.highlight, counters)
+    }
+    fn uvs(&self) -> Option<&[Vec2; 3]> {
+        Some(&self.0.uv)
+    }
+    fn packets(&self, _: &ShadeCtx) -> bool {
+        true
+    }
+    #[inline]
+    fn shade8(
+        &self,
+        ctx: &ShadeCtx,
+        b: [f32x8; 3],
+        fp: &[Footprint; LANES],
+        live: u32,
+        counters: &mut Counters,
+    ) -> [Rgb; LANES] {
+        let tri = self.0;
+        let n = live.count_ones() as u64;
+        counters.pixels_shaded += n;
+        counters.texture_samples += n;
+        let (u, v) = packet::lerp2(&b, &tri.uv);
+        let t = colour8(ctx, u, v, fp, live);
+        let lit = V3::splat(tri.lit).times(t).plus(V3::splat(tri.highlight));
+        packet::finish(lit, live, counters)
+    }
 }
 
 impl PixelShader for TexturedFlatTri {
@@ -212,15 +255,29 @@ impl PixelShader for TexturedFlatTri {
 #[derive(Clone, Debug)]
 pub struct GouraudTri {
     pub light: [Vec3; 3],
+    /// The highlights at the vertices (zero when specular is off), added
+    /// after the albedo.
+    pub highlight: [Vec3; 3],
     pub color: [Vec3; 3],
     pub uv: [Vec2; 3],
     pub textured: bool,
+    /// The plan's specular map scales the highlight (the triangle has UVs).
+    pub glossy: bool,
 }
 
-/// The Gouraud kernel, with or without texture.
-pub struct GouraudKernel<'a, const TEX: bool>(pub &'a GouraudTri);
+/// The Gouraud kernel, with or without texture and highlights.
+pub struct GouraudKernel<'a, const TEX: bool, const SPEC: bool>(pub &'a GouraudTri);
 
-impl<const TEX: bool> PixelShader for GouraudKernel<'_, TEX> {
+/// The specular map of the plan, when `glossy` triangles read one.
+#[inline]
+fn gloss_map<'a>(ctx: &ShadeCtx<'a>, glossy: bool) -> Option<&'a crate::texture::Level> {
+    if !glossy {
+        return None;
+    }
+    ctx.plan.specular.as_ref()?.map.as_deref()
+}
+
+impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, SPEC> {
     const SAMPLES_TEXTURE: bool = TEX;
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
@@ -230,6 +287,13 @@ impl<const TEX: bool> PixelShader for GouraudKernel<'_, TEX> {
         if TEX {
             counters.texture_samples += 1;
             albedo *= rgb(sample(ctx.texture, ctx.plan.filter, lerp2(b, &tri.uv), fp));
+        }
+        if SPEC {
+            let mut highlight = lerp3(b, &tri.highlight);
+            if let Some(map) = gloss_map(ctx, tri.glossy) {
+                highlight *= gloss(map, lerp2(b, &tri.uv));
+            }
+            return finish(albedo * lerp3(b, &tri.light) + highlight, counters);
         }
         finish(albedo * lerp3(b, &tri.light), counters)
     }
@@ -257,7 +321,16 @@ impl<const TEX: bool> PixelShader for GouraudKernel<'_, TEX> {
             let (u, v) = packet::lerp2(&b, &tri.uv);
             albedo = albedo.times(colour8(ctx, u, v, fp, live));
         }
-        packet::finish(albedo.times(packet::lerp3(&b, &tri.light)), live, counters)
+        let lit = albedo.times(packet::lerp3(&b, &tri.light));
+        if SPEC {
+            let mut highlight = packet::lerp3(&b, &tri.highlight);
+            if let Some(map) = gloss_map(ctx, tri.glossy) {
+                let (u, v) = packet::lerp2(&b, &tri.uv);
+                highlight = highlight.scale(gloss8(map, u, v));
+            }
+            return packet::finish(lit.plus(highlight), live, counters);
+        }
+        packet::finish(lit, live, counters)
     }
 }
 
@@ -280,14 +353,18 @@ pub struct PhongTri {
     pub uniform_tangents: bool,
     pub textured: bool,
     pub bumped: bool,
+    /// The plan's specular map scales the highlight (the triangle has UVs).
+    pub glossy: bool,
     /// Index of the object in the scene (whose own shadow a convex one ignores).
     pub object: u32,
 }
 
-/// The Phong kernel, with or without texture and Blinn bump.
-pub struct PhongKernel<'a, const TEX: bool, const BUMP: bool>(pub &'a PhongTri);
+/// The Phong kernel, with or without texture, Blinn bump and highlights.
+pub struct PhongKernel<'a, const TEX: bool, const BUMP: bool, const SPEC: bool>(pub &'a PhongTri);
 
-impl<const TEX: bool, const BUMP: bool> PixelShader for PhongKernel<'_, TEX, BUMP> {
+impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
+    for PhongKernel<'_, TEX, BUMP, SPEC>
+{
     const SAMPLES_TEXTURE: bool = TEX || BUMP;
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
@@ -334,11 +411,38 @@ impl<const TEX: bool, const BUMP: bool> PixelShader for PhongKernel<'_, TEX, BUM
         }
         counters.light_evals += plan.lights.len() as u64;
         let shadow = ctx.shadow;
-        let light = diffuse_with(&plan.lights, plan.ambient, p, n, plan.attenuation, |i| {
+        let visibility = |i, counters: &mut Counters| {
             shadow.map_or(1.0, |s| {
                 s.factor(i, p, tri.face_normal, tri.object, counters)
             })
-        });
+        };
+        if let (true, Some(spec)) = (SPEC, &plan.specular) {
+            counters.specular_evals += plan.lights.len() as u64;
+            let (light, mut highlight) = light_with::<true>(
+                &plan.lights,
+                plan.ambient,
+                p,
+                n,
+                plan.attenuation,
+                view_dir(plan.eye, p),
+                spec.shininess,
+                |i| visibility(i, counters),
+            );
+            if let Some(map) = gloss_map(ctx, tri.glossy) {
+                highlight *= gloss(map, lerp2(b, &tri.uv));
+            }
+            return finish(albedo * light + highlight, counters);
+        }
+        let (light, _) = light_with::<false>(
+            &plan.lights,
+            plan.ambient,
+            p,
+            n,
+            plan.attenuation,
+            Vec3::ZERO,
+            0.0,
+            |i| visibility(i, counters),
+        );
         finish(albedo * light, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
@@ -414,6 +518,24 @@ impl<const TEX: bool, const BUMP: bool> PixelShader for PhongKernel<'_, TEX, BUM
             }
         }
         counters.light_evals += count * plan.lights.len() as u64;
+        if let (true, Some(spec)) = (SPEC, &plan.specular) {
+            counters.specular_evals += count * plan.lights.len() as u64;
+            let view = view_dir8(plan.eye, p);
+            let (light, mut highlight) = packet::light::<true>(
+                &plan.lights,
+                plan.ambient,
+                p,
+                n,
+                plan.attenuation,
+                view,
+                spec.shininess,
+            );
+            if let Some(map) = gloss_map(ctx, tri.glossy) {
+                let (u, v) = packet::lerp2(&b, &tri.uv);
+                highlight = highlight.scale(gloss8(map, u, v));
+            }
+            return packet::finish(albedo.times(light).plus(highlight), live, counters);
+        }
         let light = packet::diffuse(&plan.lights, plan.ambient, p, n, plan.attenuation);
         packet::finish(albedo.times(light), live, counters)
     }

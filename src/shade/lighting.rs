@@ -1,7 +1,9 @@
-//! Diffuse lighting: ambient + Σ colour · max(0, N·L).
+//! Diffuse lighting: ambient + Σ colour · max(0, N·L); with highlights,
+//! also Σ colour · (N·H)^s (docs/specular.md).
 
 use glam::Vec3;
 
+use super::specular::blinn_phong;
 use crate::plan::ActiveLight;
 
 /// Distance attenuation 1 / (1 + c·d²); c keeps the reference scene readable
@@ -24,9 +26,39 @@ pub fn diffuse_with(
     p: Vec3,
     n: Vec3,
     attenuation: bool,
-    mut visibility: impl FnMut(usize) -> f32,
+    visibility: impl FnMut(usize) -> f32,
 ) -> Vec3 {
+    light_with::<false>(
+        lights,
+        ambient,
+        p,
+        n,
+        attenuation,
+        Vec3::ZERO,
+        0.0,
+        visibility,
+    )
+    .0
+}
+
+/// The one light loop: the diffuse sum and, when `SPEC`, the Blinn-Phong
+/// highlights seen from the unit direction `view` with exponent `shininess`
+/// (unused otherwise). A light adds to both only where it faces the point,
+/// both scaled by the same attenuation and `visibility(i)` (asked once).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn light_with<const SPEC: bool>(
+    lights: &[ActiveLight],
+    ambient: Vec3,
+    p: Vec3,
+    n: Vec3,
+    attenuation: bool,
+    view: Vec3,
+    shininess: f32,
+    mut visibility: impl FnMut(usize) -> f32,
+) -> (Vec3, Vec3) {
     let mut sum = ambient;
+    let mut highlight = Vec3::ZERO;
     for (i, light) in lights.iter().enumerate() {
         let d = light.position - p;
         let ndl = n.dot(d);
@@ -35,14 +67,26 @@ pub fn diffuse_with(
             let len2 = d.length_squared();
             if len2 > 0.0 && len2.is_finite() {
                 let mut k = ndl / len2.sqrt();
+                let mut ks = if SPEC {
+                    blinn_phong(n, d, len2, view, shininess)
+                } else {
+                    0.0
+                };
                 if attenuation {
                     k /= 1.0 + ATTENUATION_QUADRATIC * len2;
+                    if SPEC {
+                        ks /= 1.0 + ATTENUATION_QUADRATIC * len2;
+                    }
                 }
-                sum += light.color * (k.min(1.0) * visibility(i));
+                let seen = visibility(i);
+                sum += light.color * (k.min(1.0) * seen);
+                if SPEC {
+                    highlight += light.color * (ks.min(1.0) * seen);
+                }
             }
         }
     }
-    sum
+    (sum, highlight)
 }
 
 /// Quantises a shaded colour, counting any non-finite one (tests assert

@@ -11,6 +11,7 @@ pub mod kernels;
 pub mod lighting;
 pub mod packet;
 pub mod parallax;
+pub mod specular;
 pub mod tangent;
 
 pub use kernels::{GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, TriShader};

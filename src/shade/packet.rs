@@ -160,7 +160,32 @@ pub fn blinn(n: V3, pu: V3, pv: V3, fu: f32x8, fv: f32x8, k: f32) -> V3 {
 /// without shadows).
 #[inline(always)]
 pub fn diffuse(lights: &[ActiveLight], ambient: Vec3, p: V3, n: V3, attenuation: bool) -> V3 {
+    light::<false>(
+        lights,
+        ambient,
+        p,
+        n,
+        attenuation,
+        V3::splat(Vec3::ZERO),
+        0.0,
+    )
+    .0
+}
+
+/// `lighting::light_with` without shadows at eight points: the diffuse sum
+/// and, when `SPEC`, the highlights seen from the unit directions `view`.
+#[inline(always)]
+pub fn light<const SPEC: bool>(
+    lights: &[ActiveLight],
+    ambient: Vec3,
+    p: V3,
+    n: V3,
+    attenuation: bool,
+    view: V3,
+    shininess: f32,
+) -> (V3, V3) {
     let mut sum = V3::splat(ambient);
+    let mut highlight = V3::splat(Vec3::ZERO);
     for light in lights {
         let d = V3::splat(light.position).minus(p);
         let ndl = n.dot(d);
@@ -171,15 +196,28 @@ pub fn diffuse(lights: &[ActiveLight], ambient: Vec3, p: V3, n: V3, attenuation:
         let len2 = d.dot(d);
         let ok = facing & len2.simd_gt(f32x8::ZERO) & len2.simd_lt(f32x8::splat(f32::INFINITY));
         let mut k = ndl / len2.sqrt();
+        let mut ks = if SPEC {
+            crate::shade::specular::blinn_phong8(n, d, len2, view, shininess)
+        } else {
+            f32x8::ZERO
+        };
         if attenuation {
-            k /= f32x8::ONE + f32x8::splat(ATTENUATION_QUADRATIC) * len2;
+            let fall = f32x8::ONE + f32x8::splat(ATTENUATION_QUADRATIC) * len2;
+            k /= fall;
+            if SPEC {
+                ks /= fall;
+            }
         }
         let s = ok.select(k.fast_min(f32x8::ONE), f32x8::ZERO);
         let add = V3::splat(light.color).scale(s);
         // A lane that gets no light adds +0, which leaves its sum as it was.
         sum = sum.plus(add);
+        if SPEC {
+            let s = ok.select(ks.fast_min(f32x8::ONE), f32x8::ZERO);
+            highlight = highlight.plus(V3::splat(light.color).scale(s));
+        }
     }
-    sum
+    (sum, highlight)
 }
 
 /// Quantises eight colours as `finish` does (clamped, rounded, NaN to 0),

@@ -15,7 +15,7 @@ pub struct Footprint {
 }
 
 /// Colour and height at `uv` with the chosen filter. Nearest and bilinear read
-/// the base level and ignore the footprint; trilinear and anisotropic size
+/// the base level and ignore the footprint; nearest-mip, trilinear and anisotropic size
 /// their read from it and touch the mip chain only when the pixel is
 /// minified (more than one texel per pixel).
 #[inline]
@@ -23,6 +23,7 @@ pub fn sample(tex: &Texture, filter: Filter, uv: Vec2, footprint: Footprint) -> 
     match filter {
         Filter::Nearest => tex.base().nearest(uv.x, uv.y),
         Filter::Bilinear => tex.base().bilinear(uv.x, uv.y),
+        Filter::NearestMip => mip::nearest_mip(tex, uv, mip::lod(tex, footprint)),
         Filter::Trilinear => mip::trilinear(tex, uv, mip::lod(tex, footprint)),
         Filter::Anisotropic => mip::anisotropic(tex, uv, footprint),
     }
@@ -47,6 +48,9 @@ pub fn height_gradient(
         (HeightDerivative::Texel, _) => tex.base().height_gradient_texel(uv.x, uv.y),
         (HeightDerivative::Filtered, Filter::Nearest | Filter::Bilinear) => {
             tex.base().height_gradient_filtered(uv.x, uv.y)
+        }
+        (HeightDerivative::Filtered, Filter::NearestMip) => {
+            mip::nearest_mip_gradient(tex, uv, mip::lod(tex, footprint))
         }
         (HeightDerivative::Filtered, Filter::Trilinear) => {
             mip::trilinear_gradient(tex, uv, mip::lod(tex, footprint))
@@ -80,6 +84,9 @@ pub fn read_heights(
     match (mode, filter) {
         (HeightDerivative::Texel, _) | (_, Filter::Nearest | Filter::Bilinear) => {
             read(tex.base(), uv)
+        }
+        (HeightDerivative::Filtered, Filter::NearestMip) => {
+            HeightField::nearest(tex, mip::lod(tex, footprint)).blend(|level| read(level, uv))
         }
         (HeightDerivative::Filtered, Filter::Trilinear) => {
             HeightField::at_lod(tex, mip::lod(tex, footprint)).blend(|level| read(level, uv))
@@ -120,6 +127,9 @@ pub fn read_normal(
     match (mode, filter) {
         (HeightDerivative::Texel, _) | (_, Filter::Nearest | Filter::Bilinear) => {
             map.bilinear(uv.x, uv.y)
+        }
+        (HeightDerivative::Filtered, Filter::NearestMip) => {
+            map.nearest_mip(uv, mip::lod_at(size, footprint))
         }
         (HeightDerivative::Filtered, Filter::Trilinear) => {
             map.trilinear(uv, mip::lod_at(size, footprint))

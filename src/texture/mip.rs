@@ -62,6 +62,36 @@ fn levels_for(tex: &Texture, lod: f32) -> Option<(&Level, &Level, f32)> {
     Some((tex.level(i), tex.level(i + 1), lod - l0))
 }
 
+/// The one level GL's LINEAR_MIPMAP_NEAREST reads at `lod`: level
+/// ⌈lod + ½⌉ − 1 (the nearest, halves going to the finer), the base up to
+/// ½ (so `lod` ≤ ½ or NaN never builds the chain), clamped to the smallest.
+#[inline]
+pub fn nearest_level(lod: f32, last: impl FnOnce() -> usize) -> usize {
+    // Written so that NaN also takes the base level.
+    if lod.is_nan() || lod <= 0.5 {
+        return 0;
+    }
+    let last = last();
+    if lod >= last as f32 {
+        return last;
+    }
+    ((lod + 0.5).ceil() as usize - 1).min(last)
+}
+
+/// Nearest-mip: bilinear on the single level nearest to `lod` (docs/filters.md).
+#[inline]
+pub fn nearest_mip(tex: &Texture, uv: Vec2, lod: f32) -> Texel {
+    let i = nearest_level(lod, || tex.mip_levels().len());
+    tex.level(i).bilinear(uv.x, uv.y)
+}
+
+/// The filtered height gradient on the level nearest-mip reads.
+#[inline]
+pub fn nearest_mip_gradient(tex: &Texture, uv: Vec2, lod: f32) -> (f32, f32) {
+    let i = nearest_level(lod, || tex.mip_levels().len());
+    tex.level(i).height_gradient_filtered(uv.x, uv.y)
+}
+
 /// Trilinear: bilinear on the two levels around `lod`, blended.
 #[inline]
 pub fn trilinear(tex: &Texture, uv: Vec2, lod: f32) -> Texel {
@@ -123,6 +153,17 @@ impl<'a> HeightField<'a> {
         match levels_for(tex, lod) {
             None => HeightField::base(tex),
             Some((fine, coarse, t)) => HeightField { fine, coarse, t },
+        }
+    }
+
+    /// The one level nearest-mip filtering reads at `lod`.
+    #[inline]
+    pub fn nearest(tex: &'a Texture, lod: f32) -> Self {
+        let level = tex.level(nearest_level(lod, || tex.mip_levels().len()));
+        HeightField {
+            fine: level,
+            coarse: level,
+            t: 0.0,
         }
     }
 

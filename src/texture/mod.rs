@@ -15,6 +15,7 @@ pub mod mip;
 pub mod normal_map;
 pub mod procedural;
 pub mod resample;
+pub mod specular_map;
 pub mod thumbnail;
 pub mod xpm;
 

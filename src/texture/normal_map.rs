@@ -137,6 +137,22 @@ impl NormalMap {
         std::array::from_fn(|c| a[c] + (b[c] - a[c]) * t)
     }
 
+    /// The map read by nearest-mip at level of detail `lod`: bilinear on the
+    /// one nearest level; the base ([`NormalMap::bilinear`], bit for bit)
+    /// up to ½, without building the chain.
+    #[inline]
+    pub fn nearest_mip(&self, uv: Vec2, lod: f32) -> [f32; 3] {
+        let i = super::mip::nearest_level(lod, || self.mip_levels().len());
+        let chain = if i == 0 { &[][..] } else { self.mip_levels() };
+        match chain.get(i.wrapping_sub(1)) {
+            Some(level) => {
+                let t = level.bilinear(uv.x, uv.y);
+                [t[0], t[1], t[2]]
+            }
+            None => self.bilinear(uv.x, uv.y),
+        }
+    }
+
     /// The scale a map built for `scale` uses: non-finite or negative is 0.
     pub fn effective_scale(scale: f32) -> f32 {
         if scale.is_finite() && scale > 0.0 {

@@ -61,6 +61,7 @@ pub fn scene_of(
         objects,
         material: Material {
             texture: Arc::new(texture),
+            specular_map: None,
         },
         lights,
         ambient,

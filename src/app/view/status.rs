@@ -185,6 +185,7 @@ pub fn status_modes(state: &State) -> String {
         add(match s.filter {
             Filter::Nearest => "near",
             Filter::Bilinear => "bil",
+            Filter::NearestMip => "nmip",
             Filter::Trilinear => "tri",
             Filter::Anisotropic => "aniso",
         });
@@ -210,6 +211,9 @@ pub fn status_modes(state: &State) -> String {
     }
     if s.attenuation {
         add("att");
+    }
+    if s.specular {
+        add(&format!("spec{}", format_shininess(s.shininess)));
     }
     if state.distance != REFERENCE_DISTANCE {
         add(&format!("d{}", format_distance(state.distance)));
@@ -303,8 +307,21 @@ pub fn status_text(state: &State, detail: Detail) -> String {
     } else {
         String::new()
     };
+    // Highlights show only when on: the reference picture has none.
+    let specular = if s.specular {
+        format!(
+            " │ {} s={}",
+            if short { "spec" } else { "specular" },
+            format_shininess(s.shininess)
+        )
+    } else {
+        String::new()
+    };
     let heights = heights_text(state, short).map_or(String::new(), |h| format!(" │ {h}"));
-    format!("{}{heights}{zoom}{cost}{auto}{hint}", fields.join(" │ "))
+    format!(
+        "{}{heights}{specular}{zoom}{cost}{auto}{hint}",
+        fields.join(" │ ")
+    )
 }
 
 /// Where the heights come from, when another texture of the list gives
@@ -325,6 +342,11 @@ fn heights_text(state: &State, short: bool) -> Option<String> {
     } else {
         format!("heights {cut}")
     })
+}
+
+/// The specular exponent without needless decimals.
+fn format_shininess(s: f32) -> String {
+    format!("{}", (s * 100.0).round() / 100.0)
 }
 
 fn short_depth(state: &State) -> &'static str {
