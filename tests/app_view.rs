@@ -307,8 +307,7 @@ fn help_overlay_lists_every_key_and_mouse_action() {
         "h",
         "a",
         "d",
-        "l",
-        "1 2 3 4",
+        "l 1 2 3 4",
         "L",
         "o",
         "p",
@@ -384,7 +383,8 @@ fn help_on_a_narrow_screen_wraps_its_text_inside_the_border() {
     update(&mut s, Action::HelpScroll(i32::MAX));
     for w in [20u16, 33, 47, 60] {
         s.help_scroll = 0;
-        let buf = screen(&s, w, 200);
+        // Tall enough for every wrapped line: this is about width.
+        let buf = screen(&s, w, 400);
         let text = all_text(&buf);
         // Nothing is cut: each text's words all appear, in order, within the box.
         for (_, t) in help_lines() {

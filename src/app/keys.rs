@@ -356,13 +356,16 @@ pub const KEYS: &[Binding] = &[
         Normal,
         &[c('l')],
         Action::ToggleLights,
-        Line("l", "all lights on / off"),
+        Line(
+            "l 1 2 3 4",
+            "all lights / the white, red, green, blue one on / off",
+        ),
     ),
     Binding {
         mode: Normal,
         keys: &[c('1'), c('2'), c('3'), c('4')],
         does: Does::Char(light),
-        help: Line("1 2 3 4", "white / red / green / blue light on / off"),
+        help: Above,
     },
     row(
         Normal,
@@ -374,14 +377,9 @@ pub const KEYS: &[Binding] = &[
         Normal,
         &[c('g')],
         Action::ToggleSpecular,
-        Line("g", "specular highlights (Blinn-Phong) on / off"),
+        Line("g y Y", "specular highlights on / off; shininess ×2 / ÷2"),
     ),
-    row(
-        Normal,
-        &[c('y')],
-        Action::ShinierSpecular,
-        Line("y Y", "shininess ×2 / ÷2: smaller / larger highlights"),
-    ),
+    row(Normal, &[c('y')], Action::ShinierSpecular, Above),
     row(Normal, &[c('Y')], Action::DullerSpecular, Above),
     row(
         Normal,
