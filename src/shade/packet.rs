@@ -14,6 +14,7 @@ use crate::plan::ActiveLight;
 use crate::shade::lighting::ATTENUATION_QUADRATIC;
 use crate::stats::Counters;
 use crate::texture::Level;
+use crate::texture::level::around;
 
 /// Pixels per packet.
 pub const LANES: usize = 8;
@@ -285,28 +286,6 @@ fn axis(t: f32x8, n: usize) -> ([i32; LANES], f32x8, bool) {
     (ii.to_array(), x - i, interior)
 }
 
-/// Storage indices i − 1 .. i + 2 wrapped into 0..n (as the one-pixel read).
-#[inline(always)]
-fn around(i: i32, n: usize) -> [usize; 4] {
-    let n = n as i64;
-    let i = i as i64;
-    if i >= 1 && i + 2 < n {
-        let i = i as usize;
-        return [i - 1, i, i + 1, i + 2];
-    }
-    [i - 1, i, i + 1, i + 2].map(|k| {
-        if n == 1 {
-            0
-        } else if k < 0 {
-            (k + n) as usize
-        } else if k >= n {
-            (k - n) as usize
-        } else {
-            k as usize
-        }
-    })
-}
-
 /// Bilinear colour (when `COLOR`) and the filtered height gradient (when
 /// `GRADIENT`) at eight points of `level`: `Level::bilinear_with_gradient`,
 /// lane-wise. Each lane reads its texels and blends its four channels (or
@@ -345,8 +324,8 @@ pub fn bilinear<const COLOR: bool, const GRADIENT: bool>(
         }
     } else {
         for lane in 0..LANES {
-            let cols = around(xi[lane], w);
-            let rows = around(yi[lane], h).map(|r| r * w);
+            let cols = around(xi[lane] as i64, w);
+            let rows = around(yi[lane] as i64, h).map(|r| r * w);
             let at = |r: usize, c: usize| t[rows[r] + cols[c]];
             (color[lane], heights[lane]) = blend::<COLOR, GRADIENT>(at, fx[lane], fy[lane]);
         }

@@ -13,6 +13,31 @@ pub struct Level {
     pub texels: Vec<Texel>,
 }
 
+/// Storage indices i − 1 ..= i + 2 of a bilinear 4-tap footprint's
+/// neighbourhood, wrapped into 0..n. Indices reach at most 2 past either
+/// end: one add or subtract wraps them, except on a 1-texel axis where every
+/// index is 0.
+#[inline]
+pub(crate) fn around(i: i64, n: usize) -> [usize; 4] {
+    let n = n as i64;
+    if i >= 1 && i + 2 < n {
+        // Away from the borders (nearly every read): no wrapping.
+        let i = i as usize;
+        return [i - 1, i, i + 1, i + 2];
+    }
+    [i - 1, i, i + 1, i + 2].map(|k| {
+        if n == 1 {
+            0
+        } else if k < 0 {
+            (k + n) as usize
+        } else if k >= n {
+            (k - n) as usize
+        } else {
+            k as usize
+        }
+    })
+}
+
 /// Wraps an integer texel index into 0..n (repeat), for any i including negatives.
 #[inline]
 fn wrap(i: i64, n: usize) -> usize {
@@ -122,28 +147,6 @@ impl Level {
         let xi = floor_small(x).min(w as i64 - 1);
         let yi = floor_small(y).min(h as i64 - 1);
         let (xf, yf) = (xi as f32, yi as f32);
-        // Indices reach at most 2 past either end: one add or subtract wraps
-        // them, except on a 1-texel axis where every index is 0.
-        #[inline]
-        fn around(i: i64, n: usize) -> [usize; 4] {
-            let n = n as i64;
-            if i >= 1 && i + 2 < n {
-                // Away from the borders (nearly every read): no wrapping.
-                let i = i as usize;
-                return [i - 1, i, i + 1, i + 2];
-            }
-            [i - 1, i, i + 1, i + 2].map(|k| {
-                if n == 1 {
-                    0
-                } else if k < 0 {
-                    (k + n) as usize
-                } else if k >= n {
-                    (k - n) as usize
-                } else {
-                    k as usize
-                }
-            })
-        }
         let cols = around(xi, w);
         let rows = around(yi, h).map(|r| r * w);
         (cols, rows, x - xf, y - yf)
