@@ -12,7 +12,7 @@
 //! Resolves average the 8-bit values the renderer writes (the same space as
 //! every other pixel: no linear-light conversion), rounded to nearest.
 
-use super::scan::{Band, FootprintSetup, raster_triangle, shade_at};
+use super::scan::{Band, pixel_setup, raster_triangle, shade_at};
 use super::setup::{ONE, ScreenTri};
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::shade::{PixelShader, ShadeCtx};
@@ -167,13 +167,7 @@ pub fn raster_triangle_msaa<S: PixelShader>(
     }
     let xa = tri.x0 as usize;
     let xb = (tri.x1 as usize).min(width - 1);
-    let footprint = if S::SAMPLES_TEXTURE && ctx.plan.footprint {
-        shader.uvs().map(|uv| FootprintSetup::new(tri, uv))
-    } else {
-        None
-    };
-    let inv_area = (1.0 / tri.area as f64) as f32;
-    let steps = [tri.edge_steps(0), tri.edge_steps(1), tri.edge_steps(2)];
+    let (footprint, inv_area, steps) = pixel_setup(tri, shader, ctx);
     // Edge offsets of each sample from the pixel centre (exact integers).
     let delta: [[i64; 3]; MSAA_SAMPLES] =
         MSAA4_OFFSETS.map(|(ox, oy)| [0, 1, 2].map(|i| (steps[i].0 * ox + steps[i].1 * oy) / ONE));

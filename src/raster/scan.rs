@@ -80,13 +80,7 @@ pub fn raster_triangle<S: PixelShader>(
     if tri.unclipped && shader.packets(ctx) {
         return raster_packets(tri, shader, ctx, band, counters, ya..yb);
     }
-    let footprint = if S::SAMPLES_TEXTURE && ctx.plan.footprint {
-        shader.uvs().map(|uv| FootprintSetup::new(tri, uv))
-    } else {
-        None
-    };
-    let inv_area = (1.0 / tri.area as f64) as f32;
-    let steps = [tri.edge_steps(0), tri.edge_steps(1), tri.edge_steps(2)];
+    let (footprint, inv_area, steps) = pixel_setup(tri, shader, ctx);
     let x0 = tri.x0 as usize;
     let cx = tri.x0 as i64 * ONE + ONE / 2;
     let width = band.width;
@@ -127,6 +121,24 @@ pub fn raster_triangle<S: PixelShader>(
     }
 }
 
+/// What every pixel loop over a triangle needs first: the UV footprint
+/// setup when the shader reads a mip-filtered texture, 1 / area for the
+/// barycentrics, and each edge function's step along x and y.
+pub(super) fn pixel_setup<S: PixelShader>(
+    tri: &ScreenTri,
+    shader: &S,
+    ctx: &ShadeCtx,
+) -> (Option<FootprintSetup>, f32, [(i64, i64); 3]) {
+    let footprint = if S::SAMPLES_TEXTURE && ctx.plan.footprint {
+        shader.uvs().map(|uv| FootprintSetup::new(tri, uv))
+    } else {
+        None
+    };
+    let inv_area = (1.0 / tri.area as f64) as f32;
+    let steps = [tri.edge_steps(0), tri.edge_steps(1), tri.edge_steps(2)];
+    (footprint, inv_area, steps)
+}
+
 /// The packet loop: per row, the covered span (found with the edge
 /// functions, one integer test per pixel), shaded eight pixels at a time.
 /// Coverage, depth and every lane's value are exactly those of the
@@ -139,13 +151,7 @@ fn raster_packets<S: PixelShader>(
     counters: &mut Counters,
     rows: std::ops::Range<usize>,
 ) {
-    let footprint = if S::SAMPLES_TEXTURE && ctx.plan.footprint {
-        shader.uvs().map(|uv| FootprintSetup::new(tri, uv))
-    } else {
-        None
-    };
-    let inv_area = (1.0 / tri.area as f64) as f32;
-    let steps = [tri.edge_steps(0), tri.edge_steps(1), tri.edge_steps(2)];
+    let (footprint, inv_area, steps) = pixel_setup(tri, shader, ctx);
     let (x0, x1) = (tri.x0 as usize, tri.x1 as usize);
     let cx = tri.x0 as i64 * ONE + ONE / 2;
     let width = band.width;
