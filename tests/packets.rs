@@ -14,7 +14,7 @@ use relief::plan::Plan;
 use relief::raster::{Band, raster_triangle};
 use relief::render::Renderer;
 use relief::settings::{Filter, HeightDerivative, Normals, Shading, Technique};
-use relief::shade::kernels::{FlatHighlightKernel, GouraudKernel, PhongKernel};
+use relief::shade::kernels::{FlatTexturedKernel, GouraudKernel, PhongKernel};
 use relief::shade::{PixelShader, ShadeCtx, TriShader};
 use relief::stats::Counters;
 use relief::texture::Texture;
@@ -80,8 +80,8 @@ fn both(
         let spec = plan.specular.is_some();
         match &shaders[tri.shader as usize] {
             TriShader::Solid(c) => draw!(*c),
-            TriShader::FlatTextured(s) if spec => draw!(FlatHighlightKernel(s)),
-            TriShader::FlatTextured(s) => draw!(s.clone()),
+            TriShader::FlatTextured(s) if spec => draw!(FlatTexturedKernel::<true>(s)),
+            TriShader::FlatTextured(s) => draw!(FlatTexturedKernel::<false>(s)),
             TriShader::Gouraud(s) => match (s.textured, spec) {
                 (true, true) => draw!(GouraudKernel::<true, true>(s)),
                 (true, false) => draw!(GouraudKernel::<true, false>(s)),

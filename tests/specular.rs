@@ -272,3 +272,104 @@ fn specular_off_is_the_picture_of_today_and_costs_nothing() {
     };
     assert_eq!(frame(&scene, &dark).1.counters.specular_evals, 0);
 }
+
+/// Where a point in world space projects to, in pixels from the top left
+/// corner (the reference camera: eye on +Z looking at the origin, 60°).
+fn project(p: [f64; 3]) -> (f64, f64) {
+    let half_h = (30f64).to_radians().tan();
+    let aspect = W as f64 / H as f64;
+    let depth = EYE[2] - p[2];
+    let nx = p[0] / depth / (half_h * aspect);
+    let ny = p[1] / depth / half_h;
+    ((nx + 1.0) / 2.0 * W as f64, (1.0 - ny) / 2.0 * H as f64)
+}
+
+/// The point of the unit sphere whose normal bisects the directions to the
+/// light and to the eye (N·H = 1 there: the highlight's peak), found by
+/// refining a search over the sphere in f64.
+fn sphere_mirror_point(light: [f64; 3]) -> [f64; 3] {
+    let score = |theta: f64, phi: f64| {
+        let p = [
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        ];
+        let l = unit(sub(light, p));
+        let v = unit(sub(EYE, p));
+        let h = unit([l[0] + v[0], l[1] + v[1], l[2] + v[2]]);
+        (p[0] * h[0] + p[1] * h[1] + p[2] * h[2], p)
+    };
+    let (mut theta, mut phi, mut step) = (0.5f64, 0.5f64, 0.25f64);
+    while step > 1e-9 {
+        let mut best = (score(theta, phi).0, theta, phi);
+        for (dt, dp) in [(step, 0.0), (-step, 0.0), (0.0, step), (0.0, -step)] {
+            let s = score(theta + dt, phi + dp).0;
+            if s > best.0 {
+                best = (s, theta + dt, phi + dp);
+            }
+        }
+        if (best.1, best.2) == (theta, phi) {
+            step *= 0.5;
+        }
+        (theta, phi) = (best.1, best.2);
+    }
+    let (ndh, p) = score(theta, phi);
+    assert!((ndh - 1.0).abs() < 1e-9, "the mirror point bisects: {ndh}");
+    p
+}
+
+/// Where the ray through pixel (x, y)'s centre first meets the unit sphere.
+fn on_sphere(x: usize, y: usize) -> Option<[f64; 3]> {
+    let half_h = (30f64).to_radians().tan();
+    let aspect = W as f64 / H as f64;
+    let nx = 2.0 * (x as f64 + 0.5) / W as f64 - 1.0;
+    let ny = 1.0 - 2.0 * (y as f64 + 0.5) / H as f64;
+    let d = unit([nx * half_h * aspect, ny * half_h, -1.0]);
+    // |E + t·d|² = 1: t² + 2(E·d)t + |E|² − 1 = 0, the nearer root.
+    let b = EYE[0] * d[0] + EYE[1] * d[1] + EYE[2] * d[2];
+    let c = EYE[0] * EYE[0] + EYE[1] * EYE[1] + EYE[2] * EYE[2] - 1.0;
+    let disc = b * b - c;
+    (disc >= 0.0).then(|| {
+        let t = -b - disc.sqrt();
+        [EYE[0] + t * d[0], EYE[1] + t * d[1], EYE[2] + t * d[2]]
+    })
+}
+
+/// On the unit sphere, the highlight peaks on the pixel of the point whose
+/// normal bisects light and eye (N·H = 1 there), and its value is the
+/// light's grey × (N·H)^s at the point that pixel's centre sees.
+#[test]
+fn sphere_highlight_peaks_on_the_mirror_point_at_the_light_grey() {
+    let light = [3.0, 2.0, 4.0];
+    let texture = Texture::new("white", Level::solid(4, 4, [1.0; 4]));
+    let mut scene = Scene::model(relief::scene::sphere::sphere(), Arc::new(texture));
+    scene.lights = vec![Light::new(
+        Vec3::new(light[0] as f32, light[1] as f32, light[2] as f32),
+        Vec3::splat(GREY as f32),
+    )];
+    scene.ambient = Vec3::ZERO;
+    let p = sphere_mirror_point(light);
+    let (px, py) = project(p);
+    for s in [32.0f32, 128.0] {
+        let (diff, stats) = highlight(&scene, Shading::Phong, s);
+        assert_eq!(stats.counters.nonfinite, 0);
+        let (x, y, peak) = argmax(&diff);
+        // The pixel whose centre is nearest the projected point, give or take
+        // one for the facets (32 × 16) the interpolated normals smooth over.
+        assert!(
+            (x as f64 + 0.5 - px).abs() <= 1.5 && (y as f64 + 0.5 - py).abs() <= 1.5,
+            "s = {s}: peak at ({x}, {y}), the mirror point projects to ({px:.2}, {py:.2})"
+        );
+        let at = on_sphere(x, y).expect("the peak pixel sees the sphere");
+        let l = unit(sub(light, at));
+        let v = unit(sub(EYE, at));
+        let h = unit([l[0] + v[0], l[1] + v[1], l[2] + v[2]]);
+        let ndh = at[0] * h[0] + at[1] * h[1] + at[2] * h[2];
+        let expected = q(GREY * ndh.powf(s as f64));
+        assert!(
+            (peak - expected).abs() <= 2,
+            "s = {s}: peak {peak}, by hand {expected} (N·H = {ndh:.6})"
+        );
+        assert!(peak <= q(GREY), "never above the light's grey");
+    }
+}

@@ -1,6 +1,56 @@
-//! Blinn's perturbed normal (docs/bump-blinn.md).
+//! Blinn's perturbed normal (docs/bump-blinn.md), and Blinn's technique
+//! for the shading core: the height gradient tilts the normal.
 
 use glam::Vec3;
+
+use super::core::{Hook, HookAt};
+use super::kernels::ShadeCtx;
+use super::tangent::Surface;
+use crate::settings::{Filter, HeightDerivative};
+use crate::stats::Counters;
+use crate::texture::filter::{Footprint, height_gradient};
+
+/// Blinn bump mapping when `BUMP`, plain Phong otherwise (the surface's own
+/// normal and texture coordinate).
+pub struct Blinn<const BUMP: bool>;
+
+impl<const BUMP: bool> Hook for Blinn<BUMP> {
+    type Pixel = ();
+    #[inline(always)]
+    fn at(
+        &self,
+        ctx: &ShadeCtx,
+        s: &Surface,
+        _b: Vec3,
+        fp: Footprint,
+        colour: bool,
+        counters: &mut Counters,
+    ) -> (HookAt, ()) {
+        let mut at = HookAt {
+            uv: s.uv,
+            n: s.n,
+            texel: None,
+        };
+        if BUMP {
+            let plan = ctx.plan;
+            counters.bump_evals += 1;
+            // Bilinear colour and filtered heights read the same texels: one
+            // neighbourhood serves both (the default, and the common case).
+            let fused = colour
+                && plan.filter == Filter::Bilinear
+                && plan.height_derivative == HeightDerivative::Filtered;
+            let (fu, fv) = if fused {
+                let (t, g) = ctx.texture.base().bilinear_with_gradient(s.uv.x, s.uv.y);
+                at.texel = Some(Vec3::new(t[0], t[1], t[2]));
+                g
+            } else {
+                height_gradient(ctx.texture, plan.height_derivative, plan.filter, s.uv, fp)
+            };
+            at.n = blinn(s.n, s.pu, s.pv, fu, fv, plan.bump_strength);
+        }
+        (at, ())
+    }
+}
 
 /// N' = N + k·(F_u·(N × Pv) − F_v·(N × Pu)), normalised. `n` is unit length;
 /// (fu, fv) are the height derivatives per unit of texture coordinate and

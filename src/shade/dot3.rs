@@ -24,17 +24,16 @@
 //! Like every kernel, each light is scaled by what the shadow map (when the
 //! plan drew one) says reaches the point.
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 use super::PhongTri;
-use super::kernels::{PixelShader, ShadeCtx};
-use super::lighting::ATTENUATION_QUADRATIC;
-use super::tangent::{Frame, Surface, lerp3};
-use crate::framebuffer::Rgb;
+use super::core::{Hook, HookAt};
+use super::kernels::ShadeCtx;
+use super::tangent::{Frame, Surface};
 use crate::plan::ActiveLight;
 use crate::stats::Counters;
 use crate::texture::NormalMap;
-use crate::texture::filter::{Footprint, read_normal, sample};
+use crate::texture::filter::{Footprint, read_normal};
 
 /// Lights whose per-vertex vectors are kept inline (more spill to the heap).
 const INLINE_LIGHTS: usize = 8;
@@ -92,103 +91,95 @@ impl VertexLights {
     }
 }
 
-/// The dot3 kernel: with or without the colour texture, light vector per
-/// pixel or interpolated from the vertices.
-pub struct Dot3Kernel<'a, const TEX: bool, const PER_PIXEL: bool> {
-    pub tri: &'a PhongTri,
+/// Dot3 for the shading core: the normal map's tangent-space normal dotted
+/// with the light vector, per pixel or interpolated from the vertices.
+pub struct Dot3<'a, const PER_PIXEL: bool> {
     pub map: &'a NormalMap,
-    /// The light vectors at the vertices (empty when per pixel).
+    /// The tangent-space light vectors at the vertices (per-vertex mode).
     pub vertex_lights: Option<VertexLights>,
 }
 
-impl<'a, const TEX: bool, const PER_PIXEL: bool> Dot3Kernel<'a, TEX, PER_PIXEL> {
-    pub fn new(tri: &'a PhongTri, map: &'a NormalMap, ctx: &ShadeCtx) -> Self {
-        Dot3Kernel {
-            tri,
+impl<'a, const PER_PIXEL: bool> Dot3<'a, PER_PIXEL> {
+    pub fn new(tri: &PhongTri, map: &'a NormalMap, ctx: &ShadeCtx) -> Self {
+        Dot3 {
             map,
             vertex_lights: (!PER_PIXEL).then(|| VertexLights::new(tri, &ctx.plan.lights)),
         }
     }
-
-    /// How much of light `i` reaches `p` past the shadow map (1 without one).
-    #[inline]
-    fn seen(&self, ctx: &ShadeCtx, i: usize, p: Vec3, counters: &mut Counters) -> f32 {
-        ctx.shadow.map_or(1.0, |sh| {
-            sh.factor(i, p, self.tri.face_normal, self.tri.object, counters)
-        })
-    }
 }
 
-impl<const TEX: bool, const PER_PIXEL: bool> PixelShader for Dot3Kernel<'_, TEX, PER_PIXEL> {
-    const SAMPLES_TEXTURE: bool = true;
-    #[inline]
-    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
+/// A dot3 pixel: the map's normal, in tangent space, and where the light
+/// vectors come from.
+pub struct Dot3Pixel {
+    normal: Vec3,
+    /// The pixel's frame (per-pixel mode).
+    frame: Option<Frame>,
+    /// The pixel's barycentrics (per-vertex mode interpolates with them).
+    b: Vec3,
+}
+
+impl<const PER_PIXEL: bool> Hook for Dot3<'_, PER_PIXEL> {
+    type Pixel = Dot3Pixel;
+    #[inline(always)]
+    fn at(
+        &self,
+        ctx: &ShadeCtx,
+        s: &Surface,
+        b: Vec3,
+        fp: Footprint,
+        _colour: bool,
+        counters: &mut Counters,
+    ) -> (HookAt, Dot3Pixel) {
         let plan = ctx.plan;
-        let tri = self.tri;
-        counters.pixels_shaded += 1;
         counters.bump_evals += 1;
         counters.texture_samples += 1;
-        let (p, albedo, uv) = (
-            lerp3(b, &tri.position),
-            lerp3(b, &tri.color),
-            super::tangent::lerp2(b, &tri.uv),
-        );
-        let mut albedo = albedo;
-        if TEX {
-            counters.texture_samples += 1;
-            let t = sample(ctx.texture, plan.filter, uv, fp);
-            albedo *= Vec3::new(t[0], t[1], t[2]);
-        }
         let normal = Vec3::from(read_normal(
             self.map,
             plan.height_derivative,
             plan.filter,
-            uv,
+            s.uv,
             fp,
         ));
-        counters.light_evals += plan.lights.len() as u64;
-        let mut sum = plan.ambient;
-        if PER_PIXEL {
-            let frame = Surface::at(tri, b).frame();
-            for (i, light) in plan.lights.iter().enumerate() {
-                let d = light.position - p;
-                let len2 = d.length_squared();
-                if len2 > 0.0 && len2.is_finite() {
-                    // The frame is orthonormal: dividing by the world length
-                    // gives the unit tangent-space light vector.
-                    let l = frame.to_tangent(d) / len2.sqrt();
-                    let mut k = normal.dot(l);
-                    if k > 0.0 {
-                        if plan.attenuation {
-                            k /= 1.0 + ATTENUATION_QUADRATIC * len2;
-                        }
-                        sum += light.color * (k.min(1.0) * self.seen(ctx, i, p, counters));
-                    }
-                }
-            }
-        } else if let Some(vertex_lights) = &self.vertex_lights {
-            for (j, light) in plan.lights.iter().enumerate() {
-                let v = vertex_lights.light(j);
-                let l = v[0] * b.x + v[1] * b.y + v[2] * b.z;
-                let mut k = normal.dot(l);
-                if k > 0.0 {
-                    if plan.attenuation {
-                        k /= 1.0 + ATTENUATION_QUADRATIC * (light.position - p).length_squared();
-                    }
-                    sum += light.color * (k.min(1.0) * self.seen(ctx, j, p, counters));
-                }
-            }
-        }
-        super::lighting::finish(albedo * sum, counters)
+        // The world normal serves the highlights; per vertex, the frame is
+        // built only when something reads it.
+        let frame = (PER_PIXEL || plan.specular.is_some()).then(|| s.frame());
+        let n = frame.map_or(s.n, |f| f.t * normal.x + f.b * normal.y + f.n * normal.z);
+        let at = HookAt {
+            uv: s.uv,
+            n,
+            texel: None,
+        };
+        (at, Dot3Pixel { normal, frame, b })
     }
-    fn uvs(&self) -> Option<&[Vec2; 3]> {
-        Some(&self.tri.uv)
+
+    #[inline(always)]
+    fn cosine(
+        &self,
+        _ctx: &ShadeCtx,
+        px: &Dot3Pixel,
+        _n: Vec3,
+        i: usize,
+        d: Vec3,
+        _counters: &mut Counters,
+    ) -> f32 {
+        let l = if PER_PIXEL {
+            let Some(frame) = &px.frame else { return 0.0 };
+            frame.to_tangent(d) / d.length_squared().sqrt()
+        } else {
+            let Some(vertex) = &self.vertex_lights else {
+                return 0.0;
+            };
+            let v = vertex.light(i);
+            v[0] * px.b.x + v[1] * px.b.y + v[2] * px.b.z
+        };
+        px.normal.dot(l)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec2;
 
     fn quad_tri() -> PhongTri {
         PhongTri {

@@ -22,27 +22,23 @@
 
 use glam::{Vec2, Vec3};
 
-use super::PhongTri;
-use super::kernels::{PixelShader, ShadeCtx};
-use super::lighting::ATTENUATION_QUADRATIC;
+use super::core::{Hook, HookAt};
+use super::kernels::ShadeCtx;
 use super::tangent::Surface;
-use crate::framebuffer::Rgb;
 use crate::plan::strongest_light;
 use crate::stats::Counters;
 use crate::texture::Level;
-use crate::texture::filter::{Footprint, read_heights, sample};
+use crate::texture::filter::{Footprint, read_heights};
 
-/// The emboss kernel, with or without the colour texture.
-pub struct EmbossKernel<'a, const TEX: bool> {
-    pub tri: &'a PhongTri,
+/// Emboss for the shading core: the strongest light's N·L gets the term.
+pub struct Emboss {
     /// Index of the embossed light in the plan's lights (`usize::MAX`: none).
     pub strong: usize,
 }
 
-impl<'a, const TEX: bool> EmbossKernel<'a, TEX> {
-    pub fn new(tri: &'a PhongTri, ctx: &ShadeCtx) -> Self {
-        EmbossKernel {
-            tri,
+impl Emboss {
+    pub fn new(ctx: &ShadeCtx) -> Self {
+        Emboss {
             strong: strongest_light(&ctx.plan.lights).unwrap_or(usize::MAX),
         }
     }
@@ -90,51 +86,50 @@ pub fn emboss_term(
     )
 }
 
-impl<const TEX: bool> PixelShader for EmbossKernel<'_, TEX> {
-    const SAMPLES_TEXTURE: bool = true;
-    #[inline]
-    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
-        let plan = ctx.plan;
-        counters.pixels_shaded += 1;
+impl Hook for Emboss {
+    /// The surface and footprint the term is read with.
+    type Pixel = (Surface, Footprint);
+    #[inline(always)]
+    fn at(
+        &self,
+        _ctx: &ShadeCtx,
+        s: &Surface,
+        _b: Vec3,
+        fp: Footprint,
+        _colour: bool,
+        counters: &mut Counters,
+    ) -> (HookAt, Self::Pixel) {
         counters.bump_evals += 1;
-        let s = Surface::at(self.tri, b);
-        let mut albedo = s.albedo;
-        if TEX {
-            counters.texture_samples += 1;
-            let t = sample(ctx.texture, plan.filter, s.uv, fp);
-            albedo *= Vec3::new(t[0], t[1], t[2]);
-        }
-        counters.light_evals += plan.lights.len() as u64;
-        // The diffuse sum of `lighting::diffuse`, term for term, with the
-        // emboss term added to the strong light's N·L.
-        let mut sum = plan.ambient;
-        for (i, light) in plan.lights.iter().enumerate() {
-            let d = light.position - s.p;
-            let ndl = s.n.dot(d);
-            if ndl > 0.0 {
-                let len2 = d.length_squared();
-                if len2 > 0.0 && len2.is_finite() {
-                    let len = len2.sqrt();
-                    // In the shadow of the embossed light its relief goes
-                    // with its light: the whole term is scaled (and in full
-                    // shadow the height reads are skipped).
-                    let seen = ctx.shadow.map_or(1.0, |sh| {
-                        sh.factor(i, s.p, self.tri.face_normal, self.tri.object, counters)
-                    });
-                    let mut k = ndl / len;
-                    if i == self.strong && seen > 0.0 {
-                        k = (k + emboss_term(ctx, &s, d / len, fp, counters)).max(0.0);
-                    }
-                    if plan.attenuation {
-                        k /= 1.0 + ATTENUATION_QUADRATIC * len2;
-                    }
-                    sum += light.color * (k.min(1.0) * seen);
-                }
-            }
-        }
-        super::lighting::finish(albedo * sum, counters)
+        let at = HookAt {
+            uv: s.uv,
+            n: s.n,
+            texel: None,
+        };
+        (at, (*s, fp))
     }
-    fn uvs(&self) -> Option<&[Vec2; 3]> {
-        Some(&self.tri.uv)
+
+    /// The smooth surface's N·L, plus the term for the embossed light where
+    /// that light faces the surface (clamped at 0 like any cosine).
+    #[inline(always)]
+    fn cosine(
+        &self,
+        ctx: &ShadeCtx,
+        (s, fp): &Self::Pixel,
+        n: Vec3,
+        i: usize,
+        d: Vec3,
+        counters: &mut Counters,
+    ) -> f32 {
+        let ndl = n.dot(d);
+        if ndl <= 0.0 {
+            return 0.0;
+        }
+        let len = d.length();
+        let k = ndl / len;
+        if i == self.strong {
+            (k + emboss_term(ctx, s, d / len, *fp, counters)).max(0.0)
+        } else {
+            k
+        }
     }
 }

@@ -3,10 +3,11 @@
 use glam::{Vec2, Vec3};
 use wide::f32x8;
 
-use super::bump::blinn;
-use super::lighting::{finish, light_with};
+use super::bump::Blinn;
+use super::core::{gloss_map, shade_pixel};
+use super::lighting::finish;
 use super::packet::{self, LANES, V3};
-use super::specular::{gloss, gloss8, view_dir, view_dir8};
+use super::specular::{gloss, gloss8, view_dir8};
 use crate::framebuffer::Rgb;
 use crate::plan::Plan;
 use crate::settings::{Filter, HeightDerivative};
@@ -178,11 +179,11 @@ pub struct TexturedFlatTri {
     pub highlight: Vec3,
 }
 
-/// Flat textured with its facet's highlight added: chosen per triangle, so
-/// the plain kernel does no extra work when specular is off.
-pub struct FlatHighlightKernel<'a>(pub &'a TexturedFlatTri);
+/// The textured flat kernel, with its facet's highlight added when `SPEC`
+/// (chosen per triangle, so the plain kernel does no extra work).
+pub struct FlatTexturedKernel<'a, const SPEC: bool>(pub &'a TexturedFlatTri);
 
-impl PixelShader for FlatHighlightKernel<'_> {
+impl<const SPEC: bool> PixelShader for FlatTexturedKernel<'_, SPEC> {
     const SAMPLES_TEXTURE: bool = true;
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
@@ -190,7 +191,10 @@ impl PixelShader for FlatHighlightKernel<'_> {
         counters.pixels_shaded += 1;
         counters.texture_samples += 1;
         let t = sample(ctx.texture, ctx.plan.filter, lerp2(b, &tri.uv), fp);
-        finish(tri.lit * rgb(t) + tri.highlight, counters)
+        if SPEC {
+            return finish(tri.lit * rgb(t) + tri.highlight, counters);
+        }
+        finish(tri.lit * rgb(t), counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
@@ -213,41 +217,11 @@ impl PixelShader for FlatHighlightKernel<'_> {
         counters.texture_samples += n;
         let (u, v) = packet::lerp2(&b, &tri.uv);
         let t = colour8(ctx, u, v, fp, live);
-        let lit = V3::splat(tri.lit).times(t).plus(V3::splat(tri.highlight));
+        let lit = V3::splat(tri.lit).times(t);
+        if SPEC {
+            return packet::finish(lit.plus(V3::splat(tri.highlight)), live, counters);
+        }
         packet::finish(lit, live, counters)
-    }
-}
-
-impl PixelShader for TexturedFlatTri {
-    const SAMPLES_TEXTURE: bool = true;
-    #[inline]
-    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
-        counters.pixels_shaded += 1;
-        counters.texture_samples += 1;
-        let t = sample(ctx.texture, ctx.plan.filter, lerp2(b, &self.uv), fp);
-        finish(self.lit * rgb(t), counters)
-    }
-    fn uvs(&self) -> Option<&[Vec2; 3]> {
-        Some(&self.uv)
-    }
-    fn packets(&self, _: &ShadeCtx) -> bool {
-        true
-    }
-    #[inline]
-    fn shade8(
-        &self,
-        ctx: &ShadeCtx,
-        b: [f32x8; 3],
-        fp: &[Footprint; LANES],
-        live: u32,
-        counters: &mut Counters,
-    ) -> [Rgb; LANES] {
-        let n = live.count_ones() as u64;
-        counters.pixels_shaded += n;
-        counters.texture_samples += n;
-        let (u, v) = packet::lerp2(&b, &self.uv);
-        let t = colour8(ctx, u, v, fp, live);
-        packet::finish(V3::splat(self.lit).times(t), live, counters)
     }
 }
 
@@ -267,15 +241,6 @@ pub struct GouraudTri {
 
 /// The Gouraud kernel, with or without texture and highlights.
 pub struct GouraudKernel<'a, const TEX: bool, const SPEC: bool>(pub &'a GouraudTri);
-
-/// The specular map of the plan, when `glossy` triangles read one.
-#[inline]
-fn gloss_map<'a>(ctx: &ShadeCtx<'a>, glossy: bool) -> Option<&'a crate::texture::Level> {
-    if !glossy {
-        return None;
-    }
-    ctx.plan.specular.as_ref()?.map.as_deref()
-}
 
 impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, SPEC> {
     const SAMPLES_TEXTURE: bool = TEX;
@@ -368,82 +333,7 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     const SAMPLES_TEXTURE: bool = TEX || BUMP;
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
-        let tri = self.0;
-        let plan = ctx.plan;
-        counters.pixels_shaded += 1;
-        let p = lerp3(b, &tri.position);
-        let mut n = if tri.smooth {
-            lerp3(b, &tri.normal).normalize_or(tri.face_normal)
-        } else {
-            tri.face_normal
-        };
-        let mut albedo = lerp3(b, &tri.color);
-        if TEX || BUMP {
-            let uv = lerp2(b, &tri.uv);
-            // Bilinear colour and filtered heights read the same texels: one
-            // neighbourhood serves both (the default, and the common case).
-            let fused = TEX
-                && BUMP
-                && plan.filter == Filter::Bilinear
-                && plan.height_derivative == HeightDerivative::Filtered;
-            let mut gradient = None;
-            if fused {
-                counters.texture_samples += 1;
-                let (texel, g) = ctx.texture.base().bilinear_with_gradient(uv.x, uv.y);
-                albedo *= rgb(texel);
-                gradient = Some(g);
-            } else if TEX {
-                counters.texture_samples += 1;
-                albedo *= rgb(sample(ctx.texture, plan.filter, uv, fp));
-            }
-            if BUMP {
-                counters.bump_evals += 1;
-                let (fu, fv) = gradient.unwrap_or_else(|| {
-                    height_gradient(ctx.texture, plan.height_derivative, plan.filter, uv, fp)
-                });
-                let (pu, pv) = if tri.uniform_tangents {
-                    (tri.tangent_u[0], tri.tangent_v[0])
-                } else {
-                    (lerp3(b, &tri.tangent_u), lerp3(b, &tri.tangent_v))
-                };
-                n = blinn(n, pu, pv, fu, fv, plan.bump_strength);
-            }
-        }
-        counters.light_evals += plan.lights.len() as u64;
-        let shadow = ctx.shadow;
-        let visibility = |i, counters: &mut Counters| {
-            shadow.map_or(1.0, |s| {
-                s.factor(i, p, tri.face_normal, tri.object, counters)
-            })
-        };
-        if let (true, Some(spec)) = (SPEC, &plan.specular) {
-            counters.specular_evals += plan.lights.len() as u64;
-            let (light, mut highlight) = light_with::<true>(
-                &plan.lights,
-                plan.ambient,
-                p,
-                n,
-                plan.attenuation,
-                view_dir(plan.eye, p),
-                spec.shininess,
-                |i| visibility(i, counters),
-            );
-            if let Some(map) = gloss_map(ctx, tri.glossy) {
-                highlight *= gloss(map, lerp2(b, &tri.uv));
-            }
-            return finish(albedo * light + highlight, counters);
-        }
-        let (light, _) = light_with::<false>(
-            &plan.lights,
-            plan.ambient,
-            p,
-            n,
-            plan.attenuation,
-            Vec3::ZERO,
-            0.0,
-            |i| visibility(i, counters),
-        );
-        finish(albedo * light, counters)
+        shade_pixel::<Blinn<BUMP>, TEX, SPEC>(&Blinn, self.0, ctx, b, fp, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)

@@ -4,7 +4,8 @@
 use glam::Vec3;
 
 use super::specular::blinn_phong;
-use crate::plan::ActiveLight;
+use crate::plan::{ActiveLight, Plan};
+use crate::stats::Counters;
 
 /// Distance attenuation 1 / (1 + c·d²); c keeps the reference scene readable
 /// (about 0.6 at the white light's distance).
@@ -14,75 +15,108 @@ pub const ATTENUATION_QUADRATIC: f32 = 0.01;
 /// A light exactly at `p` (distance 0) has no direction and adds nothing.
 #[inline]
 pub fn diffuse(lights: &[ActiveLight], ambient: Vec3, p: Vec3, n: Vec3, attenuation: bool) -> Vec3 {
-    diffuse_with(lights, ambient, p, n, attenuation, |_| 1.0)
-}
-
-/// `diffuse` with each lit light's contribution scaled by `visibility(i)`
-/// (its shadow), asked only where light `i` faces the point.
-#[inline]
-pub fn diffuse_with(
-    lights: &[ActiveLight],
-    ambient: Vec3,
-    p: Vec3,
-    n: Vec3,
-    attenuation: bool,
-    visibility: impl FnMut(usize) -> f32,
-) -> Vec3 {
-    light_with::<false>(
+    let set = LightSet {
         lights,
         ambient,
+        attenuation,
+        shininess: 0.0,
+    };
+    let mut unused = Counters::default();
+    light_with::<false>(
+        &set,
         p,
         n,
-        attenuation,
         Vec3::ZERO,
-        0.0,
-        visibility,
+        |_, d, _| lambert(n, d),
+        |_, _| 1.0,
+        &mut unused,
     )
     .0
 }
 
-/// The one light loop: the diffuse sum and, when `SPEC`, the Blinn-Phong
-/// highlights seen from the unit direction `view` with exponent `shininess`
-/// (unused otherwise). A light adds to both only where it faces the point,
-/// both scaled by the same attenuation and `visibility(i)` (asked once).
-#[allow(clippy::too_many_arguments)]
-#[inline]
+/// The lights of a frame as the light loop reads them.
+#[derive(Clone, Copy)]
+pub struct LightSet<'a> {
+    pub lights: &'a [ActiveLight],
+    pub ambient: Vec3,
+    /// Distance attenuation on.
+    pub attenuation: bool,
+    /// The exponent s of (N·H)^s (read only with highlights).
+    pub shininess: f32,
+}
+
+impl<'a> LightSet<'a> {
+    #[inline]
+    pub fn of(plan: &'a Plan) -> Self {
+        LightSet {
+            lights: &plan.lights,
+            ambient: plan.ambient,
+            attenuation: plan.attenuation,
+            shininess: plan.specular.as_ref().map_or(0.0, |s| s.shininess),
+        }
+    }
+}
+
+/// Lambert's cosine N·L for a light `d` away, or 0 where the light is
+/// behind: the sign is tested before normalising, so most back-lit points
+/// stop at one dot product. (A zero or non-finite `d` gives 0 or NaN, which
+/// the light loop skips.)
+#[inline(always)]
+pub fn lambert(n: Vec3, d: Vec3) -> f32 {
+    let ndl = n.dot(d);
+    if ndl > 0.0 {
+        ndl / d.length_squared().sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// The one light loop, for every kernel: ambient plus, for each light that
+/// reaches `p`, its colour × cosine (clamped to 1), and when `SPEC` the
+/// Blinn-Phong highlight (N·H)^s of the normal `n` seen from the unit
+/// direction `view` (docs/specular.md). `cosine(i, d, len2, counters)` is
+/// the technique's N·L for light `i` at `d` = light − p: Lambert's for
+/// most, emboss and dot3 have their own. A light adds only
+/// where its cosine is positive, both terms scaled by the same attenuation
+/// and by `visibility(i)` (its shadow, asked once). Counts one light
+/// evaluation per light, and one highlight per light with `SPEC`.
+#[inline(always)]
 pub fn light_with<const SPEC: bool>(
-    lights: &[ActiveLight],
-    ambient: Vec3,
+    set: &LightSet,
     p: Vec3,
     n: Vec3,
-    attenuation: bool,
     view: Vec3,
-    shininess: f32,
-    mut visibility: impl FnMut(usize) -> f32,
+    mut cosine: impl FnMut(usize, Vec3, &mut Counters) -> f32,
+    mut visibility: impl FnMut(usize, &mut Counters) -> f32,
+    counters: &mut Counters,
 ) -> (Vec3, Vec3) {
-    let mut sum = ambient;
+    counters.light_evals += set.lights.len() as u64;
+    if SPEC {
+        counters.specular_evals += set.lights.len() as u64;
+    }
+    let mut sum = set.ambient;
     let mut highlight = Vec3::ZERO;
-    for (i, light) in lights.iter().enumerate() {
+    for (i, light) in set.lights.iter().enumerate() {
         let d = light.position - p;
-        let ndl = n.dot(d);
-        // Test the sign before normalising: most back-lit points stop here.
-        if ndl > 0.0 {
-            let len2 = d.length_squared();
-            if len2 > 0.0 && len2.is_finite() {
-                let mut k = ndl / len2.sqrt();
-                let mut ks = if SPEC {
-                    blinn_phong(n, d, len2, view, shininess)
-                } else {
-                    0.0
-                };
-                if attenuation {
-                    k /= 1.0 + ATTENUATION_QUADRATIC * len2;
-                    if SPEC {
-                        ks /= 1.0 + ATTENUATION_QUADRATIC * len2;
-                    }
-                }
-                let seen = visibility(i);
-                sum += light.color * (k.min(1.0) * seen);
+        let mut k = cosine(i, d, counters);
+        // A light at the point, or out of range, has no direction: nothing.
+        let len2 = d.length_squared();
+        if k > 0.0 && len2 > 0.0 && len2.is_finite() {
+            let mut ks = if SPEC {
+                blinn_phong(n, d, len2, view, set.shininess)
+            } else {
+                0.0
+            };
+            if set.attenuation {
+                k /= 1.0 + ATTENUATION_QUADRATIC * len2;
                 if SPEC {
-                    highlight += light.color * (ks.min(1.0) * seen);
+                    ks /= 1.0 + ATTENUATION_QUADRATIC * len2;
                 }
+            }
+            let seen = visibility(i, counters);
+            sum += light.color * (k.min(1.0) * seen);
+            if SPEC {
+                highlight += light.color * (ks.min(1.0) * seen);
             }
         }
     }
@@ -92,7 +126,7 @@ pub fn light_with<const SPEC: bool>(
 /// Quantises a shaded colour, counting any non-finite one (tests assert
 /// the count stays 0; the pixel still gets a defined value).
 #[inline]
-pub fn finish(c: Vec3, counters: &mut crate::stats::Counters) -> [u8; 3] {
+pub fn finish(c: Vec3, counters: &mut Counters) -> [u8; 3] {
     if !c.is_finite() {
         counters.nonfinite += 1;
     }

@@ -5,6 +5,7 @@
 //! the choice of stages is made per draw, never per pixel.
 
 pub mod bump;
+pub mod core;
 pub mod dot3;
 pub mod emboss;
 pub mod kernels;

@@ -157,7 +157,7 @@ pub fn blinn(n: V3, pu: V3, pv: V3, fu: f32x8, fv: f32x8, k: f32) -> V3 {
     V3::select(ok, unit, n)
 }
 
-/// Ambient + Σ colour · max(0, N·L) at eight points (see `diffuse_with`
+/// Ambient + Σ colour · max(0, N·L) at eight points (see `lighting::light_with`
 /// without shadows).
 #[inline(always)]
 pub fn diffuse(lights: &[ActiveLight], ambient: Vec3, p: V3, n: V3, attenuation: bool) -> V3 {

@@ -12,15 +12,13 @@
 
 use glam::{Vec2, Vec3};
 
-use super::PhongTri;
 use super::bump::blinn;
-use super::kernels::{PixelShader, ShadeCtx};
-use super::lighting::diffuse_with;
+use super::core::{Hook, HookAt};
+use super::kernels::ShadeCtx;
 use super::tangent::Surface;
-use crate::framebuffer::Rgb;
 use crate::stats::Counters;
 use crate::texture::Level;
-use crate::texture::filter::{Footprint, height_gradient, sample};
+use crate::texture::filter::{Footprint, height_gradient};
 
 /// The view's normal component is clamped to this (about 84°) so grazing
 /// views cannot throw the coordinate across the texture.
@@ -104,31 +102,35 @@ pub fn pom_offset(level: &Level, uv: Vec2, ray: &ViewRay) -> (Vec2, u32) {
     (cur, reads)
 }
 
-/// The parallax kernel: plain parallax or occlusion mapping, with or without
-/// the colour texture.
-pub struct ParallaxKernel<'a, const TEX: bool, const OCCLUSION: bool> {
-    pub tri: &'a PhongTri,
+/// Parallax for the shading core (parallax occlusion mapping when
+/// `OCCLUSION`): the texture coordinate moves along the view ray, and
+/// Blinn's normal is read there.
+pub struct Parallax<const OCCLUSION: bool> {
+    /// The camera position in world space.
     pub eye: Vec3,
 }
 
-impl<const TEX: bool, const OCCLUSION: bool> PixelShader for ParallaxKernel<'_, TEX, OCCLUSION> {
-    const SAMPLES_TEXTURE: bool = true;
-    #[inline]
-    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
+impl<const OCCLUSION: bool> Hook for Parallax<OCCLUSION> {
+    type Pixel = ();
+    #[inline(always)]
+    fn at(
+        &self,
+        ctx: &ShadeCtx,
+        s: &Surface,
+        _b: Vec3,
+        fp: Footprint,
+        _colour: bool,
+        counters: &mut Counters,
+    ) -> (HookAt, ()) {
         let plan = ctx.plan;
-        counters.pixels_shaded += 1;
         counters.bump_evals += 1;
-        let s = Surface::at(self.tri, b);
         let k = plan.bump_strength;
         let depth = k * s.pu.cross(s.pv).length();
         // The relief is carved into the flat triangle being drawn: the ray
         // crosses it in the triangle's own plane. With vertex normals the
         // interpolated normal leans (a cube's is rounded toward its edges)
         // and would bend the texture on a flat face; it still lights.
-        let plane = Surface {
-            n: self.tri.face_normal,
-            ..s
-        };
+        let plane = Surface { n: s.face_n, ..*s };
         let ray = ViewRay::new(&plane, self.eye, depth);
         let base = ctx.texture.base();
         let uv = if OCCLUSION {
@@ -139,25 +141,13 @@ impl<const TEX: bool, const OCCLUSION: bool> PixelShader for ParallaxKernel<'_, 
             counters.texture_samples += 1;
             parallax_offset(base, s.uv, &ray)
         };
-        let mut albedo = s.albedo;
-        if TEX {
-            counters.texture_samples += 1;
-            let t = sample(ctx.texture, plan.filter, uv, fp);
-            albedo *= Vec3::new(t[0], t[1], t[2]);
-        }
         let (fu, fv) = height_gradient(ctx.texture, plan.height_derivative, plan.filter, uv, fp);
-        let n = blinn(s.n, s.pu, s.pv, fu, fv, k);
-        counters.light_evals += plan.lights.len() as u64;
-        let (shadow, tri) = (ctx.shadow, self.tri);
-        let light = diffuse_with(&plan.lights, plan.ambient, s.p, n, plan.attenuation, |i| {
-            shadow.map_or(1.0, |sh| {
-                sh.factor(i, s.p, tri.face_normal, tri.object, counters)
-            })
-        });
-        super::lighting::finish(albedo * light, counters)
-    }
-    fn uvs(&self) -> Option<&[Vec2; 3]> {
-        Some(&self.tri.uv)
+        let at = HookAt {
+            uv,
+            n: blinn(s.n, s.pu, s.pv, fu, fv, k),
+            texel: None,
+        };
+        (at, ())
     }
 }
 
@@ -169,6 +159,7 @@ mod tests {
         Surface {
             p: Vec3::ZERO,
             n: Vec3::Z,
+            face_n: Vec3::Z,
             albedo: Vec3::ONE,
             uv: Vec2::new(0.5, 0.5),
             pu: 2.0 * Vec3::X,

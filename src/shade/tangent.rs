@@ -75,6 +75,8 @@ impl Frame {
 pub struct Surface {
     pub p: Vec3,
     pub n: Vec3,
+    /// The triangle's facet normal (its plane).
+    pub face_n: Vec3,
     pub albedo: Vec3,
     pub uv: Vec2,
     pub pu: Vec3,
@@ -107,6 +109,7 @@ impl Surface {
         Surface {
             p: lerp3(b, &tri.position),
             n,
+            face_n: tri.face_normal,
             albedo: lerp3(b, &tri.color),
             uv: lerp2(b, &tri.uv),
             pu,

@@ -1,0 +1,134 @@
+//! Splitting a frame into bands of rows of equal estimated work, drawn in
+//! parallel when the frame is big enough to gain.
+
+use rayon::prelude::*;
+
+use super::dispatch::draw_into;
+use crate::framebuffer::Rgb;
+use crate::raster::ScreenTri;
+use crate::raster::aa::RasterTarget;
+use crate::raster::setup::ONE;
+use crate::shade::{ShadeCtx, TriShader};
+use crate::stats::Counters;
+
+/// Bands of equal estimated work per thread: one would leave a thread idle
+/// whenever the estimate is off; a few let the first to finish take another.
+pub(super) const CHUNKS_PER_THREAD: usize = 8;
+
+/// Below this much estimated work (covered pixels weighted by kernel cost,
+/// plus the clear) one thread is faster than splitting the frame.
+pub(super) const PARALLEL_MIN_WORK: f64 = 16_384.0;
+
+/// Work units of a row that one triangle spans, besides its pixels: finding
+/// the covered span.
+pub(super) const ROW_SETUP_WORK: f64 = 4.0;
+
+/// The estimated work of each row: a triangle's covered area spread evenly
+/// over its rows (a flat colour counts a quarter: its rows are fills), a
+/// setup cost per row it spans, and the clear.
+pub(super) struct RowWork {
+    /// `before[y]`: the work of rows 0..y (`height + 1` entries).
+    before: Vec<f64>,
+}
+
+impl RowWork {
+    pub(super) fn new(
+        tris: &[ScreenTri],
+        shaders: &[TriShader],
+        width: usize,
+        height: usize,
+    ) -> Self {
+        // Per-row increments, summed once at the end.
+        let mut delta = vec![0.0f64; height + 1];
+        let px_per_unit = 1.0 / (2 * ONE * ONE) as f64;
+        for t in tris {
+            let weight = match shaders[t.shader as usize] {
+                TriShader::Solid(_) => 0.25,
+                _ => 1.0,
+            };
+            let rows = (t.y1 - t.y0 + 1) as f64;
+            let per_row = t.area as f64 * px_per_unit * weight / rows + ROW_SETUP_WORK;
+            delta[t.y0 as usize] += per_row;
+            delta[t.y1 as usize + 1] -= per_row;
+        }
+        let clear = width as f64 / 16.0;
+        let mut before = Vec::with_capacity(height + 1);
+        let (mut sum, mut rate) = (0.0, 0.0);
+        before.push(0.0);
+        for d in &delta[..height] {
+            rate += d;
+            sum += rate.max(0.0) + clear;
+            before.push(sum);
+        }
+        RowWork { before }
+    }
+
+    pub(super) fn total(&self) -> f64 {
+        *self.before.last().unwrap_or(&0.0)
+    }
+
+    /// Row bounds of at most `parts` bands of about equal work, from 0 to
+    /// the height.
+    pub(super) fn split(&self, parts: usize) -> Vec<usize> {
+        let height = self.before.len() - 1;
+        let total = self.total();
+        let mut bounds = vec![0];
+        let mut y = 0;
+        for k in 1..parts {
+            let goal = total * k as f64 / parts as f64;
+            while y < height && self.before[y] < goal {
+                y += 1;
+            }
+            if y > *bounds.last().unwrap_or(&0) && y < height {
+                bounds.push(y);
+            }
+        }
+        bounds.push(height);
+        bounds
+    }
+}
+
+/// Cuts a frame-sized buffer into the bands between consecutive row
+/// `bounds`, each with its first row.
+pub(super) fn split_rows<'a, T>(
+    mut buf: &'a mut [T],
+    width: usize,
+    bounds: &'a [usize],
+) -> impl Iterator<Item = (usize, &'a mut [T])> + 'a {
+    bounds.windows(2).map(move |b| {
+        let (band, rest) = std::mem::take(&mut buf).split_at_mut((b[1] - b[0]) * width);
+        buf = rest;
+        (b[0], band)
+    })
+}
+
+/// Clears each band and draws every triangle into it, in parallel or not
+/// (the same result either way: bands never share a pixel).
+pub(super) fn draw_bands<T: RasterTarget + Send>(
+    bands: &mut [T],
+    parallel: bool,
+    tris: &[ScreenTri],
+    shaders: &[TriShader],
+    ctx: &ShadeCtx,
+    background: Rgb,
+) -> Counters {
+    let draw = |band: &mut T| -> Counters {
+        band.clear(background);
+        let mut counters = Counters::default();
+        for tri in tris {
+            draw_into(tri, &shaders[tri.shader as usize], ctx, band, &mut counters);
+        }
+        counters
+    };
+    let per_band: Vec<Counters> = if parallel {
+        // One band per task, so an idle thread can take any band left.
+        bands.par_iter_mut().with_max_len(1).map(draw).collect()
+    } else {
+        bands.iter_mut().map(draw).collect()
+    };
+    let mut total = Counters::default();
+    for c in per_band {
+        total += c;
+    }
+    total
+}

@@ -1,0 +1,140 @@
+//! Which kernel draws a triangle: chosen once per triangle from its shader
+//! and the plan, so no pixel tests what its triangle needs.
+
+use crate::raster::aa::RasterTarget;
+use crate::raster::{Band, ScreenTri};
+use crate::settings::{LightVector, Technique};
+use crate::shade::core::{Hook, HookKernel};
+use crate::shade::dot3::Dot3;
+use crate::shade::emboss::Emboss;
+use crate::shade::kernels::{FlatTexturedKernel, GouraudKernel, PhongKernel};
+use crate::shade::parallax::Parallax;
+use crate::shade::{PhongTri, ShadeCtx, TriShader};
+use crate::stats::Counters;
+
+/// Runs the pixel loop monomorphised for the triangle's kernel.
+pub fn draw_triangle(
+    tri: &ScreenTri,
+    shader: &TriShader,
+    ctx: &ShadeCtx,
+    band: &mut Band,
+    counters: &mut Counters,
+) {
+    draw_into(tri, shader, ctx, band, counters)
+}
+
+/// The kernel dispatch, for any raster target (plain or multisampled):
+/// each triangle's kernel is chosen here, once, so no pixel tests what its
+/// triangle needs.
+pub fn draw_into<T: RasterTarget>(
+    tri: &ScreenTri,
+    shader: &TriShader,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
+    let spec = ctx.plan.specular.is_some();
+    match shader {
+        TriShader::Solid(color) => target.raster(tri, color, ctx, counters),
+        TriShader::FlatTextured(s) if spec => {
+            target.raster(tri, &FlatTexturedKernel::<true>(s), ctx, counters)
+        }
+        TriShader::FlatTextured(s) => {
+            target.raster(tri, &FlatTexturedKernel::<false>(s), ctx, counters)
+        }
+        TriShader::Gouraud(s) => match (s.textured, spec) {
+            (true, true) => target.raster(tri, &GouraudKernel::<true, true>(s), ctx, counters),
+            (true, false) => target.raster(tri, &GouraudKernel::<true, false>(s), ctx, counters),
+            (false, true) => target.raster(tri, &GouraudKernel::<false, true>(s), ctx, counters),
+            (false, false) => target.raster(tri, &GouraudKernel::<false, false>(s), ctx, counters),
+        },
+        TriShader::Phong(s) if s.bumped => draw_bumped(tri, s, ctx, target, counters),
+        TriShader::Phong(s) => match (s.textured, spec) {
+            (true, true) => target.raster(tri, &PhongKernel::<true, false, true>(s), ctx, counters),
+            (true, false) => {
+                target.raster(tri, &PhongKernel::<true, false, false>(s), ctx, counters)
+            }
+            (false, true) => {
+                target.raster(tri, &PhongKernel::<false, false, true>(s), ctx, counters)
+            }
+            (false, false) => {
+                target.raster(tri, &PhongKernel::<false, false, false>(s), ctx, counters)
+            }
+        },
+    }
+}
+
+/// A bumped Phong triangle, drawn with the plan's technique: Blinn's has
+/// its eight-pixel kernel, every technique the shading core's
+/// (`shade::core`) with the technique's hook. A new technique is one arm.
+fn draw_bumped<T: RasterTarget>(
+    tri: &ScreenTri,
+    s: &PhongTri,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
+    let plan = ctx.plan;
+    let eye = plan.eye;
+    match (plan.technique, plan.normal_map.as_deref()) {
+        (Technique::Emboss, _) => with_hook(tri, s, Emboss::new(ctx), ctx, target, counters),
+        (Technique::Dot3, Some(map)) => match plan.light_vector {
+            LightVector::Pixel => {
+                let hook = Dot3::<true>::new(s, map, ctx);
+                with_hook(tri, s, hook, ctx, target, counters)
+            }
+            LightVector::Vertex => {
+                let hook = Dot3::<false>::new(s, map, ctx);
+                with_hook(tri, s, hook, ctx, target, counters)
+            }
+        },
+        (Technique::Parallax, _) => {
+            with_hook(tri, s, Parallax::<false> { eye }, ctx, target, counters)
+        }
+        (Technique::Pom, _) => with_hook(tri, s, Parallax::<true> { eye }, ctx, target, counters),
+        // Blinn, and dot3 without its map (the plan builds one whenever dot3
+        // runs): the packet kernel.
+        (Technique::Blinn | Technique::Dot3, _) => match (s.textured, plan.specular.is_some()) {
+            (true, true) => target.raster(tri, &PhongKernel::<true, true, true>(s), ctx, counters),
+            (true, false) => {
+                target.raster(tri, &PhongKernel::<true, true, false>(s), ctx, counters)
+            }
+            (false, true) => {
+                target.raster(tri, &PhongKernel::<false, true, true>(s), ctx, counters)
+            }
+            (false, false) => {
+                target.raster(tri, &PhongKernel::<false, true, false>(s), ctx, counters)
+            }
+        },
+    }
+}
+
+/// A bumped triangle through the shading core with the technique `hook`:
+/// with or without its colour texture and highlights.
+fn with_hook<T: RasterTarget, H: Hook>(
+    tri: &ScreenTri,
+    s: &PhongTri,
+    hook: H,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
+    match (s.textured, ctx.plan.specular.is_some()) {
+        (true, true) => {
+            let k = HookKernel::<H, true, true> { tri: s, hook };
+            target.raster(tri, &k, ctx, counters)
+        }
+        (true, false) => {
+            let k = HookKernel::<H, true, false> { tri: s, hook };
+            target.raster(tri, &k, ctx, counters)
+        }
+        (false, true) => {
+            let k = HookKernel::<H, false, true> { tri: s, hook };
+            target.raster(tri, &k, ctx, counters)
+        }
+        (false, false) => {
+            let k = HookKernel::<H, false, false> { tri: s, hook };
+            target.raster(tri, &k, ctx, counters)
+        }
+    }
+}

@@ -1,0 +1,385 @@
+//! The frame: plan → transform → cull/clip/setup → bands of rows rasterized
+//! and shaded (in parallel when the frame is big enough to gain).
+
+mod bands;
+mod dispatch;
+mod shaders;
+
+use bands::{CHUNKS_PER_THREAD, PARALLEL_MIN_WORK, RowWork, draw_bands, split_rows};
+pub use dispatch::{draw_into, draw_triangle};
+use shaders::{build_shader, wire_triangle};
+
+use std::time::Instant;
+
+use glam::{Mat3, Vec2, Vec3, Vec4};
+
+use crate::framebuffer::{Framebuffer, Rgb};
+use crate::plan::Plan;
+use crate::raster::aa::{
+    MSAA_REACH, MSAA_SAMPLES, MsaaBand, resolve_box, resolve_msaa, ssaa_factor,
+};
+use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
+use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
+use crate::scene::{Scene, normal_matrix};
+use crate::settings::{AntiAlias, Display, Settings};
+use crate::shade::{ShadeCtx, TriShader};
+use crate::shadow::{Shadow, ShadowMap};
+use crate::stats::{Counters, FrameStats};
+
+/// A vertex after the model transform, in world space.
+#[derive(Clone, Copy, Debug)]
+struct WorldVertex {
+    position: Vec3,
+    normal: Vec3,
+    uv: Vec2,
+    color: Vec3,
+    tangent_u: Vec3,
+    tangent_v: Vec3,
+}
+
+/// Reusable buffers: one `Renderer` per view keeps allocations across frames.
+#[derive(Default)]
+pub struct Renderer {
+    world: Vec<WorldVertex>,
+    clip: Vec<Vec4>,
+    shaders: Vec<TriShader>,
+    tris: Vec<ScreenTri>,
+    depth: Vec<f32>,
+    polygon: Vec<ClipVertex>,
+    /// Visible triangles of the points and lines displays.
+    wire: Vec<WireTri>,
+    /// The supersampled frame, kept between frames.
+    supersampled: Option<Framebuffer>,
+    /// Multisampled colours and depths, kept between frames.
+    msaa_color: Vec<[Rgb; MSAA_SAMPLES]>,
+    msaa_depth: Vec<[f32; MSAA_SAMPLES]>,
+    /// The shadow map, kept between frames.
+    shadow: ShadowMap,
+}
+
+impl Renderer {
+    pub fn new() -> Self {
+        Renderer::default()
+    }
+
+    /// Draws `scene` into `fb` and says what it cost. Output is identical
+    /// for any number of threads.
+    pub fn render(
+        &mut self,
+        scene: &Scene,
+        settings: &Settings,
+        fb: &mut Framebuffer,
+    ) -> FrameStats {
+        let start = Instant::now();
+        let mut stats = FrameStats::default();
+        let (width, height) = (fb.width(), fb.height());
+        if width == 0 || height == 0 {
+            return stats;
+        }
+        let normal_maps_before = scene.material.texture.normal_map_builds();
+        let plan = Plan::new(scene, settings);
+        let mips_before = scene.material.texture.mips_built();
+        let normal_mips_built =
+            |plan: &Plan| plan.normal_map.as_ref().is_some_and(|m| m.mips_built());
+        let normal_mips_before = normal_mips_built(&plan);
+        // Supersampling draws k times larger, then box-filters down.
+        let k = ssaa_factor(plan.aa, width, height);
+        // Taken out of `self` for the frame so the shaders can borrow it.
+        let mut shadow_map = std::mem::take(&mut self.shadow);
+        let (shadow, mut counters) =
+            shadow_pass(&mut shadow_map, scene, &plan, width * k, height * k);
+        counters += self.prepare(scene, &plan, shadow, width * k, height * k);
+        counters.normal_map_builds +=
+            scene.material.texture.normal_map_builds() - normal_maps_before;
+        stats.plan_time = start.elapsed();
+
+        let raster_start = Instant::now();
+        if k > 1 {
+            let mut big = self
+                .supersampled
+                .take()
+                .unwrap_or_else(|| Framebuffer::new(0, 0));
+            big.resize(width * k, height * k);
+            counters += self.rasterize(scene, &plan, shadow, &mut big, k);
+            resolve_box(&big, k, fb);
+            self.supersampled = Some(big);
+        } else {
+            counters += self.rasterize(scene, &plan, shadow, fb, 1);
+        }
+        self.shadow = shadow_map;
+        if !mips_before && scene.material.texture.mips_built() {
+            counters.mip_builds += 1;
+        }
+        if !normal_mips_before && normal_mips_built(&plan) {
+            counters.mip_builds += 1;
+        }
+        stats.raster_time = raster_start.elapsed();
+        stats.counters = counters;
+        stats
+    }
+
+    /// The screen triangles of a frame (after culling, clipping and setup),
+    /// with the plan and shaders they go with: for tests that rasterize
+    /// triangles one by one.
+    pub fn screen_triangles(
+        &mut self,
+        scene: &Scene,
+        settings: &Settings,
+        width: usize,
+        height: usize,
+    ) -> (&[ScreenTri], &[TriShader]) {
+        let plan = Plan::new(scene, settings);
+        let mut shadow_map = std::mem::take(&mut self.shadow);
+        let (shadow, _) = shadow_pass(&mut shadow_map, scene, &plan, width, height);
+        self.prepare(scene, &plan, shadow, width, height);
+        self.shadow = shadow_map;
+        (&self.tris, &self.shaders)
+    }
+
+    /// Transforms vertices, culls, clips, sets triangles up and builds their
+    /// shaders. Returns the counters of the work done here (per-vertex and
+    /// per-facet lighting).
+    fn prepare(
+        &mut self,
+        scene: &Scene,
+        plan: &Plan,
+        shadow: Option<Shadow>,
+        width: usize,
+        height: usize,
+    ) -> Counters {
+        let mut counters = Counters::default();
+        self.wire.clear();
+        self.shaders.clear();
+        self.tris.clear();
+        let aspect = width as f32 / height as f32;
+        let view_proj = scene.camera.projection(aspect) * scene.camera.view();
+        let eye = scene.camera.eye;
+        let user_rotation = plan.rotation;
+        // Multisampling covers samples off the pixel centres: a sliver
+        // between two rows of centres still has samples inside.
+        let reach = if plan.aa == AntiAlias::Msaa4 {
+            MSAA_REACH
+        } else {
+            0
+        };
+        for (object_index, object) in scene.objects.iter().enumerate() {
+            let model = object.model_matrix(user_rotation);
+            let linear = Mat3::from_mat4(model);
+            let normal_matrix = normal_matrix(model);
+            self.world.clear();
+            self.clip.clear();
+            for v in &object.mesh.vertices {
+                let position = model.transform_point3(v.position);
+                self.world.push(WorldVertex {
+                    position,
+                    normal: (normal_matrix * v.normal).normalize_or_zero(),
+                    uv: v.uv,
+                    color: v.color,
+                    tangent_u: linear * v.tangent_u,
+                    tangent_v: linear * v.tangent_v,
+                });
+                self.clip.push(view_proj * position.extend(1.0));
+            }
+            for tri in &object.mesh.triangles {
+                let idx = tri.indices.map(|i| i as usize);
+                if idx.iter().any(|&i| i >= self.world.len()) {
+                    continue;
+                }
+                let face_normal = (normal_matrix * tri.face_normal).normalize_or_zero();
+                let p0 = self.world[idx[0]].position;
+                let facing = face_normal.dot(eye - p0);
+                if !facing.is_finite() || facing == 0.0 || (facing < 0.0 && object.mesh.closed) {
+                    continue;
+                }
+                // An open surface seen from behind is lit on the side we see.
+                let side = if facing < 0.0 { -1.0 } else { 1.0 };
+                if plan.display != Display::Fill {
+                    counters.light_evals += 3 * plan.lights.len() as u64;
+                    self.wire.push(wire_triangle(
+                        plan,
+                        idx.map(|i| &self.world[i]),
+                        idx.map(|i| self.clip[i]),
+                        face_normal * side,
+                        side,
+                    ));
+                    continue;
+                }
+                let shader_index = self.shaders.len() as u32;
+                let first_tri = self.tris.len();
+                let clip = idx.map(|i| self.clip[i]);
+                match clip_triangle(clip, &mut self.polygon) {
+                    Clipped::Outside => {}
+                    Clipped::Inside => {
+                        let v = [0, 1, 2].map(|k| ClipVertex {
+                            pos: clip[k],
+                            bary: Vec3::AXES[k],
+                        });
+                        self.tris
+                            .extend(setup_reaching(v, width, height, shader_index, reach));
+                    }
+                    Clipped::Polygon => {
+                        counters.triangles_clipped += 1;
+                        for k in 1..self.polygon.len() - 1 {
+                            let v = [self.polygon[0], self.polygon[k], self.polygon[k + 1]];
+                            self.tris
+                                .extend(setup_reaching(v, width, height, shader_index, reach));
+                        }
+                    }
+                }
+                if self.tris.len() == first_tri {
+                    continue;
+                }
+                let verts = idx.map(|i| self.world[i]);
+                let shader = build_shader(
+                    plan,
+                    &verts,
+                    tri,
+                    face_normal * side,
+                    side,
+                    &model,
+                    &linear,
+                    shadow,
+                    object_index as u32,
+                    &mut counters,
+                );
+                self.shaders.push(shader);
+            }
+        }
+        counters.triangles_drawn = self.tris.len() as u64;
+        counters
+    }
+
+    /// Clears and draws the frame: bands of pixels (or of samples, with
+    /// multisampling), or the wireframe. `brush` is the supersampling factor,
+    /// which widens lines and points so they keep their size.
+    fn rasterize(
+        &mut self,
+        scene: &Scene,
+        plan: &Plan,
+        shadow: Option<Shadow>,
+        fb: &mut Framebuffer,
+        brush: usize,
+    ) -> Counters {
+        let width = fb.width();
+        let height = fb.height();
+        let background = scene.background;
+        if plan.display != Display::Fill {
+            let mut counters = Counters::default();
+            fb.fill(background);
+            let mut canvas = Canvas::new(width, height, fb.pixels_mut());
+            if plan.display == Display::Points {
+                let size = point_size(width / brush, height / brush) * brush;
+                draw_points(&self.wire, size, &mut canvas, &mut counters);
+            } else {
+                draw_lines(&self.wire, brush, &mut canvas, &mut counters);
+            }
+            return counters;
+        }
+        let ctx = ShadeCtx {
+            plan,
+            texture: &scene.material.texture,
+            shadow,
+        };
+        let work = RowWork::new(&self.tris, &self.shaders, width, height);
+        let threads = rayon::current_num_threads();
+        let parallel = work.total() >= PARALLEL_MIN_WORK && threads > 1;
+        let bounds = if parallel {
+            work.split(threads * CHUNKS_PER_THREAD)
+        } else {
+            vec![0, height]
+        };
+
+        let tris = &self.tris;
+        let shaders = &self.shaders;
+        if plan.aa == AntiAlias::Msaa4 {
+            self.msaa_color.clear();
+            self.msaa_color
+                .resize(width * height, [background; MSAA_SAMPLES]);
+            let mut bands: Vec<MsaaBand> = if plan.depth {
+                self.msaa_depth.clear();
+                self.msaa_depth
+                    .resize(width * height, [f32::INFINITY; MSAA_SAMPLES]);
+                split_rows(&mut self.msaa_color, width, &bounds)
+                    .zip(split_rows(&mut self.msaa_depth, width, &bounds))
+                    .map(|((y0, samples), (_, depth))| MsaaBand {
+                        y0,
+                        width,
+                        samples,
+                        depth: Some(depth),
+                    })
+                    .collect()
+            } else {
+                split_rows(&mut self.msaa_color, width, &bounds)
+                    .map(|(y0, samples)| MsaaBand {
+                        y0,
+                        width,
+                        samples,
+                        depth: None,
+                    })
+                    .collect()
+            };
+            let total = draw_bands(&mut bands, parallel, tris, shaders, &ctx, background);
+            drop(bands);
+            resolve_msaa(&self.msaa_color, fb.pixels_mut());
+            return total;
+        }
+        let mut bands: Vec<Band> = if plan.depth {
+            self.depth.clear();
+            self.depth.resize(width * height, f32::INFINITY);
+            split_rows(fb.pixels_mut(), width, &bounds)
+                .zip(split_rows(&mut self.depth, width, &bounds))
+                .map(|((y0, color), (_, depth))| Band {
+                    y0,
+                    width,
+                    color,
+                    depth: Some(depth),
+                })
+                .collect()
+        } else {
+            split_rows(fb.pixels_mut(), width, &bounds)
+                .map(|(y0, color)| Band {
+                    y0,
+                    width,
+                    color,
+                    depth: None,
+                })
+                .collect()
+        };
+        draw_bands(&mut bands, parallel, tris, shaders, &ctx, background)
+    }
+}
+
+/// Pass 1 of the shadows, when the plan asks for it: the map of the plan's
+/// shadow light, and what drawing it cost.
+fn shadow_pass<'a>(
+    map: &'a mut ShadowMap,
+    scene: &Scene,
+    plan: &Plan,
+    width: usize,
+    height: usize,
+) -> (Option<Shadow<'a>>, Counters) {
+    let Some(light) = plan.shadow_light else {
+        return (None, Counters::default());
+    };
+    let counters = map.render(
+        scene,
+        plan.rotation,
+        plan.lights[light].position,
+        &plan.shadow_casters,
+        width,
+        height,
+    );
+    (Some(Shadow { light, map }), counters)
+}
+
+/// Convenience for tests and tools: one frame of `scene` at `width × height`.
+pub fn render_frame(
+    scene: &Scene,
+    settings: &Settings,
+    width: usize,
+    height: usize,
+) -> (Framebuffer, FrameStats) {
+    let mut fb = Framebuffer::new(width, height);
+    let stats = Renderer::new().render(scene, settings, &mut fb);
+    (fb, stats)
+}
