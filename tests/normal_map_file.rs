@@ -355,3 +355,34 @@ fn key_n_switches_between_the_file_and_the_derived_map() {
     assert_eq!(bare.settings, Settings::default());
     assert!(bare.message.unwrap().contains("--normal-map"));
 }
+
+/// The asset `assets/brick-normal.png`: the built-in brick's dot3 normal map
+/// at the reference strength, as an 8-bit normal-map file. Written by
+/// `RELIEF_WRITE_ASSETS=1 cargo test --release --test normal_map_file`;
+/// otherwise checked against the map relief derives.
+#[test]
+fn the_brick_normal_asset_is_the_bricks_derived_map() {
+    let brick = relief::texture::procedural::brick();
+    let derived = brick.normal_map(normal_map_scale(DEFAULT_BUMP_STRENGTH)).0;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/brick-normal.png");
+    if std::env::var_os("RELIEF_WRITE_ASSETS").is_some() {
+        let rgb = relief::texture::normal_map_file::encode_rgb8(&derived);
+        ImageBuffer::<Rgb<u8>, _>::from_raw(derived.width as u32, derived.height as u32, rgb)
+            .unwrap()
+            .save(&path)
+            .unwrap();
+    }
+    let asset = load_normal_map(&path).unwrap();
+    assert_eq!(
+        (asset.width(), asset.height()),
+        (derived.width, derived.height)
+    );
+    let worst = asset
+        .given()
+        .normals
+        .iter()
+        .zip(&derived.normals)
+        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs()))
+        .fold(0.0f32, f32::max);
+    assert!(worst <= 0.006, "{worst}");
+}
