@@ -386,3 +386,42 @@ fn the_brick_normal_asset_is_the_bricks_derived_map() {
         .fold(0.0f32, f32::max);
     assert!(worst <= 0.006, "{worst}");
 }
+
+fn relief_render(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_relief"))
+        .arg("render")
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+#[test]
+fn relief_render_reads_the_file_and_refuses_a_bad_one_in_one_line() {
+    let out = scratch("out.png");
+    let out = out.0.to_str().unwrap();
+    let asset = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/brick-normal.png");
+    let small = ["--width", "64", "--height", "48", "--out", out];
+    let ok = relief_render(&[&small[..], &["--technique", "dot3", "--normal-map", asset]].concat());
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    assert!(ok.stderr.is_empty());
+    // Without dot3 the file cannot show: a note says so.
+    let note = relief_render(&[&small[..], &["--normal-map", asset]].concat());
+    assert!(note.status.success());
+    assert!(String::from_utf8_lossy(&note.stderr).contains("--technique dot3"));
+    let junk = scratch("junk.png");
+    std::fs::write(&junk.0, b"not a picture").unwrap();
+    for bad in [junk.0.to_str().unwrap(), "no-such-normal-map.png"] {
+        let o =
+            relief_render(&[&small[..], &["--technique", "dot3", "--normal-map", bad]].concat());
+        assert!(!o.status.success(), "{bad}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        let name = Path::new(bad).file_name().unwrap().to_str().unwrap();
+        assert!(err.contains(name), "{err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(!err.contains("panicked"));
+    }
+}
