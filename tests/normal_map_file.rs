@@ -349,6 +349,14 @@ fn key_n_switches_between_the_file_and_the_derived_map() {
     assert!(state.message.clone().unwrap().contains("derived"));
     assert!(!relief::app::view::status_line(&state, 200).contains("map file"));
 
+    // Started with the file on (`--normal-map`) but another technique: `N`
+    // shows the file instead of turning it off unseen.
+    let mut started = state_with_file(Some("bumps.png"));
+    started.settings.normal_map_file = true;
+    update(&mut started, Action::ToggleNormalMapFile);
+    assert!(started.settings.normal_map_file);
+    assert_eq!(started.settings.technique, Technique::Dot3);
+
     // Without a file: nothing changes but the message, which says what to do.
     let mut bare = state_with_file(None);
     update(&mut bare, Action::ToggleNormalMapFile);

@@ -72,7 +72,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 state.normal_map_file = Some(map.name.clone());
                 if state.settings.technique != crate::settings::Technique::Dot3 {
                     state.message = Some(format!(
-                        "normal map {} shows with dot3 (e selects it)",
+                        "normal map {} loaded: it shows with dot3 (N)",
                         map.name
                     ));
                 }

@@ -553,15 +553,16 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
 }
 
 /// `N`: dot3 reads the file's normal map, or the height-derived one again.
-/// Turning the file on switches the technique to dot3 (the only one that
-/// reads a normal map), and the message says so.
+/// Showing the file switches the technique to dot3 (the only one that reads
+/// a normal map), and the message says so; while another technique is on,
+/// `N` shows the file rather than turning it off unseen.
 fn toggle_normal_map_file(state: &mut State) {
     let Some(name) = &state.normal_map_file else {
         state.message = Some("no normal map file: start relief with --normal-map PATH".into());
         return;
     };
     let s = &mut state.settings;
-    s.normal_map_file = !s.normal_map_file;
+    s.normal_map_file = !s.normal_map_file || s.technique != crate::settings::Technique::Dot3;
     let mut text = if s.normal_map_file {
         format!("normal map: file {}", clean(name))
     } else {
