@@ -284,6 +284,9 @@ fn a_file_map_in_use_is_built_once_per_strength_and_its_chain_once() {
     let file = write_ramp_file(Axis::U, K_FILE, false, "count.png");
     let map = Arc::new(load_normal_map(&file.0).unwrap());
     scene.material.normal_map = Some(map.clone());
+    let plan = |s: &Settings| relief::plan::Plan::new(&scene, s);
+    assert!(plan(&dot3(DEFAULT_BUMP_STRENGTH, true)).normal_map_from_file);
+    assert!(!plan(&dot3(DEFAULT_BUMP_STRENGTH, false)).normal_map_from_file);
     let mut fb = Framebuffer::new(96, 72);
     let mut renderer = Renderer::new();
     let mut run = |k: f32| renderer.render(&scene, &dot3(k, true), &mut fb).counters;
