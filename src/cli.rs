@@ -181,6 +181,9 @@ pub struct ViewArgs {
     /// Grey image whose value (mean of R, G, B) scales the highlight, read with the texture coordinates.
     #[arg(long, value_name = "PATH")]
     pub specular_map: Option<PathBuf>,
+    /// RGB tangent-space normal map (n = 2·rgb − 1, green up the picture) that dot3 reads instead of the one derived from the height map (docs/bump-dot3.md).
+    #[arg(long, value_name = "PATH")]
+    pub normal_map: Option<PathBuf>,
     /// Plasma scene: the article's Z² lookup table or the exact per-pixel normal.
     #[arg(long, value_enum, default_value_t = PlasmaNormal::Table)]
     pub plasma_normal: PlasmaNormal,
@@ -210,6 +213,7 @@ impl ViewArgs {
             attenuation: self.attenuation.on(),
             specular: self.specular.on(),
             shininess: self.shininess,
+            normal_map_file: self.normal_map.is_some(),
         }
     }
 }

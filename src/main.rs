@@ -67,6 +67,12 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         )?)),
         None => None,
     };
+    let normal_map = match &view.normal_map {
+        Some(path) => Some(Arc::new(relief::texture::normal_map_file::load_normal_map(
+            path,
+        )?)),
+        None => None,
+    };
     let built = build_scene(view.scene, &view.model, Arc::new(texture), view.all_faces)?;
     let settings = view.settings();
     let (width, height) = (args.width as usize, args.height as usize);
@@ -80,6 +86,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         Built::Scene(mut scene) => {
             scene.camera = scene.camera.at_distance(view.distance);
             scene.material.specular_map = specular_map;
+            scene.material.normal_map = normal_map;
             Renderer::new().render(&scene, &settings, &mut fb);
         }
         Built::Plasma(plasma) => {
@@ -131,6 +138,12 @@ fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
             clean(&view.model.to_string()),
             if view.scene == SceneKind::Plasma { "plasma" } else { "shadow" },
         ));
+    }
+    if view.normal_map.is_some() && view.technique != relief::settings::Technique::Dot3 {
+        notes.push(
+            "--normal-map shows with --technique dot3 (the other techniques read the height map)"
+                .into(),
+        );
     }
     let (w, h) = (args.width as usize, args.height as usize);
     let k = relief::raster::aa::ssaa_factor(view.aa, w, h);

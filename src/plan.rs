@@ -61,8 +61,11 @@ pub struct Plan {
     /// Dot3's light vector: interpolated from the vertices or per pixel.
     pub light_vector: LightVector,
     /// Dot3's normal map, built (once per texture and strength) only when
-    /// dot3 runs.
+    /// dot3 runs: the file's (`--normal-map`, tilted for the strength) when
+    /// one is loaded and `normal_map_file` is on, else the height map's.
     pub normal_map: Option<Arc<NormalMap>>,
+    /// `normal_map` is the file's.
+    pub normal_map_from_file: bool,
     /// The camera position in world space (parallax needs the view vector).
     pub eye: Vec3,
     pub height_derivative: HeightDerivative,
@@ -100,12 +103,19 @@ impl Plan {
             .any(|o| o.mesh.triangles.iter().any(|t| t.textured));
         let texture = settings.texture && any_textured;
         let strength = settings.bump_strength;
+        // The file's normal map, when dot3 is asked for and is to read it:
+        // it shows even on a texture whose height map is flat.
+        let file_map = scene
+            .material
+            .normal_map
+            .as_ref()
+            .filter(|_| settings.normal_map_file && settings.technique == Technique::Dot3);
         let bump = settings.shading == Shading::Phong
             && settings.bump
             && strength.is_finite()
             && strength > 0.0
             && any_textured
-            && !scene.material.texture.height_is_flat();
+            && (file_map.is_some() || !scene.material.texture.height_is_flat());
         let footprint = settings.filter.uses_mips()
             && (texture || (bump && settings.height_derivative == HeightDerivative::Filtered));
         // One convex (or planar) object drawn with back faces culled never
@@ -130,9 +140,13 @@ impl Plan {
         } else {
             Technique::Blinn
         };
-        let normal_map = (technique == Technique::Dot3).then(|| {
-            let scale = normal_map_scale(strength);
-            scene.material.texture.normal_map(scale).0
+        let file_map = file_map.filter(|_| technique == Technique::Dot3);
+        let normal_map = (technique == Technique::Dot3).then(|| match file_map {
+            Some(file) => file.for_strength(strength).0,
+            None => {
+                let scale = normal_map_scale(strength);
+                scene.material.texture.normal_map(scale).0
+            }
         });
         let aa = if settings.aa == AntiAlias::Msaa4 && settings.display != Display::Fill {
             AntiAlias::Off
@@ -161,6 +175,7 @@ impl Plan {
             technique,
             light_vector: settings.light_vector,
             normal_map,
+            normal_map_from_file: file_map.is_some(),
             eye: scene.camera.eye,
             height_derivative: settings.height_derivative,
             filter: settings.filter,

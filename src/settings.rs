@@ -299,6 +299,10 @@ pub struct Settings {
     pub shininess: f32,
     /// Model rotation in degrees about X, then Y, then Z.
     pub rotation: Vec3,
+    /// Key `N`: dot3 reads the normal map loaded from a file
+    /// (`--normal-map`) instead of the one derived from the height map;
+    /// without a file loaded it changes nothing.
+    pub normal_map_file: bool,
 }
 
 impl Default for Settings {
@@ -321,6 +325,7 @@ impl Default for Settings {
             specular: false,
             shininess: DEFAULT_SHININESS,
             rotation: DEFAULT_ROTATION,
+            normal_map_file: false,
         }
     }
 }

@@ -303,7 +303,7 @@ fn help_overlay_lists_every_key_and_mouse_action() {
         "?",
         "q Esc Ctrl-C",
         "e",
-        "v",
+        "v N",
         "h",
         "a",
         "d",

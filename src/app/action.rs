@@ -138,6 +138,9 @@ pub enum Action {
     CycleTechnique,
     /// `v`: dot3's light vector per vertex / per pixel.
     ToggleLightVector,
+    /// `N`: dot3's normal map from the `--normal-map` file / derived from
+    /// the height map.
+    ToggleNormalMapFile,
     /// `h`: height derivative per texel / filtered.
     ToggleHeightDerivative,
     /// `a`: off → SSAA 2×2 → SSAA 4×4 → MSAA 4.

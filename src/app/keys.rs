@@ -332,8 +332,12 @@ pub const KEYS: &[Binding] = &[
         Normal,
         &[c('v')],
         Action::ToggleLightVector,
-        Line("v", "dot3 light vector: per pixel / per vertex"),
+        Line(
+            "v N",
+            "dot3: L per pixel / vertex; N: normal map file / derived",
+        ),
     ),
+    row(Normal, &[c('N')], Action::ToggleNormalMapFile, Above),
     row(
         Normal,
         &[c('h')],

@@ -64,6 +64,31 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         state.obj = Some(path.clone());
     }
     state.plasma_normal = cli.view.plasma_normal;
+    // A normal map file that cannot be read is a message; the view goes on
+    // with the height-derived map.
+    let normal_map = cli.view.normal_map.as_deref().and_then(|path| {
+        match crate::texture::normal_map_file::load_normal_map(path) {
+            Ok(map) => {
+                state.normal_map_file = Some(map.name.clone());
+                if state.settings.technique != crate::settings::Technique::Dot3 {
+                    state.message = Some(format!(
+                        "normal map {} loaded: it shows with dot3 (N)",
+                        map.name
+                    ));
+                }
+                Some(Arc::new(map))
+            }
+            Err(e) => {
+                state.settings.normal_map_file = false;
+                let text = crate::sanitize::clean(&e.to_string());
+                state.message = Some(match state.message.take() {
+                    Some(before) => format!("{before}; {text}"),
+                    None => text,
+                });
+                None
+            }
+        }
+    });
     // A --model file that cannot be read stops here, before the terminal is touched.
     let stage = Stage::new(
         cli.view.scene,
@@ -76,7 +101,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             path,
         )?)),
         None => None,
-    });
+    })
+    .with_normal_map(normal_map);
     let stage = std::cell::RefCell::new(stage);
     let mut stage_generation = textures.generation();
     let textures = std::cell::RefCell::new(textures);

@@ -132,6 +132,9 @@ pub struct State {
     pub distance: f32,
     /// Distance `r` goes back to (`--distance`).
     pub start_distance: f32,
+    /// The normal map file loaded with `--normal-map` (its name, sanitised):
+    /// key `N` switches dot3 between it and the height-derived map.
+    pub normal_map_file: Option<String>,
 }
 
 /// More lines than the help can ever have (the view clamps to what the
@@ -205,6 +208,7 @@ impl State {
             textures: TexturePanel::default(),
             distance: REFERENCE_DISTANCE,
             start_distance: REFERENCE_DISTANCE,
+            normal_map_file: None,
         }
     }
 
@@ -392,6 +396,7 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         Action::TextureResult(Err(e)) => state.message = Some(clean(&e)),
         Action::CycleTechnique => s.technique = s.technique.next(),
         Action::ToggleLightVector => s.light_vector = s.light_vector.toggle(),
+        Action::ToggleNormalMapFile => toggle_normal_map_file(state),
         Action::ToggleHeightDerivative => s.height_derivative = s.height_derivative.toggle(),
         Action::CycleAntiAlias => s.aa = s.aa.next(),
         Action::CycleDisplay => s.display = s.display.next(),
@@ -545,6 +550,32 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         }
     }
     None
+}
+
+/// `N`: dot3 reads the file's normal map, or the height-derived one again.
+/// Showing the file switches the technique to dot3 (the only one that reads
+/// a normal map), and the message says so; while another technique is on,
+/// `N` shows the file rather than turning it off unseen.
+fn toggle_normal_map_file(state: &mut State) {
+    let Some(name) = &state.normal_map_file else {
+        state.message = Some("no normal map file: start relief with --normal-map PATH".into());
+        return;
+    };
+    let s = &mut state.settings;
+    s.normal_map_file = !s.normal_map_file || s.technique != crate::settings::Technique::Dot3;
+    let mut text = if s.normal_map_file {
+        format!("normal map: file {}", clean(name))
+    } else {
+        "normal map: derived from the height map".to_string()
+    };
+    if s.normal_map_file && s.technique != crate::settings::Technique::Dot3 {
+        s.technique = crate::settings::Technique::Dot3;
+        text.push_str(" (technique switched to dot3)");
+    }
+    if !s.bump || s.shading != crate::settings::Shading::Phong {
+        text.push_str("; shows in Phong with bump on (m, b)");
+    }
+    state.message = Some(text);
 }
 
 /// Enter in the orientation fields: valid entries are applied, each invalid

@@ -13,6 +13,9 @@ use crate::scene::Scene;
 use crate::settings::{
     AntiAlias, Filter, HeightDerivative, LightVector, Normals, Settings, Shading, Technique,
 };
+use crate::texture::normal_map::normal_map_scale;
+use crate::texture::normal_map_file::{FileNormalMap, decode_level, encode_rgb8};
+use crate::texture::{Level, NormalMap};
 
 /// How many threads a row renders with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -32,14 +35,25 @@ pub enum SceneVariant {
     /// The same cube flagged as not convex, so the plan keeps the depth buffer
     /// it otherwise skips: same image, and the row shows what skipping saves.
     ForcedDepth,
+    /// The cube with a normal map file: its texture's own dot3 normal map
+    /// at the reference strength, through 8-bit RGB as a file holds it
+    /// (`--normal-map`), so the row shows what reading a file costs and
+    /// what 8 bits lose.
+    NormalMapFile,
 }
 
 impl SceneVariant {
     pub fn apply(self, scene: &Scene) -> Scene {
         let mut scene = scene.clone();
-        if self == SceneVariant::ForcedDepth {
-            for object in &mut scene.objects {
-                object.mesh.convex = false;
+        match self {
+            SceneVariant::Reference => {}
+            SceneVariant::ForcedDepth => {
+                for object in &mut scene.objects {
+                    object.mesh.convex = false;
+                }
+            }
+            SceneVariant::NormalMapFile => {
+                scene.material.normal_map = Some(std::sync::Arc::new(eight_bit_normal_map(&scene)));
             }
         }
         scene
@@ -49,8 +63,25 @@ impl SceneVariant {
         match self {
             SceneVariant::Reference => "reference",
             SceneVariant::ForcedDepth => "forced-depth",
+            SceneVariant::NormalMapFile => "normal-map-file",
         }
     }
+}
+
+/// The scene texture's dot3 normal map at the reference strength, written
+/// to 8-bit RGB and read back as a normal-map file is.
+fn eight_bit_normal_map(scene: &Scene) -> FileNormalMap {
+    let texture = &scene.material.texture;
+    let derived = NormalMap::build(
+        texture.base(),
+        normal_map_scale(crate::settings::DEFAULT_BUMP_STRENGTH),
+    );
+    let rgba: Vec<u8> = encode_rgb8(&derived)
+        .chunks_exact(3)
+        .flat_map(|c| [c[0], c[1], c[2], 255])
+        .collect();
+    let level = Level::from_rgba8_top_down(derived.width, derived.height, &rgba);
+    FileNormalMap::new("8-bit normal map", decode_level(&level))
 }
 
 /// One row of the table.
@@ -240,6 +271,20 @@ pub fn full() -> Vec<Config> {
         },
         Threads::All,
     ));
+    // Dot3 reading a normal map file instead of deriving one (last, so the
+    // rows above keep their numbers).
+    rows.push(Config {
+        variant: SceneVariant::NormalMapFile,
+        ..Config::new(
+            "dot3, normal map file (8-bit)",
+            Settings {
+                technique: Technique::Dot3,
+                normal_map_file: true,
+                ..r
+            },
+            Threads::All,
+        )
+    });
     rows
 }
 
@@ -357,6 +402,9 @@ mod tests {
         assert!(has(&|c| c.threads == Threads::One));
         assert!(has(&|c| c.variant == SceneVariant::ForcedDepth));
         assert!(has(&|c| !c.settings.lights));
+        assert!(has(&|c| c.variant == SceneVariant::NormalMapFile
+            && c.settings.normal_map_file
+            && c.settings.technique == Technique::Dot3));
         // Single-axis rows differ from the reference setting in the named axis only.
         let one = rows.iter().find(|c| c.name == "filter=nearest").unwrap();
         assert_eq!(
@@ -390,6 +438,29 @@ mod tests {
             scene.objects[0].mesh.vertices
         );
         assert!(SceneVariant::Reference.apply(&scene).objects[0].mesh.convex);
+    }
+
+    #[test]
+    fn the_normal_map_file_row_reads_an_8_bit_copy_of_the_derived_map() {
+        let scene = Scene::cube(
+            std::sync::Arc::new(crate::texture::procedural::brick()),
+            false,
+        );
+        let with_file = SceneVariant::NormalMapFile.apply(&scene);
+        let file = with_file.material.normal_map.as_ref().unwrap();
+        let derived = NormalMap::build(
+            scene.material.texture.base(),
+            normal_map_scale(crate::settings::DEFAULT_BUMP_STRENGTH),
+        );
+        let worst = file
+            .given()
+            .normals
+            .iter()
+            .zip(&derived.normals)
+            .flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c]).abs()))
+            .fold(0.0f32, f32::max);
+        assert!(worst > 0.0 && worst <= 0.006, "{worst}");
+        assert!(scene.material.normal_map.is_none());
     }
 
     #[test]

@@ -171,6 +171,7 @@ impl Scene {
             material: Material {
                 texture,
                 specular_map: None,
+                normal_map: None,
             },
             lights: light::reference_lights(),
             ambient: AMBIENT,

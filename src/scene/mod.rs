@@ -31,6 +31,10 @@ pub struct Material {
     pub texture: Arc<Texture>,
     /// Grey map scaling the specular highlight (docs/specular.md); none: 1 everywhere.
     pub specular_map: Option<Arc<crate::texture::Level>>,
+    /// Tangent-space normal map read from a file (`--normal-map`), which
+    /// dot3 uses instead of the height-derived one while
+    /// `Settings::normal_map_file` is on (docs/bump-dot3.md).
+    pub normal_map: Option<Arc<crate::texture::normal_map_file::FileNormalMap>>,
 }
 
 /// A mesh placed in the world. `rotates` objects follow the user's rotation.

@@ -13,6 +13,7 @@ pub mod list;
 pub mod load;
 pub mod mip;
 pub mod normal_map;
+pub mod normal_map_file;
 pub mod procedural;
 pub mod resample;
 pub mod specular_map;

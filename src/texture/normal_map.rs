@@ -80,6 +80,25 @@ impl NormalMap {
         }
     }
 
+    /// A map of given unit normals (a normal-map file's, see
+    /// [`super::normal_map_file`]); `scale` records how much its tilt was
+    /// scaled (1: as given).
+    pub fn from_normals(
+        width: usize,
+        height: usize,
+        scale: f32,
+        normals: Vec<[f32; 3]>,
+    ) -> NormalMap {
+        assert_eq!(normals.len(), width * height, "one normal per texel");
+        NormalMap {
+            width,
+            height,
+            scale,
+            normals,
+            mips: OnceLock::new(),
+        }
+    }
+
     /// True once the mip chain has been built (tests use it to show that
     /// nothing builds it while no pixel is minified).
     pub fn mips_built(&self) -> bool {

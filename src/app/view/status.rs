@@ -122,9 +122,19 @@ fn lights_text(state: &State, short: bool) -> String {
     format!("lights on ({} off)", off.join(", "))
 }
 
-/// The bump technique, with dot3's light vector.
-fn technique_text(s: &Settings) -> String {
-    if s.technique == Technique::Dot3 {
+/// Dot3 reads the `--normal-map` file's normal map (key `N`).
+fn file_map_in_use(state: &State) -> bool {
+    let s = &state.settings;
+    s.technique == Technique::Dot3 && s.normal_map_file && state.normal_map_file.is_some()
+}
+
+/// The bump technique, with dot3's light vector and, when it reads one,
+/// the normal map file.
+fn technique_text(state: &State) -> String {
+    let s = &state.settings;
+    if file_map_in_use(state) {
+        format!("dot3 ({}, map file)", s.light_vector.label())
+    } else if s.technique == Technique::Dot3 {
         format!("dot3 ({})", s.light_vector.label())
     } else {
         s.technique.label().into()
@@ -180,6 +190,9 @@ pub fn status_modes(state: &State) -> String {
     }
     if s.technique == Technique::Dot3 && s.light_vector == LightVector::Vertex {
         add("Lv");
+    }
+    if file_map_in_use(state) {
+        add("Nfile");
     }
     if s.filter != d.filter {
         add(match s.filter {
@@ -288,7 +301,7 @@ pub fn status_text(state: &State, detail: Detail) -> String {
         named("texture", "tex", on_off(s.texture)),
         named("colours", "col", on_off(s.colors)),
         format!("bump {}{po}{strength}", on_off(s.bump)),
-        technique_text(s),
+        technique_text(state),
         s.filter.label().to_string(),
         format!("dH {}", s.height_derivative.label()),
         format!("AA {}", s.aa.label()),
