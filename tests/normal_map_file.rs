@@ -293,8 +293,13 @@ fn a_file_map_in_use_is_built_once_per_strength_and_its_chain_once() {
     let first = run(DEFAULT_BUMP_STRENGTH);
     assert_eq!(first.normal_map_builds, 0, "the height map's is not built");
     assert_eq!(map.builds(), 0, "the file's own map at the default");
-    run(2.0 * DEFAULT_BUMP_STRENGTH);
-    run(2.0 * DEFAULT_BUMP_STRENGTH);
+    let tilted = run(2.0 * DEFAULT_BUMP_STRENGTH);
+    assert_eq!(
+        tilted.normal_map_builds, 1,
+        "the frame counts the tilted copy"
+    );
+    let kept = run(2.0 * DEFAULT_BUMP_STRENGTH);
+    assert_eq!(kept.normal_map_builds, 0);
     assert_eq!(map.builds(), 1, "tilted once for a new strength, then kept");
 }
 

@@ -76,7 +76,13 @@ impl Renderer {
         if width == 0 || height == 0 {
             return stats;
         }
-        let normal_maps_before = scene.material.texture.normal_map_builds();
+        // Normal maps built this frame: the height map's, and a file map's
+        // copies for another strength.
+        let normal_map_builds = |scene: &Scene| {
+            scene.material.texture.normal_map_builds()
+                + scene.material.normal_map.as_ref().map_or(0, |m| m.builds())
+        };
+        let normal_maps_before = normal_map_builds(scene);
         let plan = Plan::new(scene, settings);
         let mips_before = scene.material.texture.mips_built();
         let normal_mips_built =
@@ -89,8 +95,7 @@ impl Renderer {
         let (shadow, mut counters) =
             shadow_pass(&mut shadow_map, scene, &plan, width * k, height * k);
         counters += self.prepare(scene, &plan, shadow, width * k, height * k);
-        counters.normal_map_builds +=
-            scene.material.texture.normal_map_builds() - normal_maps_before;
+        counters.normal_map_builds += normal_map_builds(scene) - normal_maps_before;
         stats.plan_time = start.elapsed();
 
         let raster_start = Instant::now();
