@@ -181,6 +181,9 @@ pub struct ViewArgs {
     /// Grey image whose value (mean of R, G, B) scales the highlight, read with the texture coordinates.
     #[arg(long, value_name = "PATH")]
     pub specular_map: Option<PathBuf>,
+    /// Draw the tangent frame at each vertex of the textured triangles: T red, B green, N blue (docs/bump-dot3.md).
+    #[arg(long)]
+    pub tangent_frames: bool,
     /// Plasma scene: the article's Z² lookup table or the exact per-pixel normal.
     #[arg(long, value_enum, default_value_t = PlasmaNormal::Table)]
     pub plasma_normal: PlasmaNormal,
@@ -210,6 +213,7 @@ impl ViewArgs {
             attenuation: self.attenuation.on(),
             specular: self.specular.on(),
             shininess: self.shininess,
+            tangent_frames: self.tangent_frames,
         }
     }
 }

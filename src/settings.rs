@@ -299,6 +299,8 @@ pub struct Settings {
     pub shininess: f32,
     /// Model rotation in degrees about X, then Y, then Z.
     pub rotation: Vec3,
+    /// Key `F`: the tangent frames (T, B, N) drawn at the vertices.
+    pub tangent_frames: bool,
 }
 
 impl Default for Settings {
@@ -321,6 +323,7 @@ impl Default for Settings {
             specular: false,
             shininess: DEFAULT_SHININESS,
             rotation: DEFAULT_ROTATION,
+            tangent_frames: false,
         }
     }
 }
