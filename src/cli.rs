@@ -181,7 +181,7 @@ pub struct ViewArgs {
     /// Grey image whose value (mean of R, G, B) scales the highlight, read with the texture coordinates.
     #[arg(long, value_name = "PATH")]
     pub specular_map: Option<PathBuf>,
-    /// Draw the tangent frame at each vertex of the textured triangles: T red, B green, N blue (docs/bump-dot3.md).
+    /// Draw the tangent frame at each vertex of the textured triangles: T red, B green, N blue (docs/tangent-frames.md).
     #[arg(long)]
     pub tangent_frames: bool,
     /// Plasma scene: the article's Z² lookup table or the exact per-pixel normal.

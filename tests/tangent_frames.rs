@@ -1,4 +1,4 @@
-//! The tangent-frame view (docs/bump-dot3.md, "Seeing the tangent frames"):
+//! The tangent-frame view (docs/tangent-frames.md):
 //! where the T, B and N segments land on screen, derived by hand from the
 //! reference camera; what hides them; and that off costs nothing.
 

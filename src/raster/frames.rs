@@ -1,4 +1,4 @@
-//! The tangent-frame view (docs/bump-dot3.md, "Seeing the tangent frames"):
+//! The tangent-frame view (docs/tangent-frames.md):
 //! at each vertex of the visible textured triangles, three short segments
 //! for the frame the bump shaders use, T red, B green, N blue, drawn over
 //! the picture with the line code of the lines display.
