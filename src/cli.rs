@@ -184,6 +184,9 @@ pub struct ViewArgs {
     /// RGB tangent-space normal map (n = 2·rgb − 1, green up the picture) that dot3 reads instead of the one derived from the height map (docs/bump-dot3.md).
     #[arg(long, value_name = "PATH")]
     pub normal_map: Option<PathBuf>,
+    /// Draw the tangent frame at each vertex of the textured triangles: T red, B green, N blue (docs/tangent-frames.md).
+    #[arg(long)]
+    pub tangent_frames: bool,
     /// Plasma scene: the article's Z² lookup table or the exact per-pixel normal.
     #[arg(long, value_enum, default_value_t = PlasmaNormal::Table)]
     pub plasma_normal: PlasmaNormal,
@@ -214,6 +217,7 @@ impl ViewArgs {
             specular: self.specular.on(),
             shininess: self.shininess,
             normal_map_file: self.normal_map.is_some(),
+            tangent_frames: self.tangent_frames,
         }
     }
 }

@@ -93,6 +93,9 @@ pub struct Plan {
     pub shadow_light: Option<usize>,
     /// What casts the shadows of `shadow_light` (empty without one).
     pub shadow_casters: Vec<Caster>,
+    /// The tangent frames drawn over the picture: only when asked for and
+    /// some triangle has texture coordinates (the frames come from them).
+    pub tangent_frames: bool,
 }
 
 impl Plan {
@@ -190,6 +193,7 @@ impl Plan {
             rotation,
             shadow_light,
             shadow_casters: shadow_casters.unwrap_or_default(),
+            tangent_frames: settings.tangent_frames && any_textured,
         }
     }
 }

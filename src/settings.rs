@@ -303,6 +303,8 @@ pub struct Settings {
     /// (`--normal-map`) instead of the one derived from the height map;
     /// without a file loaded it changes nothing.
     pub normal_map_file: bool,
+    /// Key `F`: the tangent frames (T, B, N) drawn at the vertices.
+    pub tangent_frames: bool,
 }
 
 impl Default for Settings {
@@ -326,6 +328,7 @@ impl Default for Settings {
             shininess: DEFAULT_SHININESS,
             rotation: DEFAULT_ROTATION,
             normal_map_file: false,
+            tangent_frames: false,
         }
     }
 }

@@ -31,6 +31,8 @@ pub struct Counters {
     pub shadow_texels: u64,
     /// Shadow-map lookups.
     pub shadow_lookups: u64,
+    /// Tangent-frame segments drawn (T, B, N at each shown vertex); 0 when the view is off.
+    pub frame_lines: u64,
     /// Colours that were NaN or infinite before quantisation (must stay 0).
     pub nonfinite: u64,
 }
@@ -49,6 +51,7 @@ impl AddAssign for Counters {
         self.normal_map_builds += o.normal_map_builds;
         self.shadow_texels += o.shadow_texels;
         self.shadow_lookups += o.shadow_lookups;
+        self.frame_lines += o.frame_lines;
         self.nonfinite += o.nonfinite;
     }
 }

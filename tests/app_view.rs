@@ -306,7 +306,7 @@ fn help_overlay_lists_every_key_and_mouse_action() {
         "v N",
         "h",
         "a",
-        "d",
+        "d F",
         "l 1 2 3 4",
         "L",
         "o",

@@ -147,6 +147,8 @@ pub enum Action {
     CycleAntiAlias,
     /// `d`: points → lines → fill.
     CycleDisplay,
+    /// `F`: the tangent frames (T, B, N at the vertices) on / off.
+    ToggleTangentFrames,
     /// `l`: all lights on / off.
     ToggleLights,
     /// `L`: distance attenuation on / off.

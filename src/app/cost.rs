@@ -118,6 +118,7 @@ pub fn active_stages(c: &Counters) -> Vec<String> {
         ("normal maps", c.normal_map_builds),
         ("shadow texels", c.shadow_texels),
         ("shadow lookups", c.shadow_lookups),
+        ("frame lines", c.frame_lines),
         ("non-finite", c.nonfinite),
     ]
     .into_iter()

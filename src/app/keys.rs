@@ -354,8 +354,9 @@ pub const KEYS: &[Binding] = &[
         Normal,
         &[c('d')],
         Action::CycleDisplay,
-        Line("d", "display: points → lines → fill"),
+        Line("d F", "display: points → lines → fill; tangent frames"),
     ),
+    row(Normal, &[c('F')], Action::ToggleTangentFrames, Above),
     row(
         Normal,
         &[c('l')],

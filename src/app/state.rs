@@ -400,6 +400,7 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         Action::ToggleHeightDerivative => s.height_derivative = s.height_derivative.toggle(),
         Action::CycleAntiAlias => s.aa = s.aa.next(),
         Action::CycleDisplay => s.display = s.display.next(),
+        Action::ToggleTangentFrames => s.tangent_frames = !s.tangent_frames,
         Action::ToggleLights => s.lights = !s.lights,
         Action::ToggleAttenuation => s.attenuation = !s.attenuation,
         Action::ToggleSpecular => s.specular = !s.specular,

@@ -285,6 +285,16 @@ pub fn full() -> Vec<Config> {
             Threads::All,
         )
     });
+    // The debug overlay: what drawing the tangent frames adds (last, so
+    // the row numbers the README cites stay valid).
+    rows.push(Config::new(
+        "tangent-frames",
+        Settings {
+            tangent_frames: true,
+            ..r
+        },
+        Threads::All,
+    ));
     rows
 }
 
@@ -376,6 +386,7 @@ mod tests {
             );
         }
         assert!(has(&|c| c.settings.specular), "specular");
+        assert!(has(&|c| c.settings.tangent_frames), "tangent frames");
         for &v in Technique::value_variants() {
             assert!(
                 has(&|c| c.settings.bump && c.settings.technique == v),

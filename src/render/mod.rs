@@ -18,6 +18,7 @@ use crate::plan::Plan;
 use crate::raster::aa::{
     MSAA_REACH, MSAA_SAMPLES, MsaaBand, resolve_box, resolve_msaa, ssaa_factor,
 };
+use crate::raster::frames::{DepthView, draw_tangent_frames};
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
 use crate::scene::{Scene, normal_matrix};
@@ -106,10 +107,12 @@ impl Renderer {
                 .unwrap_or_else(|| Framebuffer::new(0, 0));
             big.resize(width * k, height * k);
             counters += self.rasterize(scene, &plan, shadow, &mut big, k);
+            counters += self.tangent_frames(scene, &plan, &mut big, k);
             resolve_box(&big, k, fb);
             self.supersampled = Some(big);
         } else {
             counters += self.rasterize(scene, &plan, shadow, fb, 1);
+            counters += self.tangent_frames(scene, &plan, fb, 1);
         }
         self.shadow = shadow_map;
         if !mips_before && scene.material.texture.mips_built() {
@@ -351,6 +354,28 @@ impl Renderer {
                 .collect()
         };
         draw_bands(&mut bands, parallel, tris, shaders, &ctx, background)
+    }
+}
+
+impl Renderer {
+    /// The tangent frames over the drawn frame (src/raster/frames.rs), their
+    /// origins tested against the depth buffer this frame filled, if any.
+    fn tangent_frames(
+        &self,
+        scene: &Scene,
+        plan: &Plan,
+        fb: &mut Framebuffer,
+        brush: usize,
+    ) -> Counters {
+        if !plan.tangent_frames {
+            return Counters::default();
+        }
+        let depth = match (plan.display, plan.depth, plan.aa) {
+            (Display::Fill, true, AntiAlias::Msaa4) => DepthView::Samples(&self.msaa_depth),
+            (Display::Fill, true, _) => DepthView::Pixels(&self.depth),
+            _ => DepthView::None,
+        };
+        draw_tangent_frames(scene, plan, depth, fb, brush)
     }
 }
 

@@ -217,6 +217,9 @@ pub fn status_modes(state: &State) -> String {
     if s.display != d.display {
         add(s.display.label());
     }
+    if s.tangent_frames {
+        add("TBN");
+    }
     if !s.lights {
         add("L-");
     } else if !state.light_on.iter().all(|&on| on) {
@@ -330,9 +333,15 @@ pub fn status_text(state: &State, detail: Detail) -> String {
     } else {
         String::new()
     };
+    // The tangent frames show only when drawn.
+    let frames = if s.tangent_frames {
+        format!(" │ {}", if short { "TBN" } else { "tangent frames" })
+    } else {
+        String::new()
+    };
     let heights = heights_text(state, short).map_or(String::new(), |h| format!(" │ {h}"));
     format!(
-        "{}{heights}{specular}{zoom}{cost}{auto}{hint}",
+        "{}{heights}{specular}{frames}{zoom}{cost}{auto}{hint}",
         fields.join(" │ ")
     )
 }
