@@ -17,7 +17,7 @@ use relief::render::render_frame;
 use relief::settings::{Filter, HeightDerivative, Technique};
 use relief::texture::Texture;
 use relief::texture::filter::{Footprint, read_heights};
-use relief::texture::mip::HeightField;
+use relief::texture::sampler::Sampler;
 use relief::{Scene, Settings};
 
 use common::minified::{H, W, any_f32, far_cube, gains, grazing_plane, noise, texture};
@@ -120,19 +120,25 @@ fn nearest_and_bilinear_emboss_is_the_documented_base_level_emboss() {
 }
 
 #[test]
-fn a_height_field_blends_the_levels_trilinear_reads() {
+fn the_sampler_blends_the_levels_trilinear_reads() {
     let tex = texture(64, noise);
-    let width = |field: HeightField| field.blend(|level| level.width as f32);
+    let width = |lod: f32| {
+        Sampler::at_lod(lod, || tex.mip_levels().len())
+            .read(Vec2::ZERO, |i, _| tex.level(i).width as f32)
+    };
     for lod in [0.0, -2.0, f32::NAN, f32::NEG_INFINITY] {
-        assert_eq!(width(HeightField::at_lod(&tex, lod)), 64.0, "{lod}");
+        assert_eq!(width(lod), 64.0, "{lod}");
     }
-    assert_eq!(width(HeightField::base(&tex)), 64.0);
+    assert_eq!(
+        Sampler::BASE.read(Vec2::ZERO, |i, _| tex.level(i).width as f32),
+        64.0
+    );
     assert!(!tex.mips_built(), "the base level needs no chain");
     // Between levels 1 (32 texels) and 2 (16), a quarter of the way.
-    assert_eq!(width(HeightField::at_lod(&tex, 1.25)), 28.0);
-    assert_eq!(width(HeightField::at_lod(&tex, 3.0)), 8.0);
+    assert_eq!(width(1.25), 28.0);
+    assert_eq!(width(3.0), 8.0);
     for lod in [6.0, 40.0, f32::INFINITY] {
-        assert_eq!(width(HeightField::at_lod(&tex, lod)), 1.0, "{lod}");
+        assert_eq!(width(lod), 1.0, "{lod}");
     }
 }
 

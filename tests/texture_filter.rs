@@ -8,7 +8,9 @@ use glam::Vec2;
 use proptest::prelude::*;
 use relief::settings::{Filter, HeightDerivative};
 use relief::texture::filter::{Footprint, height_gradient, sample};
-use relief::texture::mip::{AnisoPlan, MAX_ANISOTROPY, lod, trilinear};
+use relief::texture::level::Texel;
+use relief::texture::mip::{AnisoPlan, MAX_ANISOTROPY, lod};
+use relief::texture::sampler::Sampler;
 use relief::texture::{Level, Texture, procedural};
 
 /// Every filter, so a new one is checked here too.
@@ -149,6 +151,12 @@ fn level_of_detail_for_known_minifications() {
         dy: Vec2::new(0.0, 1.0),
     };
     assert_eq!(lod(&wide, fp), 2.0);
+}
+
+/// Trilinear colour at level of detail `lod`, through the one sampler.
+fn trilinear(tex: &Texture, uv: Vec2, lod: f32) -> Texel {
+    Sampler::at_lod(lod, || tex.mip_levels().len())
+        .read(uv, |i, at| tex.level(i).bilinear(at.x, at.y))
 }
 
 #[test]

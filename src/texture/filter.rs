@@ -2,8 +2,8 @@
 
 use glam::Vec2;
 
-use super::mip::{AnisoPlan, HeightField};
-use super::{Level, NormalMap, Texture, level::Texel, mip};
+use super::sampler::Sampler;
+use super::{Level, NormalMap, Texture, level::Texel};
 use crate::settings::{Filter, HeightDerivative};
 
 /// Screen-space derivatives of the texture coordinates at a pixel
@@ -23,19 +23,23 @@ pub fn sample(tex: &Texture, filter: Filter, uv: Vec2, footprint: Footprint) -> 
     match filter {
         Filter::Nearest => tex.base().nearest(uv.x, uv.y),
         Filter::Bilinear => tex.base().bilinear(uv.x, uv.y),
-        Filter::NearestMip => mip::nearest_mip(tex, uv, mip::lod(tex, footprint)),
-        Filter::Trilinear => mip::trilinear(tex, uv, mip::lod(tex, footprint)),
-        Filter::Anisotropic => mip::anisotropic(tex, uv, footprint),
+        _ => sampler(tex, filter, footprint).read(uv, |i, at| tex.level(i).bilinear(at.x, at.y)),
     }
+}
+
+/// The texture's sampler for one pixel.
+#[inline]
+fn sampler(tex: &Texture, filter: Filter, footprint: Footprint) -> Sampler {
+    let size = Vec2::new(tex.width() as f32, tex.height() as f32);
+    Sampler::new(filter, footprint, size, || tex.mip_levels().len())
 }
 
 /// ∂F/∂u, ∂F/∂v of the height map per unit of texture coordinate.
 ///
 /// `Texel` is the documented per-texel difference on the base level, whatever
 /// the filter. `Filtered` differentiates bilinear heights one texel apart on
-/// the level the colour filter would read: the base level for nearest and
-/// bilinear or when magnified, the footprint's mip level(s) for trilinear,
-/// and the mean over the same taps for anisotropic.
+/// the level(s) and at the taps the colour filter reads (the derivative of
+/// the filtered height field).
 #[inline]
 pub fn height_gradient(
     tex: &Texture,
@@ -44,20 +48,11 @@ pub fn height_gradient(
     uv: Vec2,
     footprint: Footprint,
 ) -> (f32, f32) {
-    match (mode, filter) {
-        (HeightDerivative::Texel, _) => tex.base().height_gradient_texel(uv.x, uv.y),
-        (HeightDerivative::Filtered, Filter::Nearest | Filter::Bilinear) => {
-            tex.base().height_gradient_filtered(uv.x, uv.y)
-        }
-        (HeightDerivative::Filtered, Filter::NearestMip) => {
-            mip::nearest_mip_gradient(tex, uv, mip::lod(tex, footprint))
-        }
-        (HeightDerivative::Filtered, Filter::Trilinear) => {
-            mip::trilinear_gradient(tex, uv, mip::lod(tex, footprint))
-        }
-        (HeightDerivative::Filtered, Filter::Anisotropic) => {
-            mip::anisotropic_gradient(tex, uv, footprint)
-        }
+    match mode {
+        HeightDerivative::Texel => tex.base().height_gradient_texel(uv.x, uv.y),
+        HeightDerivative::Filtered => sampler(tex, filter, footprint).read(uv, |i, at| {
+            tex.level(i).height_gradient_filtered(at.x, at.y)
+        }),
     }
 }
 
@@ -68,10 +63,9 @@ pub fn height_gradient(
 /// that level), so on a coarser level it sees the filtered height field.
 ///
 /// `Texel` reads the base level whatever the filter (the documented
-/// per-texel reads), and so do nearest and bilinear, exactly as before any
-/// mip chain existed: `read(base, uv)`. Trilinear reads the footprint's mip
-/// level(s), anisotropic its taps; both read only the base level, and never
-/// build the chain, while the pixel is magnified.
+/// per-texel reads), and so do nearest and bilinear: `read(base, uv)`.
+/// The others read only the base level, and never build the chain, while
+/// the pixel is magnified.
 #[inline]
 pub fn read_heights(
     tex: &Texture,
@@ -81,38 +75,20 @@ pub fn read_heights(
     footprint: Footprint,
     read: impl Fn(&Level, Vec2) -> f32,
 ) -> f32 {
-    match (mode, filter) {
-        (HeightDerivative::Texel, _) | (_, Filter::Nearest | Filter::Bilinear) => {
-            read(tex.base(), uv)
-        }
-        (HeightDerivative::Filtered, Filter::NearestMip) => {
-            HeightField::nearest(tex, mip::lod(tex, footprint)).blend(|level| read(level, uv))
-        }
-        (HeightDerivative::Filtered, Filter::Trilinear) => {
-            HeightField::at_lod(tex, mip::lod(tex, footprint)).blend(|level| read(level, uv))
-        }
-        (HeightDerivative::Filtered, Filter::Anisotropic) => {
-            let plan = AnisoPlan::new(tex, footprint);
-            let field = HeightField::at_lod(tex, plan.lod);
-            if plan.taps == 1 {
-                return field.blend(|level| read(level, uv));
-            }
-            let mut sum = 0.0;
-            for i in 0..plan.taps {
-                let at = plan.tap(uv, i);
-                sum += field.blend(|level| read(level, at));
-            }
-            sum / plan.taps as f32
+    match mode {
+        HeightDerivative::Texel => read(tex.base(), uv),
+        HeightDerivative::Filtered => {
+            sampler(tex, filter, footprint).read(uv, |i, at| read(tex.level(i), at))
         }
     }
 }
 
-/// The dot3 normal map at `uv`, read with the same footprint as the colour.
+/// The dot3 normal map at `uv`, read with the same footprint as the colour
+/// (the map's own size and mip chain: a file's map may differ in size).
 ///
-/// `Texel`, nearest and bilinear read the base map bilinearly, exactly as
-/// before the map had a mip chain. With the filtered derivative, trilinear
-/// reads the footprint's level(s) of the map's chain and anisotropic the mean
-/// of the same taps; both read only the base map, and never build its chain,
+/// `Texel`, nearest and bilinear read the base map bilinearly. With the
+/// filtered derivative, the other filters read the map's level(s) and taps
+/// as the colour's; they read only the base map, and never build its chain,
 /// while the pixel is magnified. The result is not renormalised (see
 /// `normal_map`): it is shorter than 1 where the normals it averages differ.
 #[inline]
@@ -123,31 +99,10 @@ pub fn read_normal(
     uv: Vec2,
     footprint: Footprint,
 ) -> [f32; 3] {
-    let size = Vec2::new(map.width as f32, map.height as f32);
-    match (mode, filter) {
-        (HeightDerivative::Texel, _) | (_, Filter::Nearest | Filter::Bilinear) => {
-            map.bilinear(uv.x, uv.y)
-        }
-        (HeightDerivative::Filtered, Filter::NearestMip) => {
-            map.nearest_mip(uv, mip::lod_at(size, footprint))
-        }
-        (HeightDerivative::Filtered, Filter::Trilinear) => {
-            map.trilinear(uv, mip::lod_at(size, footprint))
-        }
-        (HeightDerivative::Filtered, Filter::Anisotropic) => {
-            let plan = AnisoPlan::at(size, footprint);
-            if plan.taps == 1 {
-                return map.trilinear(uv, plan.lod);
-            }
-            let mut acc = [0.0f32; 3];
-            for i in 0..plan.taps {
-                let n = map.trilinear(plan.tap(uv, i), plan.lod);
-                for c in 0..3 {
-                    acc[c] += n[c];
-                }
-            }
-            let n = plan.taps as f32;
-            acc.map(|a| a / n)
-        }
+    if mode == HeightDerivative::Texel {
+        return map.bilinear(uv.x, uv.y);
     }
+    let size = Vec2::new(map.width as f32, map.height as f32);
+    Sampler::new(filter, footprint, size, || map.mip_levels().len())
+        .read(uv, |i, at| map.level_bilinear(i, at))
 }

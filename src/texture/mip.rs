@@ -7,8 +7,8 @@
 
 use glam::Vec2;
 
+use super::Texture;
 use super::filter::Footprint;
-use super::{Level, Texture, level::Texel};
 
 /// Most trilinear taps an anisotropic sample takes.
 pub const MAX_ANISOTROPY: usize = 16;
@@ -43,25 +43,6 @@ pub fn lod_at(size: Vec2, fp: Footprint) -> f32 {
     if rho2 > 1.0 { 0.5 * rho2.log2() } else { 0.0 }
 }
 
-/// The two levels a level of detail falls between and the blend weight of
-/// the second one. `lod` ≤ 0 (or NaN) is level 0 alone, and then the chain
-/// is not asked for.
-#[inline]
-fn levels_for(tex: &Texture, lod: f32) -> Option<(&Level, &Level, f32)> {
-    // Written so that NaN also takes the base level.
-    if lod.is_nan() || lod <= 0.0 {
-        return None;
-    }
-    let last = tex.mip_levels().len(); // index of the smallest level
-    if lod >= last as f32 {
-        let smallest = tex.level(last);
-        return Some((smallest, smallest, 0.0));
-    }
-    let l0 = lod.floor();
-    let i = l0 as usize;
-    Some((tex.level(i), tex.level(i + 1), lod - l0))
-}
-
 /// The one level GL's LINEAR_MIPMAP_NEAREST reads at `lod`: level
 /// ⌈lod + ½⌉ − 1 (the nearest, halves going to the finer), the base up to
 /// ½ (so `lod` ≤ ½ or NaN never builds the chain), clamped to the smallest.
@@ -76,109 +57,6 @@ pub fn nearest_level(lod: f32, last: impl FnOnce() -> usize) -> usize {
         return last;
     }
     ((lod + 0.5).ceil() as usize - 1).min(last)
-}
-
-/// Nearest-mip: bilinear on the single level nearest to `lod` (docs/filters.md).
-#[inline]
-pub fn nearest_mip(tex: &Texture, uv: Vec2, lod: f32) -> Texel {
-    let i = nearest_level(lod, || tex.mip_levels().len());
-    tex.level(i).bilinear(uv.x, uv.y)
-}
-
-/// The filtered height gradient on the level nearest-mip reads.
-#[inline]
-pub fn nearest_mip_gradient(tex: &Texture, uv: Vec2, lod: f32) -> (f32, f32) {
-    let i = nearest_level(lod, || tex.mip_levels().len());
-    tex.level(i).height_gradient_filtered(uv.x, uv.y)
-}
-
-/// Trilinear: bilinear on the two levels around `lod`, blended.
-#[inline]
-pub fn trilinear(tex: &Texture, uv: Vec2, lod: f32) -> Texel {
-    match levels_for(tex, lod) {
-        None => tex.base().bilinear(uv.x, uv.y),
-        Some((a, b, t)) => {
-            let ta = a.bilinear(uv.x, uv.y);
-            if t == 0.0 {
-                return ta;
-            }
-            let tb = b.bilinear(uv.x, uv.y);
-            std::array::from_fn(|c| ta[c] + (tb[c] - ta[c]) * t)
-        }
-    }
-}
-
-/// Height gradient (per unit of texture coordinate) from the level(s)
-/// matching `lod`, blended like trilinear; the base level when `lod` ≤ 0.
-#[inline]
-pub fn trilinear_gradient(tex: &Texture, uv: Vec2, lod: f32) -> (f32, f32) {
-    match levels_for(tex, lod) {
-        None => tex.base().height_gradient_filtered(uv.x, uv.y),
-        Some((a, b, t)) => {
-            let ga = a.height_gradient_filtered(uv.x, uv.y);
-            if t == 0.0 {
-                return ga;
-            }
-            let gb = b.height_gradient_filtered(uv.x, uv.y);
-            (ga.0 + (gb.0 - ga.0) * t, ga.1 + (gb.1 - ga.1) * t)
-        }
-    }
-}
-
-/// The height map as a filter reads it at one level of detail: one level,
-/// or two blended like trilinear. The base level (lod ≤ 0 or NaN) never
-/// builds the chain.
-#[derive(Clone, Copy, Debug)]
-pub struct HeightField<'a> {
-    fine: &'a Level,
-    coarse: &'a Level,
-    /// Weight of `coarse`; at 0 only `fine` is read.
-    t: f32,
-}
-
-impl<'a> HeightField<'a> {
-    /// The base level alone.
-    #[inline]
-    pub fn base(tex: &'a Texture) -> Self {
-        HeightField {
-            fine: tex.base(),
-            coarse: tex.base(),
-            t: 0.0,
-        }
-    }
-
-    /// The level(s) trilinear filtering reads at `lod`.
-    #[inline]
-    pub fn at_lod(tex: &'a Texture, lod: f32) -> Self {
-        match levels_for(tex, lod) {
-            None => HeightField::base(tex),
-            Some((fine, coarse, t)) => HeightField { fine, coarse, t },
-        }
-    }
-
-    /// The one level nearest-mip filtering reads at `lod`.
-    #[inline]
-    pub fn nearest(tex: &'a Texture, lod: f32) -> Self {
-        let level = tex.level(nearest_level(lod, || tex.mip_levels().len()));
-        HeightField {
-            fine: level,
-            coarse: level,
-            t: 0.0,
-        }
-    }
-
-    /// `read` on the fine level, blended toward `read` on the coarse one.
-    /// `read` gets the level and must treat it as a height field of that
-    /// level's resolution (a shift of one texel means one texel of *that*
-    /// level). With one level the result is `read(fine)` bit for bit.
-    #[inline]
-    pub fn blend(&self, read: impl Fn(&Level) -> f32) -> f32 {
-        let a = read(self.fine);
-        if self.t == 0.0 {
-            return a;
-        }
-        a + (read(self.coarse) - a) * self.t
-    }
 }
 
 /// How an anisotropic sample is taken: `taps` trilinear reads at `lod`,
@@ -240,40 +118,4 @@ impl AnisoPlan {
         let t = (i as f32 + 0.5) / self.taps as f32 - 0.5;
         uv + self.axis * t
     }
-}
-
-/// Anisotropic: the mean of the plan's trilinear taps.
-#[inline]
-pub fn anisotropic(tex: &Texture, uv: Vec2, fp: Footprint) -> Texel {
-    let plan = AnisoPlan::new(tex, fp);
-    if plan.taps == 1 {
-        return trilinear(tex, uv, plan.lod);
-    }
-    let mut acc = [0.0f32; 4];
-    for i in 0..plan.taps {
-        let t = trilinear(tex, plan.tap(uv, i), plan.lod);
-        for c in 0..4 {
-            acc[c] += t[c];
-        }
-    }
-    let n = plan.taps as f32;
-    acc.map(|a| a / n)
-}
-
-/// The height gradient filtered the same way: the mean of the taps'
-/// gradients (the derivative of the filtered height field).
-#[inline]
-pub fn anisotropic_gradient(tex: &Texture, uv: Vec2, fp: Footprint) -> (f32, f32) {
-    let plan = AnisoPlan::new(tex, fp);
-    if plan.taps == 1 {
-        return trilinear_gradient(tex, uv, plan.lod);
-    }
-    let (mut gu, mut gv) = (0.0, 0.0);
-    for i in 0..plan.taps {
-        let g = trilinear_gradient(tex, plan.tap(uv, i), plan.lod);
-        gu += g.0;
-        gv += g.1;
-    }
-    let n = plan.taps as f32;
-    (gu / n, gv / n)
 }

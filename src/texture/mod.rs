@@ -16,6 +16,7 @@ pub mod normal_map;
 pub mod normal_map_file;
 pub mod procedural;
 pub mod resample;
+pub mod sampler;
 pub mod specular_map;
 pub mod thumbnail;
 pub mod xpm;

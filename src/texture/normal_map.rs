@@ -123,47 +123,12 @@ impl NormalMap {
         })
     }
 
-    /// The map read at level of detail `lod` (as `texture::mip::lod`
-    /// measures it on this map's size): bilinear on the two levels around
-    /// it, blended. `lod` ≤ 0 or NaN is [`NormalMap::bilinear`] on the base
-    /// level, bit for bit, without building the chain.
+    /// Level `i` of the map read bilinearly at `uv` (0: the base map; past
+    /// the end of the chain, the smallest level).
     #[inline]
-    pub fn trilinear(&self, uv: Vec2, lod: f32) -> [f32; 3] {
-        // Written so that NaN also takes the base level.
-        if lod.is_nan() || lod <= 0.0 {
-            return self.bilinear(uv.x, uv.y);
-        }
-        let chain = self.mip_levels();
-        let read = |i: usize| -> [f32; 3] {
-            if i == 0 || chain.is_empty() {
-                self.bilinear(uv.x, uv.y)
-            } else {
-                let t = chain[(i - 1).min(chain.len() - 1)].bilinear(uv.x, uv.y);
-                [t[0], t[1], t[2]]
-            }
-        };
-        let last = chain.len(); // index of the smallest level
-        if lod >= last as f32 {
-            return read(last);
-        }
-        let l0 = lod.floor();
-        let (i, t) = (l0 as usize, lod - l0);
-        let a = read(i);
-        if t == 0.0 {
-            return a;
-        }
-        let b = read(i + 1);
-        std::array::from_fn(|c| a[c] + (b[c] - a[c]) * t)
-    }
-
-    /// The map read by nearest-mip at level of detail `lod`: bilinear on the
-    /// one nearest level; the base ([`NormalMap::bilinear`], bit for bit)
-    /// up to ½, without building the chain.
-    #[inline]
-    pub fn nearest_mip(&self, uv: Vec2, lod: f32) -> [f32; 3] {
-        let i = super::mip::nearest_level(lod, || self.mip_levels().len());
+    pub fn level_bilinear(&self, i: usize, uv: Vec2) -> [f32; 3] {
         let chain = if i == 0 { &[][..] } else { self.mip_levels() };
-        match chain.get(i.wrapping_sub(1)) {
+        match chain.get((i.wrapping_sub(1)).min(chain.len().wrapping_sub(1))) {
             Some(level) => {
                 let t = level.bilinear(uv.x, uv.y);
                 [t[0], t[1], t[2]]
