@@ -76,7 +76,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             path,
         )?)),
         None => None,
-    });
+    })
+    .with_environment(crate::texture::environment::Environment::load_optional(
+        cli.view.environment_map.as_deref(),
+    )?);
     let stage = std::cell::RefCell::new(stage);
     let mut stage_generation = textures.generation();
     let textures = std::cell::RefCell::new(textures);

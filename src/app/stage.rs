@@ -10,6 +10,7 @@ use crate::sanitize::clean;
 use crate::scene::obj::ObjError;
 use crate::scene::{Built, Camera, ModelChoice, SceneKind, build_scene};
 use crate::stats::FrameStats;
+use crate::texture::environment::Environment;
 use crate::texture::{Level, Texture};
 
 use super::state::{State, plasma_light};
@@ -24,6 +25,8 @@ pub struct Stage {
     all_faces: bool,
     /// `--specular-map`, given to every 3D scene shown.
     specular_map: Option<Arc<Level>>,
+    /// `--environment-map`, given to every 3D scene shown.
+    environment: Option<Arc<Environment>>,
     /// The scene's own camera, which the zoom moves along its line of sight.
     camera: Camera,
 }
@@ -53,12 +56,19 @@ impl Stage {
             texture,
             all_faces,
             specular_map: None,
+            environment: None,
         })
     }
 
     /// Gives the 3D scenes this specular map.
     pub fn with_specular_map(mut self, map: Option<Arc<Level>>) -> Stage {
         self.specular_map = map;
+        self
+    }
+
+    /// Gives the 3D scenes this environment to reflect.
+    pub fn with_environment(mut self, environment: Option<Arc<Environment>>) -> Stage {
+        self.environment = environment;
         self
     }
 
@@ -106,6 +116,7 @@ impl Stage {
         match &mut self.built {
             Built::Scene(scene) => {
                 scene.material.specular_map = self.specular_map.clone();
+                scene.material.environment = self.environment.clone();
                 for (light, on) in scene.lights.iter_mut().zip(state.light_on) {
                     light.enabled = on;
                 }

@@ -240,6 +240,15 @@ pub fn full() -> Vec<Config> {
         },
         Threads::All,
     ));
+    // Appended last, so the rows above keep their numbers.
+    rows.push(Config::new(
+        "environment=on",
+        Settings {
+            environment: true,
+            ..r
+        },
+        Threads::All,
+    ));
     rows
 }
 
@@ -331,6 +340,7 @@ mod tests {
             );
         }
         assert!(has(&|c| c.settings.specular), "specular");
+        assert!(has(&|c| c.settings.environment), "environment");
         for &v in Technique::value_variants() {
             assert!(
                 has(&|c| c.settings.bump && c.settings.technique == v),

@@ -171,6 +171,7 @@ impl Scene {
             material: Material {
                 texture,
                 specular_map: None,
+                environment: None,
             },
             lights: light::reference_lights(),
             ambient: AMBIENT,

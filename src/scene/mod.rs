@@ -31,6 +31,8 @@ pub struct Material {
     pub texture: Arc<Texture>,
     /// Grey map scaling the specular highlight (docs/specular.md); none: 1 everywhere.
     pub specular_map: Option<Arc<crate::texture::Level>>,
+    /// The environment reflections show (docs/environment.md); none: the built-in sky.
+    pub environment: Option<Arc<crate::texture::environment::Environment>>,
 }
 
 /// A mesh placed in the world. `rotates` objects follow the user's rotation.

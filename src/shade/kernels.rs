@@ -4,6 +4,7 @@ use glam::{Vec2, Vec3};
 use wide::f32x8;
 
 use super::bump::blinn;
+use super::environment::{mirror, mirror8};
 use super::lighting::{finish, light_with};
 use super::packet::{self, LANES, V3};
 use super::specular::{gloss, gloss8, view_dir, view_dir8};
@@ -431,7 +432,10 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
             if let Some(map) = gloss_map(ctx, tri.glossy) {
                 highlight *= gloss(map, lerp2(b, &tri.uv));
             }
-            return finish(albedo * light + highlight, counters);
+            return finish(
+                mirror(plan, p, n, albedo * light + highlight, counters),
+                counters,
+            );
         }
         let (light, _) = light_with::<false>(
             &plan.lights,
@@ -443,7 +447,7 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
             0.0,
             |i| visibility(i, counters),
         );
-        finish(albedo * light, counters)
+        finish(mirror(plan, p, n, albedo * light, counters), counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
@@ -534,9 +538,14 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
                 let (u, v) = packet::lerp2(&b, &tri.uv);
                 highlight = highlight.scale(gloss8(map, u, v));
             }
-            return packet::finish(albedo.times(light).plus(highlight), live, counters);
+            let lit = albedo.times(light).plus(highlight);
+            return packet::finish(mirror8(plan, p, n, lit, live, counters), live, counters);
         }
         let light = packet::diffuse(&plan.lights, plan.ambient, p, n, plan.attenuation);
-        packet::finish(albedo.times(light), live, counters)
+        packet::finish(
+            mirror8(plan, p, n, albedo.times(light), live, counters),
+            live,
+            counters,
+        )
     }
 }

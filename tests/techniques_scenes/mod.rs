@@ -62,6 +62,7 @@ pub fn scene_of(
         material: Material {
             texture: Arc::new(texture),
             specular_map: None,
+            environment: None,
         },
         lights,
         ambient,
