@@ -106,14 +106,16 @@ impl Environment {
         let level = self.texture.base();
         let (w, h) = (level.width, level.height);
         let uv = lat_long(d);
-        let x = uv.x * w as f32 - 0.5;
-        let y = uv.y * h as f32 - 0.5;
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let col = |i: f32| (i as i64).rem_euclid(w as i64) as usize;
-        let row = |i: f32| (i.max(0.0) as usize).min(h - 1);
-        let (c0, c1) = (col(x0), col(x0 + 1.0));
-        let (r0, r1) = (row(y0), row(y0 + 1.0));
+        // Texel-space positions, shifted by one so they are ≥ 0.5 and a
+        // truncation is floor + 1 (no libm floor, no division to wrap).
+        let x = uv.x * w as f32 + 0.5;
+        let y = uv.y * h as f32 + 0.5;
+        let (xi, yi) = ((x as usize).min(w), (y as usize).min(h));
+        let (fx, fy) = (x - xi as f32, y - yi as f32);
+        // Columns xi − 1 and xi, wrapped; rows yi − 1 and yi, clamped.
+        let c0 = if xi == 0 { w - 1 } else { xi - 1 };
+        let c1 = if xi == w { 0 } else { xi };
+        let (r0, r1) = (yi.saturating_sub(1), yi.min(h - 1));
         let at = |r: usize, c: usize| {
             let t = level.texels[r * w + c];
             Vec3::new(t[0], t[1], t[2])
