@@ -365,3 +365,22 @@ fn off_is_the_picture_without_it_and_reads_nothing() {
     assert_eq!(stats.counters.env_lookups, stats.counters.pixels_shaded);
     assert!(frame.pixels() != before.pixels());
 }
+
+#[test]
+fn a_picture_file_loads_as_an_environment_and_a_missing_one_says_so() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pngsuite");
+    let env = Environment::load(&dir.join("basn2c08.png")).unwrap();
+    assert_eq!(env.size(), (32, 32));
+    for d in [Vec3::X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z] {
+        let c = env.lookup(d);
+        assert!(
+            c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0,
+            "{d}: {c}"
+        );
+    }
+    let missing = Environment::load(&dir.join("no-such-environment.png"));
+    assert!(matches!(
+        missing,
+        Err(relief::texture::TextureError::NotFound { .. })
+    ));
+}
