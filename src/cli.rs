@@ -187,6 +187,16 @@ pub struct ViewArgs {
     /// Draw the tangent frame at each vertex of the textured triangles: T red, B green, N blue (docs/tangent-frames.md).
     #[arg(long)]
     pub tangent_frames: bool,
+    /// Reflection of an environment, bent by the bump (docs/environment.md; Phong only):
+    /// the built-in sky, or --environment-map. On by itself when a map is given.
+    #[arg(long, value_enum)]
+    pub environment: Option<Toggle>,
+    /// Equirectangular (latitude-longitude) picture of the environment: 360° across, 180° down.
+    #[arg(long, value_name = "PATH")]
+    pub environment_map: Option<PathBuf>,
+    /// Share k of the reflection: colour = (1 − k)·lit + k·environment, k in 0..=1.
+    #[arg(long, value_name = "K", default_value_t = crate::settings::DEFAULT_REFLECTIVITY, value_parser = parse_reflectivity)]
+    pub reflectivity: f32,
     /// Plasma scene: the article's Z² lookup table or the exact per-pixel normal.
     #[arg(long, value_enum, default_value_t = PlasmaNormal::Table)]
     pub plasma_normal: PlasmaNormal,
@@ -218,6 +228,10 @@ impl ViewArgs {
             shininess: self.shininess,
             normal_map_file: self.normal_map.is_some(),
             tangent_frames: self.tangent_frames,
+            environment: self
+                .environment
+                .map_or(self.environment_map.is_some(), Toggle::on),
+            reflectivity: self.reflectivity,
         }
     }
 }
@@ -229,6 +243,16 @@ pub fn parse_shininess(text: &str) -> Result<f32, String> {
         Ok(s)
     } else {
         Err(format!("the shininess must be above 0, got '{text}'"))
+    }
+}
+
+/// A reflectivity: finite, in 0..=1.
+pub fn parse_reflectivity(text: &str) -> Result<f32, String> {
+    let k = parse_finite(text)?;
+    if (0.0..=1.0).contains(&k) {
+        Ok(k)
+    } else {
+        Err(format!("the reflectivity must be in 0..=1, got '{text}'"))
     }
 }
 

@@ -10,6 +10,7 @@ use clap::Parser;
 use relief::cli::{Cli, Command, RenderArgs};
 use relief::sanitize::clean;
 use relief::scene::{Built, build_scene};
+use relief::texture::environment::Environment;
 use relief::{Framebuffer, Renderer};
 
 fn main() -> ExitCode {
@@ -73,6 +74,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         )?)),
         None => None,
     };
+    let environment = Environment::load_optional(view.environment_map.as_deref())?;
     let built = build_scene(view.scene, &view.model, Arc::new(texture), view.all_faces)?;
     let settings = view.settings();
     let (width, height) = (args.width as usize, args.height as usize);
@@ -87,6 +89,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             scene.camera = scene.camera.at_distance(view.distance);
             scene.material.specular_map = specular_map;
             scene.material.normal_map = normal_map;
+            scene.material.environment = environment;
             Renderer::new().render(&scene, &settings, &mut fb);
         }
         Built::Plasma(plasma) => {

@@ -10,6 +10,7 @@ use crate::scene::{Scene, rotation_matrix};
 use crate::settings::{
     AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
 };
+use crate::texture::environment::Environment;
 use crate::texture::normal_map::normal_map_scale;
 use crate::texture::{Level, NormalMap};
 
@@ -40,6 +41,15 @@ pub struct Specular {
     pub shininess: f32,
     /// Grey map scaling the highlight on triangles with texture coordinates.
     pub map: Option<Arc<Level>>,
+}
+
+/// Environment mapping, when the plan draws it (docs/environment.md).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reflection {
+    /// The scene's environment, or the built-in sky.
+    pub map: Arc<Environment>,
+    /// k of c = (1 − k)·lit + k·env(R): in (0, 1].
+    pub reflectivity: f32,
 }
 
 /// The stages of one frame.
@@ -82,6 +92,9 @@ pub struct Plan {
     /// Highlights: only when asked for, with a usable exponent and a light
     /// to reflect (and filled triangles: points and lines show none).
     pub specular: Option<Specular>,
+    /// Reflection of the environment: only when asked for, in fill display
+    /// and Phong shading, with a reflectivity above 0.
+    pub environment: Option<Reflection>,
     pub display: Display,
     /// Anti-aliasing; multisampling only in fill display (lines and points
     /// have no coverage to sample).
@@ -168,6 +181,19 @@ impl Plan {
                 shininess: settings.shininess,
                 map: scene.material.specular_map.clone(),
             });
+        let environment = (settings.environment
+            && settings.display == Display::Fill
+            && settings.shading == Shading::Phong
+            && settings.reflectivity.is_finite()
+            && settings.reflectivity > 0.0)
+            .then(|| Reflection {
+                map: scene
+                    .material
+                    .environment
+                    .clone()
+                    .unwrap_or_else(Environment::sky),
+                reflectivity: settings.reflectivity.min(1.0),
+            });
         Plan {
             shading: settings.shading,
             face_normals: settings.normals == crate::settings::Normals::Face,
@@ -188,6 +214,7 @@ impl Plan {
             lights,
             attenuation: settings.attenuation,
             specular,
+            environment,
             display: settings.display,
             aa,
             rotation,

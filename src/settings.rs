@@ -297,6 +297,10 @@ pub struct Settings {
     pub specular: bool,
     /// Blinn-Phong exponent s of (N·H)^s (keys `y`, `Y`): higher, smaller highlights.
     pub shininess: f32,
+    /// Key `E`: reflection of the environment (docs/environment.md), Phong only.
+    pub environment: bool,
+    /// k of c = (1 − k)·lit + k·env(R), in 0..=1.
+    pub reflectivity: f32,
     /// Model rotation in degrees about X, then Y, then Z.
     pub rotation: Vec3,
     /// Key `N`: dot3 reads the normal map loaded from a file
@@ -326,6 +330,8 @@ impl Default for Settings {
             attenuation: false,
             specular: false,
             shininess: DEFAULT_SHININESS,
+            environment: false,
+            reflectivity: DEFAULT_REFLECTIVITY,
             rotation: DEFAULT_ROTATION,
             normal_map_file: false,
             tangent_frames: false,
@@ -339,6 +345,8 @@ pub const DEFAULT_BUMP_STRENGTH: f32 = 0.006;
 pub const DEFAULT_SHININESS: f32 = 32.0;
 /// The range keys `y` and `Y` keep the exponent in (each press doubles or halves it).
 pub const SHININESS_RANGE: (f32, f32) = (1.0, 1024.0);
+/// Share of the environment in a reflecting pixel when none is given.
+pub const DEFAULT_REFLECTIVITY: f32 = 0.35;
 /// Model rotation of the reference scene, in degrees.
 pub const DEFAULT_ROTATION: Vec3 = Vec3::new(25.0, 35.0, 0.0);
 

@@ -21,6 +21,8 @@ pub struct Counters {
     pub light_evals: u64,
     /// Light × point highlight evaluations ((N·H)^s); 0 when specular is off.
     pub specular_evals: u64,
+    /// Environment reads (one per reflecting pixel); 0 when the environment is off.
+    pub env_lookups: u64,
     /// Depth comparisons.
     pub depth_tests: u64,
     /// Mip chains built this frame (the texture's and the dot3 normal map's).
@@ -46,6 +48,7 @@ impl AddAssign for Counters {
         self.bump_evals += o.bump_evals;
         self.light_evals += o.light_evals;
         self.specular_evals += o.specular_evals;
+        self.env_lookups += o.env_lookups;
         self.depth_tests += o.depth_tests;
         self.mip_builds += o.mip_builds;
         self.normal_map_builds += o.normal_map_builds;

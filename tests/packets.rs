@@ -263,3 +263,41 @@ proptest! {
         prop_assert_eq!(ca, cb);
     }
 }
+
+/// Environment mapping (Phong with and without texture, bump and
+/// highlights; the built-in sky and a small loaded-size picture), as the
+/// one-pixel loop draws it.
+#[test]
+fn environment_kernels_match_the_one_pixel_loop() {
+    use relief::texture::environment::Environment;
+    let sky = common::reference_scene(true);
+    let mut small = common::reference_scene(true);
+    // Odd sizes, so the seam and the pole rows are read by some lanes.
+    small.material.environment = Some(Arc::new(Environment::from_fn("odd", 7, 5, |d| {
+        Vec3::splat(0.5) + 0.5 * d
+    })));
+    for scene in [&sky, &small] {
+        for normals in [Normals::Face, Normals::Vertex] {
+            for (texture, bump) in [(true, true), (true, false), (false, true), (false, false)] {
+                for (specular, reflectivity, rotation) in [
+                    (false, 0.35, Vec3::new(25.0, 35.0, 0.0)),
+                    (true, 1.0, Vec3::new(70.0, -20.0, 10.0)),
+                ] {
+                    let s = Settings {
+                        normals,
+                        texture,
+                        bump,
+                        specular,
+                        environment: true,
+                        reflectivity,
+                        rotation,
+                        ..Settings::default()
+                    };
+                    check_in(scene, s, 80, 60);
+                    let (_, stats) = relief::render::render_frame(scene, &s, 80, 60);
+                    assert!(stats.counters.env_lookups > 0, "{s:?}");
+                }
+            }
+        }
+    }
+}

@@ -159,6 +159,8 @@ pub enum Action {
     ShinierSpecular,
     /// `Y`: shininess halved (larger highlights).
     DullerSpecular,
+    /// `E`: reflection of the environment on / off.
+    ToggleEnvironment,
     /// `1`–`4`: one reference light (0 = white, red, green, blue) on / off.
     ToggleLight(usize),
     /// `z`: plasma Z² table / exact normal.

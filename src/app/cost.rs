@@ -113,6 +113,7 @@ pub fn active_stages(c: &Counters) -> Vec<String> {
         ("bump", c.bump_evals),
         ("lights", c.light_evals),
         ("specular", c.specular_evals),
+        ("environment", c.env_lookups),
         ("depth", c.depth_tests),
         ("mip builds", c.mip_builds),
         ("normal maps", c.normal_map_builds),

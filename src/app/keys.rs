@@ -382,10 +382,11 @@ pub const KEYS: &[Binding] = &[
         Normal,
         &[c('g')],
         Action::ToggleSpecular,
-        Line("g y Y", "specular highlights on / off; shininess ×2 / ÷2"),
+        Line("g y Y E", "specular on/off; shininess ×2 ÷2; E environment"),
     ),
     row(Normal, &[c('y')], Action::ShinierSpecular, Above),
     row(Normal, &[c('Y')], Action::DullerSpecular, Above),
+    row(Normal, &[c('E')], Action::ToggleEnvironment, Above),
     row(
         Normal,
         &[c('o')],

@@ -102,7 +102,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         )?)),
         None => None,
     })
-    .with_normal_map(normal_map);
+    .with_normal_map(normal_map)
+    .with_environment(crate::texture::environment::Environment::load_optional(
+        cli.view.environment_map.as_deref(),
+    )?);
     let stage = std::cell::RefCell::new(stage);
     let mut stage_generation = textures.generation();
     let textures = std::cell::RefCell::new(textures);

@@ -10,6 +10,7 @@ use crate::sanitize::clean;
 use crate::scene::obj::ObjError;
 use crate::scene::{Built, Camera, ModelChoice, SceneKind, build_scene};
 use crate::stats::FrameStats;
+use crate::texture::environment::Environment;
 use crate::texture::normal_map_file::FileNormalMap;
 use crate::texture::{Level, Texture};
 
@@ -27,6 +28,8 @@ pub struct Stage {
     specular_map: Option<Arc<Level>>,
     /// `--normal-map`, given to every 3D scene shown.
     normal_map: Option<Arc<FileNormalMap>>,
+    /// `--environment-map`, given to every 3D scene shown.
+    environment: Option<Arc<Environment>>,
     /// The scene's own camera, which the zoom moves along its line of sight.
     camera: Camera,
 }
@@ -57,6 +60,7 @@ impl Stage {
             all_faces,
             specular_map: None,
             normal_map: None,
+            environment: None,
         })
     }
 
@@ -69,6 +73,12 @@ impl Stage {
     /// Gives the 3D scenes this normal map file.
     pub fn with_normal_map(mut self, map: Option<Arc<FileNormalMap>>) -> Stage {
         self.normal_map = map;
+        self
+    }
+
+    /// Gives the 3D scenes this environment to reflect.
+    pub fn with_environment(mut self, environment: Option<Arc<Environment>>) -> Stage {
+        self.environment = environment;
         self
     }
 
@@ -117,6 +127,7 @@ impl Stage {
             Built::Scene(scene) => {
                 scene.material.specular_map = self.specular_map.clone();
                 scene.material.normal_map = self.normal_map.clone();
+                scene.material.environment = self.environment.clone();
                 for (light, on) in scene.lights.iter_mut().zip(state.light_on) {
                     light.enabled = on;
                 }

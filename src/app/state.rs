@@ -406,6 +406,7 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         Action::ToggleSpecular => s.specular = !s.specular,
         Action::ShinierSpecular => s.shininess = (s.shininess * 2.0).min(SHININESS_RANGE.1),
         Action::DullerSpecular => s.shininess = (s.shininess / 2.0).max(SHININESS_RANGE.0),
+        Action::ToggleEnvironment => s.environment = !s.environment,
         Action::ToggleLight(i) => {
             if let Some(on) = state.light_on.get_mut(i) {
                 *on = !*on;

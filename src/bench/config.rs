@@ -295,6 +295,14 @@ pub fn full() -> Vec<Config> {
         },
         Threads::All,
     ));
+    rows.push(Config::new(
+        "environment=on",
+        Settings {
+            environment: true,
+            ..r
+        },
+        Threads::All,
+    ));
     rows
 }
 
@@ -387,6 +395,7 @@ mod tests {
         }
         assert!(has(&|c| c.settings.specular), "specular");
         assert!(has(&|c| c.settings.tangent_frames), "tangent frames");
+        assert!(has(&|c| c.settings.environment), "environment");
         for &v in Technique::value_variants() {
             assert!(
                 has(&|c| c.settings.bump && c.settings.technique == v),

@@ -172,6 +172,7 @@ impl Scene {
                 texture,
                 specular_map: None,
                 normal_map: None,
+                environment: None,
             },
             lights: light::reference_lights(),
             ambient: AMBIENT,

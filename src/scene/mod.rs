@@ -35,6 +35,8 @@ pub struct Material {
     /// dot3 uses instead of the height-derived one while
     /// `Settings::normal_map_file` is on (docs/bump-dot3.md).
     pub normal_map: Option<Arc<crate::texture::normal_map_file::FileNormalMap>>,
+    /// The environment reflections show (docs/environment.md); none: the built-in sky.
+    pub environment: Option<Arc<crate::texture::environment::Environment>>,
 }
 
 /// A mesh placed in the world. `rotates` objects follow the user's rotation.

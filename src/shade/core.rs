@@ -12,6 +12,7 @@
 use glam::{Vec2, Vec3};
 
 use super::PhongTri;
+use super::environment::mirror;
 use super::kernels::{PixelShader, ShadeCtx};
 use super::lighting::{LightSet, finish, lambert, light_with};
 use super::specular::{gloss, view_dir};
@@ -66,7 +67,8 @@ pub trait Hook {
 }
 
 /// One Phong-family pixel: the surface, the technique, the colour read, the
-/// light loop and the composition `albedo × light + highlight`.
+/// light loop, the composition `albedo × light + highlight`, and the
+/// environment's reflection in the technique's normal when the plan has one.
 #[inline(always)]
 pub fn shade_pixel<H: Hook, const TEX: bool, const SPEC: bool>(
     hook: &H,
@@ -103,10 +105,11 @@ pub fn shade_pixel<H: Hook, const TEX: bool, const SPEC: bool>(
         if let Some(map) = gloss_map(ctx, tri.glossy) {
             highlight *= gloss(map, at.uv);
         }
-        return finish(albedo * light + highlight, counters);
+        let lit = albedo * light + highlight;
+        return finish(mirror(plan, s.p, at.n, lit, counters), counters);
     }
     let (light, _) = light_with::<false>(&set, s.p, at.n, Vec3::ZERO, cosine, visibility, counters);
-    finish(albedo * light, counters)
+    finish(mirror(plan, s.p, at.n, albedo * light, counters), counters)
 }
 
 /// The specular map of the plan, when `glossy` triangles read one.

@@ -140,9 +140,10 @@ impl<const PER_PIXEL: bool> Hook for Dot3<'_, PER_PIXEL> {
             s.uv,
             fp,
         ));
-        // The world normal serves the highlights; per vertex, the frame is
-        // built only when something reads it.
-        let frame = (PER_PIXEL || plan.specular.is_some()).then(|| s.frame());
+        // The world normal serves the highlights and the reflection; per
+        // vertex, the frame is built only when something reads it.
+        let world_normal = plan.specular.is_some() || plan.environment.is_some();
+        let frame = (PER_PIXEL || world_normal).then(|| s.frame());
         let n = frame.map_or(s.n, |f| f.t * normal.x + f.b * normal.y + f.n * normal.z);
         let at = HookAt {
             uv: s.uv,

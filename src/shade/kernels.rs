@@ -5,6 +5,7 @@ use wide::f32x8;
 
 use super::bump::Blinn;
 use super::core::{gloss_map, shade_pixel};
+use super::environment::mirror8;
 use super::lighting::finish;
 use super::packet::{self, LANES, V3};
 use super::specular::{gloss, gloss8, view_dir8};
@@ -424,9 +425,14 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
                 let (u, v) = packet::lerp2(&b, &tri.uv);
                 highlight = highlight.scale(gloss8(map, u, v));
             }
-            return packet::finish(albedo.times(light).plus(highlight), live, counters);
+            let lit = albedo.times(light).plus(highlight);
+            return packet::finish(mirror8(plan, p, n, lit, live, counters), live, counters);
         }
         let light = packet::diffuse(&plan.lights, plan.ambient, p, n, plan.attenuation);
-        packet::finish(albedo.times(light), live, counters)
+        packet::finish(
+            mirror8(plan, p, n, albedo.times(light), live, counters),
+            live,
+            counters,
+        )
     }
 }

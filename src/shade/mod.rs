@@ -8,6 +8,7 @@ pub mod bump;
 pub mod core;
 pub mod dot3;
 pub mod emboss;
+pub mod environment;
 pub mod kernels;
 pub mod lighting;
 pub mod packet;

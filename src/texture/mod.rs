@@ -7,6 +7,7 @@
 //! Coordinates wrap (repeat): u = 1.0 reads texel 0.
 
 pub mod builtin;
+pub mod environment;
 pub mod filter;
 pub mod level;
 pub mod list;

@@ -63,6 +63,7 @@ pub fn scene_of(
             texture: Arc::new(texture),
             specular_map: None,
             normal_map: None,
+            environment: None,
         },
         lights,
         ambient,

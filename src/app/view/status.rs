@@ -231,6 +231,9 @@ pub fn status_modes(state: &State) -> String {
     if s.specular {
         add(&format!("spec{}", format_shininess(s.shininess)));
     }
+    if environment_shows(s) {
+        add("env");
+    }
     if state.distance != REFERENCE_DISTANCE {
         add(&format!("d{}", format_distance(state.distance)));
     }
@@ -340,8 +343,17 @@ pub fn status_text(state: &State, detail: Detail) -> String {
         String::new()
     };
     let heights = heights_text(state, short).map_or(String::new(), |h| format!(" │ {h}"));
+    let environment = if environment_shows(s) {
+        format!(
+            " │ {} k={}",
+            if short { "env" } else { "environment" },
+            format_shininess(s.reflectivity)
+        )
+    } else {
+        String::new()
+    };
     format!(
-        "{}{heights}{specular}{frames}{zoom}{cost}{auto}{hint}",
+        "{}{heights}{specular}{environment}{frames}{zoom}{cost}{auto}{hint}",
         fields.join(" │ ")
     )
 }
@@ -364,6 +376,15 @@ fn heights_text(state: &State, short: bool) -> Option<String> {
     } else {
         format!("heights {cut}")
     })
+}
+
+/// Whether the environment's reflection is in the picture: asked for, in
+/// Phong and fill display, with the Blinn kernel (docs/environment.md).
+fn environment_shows(s: &Settings) -> bool {
+    s.environment
+        && s.shading == Shading::Phong
+        && s.display == crate::settings::Display::Fill
+        && s.reflectivity > 0.0
 }
 
 /// The specular exponent without needless decimals.
