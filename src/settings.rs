@@ -76,14 +76,9 @@ pub enum Filter {
 }
 
 impl Filter {
+    /// The next filter in declaration order, wrapping (the `f` key).
     pub fn next(self) -> Self {
-        match self {
-            Filter::Nearest => Filter::Bilinear,
-            Filter::Bilinear => Filter::NearestMip,
-            Filter::NearestMip => Filter::Trilinear,
-            Filter::Trilinear => Filter::Anisotropic,
-            Filter::Anisotropic => Filter::Nearest,
-        }
+        cycle(self)
     }
     pub fn label(self) -> &'static str {
         match self {
@@ -103,6 +98,14 @@ impl Filter {
     }
 }
 
+/// The variant after `x` in declaration order, the first after the last: a
+/// new variant joins its key's cycle without another edit.
+fn cycle<T: ValueEnum + PartialEq + Copy>(x: T) -> T {
+    let all = T::value_variants();
+    let i = all.iter().position(|v| *v == x).unwrap_or(0);
+    all[(i + 1) % all.len()]
+}
+
 /// Bump-mapping technique.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
 pub enum Technique {
@@ -120,14 +123,9 @@ pub enum Technique {
 }
 
 impl Technique {
+    /// The next technique in declaration order, wrapping (the `e` key).
     pub fn next(self) -> Self {
-        match self {
-            Technique::Blinn => Technique::Emboss,
-            Technique::Emboss => Technique::Dot3,
-            Technique::Dot3 => Technique::Parallax,
-            Technique::Parallax => Technique::Pom,
-            Technique::Pom => Technique::Blinn,
-        }
+        cycle(self)
     }
     pub fn label(self) -> &'static str {
         match self {

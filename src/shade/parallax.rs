@@ -17,8 +17,7 @@ use super::core::{Hook, HookAt};
 use super::kernels::ShadeCtx;
 use super::tangent::Surface;
 use crate::stats::Counters;
-use crate::texture::Level;
-use crate::texture::filter::{Footprint, height_gradient};
+use crate::texture::filter::{Footprint, height_gradient, height_sampler};
 
 /// The view's normal component is clamped to this (about 84°) so grazing
 /// views cannot throw the coordinate across the texture.
@@ -52,10 +51,10 @@ impl ViewRay {
 
 /// Parallax mapping with scale and bias: uv + (h·s + b)·(−shift) with
 /// s = 1, b = −1 in units of the full depth, i.e. uv + (1 − h)·shift, from
-/// one height read. A zero shift (zero depth) returns `uv` unchanged.
+/// one read of `height(uv)`. A zero shift (zero depth) returns `uv` unchanged.
 #[inline]
-pub fn parallax_offset(level: &Level, uv: Vec2, ray: &ViewRay) -> Vec2 {
-    let h = level.bilinear_height(uv.x, uv.y);
+pub fn parallax_offset(height: impl Fn(Vec2) -> f32, uv: Vec2, ray: &ViewRay) -> Vec2 {
+    let h = height(uv);
     let (scale, bias) = (1.0, -1.0);
     uv - ray.shift * (h * scale + bias)
 }
@@ -70,9 +69,9 @@ pub fn pom_steps(cosine: f32) -> u32 {
 /// Parallax occlusion mapping: march the ray down through the height field
 /// in equal depth steps until it is below the surface, then place the hit
 /// by intersecting the two last segments linearly. Returns the coordinate
-/// and the number of height reads.
+/// and the number of reads of `height`.
 #[inline]
-pub fn pom_offset(level: &Level, uv: Vec2, ray: &ViewRay) -> (Vec2, u32) {
+pub fn pom_offset(height: impl Fn(Vec2) -> f32, uv: Vec2, ray: &ViewRay) -> (Vec2, u32) {
     let steps = pom_steps(ray.cosine);
     let dz = 1.0 / steps as f32;
     let step = ray.shift * dz;
@@ -80,7 +79,7 @@ pub fn pom_offset(level: &Level, uv: Vec2, ray: &ViewRay) -> (Vec2, u32) {
     // Depth below the surface: of the ray, and of the relief under it.
     let mut ray_depth = 0.0f32;
     let mut cur = uv;
-    let mut relief = 1.0 - level.bilinear_height(cur.x, cur.y);
+    let mut relief = 1.0 - height(cur);
     if relief <= 0.0 {
         return (uv, reads);
     }
@@ -88,7 +87,7 @@ pub fn pom_offset(level: &Level, uv: Vec2, ray: &ViewRay) -> (Vec2, u32) {
         let prev = (cur, ray_depth, relief);
         cur = uv + step * i as f32;
         ray_depth = dz * i as f32;
-        relief = 1.0 - level.bilinear_height(cur.x, cur.y);
+        relief = 1.0 - height(cur);
         reads += 1;
         if ray_depth >= relief {
             // Above by `a` at the previous step, below by `b` now.
@@ -132,14 +131,19 @@ impl<const OCCLUSION: bool> Hook for Parallax<OCCLUSION> {
         // and would bend the texture on a flat face; it still lights.
         let plane = Surface { n: s.face_n, ..*s };
         let ray = ViewRay::new(&plane, self.eye, depth);
-        let base = ctx.texture.base();
+        // The heights are read like everything else: through the pixel's
+        // sampler (the base level for bilinear, the footprint's level(s)
+        // and taps for the mip filters with the filtered derivative).
+        let tex = ctx.texture;
+        let sampler = height_sampler(tex, plan.height_derivative, plan.filter, fp);
+        let height = |p: Vec2| sampler.read(p, |i, q| tex.level(i).bilinear_height(q.x, q.y));
         let uv = if OCCLUSION {
-            let (uv, reads) = pom_offset(base, s.uv, &ray);
+            let (uv, reads) = pom_offset(height, s.uv, &ray);
             counters.texture_samples += reads as u64;
             uv
         } else {
             counters.texture_samples += 1;
-            parallax_offset(base, s.uv, &ray)
+            parallax_offset(height, s.uv, &ray)
         };
         let (fu, fv) = height_gradient(ctx.texture, plan.height_derivative, plan.filter, uv, fp);
         let at = HookAt {
@@ -154,6 +158,7 @@ impl<const OCCLUSION: bool> Hook for Parallax<OCCLUSION> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::texture::Level;
 
     fn surface() -> Surface {
         Surface {
@@ -165,6 +170,10 @@ mod tests {
             pu: 2.0 * Vec3::X,
             pv: 2.0 * Vec3::Y,
         }
+    }
+
+    fn heights(level: &Level) -> impl Fn(Vec2) -> f32 + '_ {
+        |p| level.bilinear_height(p.x, p.y)
     }
 
     fn ramp() -> Level {
@@ -182,8 +191,8 @@ mod tests {
         assert_eq!(ray.shift, Vec2::ZERO);
         let level = ramp();
         let uv = Vec2::new(0.3, 0.7);
-        assert_eq!(parallax_offset(&level, uv, &ray), uv);
-        assert_eq!(pom_offset(&level, uv, &ray).0, uv);
+        assert_eq!(parallax_offset(heights(&level), uv, &ray), uv);
+        assert_eq!(pom_offset(heights(&level), uv, &ray).0, uv);
     }
 
     #[test]
@@ -195,10 +204,10 @@ mod tests {
         assert!((ray.shift.x + 0.05).abs() < 1e-6, "{:?}", ray.shift);
         let level = Level::solid(4, 4, [0.5, 0.5, 0.5, 0.25]);
         let uv = Vec2::new(0.5, 0.5);
-        let p = parallax_offset(&level, uv, &ray);
+        let p = parallax_offset(heights(&level), uv, &ray);
         assert!((p.x - (0.5 - 0.75 * 0.05)).abs() < 1e-6, "{p}");
         // A flat floor at depth 0.75: POM finds exactly the same point.
-        let (q, reads) = pom_offset(&level, uv, &ray);
+        let (q, reads) = pom_offset(heights(&level), uv, &ray);
         assert!((q - p).length() < 1e-6, "{q} vs {p}");
         assert!(reads >= 2);
     }
@@ -221,8 +230,8 @@ mod tests {
             Vec3::NAN,
         ] {
             let ray = ViewRay::new(&surface(), eye, 0.5);
-            let (q, _) = pom_offset(&level, Vec2::new(0.2, 0.9), &ray);
-            let p = parallax_offset(&level, Vec2::new(0.2, 0.9), &ray);
+            let (q, _) = pom_offset(heights(&level), Vec2::new(0.2, 0.9), &ray);
+            let p = parallax_offset(heights(&level), Vec2::new(0.2, 0.9), &ray);
             assert!(q.is_finite() && p.is_finite(), "{eye}: {q} {p}");
         }
     }

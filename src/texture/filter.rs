@@ -56,6 +56,21 @@ pub fn height_gradient(
     }
 }
 
+/// The sampler heights are read through at a pixel: the base level for the
+/// documented per-texel derivative, else the colour filter's.
+#[inline]
+pub fn height_sampler(
+    tex: &Texture,
+    mode: HeightDerivative,
+    filter: Filter,
+    footprint: Footprint,
+) -> Sampler {
+    match mode {
+        HeightDerivative::Texel => Sampler::BASE,
+        HeightDerivative::Filtered => sampler(tex, filter, footprint),
+    }
+}
+
 /// A quantity computed from heights, read with the same care as the colour:
 /// `read(level, uv)` evaluated on the level(s) and at the taps the filter
 /// would read for this pixel, blended and averaged the same way. `read` must
