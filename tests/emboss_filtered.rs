@@ -84,7 +84,7 @@ fn a_grazing_checker_plane_comes_closer_to_its_supersampled_render() {
 fn magnified_bump_techniques_read_the_base_level_only() {
     // The front face seen straight on covers 104 × 104 pixels at 320 × 240:
     // a 96 × 96 texture is magnified on every pixel.
-    for technique in [Technique::Emboss, Technique::Parallax, Technique::Pom] {
+    for &technique in Technique::value_variants() {
         let scene = Scene::cube(texture(96, noise), true);
         let frame = |filter, height_derivative| {
             let s = Settings {
