@@ -18,6 +18,7 @@ use super::kernels::ShadeCtx;
 use super::tangent::Surface;
 use crate::stats::Counters;
 use crate::texture::filter::{Footprint, height_gradient, height_sampler};
+use crate::texture::sampler::Sampler;
 
 /// The view's normal component is clamped to this (about 84°) so grazing
 /// views cannot throw the coordinate across the texture.
@@ -57,6 +58,21 @@ pub fn parallax_offset(height: impl Fn(Vec2) -> f32, uv: Vec2, ray: &ViewRay) ->
     let h = height(uv);
     let (scale, bias) = (1.0, -1.0);
     uv - ray.shift * (h * scale + bias)
+}
+
+/// The displaced coordinate and the number of height reads: parallax's one
+/// read, or occlusion mapping's march.
+#[inline(always)]
+fn offset<const OCCLUSION: bool>(
+    height: impl Fn(Vec2) -> f32,
+    uv: Vec2,
+    ray: &ViewRay,
+) -> (Vec2, u32) {
+    if OCCLUSION {
+        pom_offset(height, uv, ray)
+    } else {
+        (parallax_offset(height, uv, ray), 1)
+    }
 }
 
 /// Steps for a view of this cosine: 8 head-on, up to 32 at grazing.
@@ -136,15 +152,15 @@ impl<const OCCLUSION: bool> Hook for Parallax<OCCLUSION> {
         // and taps for the mip filters with the filtered derivative).
         let tex = ctx.texture;
         let sampler = height_sampler(tex, plan.height_derivative, plan.filter, fp);
-        let height = |p: Vec2| sampler.read(p, |i, q| tex.level(i).bilinear_height(q.x, q.y));
-        let uv = if OCCLUSION {
-            let (uv, reads) = pom_offset(height, s.uv, &ray);
-            counters.texture_samples += reads as u64;
-            uv
+        let (uv, reads) = if sampler == Sampler::BASE {
+            // The common case, read straight from the base level.
+            let base = tex.base();
+            offset::<OCCLUSION>(|p| base.bilinear_height(p.x, p.y), s.uv, &ray)
         } else {
-            counters.texture_samples += 1;
-            parallax_offset(height, s.uv, &ray)
+            let height = |p: Vec2| sampler.read(p, |i, q| tex.level(i).bilinear_height(q.x, q.y));
+            offset::<OCCLUSION>(height, s.uv, &ray)
         };
+        counters.texture_samples += reads as u64;
         let (fu, fv) = height_gradient(ctx.texture, plan.height_derivative, plan.filter, uv, fp);
         let at = HookAt {
             uv,

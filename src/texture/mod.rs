@@ -112,6 +112,7 @@ impl Texture {
     }
 
     /// Level `i` of the chain (0 = base), clamped to the smallest level.
+    #[inline]
     pub fn level(&self, i: usize) -> &Level {
         if i == 0 {
             return &self.base;
