@@ -53,7 +53,7 @@ impl ViewRay {
 /// Parallax mapping with scale and bias: uv + (h·s + b)·(−shift) with
 /// s = 1, b = −1 in units of the full depth, i.e. uv + (1 − h)·shift, from
 /// one read of `height(uv)`. A zero shift (zero depth) returns `uv` unchanged.
-#[inline]
+#[inline(always)]
 pub fn parallax_offset(height: impl Fn(Vec2) -> f32, uv: Vec2, ray: &ViewRay) -> Vec2 {
     let h = height(uv);
     let (scale, bias) = (1.0, -1.0);
@@ -86,7 +86,7 @@ pub fn pom_steps(cosine: f32) -> u32 {
 /// in equal depth steps until it is below the surface, then place the hit
 /// by intersecting the two last segments linearly. Returns the coordinate
 /// and the number of reads of `height`.
-#[inline]
+#[inline(always)]
 pub fn pom_offset(height: impl Fn(Vec2) -> f32, uv: Vec2, ray: &ViewRay) -> (Vec2, u32) {
     let steps = pom_steps(ray.cosine);
     let dz = 1.0 / steps as f32;
@@ -155,7 +155,12 @@ impl<const OCCLUSION: bool> Hook for Parallax<OCCLUSION> {
         let (uv, reads) = if sampler == Sampler::BASE {
             // The common case, read straight from the base level.
             let base = tex.base();
-            offset::<OCCLUSION>(|p| base.bilinear_height(p.x, p.y), s.uv, &ray)
+            offset::<OCCLUSION>(
+                #[inline(always)]
+                |p| base.bilinear_height(p.x, p.y),
+                s.uv,
+                &ray,
+            )
         } else {
             let height = |p: Vec2| sampler.read(p, |i, q| tex.level(i).bilinear_height(q.x, q.y));
             offset::<OCCLUSION>(height, s.uv, &ray)

@@ -91,7 +91,7 @@ impl Sampler {
     /// The reads of `filter` for a pixel of footprint `fp` on a texture
     /// whose base level is `size` texels; `last()` is the index of its
     /// smallest level, asked (and the chain built) only for a minified pixel.
-    #[inline]
+    #[inline(always)]
     pub fn new(filter: Filter, fp: Footprint, size: Vec2, last: impl FnOnce() -> usize) -> Sampler {
         match filter {
             Filter::Nearest | Filter::Bilinear => Sampler::BASE,
@@ -150,7 +150,7 @@ impl Sampler {
 
     /// The filtered value of a quantity at `uv`, from `read(level, point)`:
     /// one level's value at one point.
-    #[inline]
+    #[inline(always)]
     pub fn read<T: Blend>(&self, uv: Vec2, read: impl Fn(usize, Vec2) -> T) -> T {
         let blended = |at: Vec2| {
             let a = read(self.fine, at);
