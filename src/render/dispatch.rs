@@ -49,18 +49,24 @@ pub fn draw_into<T: RasterTarget>(
             (false, false) => target.raster(tri, &GouraudKernel::<false, false>(s), ctx, counters),
         },
         TriShader::Phong(s) if s.bumped => draw_bumped(tri, s, ctx, target, counters),
-        TriShader::Phong(s) => match (s.textured, spec) {
-            (true, true) => target.raster(tri, &PhongKernel::<true, false, true>(s), ctx, counters),
-            (true, false) => {
-                target.raster(tri, &PhongKernel::<true, false, false>(s), ctx, counters)
-            }
-            (false, true) => {
-                target.raster(tri, &PhongKernel::<false, false, true>(s), ctx, counters)
-            }
-            (false, false) => {
-                target.raster(tri, &PhongKernel::<false, false, false>(s), ctx, counters)
-            }
-        },
+        TriShader::Phong(s) => phong::<T, false>(tri, s, ctx, target, counters),
+    }
+}
+
+/// Plain Phong (`BUMP` false) or Blinn's bump: the eight-pixel kernel, with
+/// or without its colour texture and highlights.
+fn phong<T: RasterTarget, const BUMP: bool>(
+    tri: &ScreenTri,
+    s: &PhongTri,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
+    match (s.textured, ctx.plan.specular.is_some()) {
+        (true, true) => target.raster(tri, &PhongKernel::<true, BUMP, true>(s), ctx, counters),
+        (true, false) => target.raster(tri, &PhongKernel::<true, BUMP, false>(s), ctx, counters),
+        (false, true) => target.raster(tri, &PhongKernel::<false, BUMP, true>(s), ctx, counters),
+        (false, false) => target.raster(tri, &PhongKernel::<false, BUMP, false>(s), ctx, counters),
     }
 }
 
@@ -94,18 +100,7 @@ fn draw_bumped<T: RasterTarget>(
         (Technique::Pom, _) => with_hook(tri, s, Parallax::<true> { eye }, ctx, target, counters),
         // Blinn, and dot3 without its map (the plan builds one whenever dot3
         // runs): the packet kernel.
-        (Technique::Blinn | Technique::Dot3, _) => match (s.textured, plan.specular.is_some()) {
-            (true, true) => target.raster(tri, &PhongKernel::<true, true, true>(s), ctx, counters),
-            (true, false) => {
-                target.raster(tri, &PhongKernel::<true, true, false>(s), ctx, counters)
-            }
-            (false, true) => {
-                target.raster(tri, &PhongKernel::<false, true, true>(s), ctx, counters)
-            }
-            (false, false) => {
-                target.raster(tri, &PhongKernel::<false, true, false>(s), ctx, counters)
-            }
-        },
+        (Technique::Blinn | Technique::Dot3, _) => phong::<T, true>(tri, s, ctx, target, counters),
     }
 }
 

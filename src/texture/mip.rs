@@ -111,11 +111,4 @@ impl AnisoPlan {
             lod,
         }
     }
-
-    /// Where tap `i` reads: evenly spaced over the axis, centred on `uv`.
-    #[inline]
-    pub fn tap(&self, uv: Vec2, i: usize) -> Vec2 {
-        let t = (i as f32 + 0.5) / self.taps as f32 - 0.5;
-        uv + self.axis * t
-    }
 }
