@@ -26,7 +26,7 @@ pub const HUE_WEIGHT: f32 = 2.0;
 /// pixels shown grey fall from 42 % (plain OKLab, as with the former sRGB
 /// distance) to 20 % at 3, while the mean OKLab error stays within 0.5 % of
 /// the plain nearest entry's; at 4 they fall to 15 % but the error grows
-/// 2 % and more pixels jump to a neighbouring hue (`tests/term_colour.rs`).
+/// 2 % and more pixels jump to a neighbouring hue (`tests/term/colour.rs`).
 pub const CHROMA_LOSS_WEIGHT: f32 = 3.0;
 
 /// Dither only where the two-entry mix has at most this fraction of the

@@ -2,7 +2,7 @@
 //! counted by rasterizing each triangle alone and adding the masks (the
 //! additive-blending method of the GL conformance suites).
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{Vec3, Vec4};

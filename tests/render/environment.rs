@@ -3,7 +3,7 @@
 //! (0, 0, 5), mirroring environments built here, one colour per axis or
 //! the direction itself as a colour.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -3,7 +3,7 @@
 //! and multisampling once per pixel, and multisampled depth keeps the nearer
 //! surface.
 
-mod techniques_scenes;
+use crate::techniques_scenes;
 
 use glam::{Vec2, Vec3};
 use relief::render::render_frame;

@@ -1,7 +1,7 @@
 //! Toggles change what they should and nothing else, and the stage counters
 //! prove the plan: an effect that is off, or cannot show, does no work.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -2,7 +2,7 @@
 //! of a frame drawn with the kernel as it is (eight pixels at a time where
 //! the kernel can) and through a wrapper that hides its packet path.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -2,7 +2,7 @@
 //! from the formulas of docs/shading.md and docs/bump-blinn.md,
 //! independently of the renderer's code).
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{DMat3, DVec2, DVec3, Vec3};

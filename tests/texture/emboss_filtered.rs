@@ -7,7 +7,7 @@
 //! filter, so it is the "before" of every comparison here: the same frame,
 //! colour filtering included, with heights read as they were.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

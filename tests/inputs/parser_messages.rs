@@ -2,7 +2,7 @@
 //! reach the terminal with escape sequences and bidi controls replaced, and
 //! the parser's exit codes are kept.
 
-mod hostile;
+use crate::hostile;
 
 #[test]
 fn parser_errors_are_sanitised_and_keep_their_exit_code() {

@@ -3,7 +3,7 @@
 //! (0, 0, 5), one grey light, no ambient. The highlight is the difference
 //! between the frame with specular on and the frame with it off.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

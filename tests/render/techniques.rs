@@ -4,7 +4,7 @@
 //! dot3's per-vertex light vector darkens the middle of a large triangle,
 //! and the counters say what each technique read.
 
-mod techniques_scenes;
+use crate::techniques_scenes;
 
 use glam::{Vec2, Vec3};
 use relief::render::render_frame;

@@ -1,7 +1,7 @@
 //! The renderer's hard cases (docs/hard-cases.md), one named test each, plus a
 //! property test over orientations and every mode combination.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

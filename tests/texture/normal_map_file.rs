@@ -5,7 +5,7 @@
 //! height ramp of that slope; a flat file renders like no bump; a file that
 //! is off costs nothing; bad files are refused; `N` switches through `update`.
 
-mod techniques_scenes;
+use crate::techniques_scenes;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -374,7 +374,7 @@ fn key_n_switches_between_the_file_and_the_derived_map() {
 
 /// The asset `assets/brick-normal.png`: the built-in brick's dot3 normal map
 /// at the reference strength, as an 8-bit normal-map file. Written by
-/// `RELIEF_WRITE_ASSETS=1 cargo test --release --test normal_map_file`;
+/// `RELIEF_WRITE_ASSETS=1 cargo test --release --test texture normal_map_file::`;
 /// otherwise checked against the map relief derives.
 #[test]
 fn the_brick_normal_asset_is_the_bricks_derived_map() {

@@ -1,8 +1,6 @@
 //! Points and lines display modes, and the no-NaN property over every
 //! technique, anti-aliasing level, display mode and orientation.
 
-mod techniques_scenes;
-
 use std::sync::Arc;
 
 use glam::Vec3;

@@ -2,7 +2,7 @@
 //! are not regular files are refused; `--out` writes the format its
 //! extension names.
 
-mod hostile;
+use crate::hostile;
 
 use hostile::relief;
 

@@ -1,0 +1,15 @@
+//! The application: keys, update, the loop, the view, panels.
+//!
+//! One test crate per area (each file a module) so the suite links a few
+//! binaries instead of one per file.
+
+mod event_loop;
+mod huge_terminal;
+mod keys;
+mod modes;
+mod stage;
+mod texture_app;
+mod texture_panel;
+mod update;
+mod view;
+mod zoom;

@@ -1,0 +1,14 @@
+//! Input files: models, parser messages, mutated files.
+//!
+//! One test crate per area (each file a module) so the suite links a few
+//! binaries instead of one per file.
+
+#[path = "../hostile/mod.rs"]
+mod hostile;
+
+mod models;
+mod models_props;
+mod models_render;
+mod mutation;
+mod obj_corpus;
+mod parser_messages;
