@@ -239,6 +239,18 @@ fn keys_drag_and_quit_in_a_real_terminal() {
     t.keys(&["p"]);
     t.wait_for("back to the model", |s| status(s).contains("│ cube │"));
     assert_eq!(t.format("#{mouse_all_flag}"), "0");
+    // tmux, like xterm, clears all mouse reporting on `?1003l`: leaving
+    // the plasma puts button and drag reports back.
+    assert_eq!(t.format("#{mouse_button_flag}"), "1");
+    assert_eq!(t.format("#{mouse_sgr_flag}"), "1");
+    // Into the plasma and out through `o`.
+    t.keys(&["p", "p"]);
+    t.wait_for("plasma again", |s| status(s).starts_with("plasma │"));
+    assert_eq!(t.format("#{mouse_all_flag}"), "1");
+    t.keys(&["o"]);
+    t.wait_for("the model after `o`", |s| status(s).contains("│ cube │"));
+    assert_eq!(t.format("#{mouse_all_flag}"), "0");
+    assert_eq!(t.format("#{mouse_button_flag}"), "1");
 
     t.keys(&["q"]);
     assert_eq!(t.wait_exit(), "0");

@@ -34,12 +34,19 @@ use crate::scene::SceneKind;
 use crate::stats::{Counters, FrameStats};
 use crate::term::SgrBackend;
 use crate::term::input::{Input, InputParser};
+use crate::term::modes::{MouseReports, TermModes};
 use crate::term::pacing::{Activity, Answers, Pacer, QUERY};
 
-/// Mouse mode 1003: every pointer motion is reported (the plasma's light follows it).
-pub const MOTION_ON: &[u8] = b"\x1b[?1003h";
-/// Back to button and drag reports only.
-pub const MOTION_OFF: &[u8] = b"\x1b[?1003l";
+/// The terminal modes the state wants: only the plasma asks for every
+/// pointer motion (its light follows the pointer); everything else for
+/// buttons and drags, as the guard's setup leaves them.
+pub fn wanted_modes(state: &State) -> TermModes {
+    TermModes::app(if state.scene == SceneKind::Plasma {
+        MouseReports::Motion
+    } else {
+        MouseReports::Drags
+    })
+}
 
 /// Auto-rotation frame pacing.
 pub const FRAME_INTERVAL: Duration = Duration::from_millis(33);
@@ -213,8 +220,8 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         // The half-resolution picture of a preview, before it is enlarged.
         let mut coarse = Framebuffer::new(0, 0);
         let mut rendered: Option<(Look, usize, usize, u64)> = None;
-        // The guard's setup leaves all-motion reports off.
-        let mut motion = false;
+        // What the guard's setup left the terminal in.
+        let mut modes = TermModes::app(MouseReports::Drags);
         let mut clock = FrameClock::default();
         let mut dirty = true;
         // After a new picture, one more (text-only) write lets the status
@@ -389,11 +396,13 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             );
             let encode_start = Instant::now();
             let backend = self.terminal.backend_mut();
-            // Only the plasma asks for every pointer motion.
-            let want_motion = state.scene == SceneKind::Plasma;
-            if want_motion != motion {
-                backend.write_raw(if want_motion { MOTION_ON } else { MOTION_OFF })?;
-                motion = want_motion;
+            // Modes follow the state: a mode left puts back what it changed.
+            let wanted = wanted_modes(state);
+            if wanted != modes {
+                let mut change = Vec::new();
+                modes.change_to(&wanted, &mut change);
+                backend.write_raw(&change)?;
+                modes = wanted;
             }
             let asks = self.pacer.asks();
             // The first write starts with a query of its own: its reply

@@ -9,6 +9,7 @@ pub mod counting;
 pub mod guard;
 pub mod halfblock;
 pub mod input;
+pub mod modes;
 pub mod oklab;
 pub mod pacing;
 pub mod palette;

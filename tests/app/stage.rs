@@ -7,10 +7,12 @@ use std::sync::{Arc, Mutex, mpsc};
 use crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
 use ratatui::Terminal;
 use relief::app::State;
-use relief::app::event_loop::{Exit, Looper, MOTION_OFF, MOTION_ON, Msg};
+use relief::app::event_loop::{Exit, Looper, Msg};
 use relief::app::stage::Stage;
 use relief::scene::{Built, ModelChoice, SceneKind};
 use relief::settings::Settings;
+use relief::term::guard::{RESTORE, SETUP};
+use relief::term::modes::{MouseReports, MouseSemantics, TermModes};
 use relief::term::{ColorDepth, SgrBackend};
 use relief::texture::procedural::brick;
 use relief::{Framebuffer, Renderer};
@@ -187,12 +189,61 @@ fn the_loop_rebuilds_keeps_the_scene_on_error_and_switches_mouse_motion() {
     assert_eq!(st.borrow().shown(), (SceneKind::Cube, &ModelChoice::Sphere));
     let msg = state.message.clone().unwrap();
     assert!(msg.contains("loop.obj"), "{msg}");
-    assert_eq!(
-        (count(&bytes, MOTION_ON), count(&bytes, MOTION_OFF)),
-        (1, 1)
-    );
-    assert!(find(&bytes, MOTION_ON) < find(&bytes, MOTION_OFF));
+    let (on, off) = (b"\x1b[?1003h".as_slice(), b"\x1b[?1003l".as_slice());
+    assert_eq!((count(&bytes, on), count(&bytes, off)), (1, 1));
+    assert!(find(&bytes, on) < find(&bytes, off));
+    // Leaving the plasma put button and drag reports back.
+    for s in SEMANTICS {
+        assert_eq!(
+            TermModes::app(MouseReports::Drags).after(&bytes, s),
+            TermModes::app(MouseReports::Drags)
+        );
+    }
     std::fs::remove_file(path).unwrap();
+}
+
+const SEMANTICS: [MouseSemantics; 2] = [MouseSemantics::OneLevel, MouseSemantics::Flags];
+
+#[test]
+fn every_scene_switch_leaves_the_terminal_in_the_modes_of_the_scene() {
+    use MouseReports::{Drags, Motion};
+    use SceneKind::{Cube, Plasma, Shadow};
+    // Each key, the scene it leads to and the mouse reports that scene
+    // needs: every motion in the plasma only. `o` leaves any scene for
+    // the model, `p` steps model → shadow → plasma → model.
+    let steps = [
+        ('p', Shadow, Drags),
+        ('p', Plasma, Motion),
+        ('p', Cube, Drags),
+        ('p', Shadow, Drags),
+        ('p', Plasma, Motion),
+        ('o', Cube, Drags),
+        ('o', Cube, Drags),
+        ('p', Shadow, Drags),
+        ('o', Cube, Drags),
+        ('p', Shadow, Drags),
+        ('p', Plasma, Motion),
+    ];
+    // One run per prefix: the terminal's modes after its last switch are
+    // decoded from everything the loop wrote (after the guard's setup).
+    for n in 1..=steps.len() {
+        let st = RefCell::new(stage());
+        let state = State::new(Settings::default(), ColorDepth::Truecolor);
+        let batches = steps[..n].iter().map(|&(k, ..)| vec![k]).collect();
+        let (state, bytes) = run(&st, state, batches);
+        let (key, scene, mouse) = steps[n - 1];
+        assert_eq!(state.scene, scene, "after {n} keys, the last `{key}`");
+        for s in SEMANTICS {
+            let setup = TermModes::SHELL.after(SETUP, s);
+            assert_eq!(
+                setup.after(&bytes, s),
+                TermModes::app(mouse),
+                "after {n} keys, the last `{key}` ({s:?})"
+            );
+            // Whatever the scene, the guard's restore gives the shell back.
+            assert_eq!(setup.after(&bytes, s).after(RESTORE, s), TermModes::SHELL);
+        }
+    }
 }
 
 #[test]
