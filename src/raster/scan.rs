@@ -28,7 +28,7 @@ impl Band<'_> {
 
 /// Per-triangle constants for the screen-space UV derivatives.
 pub(crate) struct FootprintSetup {
-    uvq: [Vec2; 3],
+    uv: [Vec2; 3],
     dq_dx: f32,
     dq_dy: f32,
     duvq_dx: Vec2,
@@ -43,7 +43,7 @@ impl FootprintSetup {
         let dot = |l: [f32; 3], v: [f32; 3]| l[0] * v[0] + l[1] * v[1] + l[2] * v[2];
         let dotv = |l: [f32; 3], v: [Vec2; 3]| v[0] * l[0] + v[1] * l[1] + v[2] * l[2];
         FootprintSetup {
-            uvq,
+            uv,
             dq_dx: dot(lx, tri.q),
             dq_dy: dot(ly, tri.q),
             duvq_dx: dotv(lx, uvq),
@@ -52,10 +52,12 @@ impl FootprintSetup {
     }
 
     /// d(uv)/dx and d(uv)/dy at a pixel, from u = U/Q (quotient rule).
+    /// `w` are the perspective weights l·q already, so u = Σ uvₖ·wₖ / Σ wₖ:
+    /// the vertex uv, not uv·q (which would weigh q twice).
     #[inline]
     pub(crate) fn at(&self, w: [f32; 3], q_sum: f32) -> Footprint {
         let inv = 1.0 / q_sum;
-        let uv = (self.uvq[0] * w[0] + self.uvq[1] * w[1] + self.uvq[2] * w[2]) * inv;
+        let uv = (self.uv[0] * w[0] + self.uv[1] * w[1] + self.uv[2] * w[2]) * inv;
         Footprint {
             dx: (self.duvq_dx - uv * self.dq_dx) * inv,
             dy: (self.duvq_dy - uv * self.dq_dy) * inv,
@@ -301,7 +303,94 @@ pub(crate) fn shade_at<S: PixelShader>(
 
 #[cfg(test)]
 mod tests {
-    use super::covered_span;
+    use super::{FootprintSetup, covered_span};
+    use crate::raster::ClipVertex;
+    use crate::raster::setup::setup;
+    use glam::{Vec2, Vec3, Vec4};
+
+    /// The footprint against derivatives worked out apart in f64: for a
+    /// screen point, the 3D barycentrics b whose clip-space point Σ bₖPₖ
+    /// projects there (a 3×3 linear solve), u = Σ bₖuvₖ, differentiated by
+    /// central differences. Receding planes (depth 1:6 across the
+    /// triangle) with texture coordinates far from 0, where weighing q
+    /// twice once underestimated the level of detail by up to half a level.
+    #[test]
+    fn footprint_matches_f64_derivatives_on_receding_planes() {
+        let (width, height) = (320usize, 240usize);
+        let screen = [(20.0f64, 220.0f64), (300.0, 220.0), (160.0, 20.0)];
+        for (ws, uv) in [
+            ([2.0f64, 2.0, 12.0], [(0.0, 3.0), (1.0, 3.0), (0.5, 4.0)]),
+            ([2.0, 9.0, 4.0], [(5.0, 0.0), (6.5, 0.5), (5.0, 2.0)]),
+            ([7.0, 1.5, 1.5], [(-4.0, -4.0), (-2.0, -4.0), (-3.0, -1.0)]),
+        ] {
+            // Clip positions whose projections are `screen` exactly.
+            let clip: [Vec4; 3] = std::array::from_fn(|k| {
+                let (sx, sy) = screen[k];
+                let nx = sx / width as f64 * 2.0 - 1.0;
+                let ny = 1.0 - sy / height as f64 * 2.0;
+                Vec4::new((nx * ws[k]) as f32, (ny * ws[k]) as f32, 0.0, ws[k] as f32)
+            });
+            let bary = [Vec3::X, Vec3::Y, Vec3::Z];
+            let v = std::array::from_fn(|k| ClipVertex {
+                pos: clip[k],
+                bary: bary[k],
+            });
+            let tri = setup(v, width, height, 0).unwrap();
+            let uv32 = uv.map(|(u, v)| Vec2::new(u as f32, v as f32));
+            let fp = FootprintSetup::new(&tri, &uv32);
+            // u, v at screen point (x, y), from the 3D barycentrics.
+            let uv_at = |x: f64, y: f64| -> (f64, f64) {
+                let nx = x / width as f64 * 2.0 - 1.0;
+                let ny = 1.0 - y / height as f64 * 2.0;
+                let p = clip.map(|c| c.as_dvec4());
+                let rows = [
+                    p.map(|c| c.x - nx * c.w),
+                    p.map(|c| c.y - ny * c.w),
+                    [1.0; 3],
+                ];
+                let m = glam::DMat3::from_cols_array_2d(&rows).transpose();
+                let b = m.inverse() * glam::DVec3::new(0.0, 0.0, 1.0);
+                (
+                    b.x * uv[0].0 + b.y * uv[1].0 + b.z * uv[2].0,
+                    b.x * uv[0].1 + b.y * uv[1].1 + b.z * uv[2].1,
+                )
+            };
+            let mut checked = 0;
+            for py in (30..215).step_by(7) {
+                for px in (30..290).step_by(7) {
+                    let (x, y) = (px as f64 + 0.5, py as f64 + 0.5);
+                    let fixed = |c: f64| (c * super::ONE as f64) as i64;
+                    let e = tri.edges(fixed(x), fixed(y));
+                    if e.iter().any(|&e| e <= 0) {
+                        continue;
+                    }
+                    let l = e.map(|e| e as f32 / tri.area as f32);
+                    let w = [0, 1, 2].map(|k| l[k] * tri.q[k]);
+                    let got = fp.at(w, w[0] + w[1] + w[2]);
+                    let h = 1e-3;
+                    let d = |a: (f64, f64), b: (f64, f64)| {
+                        Vec2::new(
+                            ((b.0 - a.0) / (2.0 * h)) as f32,
+                            ((b.1 - a.1) / (2.0 * h)) as f32,
+                        )
+                    };
+                    let want_dx = d(uv_at(x - h, y), uv_at(x + h, y));
+                    let want_dy = d(uv_at(x, y - h), uv_at(x, y + h));
+                    // f32 arithmetic on values near 5 with per-pixel steps
+                    // near 0.01: a few parts in 10⁴ of the longer side.
+                    let scale = want_dx.length().max(want_dy.length());
+                    let err = (got.dx - want_dx).length().max((got.dy - want_dy).length());
+                    assert!(
+                        err <= 1e-3 * scale,
+                        "{px},{py} {ws:?}: got {:?} want {want_dx} {want_dy}",
+                        got
+                    );
+                    checked += 1;
+                }
+            }
+            assert!(checked > 300, "{checked}");
+        }
+    }
 
     /// The span solved per edge is the run of pixels the one-pixel test
     /// accepts, for edges rising, falling and flat, with and without bias.

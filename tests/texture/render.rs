@@ -196,3 +196,73 @@ fn texture_mapping_is_perspective_correct_across_both_triangles() {
     // mapping over a depth range of 1.38:1 would be off by up to about 0.08.
     assert!(worst < 0.02, "u off by {worst}");
 }
+
+/// One quad facing +Z with its texture coordinates shifted by `dv` in v.
+fn quad(dv: f32) -> relief::scene::Mesh {
+    let text = format!(
+        "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
+         vt 0 {a}\nvt 1 {a}\nvt 1 {b}\nvt 0 {b}\n\
+         f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n",
+        a = dv,
+        b = 1.0 + dv,
+    );
+    relief::scene::obj::parse("quad.obj", text).unwrap()
+}
+
+/// The texture repeats, so adding a whole number to every v changes no
+/// texel and no footprint: with the mip filters too, the picture must stay
+/// the same within rounding. (The footprint once differentiated Σuv·q²·l /
+/// Σq·l, which grows with v: 2062 of 2578 pixels moved by more than 2 with
+/// nearest-mip, up to 54.)
+#[test]
+fn whole_number_uv_shifts_change_no_mip_filtered_pixel() {
+    let brick = Arc::new(builtins()[0].load().unwrap());
+    let noise: Vec<[f32; 4]> = (0..256 * 256u32)
+        .map(|i| {
+            let h = i.wrapping_mul(0x9e37_79b9).rotate_left(13) ^ i;
+            let g = (h.wrapping_mul(0x85eb_ca6b) >> 24) as f32 / 255.0;
+            [g, 1.0 - g, 0.5 * g, g]
+        })
+        .collect();
+    let noise = Arc::new(Texture::new(
+        "noise",
+        relief::texture::Level {
+            width: 256,
+            height: 256,
+            texels: noise,
+        },
+    ));
+    let (w, h) = (240, 180);
+    for tex in [&brick, &noise] {
+        for filter in [Filter::NearestMip, Filter::Trilinear, Filter::Anisotropic] {
+            let settings = Settings {
+                bump: false,
+                filter,
+                rotation: Vec3::new(-72.0, 0.0, 0.0),
+                ..Settings::default()
+            };
+            let frame = |dv: f32| {
+                let scene = Scene::model(quad(dv), Arc::clone(tex));
+                render_frame(&scene, &settings, w, h).0
+            };
+            let (a, b) = (frame(0.0), frame(3.0));
+            let (mut covered, mut moved, mut worst) = (0, 0, 0);
+            for (p, q) in a.pixels().iter().zip(b.pixels()) {
+                if *p == relief::scene::BACKGROUND {
+                    continue;
+                }
+                covered += 1;
+                let d = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap();
+                worst = worst.max(d);
+                moved += (d > 2) as usize;
+            }
+            assert!(covered > 1200, "{covered}");
+            // Rounding may flip a level or a texel at a handful of pixels.
+            assert!(
+                moved * 200 <= covered,
+                "{} {filter:?}: {moved} of {covered} moved, worst {worst}",
+                tex.name
+            );
+        }
+    }
+}
