@@ -4,7 +4,9 @@
 //! Nearness is measured in OKLab with hue differences weighted up
 //! ([`HUE_WEIGHT`]) and chroma lost weighted up ([`CHROMA_LOSS_WEIGHT`]), so a
 //! dull red goes to a red cube entry rather than to the grey of the same
-//! lightness. The table has 64 levels per channel, even in lightness rather
+//! lightness. The 16 colours also weigh chroma gained up
+//! ([`CHROMA_GAIN_WEIGHT_16`]): their nearest chromatic entries are full
+//! primaries, and without it a grey or a dark tint takes one. The table has 64 levels per channel, even in lightness rather
 //! than in sRGB (2¹⁸ bins, each answered for the bin's centre), and is built
 //! the first time a palette is used. Each bin also keeps the second-best entry (so a
 //! pixel can avoid the background's entry) and an ordered-dither partner
@@ -28,6 +30,24 @@ pub const HUE_WEIGHT: f32 = 2.0;
 /// the plain nearest entry's; at 4 they fall to 15 % but the error grows
 /// 2 % and more pixels jump to a neighbouring hue (`tests/term/colour.rs`).
 pub const CHROMA_LOSS_WEIGHT: f32 = 3.0;
+
+/// With 16 colours, how much more chroma gained counts than lightness: a
+/// hue is added only where the colour really has one. The ANSI colours are
+/// all saturated, so a light grey sits as near to cyan (same lightness, chroma
+/// gained) as to the next grey (lightness off), and plain OKLab or the 256
+/// weights show greys 169–190 as cyan. At 3 the reference frames at 160×96
+/// fall from mean CIELAB ΔE 64 to 27 on the object (docs/colour.md); 2 leaves
+/// 31, 5 gains under 1 more.
+pub const CHROMA_GAIN_WEIGHT_16: f32 = 3.0;
+
+/// A pixel that is not the background but whose nearest entry is the
+/// background's takes its second-best entry only when that one is at most this
+/// many times as far (plain OKLab); otherwise the background's entry is the
+/// honest answer. In 256 colours there is always a near second (the greys); in
+/// 16 colours the second for a dark tint is a full primary or the middle grey,
+/// and forcing it turned every dark pixel of the object bright: (11,3,16)
+/// showed as blue (0,0,238).
+pub const SUBSTITUTE_RATIO_16: f32 = 1.2;
 
 /// Dither only where the two-entry mix has at most this fraction of the
 /// nearest entry's error: a smaller gain is not worth the texture it adds.
@@ -91,7 +111,8 @@ impl Entry {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Pick {
     pub best: u8,
-    /// The next best entry (used where `best` is the background's).
+    /// The next best entry (used where `best` is the background's); `best`
+    /// itself where the next is too far to stand in for it.
     pub second: u8,
     /// The entry ordered dithering mixes in.
     pub partner: u8,
@@ -104,6 +125,17 @@ pub struct Palette {
     pub entries: Vec<Entry>,
     table: Vec<Pick>,
     level: &'static [u8; 256],
+    weights: Weights,
+}
+
+/// How a palette weighs the parts of the distance that picks entries.
+#[derive(Clone, Copy, Debug)]
+struct Weights {
+    hue: f32,
+    chroma_loss: f32,
+    chroma_gain: f32,
+    /// See [`SUBSTITUTE_RATIO_16`]; infinite: the second is always offered.
+    substitute: f32,
 }
 
 const BITS: u32 = 6;
@@ -174,7 +206,13 @@ impl Palette {
                     [grey_level(i); 3],
                 ));
             }
-            Palette::build(entries, candidates_256)
+            let weights = Weights {
+                hue: HUE_WEIGHT,
+                chroma_loss: CHROMA_LOSS_WEIGHT,
+                chroma_gain: 1.0,
+                substitute: f32::INFINITY,
+            };
+            Palette::build(entries, candidates_256, weights)
         })
     }
 
@@ -183,7 +221,13 @@ impl Palette {
         static P: OnceLock<Palette> = OnceLock::new();
         P.get_or_init(|| {
             let entries = ANSI16.iter().map(|&(rgb, c)| Entry::new(c, rgb)).collect();
-            Palette::build(entries, |_, out| out.extend(0..16))
+            let weights = Weights {
+                hue: HUE_WEIGHT,
+                chroma_loss: CHROMA_LOSS_WEIGHT,
+                chroma_gain: CHROMA_GAIN_WEIGHT_16,
+                substitute: SUBSTITUTE_RATIO_16,
+            };
+            Palette::build(entries, |_, out| out.extend(0..16), weights)
         })
     }
 
@@ -212,7 +256,7 @@ impl Palette {
         let (mut best, mut second) = ((f32::MAX, 0u8), (f32::MAX, 0u8));
         for &i in candidates {
             let e = &self.entries[i as usize];
-            let d = weighted2(lab, chroma, e);
+            let d = weighted2(self.weights, lab, chroma, e);
             if d < best.0 {
                 second = best;
                 best = (d, i);
@@ -223,12 +267,13 @@ impl Palette {
         (best.1, second.1)
     }
 
-    fn build(entries: Vec<Entry>, candidates: fn(Rgb, &mut Vec<u8>)) -> Palette {
+    fn build(entries: Vec<Entry>, candidates: fn(Rgb, &mut Vec<u8>), weights: Weights) -> Palette {
         let ch = channel();
         let mut palette = Palette {
             entries,
             table: Vec::new(),
             level: &ch.level,
+            weights,
         };
         let srgb = |lin: f32| (super::oklab::from_linear(lin) * 255.0).round() as u8;
         let mut table = Vec::with_capacity(LEVELS * LEVELS * LEVELS);
@@ -252,6 +297,14 @@ impl Palette {
         let lab = lab_from_linear(lin);
         let (best, second) = self.ranked(lab, cands);
         let p0 = &self.entries[best as usize];
+        // No second where it is much further than the best (see
+        // SUBSTITUTE_RATIO_16): the quantizer then keeps the best.
+        let far = lab.distance(self.entries[second as usize].lab);
+        let second = if far > self.weights.substitute * lab.distance(p0.lab) {
+            best
+        } else {
+            second
+        };
         // The dither partner sits on the other side of the colour from the
         // best entry: the entry nearest to the colour mirrored through it.
         let mirrored = Lab {
@@ -295,8 +348,8 @@ impl Palette {
         let f = share as f32 / 16.0;
         let mix = lab_from_linear(std::array::from_fn(|k| p0.linear[k] + f * d[k]));
         let chroma = lab.chroma();
-        let err0 = weighted2(lab, chroma, p0);
-        let err_mix = weighted2_lab(lab, chroma, mix, mix.chroma());
+        let err0 = weighted2(self.weights, lab, chroma, p0);
+        let err_mix = weighted2_lab(self.weights, lab, chroma, mix, mix.chroma());
         if err_mix < DITHER_GAIN * DITHER_GAIN * err0 {
             pick.share = share;
         }
@@ -306,20 +359,24 @@ impl Palette {
 
 /// The distance that picks entries: squared OKLab distance split into
 /// lightness, chroma and hue (ΔE² = ΔL² + ΔC² + ΔH², ΔH² = Δa² + Δb² − ΔC²),
-/// with hue differences and chroma lost weighted up.
+/// with hue differences and chroma lost (and, in 16 colours, gained) weighted up.
 #[inline]
-fn weighted2(lab: Lab, chroma: f32, e: &Entry) -> f32 {
-    weighted2_lab(lab, chroma, e.lab, e.chroma)
+fn weighted2(w: Weights, lab: Lab, chroma: f32, e: &Entry) -> f32 {
+    weighted2_lab(w, lab, chroma, e.lab, e.chroma)
 }
 
 #[inline]
-fn weighted2_lab(lab: Lab, chroma: f32, other: Lab, other_chroma: f32) -> f32 {
+fn weighted2_lab(w: Weights, lab: Lab, chroma: f32, other: Lab, other_chroma: f32) -> f32 {
     let dl = lab.l - other.l;
     let (da, db) = (lab.a - other.a, lab.b - other.b);
     let dc = chroma - other_chroma;
     let dh2 = (da * da + db * db - dc * dc).max(0.0);
-    let wc = if dc > 0.0 { CHROMA_LOSS_WEIGHT } else { 1.0 };
-    dl * dl + wc * dc * dc + HUE_WEIGHT * dh2
+    let wc = if dc > 0.0 {
+        w.chroma_loss
+    } else {
+        w.chroma_gain
+    };
+    dl * dl + wc * dc * dc + w.hue * dh2
 }
 
 /// Entries of the 256-colour palette worth comparing for `rgb`: the cube

@@ -160,18 +160,24 @@ fn reference_frame_keeps_its_hues_at_the_same_error() {
         let (g_old, g_new) = (chromatic_to_grey(&fb, &old), chromatic_to_grey(&fb, &new));
         // The palette bounds the error: the former mapping was already within
         // a few per cent of the nearest entry. The gain is in the hues kept.
-        let bound = if depth == ColorDepth::Palette256 {
-            1.02
+        if depth == ColorDepth::Palette256 {
+            assert!(e_new <= 1.02 * e_old, "{e_new} vs {e_old}");
+            assert!(g_new < 0.6 * g_old, "{g_new} vs {g_old}");
         } else {
-            1.05
-        };
-        assert!(e_new <= bound * e_old, "{e_new} vs {e_old}");
-        assert!(g_new < 0.6 * g_old, "{g_new} vs {g_old}");
+            // 16 colours: dark tints now go to black (a grey) rather than to
+            // a full primary, so fewer chromatic pixels stay chromatic than
+            // in 256 colours, but still fewer go grey than before, and the
+            // OKLab error does not grow (0.2042 → 0.2018; in CIELAB, where
+            // dark differences weigh more, it halves: see the test below).
+            assert!(e_new <= e_old, "{e_new} vs {e_old}");
+            assert!(g_new < g_old, "{g_new} vs {g_old}");
+        }
     }
 }
 
 /// Every pixel that is not the background is shown in another colour than
-/// the background.
+/// the background; in 16 colours, unless the background's entry (black) is
+/// the pixel's nearest in CIELAB (`SUBSTITUTE_RATIO_16`).
 fn assert_clear_of_background(fb: &Framebuffer, depth: ColorDepth, dither: bool) {
     let pic = shown(fb, depth, dither);
     let bg = shown_rgb(depth.map(BACKGROUND, false, 0, 0), BACKGROUND);
@@ -179,6 +185,16 @@ fn assert_clear_of_background(fb: &Framebuffer, depth: ColorDepth, dither: bool)
     for (i, (&p, &q)) in fb.pixels().iter().zip(pic.pixels()).enumerate() {
         if p != BACKGROUND {
             lit += 1;
+            if depth == ColorDepth::Palette16 && q == bg {
+                let d = |e: [u8; 3]| delta_e(cielab(p), cielab(e));
+                let others = ANSI16
+                    .iter()
+                    .filter(|(e, _)| *e != bg)
+                    .map(|&(e, _)| d(e))
+                    .fold(f64::MAX, f64::min);
+                assert!(d(bg) < others, "{depth:?} pixel {i} {p:?}");
+                continue;
+            }
             assert_ne!(q, bg, "{depth:?} pixel {i} {p:?}");
         } else {
             assert_eq!(q, bg, "{depth:?}: the background is one colour");
@@ -208,9 +224,116 @@ fn the_flat_shaded_left_face_stays_apart_from_the_background() {
     // The former mapping put both on grey 234 / black.
     assert_eq!(before::nearest_256(face), before::nearest_256(BACKGROUND));
     assert_eq!(before::nearest_16(face), before::nearest_16(BACKGROUND));
-    for depth in [ColorDepth::Palette256, ColorDepth::Palette16] {
-        let q = depth.quantizer(BACKGROUND);
-        assert_ne!(q.pick(face, false, 0, 0), q.pick(BACKGROUND, false, 0, 0));
+    let q = ColorDepth::Palette256.quantizer(BACKGROUND);
+    assert_ne!(q.pick(face, false, 0, 0), q.pick(BACKGROUND, false, 0, 0));
+    // In 16 colours the only entry near it is black, the background's: any
+    // other (red 205,0,0 was taken) is 4 to 8 times as far in CIELAB.
+    let q = ColorDepth::Palette16.quantizer(BACKGROUND);
+    assert_eq!(q.pick(face, false, 0, 0), Color::Black);
+}
+
+#[test]
+fn dark_tints_and_greys_keep_no_hue_in_16_colours() {
+    let q = ColorDepth::Palette16.quantizer(BACKGROUND);
+    // Near-black tints: black is nearest in RGB, CIELAB and OKLab alike
+    // (they went to blue 0,0,238 and red 205,0,0).
+    for dark in [[11, 3, 16], [38, 17, 12], [20, 10, 30], [5, 12, 6]] {
+        assert_eq!(ANSI16[nearest_16(dark)].1, Color::Black, "{dark:?}");
+        assert_eq!(q.pick(dark, false, 0, 0), Color::Black, "{dark:?}");
+    }
+    // Every grey goes to a grey entry (169..=190 went to cyan).
+    let greys = [Color::Black, Color::DarkGray, Color::Gray, Color::White];
+    for v in 0..=255u8 {
+        let c = ANSI16[nearest_16([v; 3])].1;
+        assert!(greys.contains(&c), "grey {v} -> {c:?}");
+        for dither in [false, true] {
+            for (x, y) in [(0, 0), (1, 0), (2, 1), (3, 3)] {
+                let c = q.pick([v; 3], dither, x, y);
+                assert!(greys.contains(&c), "grey {v} -> {c:?}");
+            }
+        }
+    }
+    // A real hue stays: the brick reds, a clear blue and green.
+    assert_eq!(ANSI16[nearest_16([150, 62, 45])].1, Color::Red);
+    let blue = ANSI16[nearest_16([40, 60, 200])].1;
+    assert!([Color::Blue, Color::LightBlue].contains(&blue), "{blue:?}");
+    assert_eq!(ANSI16[nearest_16([40, 180, 60])].1, Color::Green);
+}
+
+/// CIE 1976 L*a*b* (D65) of an sRGB colour: the measure the comparison
+/// with other programs used (docs/colour.md).
+fn cielab(rgb: [u8; 3]) -> [f64; 3] {
+    let lin = rgb.map(|c| {
+        let c = c as f64 / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    });
+    let xyz = [
+        (0.4124564 * lin[0] + 0.3575761 * lin[1] + 0.1804375 * lin[2]) / 0.95047,
+        0.2126729 * lin[0] + 0.7151522 * lin[1] + 0.0721750 * lin[2],
+        (0.0193339 * lin[0] + 0.1191920 * lin[1] + 0.9503041 * lin[2]) / 1.08883,
+    ];
+    let d = 6.0f64 / 29.0;
+    let f = xyz.map(|t| {
+        if t > d * d * d {
+            t.cbrt()
+        } else {
+            t / (3.0 * d * d) + 4.0 / 29.0
+        }
+    });
+    [
+        116.0 * f[1] - 16.0,
+        500.0 * (f[0] - f[1]),
+        200.0 * (f[1] - f[2]),
+    ]
+}
+
+/// CIE 1976 ΔE.
+fn delta_e(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// Mean CIELAB ΔE between the frame and what a terminal shows, over the
+/// pixels that are not the background.
+fn object_delta_e(fb: &Framebuffer, pic: &Framebuffer) -> f64 {
+    let (mut n, mut sum) = (0usize, 0.0f64);
+    for (&p, &q) in fb.pixels().iter().zip(pic.pixels()) {
+        if p != BACKGROUND {
+            sum += delta_e(cielab(p), cielab(q));
+            n += 1;
+        }
+    }
+    sum / n as f64
+}
+
+#[test]
+fn sixteen_colours_stay_near_the_full_colour_frame() {
+    // The frames of the chafa comparison (docs/colour.md), at 160×96.
+    let brick = Arc::new(relief::texture::procedural::brick());
+    let scenes = [
+        ("cube", Scene::cube(brick.clone(), false)),
+        (
+            "sphere",
+            Scene::model(relief::scene::sphere::sphere(), brick),
+        ),
+    ];
+    for (model, scene) in scenes {
+        let mut fb = Framebuffer::new(160, 96);
+        Renderer::new().render(&scene, &Settings::default(), &mut fb);
+        let plain = object_delta_e(&fb, &shown(&fb, ColorDepth::Palette16, false));
+        let dithered = object_delta_e(&fb, &shown(&fb, ColorDepth::Palette16, true));
+        let full256 = object_delta_e(&fb, &shown(&fb, ColorDepth::Palette256, false));
+        println!(
+            "{model}: 16 colours ΔE {plain:.1}, with --dither {dithered:.1}; 256 colours {full256:.1}"
+        );
+        // Measured 26.7 (cube) and 26.9 (sphere), from 63.5 and 68.2 before;
+        // chafa -c 16 -p off: 32.5 and 31.7. 256 colours: 15.2 and 17.4.
+        assert!(plain < 30.0, "{model}: {plain}");
+        assert!(dithered < 32.0, "{model}: {dithered}");
+        assert!(full256 < 18.0, "{model}: {full256}");
     }
 }
 
