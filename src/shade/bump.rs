@@ -5,6 +5,7 @@ use glam::Vec3;
 
 use super::core::{Hook, HookAt};
 use super::kernels::ShadeCtx;
+use super::lanes::{Lanes, Vector};
 use super::tangent::Surface;
 use crate::settings::{Filter, HeightDerivative};
 use crate::stats::Counters;
@@ -58,16 +59,16 @@ impl<const BUMP: bool> Hook for Blinn<BUMP> {
 /// mirrored UVs it points the other way and the perturbation changes sign
 /// with it, so raised stays raised. A perturbation that cancels the normal
 /// (or any non-finite input) falls back to the unperturbed normal.
-#[inline]
-pub fn blinn(n: Vec3, pu: Vec3, pv: Vec3, fu: f32, fv: f32, k: f32) -> Vec3 {
-    let k = if pu.cross(pv).dot(n) < 0.0 { -k } else { k };
-    let perturbed = n + k * (fu * n.cross(pv) - fv * n.cross(pu));
-    let len2 = perturbed.length_squared();
-    if len2 > 1e-20 && len2.is_finite() {
-        perturbed / len2.sqrt()
-    } else {
-        n
-    }
+/// Written once for one normal or eight (`shade::lanes`).
+#[inline(always)]
+pub fn blinn<V: Vector>(n: V, pu: V, pv: V, fu: V::L, fv: V::L, k: f32) -> V {
+    let flip = pu.cross(pv).dot(n).lt(V::L::ZERO);
+    let k = V::L::select(flip, V::L::splat(-k), V::L::splat(k));
+    let perturbed = n + (n.cross(pv) * fu - n.cross(pu) * fv) * k;
+    let len2 = perturbed.dot(perturbed);
+    let inf = V::L::splat(f32::INFINITY);
+    let ok = V::L::both(len2.gt(V::L::splat(1e-20)), || len2.lt(inf));
+    V::select(ok, perturbed / len2.sqrt(), n)
 }
 
 #[cfg(test)]

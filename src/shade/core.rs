@@ -106,10 +106,13 @@ pub fn shade_pixel<H: Hook, const TEX: bool, const SPEC: bool>(
             highlight *= gloss(map, at.uv);
         }
         let lit = albedo * light + highlight;
-        return finish(mirror(plan, s.p, at.n, lit, counters), counters);
+        return finish(mirror(plan, s.p, at.n, lit, 1, counters), counters);
     }
     let (light, _) = light_with::<false>(&set, s.p, at.n, Vec3::ZERO, cosine, visibility, counters);
-    finish(mirror(plan, s.p, at.n, albedo * light, counters), counters)
+    finish(
+        mirror(plan, s.p, at.n, albedo * light, 1, counters),
+        counters,
+    )
 }
 
 /// The specular map of the plan, when `glossy` triangles read one.

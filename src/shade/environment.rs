@@ -4,61 +4,52 @@
 //! while the model turns. The lit colour and the reflection are mixed:
 //! c = (1 − k)·lit + k·env(R), k the plan's reflectivity.
 //!
-//! The one-pixel and eight-pixel forms do the same operations in the same
-//! order (packets stay bit for bit equal to the one-pixel kernels); the
-//! environment is read lane by lane with the one-pixel lookup.
+//! Written once for one point or eight (`shade::lanes`), so packets stay bit
+//! for bit equal to the one-pixel kernels; the environment is read lane by
+//! lane with the one-pixel lookup.
 
-use glam::Vec3;
-use wide::f32x8;
-
-use super::packet::{LANES, V3};
-use super::specular::{view_dir, view_dir8};
+use super::lanes::{Lanes, Vector};
+use super::specular::view_dir;
 use crate::plan::Plan;
 use crate::stats::Counters;
 
 /// The mirror direction of the unit `view` (toward the eye) about the unit
 /// normal `n`: reflect(−V, N) = 2(N·V)N − V.
-#[inline]
-pub fn reflect(view: Vec3, n: Vec3) -> Vec3 {
-    n * (2.0 * n.dot(view)) - view
+#[inline(always)]
+pub fn reflect<V: Vector>(view: V, n: V) -> V {
+    n * (V::L::splat(2.0) * n.dot(view)) - view
 }
 
-/// `lit` with the plan's environment mixed in at the point `p` of normal
-/// `n`; `lit` itself when the plan has no environment.
+/// `lit` with the plan's environment mixed in at the point(s) `p` of normal
+/// `n`; `lit` itself when the plan has no environment. `live` has a bit per
+/// covered lane: only those are read and counted (1 for one pixel).
 #[inline(always)]
-pub fn mirror(plan: &Plan, p: Vec3, n: Vec3, lit: Vec3, counters: &mut Counters) -> Vec3 {
-    let Some(env) = &plan.environment else {
-        return lit;
-    };
-    counters.env_lookups += 1;
-    let r = reflect(view_dir(plan.eye, p), n);
-    let k = env.reflectivity;
-    lit * (1.0 - k) + env.map.lookup(r) * k
-}
-
-/// `reflect` at eight points.
-#[inline(always)]
-pub fn reflect8(view: V3, n: V3) -> V3 {
-    n.scale(f32x8::splat(2.0) * n.dot(view)).minus(view)
-}
-
-/// `mirror` at eight points (`live` has a bit per covered lane: only those
-/// are read and counted).
-#[inline(always)]
-pub fn mirror8(plan: &Plan, p: V3, n: V3, lit: V3, live: u32, counters: &mut Counters) -> V3 {
+pub fn mirror<V: Vector>(plan: &Plan, p: V, n: V, lit: V, live: u32, counters: &mut Counters) -> V {
     let Some(env) = &plan.environment else {
         return lit;
     };
     counters.env_lookups += live.count_ones() as u64;
-    let r = reflect8(view_dir8(plan.eye, p), n);
-    let (x, y, z) = (r.x.to_array(), r.y.to_array(), r.z.to_array());
-    let mut seen = [[0.0f32; LANES]; 3];
-    for lane in (0..LANES).filter(|l| live & (1 << l) != 0) {
-        let c = env.map.lookup(Vec3::new(x[lane], y[lane], z[lane]));
-        (seen[0][lane], seen[1][lane], seen[2][lane]) = (c.x, c.y, c.z);
-    }
-    let [x, y, z] = seen.map(f32x8::from);
+    let r = reflect(view_dir(plan.eye, p), n);
     let k = env.reflectivity;
-    lit.scale(f32x8::splat(1.0 - k))
-        .plus(V3 { x, y, z }.scale(f32x8::splat(k)))
+    let seen = r.each_live(live, |r| env.map.lookup(r));
+    lit * V::L::splat(1.0 - k) + seen * V::L::splat(k)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn reflection_of_a_head_on_view_is_the_view() {
+        assert_eq!(reflect(Vec3::Z, Vec3::Z), Vec3::Z);
+    }
+
+    #[test]
+    fn reflection_keeps_the_normal_part_and_flips_the_rest() {
+        // 45° onto the +Z plane: the tangent part flips, the normal part stays.
+        let v = Vec3::new(1.0, 0.0, 1.0).normalize();
+        let r = reflect(v, Vec3::Z);
+        assert!((r - Vec3::new(-v.x, 0.0, v.z)).length() < 1e-6, "{r}");
+    }
 }

@@ -4,11 +4,13 @@ use glam::{Vec2, Vec3};
 use wide::f32x8;
 
 use super::bump::Blinn;
+use super::bump::blinn;
 use super::core::{gloss_map, shade_pixel};
-use super::environment::mirror8;
-use super::lighting::finish;
+use super::environment::mirror;
+use super::lanes::Vector;
+use super::lighting::{LightSet, diffuse, finish, lambert, light_lanes};
 use super::packet::{self, LANES, V3};
-use super::specular::{gloss, gloss8, view_dir8};
+use super::specular::{gloss, gloss8, view_dir};
 use crate::framebuffer::Rgb;
 use crate::plan::Plan;
 use crate::settings::{Filter, HeightDerivative};
@@ -357,7 +359,7 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
         counters.pixels_shaded += count;
         let p = packet::lerp3(&b, &tri.position);
         let mut n = if tri.smooth {
-            packet::normalize_or(packet::lerp3(&b, &tri.normal), tri.face_normal)
+            packet::lerp3(&b, &tri.normal).normalize_or(tri.face_normal)
         } else {
             V3::splat(tri.face_normal)
         };
@@ -405,32 +407,32 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
                         packet::lerp3(&b, &tri.tangent_v),
                     )
                 };
-                n = packet::blinn(n, pu, pv, t.fu, t.fv, plan.bump_strength);
+                n = blinn(n, pu, pv, t.fu, t.fv, plan.bump_strength);
             }
         }
         counters.light_evals += count * plan.lights.len() as u64;
-        if let (true, Some(spec)) = (SPEC, &plan.specular) {
+        if SPEC && plan.specular.is_some() {
             counters.specular_evals += count * plan.lights.len() as u64;
-            let view = view_dir8(plan.eye, p);
-            let (light, mut highlight) = packet::light::<true>(
-                &plan.lights,
-                plan.ambient,
+            let view = view_dir(plan.eye, p);
+            let (light, mut highlight) = light_lanes::<V3, true>(
+                &LightSet::of(plan),
                 p,
                 n,
-                plan.attenuation,
                 view,
-                spec.shininess,
+                |_, d, _| lambert(n, d),
+                |_, _, _| f32x8::ONE,
+                counters,
             );
             if let Some(map) = gloss_map(ctx, tri.glossy) {
                 let (u, v) = packet::lerp2(&b, &tri.uv);
                 highlight = highlight.scale(gloss8(map, u, v));
             }
             let lit = albedo.times(light).plus(highlight);
-            return packet::finish(mirror8(plan, p, n, lit, live, counters), live, counters);
+            return packet::finish(mirror(plan, p, n, lit, live, counters), live, counters);
         }
-        let light = packet::diffuse(&plan.lights, plan.ambient, p, n, plan.attenuation);
+        let light = diffuse(&plan.lights, plan.ambient, p, n, plan.attenuation);
         packet::finish(
-            mirror8(plan, p, n, albedo.times(light), live, counters),
+            mirror(plan, p, n, albedo.times(light), live, counters),
             live,
             counters,
         )

@@ -3,6 +3,7 @@
 
 use glam::Vec3;
 
+use super::lanes::{Lanes, Vector};
 use super::specular::blinn_phong;
 use crate::plan::{ActiveLight, Plan};
 use crate::stats::Counters;
@@ -11,10 +12,17 @@ use crate::stats::Counters;
 /// (about 0.6 at the white light's distance).
 pub const ATTENUATION_QUADRATIC: f32 = 0.01;
 
-/// The light reaching a point `p` with unit normal `n` (RGB, not clamped).
+/// The light reaching a point `p` with unit normal `n` (RGB, not clamped),
+/// at one point or eight (no shadows, nothing counted).
 /// A light exactly at `p` (distance 0) has no direction and adds nothing.
-#[inline]
-pub fn diffuse(lights: &[ActiveLight], ambient: Vec3, p: Vec3, n: Vec3, attenuation: bool) -> Vec3 {
+#[inline(always)]
+pub fn diffuse<V: Vector>(
+    lights: &[ActiveLight],
+    ambient: Vec3,
+    p: V,
+    n: V,
+    attenuation: bool,
+) -> V {
     let set = LightSet {
         lights,
         ambient,
@@ -22,13 +30,13 @@ pub fn diffuse(lights: &[ActiveLight], ambient: Vec3, p: Vec3, n: Vec3, attenuat
         shininess: 0.0,
     };
     let mut unused = Counters::default();
-    light_with::<false>(
+    light_lanes::<V, false>(
         &set,
         p,
         n,
-        Vec3::ZERO,
+        V::uniform(Vec3::ZERO),
         |_, d, _| lambert(n, d),
-        |_, _| 1.0,
+        |_, _, _| V::L::ONE,
         &mut unused,
     )
     .0
@@ -57,24 +65,24 @@ impl<'a> LightSet<'a> {
     }
 }
 
-/// Lambert's cosine N·L for a light `d` away, or 0 where the light is
-/// behind: the sign is tested before normalising, so most back-lit points
-/// stop at one dot product. (A zero or non-finite `d` gives 0 or NaN, which
-/// the light loop skips.)
+/// Lambert's cosine N·L for a light `d` away where the light faces the
+/// point; where it is behind, 0 for one pixel and a value ≤ 0 (or NaN) in
+/// the other lanes. The sign is tested before normalising, so most
+/// back-lit points (and packets) stop at one dot product. (A zero or
+/// non-finite `d` gives 0 or NaN, which the light loop skips.)
 #[inline(always)]
-pub fn lambert(n: Vec3, d: Vec3) -> f32 {
+pub fn lambert<V: Vector>(n: V, d: V) -> V::L {
     let ndl = n.dot(d);
-    if ndl > 0.0 {
-        ndl / d.length_squared().sqrt()
-    } else {
-        0.0
+    if V::L::none(ndl.gt(V::L::ZERO)) {
+        return V::L::ZERO;
     }
+    ndl / d.dot(d).sqrt()
 }
 
 /// The one light loop, for every kernel: ambient plus, for each light that
 /// reaches `p`, its colour × cosine (clamped to 1), and when `SPEC` the
 /// Blinn-Phong highlight (N·H)^s of the normal `n` seen from the unit
-/// direction `view` (docs/specular.md). `cosine(i, d, len2, counters)` is
+/// direction `view` (docs/specular.md). `cosine(i, d, counters)` is
 /// the technique's N·L for light `i` at `d` = light − p: Lambert's for
 /// most, emboss and dot3 have their own. A light adds only
 /// where its cosine is positive, both terms scaled by the same attenuation
@@ -86,7 +94,7 @@ pub fn light_with<const SPEC: bool>(
     p: Vec3,
     n: Vec3,
     view: Vec3,
-    mut cosine: impl FnMut(usize, Vec3, &mut Counters) -> f32,
+    cosine: impl FnMut(usize, Vec3, &mut Counters) -> f32,
     mut visibility: impl FnMut(usize, &mut Counters) -> f32,
     counters: &mut Counters,
 ) -> (Vec3, Vec3) {
@@ -94,30 +102,54 @@ pub fn light_with<const SPEC: bool>(
     if SPEC {
         counters.specular_evals += set.lights.len() as u64;
     }
-    let mut sum = set.ambient;
-    let mut highlight = Vec3::ZERO;
+    let visibility = |i, _reached: bool, counters: &mut Counters| visibility(i, counters);
+    light_lanes::<Vec3, SPEC>(set, p, n, view, cosine, visibility, counters)
+}
+
+/// `light_with` at one point or eight (`V`), without its counts (a packet
+/// counts its live lanes). `visibility(i, reached, counters)` is asked once
+/// per light that reaches some lane, with the mask of the lanes it reaches.
+#[inline(always)]
+pub fn light_lanes<V: Vector, const SPEC: bool>(
+    set: &LightSet,
+    p: V,
+    n: V,
+    view: V,
+    mut cosine: impl FnMut(usize, V, &mut Counters) -> V::L,
+    mut visibility: impl FnMut(usize, <V::L as Lanes>::Mask, &mut Counters) -> V::L,
+    counters: &mut Counters,
+) -> (V, V) {
+    let zero = V::L::ZERO;
+    let mut sum = V::uniform(set.ambient);
+    let mut highlight = V::uniform(Vec3::ZERO);
     for (i, light) in set.lights.iter().enumerate() {
-        let d = light.position - p;
+        let d = V::uniform(light.position) - p;
         let mut k = cosine(i, d, counters);
         // A light at the point, or out of range, has no direction: nothing.
-        let len2 = d.length_squared();
-        if k > 0.0 && len2 > 0.0 && len2.is_finite() {
-            let mut ks = if SPEC {
-                blinn_phong(n, d, len2, view, set.shininess)
-            } else {
-                0.0
-            };
-            if set.attenuation {
-                k /= 1.0 + ATTENUATION_QUADRATIC * len2;
-                if SPEC {
-                    ks /= 1.0 + ATTENUATION_QUADRATIC * len2;
-                }
-            }
-            let seen = visibility(i, counters);
-            sum += light.color * (k.min(1.0) * seen);
+        let len2 = d.dot(d);
+        let inf = V::L::splat(f32::INFINITY);
+        let reached = V::L::both(k.gt(zero), || V::L::both(len2.gt(zero), || len2.lt(inf)));
+        if V::L::none(reached) {
+            continue;
+        }
+        let mut ks = if SPEC {
+            blinn_phong(n, d, len2, view, set.shininess)
+        } else {
+            zero
+        };
+        if set.attenuation {
+            let fall = V::L::ONE + V::L::splat(ATTENUATION_QUADRATIC) * len2;
+            k = k / fall;
             if SPEC {
-                highlight += light.color * (ks.min(1.0) * seen);
+                ks = ks / fall;
             }
+        }
+        let seen = visibility(i, reached, counters);
+        // A lane the light does not reach adds +0, which leaves its sum as it was.
+        let color = V::uniform(light.color);
+        sum = sum + color * V::L::select(reached, k.min(V::L::ONE) * seen, zero);
+        if SPEC {
+            highlight = highlight + color * V::L::select(reached, ks.min(V::L::ONE) * seen, zero);
         }
     }
     (sum, highlight)

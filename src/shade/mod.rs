@@ -10,6 +10,7 @@ pub mod dot3;
 pub mod emboss;
 pub mod environment;
 pub mod kernels;
+pub mod lanes;
 pub mod lighting;
 pub mod packet;
 pub mod parallax;

@@ -6,12 +6,13 @@
 //! never fuses a multiply and an add behind our back), so a packet gives the
 //! very bits the one-pixel path gives. Only texel fetches are per lane.
 
+use std::ops::{Add, Div, Mul, Sub};
+
 use glam::{Vec2, Vec3};
 use wide::{f32x4, f32x8, i32x8};
 
 use crate::framebuffer::Rgb;
-use crate::plan::ActiveLight;
-use crate::shade::lighting::ATTENUATION_QUADRATIC;
+use crate::shade::lanes::Vector;
 use crate::stats::Counters;
 use crate::texture::Level;
 use crate::texture::level::around;
@@ -100,6 +101,83 @@ impl V3 {
     }
 }
 
+impl Add for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn add(self, o: V3) -> V3 {
+        self.plus(o)
+    }
+}
+
+impl Sub for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn sub(self, o: V3) -> V3 {
+        self.minus(o)
+    }
+}
+
+impl Mul for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn mul(self, o: V3) -> V3 {
+        self.times(o)
+    }
+}
+
+impl Mul<f32x8> for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn mul(self, s: f32x8) -> V3 {
+        self.scale(s)
+    }
+}
+
+impl Div<f32x8> for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn div(self, s: f32x8) -> V3 {
+        V3 {
+            x: self.x / s,
+            y: self.y / s,
+            z: self.z / s,
+        }
+    }
+}
+
+/// Eight lanes for the shading formulas (`shade::lanes`).
+impl Vector for V3 {
+    type L = f32x8;
+    const WIDTH: usize = LANES;
+    #[inline(always)]
+    fn uniform(v: Vec3) -> V3 {
+        V3::splat(v)
+    }
+    #[inline(always)]
+    fn dot(self, o: V3) -> f32x8 {
+        V3::dot(self, o)
+    }
+    #[inline(always)]
+    fn cross(self, o: V3) -> V3 {
+        V3::cross(self, o)
+    }
+    #[inline(always)]
+    fn select(mask: f32x8, a: V3, b: V3) -> V3 {
+        V3::select(mask, a, b)
+    }
+    #[inline(always)]
+    fn each_live(self, live: u32, mut f: impl FnMut(Vec3) -> Vec3) -> V3 {
+        let (x, y, z) = (self.x.to_array(), self.y.to_array(), self.z.to_array());
+        let mut out = [[0.0f32; LANES]; 3];
+        for lane in (0..LANES).filter(|l| live & (1 << l) != 0) {
+            let c = f(Vec3::new(x[lane], y[lane], z[lane]));
+            (out[0][lane], out[1][lane], out[2][lane]) = (c.x, c.y, c.z);
+        }
+        let [x, y, z] = out.map(f32x8::from);
+        V3 { x, y, z }
+    }
+}
+
 /// Perspective-correct barycentrics of eight pixels from their screen-space
 /// ones, as `shade_at` computes them for an unclipped triangle.
 #[inline(always)]
@@ -130,95 +208,6 @@ pub fn lerp2(b: &[f32x8; 3], v: &[Vec2; 3]) -> (f32x8, f32x8) {
         c(0) + f32x8::splat(v[2].x) * b[2],
         c(1) + f32x8::splat(v[2].y) * b[2],
     )
-}
-
-/// `normalize_or(fallback)` of glam, lane-wise.
-#[inline(always)]
-pub fn normalize_or(v: V3, fallback: Vec3) -> V3 {
-    let rcp = f32x8::ONE / v.dot(v).sqrt();
-    let ok = rcp.abs().simd_lt(f32x8::splat(f32::INFINITY)) & rcp.simd_gt(f32x8::ZERO);
-    V3::select(ok, v.scale(rcp), V3::splat(fallback))
-}
-
-/// Blinn's perturbed normal (see `bump::blinn`), lane-wise.
-#[inline(always)]
-pub fn blinn(n: V3, pu: V3, pv: V3, fu: f32x8, fv: f32x8, k: f32) -> V3 {
-    let flip = pu.cross(pv).dot(n).simd_lt(f32x8::ZERO);
-    let k = flip.select(f32x8::splat(-k), f32x8::splat(k));
-    let perturbed = n.plus(n.cross(pv).scale(fu).minus(n.cross(pu).scale(fv)).scale(k));
-    let len2 = perturbed.dot(perturbed);
-    let ok = len2.simd_gt(f32x8::splat(1e-20)) & len2.simd_lt(f32x8::splat(f32::INFINITY));
-    let len = len2.sqrt();
-    let unit = V3 {
-        x: perturbed.x / len,
-        y: perturbed.y / len,
-        z: perturbed.z / len,
-    };
-    V3::select(ok, unit, n)
-}
-
-/// Ambient + Σ colour · max(0, N·L) at eight points (see `lighting::light_with`
-/// without shadows).
-#[inline(always)]
-pub fn diffuse(lights: &[ActiveLight], ambient: Vec3, p: V3, n: V3, attenuation: bool) -> V3 {
-    light::<false>(
-        lights,
-        ambient,
-        p,
-        n,
-        attenuation,
-        V3::splat(Vec3::ZERO),
-        0.0,
-    )
-    .0
-}
-
-/// `lighting::light_with` without shadows at eight points: the diffuse sum
-/// and, when `SPEC`, the highlights seen from the unit directions `view`.
-#[inline(always)]
-pub fn light<const SPEC: bool>(
-    lights: &[ActiveLight],
-    ambient: Vec3,
-    p: V3,
-    n: V3,
-    attenuation: bool,
-    view: V3,
-    shininess: f32,
-) -> (V3, V3) {
-    let mut sum = V3::splat(ambient);
-    let mut highlight = V3::splat(Vec3::ZERO);
-    for light in lights {
-        let d = V3::splat(light.position).minus(p);
-        let ndl = n.dot(d);
-        let facing = ndl.simd_gt(f32x8::ZERO);
-        if facing.none() {
-            continue;
-        }
-        let len2 = d.dot(d);
-        let ok = facing & len2.simd_gt(f32x8::ZERO) & len2.simd_lt(f32x8::splat(f32::INFINITY));
-        let mut k = ndl / len2.sqrt();
-        let mut ks = if SPEC {
-            crate::shade::specular::blinn_phong8(n, d, len2, view, shininess)
-        } else {
-            f32x8::ZERO
-        };
-        if attenuation {
-            let fall = f32x8::ONE + f32x8::splat(ATTENUATION_QUADRATIC) * len2;
-            k /= fall;
-            if SPEC {
-                ks /= fall;
-            }
-        }
-        let s = ok.select(k.fast_min(f32x8::ONE), f32x8::ZERO);
-        let add = V3::splat(light.color).scale(s);
-        // A lane that gets no light adds +0, which leaves its sum as it was.
-        sum = sum.plus(add);
-        if SPEC {
-            let s = ok.select(ks.fast_min(f32x8::ONE), f32x8::ZERO);
-            highlight = highlight.plus(V3::splat(light.color).scale(s));
-        }
-    }
-    (sum, highlight)
 }
 
 /// Quantises eight colours as `finish` does (clamped, rounded, NaN to 0),

@@ -1,0 +1,264 @@
+//! The lane types the shading formulas are written over: one pixel (`f32`,
+//! glam's `Vec3`) or eight (`f32x8`, `packet::V3`) (docs/shading.md).
+//!
+//! Each lighting and bump formula is written once, generic over `Vector`,
+//! the way an ispc kernel is written once for its gang: arithmetic is lane
+//! by lane, a condition is a mask that `select` applies, and a step no lane
+//! needs is skipped (`none`). The one-pixel kernels instantiate the formulas
+//! with `f32`, where a mask is a `bool` and the skip an ordinary branch; the
+//! packet kernels with `f32x8`. Both do the same IEEE adds,
+//! multiplies, divides, square roots and comparisons in the same order (Rust
+//! never fuses a multiply and an add behind our back), and the power is
+//! `f32::powf` lane by lane, so a packet gives the very bits of eight pixels.
+
+use std::ops::{Add, BitAnd, Div, Mul, Sub};
+
+use glam::Vec3;
+use wide::f32x8;
+
+/// One value per lane: `f32` (one pixel) or `f32x8` (eight).
+pub trait Lanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
+{
+    /// A condition per lane.
+    type Mask: Copy + BitAnd<Output = Self::Mask>;
+    const ZERO: Self;
+    const ONE: Self;
+    fn splat(v: f32) -> Self;
+    fn sqrt(self) -> Self;
+    fn abs(self) -> Self;
+    fn gt(self, o: Self) -> Self::Mask;
+    fn lt(self, o: Self) -> Self::Mask;
+    /// The smaller of the two where neither is NaN (a NaN lane is
+    /// unspecified: the formulas select such lanes away).
+    fn min(self, o: Self) -> Self;
+    /// `a` in the lanes of `mask`, `b` in the others.
+    fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
+    /// No lane of `mask` is set.
+    fn none(mask: Self::Mask) -> bool;
+    /// `a` and `b()`: for one pixel `&&`, which skips `b` when `a` is false.
+    fn both(a: Self::Mask, b: impl FnOnce() -> Self::Mask) -> Self::Mask;
+    /// x^e where x > 0, else 0 (also for NaN): `f32::powf` lane by lane.
+    fn pow_positive(self, e: f32) -> Self;
+}
+
+impl Lanes for f32 {
+    type Mask = bool;
+    const ZERO: f32 = 0.0;
+    const ONE: f32 = 1.0;
+    #[inline(always)]
+    fn splat(v: f32) -> f32 {
+        v
+    }
+    #[inline(always)]
+    fn sqrt(self) -> f32 {
+        f32::sqrt(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> f32 {
+        f32::abs(self)
+    }
+    #[inline(always)]
+    fn gt(self, o: f32) -> bool {
+        self > o
+    }
+    #[inline(always)]
+    fn lt(self, o: f32) -> bool {
+        self < o
+    }
+    #[inline(always)]
+    fn min(self, o: f32) -> f32 {
+        f32::min(self, o)
+    }
+    #[inline(always)]
+    fn select(mask: bool, a: f32, b: f32) -> f32 {
+        if mask { a } else { b }
+    }
+    #[inline(always)]
+    fn none(mask: bool) -> bool {
+        !mask
+    }
+    #[inline(always)]
+    fn both(a: bool, b: impl FnOnce() -> bool) -> bool {
+        a && b()
+    }
+    #[inline(always)]
+    fn pow_positive(self, e: f32) -> f32 {
+        if self > 0.0 { self.powf(e) } else { 0.0 }
+    }
+}
+
+impl Lanes for f32x8 {
+    type Mask = f32x8;
+    const ZERO: f32x8 = f32x8::ZERO;
+    const ONE: f32x8 = f32x8::ONE;
+    #[inline(always)]
+    fn splat(v: f32) -> f32x8 {
+        f32x8::splat(v)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> f32x8 {
+        f32x8::sqrt(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> f32x8 {
+        f32x8::abs(self)
+    }
+    #[inline(always)]
+    fn gt(self, o: f32x8) -> f32x8 {
+        self.simd_gt(o)
+    }
+    #[inline(always)]
+    fn lt(self, o: f32x8) -> f32x8 {
+        self.simd_lt(o)
+    }
+    #[inline(always)]
+    fn min(self, o: f32x8) -> f32x8 {
+        self.fast_min(o)
+    }
+    #[inline(always)]
+    fn select(mask: f32x8, a: f32x8, b: f32x8) -> f32x8 {
+        mask.select(a, b)
+    }
+    #[inline(always)]
+    fn none(mask: f32x8) -> bool {
+        mask.none()
+    }
+    #[inline(always)]
+    fn both(a: f32x8, b: impl FnOnce() -> f32x8) -> f32x8 {
+        a & b()
+    }
+    #[inline(always)]
+    fn pow_positive(self, e: f32) -> f32x8 {
+        f32x8::from(self.to_array().map(|x| x.pow_positive(e)))
+    }
+}
+
+/// A 3-vector per lane: glam's `Vec3` for one pixel, `packet::V3` for
+/// eight. The operators are component-wise (`* L` and `/ L` scale every
+/// component), as glam's are.
+pub trait Vector:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Mul<Self::L, Output = Self>
+    + Div<Self::L, Output = Self>
+{
+    type L: Lanes;
+    /// Pixels per value.
+    const WIDTH: usize;
+    /// `v` in every lane.
+    fn uniform(v: Vec3) -> Self;
+    /// glam's `dot`: (x·x') + (y·y') + (z·z').
+    fn dot(self, o: Self) -> Self::L;
+    /// glam's `cross`, term for term.
+    fn cross(self, o: Self) -> Self;
+    /// `a` in the lanes of `mask`, `b` in the others.
+    fn select(mask: <Self::L as Lanes>::Mask, a: Self, b: Self) -> Self;
+    /// `f` of each lane whose bit is set in `live` (0 in the others): a
+    /// lookup made lane by lane. One pixel is always live.
+    fn each_live(self, live: u32, f: impl FnMut(Vec3) -> Vec3) -> Self;
+
+    /// glam's `normalize_or`: `self` over its length, or `fallback` where
+    /// that is not a finite positive scale (zero or non-finite vectors).
+    #[inline(always)]
+    fn normalize_or(self, fallback: Vec3) -> Self {
+        let rcp = <Self::L as Lanes>::ONE / self.dot(self).sqrt();
+        let inf = <Self::L as Lanes>::splat(f32::INFINITY);
+        let ok = rcp.abs().lt(inf) & rcp.gt(<Self::L as Lanes>::ZERO);
+        Self::select(ok, self * rcp, Self::uniform(fallback))
+    }
+}
+
+impl Vector for Vec3 {
+    type L = f32;
+    const WIDTH: usize = 1;
+    #[inline(always)]
+    fn uniform(v: Vec3) -> Vec3 {
+        v
+    }
+    #[inline(always)]
+    fn dot(self, o: Vec3) -> f32 {
+        Vec3::dot(self, o)
+    }
+    #[inline(always)]
+    fn cross(self, o: Vec3) -> Vec3 {
+        Vec3::cross(self, o)
+    }
+    #[inline(always)]
+    fn select(mask: bool, a: Vec3, b: Vec3) -> Vec3 {
+        if mask { a } else { b }
+    }
+    #[inline(always)]
+    fn each_live(self, _live: u32, mut f: impl FnMut(Vec3) -> Vec3) -> Vec3 {
+        f(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shade::packet::V3;
+
+    /// The eight-lane operations give each lane the one-lane result, NaN,
+    /// infinities and signed zeros included.
+    #[test]
+    fn eight_lanes_are_eight_single_lanes() {
+        let a = [0.0, -0.0, 1.5, -2.25, f32::INFINITY, f32::NAN, 1e-30, 3e38];
+        let b = [1.0, 2.0, -0.5, 0.0, 7.0, 1.0, 1e-30, 2.0];
+        let (x, y) = (f32x8::from(a), f32x8::from(b));
+        let lanes = |v: f32x8| v.to_array().map(f32::to_bits);
+        let one = |f: &dyn Fn(f32, f32) -> f32| {
+            std::array::from_fn::<u32, 8, _>(|i| f(a[i], b[i]).to_bits())
+        };
+        assert_eq!(lanes(x.pow_positive(2.5)), one(&|p, _| p.pow_positive(2.5)));
+        assert_eq!(
+            lanes(<f32x8 as Lanes>::select(Lanes::lt(x, y), x, y)),
+            one(&|p, q| if p < q { p } else { q })
+        );
+        // `both` skips its second condition for one lane only.
+        let mut asked = false;
+        assert!(!f32::both(false, || {
+            asked = true;
+            true
+        }));
+        assert!(!asked);
+        let m = <f32x8 as Lanes>::both(Lanes::gt(x, y), || Lanes::lt(x, f32x8::splat(2.0)));
+        let want = std::array::from_fn::<bool, 8, _>(|i| a[i] > b[i] && a[i] < 2.0);
+        assert_eq!(
+            m.to_bitmask(),
+            (0..8).filter(|&i| want[i]).map(|i| 1 << i).sum()
+        );
+    }
+
+    #[test]
+    fn normalize_or_is_glams_in_every_lane() {
+        let vs = [
+            Vec3::new(3.0, 4.0, 0.0),
+            Vec3::ZERO,
+            Vec3::new(f32::NAN, 0.0, 1.0),
+            Vec3::new(1e-30, 0.0, 0.0),
+            Vec3::new(f32::INFINITY, 1.0, 1.0),
+            Vec3::new(-2.0, 0.5, 7.0),
+            Vec3::new(1e20, 1e20, 1e20),
+            Vec3::new(0.0, -0.0, -1.0),
+        ];
+        let v = V3 {
+            x: f32x8::from(vs.map(|v| v.x)),
+            y: f32x8::from(vs.map(|v| v.y)),
+            z: f32x8::from(vs.map(|v| v.z)),
+        };
+        let fallback = Vec3::new(0.0, 1.0, 0.0);
+        let got = Vector::normalize_or(v, fallback);
+        let (x, y, z) = (got.x.to_array(), got.y.to_array(), got.z.to_array());
+        for (i, v) in vs.iter().enumerate() {
+            let want = v.normalize_or(fallback);
+            assert_eq!(
+                [x[i], y[i], z[i]].map(f32::to_bits),
+                want.to_array().map(f32::to_bits),
+                "{v}"
+            );
+        }
+    }
+}
