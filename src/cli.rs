@@ -11,6 +11,7 @@ use crate::settings::{
     AntiAlias, Display, Filter, HeightDerivative, LightVector, Normals, Settings, Shading,
     Technique,
 };
+use crate::term::Symbols;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -35,6 +36,14 @@ pub struct Cli {
     /// has are drawn with it, which saves bytes on slow links; 0 means exact.
     #[arg(long, value_name = "N", default_value_t = 2, value_parser = clap::value_parser!(u8).range(0..=32))]
     pub color_tolerance: u8,
+    /// Glyphs of the picture: half blocks (1×2 pixels a cell, every font), quadrants (2×2),
+    /// sextants (2×3, Unicode 13) or octants (2×4, Unicode 16); `u` cycles them.
+    #[arg(long, value_enum, default_value_t = Symbols::Half)]
+    pub symbols: Symbols,
+    /// Print a line of every glyph of each symbol set and exit: a set whose line shows
+    /// boxes, gaps or a ragged right bar is missing from the font.
+    #[arg(long)]
+    pub symbols_test: bool,
     /// Texture images to put in the texture list; the first one is applied.
     #[arg(value_name = "IMAGE")]
     pub images: Vec<PathBuf>,
@@ -42,7 +51,7 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Render one frame headless and write it as a PNG (or as half-block text with --ansi).
+    /// Render one frame headless and write it as a PNG (or as terminal text with --ansi).
     Render(RenderArgs),
     /// Write the built-in textures as PNGs into DIR (how `assets/` is made).
     #[command(hide = true)]
@@ -60,10 +69,14 @@ pub struct RenderArgs {
     /// .ppm, .qoi, .ff; PNG without one); written to a temporary file and renamed.
     #[arg(long, value_name = "FILE.png", required_unless_present = "ansi")]
     pub out: Option<PathBuf>,
-    /// Print the frame to stdout as half-block text (in the depth --color names)
-    /// instead of writing a picture.
+    /// Print the frame to stdout as text (in the symbols --symbols names and the depth
+    /// --color names, rows ending in LF) instead of writing a picture.
     #[arg(long, conflicts_with = "out")]
     pub ansi: bool,
+    /// Glyphs of the text (--ansi) or of the picture a terminal shows (--out with --color):
+    /// half, quad, sextant or octant.
+    #[arg(long, value_enum, default_value_t = Symbols::Half)]
+    pub symbols: Symbols,
     /// Colour depth of the PNG or the text: the picture a terminal with that depth shows.
     #[arg(long, value_enum, default_value_t = ColorDepthArg::Truecolor)]
     pub color: ColorDepthArg,

@@ -25,6 +25,7 @@ fn main() -> ExitCode {
             relief::bench::run(&args, &mut std::io::stdout().lock(), &mut std::io::stderr())
                 .map(|_| ())
         }
+        None if cli.symbols_test => symbols_test(),
         None => relief::app::run(cli),
     };
     match result {
@@ -49,6 +50,15 @@ fn parse_failure(e: &clap::Error) -> ExitCode {
         let _ = out.flush();
     }
     ExitCode::from(e.exit_code().clamp(0, 255) as u8)
+}
+
+/// `relief --symbols-test`: every glyph of each set on a line of its own.
+fn symbols_test() -> anyhow::Result<()> {
+    let mut out = std::io::stdout().lock();
+    for symbols in relief::term::Symbols::ALL {
+        writeln!(out, "{}", relief::term::symbols::test_line(symbols))?;
+    }
+    Ok(())
 }
 
 /// `relief render`: one frame, to a PNG or to stdout as half-block text.
@@ -90,7 +100,12 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             scene.material.specular_map = specular_map;
             scene.material.normal_map = normal_map;
             scene.material.environment = environment;
-            Renderer::new().render(&scene, &settings, &mut fb);
+            let mut renderer = Renderer::new();
+            if args.ansi {
+                // The text's pixels are as tall as its symbols make them.
+                renderer.set_pixel_aspect(args.symbols.pixel_aspect());
+            }
+            renderer.render(&scene, &settings, &mut fb);
         }
         Built::Plasma(plasma) => {
             let centre = (fb.width() as f32 / 2.0, fb.height() as f32 / 2.0);
@@ -102,16 +117,24 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let pad = relief::scene::BACKGROUND;
     if args.ansi {
         let mut out = std::io::BufWriter::new(std::io::stdout().lock());
-        relief::term::ansi::write_frame_text(&fb, depth, args.dither, pad, &mut out)?;
+        relief::term::ansi::write_symbol_text(
+            &fb,
+            args.symbols,
+            depth,
+            args.dither,
+            pad,
+            b"\n",
+            &mut out,
+        )?;
         out.flush()?;
         return Ok(());
     }
     let out = args.out.as_ref().context("--out FILE.png is required")?;
-    if depth == relief::term::ColorDepth::Truecolor {
+    if depth == relief::term::ColorDepth::Truecolor && args.symbols == relief::term::Symbols::Half {
         write_picture(&fb, out)
     } else {
         // The picture a terminal with that depth shows: its cells first.
-        let (w, h) = relief::term::halfblock::cells_for_pixels(fb.width(), fb.height());
+        let (w, h) = args.symbols.cells_for_pixels(fb.width(), fb.height());
         let _cells = relief::budget::reserve(
             &format!(
                 "the {w}x{h} cells of a {}x{} frame",
@@ -122,8 +145,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
                 + fb.width() * fb.height() * relief::budget::FRAME_BYTES_PER_PIXEL as usize)
                 as u64,
         )?;
-        let cells = relief::term::ansi::cells(&fb, depth, args.dither, pad);
-        let shown = relief::term::ansi::shown_picture(&cells, fb.width(), fb.height(), pad);
+        let cells = relief::term::ansi::symbol_cells(&fb, args.symbols, depth, args.dither, pad);
+        let shown =
+            relief::term::cells::shown_picture(&cells, args.symbols, fb.width(), fb.height(), pad);
         drop(cells);
         write_picture(&shown, out)
     }

@@ -149,6 +149,8 @@ pub enum Action {
     CycleDisplay,
     /// `F`: the tangent frames (T, B, N at the vertices) on / off.
     ToggleTangentFrames,
+    /// `u`: the picture's glyphs: half blocks → quadrants → sextants → octants.
+    CycleSymbols,
     /// `l`: all lights on / off.
     ToggleLights,
     /// `L`: distance attenuation on / off.

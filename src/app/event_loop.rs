@@ -359,7 +359,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 state,
                 Action::TexturesFit(view::texture_panel_area(areas.viewport, state)),
             );
-            let (w, h) = view::framebuffer_size(areas.viewport);
+            let (w, h) = view::framebuffer_size(areas.viewport, state.symbols);
             let generation = self.textures.map_or(0, |t| t.borrow().generation());
             let key = (state.look(), w, h, generation);
             // A frame that only redraws the text costs no render time; the

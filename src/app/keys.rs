@@ -354,9 +354,13 @@ pub const KEYS: &[Binding] = &[
         Normal,
         &[c('d')],
         Action::CycleDisplay,
-        Line("d F", "display: points → lines → fill; tangent frames"),
+        Line(
+            "d F u",
+            "display: points → lines → fill; tangent frames; glyphs",
+        ),
     ),
     row(Normal, &[c('F')], Action::ToggleTangentFrames, Above),
+    row(Normal, &[c('u')], Action::CycleSymbols, Above),
     row(
         Normal,
         &[c('l')],

@@ -51,6 +51,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let settings = cli.view.settings();
     let mut state = State::new(settings, color_depth(cli.color)).with_distance(cli.view.distance);
     state.dither = cli.dither;
+    state.symbols = cli.symbols;
     // The first image that loads is applied; the others wait for the texture list.
     let (textures, errors) =
         crate::texture::list::TextureList::from_args(&cli.images, cli.view.height_map.as_deref());
@@ -148,6 +149,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 stage.set_texture(list.texture().clone());
                 stage_generation = list.generation();
             }
+            renderer.set_pixel_aspect(s.symbols.pixel_aspect());
             stage.render(&mut renderer, s, fb)
         },
         background: crate::scene::BACKGROUND,

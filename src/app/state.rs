@@ -14,8 +14,8 @@ use crate::sanitize::clean;
 use crate::scene::camera::{MAX_DISTANCE, MIN_DISTANCE, REFERENCE_DISTANCE};
 use crate::scene::{ModelChoice, SceneKind};
 use crate::settings::{SHININESS_RANGE, Settings, normalize_degrees};
-use crate::term::ColorDepth;
 use crate::term::pacing::LinkInfo;
+use crate::term::{ColorDepth, Symbols};
 
 /// Degrees per column of a drag (a column is one pixel wide).
 pub const DEG_PER_COL: f32 = 2.0;
@@ -94,6 +94,8 @@ pub struct State {
     pub depth: ColorDepth,
     /// Ordered dithering in 256 and 16 colours.
     pub dither: bool,
+    /// Glyphs the picture is drawn with (`u` cycles them).
+    pub symbols: Symbols,
     pub help: bool,
     /// First help line shown when the help is taller than the screen.
     pub help_scroll: u16,
@@ -187,6 +189,7 @@ impl State {
             start_rotation: settings.rotation,
             depth,
             dither: false,
+            symbols: Symbols::Half,
             help: false,
             help_scroll: 0,
             auto_rotate: false,
@@ -401,6 +404,7 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         Action::CycleAntiAlias => s.aa = s.aa.next(),
         Action::CycleDisplay => s.display = s.display.next(),
         Action::ToggleTangentFrames => s.tangent_frames = !s.tangent_frames,
+        Action::CycleSymbols => state.symbols = state.symbols.next(),
         Action::ToggleLights => s.lights = !s.lights,
         Action::ToggleAttenuation => s.attenuation = !s.attenuation,
         Action::ToggleSpecular => s.specular = !s.specular,

@@ -56,11 +56,20 @@ pub struct Renderer {
     msaa_depth: Vec<[f32; MSAA_SAMPLES]>,
     /// The shadow map, kept between frames.
     shadow: ShadowMap,
+    /// Width over height of a pixel where the frame is shown (`None`:
+    /// square): the sub-cell symbol sets have tall pixels.
+    pixel_aspect: Option<f32>,
 }
 
 impl Renderer {
     pub fn new() -> Self {
         Renderer::default()
+    }
+
+    /// Frames will be shown with pixels `aspect` times as wide as tall: the
+    /// projection widens the view by it so shapes keep their proportions.
+    pub fn set_pixel_aspect(&mut self, aspect: f32) {
+        self.pixel_aspect = (aspect.is_finite() && aspect > 0.0 && aspect != 1.0).then_some(aspect);
     }
 
     /// Draws `scene` into `fb` and says what it cost. Output is identical
@@ -159,7 +168,7 @@ impl Renderer {
         self.wire.clear();
         self.shaders.clear();
         self.tris.clear();
-        let aspect = width as f32 / height as f32;
+        let aspect = width as f32 / height as f32 * self.pixel_aspect.unwrap_or(1.0);
         let view_proj = scene.camera.projection(aspect) * scene.camera.view();
         let eye = scene.camera.eye;
         let user_rotation = plan.rotation;

@@ -2,8 +2,9 @@
 //! the picture a terminal would show (`relief render --color 256`).
 //!
 //! The text goes through the view's own widget and backend: colours are sent
-//! only when they change, a cell is `▀`, `▄` or a space whichever takes fewer
-//! bytes, and rows are joined by `\r\n`. It starts where the cursor is (no
+//! only when they change, a half-block cell is `▀`, `▄` or a space whichever
+//! takes fewer bytes (the finer symbol sets write their fitted glyph), and
+//! rows are joined by `\r\n` (or `\n` for a file, [`write_symbol_text`]). It starts where the cursor is (no
 //! absolute move, no alternate screen, no synchronized-output brackets).
 
 use std::io;
@@ -14,13 +15,24 @@ use ratatui::layout::Rect;
 use ratatui::widgets::Widget;
 
 use super::color::shown_rgb;
-use super::halfblock::{UPPER_HALF, cells_for_pixels};
-use super::{ColorDepth, HalfBlocks, SgrBackend};
+use super::halfblock::UPPER_HALF;
+use super::{ColorDepth, SgrBackend, SymbolCells, Symbols};
 use crate::framebuffer::{Framebuffer, Rgb};
 
 /// The half-block cells of `fb` at `depth` over the background `pad`.
 pub fn cells(fb: &Framebuffer, depth: ColorDepth, dither: bool, pad: Rgb) -> Buffer {
-    let (w, h) = cells_for_pixels(fb.width(), fb.height());
+    symbol_cells(fb, Symbols::Half, depth, dither, pad)
+}
+
+/// The cells of `fb` drawn with `symbols`.
+pub fn symbol_cells(
+    fb: &Framebuffer,
+    symbols: Symbols,
+    depth: ColorDepth,
+    dither: bool,
+    pad: Rgb,
+) -> Buffer {
+    let (w, h) = symbols.cells_for_pixels(fb.width(), fb.height());
     let area = Rect::new(
         0,
         0,
@@ -28,8 +40,9 @@ pub fn cells(fb: &Framebuffer, depth: ColorDepth, dither: bool, pad: Rgb) -> Buf
         h.min(u16::MAX as usize) as u16,
     );
     let mut buf = Buffer::empty(area);
-    HalfBlocks {
+    SymbolCells {
         fb,
+        symbols,
         depth,
         dither,
         pad,
@@ -63,10 +76,25 @@ pub fn write_frame_text(
     pad: Rgb,
     out: &mut impl io::Write,
 ) -> io::Result<()> {
-    let (w, h) = cells_for_pixels(fb.width(), fb.height());
+    write_symbol_text(fb, Symbols::Half, depth, dither, pad, b"\r\n", out)
+}
+
+/// The frame as text drawn with `symbols`, rows joined by `newline`
+/// (`\r\n` for a terminal in raw mode, `\n` for a file).
+pub fn write_symbol_text(
+    fb: &Framebuffer,
+    symbols: Symbols,
+    depth: ColorDepth,
+    dither: bool,
+    pad: Rgb,
+    newline: &[u8],
+    out: &mut impl io::Write,
+) -> io::Result<()> {
+    let (w, h) = symbols.cells_for_pixels(fb.width(), fb.height());
     let w = w.min(u16::MAX as usize) as u16;
-    let widget = HalfBlocks {
+    let widget = SymbolCells {
         fb,
+        symbols,
         depth,
         dither,
         pad,
@@ -90,9 +118,20 @@ pub fn write_frame_text(
         // the top left; the text goes on where the cursor is.
         let body = text.strip_prefix(b"\x1b[H").unwrap_or(&text);
         if first > 0 {
-            out.write_all(b"\r\n")?;
+            out.write_all(newline)?;
         }
-        out.write_all(body)?;
+        // The backend starts each row below the first with CR LF.
+        if newline == b"\r\n" {
+            out.write_all(body)?;
+        } else {
+            let mut rest = body;
+            while let Some(at) = rest.windows(2).position(|w| w == b"\r\n") {
+                out.write_all(&rest[..at])?;
+                out.write_all(newline)?;
+                rest = &rest[at + 2..];
+            }
+            out.write_all(rest)?;
+        }
         text.clear();
     }
     out.write_all(b"\n")

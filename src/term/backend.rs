@@ -409,7 +409,14 @@ impl<W: Write> Backend for SgrBackend<W> {
             }
             sgr.write_to(&mut self.out)?;
             self.out.write_all(symbol.as_bytes())?;
-            if !symbol.is_ascii() && symbol != UPPER_STR && symbol != LOWER_STR {
+            if !symbol.is_ascii()
+                && symbol != UPPER_STR
+                && symbol != LOWER_STR
+                && !symbol
+                    .chars()
+                    .next()
+                    .is_some_and(super::symbols::is_block_glyph)
+            {
                 // Width unknown (a wide character?): the next cell gets an absolute move.
                 last = None;
             }

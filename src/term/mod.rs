@@ -1,11 +1,13 @@
-//! Framebuffer → terminal: half-block cells, colour depth, a byte-frugal
+//! Framebuffer → terminal: half-block and finer symbol cells, colour depth, a byte-frugal
 //! backend with synchronized frames, input decoding, pacing by the
 //! terminal's replies and terminal hygiene.
 
 pub mod ansi;
 pub mod backend;
+pub mod cells;
 pub mod color;
 pub mod counting;
+pub mod fit;
 pub mod guard;
 pub mod halfblock;
 pub mod input;
@@ -14,8 +16,11 @@ pub mod oklab;
 pub mod pacing;
 pub mod palette;
 pub mod probe;
+pub mod symbols;
 pub mod wait;
 
 pub use backend::SgrBackend;
+pub use cells::SymbolCells;
 pub use color::ColorDepth;
 pub use halfblock::HalfBlocks;
+pub use symbols::Symbols;

@@ -10,7 +10,7 @@ use relief::Framebuffer;
 use relief::app::view::{areas, framebuffer_size, help_lines, status_line};
 use relief::app::{Action, State, update, view};
 use relief::settings::Settings;
-use relief::term::ColorDepth;
+use relief::term::{ColorDepth, Symbols};
 
 const BG: [u8; 3] = [16, 24, 32];
 
@@ -25,7 +25,7 @@ fn state() -> State {
 fn screen(s: &State, w: u16, h: u16) -> Buffer {
     let mut term = Terminal::new(TestBackend::new(w, h)).unwrap();
     let a = areas(Rect::new(0, 0, w, h));
-    let (fw, fh) = framebuffer_size(a.viewport);
+    let (fw, fh) = framebuffer_size(a.viewport, Symbols::Half);
     let mut fb = Framebuffer::new(fw, fh);
     fb.fill([200, 100, 50]);
     term.draw(|f| view(f, s, &fb, BG)).unwrap();
@@ -228,15 +228,15 @@ fn the_picture_fills_the_viewport_above_the_two_lines() {
         }
     }
     assert_eq!(
-        framebuffer_size(areas(Rect::new(0, 0, 160, 48)).viewport),
+        framebuffer_size(areas(Rect::new(0, 0, 160, 48)).viewport, Symbols::Half),
         (160, 92)
     );
     assert_eq!(
-        framebuffer_size(areas(Rect::new(0, 0, 40, 12)).viewport),
+        framebuffer_size(areas(Rect::new(0, 0, 40, 12)).viewport, Symbols::Half),
         (40, 20)
     );
     assert_eq!(
-        framebuffer_size(areas(Rect::new(0, 0, 1, 1)).viewport),
+        framebuffer_size(areas(Rect::new(0, 0, 1, 1)).viewport, Symbols::Half),
         (1, 2)
     );
 }
@@ -306,7 +306,7 @@ fn help_overlay_lists_every_key_and_mouse_action() {
         "v N",
         "h",
         "a",
-        "d F",
+        "d F u",
         "l 1 2 3 4",
         "L",
         "o",

@@ -1,4 +1,4 @@
-//! The framebuffer → half-block encoder and the colour-depth mapping.
+//! The framebuffer → cell encoders (half blocks and the finer symbol sets) and the colour-depth mapping.
 
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
@@ -212,4 +212,318 @@ fn depth_detection_reads_colorterm_then_term() {
     );
     assert_eq!(ColorDepth::detect(None, Some("linux")), Palette16);
     assert_eq!(ColorDepth::detect(None, None), Palette256);
+}
+
+// ---- Sub-cell symbol sets -------------------------------------------------
+
+use relief::term::Symbols;
+use relief::term::cells::shown_picture;
+use relief::term::fit::{error, fit};
+
+/// Fine rows of a cell in the name checks: 12 is a multiple of 2, 3 and 4.
+const FINE: usize = 12;
+
+/// The picture a Unicode block character name describes, on a 2 × 12 grid
+/// (`[column][fine row]`), built from the words of the name alone.
+fn picture_of_name(name: &str) -> [[bool; FINE]; 2] {
+    let mut g = [[false; FINE]; 2];
+    let mut fill = |cols: &[usize], rows: std::ops::Range<usize>| {
+        for &c in cols {
+            for r in rows.clone() {
+                g[c][r] = true;
+            }
+        }
+    };
+    let both = [0, 1];
+    if let Some(digits) = name.strip_prefix("BLOCK SEXTANT-") {
+        for d in digits.bytes().map(|b| (b - b'1') as usize) {
+            fill(&[d % 2], d / 2 * 4..d / 2 * 4 + 4);
+        }
+    } else if let Some(digits) = name.strip_prefix("BLOCK OCTANT-") {
+        for d in digits.bytes().map(|b| (b - b'1') as usize) {
+            fill(&[d % 2], d / 2 * 3..d / 2 * 3 + 3);
+        }
+    } else if let Some(parts) = name.strip_prefix("QUADRANT ") {
+        for part in parts.split(" AND ") {
+            let rows = if part.starts_with("UPPER") {
+                0..6
+            } else {
+                6..12
+            };
+            let col = usize::from(part.ends_with("RIGHT"));
+            fill(&[col], rows);
+        }
+    } else {
+        let (cols, rows): (&[usize], _) = match name {
+            "FULL BLOCK" => (&both, 0..12),
+            "UPPER HALF BLOCK" => (&both, 0..6),
+            "LOWER HALF BLOCK" => (&both, 6..12),
+            "LEFT HALF BLOCK" => (&[0], 0..12),
+            "RIGHT HALF BLOCK" => (&[1], 0..12),
+            "UPPER ONE QUARTER BLOCK" => (&both, 0..3),
+            "LOWER ONE QUARTER BLOCK" => (&both, 9..12),
+            "UPPER THREE QUARTERS BLOCK" => (&both, 0..9),
+            "LOWER THREE QUARTERS BLOCK" => (&both, 3..12),
+            "MIDDLE LEFT ONE QUARTER BLOCK" => (&[0], 3..9),
+            "MIDDLE RIGHT ONE QUARTER BLOCK" => (&[1], 3..9),
+            "LEFT HALF UPPER ONE QUARTER BLOCK" => (&[0], 0..3),
+            "RIGHT HALF UPPER ONE QUARTER BLOCK" => (&[1], 0..3),
+            "LEFT HALF LOWER ONE QUARTER BLOCK" => (&[0], 9..12),
+            "RIGHT HALF LOWER ONE QUARTER BLOCK" => (&[1], 9..12),
+            other => panic!("no picture for {other}"),
+        };
+        fill(cols, rows);
+    }
+    g
+}
+
+/// The picture a mask of `symbols` stands for on the same grid (a
+/// one-column set covers both columns).
+fn picture_of_mask(symbols: Symbols, mask: u8) -> [[bool; FINE]; 2] {
+    let mut g = [[false; FINE]; 2];
+    let (cols, rows) = (symbols.columns(), symbols.rows());
+    for (c, column) in g.iter_mut().enumerate() {
+        for (r, fine) in column.iter_mut().enumerate() {
+            let pixel = (r / (FINE / rows)) * cols + c.min(cols - 1);
+            *fine = mask >> pixel & 1 == 1;
+        }
+    }
+    g
+}
+
+#[test]
+fn every_glyph_draws_the_picture_its_unicode_name_describes() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/unicode/block-glyphs.txt"
+    ))
+    .unwrap();
+    let names: std::collections::HashMap<char, &str> = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| {
+            let (cp, name) = l.split_once(';').unwrap();
+            (
+                char::from_u32(u32::from_str_radix(cp, 16).unwrap()).unwrap(),
+                name,
+            )
+        })
+        .collect();
+    let mut checked = 0;
+    for symbols in Symbols::ALL {
+        for mask in 0..1u16 << symbols.pixels() {
+            let mask = mask as u8;
+            let glyph = symbols.glyph(mask);
+            let drawn = if glyph == ' ' {
+                [[false; FINE]; 2]
+            } else {
+                let name = names
+                    .get(&glyph)
+                    .unwrap_or_else(|| panic!("{glyph:?} unnamed"));
+                picture_of_name(name)
+            };
+            assert_eq!(
+                drawn,
+                picture_of_mask(symbols, mask),
+                "{symbols:?} {mask:#04x} {glyph:?}"
+            );
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 4 + 16 + 64 + 256);
+    // The octant block proper: 230 characters, the sextants 60.
+    assert_eq!(
+        names
+            .values()
+            .filter(|n| n.starts_with("BLOCK OCTANT-"))
+            .count(),
+        230
+    );
+    assert_eq!(
+        names
+            .values()
+            .filter(|n| n.starts_with("BLOCK SEXTANT-"))
+            .count(),
+        60
+    );
+}
+
+/// The least error over every two-colour picture of `pixels`: each of the
+/// 2^n masks with both colours at their exact (real) means, rounded.
+fn brute_force_error(pixels: &[[u8; 3]]) -> u64 {
+    let n = pixels.len();
+    (0..1u32 << n)
+        .map(|mask| {
+            let mean = |set: bool| {
+                let group: Vec<_> = (0..n).filter(|&i| (mask >> i & 1 == 1) == set).collect();
+                let mut m = [0u8; 3];
+                if !group.is_empty() {
+                    for (c, v) in m.iter_mut().enumerate() {
+                        let s: u32 = group.iter().map(|&i| u32::from(pixels[i][c])).sum();
+                        *v = ((s as f64 / group.len() as f64).round()) as u8;
+                    }
+                }
+                m
+            };
+            error(pixels, mask as u8, mean(true), mean(false))
+        })
+        .min()
+        .unwrap()
+}
+
+#[test]
+fn the_fit_is_as_good_as_trying_every_mask() {
+    // Hand-made cells: an edge, a diagonal, a lone highlight, three
+    // colours, noise from a fixed LCG, and flat.
+    let a = [200, 40, 30];
+    let b = [10, 20, 90];
+    let mut cells: Vec<Vec<[u8; 3]>> = vec![
+        vec![a, a, b, b],
+        vec![a, b, b, a, a, b],
+        vec![b, b, b, b, b, [255, 255, 255], b, b],
+        vec![a, b, [120, 120, 120], a, b, [128, 128, 128], a, b],
+        vec![a; 8],
+        vec![a, b],
+    ];
+    let mut seed = 12345u32;
+    for n in [2, 4, 6, 8, 8, 8, 6, 4] {
+        cells.push(
+            (0..n)
+                .map(|_| {
+                    [0; 3].map(|_: u8| {
+                        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                        (seed >> 24) as u8
+                    })
+                })
+                .collect(),
+        );
+    }
+    for cell in &cells {
+        let f = fit(cell);
+        let got = error(cell, f.mask, f.fg, f.bg);
+        let best = brute_force_error(cell);
+        // Rounding the means to levels can cost at most ¼ level² a channel.
+        assert!(
+            got <= best + cell.len() as u64 * 3 / 4 + 1,
+            "{cell:?}: {got} vs {best}"
+        );
+        assert_eq!(
+            f.mask >> (cell.len() - 1),
+            0,
+            "the last pixel is background"
+        );
+    }
+    // A clean two-colour cell is reproduced exactly, with the right split.
+    let f = fit(&[a, a, b, b, a, b]);
+    assert_eq!((f.mask, f.fg, f.bg), (0b010011, a, b));
+    assert_eq!(error(&[a, a, b, b, a, b], f.mask, f.fg, f.bg), 0);
+}
+
+#[test]
+fn a_rendered_frame_rebuilds_the_fitted_blocks() {
+    // A frame whose cells are each exactly two colours: the cells must
+    // show it pixel for pixel, for every set.
+    for symbols in Symbols::ALL {
+        let (w, h) = (4 * symbols.columns() + 1, 3 * symbols.rows() + 1);
+        let mut fb = Framebuffer::new(w, h);
+        let mut seed = 7u32;
+        for y in 0..h {
+            for x in 0..w {
+                seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12345);
+                let cell = (x / symbols.columns() + 5 * (y / symbols.rows())) as u8;
+                let on = seed >> 16 & 1 == 1;
+                fb.set(
+                    x,
+                    y,
+                    if on {
+                        [cell * 20, 200, 9]
+                    } else {
+                        [3, cell * 10, 250]
+                    },
+                );
+            }
+        }
+        // The ragged last column and row of cells mix in the pad: fitted too.
+        let buf = relief::term::ansi::symbol_cells(&fb, symbols, ColorDepth::Truecolor, false, PAD);
+        assert_eq!(
+            (buf.area.width as usize, buf.area.height as usize),
+            (5, 4),
+            "{symbols:?}"
+        );
+        let shown = shown_picture(&buf, symbols, w, h, PAD);
+        for y in 0..h {
+            for x in 0..w {
+                let full_cell = x < 4 * symbols.columns() && y < 3 * symbols.rows();
+                if full_cell {
+                    assert_eq!(shown.get(x, y), fb.get(x, y), "{symbols:?} at {x},{y}");
+                }
+            }
+        }
+        // Each cell is the fit of its pixels: colours and glyph.
+        for cy in 0..4 {
+            for cx in 0..5 {
+                let mut px = Vec::new();
+                for i in 0..symbols.pixels() {
+                    let (x, y) = (
+                        cx * symbols.columns() + i % symbols.columns(),
+                        cy * symbols.rows() + i / symbols.columns(),
+                    );
+                    px.push(if x < w && y < h { fb.get(x, y) } else { PAD });
+                }
+                let f = fit(&px);
+                let cell = &buf[(cx as u16, cy as u16)];
+                assert_eq!(cell.bg, rgb(f.bg));
+                if f.mask != 0 {
+                    assert_eq!(cell.symbol(), symbols.glyph(f.mask).to_string());
+                    assert_eq!(cell.fg, rgb(f.fg));
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn symbol_text_has_lf_rows_and_one_cell_per_glyph() {
+    let mut fb = Framebuffer::new(8, 8);
+    for y in 0..8 {
+        for x in 0..8 {
+            fb.set(x, y, [(x * 30) as u8, (y * 30) as u8, ((x ^ y) * 20) as u8]);
+        }
+    }
+    for symbols in Symbols::ALL {
+        let mut out = Vec::new();
+        relief::term::ansi::write_symbol_text(
+            &fb,
+            symbols,
+            ColorDepth::Truecolor,
+            false,
+            PAD,
+            b"\n",
+            &mut out,
+        )
+        .unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert!(!text.contains('\r'), "{symbols:?}");
+        let (cols, rows) = symbols.cells_for_pixels(8, 8);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), rows, "{symbols:?}");
+        for line in lines {
+            // Strip SGR sequences; what remains is one glyph per cell.
+            let mut glyphs = 0;
+            let mut chars = line.chars();
+            while let Some(c) = chars.next() {
+                if c == '\x1b' {
+                    for c in chars.by_ref() {
+                        if c.is_ascii_alphabetic() {
+                            break;
+                        }
+                    }
+                } else {
+                    assert!(symbols.mask_of(c).is_some(), "{c:?}");
+                    glyphs += 1;
+                }
+            }
+            assert_eq!(glyphs, cols, "{symbols:?} {line:?}");
+        }
+    }
 }

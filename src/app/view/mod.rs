@@ -19,7 +19,7 @@ use ratatui::widgets::{Clear, Paragraph, Widget};
 
 use super::state::State;
 use crate::framebuffer::{Framebuffer, Rgb};
-use crate::term::HalfBlocks;
+use crate::term::{SymbolCells, Symbols};
 use fields::{message_above, panel_line, prompt_line, with_message};
 use help::help;
 pub use help::{help_lines, help_max_scroll};
@@ -72,10 +72,15 @@ pub fn areas(screen: Rect) -> Areas {
     }
 }
 
-/// Framebuffer size for a viewport: a column is a pixel wide and a row two
-/// pixels tall, so pixels are about square and the aspect is right.
-pub fn framebuffer_size(viewport: Rect) -> (usize, usize) {
-    (viewport.width as usize, viewport.height as usize * 2)
+/// Framebuffer size for a viewport drawn with `symbols`: a half-block
+/// column is a pixel wide and a row two pixels tall (pixels about square);
+/// the finer sets have two columns and their rows of pixels per cell (the
+/// renderer corrects the projection for their taller pixels).
+pub fn framebuffer_size(viewport: Rect, symbols: Symbols) -> (usize, usize) {
+    (
+        viewport.width as usize * symbols.columns(),
+        viewport.height as usize * symbols.rows(),
+    )
 }
 
 /// Draws the whole screen.
@@ -88,8 +93,9 @@ pub fn view(frame: &mut Frame, state: &State, fb: &Framebuffer, background: Rgb)
 /// [`view`] on a bare buffer (the benchmark and tests use it directly).
 pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf: &mut Buffer) {
     let a = areas(screen);
-    HalfBlocks {
+    SymbolCells {
         fb,
+        symbols: state.symbols,
         depth: state.depth,
         dither: state.dither,
         pad: background,

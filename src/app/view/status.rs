@@ -315,7 +315,7 @@ pub fn status_text(state: &State, detail: Detail) -> String {
         scene_label(state, short),
         lights_text(state, short),
         named("attenuation", "att", on_off(s.attenuation)),
-        state.depth.label().to_string(),
+        depth_label(state),
     ];
     // The zoom shows once it leaves the reference view.
     let zoom = if state.distance != REFERENCE_DISTANCE {
@@ -392,11 +392,23 @@ fn format_shininess(s: f32) -> String {
     format!("{}", (s * 100.0).round() / 100.0)
 }
 
-fn short_depth(state: &State) -> &'static str {
-    match state.depth {
+/// The colour depth, and the symbol set when it is not half blocks.
+fn depth_label(state: &State) -> String {
+    match state.symbols {
+        crate::term::Symbols::Half => state.depth.label().to_string(),
+        s => format!("{} {}", state.depth.label(), s.name()),
+    }
+}
+
+fn short_depth(state: &State) -> String {
+    let depth = match state.depth {
         crate::term::ColorDepth::Truecolor => "24b",
         crate::term::ColorDepth::Palette256 => "256c",
         crate::term::ColorDepth::Palette16 => "16c",
+    };
+    match state.symbols {
+        crate::term::Symbols::Half => depth.to_string(),
+        s => format!("{depth} {}", s.name()),
     }
 }
 
