@@ -172,10 +172,10 @@ pub struct ViewArgs {
     /// Scene: one model (`cube`, see --model), the cube over a floor with its shadow, or the 2D plasma.
     #[arg(long, value_enum, default_value_t = SceneKind::Cube)]
     pub scene: SceneKind,
-    /// Model of the cube scene: a built-in shape or a Wavefront OBJ file.
+    /// Model of the cube scene: a built-in shape, a Wavefront OBJ or a glTF 2.0 file (docs/models.md).
     #[arg(
         long,
-        value_name = "triangle|plane|cube|sphere|FILE.obj",
+        value_name = "triangle|plane|cube|sphere|FILE.obj|FILE.gltf|FILE.glb",
         default_value = "cube"
     )]
     pub model: ModelChoice,

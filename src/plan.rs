@@ -6,7 +6,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 
 use crate::scene::casters::{Caster, casters, enclose};
-use crate::scene::{Scene, rotation_matrix};
+use crate::scene::{Material, Scene, rotation_matrix};
 use crate::settings::{
     AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
 };
@@ -117,25 +117,7 @@ impl Plan {
             .objects
             .iter()
             .any(|o| o.mesh.triangles.iter().any(|t| t.textured));
-        let texture = settings.texture && any_textured;
-        let strength = settings.bump_strength;
-        // The file's normal map, when dot3 is asked for and is to read it:
-        // it shows even on a texture whose height map is flat.
-        let file_map = scene
-            .material
-            .normal_map
-            .as_ref()
-            .filter(|_| settings.normal_map_file && settings.technique == Technique::Dot3);
-        let bump = settings.shading == Shading::Phong
-            && settings.bump
-            && strength.is_finite()
-            && strength > 0.0
-            && any_textured
-            && (file_map.is_some() || !scene.material.texture.height_is_flat());
-        let footprint = settings.filter.uses_mips()
-            && (texture || (bump && settings.height_derivative == HeightDerivative::Filtered));
-        // One convex (or planar) object drawn with back faces culled never
-        // covers a pixel twice; anything more needs depth.
+        let stages = MaterialStages::new(&scene.material, any_textured, settings);
         let depth = scene.objects.len() > 1 || scene.objects.iter().any(|o| !o.mesh.convex);
         let lights = if settings.lights {
             scene
@@ -151,19 +133,6 @@ impl Plan {
         } else {
             Vec::new()
         };
-        let technique = if bump {
-            settings.technique
-        } else {
-            Technique::Blinn
-        };
-        let file_map = file_map.filter(|_| technique == Technique::Dot3);
-        let normal_map = (technique == Technique::Dot3).then(|| match file_map {
-            Some(file) => file.for_strength(strength).0,
-            None => {
-                let scale = normal_map_scale(strength);
-                scene.material.texture.normal_map(scale).0
-            }
-        });
         let aa = if settings.aa == AntiAlias::Msaa4 && settings.display != Display::Fill {
             AntiAlias::Off
         } else {
@@ -179,7 +148,7 @@ impl Plan {
             && settings.display == Display::Fill)
             .then(|| Specular {
                 shininess: settings.shininess,
-                map: scene.material.specular_map.clone(),
+                map: stages.specular_map.clone(),
             });
         let environment = (settings.environment
             && settings.display == Display::Fill
@@ -198,17 +167,17 @@ impl Plan {
             shading: settings.shading,
             face_normals: settings.normals == crate::settings::Normals::Face,
             colors: settings.colors,
-            texture,
-            bump,
-            bump_strength: if bump { strength } else { 0.0 },
-            technique,
+            texture: stages.texture,
+            bump: stages.bump,
+            bump_strength: stages.bump_strength,
+            technique: stages.technique,
             light_vector: settings.light_vector,
-            normal_map,
-            normal_map_from_file: file_map.is_some(),
+            normal_map: stages.normal_map,
+            normal_map_from_file: stages.normal_map_from_file,
             eye: scene.camera.eye,
             height_derivative: settings.height_derivative,
             filter: settings.filter,
-            footprint,
+            footprint: stages.footprint,
             depth,
             ambient: scene.ambient,
             lights,
@@ -221,6 +190,93 @@ impl Plan {
             shadow_light,
             shadow_casters: shadow_casters.unwrap_or_default(),
             tangent_frames: settings.tangent_frames && any_textured,
+        }
+    }
+}
+
+impl Plan {
+    /// The plan of the triangles drawn with `material` (an object's own,
+    /// not the scene's): this frame's plan with the stages that depend on
+    /// the material decided again for it, so each material runs only what
+    /// it needs. `any_textured`: some triangle with this material has
+    /// texture coordinates.
+    pub fn for_material(
+        &self,
+        material: &Material,
+        any_textured: bool,
+        settings: &Settings,
+    ) -> Plan {
+        let stages = MaterialStages::new(material, any_textured, settings);
+        Plan {
+            texture: stages.texture,
+            bump: stages.bump,
+            bump_strength: stages.bump_strength,
+            technique: stages.technique,
+            normal_map: stages.normal_map,
+            normal_map_from_file: stages.normal_map_from_file,
+            footprint: stages.footprint,
+            specular: self.specular.as_ref().map(|s| Specular {
+                shininess: s.shininess,
+                map: stages.specular_map,
+            }),
+            ..self.clone()
+        }
+    }
+}
+
+/// What a plan decides from one material: texture fetches, the bump and its
+/// normal map, footprints, the specular map.
+struct MaterialStages {
+    texture: bool,
+    bump: bool,
+    bump_strength: f32,
+    technique: Technique,
+    normal_map: Option<Arc<NormalMap>>,
+    normal_map_from_file: bool,
+    footprint: bool,
+    specular_map: Option<Arc<Level>>,
+}
+
+impl MaterialStages {
+    fn new(material: &Material, any_textured: bool, settings: &Settings) -> Self {
+        let texture = settings.texture && any_textured;
+        let strength = settings.bump_strength;
+        // The file's normal map, when dot3 is asked for and is to read it:
+        // it shows even on a texture whose height map is flat.
+        let file_map = material
+            .normal_map
+            .as_ref()
+            .filter(|_| settings.normal_map_file && settings.technique == Technique::Dot3);
+        let bump = settings.shading == Shading::Phong
+            && settings.bump
+            && strength.is_finite()
+            && strength > 0.0
+            && any_textured
+            && (file_map.is_some() || !material.texture.height_is_flat());
+        let footprint = settings.filter.uses_mips()
+            && (texture || (bump && settings.height_derivative == HeightDerivative::Filtered));
+        let technique = if bump {
+            settings.technique
+        } else {
+            Technique::Blinn
+        };
+        let file_map = file_map.filter(|_| technique == Technique::Dot3);
+        let normal_map = (technique == Technique::Dot3).then(|| match file_map {
+            Some(file) => file.for_strength(strength).0,
+            None => {
+                let scale = normal_map_scale(strength);
+                material.texture.normal_map(scale).0
+            }
+        });
+        MaterialStages {
+            texture,
+            bump,
+            bump_strength: if bump { strength } else { 0.0 },
+            technique,
+            normal_map,
+            normal_map_from_file: file_map.is_some(),
+            footprint,
+            specular_map: material.specular_map.clone(),
         }
     }
 }

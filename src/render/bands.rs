@@ -102,6 +102,16 @@ pub(super) fn split_rows<'a, T>(
     })
 }
 
+/// The shading context of each triangle: one for the whole frame, or one
+/// per material with the material of each shader.
+pub(super) enum MaterialCtxs<'a> {
+    One(ShadeCtx<'a>),
+    Many {
+        ctxs: Vec<ShadeCtx<'a>>,
+        of_shader: &'a [u32],
+    },
+}
+
 /// Clears each band and draws every triangle into it, in parallel or not
 /// (the same result either way: bands never share a pixel).
 pub(super) fn draw_bands<T: RasterTarget + Send>(
@@ -109,14 +119,25 @@ pub(super) fn draw_bands<T: RasterTarget + Send>(
     parallel: bool,
     tris: &[ScreenTri],
     shaders: &[TriShader],
-    ctx: &ShadeCtx,
+    ctxs: &MaterialCtxs,
     background: Rgb,
 ) -> Counters {
     let draw = |band: &mut T| -> Counters {
         band.clear(background);
         let mut counters = Counters::default();
-        for tri in tris {
-            draw_into(tri, &shaders[tri.shader as usize], ctx, band, &mut counters);
+        match ctxs {
+            MaterialCtxs::One(ctx) => {
+                for tri in tris {
+                    draw_into(tri, &shaders[tri.shader as usize], ctx, band, &mut counters);
+                }
+            }
+            MaterialCtxs::Many { ctxs, of_shader } => {
+                for tri in tris {
+                    let s = tri.shader as usize;
+                    let ctx = &ctxs[of_shader[s] as usize];
+                    draw_into(tri, &shaders[s], ctx, band, &mut counters);
+                }
+            }
         }
         counters
     };

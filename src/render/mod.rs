@@ -5,7 +5,7 @@ mod bands;
 mod dispatch;
 mod shaders;
 
-use bands::{CHUNKS_PER_THREAD, PARALLEL_MIN_WORK, RowWork, draw_bands, split_rows};
+use bands::{CHUNKS_PER_THREAD, MaterialCtxs, PARALLEL_MIN_WORK, RowWork, draw_bands, split_rows};
 pub use dispatch::{draw_into, draw_triangle};
 use shaders::{build_shader, wire_triangle};
 
@@ -44,6 +44,9 @@ pub struct Renderer {
     world: Vec<WorldVertex>,
     clip: Vec<Vec4>,
     shaders: Vec<TriShader>,
+    /// The material group (index in the frame's plans) of each shader,
+    /// filled only when objects have materials of their own.
+    shader_groups: Vec<u32>,
     tris: Vec<ScreenTri>,
     depth: Vec<f32>,
     polygon: Vec<ClipVertex>,
@@ -93,18 +96,19 @@ impl Renderer {
                 + scene.material.normal_map.as_ref().map_or(0, |m| m.builds())
         };
         let normal_maps_before = normal_map_builds(scene);
-        let plan = Plan::new(scene, settings);
+        let plans = FramePlans::new(scene, settings, Plan::new(scene, settings));
+        let plan = &plans.plans[0];
         let mips_before = scene.material.texture.mips_built();
         let normal_mips_built =
             |plan: &Plan| plan.normal_map.as_ref().is_some_and(|m| m.mips_built());
-        let normal_mips_before = normal_mips_built(&plan);
+        let normal_mips_before = normal_mips_built(plan);
         // Supersampling draws k times larger, then box-filters down.
         let k = ssaa_factor(plan.aa, width, height);
         // Taken out of `self` for the frame so the shaders can borrow it.
         let mut shadow_map = std::mem::take(&mut self.shadow);
         let (shadow, mut counters) =
-            shadow_pass(&mut shadow_map, scene, &plan, width * k, height * k);
-        counters += self.prepare(scene, &plan, shadow, width * k, height * k);
+            shadow_pass(&mut shadow_map, scene, plan, width * k, height * k);
+        counters += self.prepare(scene, &plans, shadow, width * k, height * k);
         counters.normal_map_builds += normal_map_builds(scene) - normal_maps_before;
         stats.plan_time = start.elapsed();
 
@@ -115,19 +119,19 @@ impl Renderer {
                 .take()
                 .unwrap_or_else(|| Framebuffer::new(0, 0));
             big.resize(width * k, height * k);
-            counters += self.rasterize(scene, &plan, shadow, &mut big, k);
-            counters += self.tangent_frames(scene, &plan, &mut big, k);
+            counters += self.rasterize(scene, &plans, shadow, &mut big, k);
+            counters += self.tangent_frames(scene, plan, &mut big, k);
             resolve_box(&big, k, fb);
             self.supersampled = Some(big);
         } else {
-            counters += self.rasterize(scene, &plan, shadow, fb, 1);
-            counters += self.tangent_frames(scene, &plan, fb, 1);
+            counters += self.rasterize(scene, &plans, shadow, fb, 1);
+            counters += self.tangent_frames(scene, plan, fb, 1);
         }
         self.shadow = shadow_map;
         if !mips_before && scene.material.texture.mips_built() {
             counters.mip_builds += 1;
         }
-        if !normal_mips_before && normal_mips_built(&plan) {
+        if !normal_mips_before && normal_mips_built(plan) {
             counters.mip_builds += 1;
         }
         stats.raster_time = raster_start.elapsed();
@@ -145,10 +149,10 @@ impl Renderer {
         width: usize,
         height: usize,
     ) -> (&[ScreenTri], &[TriShader]) {
-        let plan = Plan::new(scene, settings);
+        let plans = FramePlans::new(scene, settings, Plan::new(scene, settings));
         let mut shadow_map = std::mem::take(&mut self.shadow);
-        let (shadow, _) = shadow_pass(&mut shadow_map, scene, &plan, width, height);
-        self.prepare(scene, &plan, shadow, width, height);
+        let (shadow, _) = shadow_pass(&mut shadow_map, scene, &plans.plans[0], width, height);
+        self.prepare(scene, &plans, shadow, width, height);
         self.shadow = shadow_map;
         (&self.tris, &self.shaders)
     }
@@ -159,14 +163,16 @@ impl Renderer {
     fn prepare(
         &mut self,
         scene: &Scene,
-        plan: &Plan,
+        plans: &FramePlans,
         shadow: Option<Shadow>,
         width: usize,
         height: usize,
     ) -> Counters {
+        let plan = &plans.plans[0];
         let mut counters = Counters::default();
         self.wire.clear();
         self.shaders.clear();
+        self.shader_groups.clear();
         self.tris.clear();
         let aspect = width as f32 / height as f32 * self.pixel_aspect.unwrap_or(1.0);
         let view_proj = scene.camera.projection(aspect) * scene.camera.view();
@@ -180,6 +186,8 @@ impl Renderer {
             0
         };
         for (object_index, object) in scene.objects.iter().enumerate() {
+            let group = plans.of_object[object_index];
+            let plan = &plans.plans[group];
             let model = object.model_matrix(user_rotation);
             let linear = Mat3::from_mat4(model);
             let normal_matrix = normal_matrix(model);
@@ -260,6 +268,9 @@ impl Renderer {
                     &mut counters,
                 );
                 self.shaders.push(shader);
+                if plans.plans.len() > 1 {
+                    self.shader_groups.push(group as u32);
+                }
             }
         }
         counters.triangles_drawn = self.tris.len() as u64;
@@ -272,11 +283,12 @@ impl Renderer {
     fn rasterize(
         &mut self,
         scene: &Scene,
-        plan: &Plan,
+        plans: &FramePlans,
         shadow: Option<Shadow>,
         fb: &mut Framebuffer,
         brush: usize,
     ) -> Counters {
+        let plan = &plans.plans[0];
         let width = fb.width();
         let height = fb.height();
         let background = scene.background;
@@ -292,10 +304,26 @@ impl Renderer {
             }
             return counters;
         }
-        let ctx = ShadeCtx {
-            plan,
-            texture: &scene.material.texture,
-            shadow,
+        let ctx = if plans.plans.len() == 1 {
+            MaterialCtxs::One(ShadeCtx {
+                plan,
+                texture: &scene.material.texture,
+                shadow,
+            })
+        } else {
+            MaterialCtxs::Many {
+                ctxs: plans
+                    .plans
+                    .iter()
+                    .zip(&plans.textures)
+                    .map(|(plan, texture)| ShadeCtx {
+                        plan,
+                        texture,
+                        shadow,
+                    })
+                    .collect(),
+                of_shader: &self.shader_groups,
+            }
         };
         let work = RowWork::new(&self.tris, &self.shaders, width, height);
         let threads = rayon::current_num_threads();
@@ -385,6 +413,38 @@ impl Renderer {
             _ => DepthView::None,
         };
         draw_tangent_frames(scene, plan, depth, fb, brush)
+    }
+}
+
+/// The plans of one frame: the scene material's first, then one per
+/// distinct own material of the objects (docs/models.md), with the
+/// texture each draws and the plan of each object.
+struct FramePlans<'s> {
+    plans: Vec<Plan>,
+    textures: Vec<&'s crate::texture::Texture>,
+    of_object: Vec<usize>,
+}
+
+impl<'s> FramePlans<'s> {
+    fn new(scene: &'s Scene, settings: &Settings, base: Plan) -> Self {
+        let (materials, of_object) = scene.material_groups();
+        let mut plans = vec![base];
+        let mut textures = vec![&*scene.material.texture];
+        for (k, material) in materials.into_iter().enumerate() {
+            let any_textured = scene
+                .objects
+                .iter()
+                .zip(&of_object)
+                .filter(|(_, g)| **g == k + 1)
+                .any(|(o, _)| o.mesh.triangles.iter().any(|t| t.textured));
+            plans.push(plans[0].for_material(material, any_textured, settings));
+            textures.push(&material.texture);
+        }
+        FramePlans {
+            plans,
+            textures,
+            of_object,
+        }
     }
 }
 

@@ -54,7 +54,7 @@ pub enum ModelChoice {
     #[default]
     Cube,
     Sphere,
-    /// A Wavefront OBJ file.
+    /// A model file: Wavefront OBJ, or glTF 2.0 (`.gltf`, `.glb`).
     Obj(PathBuf),
 }
 
@@ -114,9 +114,13 @@ impl FromStr for ModelChoice {
             "cube" => ModelChoice::Cube,
             "sphere" => ModelChoice::Sphere,
             _ if lower.ends_with(".obj") => ModelChoice::Obj(PathBuf::from(text)),
+            // glTF files too (drawn by `build_scene`).
+            _ if lower.ends_with(".gltf") || lower.ends_with(".glb") => {
+                ModelChoice::Obj(PathBuf::from(text))
+            }
             _ => {
                 return Err(format!(
-                    "unknown model '{}': expected triangle, plane, cube, sphere or a file ending in .obj",
+                    "unknown model '{}': expected triangle, plane, cube, sphere or a file ending in .obj, .gltf or .glb",
                     crate::sanitize::clean(text)
                 ));
             }
@@ -140,7 +144,12 @@ pub fn build_scene(
     all_faces: bool,
 ) -> Result<Built, ObjError> {
     Ok(match kind {
-        SceneKind::Cube => Built::Scene(Box::new(Scene::model(model.mesh(all_faces)?, texture))),
+        SceneKind::Cube => match model {
+            ModelChoice::Obj(path) if super::gltf::is_gltf(path) => {
+                Built::Scene(Box::new(Scene::gltf(super::gltf::load(path)?, texture)))
+            }
+            _ => Built::Scene(Box::new(Scene::model(model.mesh(all_faces)?, texture))),
+        },
         SceneKind::Shadow => Built::Scene(Box::new(Scene::shadow(texture, all_faces))),
         SceneKind::Plasma => Built::Plasma(Plasma::new(0)),
     })
@@ -174,6 +183,7 @@ impl Scene {
                 normal_map: None,
                 environment: None,
             },
+            object_materials: Vec::new(),
             lights: light::reference_lights(),
             ambient: AMBIENT,
             camera: Camera::default(),

@@ -4,6 +4,7 @@ pub mod build;
 pub mod camera;
 pub mod casters;
 pub mod cube;
+pub mod gltf;
 pub mod light;
 pub mod mesh;
 pub mod obj;
@@ -79,11 +80,43 @@ pub fn normal_matrix(model: Mat4) -> Mat3 {
 #[derive(Clone, Debug)]
 pub struct Scene {
     pub objects: Vec<Object>,
+    /// The material of every object without its own.
     pub material: Material,
+    /// Objects' own materials (a loaded model's), by object index: object
+    /// i uses `object_materials[i]` when it is there and set, else
+    /// `material`. Materials shared by objects are shared `Arc`s.
+    pub object_materials: Vec<Option<Arc<Material>>>,
     pub lights: Vec<Light>,
     pub ambient: Vec3,
     pub camera: Camera,
     pub background: Rgb,
+}
+
+impl Scene {
+    /// Object `index`'s own material, if it has one.
+    pub fn own_material(&self, index: usize) -> Option<&Arc<Material>> {
+        self.object_materials.get(index).and_then(Option::as_ref)
+    }
+
+    /// The distinct own materials of the objects, in order of first use,
+    /// and for each object the index in that list plus one (0: the
+    /// scene's material).
+    pub fn material_groups(&self) -> (Vec<&Arc<Material>>, Vec<usize>) {
+        let mut distinct: Vec<&Arc<Material>> = Vec::new();
+        let groups = (0..self.objects.len())
+            .map(|i| match self.own_material(i) {
+                None => 0,
+                Some(m) => match distinct.iter().position(|d| Arc::ptr_eq(d, m)) {
+                    Some(k) => k + 1,
+                    None => {
+                        distinct.push(m);
+                        distinct.len()
+                    }
+                },
+            })
+            .collect();
+        (distinct, groups)
+    }
 }
 
 /// Background of the reference scene.

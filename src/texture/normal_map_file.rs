@@ -188,7 +188,7 @@ pub fn tilt_factor(k: f32) -> f32 {
 }
 
 /// `map` with every normal's x and y scaled by `factor`, renormalised.
-fn tilt(map: &NormalMap, factor: f32) -> NormalMap {
+pub(crate) fn tilt(map: &NormalMap, factor: f32) -> NormalMap {
     let normals = map
         .normals
         .iter()

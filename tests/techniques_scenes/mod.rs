@@ -65,6 +65,7 @@ pub fn scene_of(
             normal_map: None,
             environment: None,
         },
+        object_materials: Vec::new(),
         lights,
         ambient,
         camera: Camera::default(),

@@ -1,0 +1,130 @@
+//! Tangents a normal-mapped primitive lacks, made by MikkTSpace as the
+//! glTF 2.0 specification asks (§3.7.2.1), and turned into relief's
+//! texture axes.
+
+use glam::{Vec2, Vec3};
+
+/// Triangles given one vertex per corner (corners 3f, 3f + 1, 3f + 2).
+struct Corners<'a> {
+    positions: &'a [Vec3],
+    normals: &'a [Vec3],
+    uvs: &'a [Vec2],
+    tangents: Vec<[f32; 4]>,
+}
+
+impl mikktspace::Geometry for Corners<'_> {
+    fn num_faces(&self) -> usize {
+        self.positions.len() / 3
+    }
+    fn num_vertices_of_face(&self, _face: usize) -> usize {
+        3
+    }
+    fn position(&self, face: usize, vert: usize) -> [f32; 3] {
+        self.positions[3 * face + vert].to_array()
+    }
+    fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
+        self.normals[3 * face + vert].to_array()
+    }
+    fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
+        // glTF's v grows down the picture; MikkTSpace's bitangent is to
+        // follow the picture's up, the way glTF's normal maps are drawn.
+        let uv = self.uvs[3 * face + vert];
+        [uv.x, 1.0 - uv.y]
+    }
+    fn set_tangent_encoded(&mut self, tangent: [f32; 4], face: usize, vert: usize) {
+        self.tangents[3 * face + vert] = tangent;
+    }
+}
+
+/// ∂P/∂u and ∂P/∂v directions per corner (unit length) from MikkTSpace, or
+/// `None` when it cannot make them.
+pub(super) fn mikktspace(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    uvs: &[Vec2],
+) -> Option<Vec<(Vec3, Vec3)>> {
+    let mut corners = Corners {
+        positions,
+        normals,
+        uvs,
+        tangents: vec![[0.0; 4]; positions.len()],
+    };
+    if !mikktspace::generate_tangents(&mut corners) {
+        return None;
+    }
+    Some(
+        corners
+            .tangents
+            .iter()
+            .zip(normals)
+            .map(|(t, n)| axes(Vec3::new(t[0], t[1], t[2]), t[3], *n))
+            .collect(),
+    )
+}
+
+/// relief's ∂P/∂u and ∂P/∂v directions from a glTF tangent (xyz, w) and
+/// normal: the bitangent w·(N × T) points where v falls, so ∂P/∂v is its
+/// opposite.
+pub(super) fn axes(t: Vec3, w: f32, n: Vec3) -> (Vec3, Vec3) {
+    let sign = if w < 0.0 { -1.0 } else { 1.0 };
+    (t, -(n.cross(t) * sign))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit quad in z = 0 facing +Z, u along +x and v down the picture
+    /// (along −y): T must be +x, and ∂P/∂v −y (w = +1).
+    #[test]
+    fn a_quad_gets_its_texture_axes() {
+        let p = [
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+        ];
+        let uv = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(0.0, 1.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.0, 0.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(1.0, 0.0),
+        ];
+        let n = [Vec3::Z; 6];
+        let axes = mikktspace(&p, &n, &uv).unwrap();
+        for (pu, pv) in axes {
+            assert!(pu.abs_diff_eq(Vec3::X, 1e-5), "{pu}");
+            assert!(pv.abs_diff_eq(-Vec3::Y, 1e-5), "{pv}");
+        }
+    }
+
+    /// The same quad with u mirrored (u along −x): T is −x, ∂P/∂v still −y.
+    #[test]
+    fn a_mirrored_quad_keeps_its_v_axis() {
+        let p = [
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+        ];
+        let uv = [
+            Vec2::new(1.0, 0.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.0, 1.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(0.0, 1.0),
+            Vec2::new(0.0, 0.0),
+        ];
+        let axes = mikktspace(&p, &[Vec3::Z; 6], &uv).unwrap();
+        for (pu, pv) in axes {
+            assert!(pu.abs_diff_eq(-Vec3::X, 1e-5), "{pu}");
+            assert!(pv.abs_diff_eq(-Vec3::Y, 1e-5), "{pv}");
+        }
+    }
+}
