@@ -228,7 +228,7 @@ mod tests {
         let want = std::array::from_fn::<bool, 8, _>(|i| a[i] > b[i] && a[i] < 2.0);
         assert_eq!(
             m.to_bitmask(),
-            (0..8).filter(|&i| want[i]).map(|i| 1 << i).sum()
+            (0..8).filter(|&i| want[i]).map(|i| 1 << i).sum::<u32>()
         );
     }
 
