@@ -8,7 +8,7 @@ use super::bump::blinn;
 use super::core::{gloss_map, shade_pixel};
 use super::environment::mirror;
 use super::lanes::Vector;
-use super::lighting::{LightSet, diffuse, finish, lambert, light_lanes};
+use super::lighting::{LightSet, facing_cosine, finish, light_lanes};
 use super::packet::{self, LANES, V3};
 use super::specular::{gloss, gloss8, view_dir};
 use crate::framebuffer::Rgb;
@@ -79,9 +79,6 @@ pub fn one_pixel_reason(plan: &Plan) -> Option<&'static str> {
     if bumped && plan.technique != Technique::Blinn {
         return Some("emboss, dot3, parallax and POM have no packet kernel yet");
     }
-    if plan.shadow_light.is_some() && plan.shading == Shading::Phong {
-        return Some("shadow-map lookups per pixel");
-    }
     None
 }
 
@@ -119,6 +116,20 @@ fn bilinear_colour(plan: &Plan) -> bool {
 fn bilinear_gradient(plan: &Plan) -> bool {
     matches!(plan.filter, Filter::Bilinear | Filter::Nearest)
         && plan.height_derivative == HeightDerivative::Filtered
+}
+
+/// The shadow factor of the shadowed light at the `lanes` of `p` (a bit
+/// per lane it reaches among the covered ones; 1 in the others): each
+/// lane's one lookup, as the one-pixel kernel makes it.
+#[inline(always)]
+fn shadow8(sh: Shadow, p: V3, tri: &PhongTri, lanes: u32, counters: &mut Counters) -> f32x8 {
+    let (x, y, z) = (p.x.to_array(), p.y.to_array(), p.z.to_array());
+    let mut seen = [1.0f32; LANES];
+    for lane in (0..LANES).filter(|l| lanes & (1 << l) != 0) {
+        let p = Vec3::new(x[lane], y[lane], z[lane]);
+        seen[lane] = sh.factor(sh.light, p, tri.face_normal, tri.object, counters);
+    }
+    f32x8::from(seen)
 }
 
 #[inline]
@@ -341,8 +352,8 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
     }
-    fn packets(&self, ctx: &ShadeCtx) -> bool {
-        ctx.shadow.is_none()
+    fn packets(&self, _: &ShadeCtx) -> bool {
+        true
     }
     #[inline]
     fn shade8(
@@ -411,6 +422,11 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
             }
         }
         counters.light_evals += count * plan.lights.len() as u64;
+        let shadow = ctx.shadow;
+        let visibility = |i, reached: f32x8, counters: &mut Counters| match shadow {
+            Some(sh) if sh.light == i => shadow8(sh, p, tri, reached.to_bitmask() & live, counters),
+            _ => f32x8::ONE,
+        };
         if SPEC && plan.specular.is_some() {
             counters.specular_evals += count * plan.lights.len() as u64;
             let view = view_dir(plan.eye, p);
@@ -419,8 +435,8 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
                 p,
                 n,
                 view,
-                |_, d, _| lambert(n, d),
-                |_, _, _| f32x8::ONE,
+                |_, d, _| facing_cosine(n, d),
+                visibility,
                 counters,
             );
             if let Some(map) = gloss_map(ctx, tri.glossy) {
@@ -430,7 +446,15 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
             let lit = albedo.times(light).plus(highlight);
             return packet::finish(mirror(plan, p, n, lit, live, counters), live, counters);
         }
-        let light = diffuse(&plan.lights, plan.ambient, p, n, plan.attenuation);
+        let (light, _) = light_lanes::<V3, false>(
+            &LightSet::of(plan),
+            p,
+            n,
+            V3::splat(Vec3::ZERO),
+            |_, d, _| facing_cosine(n, d),
+            visibility,
+            counters,
+        );
         packet::finish(
             mirror(plan, p, n, albedo.times(light), live, counters),
             live,

@@ -35,7 +35,7 @@ pub fn diffuse<V: Vector>(
         p,
         n,
         V::uniform(Vec3::ZERO),
-        |_, d, _| lambert(n, d),
+        |_, d, _| facing_cosine(n, d),
         |_, _, _| V::L::ONE,
         &mut unused,
     )
@@ -65,18 +65,25 @@ impl<'a> LightSet<'a> {
     }
 }
 
-/// Lambert's cosine N·L for a light `d` away where the light faces the
-/// point; where it is behind, 0 for one pixel and a value ≤ 0 (or NaN) in
-/// the other lanes. The sign is tested before normalising, so most
+/// Lambert's cosine N·L for a light `d` away, or 0 where the light is
+/// behind (as `facing_cosine`, for one point).
+#[inline(always)]
+pub fn lambert(n: Vec3, d: Vec3) -> f32 {
+    facing_cosine(n, d).unwrap_or(0.0)
+}
+
+/// Lambert's cosine at one point or eight: `None` where the light is
+/// behind every lane, else N·L in the lanes it faces and a value ≤ 0 (or
+/// NaN) in the others. The sign is tested before normalising, so most
 /// back-lit points (and packets) stop at one dot product. (A zero or
 /// non-finite `d` gives 0 or NaN, which the light loop skips.)
 #[inline(always)]
-pub fn lambert<V: Vector>(n: V, d: V) -> V::L {
+pub fn facing_cosine<V: Vector>(n: V, d: V) -> Option<V::L> {
     let ndl = n.dot(d);
     if V::L::none(ndl.gt(V::L::ZERO)) {
-        return V::L::ZERO;
+        return None;
     }
-    ndl / d.dot(d).sqrt()
+    Some(ndl / d.dot(d).sqrt())
 }
 
 /// The one light loop, for every kernel: ambient plus, for each light that
@@ -94,7 +101,7 @@ pub fn light_with<const SPEC: bool>(
     p: Vec3,
     n: Vec3,
     view: Vec3,
-    cosine: impl FnMut(usize, Vec3, &mut Counters) -> f32,
+    mut cosine: impl FnMut(usize, Vec3, &mut Counters) -> f32,
     mut visibility: impl FnMut(usize, &mut Counters) -> f32,
     counters: &mut Counters,
 ) -> (Vec3, Vec3) {
@@ -102,12 +109,14 @@ pub fn light_with<const SPEC: bool>(
     if SPEC {
         counters.specular_evals += set.lights.len() as u64;
     }
+    let cosine = |i, d, counters: &mut Counters| Some(cosine(i, d, counters));
     let visibility = |i, _reached: bool, counters: &mut Counters| visibility(i, counters);
     light_lanes::<Vec3, SPEC>(set, p, n, view, cosine, visibility, counters)
 }
 
 /// `light_with` at one point or eight (`V`), without its counts (a packet
-/// counts its live lanes). `visibility(i, reached, counters)` is asked once
+/// counts its live lanes). `cosine` gives `None` when light `i` is behind
+/// every lane (see `facing_cosine`). `visibility(i, reached, counters)` is asked once
 /// per light that reaches some lane, with the mask of the lanes it reaches.
 #[inline(always)]
 pub fn light_lanes<V: Vector, const SPEC: bool>(
@@ -115,7 +124,7 @@ pub fn light_lanes<V: Vector, const SPEC: bool>(
     p: V,
     n: V,
     view: V,
-    mut cosine: impl FnMut(usize, V, &mut Counters) -> V::L,
+    mut cosine: impl FnMut(usize, V, &mut Counters) -> Option<V::L>,
     mut visibility: impl FnMut(usize, <V::L as Lanes>::Mask, &mut Counters) -> V::L,
     counters: &mut Counters,
 ) -> (V, V) {
@@ -124,7 +133,9 @@ pub fn light_lanes<V: Vector, const SPEC: bool>(
     let mut highlight = V::uniform(Vec3::ZERO);
     for (i, light) in set.lights.iter().enumerate() {
         let d = V::uniform(light.position) - p;
-        let mut k = cosine(i, d, counters);
+        let Some(mut k) = cosine(i, d, counters) else {
+            continue;
+        };
         // A light at the point, or out of range, has no direction: nothing.
         let len2 = d.dot(d);
         let inf = V::L::splat(f32::INFINITY);

@@ -13,9 +13,11 @@ use relief::framebuffer::Rgb;
 use relief::plan::Plan;
 use relief::raster::{Band, raster_triangle};
 use relief::render::Renderer;
+use relief::scene::{Built, ModelChoice, SceneKind, build_scene};
 use relief::settings::{Filter, HeightDerivative, Normals, Shading, Technique};
 use relief::shade::kernels::{FlatTexturedKernel, GouraudKernel, PhongKernel};
 use relief::shade::{PixelShader, ShadeCtx, TriShader};
+use relief::shadow::{Shadow, ShadowMap};
 use relief::stats::Counters;
 use relief::texture::Texture;
 use relief::texture::filter::Footprint;
@@ -45,10 +47,16 @@ fn both(
     let plan = Plan::new(scene, settings);
     let mut renderer = Renderer::new();
     let (tris, shaders) = renderer.screen_triangles(scene, settings, w, h);
+    // The plan's shadow map, when it asks for one (the shadow scene).
+    let mut map = ShadowMap::new();
+    if let Some(light) = plan.shadow_light {
+        let at = plan.lights[light].position;
+        map.render(scene, plan.rotation, at, &plan.shadow_casters, w, h);
+    }
     let ctx = ShadeCtx {
         plan: &plan,
         texture: &scene.material.texture,
-        shadow: None,
+        shadow: plan.shadow_light.map(|light| Shadow { light, map: &map }),
     };
     let mut a = vec![[0u8; 3]; w * h];
     let mut b = vec![[0u8; 3]; w * h];
@@ -297,6 +305,42 @@ fn environment_kernels_match_the_one_pixel_loop() {
                     let (_, stats) = relief::render::render_frame(scene, &s, 80, 60);
                     assert!(stats.counters.env_lookups > 0, "{s:?}");
                 }
+            }
+        }
+    }
+}
+
+/// Phong and Blinn under a shadow map (the cube over its floor): each lane
+/// asks the map once per light that reaches it, as the one-pixel loop does.
+#[test]
+fn shadowed_kernels_match_the_one_pixel_loop() {
+    let texture = Arc::new(relief::texture::procedural::brick());
+    let Built::Scene(scene) =
+        build_scene(SceneKind::Shadow, &ModelChoice::Cube, texture, false).unwrap()
+    else {
+        panic!("a 3D scene")
+    };
+    for normals in [Normals::Face, Normals::Vertex] {
+        for (texture, bump) in [(true, true), (true, false), (false, true), (false, false)] {
+            for (specular, attenuation, environment) in [
+                (false, false, false),
+                (true, true, false),
+                (true, false, true),
+            ] {
+                let s = Settings {
+                    normals,
+                    texture,
+                    bump,
+                    specular,
+                    attenuation,
+                    environment,
+                    rotation: Vec3::new(20.0, 30.0, 0.0),
+                    ..Settings::default()
+                };
+                assert!(Plan::new(&scene, &s).shadow_light.is_some(), "{s:?}");
+                check_in(&scene, s, 96, 72);
+                let (_, stats) = relief::render::render_frame(&scene, &s, 96, 72);
+                assert!(stats.counters.shadow_lookups > 0, "{s:?}");
             }
         }
     }
