@@ -10,7 +10,7 @@ use std::path::Path;
 
 use image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader, Limits};
 
-use super::{Level, Texture, resample, xpm};
+use super::{Level, Texture, resample, variants, xpm};
 use crate::budget::{self, Reservation};
 use crate::sanitize;
 
@@ -306,11 +306,32 @@ fn decode_level(
     }
     // The decoders are third-party code fed untrusted bytes: a panic in one
     // is this file's error, not the program's end.
-    crate::contain::contain(|| decode_image(bytes, file, hint)).unwrap_or_else(|cause| {
+    let first = contained_decode(bytes, file, hint);
+    // Valid variants the crate refuses (docs/textures.md): decoded again,
+    // rewritten into the form it reads; files it reads are never rewritten.
+    match first {
+        Err(TextureError::Corrupt { .. } | TextureError::Unsupported { .. }) => {
+            match variants::rewrite(bytes) {
+                Some((fixed, format)) => contained_decode(&fixed, file, Some(format)).or(first),
+                None => first,
+            }
+        }
+        other => other,
+    }
+}
+
+/// [`decode_image`] with a decoder panic turned into this file's error (its
+/// text is the decoder's internals, not a reason a user can act on).
+fn contained_decode(
+    bytes: &[u8],
+    file: &str,
+    hint: Option<ImageFormat>,
+) -> Result<(Level, Reservation), TextureError> {
+    crate::contain::contain(|| decode_image(bytes, file, hint)).unwrap_or_else(|_| {
         Err(TextureError::Corrupt {
             file: file.to_owned(),
             format: format_name(bytes, hint),
-            reason: format!("the decoder failed on it ({cause})"),
+            reason: "the decoder stopped on data it does not expect".into(),
         })
     })
 }
@@ -385,9 +406,12 @@ fn convert_error(e: ImageError, file: &str, format: &str) -> TextureError {
                 reason: "ends too early".into(),
             }
         }
-        ImageError::IoError(io) => TextureError::Unreadable {
+        // The bytes are in memory: any other I/O error a decoder reports is
+        // about the data (an LZW stream that does not decode), not the disk.
+        ImageError::IoError(io) => TextureError::Corrupt {
             file,
-            reason: one_line(&io.to_string()),
+            format,
+            reason: plain_reason(&io.to_string()),
         },
         ImageError::Decoding(d) => TextureError::Corrupt {
             file,
@@ -412,6 +436,14 @@ fn convert_error(e: ImageError, file: &str, format: &str) -> TextureError {
 /// decoder's internals (`ChunkType { type: IHDR, … }`) dropped.
 fn plain_reason(message: &str) -> String {
     let mut text = message.trim();
+    // zune's "I/O errors Not enough bytes, expected 64 but found 6".
+    if text.contains("Not enough bytes") || text.contains("nexpected end of file") {
+        return "ends too early".into();
+    }
+    let lower = text.to_ascii_lowercase();
+    if lower.contains("lzw") {
+        return "its LZW-compressed data does not decode".into();
+    }
     if let Some(rest) = text.strip_prefix("Format error") {
         // "Format error decoding Png: …" or "Format error: …"
         text = rest.split_once(':').map_or("", |(_, r)| r).trim();
@@ -422,7 +454,14 @@ fn plain_reason(message: &str) -> String {
     let mut rest = text;
     while let Some(open) = rest.find('{') {
         let head = rest[..open].trim_end();
-        let close = rest[open..].find('}').map_or(rest.len(), |i| open + i + 1);
+        // A chunk name with a control byte prints as `A\u{1}bc` inside the
+        // dump: its end is the `}` after the last field, not the first one.
+        let from = if head.ends_with("ChunkType") {
+            rest[open..].find("safecopy").map_or(open, |i| open + i)
+        } else {
+            open
+        };
+        let close = rest[from..].find('}').map_or(rest.len(), |i| from + i + 1);
         let inside = &rest[open + 1..close.saturating_sub(1).max(open + 1)];
         match (
             head.strip_suffix("ChunkType"),
@@ -430,7 +469,8 @@ fn plain_reason(message: &str) -> String {
         ) {
             (Some(before), Some(kind)) => {
                 plain.push_str(before);
-                plain.push_str(kind.split(',').next().unwrap_or("").trim());
+                let kind = kind.split(", critical").next().unwrap_or("").trim();
+                plain.push_str(&escapes_as_marks(kind));
                 if !rest[close..].trim_start().starts_with("chunk") {
                     plain.push_str(" chunk");
                 }
@@ -446,6 +486,19 @@ fn plain_reason(message: &str) -> String {
     } else {
         reason
     }
+}
+
+/// `\u{1}` escapes of a `Debug` string as `?`.
+fn escapes_as_marks(text: &str) -> String {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(i) = rest.find("\\u{") {
+        out.push_str(&rest[..i]);
+        out.push('?');
+        rest = rest[i..].find('}').map_or("", |j| &rest[i + j + 1..]);
+    }
+    out.push_str(rest);
+    out
 }
 
 /// Holds the budget for a `width × height` texture's worst case.
@@ -570,5 +623,21 @@ mod tests {
             "the data does not decode"
         );
         assert_eq!(plain_reason("bad\nheader"), "bad header");
+        assert_eq!(
+            plain_reason(
+                "Format error decoding Png: Unrecognized critical chunk: ChunkType { type: A\\u{1}bc, critical: true, private: false, reserved: true, safecopy: true }"
+            ),
+            "Unrecognized critical chunk: A?bc chunk"
+        );
+        assert_eq!(
+            plain_reason(
+                "Format error decoding Jpeg: I/O errors Not enough bytes, expected 64 but found 6"
+            ),
+            "ends too early"
+        );
+        assert_eq!(
+            plain_reason("invalid code in LZW stream"),
+            "its LZW-compressed data does not decode"
+        );
     }
 }

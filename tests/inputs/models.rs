@@ -524,6 +524,16 @@ fn bad_files_give_one_clear_line() {
     let e = error_of("bad_number.obj");
     assert!(matches!(e, ObjError::Line { line: 2, .. }), "{e:?}");
     assert!(one_clean_line(&e).contains("'nan' is not a finite number"));
+    assert!(one_clean_line(&e).contains("position"), "{e}");
+
+    // A NaN in a vertex's colour is named as the colour.
+    let e = failure(obj::parse(
+        "colour.obj",
+        "v 0 0 0 1 0 0\nv 1 0 0 0 nan 0\nv 0 1 0 0 0 1\nf 1 2 3\n",
+    ));
+    let text = one_clean_line(&e);
+    assert!(text.contains("vertex colour: 'nan'"), "{text}");
+    assert!(!text.contains("position"), "{text}");
 
     assert!(matches!(error_of("no_faces.obj"), ObjError::Empty { .. }));
     assert!(matches!(

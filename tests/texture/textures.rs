@@ -797,3 +797,162 @@ fn every_other_decoded_format_round_trips() {
         assert!(worst <= tolerance, "{name}: off by {worst}");
     }
 }
+
+/// Texels of two textures agree within `tolerance`.
+fn assert_same_texels(a: &Texture, b: &Texture, tolerance: f32, what: &str) {
+    assert_eq!((a.width(), a.height()), (b.width(), b.height()), "{what}");
+    for (t, u) in a.base().texels.iter().zip(&b.base().texels) {
+        for c in 0..4 {
+            assert!((t[c] - u[c]).abs() <= tolerance, "{what}: {t:?} vs {u:?}");
+        }
+    }
+}
+
+fn encoded(picture: &image::DynamicImage, format: image::ImageFormat) -> Vec<u8> {
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    picture.write_to(&mut bytes, format).unwrap();
+    bytes.into_inner()
+}
+
+#[test]
+fn valid_variants_the_decoder_refuses_load_as_their_plain_form() {
+    use image::{DynamicImage, ImageFormat};
+    let img = image::open(data("formats/basn2c08.png")).unwrap();
+
+    // HDR signed `#?RGBE` instead of `#?RADIANCE`: the same picture.
+    let hdr = encoded(
+        &DynamicImage::ImageRgb32F(img.to_rgb32f()),
+        ImageFormat::Hdr,
+    );
+    let plain = load_texture_from_bytes("a.hdr", &hdr).unwrap();
+    assert!(hdr.starts_with(b"#?RADIANCE\n"));
+    let rgbe = [b"#?RGBE".as_slice(), &hdr[10..]].concat();
+    let tex = load_texture_from_bytes("b.hdr", &rgbe).unwrap_or_else(|e| panic!("{e}"));
+    assert_same_texels(&tex, &plain, 0.0, "#?RGBE");
+    // The small file made byte by byte: pixel (1, 1) is (60, 100, 160) / 255
+    // within RGBE's 8-bit mantissa.
+    let small = load_texture(&data("variants/rgbe.hdr")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((small.width(), small.height()), (4, 3));
+    let t = small.base().texels[4 + 1];
+    for (c, want) in [60.0f32, 100.0, 160.0].iter().enumerate() {
+        assert!((t[c] - want / 255.0).abs() < 0.01, "{t:?}");
+    }
+
+    // GIF with an extension block of an unknown label after the colour
+    // table: skipped, the picture is the same.
+    let gif = encoded(&DynamicImage::ImageRgba8(img.to_rgba8()), ImageFormat::Gif);
+    let plain = load_texture_from_bytes("a.gif", &gif).unwrap();
+    let table = if gif[10] & 0x80 != 0 {
+        3 << ((gif[10] & 7) + 1)
+    } else {
+        0
+    };
+    let at = 13 + table;
+    let unknown = [&gif[..at], b"\x21\x99\x03abc\x02xy\x00", &gif[at..]].concat();
+    assert!(
+        image::load_from_memory(&unknown).is_err(),
+        "the crate refuses it"
+    );
+    let tex = load_texture_from_bytes("b.gif", &unknown).unwrap_or_else(|e| panic!("{e}"));
+    assert_same_texels(&tex, &plain, 0.0, "GIF extension");
+
+    // OS/2 2.x BMP: the 40-byte header grown to 64 (24 bytes of OS/2
+    // fields, zero), offsets moved.
+    let bmp = encoded(&DynamicImage::ImageRgb8(img.to_rgb8()), ImageFormat::Bmp);
+    let plain = load_texture_from_bytes("a.bmp", &bmp).unwrap();
+    assert_eq!(u32::from_le_bytes(bmp[14..18].try_into().unwrap()), 40);
+    let mut os2 = [&bmp[..54], &[0u8; 24], &bmp[54..]].concat();
+    os2[14..18].copy_from_slice(&64u32.to_le_bytes());
+    let size = os2.len() as u32;
+    os2[2..6].copy_from_slice(&size.to_le_bytes());
+    let offset = u32::from_le_bytes(bmp[10..14].try_into().unwrap()) + 24;
+    os2[10..14].copy_from_slice(&offset.to_le_bytes());
+    assert!(
+        image::load_from_memory(&os2).is_err(),
+        "the crate refuses it"
+    );
+    let tex = load_texture_from_bytes("b.bmp", &os2).unwrap_or_else(|e| panic!("{e}"));
+    assert_same_texels(&tex, &plain, 0.0, "OS/2 BMP");
+
+    // ICO holding grey and RGB PNGs (as Pillow writes them): the largest
+    // PNG's picture.
+    for (name, picture) in [
+        ("grey", DynamicImage::ImageLuma8(img.to_luma8())),
+        ("rgb", DynamicImage::ImageRgb8(img.to_rgb8())),
+    ] {
+        let png = encoded(&picture, ImageFormat::Png);
+        let small = encoded(&picture.thumbnail(16, 16), ImageFormat::Png);
+        let mut ico = vec![0, 0, 1, 0, 2, 0];
+        let first = 6 + 2 * 16;
+        for (side, data, at) in [(16u8, &small, first), (32, &png, first + small.len())] {
+            ico.extend_from_slice(&[side, side, 0, 0, 1, 0, 32, 0]);
+            ico.extend_from_slice(&(data.len() as u32).to_le_bytes());
+            ico.extend_from_slice(&(at as u32).to_le_bytes());
+        }
+        ico.extend_from_slice(&small);
+        ico.extend_from_slice(&png);
+        assert!(
+            image::load_from_memory(&ico).is_err(),
+            "the crate refuses it"
+        );
+        let tex = load_texture_from_bytes("b.ico", &ico).unwrap_or_else(|e| panic!("{e}"));
+        let plain = load_texture_from_bytes("a.png", &png).unwrap();
+        assert_same_texels(&tex, &plain, 0.0, name);
+    }
+    // The files Pillow wrote (32×32, from a 16×8 ramp).
+    for name in ["grey.ico", "rgb.ico"] {
+        let tex =
+            load_texture(&data(&format!("variants/{name}"))).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!((tex.width(), tex.height()), (32, 32), "{name}");
+    }
+}
+
+#[test]
+fn decoder_internals_stay_out_of_messages() {
+    let dir = scratch("internals");
+    // A critical chunk whose name holds a control byte.
+    let good = std::fs::read(data("pngsuite/basn2c08.png")).unwrap();
+    let mut chunk = b"\0\0\0\x02A\x01bcxx".to_vec();
+    let crc = crc32(&chunk[4..]);
+    chunk.extend_from_slice(&crc.to_be_bytes());
+    let png = [&good[..33], &chunk, &good[33..]].concat();
+    let path = dir.join("control.png");
+    std::fs::write(&path, png).unwrap();
+    let msg = load_texture(&path).unwrap_err().to_string();
+    assert_clean_one_line(&msg);
+    assert!(msg.contains("control.png") && msg.contains("A?bc"), "{msg}");
+    assert!(
+        !msg.contains("critical: true") && !msg.contains("ChunkType"),
+        "{msg}"
+    );
+
+    // A JPEG cut short: zune's "I/O errors Not enough bytes".
+    let img = image::open(data("formats/basn2c08.png")).unwrap();
+    let jpg = encoded(
+        &image::DynamicImage::ImageRgb8(img.to_rgb8()),
+        image::ImageFormat::Jpeg,
+    );
+    let e = load_texture_from_bytes("cut.jpg", &jpg[..jpg.len() / 2]).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "cut.jpg: corrupt or truncated JPEG file: ends too early"
+    );
+
+    // A GIF whose LZW data are scrambled: about the data, not the disk
+    // ("invalid code in LZW stream" came as "cannot read: …").
+    let gif = encoded(
+        &image::DynamicImage::ImageRgba8(img.to_rgba8()),
+        image::ImageFormat::Gif,
+    );
+    let start = gif.iter().rposition(|&b| b == 0x2C).unwrap();
+    let mut bad = gif.clone();
+    let end = bad.len() - 2;
+    for b in &mut bad[start + 12..end] {
+        *b ^= 0x5A;
+    }
+    let e = load_texture_from_bytes("bad.gif", &bad).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "bad.gif: corrupt or truncated GIF file: its LZW-compressed data does not decode"
+    );
+}

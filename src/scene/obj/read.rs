@@ -88,6 +88,12 @@ fn numbers<'a>(
         if out.len() == max {
             return Err(format!("{what} has more than {max} numbers"));
         }
+        // A vertex's numbers after the third are its colour (or w).
+        let what = if what == "position" && out.len() >= 3 {
+            "vertex colour"
+        } else {
+            what
+        };
         out.push(number(word, what)?);
     }
     if out.len() < min {
