@@ -6,6 +6,7 @@ pub mod ansi;
 pub mod backend;
 pub mod color;
 pub mod counting;
+pub mod depth;
 pub mod guard;
 pub mod halfblock;
 pub mod input;
