@@ -26,7 +26,13 @@ pub struct Cli {
     /// Options of the interactive view (when no subcommand is given).
     #[command(flatten)]
     pub view: ViewArgs,
-    /// Colour depth of the terminal output (default: detected from COLORTERM and TERM).
+    /// Colour depth of the terminal output. Default: detected, in this order:
+    /// COLORTERM=truecolor|24bit, a TERM ending in -direct, inside tmux the
+    /// client's RGB feature (tmux display '#{client_termfeatures}'; before tmux
+    /// 3.2 the client terminal's terminfo), TERM's
+    /// terminfo (Tc, RGB or setrgbf, through infocmp), the terminal's reply
+    /// to XTGETTCAP and DECRQSS; else 16 colours on the Linux console, 256
+    /// elsewhere. The cost panel (k) says which one decided.
     #[arg(long, value_enum)]
     pub color: Option<ColorDepthArg>,
     /// Ordered dithering when the colour depth is 256 or 16 colours.

@@ -336,3 +336,75 @@ fn a_panic_restores_the_terminal() {
     let stty = screen.lines().find(|l| l.starts_with("TTY ")).unwrap();
     assert_eq!(stty.trim_end(), "TTY icanon echo", "{screen}");
 }
+
+/// relief inside tmux, whose client runs (through `script`) in a pty that
+/// answers nothing, as `TERM=xterm-256color`. tmux answers the terminal
+/// queries itself (device attributes only), so the depth comes from what
+/// tmux says of its client: 24-bit with the `RGB` terminal feature, 256
+/// colours without (tmux would turn 24-bit colours into its palette
+/// anyway). The cost panel says so.
+#[test]
+fn inside_tmux_the_colour_depth_comes_from_the_client() {
+    if Command::new("script").arg("--version").output().is_err() {
+        eprintln!("script not found: test skipped (apt-get install bsdutils)");
+        return;
+    }
+    let cases = [
+        ("rgb", true, "24b cube", "24-bit: tmux client RGB", "8;2;"),
+        (
+            "norgb",
+            false,
+            "256c cube",
+            "256 colours: tmux client no RGB",
+            "8;5;",
+        ),
+    ];
+    for (name, rgb, status_end, panel, colours) in cases {
+        let inner_name = format!("colour-{name}");
+        // The pane waits for a client before it starts relief, which asks
+        // tmux at start-up.
+        let script =
+            std::env::temp_dir().join(format!("relief-e2e-{}-{inner_name}.sh", std::process::id()));
+        std::fs::write(
+            &script,
+            format!(
+                "until [ -n \"$(tmux display-message -p '#{{client_termname}}')\" ]; do sleep 0.05; done\n\
+                 exec env -u COLORTERM {}\n",
+                env!("CARGO_BIN_EXE_relief")
+            ),
+        )
+        .unwrap();
+        let cmd = format!("sh {}; echo RELIEF-EXITED $?; sleep 60", script.display());
+        let Some(inner) = Tmux::start(&inner_name, 100, 30, &cmd) else {
+            return;
+        };
+        if rgb {
+            inner.run(&["set", "-as", "terminal-features", ",xterm-256color:RGB"]);
+        }
+        // The client: its terminal is script's pty, whose output goes nowhere.
+        let mut client = Command::new("script")
+            .args([
+                "-qfec",
+                &format!("tmux -L {} attach", inner.socket),
+                "/dev/null",
+            ])
+            .env_remove("TMUX")
+            .env("TERM", "xterm-256color")
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("script runs");
+        inner.wait_for("first frame", |s| status(s).contains(status_end));
+        let pic = inner.picture();
+        assert!(pic.contains(colours), "{name}: {pic}");
+        inner.keys(&["k"]);
+        inner.wait_for("the cost panel", |s| s.contains(panel));
+        inner.keys(&["q"]);
+        assert_eq!(inner.wait_exit(), "0");
+        drop(inner);
+        let _ = client.kill();
+        let _ = client.wait();
+        let _ = std::fs::remove_file(script);
+    }
+}

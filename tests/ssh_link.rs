@@ -30,6 +30,8 @@
 //! - `RELIEF_SSH_COLOR=truecolor` relief's `--color` (`256`, `16`)
 //! - `RELIEF_SSH_RATES=1000,8000` link rates of the full run, in kbit/s
 //! - `RELIEF_SSH_REPS=3` sessions per rate in the full run (interleaved across rates)
+//! - `RELIEF_SSH_MUX=tmux` relief runs inside tmux on the server (`tmux new-session`
+//!   in the `ssh -tt` session, status bar off)
 
 mod ssh;
 
@@ -72,6 +74,7 @@ fn options(rate_kbit: u32) -> Options {
         color: std::env::var("RELIEF_SSH_COLOR").unwrap_or_else(|_| "truecolor".into()),
         width: 160,
         height: 48,
+        server_tmux: std::env::var("RELIEF_SSH_MUX").is_ok_and(|m| m == "tmux"),
     }
 }
 
@@ -382,6 +385,9 @@ fn env_list(name: &str, default: &str) -> Vec<u32> {
 
 fn report(runs: &[(u32, Vec<Figure>)]) {
     let opts = options(1);
+    if opts.server_tmux {
+        println!("relief inside tmux on the server");
+    }
     println!(
         "{}",
         table(runs, &opts.binary.display().to_string(), &opts.color)

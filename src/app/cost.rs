@@ -195,10 +195,17 @@ pub fn link_lines(link: &LinkInfo) -> Vec<String> {
     }
 }
 
+/// The colour depth and what decided it (see [`crate::term::depth`]).
+pub fn colour_line(depth: crate::term::ColorDepth, source: &str) -> String {
+    format!("{}: {source}", depth.label())
+}
+
 /// The panel: stage times, the link, a sparkline of frame times, the active stages.
 pub struct CostPanel<'a> {
     pub history: &'a CostHistory,
     pub link: &'a LinkInfo,
+    /// The colour depth and what decided it.
+    pub colour: String,
 }
 
 impl Widget for CostPanel<'_> {
@@ -208,6 +215,7 @@ impl Widget for CostPanel<'_> {
         block.render(area, buf);
         let mut stages = stage_lines(self.history);
         stages.extend(link_lines(self.link));
+        stages.push(self.colour);
         let [table, spark, active] = Layout::vertical([
             Constraint::Length(stages.len() as u16),
             Constraint::Length(3),
@@ -295,6 +303,7 @@ mod tests {
         CostPanel {
             history: &h,
             link: &link,
+            colour: colour_line(crate::term::ColorDepth::Palette256, "tmux client no RGB"),
         }
         .render(area, &mut buf);
         let text: String = (0..area.height)
@@ -316,6 +325,7 @@ mod tests {
             "pixels 11.7k",
             "round trip     42.0 ms",
             "1.00 Mbit/s",
+            "256 colours: tmux client no RGB",
         ] {
             assert!(text.contains(needle), "{needle} missing from\n{text}");
         }
@@ -326,6 +336,7 @@ mod tests {
         CostPanel {
             history: &CostHistory::default(),
             link: &LinkInfo::default(),
+            colour: String::new(),
         }
         .render(small.area, &mut small);
         assert_eq!(link_lines(&LinkInfo::default())[0], "round trip   waiting");

@@ -23,7 +23,7 @@ use ratatui::Terminal;
 
 use crate::cli::{Cli, ColorDepthArg};
 use crate::term::guard::{GuardedStdout, TerminalGuard};
-use crate::term::{ColorDepth, SgrBackend, probe};
+use crate::term::{ColorDepth, SgrBackend, depth, probe};
 use event_loop::{Exit, Looper, Msg, spawn_terminal_reader};
 use stage::Stage;
 
@@ -113,22 +113,40 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
 
     let (tx, rx) = mpsc::channel();
     let signals = spawn_signal_thread(tx.clone())?;
+    // tmux and infocmp are asked before the terminal is set up.
+    let settled = cli.color.is_none().then(depth::settled_here).flatten();
     let guard = TerminalGuard::enter().context("cannot set up the terminal")?;
     // Ask the terminal for 24-bit colour when neither --color nor the
-    // environment settled it; keys typed meanwhile go to the decoder first.
+    // environment, tmux or terminfo settled it; keys typed meanwhile go to
+    // the decoder first.
     let mut typed = Vec::new();
-    if cli.color.is_none() && state.depth != ColorDepth::Truecolor {
-        let stdin = std::io::stdin();
-        let fd = match &tty {
-            Some(file) => file.as_fd(),
-            None => stdin.as_fd(),
-        };
-        if let Ok(found) = probe::ask(fd, &mut std::io::stdout(), probe::TIMEOUT) {
-            if found.truecolor {
-                state.depth = ColorDepth::Truecolor;
+    if cli.color.is_none() {
+        let choice = match settled {
+            Some(choice) => choice,
+            None => {
+                let stdin = std::io::stdin();
+                let fd = match &tty {
+                    Some(file) => file.as_fd(),
+                    None => stdin.as_fd(),
+                };
+                match probe::ask(fd, &mut std::io::stdout(), probe::TIMEOUT) {
+                    Ok(found) => {
+                        typed = found.other;
+                        if found.truecolor {
+                            depth::DepthChoice {
+                                depth: ColorDepth::Truecolor,
+                                source: "terminal's reply".into(),
+                            }
+                        } else {
+                            depth::fallback_here()
+                        }
+                    }
+                    Err(_) => depth::fallback_here(),
+                }
             }
-            typed = found.other;
-        }
+        };
+        state.depth = choice.depth;
+        state.depth_source = choice.source;
     }
     let fd = tty.as_ref().map_or(0, |file| file.as_raw_fd());
     let input: Box<dyn std::io::Read + Send> = match tty {

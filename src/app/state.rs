@@ -92,6 +92,9 @@ pub struct State {
     /// Orientation `r` goes back to.
     pub start_rotation: Vec3,
     pub depth: ColorDepth,
+    /// What decided the depth (`--color`, `COLORTERM`, tmux…: see
+    /// [`crate::term::depth`]); shown in the cost panel.
+    pub depth_source: String,
     /// Ordered dithering in 256 and 16 colours.
     pub dither: bool,
     /// Glyphs the picture is drawn with (`u` cycles them).
@@ -188,6 +191,7 @@ impl State {
             settings,
             start_rotation: settings.rotation,
             depth,
+            depth_source: "--color".into(),
             dither: false,
             symbols: Symbols::Half,
             help: false,

@@ -7,6 +7,7 @@ pub mod backend;
 pub mod cells;
 pub mod color;
 pub mod counting;
+pub mod depth;
 pub mod fit;
 pub mod guard;
 pub mod halfblock;

@@ -40,6 +40,9 @@ pub struct Options {
     pub color: String,
     pub width: u16,
     pub height: u16,
+    /// Run relief inside tmux on the server (its status bar off), as people
+    /// who keep their work in tmux do.
+    pub server_tmux: bool,
 }
 
 /// Why a session cannot be had on this machine (the test then skips).
@@ -282,7 +285,14 @@ impl Session {
     fn start_pane(&mut self, opts: &Options) {
         let socket = self.tag.clone();
         let ssh = self.ssh_args().join(" ");
-        let remote = format!("exec {} --color {}", opts.binary.display(), opts.color);
+        let relief = format!("{} --color {}", opts.binary.display(), opts.color);
+        let remote = if opts.server_tmux {
+            format!(
+                "exec tmux -u -L {socket}-server -f /dev/null new-session \"{relief}\" \\; set status off"
+            )
+        } else {
+            format!("exec {relief}")
+        };
         let command = format!("ssh -tt {ssh} '{remote}'; echo {EXITED}$?; sleep 600");
         let size = format!("-x {} -y {}", opts.width, opts.height);
         let mut args = vec![

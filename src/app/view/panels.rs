@@ -24,6 +24,7 @@ pub(super) fn cost_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
     CostPanel {
         history: &state.costs,
         link: &state.link,
+        colour: crate::app::cost::colour_line(state.depth, &state.depth_source),
     }
     .render(area, buf);
 }
