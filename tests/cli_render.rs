@@ -292,3 +292,12 @@ fn out_dash_is_standard_output() {
     assert!(!dir.0.join("-").exists(), "no file named -");
     assert_eq!(std::fs::read_dir(&dir.0).unwrap().count(), 0);
 }
+
+#[test]
+fn ansi_text_lines_end_with_lf() {
+    let o = relief(&["render", "--ansi", "--width", "40", "--height", "100"]);
+    assert!(o.status.success());
+    // 100 pixel rows are 50 cell rows (more than one band of 32).
+    assert!(!o.stdout.contains(&b'\r'), "no carriage return");
+    assert_eq!(o.stdout.iter().filter(|&&b| b == b'\n').count(), 50);
+}

@@ -3,7 +3,7 @@
 //!
 //! The text goes through the view's own widget and backend: colours are sent
 //! only when they change, a cell is `▀`, `▄` or a space whichever takes fewer
-//! bytes, and rows are joined by `\r\n`. It starts where the cursor is (no
+//! bytes, and rows end with `\n`. It starts where the cursor is (no
 //! absolute move, no alternate screen, no synchronized-output brackets).
 
 use std::io;
@@ -90,9 +90,19 @@ pub fn write_frame_text(
         // the top left; the text goes on where the cursor is.
         let body = text.strip_prefix(b"\x1b[H").unwrap_or(&text);
         if first > 0 {
-            out.write_all(b"\r\n")?;
+            out.write_all(b"\n")?;
         }
-        out.write_all(body)?;
+        // A file's lines end with LF alone (the terminal's own output
+        // translation adds the CR when it is printed); the backend, made
+        // for a raw-mode terminal, ends its rows with CR LF.
+        let mut rows = body.split(|&b| b == b'\n').peekable();
+        while let Some(row) = rows.next() {
+            let last = rows.peek().is_none();
+            out.write_all(row.strip_suffix(b"\r").filter(|_| !last).unwrap_or(row))?;
+            if !last {
+                out.write_all(b"\n")?;
+            }
+        }
         text.clear();
     }
     out.write_all(b"\n")
