@@ -73,6 +73,8 @@ pub enum Command {
 pub struct RenderArgs {
     /// Output picture, in the format its extension names (.png, .jpg, .bmp, .tga, .tif,
     /// .ppm, .qoi, .ff; PNG without one); written to a temporary file and renamed.
+    /// `-` writes the picture to standard output; a symbolic link is written
+    /// through (the file it names is replaced); a read-only file is refused.
     #[arg(long, value_name = "FILE.png", required_unless_present = "ansi")]
     pub out: Option<PathBuf>,
     /// Print the frame to stdout as text (in the symbols --symbols names and the depth

@@ -130,8 +130,10 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     let out = args.out.as_ref().context("--out FILE.png is required")?;
+    let format = output_format(out)?;
+    let out = &out_target(out)?;
     if depth == relief::term::ColorDepth::Truecolor && args.symbols == relief::term::Symbols::Half {
-        write_picture(&fb, out)
+        write_picture(&fb, out, format)
     } else {
         // The picture a terminal with that depth shows: its cells first.
         let (w, h) = args.symbols.cells_for_pixels(fb.width(), fb.height());
@@ -149,7 +151,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         let shown =
             relief::term::cells::shown_picture(&cells, args.symbols, fb.width(), fb.height(), pad);
         drop(cells);
-        write_picture(&shown, out)
+        write_picture(&shown, out, format)
     }
 }
 
@@ -191,17 +193,76 @@ fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
         ));
     }
     if let Some(out) = &args.out {
-        output_format(out)?;
-        if let Ok(meta) = std::fs::metadata(out)
-            && !meta.is_file()
-        {
+        // Checked before rendering, so a refusal costs nothing.
+        out_target(out)?;
+    }
+    Ok(notes)
+}
+
+/// Where `--out` writes.
+#[derive(Debug)]
+enum OutTarget {
+    /// `--out -`: the picture goes to standard output.
+    Stdout,
+    /// This file: the one a symbolic link (or a chain of them) names, so
+    /// the link stays and the file it points at is written.
+    File(std::path::PathBuf),
+}
+
+/// Links followed before `--out` gives up (as the kernel's own limit).
+const MAX_LINKS: usize = 40;
+
+/// What `--out` names, checked: `-` is standard output (refused when it is
+/// a terminal); a link is followed to its file; an existing file must be a
+/// regular file the user may write (a read-only file is refused, not
+/// replaced behind the user's back).
+fn out_target(out: &std::path::Path) -> anyhow::Result<OutTarget> {
+    use std::io::IsTerminal;
+    let shown = relief::sanitize::display_path(out);
+    if out.as_os_str() == "-" {
+        if std::io::stdout().is_terminal() {
             anyhow::bail!(
-                "cannot write {}: not a regular file (only a new or regular file is replaced)",
-                relief::sanitize::display_path(out)
+                "--out - writes the picture to standard output, which is a terminal here: redirect it (--out - > frame.png) or use --ansi"
+            );
+        }
+        return Ok(OutTarget::Stdout);
+    }
+    output_format(out)?;
+    let mut target = out.to_path_buf();
+    for _ in 0..=MAX_LINKS {
+        let Ok(link) = std::fs::read_link(&target) else {
+            break;
+        };
+        target = match target.parent() {
+            Some(dir) if link.is_relative() => dir.join(link),
+            _ => link,
+        };
+    }
+    if std::fs::symlink_metadata(&target).is_ok_and(|m| m.file_type().is_symlink()) {
+        anyhow::bail!("cannot write {shown}: too many levels of symbolic links");
+    }
+    // The target's own extension decides nothing: the user named `out`.
+    if let Ok(meta) = std::fs::metadata(&target) {
+        if !meta.is_file() {
+            anyhow::bail!(
+                "cannot write {shown}: not a regular file (only a new or regular file is replaced)"
+            );
+        }
+        let mode = std::os::unix::fs::PermissionsExt::mode(&meta.permissions()) & 0o7777;
+        if meta.permissions().readonly() {
+            anyhow::bail!(
+                "cannot write {shown}: the file is read-only (mode {mode:o}); make it writable (chmod u+w) or remove it to replace it"
+            );
+        }
+        // Opened without truncating: only asks whether writing is allowed.
+        if let Err(e) = std::fs::OpenOptions::new().write(true).open(&target) {
+            anyhow::bail!(
+                "cannot write {shown} (mode {mode:o}): {}",
+                clean(&e.to_string())
             );
         }
     }
-    Ok(notes)
+    Ok(OutTarget::File(target))
 }
 
 /// The picture format `--out`'s extension names (PNG when it has none).
@@ -221,16 +282,36 @@ fn output_format(out: &std::path::Path) -> anyhow::Result<image::ImageFormat> {
     }
 }
 
-/// Writes the frame in the format `out`'s extension names, through a
-/// temporary file in the same directory renamed over `out` at the end: a
+/// Writes the frame in `format` to standard output, or to a file through a
+/// temporary file in the same directory renamed over it at the end: a
 /// reader never sees half a picture, and nothing but a regular file is
 /// ever opened for writing (a FIFO would block forever).
-fn write_picture(fb: &Framebuffer, out: &std::path::Path) -> anyhow::Result<()> {
-    let format = output_format(out)?;
-    let shown = relief::sanitize::display_path(out);
+fn write_picture(
+    fb: &Framebuffer,
+    out: &OutTarget,
+    format: image::ImageFormat,
+) -> anyhow::Result<()> {
     if fb.width() == 0 || fb.height() == 0 {
         anyhow::bail!("cannot write an empty {}x{} image", fb.width(), fb.height());
     }
+    let out = match out {
+        OutTarget::File(path) => path,
+        OutTarget::Stdout => {
+            // Encoded whole first: the image encoders need a seekable
+            // writer for some formats, and a pipe is not one.
+            let mut bytes = std::io::Cursor::new(Vec::new());
+            fb.to_image().write_to(&mut bytes, format)?;
+            let mut stdout = std::io::stdout().lock();
+            stdout
+                .write_all(bytes.get_ref())
+                .and_then(|()| stdout.flush())
+                .context("cannot write the picture to standard output")?;
+            return Ok(());
+        }
+    };
+    let shown = relief::sanitize::display_path(out);
+    // A file replaced keeps its permissions.
+    let permissions = std::fs::metadata(out).ok().map(|m| m.permissions());
     let dir = match out.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => std::path::PathBuf::from("."),
@@ -248,6 +329,9 @@ fn write_picture(fb: &Framebuffer, out: &std::path::Path) -> anyhow::Result<()> 
         let mut writer = std::io::BufWriter::new(file);
         fb.to_image().write_to(&mut writer, format)?;
         writer.flush()?;
+        if let Some(p) = permissions {
+            std::fs::set_permissions(&temp, p)?;
+        }
         std::fs::rename(&temp, out)?;
         Ok(())
     })();

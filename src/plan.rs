@@ -111,6 +111,51 @@ pub struct Plan {
     pub tangent_frames: bool,
 }
 
+/// Whether the settings let a bump show at all: Phong, bump on and a
+/// strength above 0 (the scene must also have texture coordinates and a
+/// height map that is not flat: see [`Plan::new`]).
+pub fn bump_shows(settings: &Settings) -> bool {
+    settings.shading == Shading::Phong
+        && settings.bump
+        && settings.bump_strength.is_finite()
+        && settings.bump_strength > 0.0
+}
+
+/// Whether the bump technique (`e`) changes the picture: it is the bump's kernel.
+pub fn technique_shows(settings: &Settings) -> bool {
+    bump_shows(settings)
+}
+
+/// Whether dot3's light vector (`v`) is read: dot3 is the bump's kernel.
+pub fn light_vector_shows(settings: &Settings) -> bool {
+    bump_shows(settings) && settings.technique == Technique::Dot3
+}
+
+/// Whether highlights can show (their shininess then too): asked for, in
+/// fill display, with some light on (`lights_on`: the scene's switches).
+pub fn specular_shows(settings: &Settings, lights_on: bool) -> bool {
+    settings.specular
+        && settings.shininess.is_finite()
+        && settings.shininess > 0.0
+        && settings.lights
+        && lights_on
+        && settings.display == Display::Fill
+}
+
+/// Whether the environment's reflection is drawn: asked for, in Phong and
+/// fill display, with a reflectivity above 0 (docs/environment.md).
+pub fn environment_shows(settings: &Settings) -> bool {
+    settings.environment && environment_can_show(settings)
+}
+
+/// Whether these settings would draw the environment if it were on.
+pub fn environment_can_show(settings: &Settings) -> bool {
+    settings.display == Display::Fill
+        && settings.shading == Shading::Phong
+        && settings.reflectivity.is_finite()
+        && settings.reflectivity > 0.0
+}
+
 impl Plan {
     pub fn new(scene: &Scene, settings: &Settings) -> Plan {
         let any_textured = scene
@@ -150,19 +195,14 @@ impl Plan {
                 shininess: settings.shininess,
                 map: stages.specular_map.clone(),
             });
-        let environment = (settings.environment
-            && settings.display == Display::Fill
-            && settings.shading == Shading::Phong
-            && settings.reflectivity.is_finite()
-            && settings.reflectivity > 0.0)
-            .then(|| Reflection {
-                map: scene
-                    .material
-                    .environment
-                    .clone()
-                    .unwrap_or_else(Environment::sky),
-                reflectivity: settings.reflectivity.min(1.0),
-            });
+        let environment = environment_shows(settings).then(|| Reflection {
+            map: scene
+                .material
+                .environment
+                .clone()
+                .unwrap_or_else(Environment::sky),
+            reflectivity: settings.reflectivity.min(1.0),
+        });
         Plan {
             shading: settings.shading,
             face_normals: settings.normals == crate::settings::Normals::Face,
@@ -247,10 +287,7 @@ impl MaterialStages {
             .normal_map
             .as_ref()
             .filter(|_| settings.normal_map_file && settings.technique == Technique::Dot3);
-        let bump = settings.shading == Shading::Phong
-            && settings.bump
-            && strength.is_finite()
-            && strength > 0.0
+        let bump = bump_shows(settings)
             && any_textured
             && (file_map.is_some() || !material.texture.height_is_flat());
         let footprint = settings.filter.uses_mips()

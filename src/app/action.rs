@@ -7,6 +7,7 @@ use crossterm::event::{Event, MouseButton, MouseEventKind};
 
 use ratatui::layout::Rect;
 
+use super::line_edit::{Completion, Edit};
 use super::state::{FrameDone, State};
 use super::textures::TextureListing;
 use crate::scene::{ModelChoice, SceneKind};
@@ -25,6 +26,11 @@ pub enum DragButton {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Action {
     Quit,
+    /// Esc outside the overlays that take it: closes the cost panel, else
+    /// quits (not right after an Esc that closed an overlay).
+    Escape,
+    /// Ctrl-Z: suspend (the shell's `fg` resumes).
+    Suspend,
     /// `m`: flat → Gouraud → Phong.
     CycleShading,
     /// `n`: vertex / face normals.
@@ -128,6 +134,12 @@ pub enum Action {
     /// A character typed into the prompt.
     PromptInput(char),
     PromptBackspace,
+    /// An edit of the prompt's line (cursor moves, deletions).
+    PromptEdit(Edit),
+    /// Tab in the prompt: complete the path before the cursor.
+    PromptComplete,
+    /// What the loop found for [`Action::PromptComplete`].
+    PromptCompleted(Completion),
     /// Enter in the prompt: load the typed path(s).
     PromptSubmit,
     /// Esc in the prompt.
@@ -182,6 +194,10 @@ pub enum Action {
     Resize,
     /// Scroll the help by this many lines (arrows, pages, Home/End while it is open).
     HelpScroll(i32),
+    /// PgUp / PgDn in the help: this many pages (a page is what it shows).
+    HelpPage(i32),
+    /// The lines the help shows on this screen (the loop reports them).
+    HelpPageFits(u16),
     /// The help on this screen scrolls at most this far (the loop reports
     /// it before each frame, so scrolling back responds at once).
     HelpFits(u16),

@@ -191,10 +191,32 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         let errors = match command {
             Command::CycleTexture(forward) => list.cycle(forward).err().into_iter().collect(),
             Command::ReloadTexture => list.reload().err().into_iter().collect(),
-            Command::AddPaths(text) => list.add_paste(&text),
+            Command::AddPaths(text) => {
+                let before = list.len();
+                let errors = list.add_paste(&text);
+                let added = list.len() - before;
+                if !errors.is_empty() && added > 0 {
+                    // Some applied, some not: say both.
+                    let more = match errors.len() {
+                        1 => String::new(),
+                        n => format!(" (and {} more)", n - 1),
+                    };
+                    return Some(Ok(format!(
+                        "{}; {added} added, {} not: {}{more}",
+                        list.summary(),
+                        errors.len(),
+                        errors[0]
+                    )));
+                }
+                errors
+            }
             Command::SelectTexture(i) => list.select(i).err().into_iter().collect(),
             Command::SetHeights(h) => list.set_heights(h).err().into_iter().collect(),
-            Command::ListTextures | Command::SavePng | Command::BuildScene(..) => return None,
+            Command::ListTextures
+            | Command::SavePng
+            | Command::BuildScene(..)
+            | Command::CompletePath(_)
+            | Command::Suspend => return None,
         };
         Some(match errors.first() {
             None => Ok(list.summary()),
@@ -288,8 +310,21 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                             activity.input(Instant::now(), quiet);
                             match update(state, action) {
                                 Some(Command::SavePng) => {
-                                    let result = save_png(&fb);
+                                    let (w, h) = (fb.width(), fb.height());
+                                    let result =
+                                        super::screenshot::save(state, w, h, &mut self.render);
                                     update(state, Action::Saved(result));
+                                }
+                                Some(Command::Suspend) => {
+                                    super::suspend::suspend()?;
+                                    // A new screen: everything is drawn again.
+                                    self.terminal.clear()?;
+                                    modes = TermModes::app(MouseReports::Drags); // what reenter sets up
+                                    rendered = None;
+                                }
+                                Some(Command::CompletePath(typed)) => {
+                                    let found = super::line_edit::complete_path(&typed);
+                                    update(state, Action::PromptCompleted(found));
                                 }
                                 Some(Command::BuildScene(kind, model)) => {
                                     let built = self.build_scene(kind, model);
@@ -353,6 +388,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             update(
                 state,
                 Action::HelpFits(view::help_max_scroll(size.width, size.height)),
+            );
+            update(
+                state,
+                Action::HelpPageFits(view::help_page(size.width, size.height)),
             );
             let areas = view::areas(ratatui::layout::Rect::new(0, 0, size.width, size.height));
             update(
@@ -498,29 +537,4 @@ pub fn enlarge(small: &Framebuffer, big: &mut Framebuffer) {
             big.set(x, y, src[sx]);
         }
     }
-}
-
-/// Writes the framebuffer as `relief-<seconds>.png` in the current directory
-/// (never over an existing file).
-pub fn save_png(fb: &Framebuffer) -> Result<String, String> {
-    let stamp = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.as_secs())
-        .unwrap_or(0);
-    for n in 0..100 {
-        let name = if n == 0 {
-            format!("relief-{stamp}.png")
-        } else {
-            format!("relief-{stamp}-{n}.png")
-        };
-        let path = std::path::Path::new(&name);
-        if path.exists() {
-            continue;
-        }
-        return fb
-            .save_png(path)
-            .map(|_| name)
-            .map_err(|e| format!("{e:#}"));
-    }
-    Err("too many screenshots this second".into())
 }

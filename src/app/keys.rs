@@ -9,6 +9,7 @@
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
 use super::action::Action;
+use super::line_edit::Edit;
 use super::state::State;
 
 /// Who has the keyboard.
@@ -133,9 +134,6 @@ impl Binding {
         }
     }
 }
-
-/// Lines PgUp / PgDn scroll the help.
-pub const HELP_PAGE: i32 = 8;
 
 /// Degrees an arrow key turns the model.
 pub const ARROW_STEP: f32 = 5.0;
@@ -418,10 +416,15 @@ pub const KEYS: &[Binding] = &[
     ),
     row(
         Normal,
-        &[c('q'), Plain(Esc), Ctrl('c')],
+        &[c('q'), Ctrl('c')],
         Action::Quit,
-        Line("q Esc Ctrl-C", "quit"),
+        Line(
+            "q Esc Ctrl-C",
+            "quit (Esc closes the cost panel first); Ctrl-Z suspends",
+        ),
     ),
+    row(Normal, &[Plain(Esc)], Action::Escape, Above),
+    row(Normal, &[Ctrl('z')], Action::Suspend, Above),
     // The help overlay.
     row(
         Mode::Help,
@@ -433,15 +436,10 @@ pub const KEYS: &[Binding] = &[
     row(
         Mode::Help,
         &[Plain(PageUp)],
-        Action::HelpScroll(-HELP_PAGE),
+        Action::HelpPage(-1),
         Line("PgUp PgDn", "scroll a page"),
     ),
-    row(
-        Mode::Help,
-        &[Plain(PageDown)],
-        Action::HelpScroll(HELP_PAGE),
-        Above,
-    ),
+    row(Mode::Help, &[Plain(PageDown)], Action::HelpPage(1), Above),
     row(
         Mode::Help,
         &[Plain(Home)],
@@ -536,21 +534,56 @@ pub const KEYS: &[Binding] = &[
         mode: Prompt,
         keys: &[Key::AnyChar],
         does: Does::Char(Action::PromptInput),
-        help: Line("text", "type the path (Backspace erases)"),
+        help: Line("text Tab", "type the path; Tab completes a file name"),
     },
+    row(Prompt, &[Plain(Tab)], Action::PromptComplete, Above),
+    row(
+        Prompt,
+        &[Plain(Left)],
+        Action::PromptEdit(Edit::Left),
+        Line("← → Home End", "move; Backspace Delete Ctrl-U Ctrl-W erase"),
+    ),
+    row(
+        Prompt,
+        &[Plain(Right)],
+        Action::PromptEdit(Edit::Right),
+        Above,
+    ),
+    row(
+        Prompt,
+        &[Plain(Home)],
+        Action::PromptEdit(Edit::Home),
+        Above,
+    ),
+    row(Prompt, &[Plain(End)], Action::PromptEdit(Edit::End), Above),
+    row(Prompt, &[Ctrl('a')], Action::PromptEdit(Edit::Home), Above),
+    row(Prompt, &[Ctrl('e')], Action::PromptEdit(Edit::End), Above),
     row(Prompt, &[Plain(Backspace)], Action::PromptBackspace, Above),
+    row(
+        Prompt,
+        &[Plain(KeyCode::Delete)],
+        Action::PromptEdit(Edit::Delete),
+        Above,
+    ),
+    row(
+        Prompt,
+        &[Ctrl('u')],
+        Action::PromptEdit(Edit::KillToStart),
+        Above,
+    ),
+    row(
+        Prompt,
+        &[Ctrl('w')],
+        Action::PromptEdit(Edit::KillWord),
+        Above,
+    ),
     row(
         Prompt,
         &[Plain(Enter)],
         Action::PromptSubmit,
-        Line("Enter", "load the path"),
+        Line("Enter Esc", "load the path / close the prompt"),
     ),
-    row(
-        Prompt,
-        &[Plain(Esc)],
-        Action::PromptCancel,
-        Line("Esc", "close the prompt"),
-    ),
+    row(Prompt, &[Plain(Esc)], Action::PromptCancel, Above),
     row(Prompt, &[Ctrl('c')], Action::Quit, Line("Ctrl-C", "quit")),
 ];
 

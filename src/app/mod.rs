@@ -4,9 +4,13 @@
 pub mod action;
 pub mod cost;
 pub mod event_loop;
+pub mod feedback;
 pub mod keys;
+pub mod line_edit;
+pub mod screenshot;
 pub mod stage;
 pub mod state;
+pub mod suspend;
 pub mod textures;
 pub mod view;
 

@@ -7,6 +7,7 @@ use glam::Vec3;
 
 use super::action::{Action, DragButton};
 use super::cost::{CostHistory, FrameCost};
+use super::line_edit::{self, Edit};
 use super::textures::TexturePanel;
 use crate::cli::parse_finite;
 use crate::plasma::PlasmaNormal;
@@ -48,6 +49,9 @@ pub struct Panel {
     pub edits: [Option<String>; 3],
     /// The next character replaces the focused field (it was just entered).
     pub fresh: bool,
+    /// The axes Enter applied while another entry was refused (Esc then
+    /// drops only the rest).
+    pub applied: [bool; 3],
 }
 
 /// A drag in progress: the button and where the pointer was last.
@@ -130,6 +134,15 @@ pub struct State {
     pub pointer: Option<(u16, u16)>,
     /// Key `/`: the texture path being typed (`None`: no prompt).
     pub prompt: Option<String>,
+    /// Where the prompt's cursor is: a byte offset of `prompt`, on a
+    /// character boundary (kept within the text when used).
+    pub prompt_cursor: usize,
+    /// Lines PgUp / PgDn scroll the help: the lines it shows on this screen
+    /// (the loop reports them before each frame).
+    pub help_page: u16,
+    /// The last key was an Esc that closed an overlay: another Esc right
+    /// after it does not quit.
+    pub esc_closed: bool,
     /// Key `T`: the texture panel, and what it shows of the texture list.
     pub textures: TexturePanel,
     /// Camera distance in reference units (wheel, `i` / `I`): 5 is the
@@ -148,6 +161,9 @@ const HELP_SCROLL_MAX: u16 = 1000;
 
 /// Longest path the prompt takes.
 const PROMPT_MAX: usize = 4096;
+
+/// Lines a help page scrolls before the loop reports the screen's.
+const DEFAULT_HELP_PAGE: u16 = 8;
 
 /// Everything the picture depends on besides its size and the texture:
 /// the loop renders again only when this changes.
@@ -181,6 +197,11 @@ pub enum Command {
     AddPaths(String),
     /// Build this scene (and model); the loop answers with [`Action::SceneBuilt`].
     BuildScene(SceneKind, ModelChoice),
+    /// Complete this path from the files on disk (the prompt's text before
+    /// its cursor); the loop answers with [`Action::PromptCompleted`].
+    CompletePath(String),
+    /// Ctrl-Z: give the terminal back and stop until resumed.
+    Suspend,
 }
 
 impl State {
@@ -212,6 +233,9 @@ impl State {
             plasma_normal: PlasmaNormal::Table,
             pointer: None,
             prompt: None,
+            prompt_cursor: 0,
+            help_page: DEFAULT_HELP_PAGE,
+            esc_closed: false,
             textures: TexturePanel::default(),
             distance: REFERENCE_DISTANCE,
             start_distance: REFERENCE_DISTANCE,
@@ -280,12 +304,62 @@ pub fn plasma_light(pointer: Option<(u16, u16)>, width: usize, height: usize) ->
 /// An angle as the orientation fields show it.
 pub fn format_angle(deg: f32) -> String {
     let s = format!("{deg:.1}");
-    s.strip_suffix(".0").map(str::to_owned).unwrap_or(s)
+    let s = s.strip_suffix(".0").map(str::to_owned).unwrap_or(s);
+    // -0.04 rounds to a zero that keeps its sign.
+    if s == "-0" { "0".into() } else { s }
+}
+
+/// Whether `action` comes from the user (a key, a click, a paste), not
+/// from the loop reporting something: the user's next action clears the
+/// last message.
+fn from_user(action: &Action) -> bool {
+    !matches!(
+        action,
+        Action::Saved(_)
+            | Action::TextureResult(_)
+            | Action::SceneBuilt(_)
+            | Action::TexturesListed(_)
+            | Action::TexturesFit(_)
+            | Action::HelpFits(_)
+            | Action::HelpPageFits(_)
+            | Action::FrameStart { .. }
+            | Action::FrameEnd { .. }
+            | Action::Resize
+            | Action::Pointer { .. }
+            | Action::AutoRotateTick { .. }
+            | Action::MouseDrag { .. }
+            | Action::MouseUp
+            | Action::PromptCompleted(_)
+    )
 }
 
 /// Applies one action. Pure: no I/O, no clock; what needs the outside
-/// world comes back as a [`Command`].
+/// world comes back as a [`Command`]. The user's next action clears the
+/// last message; a key that would change what the picture does not show
+/// is refused with a message ([`super::feedback`]).
 pub fn update(state: &mut State, action: Action) -> Option<Command> {
+    if from_user(&action) {
+        state.message = None;
+        if action != Action::Escape {
+            state.esc_closed = false;
+        }
+    }
+    if let Some(text) = super::feedback::refusal(state, &action) {
+        state.message = Some(text);
+        return None;
+    }
+    let shown = super::feedback::effect_of(&action);
+    let command = apply(state, action);
+    if let Some(a) = shown
+        && let Some(text) = super::feedback::effect(state, &a)
+    {
+        state.message = Some(text);
+    }
+    command
+}
+
+/// [`update`]'s work once the action is accepted.
+fn apply(state: &mut State, action: Action) -> Option<Command> {
     let s = &mut state.settings;
     match action {
         Action::Quit => state.quit = true,
@@ -339,7 +413,10 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
             t.show_cursor();
             return Some(Command::ListTextures);
         }
-        Action::CloseTextures => state.textures.open = false,
+        Action::CloseTextures => {
+            state.textures.open = false;
+            state.esc_closed = true;
+        }
         Action::TexturesMove(delta) => state.textures.move_cursor(delta),
         Action::TexturesChoose => {
             let t = &state.textures;
@@ -372,20 +449,50 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         Action::OpenPrompt => {
             state.panel = Panel::default();
             state.prompt = Some(String::new());
+            state.prompt_cursor = 0;
         }
         Action::PromptInput(c) => {
             if let Some(text) = &mut state.prompt
                 && text.len() < PROMPT_MAX
             {
-                text.push(c);
+                state.prompt_cursor =
+                    line_edit::insert(text, state.prompt_cursor, c.encode_utf8(&mut [0; 4]));
             }
         }
-        Action::PromptBackspace => {
+        Action::PromptBackspace => return apply(state, Action::PromptEdit(Edit::Backspace)),
+        Action::PromptEdit(edit) => {
             if let Some(text) = &mut state.prompt {
-                text.pop();
+                state.prompt_cursor = line_edit::apply(text, state.prompt_cursor, edit);
             }
         }
-        Action::PromptCancel => state.prompt = None,
+        Action::PromptComplete => {
+            if let Some(text) = &state.prompt {
+                let at = line_edit::clamp(text, state.prompt_cursor);
+                return Some(Command::CompletePath(text[..at].to_string()));
+            }
+        }
+        Action::PromptCompleted(found) => {
+            if let Some(text) = &mut state.prompt {
+                let at = line_edit::clamp(text, state.prompt_cursor);
+                text.replace_range(..at, &found.completed);
+                state.prompt_cursor = found.completed.len();
+                state.message = match found.matches {
+                    0 => Some("no file matches".into()),
+                    1 => None,
+                    n => {
+                        let more = if n > found.choices.len() { " …" } else { "" };
+                        Some(clean(&format!(
+                            "{n} matches: {}{more}",
+                            found.choices.join("  ")
+                        )))
+                    }
+                };
+            }
+        }
+        Action::PromptCancel => {
+            state.prompt = None;
+            state.esc_closed = true;
+        }
         Action::PromptSubmit => {
             let text = state.prompt.take().unwrap_or_default();
             if text.trim().is_empty() {
@@ -439,6 +546,11 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
                 state.pointer = None;
                 state.drag = None;
             }
+            if scene == SceneKind::Plasma {
+                // Nothing turns in the plasma: no frames for nothing.
+                state.auto_rotate = false;
+                state.panel = Panel::default();
+            }
             state.scene = scene;
             state.model = model;
         }
@@ -458,8 +570,31 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
             let to = i64::from(state.help_scroll) + i64::from(lines);
             state.help_scroll = to.clamp(0, i64::from(HELP_SCROLL_MAX)) as u16;
         }
+        Action::HelpPage(pages) => {
+            let lines = i64::from(pages) * i64::from(state.help_page.max(1));
+            let to = i64::from(state.help_scroll) + lines;
+            state.help_scroll = to.clamp(0, i64::from(HELP_SCROLL_MAX)) as u16;
+        }
+        Action::HelpPageFits(lines) => state.help_page = lines.max(1),
         Action::ToggleCost => state.cost_panel = !state.cost_panel,
-        Action::CloseHelp => state.help = false,
+        Action::CloseHelp => {
+            state.help = false;
+            state.esc_closed = true;
+        }
+        Action::Escape => {
+            // Esc closes the top overlay; it quits only when none is open
+            // and the Esc before it did not just close one.
+            if state.cost_panel {
+                state.cost_panel = false;
+                state.esc_closed = true;
+            } else if state.esc_closed {
+                state.esc_closed = false;
+                state.message = Some("nothing left to close: Esc again or q quits".into());
+            } else {
+                state.quit = true;
+            }
+        }
+        Action::Suspend => return Some(Command::Suspend),
         Action::PanelNext => {
             let next = state.panel.focus.map_or(0, |f| (f + 1) % 3);
             state.panel.focus = Some(next);
@@ -498,8 +633,21 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
         }
         Action::PanelApply => apply_panel(state),
         Action::PanelCancel => {
+            let applied: Vec<String> = AXES
+                .iter()
+                .enumerate()
+                .filter(|(axis, _)| state.panel.applied[*axis])
+                .map(|(axis, name)| {
+                    format!("{name} {}°", format_angle(state.settings.rotation[axis]))
+                })
+                .collect();
             state.panel = Panel::default();
-            state.message = Some("orientation unchanged".into());
+            state.esc_closed = true;
+            state.message = Some(if applied.is_empty() {
+                "orientation unchanged".into()
+            } else {
+                format!("{} applied; the other edits dropped", applied.join(", "))
+            });
         }
         Action::MouseDown { button, col, row } => state.drag = Some(Drag { button, col, row }),
         Action::MouseDrag { button, col, row } => {
@@ -523,7 +671,12 @@ pub fn update(state: &mut State, action: Action) -> Option<Command> {
             if let Some(line) = &mut state.prompt {
                 // Into the prompt as typed text; line breaks end nothing here.
                 let room = PROMPT_MAX.saturating_sub(line.len());
-                line.extend(text.chars().filter(|c| *c != '\n' && *c != '\r').take(room));
+                let typed: String = text
+                    .chars()
+                    .filter(|c| *c != '\n' && *c != '\r')
+                    .take(room)
+                    .collect();
+                state.prompt_cursor = line_edit::insert(line, state.prompt_cursor, &typed);
                 return None;
             }
             let shown: String = clean(&text).chars().take(200).collect();
@@ -598,7 +751,10 @@ fn apply_panel(state: &mut State) {
             continue;
         };
         match parse_finite(&text) {
-            Ok(v) => state.settings.rotation[axis] = normalize_degrees(v),
+            Ok(v) => {
+                state.settings.rotation[axis] = normalize_degrees(v);
+                state.panel.applied[axis] = true;
+            }
             Err(e) => {
                 refused.push(format!(
                     "{}: {} (kept {}°)",

@@ -84,6 +84,16 @@ impl TerminalGuard {
     }
 }
 
+/// Sets the terminal up again after [`restore`] (a job resumed after
+/// Ctrl-Z): raw mode and [`SETUP`]; the guard alive puts it back at the end.
+pub fn reenter() -> io::Result<()> {
+    crossterm::terminal::enable_raw_mode()?;
+    RAW.store(true, Ordering::SeqCst);
+    ACTIVE.store(true, Ordering::SeqCst);
+    let mut out = io::stdout().lock();
+    out.write_all(SETUP).and_then(|_| out.flush())
+}
+
 impl Drop for TerminalGuard {
     fn drop(&mut self) {
         restore();

@@ -57,10 +57,19 @@ fn e_cycles_every_technique_and_v_h_toggle() {
     }
     use Technique::*;
     assert_eq!(seen, [Blinn, Emboss, Dot3, Parallax, Pom, Blinn]);
+    // v acts with dot3 (the only technique that reads it).
+    ch(&mut s, 'v');
+    assert_eq!(s.settings.light_vector, LightVector::Pixel);
+    assert!(s.message.take().unwrap().contains("dot3"));
+    ch(&mut s, 'e');
+    ch(&mut s, 'e');
     ch(&mut s, 'v');
     assert_eq!(s.settings.light_vector, LightVector::Vertex);
     ch(&mut s, 'v');
     assert_eq!(s.settings.light_vector, LightVector::Pixel);
+    for _ in 0..3 {
+        ch(&mut s, 'e');
+    }
     ch(&mut s, 'h');
     assert_eq!(s.settings.height_derivative, HeightDerivative::Texel);
     ch(&mut s, 'h');
@@ -122,6 +131,10 @@ fn l_switches_all_lights_capital_l_attenuation_and_digits_one_light() {
 #[test]
 fn z_toggles_the_plasma_normal() {
     let mut s = state();
+    update(
+        &mut s,
+        Action::SceneBuilt(Ok((SceneKind::Plasma, ModelChoice::Cube))),
+    );
     ch(&mut s, 'z');
     assert_eq!(s.plasma_normal, PlasmaNormal::Exact);
     ch(&mut s, 'z');

@@ -426,3 +426,299 @@ fn the_prompt_cancels_with_esc_and_refuses_an_empty_path() {
     assert_eq!(press(&mut s, KeyCode::Enter), None);
     assert_eq!(s.message.as_deref(), Some("no path typed"));
 }
+
+fn in_plasma() -> State {
+    let mut s = state();
+    update(
+        &mut s,
+        Action::SceneBuilt(Ok((
+            relief::scene::SceneKind::Plasma,
+            relief::scene::ModelChoice::Cube,
+        ))),
+    );
+    s
+}
+
+#[test]
+fn keys_of_the_3d_scene_are_refused_in_the_plasma_and_change_nothing() {
+    let keys: Vec<KeyCode> = "mtbefadFgincyYE+-hlL1vr"
+        .chars()
+        .map(KeyCode::Char)
+        .chain([
+            KeyCode::Left,
+            KeyCode::Right,
+            KeyCode::Up,
+            KeyCode::Down,
+            KeyCode::PageUp,
+            KeyCode::Tab,
+            KeyCode::Char(' '),
+        ])
+        .collect();
+    for code in keys {
+        let mut s = in_plasma();
+        let before = s.clone();
+        assert_eq!(press(&mut s, code), None, "{code:?}");
+        let msg = s.message.clone().unwrap_or_default();
+        assert!(msg.contains("not in the plasma"), "{code:?}: {msg:?}");
+        s.message = None;
+        assert_eq!(s, before, "{code:?} changed the state");
+    }
+    // z acts in the plasma, and is refused elsewhere.
+    let mut s = in_plasma();
+    ch(&mut s, 'z');
+    assert_eq!(s.plasma_normal, relief::plasma::PlasmaNormal::Exact);
+    assert_eq!(s.message, None);
+    let mut s = state();
+    ch(&mut s, 'z');
+    assert_eq!(s.plasma_normal, relief::plasma::PlasmaNormal::Table);
+    assert!(s.message.unwrap().contains("only in the plasma"));
+}
+
+#[test]
+fn entering_the_plasma_stops_auto_rotation() {
+    let mut s = state();
+    ch(&mut s, ' ');
+    assert!(s.auto_rotate);
+    let s = {
+        let mut t = s.clone();
+        update(
+            &mut t,
+            Action::SceneBuilt(Ok((
+                relief::scene::SceneKind::Plasma,
+                relief::scene::ModelChoice::Cube,
+            ))),
+        );
+        t
+    };
+    assert!(!s.auto_rotate);
+}
+
+#[test]
+fn keys_whose_effect_cannot_show_say_so_and_change_nothing() {
+    use relief::settings::Technique;
+    // E outside Phong.
+    let mut s = state();
+    ch(&mut s, 'm'); // flat
+    let before = s.settings;
+    ch(&mut s, 'E');
+    assert_eq!(s.settings, before);
+    assert!(s.message.as_deref().unwrap().contains("Phong"));
+    // In Phong it acts (the default is fill display).
+    let mut s = state();
+    ch(&mut s, 'E');
+    assert!(s.settings.environment);
+    assert_eq!(s.message, None);
+    // v outside dot3, then with dot3.
+    let mut s = state();
+    ch(&mut s, 'v');
+    assert_eq!(s.settings.light_vector, Settings::default().light_vector);
+    assert!(s.message.as_deref().unwrap().contains("dot3"));
+    s.settings.technique = Technique::Dot3;
+    ch(&mut s, 'v');
+    assert_ne!(s.settings.light_vector, Settings::default().light_vector);
+    // y and Y with specular off, then on.
+    let mut s = state();
+    let shininess = s.settings.shininess;
+    ch(&mut s, 'y');
+    ch(&mut s, 'Y');
+    assert_eq!(s.settings.shininess, shininess);
+    assert!(s.message.as_deref().unwrap().contains("specular on (g)"));
+    ch(&mut s, 'g');
+    ch(&mut s, 'y');
+    assert_eq!(s.settings.shininess, shininess * 2.0);
+    assert_eq!(
+        s.message.as_deref(),
+        Some(format!("shininess {}", shininess * 2.0).as_str())
+    );
+    // + and - say the strength they set; outside Phong they are refused.
+    let mut s = state();
+    ch(&mut s, '+');
+    let k = DEFAULT_BUMP_STRENGTH * relief::app::state::BUMP_FACTOR;
+    assert!((s.settings.bump_strength - k).abs() < 1e-9);
+    assert!(
+        s.message
+            .as_deref()
+            .unwrap()
+            .starts_with("bump strength 0.007")
+    );
+    ch(&mut s, 'm');
+    let k = s.settings.bump_strength;
+    ch(&mut s, '-');
+    assert_eq!(s.settings.bump_strength, k);
+    assert!(s.message.as_deref().unwrap().contains("Phong"));
+}
+
+#[test]
+fn the_next_action_clears_the_message_and_reports_do_not() {
+    let mut s = state();
+    update(&mut s, Action::Saved(Ok("x.png".into())));
+    assert!(s.message.is_some());
+    // What the loop reports keeps it.
+    update(&mut s, Action::Resize);
+    update(&mut s, Action::HelpFits(3));
+    assert!(s.message.is_some());
+    ch(&mut s, 'n');
+    assert_eq!(s.message, None);
+}
+
+#[test]
+fn esc_closes_the_top_overlay_only() {
+    // The cost panel: Esc closes it; a second Esc right after does not quit.
+    let mut s = state();
+    ch(&mut s, 'k');
+    press(&mut s, KeyCode::Esc);
+    assert!(!s.cost_panel && !s.quit);
+    press(&mut s, KeyCode::Esc);
+    assert!(!s.quit, "the Esc after a closing one does not quit");
+    assert!(s.message.as_deref().unwrap().contains("Esc again"));
+    press(&mut s, KeyCode::Esc);
+    assert!(s.quit);
+    // Help over the texture panel: one Esc each, then one that only warns.
+    let mut s = state();
+    ch(&mut s, 'T');
+    ch(&mut s, '?');
+    press(&mut s, KeyCode::Esc);
+    assert!(!s.help && s.textures.open);
+    press(&mut s, KeyCode::Esc);
+    assert!(!s.textures.open && !s.quit);
+    press(&mut s, KeyCode::Esc);
+    assert!(!s.quit);
+    // Another key in between: Esc quits again.
+    let mut s = state();
+    ch(&mut s, '?');
+    press(&mut s, KeyCode::Esc);
+    ch(&mut s, 'n');
+    press(&mut s, KeyCode::Esc);
+    assert!(s.quit);
+}
+
+#[test]
+fn help_pages_are_the_lines_shown() {
+    let mut s = state();
+    ch(&mut s, '?');
+    update(&mut s, Action::HelpPageFits(22));
+    press(&mut s, KeyCode::PageDown);
+    assert_eq!(s.help_scroll, 22);
+    press(&mut s, KeyCode::PageDown);
+    assert_eq!(s.help_scroll, 44);
+    press(&mut s, KeyCode::PageUp);
+    assert_eq!(s.help_scroll, 22);
+}
+
+#[test]
+fn the_path_prompt_edits_like_a_line_editor() {
+    let mut s = state();
+    ch(&mut s, '/');
+    type_text(&mut s, "tex/bricks.png");
+    press(&mut s, KeyCode::Home);
+    type_text(&mut s, "my");
+    assert_eq!(s.prompt.as_deref(), Some("mytex/bricks.png"));
+    press(&mut s, KeyCode::Right);
+    press(&mut s, KeyCode::Delete);
+    assert_eq!(s.prompt.as_deref(), Some("mytx/bricks.png"));
+    press(&mut s, KeyCode::Left);
+    press(&mut s, KeyCode::Backspace);
+    assert_eq!(s.prompt.as_deref(), Some("mtx/bricks.png"));
+    press(&mut s, KeyCode::End);
+    type_text(&mut s, "é");
+    press_mod(&mut s, KeyCode::Char('w'), KeyModifiers::CONTROL);
+    assert_eq!(s.prompt.as_deref(), Some("mtx/"));
+    type_text(&mut s, "a b");
+    press(&mut s, KeyCode::Left);
+    press_mod(&mut s, KeyCode::Char('u'), KeyModifiers::CONTROL);
+    assert_eq!(s.prompt.as_deref(), Some("b"));
+    assert_eq!(s.prompt_cursor, 0);
+    // Tab asks the loop to complete what is before the cursor.
+    press(&mut s, KeyCode::End);
+    assert_eq!(
+        press(&mut s, KeyCode::Tab),
+        Some(Command::CompletePath("b".into()))
+    );
+    update(
+        &mut s,
+        Action::PromptCompleted(relief::app::line_edit::Completion {
+            completed: "bricks/".into(),
+            choices: Vec::new(),
+            matches: 1,
+        }),
+    );
+    assert_eq!(s.prompt.as_deref(), Some("bricks/"));
+    assert_eq!(s.prompt_cursor, 7);
+}
+
+#[test]
+fn tab_completes_paths_from_the_folder() {
+    use relief::app::line_edit::complete_path;
+    let dir = std::env::temp_dir().join(format!("relief-complete-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("stones")).unwrap();
+    for f in [
+        "stone-a.png",
+        "stone-b.png",
+        ".stone-hidden.png",
+        "wood.png",
+    ] {
+        std::fs::write(dir.join(f), b"").unwrap();
+    }
+    let base = format!("{}/", dir.display());
+    let c = complete_path(&format!("{base}st"));
+    assert_eq!(c.completed, format!("{base}stone"));
+    assert_eq!(c.matches, 3);
+    assert_eq!(c.choices, ["stone-a.png", "stone-b.png", "stones/"]);
+    let c = complete_path(&format!("{base}w"));
+    assert_eq!(c.completed, format!("{base}wood.png"));
+    // A lone folder gets its slash.
+    let c = complete_path(&format!("{base}stones"));
+    assert_eq!(c.completed, format!("{base}stones/"));
+    let c = complete_path(&format!("{base}stone-a"));
+    assert_eq!((c.completed, c.matches), (format!("{base}stone-a.png"), 1));
+    let c = complete_path(&format!("{base}ston"));
+    assert_eq!(c.completed, format!("{base}stone"));
+    let c = complete_path(&format!("{base}x"));
+    assert_eq!((c.completed, c.matches), (format!("{base}x"), 0));
+    let c = complete_path(&format!("{base}.st"));
+    assert_eq!(c.completed, format!("{base}.stone-hidden.png"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn esc_after_a_partly_applied_orientation_says_what_was_applied() {
+    let mut s = state();
+    press(&mut s, KeyCode::Tab);
+    type_text(&mut s, "10");
+    press(&mut s, KeyCode::Tab);
+    type_text(&mut s, "abc");
+    press(&mut s, KeyCode::Enter);
+    assert_eq!(s.settings.rotation.x, 10.0);
+    assert_eq!(s.panel.focus, Some(1));
+    press(&mut s, KeyCode::Esc);
+    assert_eq!(
+        s.message.as_deref(),
+        Some("X 10° applied; the other edits dropped")
+    );
+    // Nothing applied: unchanged.
+    let mut s = state();
+    press(&mut s, KeyCode::Tab);
+    type_text(&mut s, "7");
+    press(&mut s, KeyCode::Esc);
+    assert_eq!(s.message.as_deref(), Some("orientation unchanged"));
+}
+
+#[test]
+fn a_negative_zero_angle_shows_as_zero() {
+    use relief::app::state::format_angle;
+    assert_eq!(format_angle(-0.0), "0");
+    assert_eq!(format_angle(-0.04), "0");
+    assert_eq!(format_angle(-0.06), "-0.1");
+    assert_eq!(format_angle(-5.0), "-5");
+}
+
+#[test]
+fn ctrl_z_asks_the_loop_to_suspend() {
+    let mut s = state();
+    assert_eq!(
+        press_mod(&mut s, KeyCode::Char('z'), KeyModifiers::CONTROL),
+        Some(Command::Suspend)
+    );
+    assert!(!s.quit);
+}

@@ -52,7 +52,7 @@ fn status_line_shows_every_mode_and_the_frame_cost() {
     let status = row_text(&buf, 19);
     assert_eq!(
         status.trim_end(),
-        "Phong │ vertex │ tex on │ col on │ bump on │ Blinn │ bilinear │ dH filtered │ AA off │ fill │ cube │ lights on │ att off │ 24-bit │  3.2 ms │  30 fps │ 41.2 kB"
+        "Phong │ vertex │ tex on │ col on │ bump on │ Blinn │ bilinear │ dH filtered │ AA off │ fill │ cube │ lights on │ att off │ 24b │   3.2ms  30fps 41.2kB │ ? help"
     );
     let status = row_text(&screen(&s, 250, 20), 19);
     for want in [
@@ -114,13 +114,18 @@ fn narrow_terminals_split_modes_and_cost_over_two_lines() {
     update(&mut s, Action::CycleShading);
     let buf = screen(&s, 40, 12);
     let status = row_text(&buf, 11);
-    assert_eq!(status.trim_end(), "flat V T+ C+ B+ (Phong only) 24b cube");
+    assert_eq!(status.trim_end(), "flat │ cube │ lights on │ 24b │ ? help");
     let panel = row_text(&buf, 10);
     assert_eq!(panel.trim_end(), "X25° Y35° Z0°   3.2ms  30fps 41.2kB");
-    // 80 columns: the abbreviated modes, the cost on the line above with
+    // 80 columns: the modes that fit, the cost on the line above with
     // the full-size fields.
     let buf = screen(&state(), 80, 12);
-    assert_eq!(row_text(&buf, 11).trim_end(), "Phong V T+ C+ B+ 24b cube");
+    let status = row_text(&buf, 11);
+    assert!(
+        status.starts_with("Phong │ ") && status.trim_end().ends_with("│ 24b │ ? help"),
+        "{status}"
+    );
+    assert!(!status.contains("3.2"), "{status}");
     assert_eq!(
         row_text(&buf, 10).trim_end(),
         " X     25° Y     35° Z      0°   3.2 ms │  30 fps │ 41.2 kB"
@@ -437,14 +442,21 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
         short.contains("lights 1·3·") && short.contains("att on"),
         "{short}"
     );
-    // At 40 columns the changed modes are cut, never the colour depth.
-    assert_eq!(
-        row_text(&screen(&s, 40, 12), 11).trim_end(),
-        "Phong V T+ C+ B+ 24b sphere dot3 Lv dH t"
+    // Narrow: the modes at their default go before the changed ones; the
+    // lighting, the colour depth and the hint stay.
+    let at40 = row_text(&screen(&s, 40, 12), 11);
+    assert!(
+        at40.starts_with("Phong │") && at40.trim_end().ends_with("24b │ ? help"),
+        "{at40}"
     );
-    assert_eq!(
-        status_line(&s, 60),
-        "Phong V T+ C+ B+ 24b sphere dot3 Lv dH texel 2x2 points L1·3· att"
+    let at60 = status_line(&s, 60);
+    assert!(
+        !at60.contains("Blinn") && !at60.contains("bilinear"),
+        "{at60}"
+    );
+    assert!(
+        at60.contains("sphere") && at60.ends_with("? help"),
+        "{at60}"
     );
     update(&mut s, Action::ToggleLights);
     assert!(status_line(&s, 300).contains("lights off"));
@@ -466,7 +478,11 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
     update(&mut s, Action::TogglePlasmaNormal);
     update(&mut s, Action::Pointer { col: 10, row: 4 });
     assert!(status_line(&s, 160).contains("exact normal │ light 10,9"));
-    assert_eq!(status_line(&s, 20), "plasma exact 24b");
+    let at20 = status_line(&s, 20);
+    assert!(
+        at20.starts_with("plasma │ 24b") && at20.ends_with("? help"),
+        "{at20}"
+    );
     assert_eq!(s.plasma_normal, PlasmaNormal::Exact);
 }
 
@@ -477,6 +493,8 @@ fn the_path_prompt_is_shown_with_control_characters_replaced() {
         relief::term::ColorDepth::Truecolor,
     );
     s.prompt = Some("tex/\x1b[2Jbrick.png".into());
+    // The cursor at the end, as after typing.
+    s.prompt_cursor = s.prompt.as_ref().unwrap().len();
     for (w, h) in [(160, 48), (40, 12)] {
         let text = all_text(&screen(&s, w, h));
         assert!(text.contains("texture path:"), "{w}x{h}");
@@ -484,8 +502,81 @@ fn the_path_prompt_is_shown_with_control_characters_replaced() {
     }
     let text = all_text(&screen(&s, 160, 48));
     assert!(text.contains("tex/?[2Jbrick.png_"));
+    // What Tab found shows on the prompt's line.
+    s.message = Some("2 matches: brick.png  brick-normal.png".into());
+    let text = all_text(&screen(&s, 160, 48));
+    assert!(text.contains("brick.png_  2 matches: brick.png  brick-normal.png"));
+    s.message = None;
     // The help lists the key.
     s.prompt = None;
     s.help = true;
     assert!(all_text(&screen(&s, 160, 48)).contains("type a texture path"));
+}
+
+#[test]
+fn the_status_line_shortens_field_by_field_and_keeps_the_help_hint() {
+    let s = state();
+    let full = status_line(&s, 1000);
+    assert!(
+        full.contains("bump on k=0.006") && full.ends_with("│ ? help"),
+        "{full}"
+    );
+    let n = full.chars().count();
+    // One column less: only the bump strength goes.
+    assert_eq!(status_line(&s, n - 1), full.replace(" k=0.006", ""));
+    // Then the attenuation takes its short form.
+    let second = full
+        .replace(" k=0.006", "")
+        .replace("attenuation off", "att off");
+    assert_eq!(status_line(&s, n - 9), second);
+    // Narrower and narrower: never wider than the screen, never longer
+    // than the line before, always the lighting, the depth and the hint.
+    for w in (12..=n).rev() {
+        let line = status_line(&s, w);
+        let len = line.chars().count();
+        assert!(len <= w, "{w}: {line}");
+        assert!(line.ends_with("? help"), "{w}: {line}");
+        if w >= 20 {
+            assert!(
+                line.starts_with("Phong │") && line.contains("24"),
+                "{w}: {line}"
+            );
+        }
+    }
+    assert_eq!(status_line(&s, 20), "Phong │ 24b │ ? help");
+    assert_eq!(status_line(&s, 37), "Phong │ bump on │ cube │ 24b │ ? help");
+    // Through the TestBackend at several widths: the last row.
+    for w in [250u16, 160, 120, 80, 60, 40] {
+        let row = row_text(&screen(&s, w, 20), 19);
+        assert!(row.trim_end().ends_with("? help"), "{w}: {row}");
+    }
+}
+
+#[test]
+fn the_status_line_says_dithered_when_dithering_shows() {
+    let mut s = state();
+    s.dither = true;
+    assert!(!status_line(&s, 300).contains("dither"));
+    s.depth = ColorDepth::Palette256;
+    assert!(status_line(&s, 300).contains("256 colours dithered"));
+    assert!(
+        status_line(&s, 40).contains("256c+dith"),
+        "{}",
+        status_line(&s, 40)
+    );
+    s.dither = false;
+    assert!(!status_line(&s, 300).contains("dither"));
+}
+
+#[test]
+fn the_plasma_shows_no_orientation_fields() {
+    use relief::scene::{ModelChoice, SceneKind};
+    let mut s = state();
+    assert!(row_text(&screen(&s, 160, 20), 18).contains("X "));
+    update(
+        &mut s,
+        Action::SceneBuilt(Ok((SceneKind::Plasma, ModelChoice::Cube))),
+    );
+    let row = row_text(&screen(&s, 160, 20), 18);
+    assert!(!row.contains('°'), "{row}");
 }

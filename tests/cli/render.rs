@@ -186,3 +186,118 @@ fn negative_angles_are_accepted() {
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// A fresh empty folder in the temporary folder, removed at the end.
+struct ScratchDir(PathBuf);
+
+impl Drop for ScratchDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn scratch_dir(name: &str) -> ScratchDir {
+    let dir = std::env::temp_dir().join(format!("relief-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    ScratchDir(dir)
+}
+
+fn mode_of(path: &Path) -> u32 {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::metadata(path).unwrap().permissions().mode() & 0o7777
+}
+
+fn set_mode(path: &Path, mode: u32) {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode)).unwrap();
+}
+
+#[test]
+fn out_refuses_a_read_only_file_and_keeps_it() {
+    let dir = scratch_dir("readonly");
+    let file = dir.0.join("kept.png");
+    std::fs::write(&file, b"not to be replaced").unwrap();
+    set_mode(&file, 0o444);
+    let o = relief(&["render", "--out", file.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("read-only (mode 444)"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(std::fs::read(&file).unwrap(), b"not to be replaced");
+    assert_eq!(mode_of(&file), 0o444);
+    // Nothing else was left in the folder (no temporary file).
+    assert_eq!(std::fs::read_dir(&dir.0).unwrap().count(), 1);
+}
+
+#[test]
+fn out_writes_through_a_symbolic_link() {
+    let dir = scratch_dir("symlink");
+    let real = dir.0.join("real.png");
+    std::fs::write(&real, b"old").unwrap();
+    set_mode(&real, 0o640);
+    let link = dir.0.join("link.png");
+    std::os::unix::fs::symlink("real.png", &link).unwrap();
+    // A link to a link, too.
+    let link2 = dir.0.join("link2.png");
+    std::os::unix::fs::symlink(&link, &link2).unwrap();
+    let o = relief(&["render", "--out", link2.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for l in [&link, &link2] {
+        assert!(
+            std::fs::symlink_metadata(l)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+    }
+    let img = image::open(&real).expect("the file behind the link is a PNG");
+    assert_eq!((img.width(), img.height()), (320, 240));
+    // The file keeps its permissions.
+    assert_eq!(mode_of(&real), 0o640);
+    // A link whose file does not exist yet: the file is made.
+    let dangling = dir.0.join("dangling.png");
+    std::os::unix::fs::symlink("made.png", &dangling).unwrap();
+    let o = relief(&["render", "--out", dangling.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        std::fs::symlink_metadata(&dangling)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert!(image::open(dir.0.join("made.png")).is_ok());
+    // A loop of links is refused with a sentence.
+    let a = dir.0.join("a.png");
+    std::os::unix::fs::symlink("b.png", &a).unwrap();
+    std::os::unix::fs::symlink("a.png", dir.0.join("b.png")).unwrap();
+    let o = relief(&["render", "--out", a.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("too many levels of symbolic links"), "{err}");
+}
+
+#[test]
+fn out_dash_is_standard_output() {
+    let dir = scratch_dir("dash");
+    let o = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(["render", "--out", "-", "--width", "40", "--height", "30"])
+        .current_dir(&dir.0)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::load_from_memory_with_format(&o.stdout, image::ImageFormat::Png)
+        .expect("a PNG on stdout");
+    assert_eq!((img.width(), img.height()), (40, 30));
+    assert!(!dir.0.join("-").exists(), "no file named -");
+    assert_eq!(std::fs::read_dir(&dir.0).unwrap().count(), 0);
+}
+
+#[test]
+fn ansi_text_lines_end_with_lf() {
+    let o = relief(&["render", "--ansi", "--width", "40", "--height", "100"]);
+    assert!(o.status.success());
+    // 100 pixel rows are 50 cell rows (more than one band of 32).
+    assert!(!o.stdout.contains(&b'\r'), "no carriage return");
+    assert_eq!(o.stdout.iter().filter(|&&b| b == b'\n').count(), 50);
+}

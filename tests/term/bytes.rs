@@ -387,6 +387,19 @@ fn fewer_bytes_than_the_stock_backend() {
     );
 }
 
+/// Text as a terminal receives it when it is printed (`cat`): the tty's
+/// output translation (onlcr) sends each LF as CR LF.
+fn as_printed(text: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(text.len() + text.len() / 16);
+    for &b in text {
+        if b == b'\n' {
+            out.push(b'\r');
+        }
+        out.push(b);
+    }
+    out
+}
+
 #[test]
 fn ansi_file_text_replays_to_the_same_cells_in_a_bounded_size() {
     use relief::term::ansi::{cells, frame_text};
@@ -402,7 +415,8 @@ fn ansi_file_text_replays_to_the_same_cells_in_a_bounded_size() {
             let text = frame_text(&fb, depth, dither, PAD).unwrap();
             let buf = cells(&fb, depth, dither, PAD);
             let mut screen = Screen::new(37, h.div_ceil(2));
-            screen.feed(&text);
+            assert!(!text.contains(&b'\r'), "a file's lines end with LF alone");
+            screen.feed(&as_printed(&text));
             check_screen(&screen, &buf);
             assert!(text.ends_with(b"\x1b[0m\n"));
         }
@@ -417,7 +431,7 @@ fn ansi_file_text_replays_to_the_same_cells_in_a_bounded_size() {
     relief::Renderer::new().render(&scene, &relief::Settings::default(), &mut fb);
     let text = frame_text(&fb, ColorDepth::Truecolor, false, PAD).unwrap();
     let mut screen = Screen::new(160, 60);
-    screen.feed(&text);
+    screen.feed(&as_printed(&text));
     check_screen(&screen, &cells(&fb, ColorDepth::Truecolor, false, PAD));
     println!("160x120 reference frame as text: {} bytes", text.len());
     assert!(text.len() <= 61_000, "{}", text.len());

@@ -11,28 +11,46 @@ use super::status::cost_text;
 use super::wrap::wrap_words;
 use crate::app::state::{AXES, State};
 
-/// The texture path prompt (key `/`), its end kept in view when it is long.
+/// The texture path prompt (key `/`), the cursor kept in view when the
+/// text is long.
 pub(super) fn prompt_line(state: &State) -> Option<Line<'static>> {
     let text = state.prompt.as_ref()?;
-    let shown = crate::sanitize::clean(text);
-    let tail: String = {
-        let chars: Vec<char> = shown.chars().collect();
-        chars[chars.len().saturating_sub(120)..].iter().collect()
+    let at = crate::app::line_edit::clamp(text, state.prompt_cursor);
+    let before: Vec<char> = crate::sanitize::clean(&text[..at]).chars().collect();
+    let after: Vec<char> = crate::sanitize::clean(&text[at..]).chars().collect();
+    // The cell under the cursor shows unreversed (a blank past the end).
+    let (under, rest) = match after.split_first() {
+        Some((c, rest)) => (c.to_string(), rest.iter().collect::<String>()),
+        None => ("_".to_string(), String::new()),
     };
+    let head: String = before[before.len().saturating_sub(120)..].iter().collect();
+    let reversed = Style::new().add_modifier(Modifier::REVERSED);
     Some(Line::from(vec![
         Span::styled(" texture path: ", Style::new().add_modifier(Modifier::BOLD)),
+        Span::styled(head, reversed),
         Span::styled(
-            format!("{tail}_"),
-            Style::new().add_modifier(Modifier::REVERSED),
+            under,
+            Style::new().add_modifier(Modifier::BOLD | Modifier::UNDERLINED),
         ),
-        Span::raw("  Enter load · Esc cancel"),
+        Span::styled(rest, reversed),
+        // A message (what Tab found) in place of the reminder.
+        Span::raw(match &state.message {
+            Some(msg) => format!("  {msg}"),
+            None => "  Enter load · Tab complete · Esc cancel".to_string(),
+        }),
     ]))
 }
 
 /// The orientation fields, then (on narrow screens) the frame cost, then the message.
 pub(super) fn panel_line(state: &State, compact: bool, cost: bool) -> Line<'static> {
     let mut spans = Vec::new();
-    for (axis, name) in AXES.iter().enumerate() {
+    // The plasma has no orientation: no fields.
+    let axes = if state.scene == crate::scene::SceneKind::Plasma {
+        &AXES[..0]
+    } else {
+        &AXES[..]
+    };
+    for (axis, name) in axes.iter().enumerate() {
         let focused = state.panel.focus == Some(axis);
         let mut text = state.field_text(axis);
         if focused {

@@ -160,3 +160,10 @@ const NARROW_HELP_TEXT: usize = 16;
 pub fn help_max_scroll(width: u16, height: u16) -> u16 {
     help_layout(Rect::new(0, 0, width, height)).max_scroll
 }
+
+/// Lines the help shows at once on a screen of this size: what PgUp and
+/// PgDn scroll.
+pub fn help_page(width: u16, height: u16) -> u16 {
+    let layout = help_layout(Rect::new(0, 0, width, height));
+    layout.area.height.saturating_sub(2).max(1)
+}

@@ -22,10 +22,10 @@ use crate::framebuffer::{Framebuffer, Rgb};
 use crate::term::{SymbolCells, Symbols};
 use fields::{message_above, panel_line, prompt_line, with_message};
 use help::help;
-pub use help::{help_lines, help_max_scroll};
+pub use help::{help_lines, help_max_scroll, help_page};
 use panels::cost_panel;
 use status::status_choice;
-pub use status::{Detail, cost_text, format_bytes, status_line, status_modes, status_text};
+pub use status::{HELP_HINT, cost_text, format_bytes, status_line};
 use textures::texture_panel;
 pub use textures::texture_panel_area;
 
@@ -101,11 +101,11 @@ pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf:
         pad: background,
     }
     .render(a.viewport, buf);
-    let (status_text, detail) = status_choice(state, screen.width as usize);
+    let (status_text, status_cost) = status_choice(state, screen.width as usize);
     // Narrow screens shorten the fields; a status line without the frame
     // cost leaves it to the line above.
     let compact = screen.width < COMPACT_BELOW;
-    let cost_above = !detail.is_some_and(Detail::has_cost);
+    let cost_above = !status_cost;
     if let Some(line) = prompt_line(state) {
         // The prompt takes the line above the status (or the status itself).
         if let Some(area) = a.panel.or(a.status) {

@@ -1,53 +1,142 @@
-//! The status line: every mode and the last frame's cost, in the longest
-//! form that fits the screen's width.
+//! The status line: every mode and the last frame's cost. As the screen
+//! narrows, fields take their short form one at a time, then those at
+//! their default value go, then the others (the frame cost first moves to
+//! the line above); the lighting, the colour depth, auto-rotation and
+//! `? help` always stay.
 
 use crate::app::state::{LIGHT_NAMES, State, plasma_light};
-use crate::plasma::PlasmaNormal;
+use crate::plan::environment_shows;
 use crate::scene::SceneKind;
 use crate::scene::camera::REFERENCE_DISTANCE;
-use crate::settings::{AntiAlias, Filter, LightVector, Settings, Shading, Technique};
+use crate::settings::{Settings, Shading, Technique};
 
-/// The status line: the longest form that fits in `width` columns. The
-/// shorter forms leave the frame cost to the line above; the shortest keeps
-/// the modes and colour depth.
+/// What always ends the status line.
+pub const HELP_HINT: &str = "? help";
+
+/// Between two fields.
+const SEP: &str = " │ ";
+
+/// The status line that fits in `width` columns.
 pub fn status_line(state: &State, width: usize) -> String {
     status_choice(state, width).0
 }
 
-/// The status text and its detail (`None`: the abbreviated form).
-pub(super) fn status_choice(state: &State, width: usize) -> (String, Option<Detail>) {
-    [
-        Detail::Full,
-        Detail::NoHint,
-        Detail::NoStrength,
-        Detail::Short,
-        Detail::Modes,
-    ]
-    .into_iter()
-    .map(|d| (status_text(state, d), Some(d)))
-    .find(|(t, _)| t.chars().count() <= width)
-    .unwrap_or_else(|| (status_modes(state), None))
+/// The status text, and whether it carries the frame cost (without it, the
+/// view shows the cost on the line above).
+pub(super) fn status_choice(state: &State, width: usize) -> (String, bool) {
+    fit(&fields(state), width)
 }
 
-/// How much the status line says.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Detail {
-    /// Everything, with the bump strength and a pointer to `?`.
-    Full,
-    /// Without the `? help` hint.
-    NoHint,
-    /// Without the hint and the bump strength.
-    NoStrength,
-    /// Short words.
-    Short,
-    /// Short words without the frame cost (it moves to the line above).
-    Modes,
+/// One field of the status line.
+#[derive(Clone, Debug)]
+struct Field {
+    long: String,
+    short: String,
+    /// Fields shorten in increasing order of this.
+    shorten: u8,
+    /// Fields go in increasing order of this (`None`: never).
+    drop: Option<u8>,
+    /// The frame cost.
+    cost: bool,
 }
 
-impl Detail {
-    /// Whether this form carries the frame cost.
-    pub fn has_cost(self) -> bool {
-        self != Detail::Modes
+impl Field {
+    fn new(
+        long: impl Into<String>,
+        short: impl Into<String>,
+        shorten: u8,
+        drop: Option<u8>,
+    ) -> Field {
+        Field {
+            long: long.into(),
+            short: short.into(),
+            shorten,
+            drop,
+            cost: false,
+        }
+    }
+
+    /// A field with one form.
+    fn same(text: impl Into<String>, drop: Option<u8>) -> Field {
+        let text = text.into();
+        Field::new(text.clone(), text, u8::MAX, drop)
+    }
+}
+
+/// The first drop rank of a field at its default value, and of one that
+/// is not: the defaults go first.
+const DEFAULT_DROP: u8 = 10;
+const CHANGED_DROP: u8 = 40;
+
+/// Drop rank: `rank` among the defaults or among the changed fields.
+fn drop_rank(default: bool, rank: u8) -> Option<u8> {
+    Some(if default { DEFAULT_DROP } else { CHANGED_DROP } + rank)
+}
+
+/// The text of `fields` with these shortened and these dropped.
+fn join(fields: &[Field], short: &[bool], dropped: &[bool]) -> String {
+    let mut parts: Vec<&str> = fields
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !dropped[*i])
+        .map(|(i, f)| {
+            if short[i] {
+                f.short.as_str()
+            } else {
+                f.long.as_str()
+            }
+        })
+        .collect();
+    parts.push(HELP_HINT);
+    parts.join(SEP)
+}
+
+/// The longest form of `fields` that fits in `width`: shorten one field
+/// at a time, then drop one at a time; a screen too narrow even then cuts
+/// the text before `? help`.
+fn fit(fields: &[Field], width: usize) -> (String, bool) {
+    let n = fields.len();
+    let mut short = vec![false; n];
+    let mut dropped = vec![false; n];
+    let mut shorten: Vec<usize> = (0..n)
+        .filter(|&i| fields[i].short != fields[i].long)
+        .collect();
+    shorten.sort_by_key(|&i| fields[i].shorten);
+    let mut drop: Vec<usize> = (0..n).filter(|&i| fields[i].drop.is_some()).collect();
+    drop.sort_by_key(|&i| fields[i].drop);
+    let mut gone = Vec::new();
+    let mut shorten = shorten.into_iter();
+    let mut drop = drop.into_iter();
+    loop {
+        let text = join(fields, &short, &dropped);
+        if text.chars().count() <= width {
+            // Room left by the last field to go: the fields dropped
+            // before it come back where they fit, the last dropped first.
+            for &i in gone.iter().rev() {
+                dropped[i] = false;
+                if join(fields, &short, &dropped).chars().count() > width {
+                    dropped[i] = true;
+                }
+            }
+            let cost = (0..n).any(|i| fields[i].cost && !dropped[i]);
+            return (join(fields, &short, &dropped), cost);
+        }
+        if let Some(i) = shorten.next() {
+            short[i] = true;
+        } else if let Some(i) = drop.next() {
+            dropped[i] = true;
+            gone.push(i);
+        } else {
+            // The hint stays whole; what is before it is cut.
+            let room = width.saturating_sub(HELP_HINT.chars().count() + 1);
+            let text = if room == 0 {
+                HELP_HINT.chars().take(width).collect()
+            } else {
+                let kept: String = text.chars().take(room).collect();
+                format!("{kept:<room$} {HELP_HINT}")
+            };
+            return (text, false);
+        }
     }
 }
 
@@ -141,8 +230,8 @@ fn technique_text(state: &State) -> String {
     }
 }
 
-/// The plasma's own line: its normal mode and where the light is.
-fn plasma_text(state: &State, detail: Detail) -> String {
+/// The plasma's own fields: its normal mode and where the light is.
+fn plasma_fields(state: &State) -> Vec<Field> {
     let light = match state.pointer {
         Some(_) => {
             let (x, y) = plasma_light(state.pointer, 0, 0);
@@ -150,212 +239,144 @@ fn plasma_text(state: &State, detail: Detail) -> String {
         }
         None => "light centre".into(),
     };
-    let cost = if detail.has_cost() {
-        format!(" │ {}", cost_text(state, false))
-    } else {
-        String::new()
-    };
-    let hint = if detail == Detail::Full {
-        " │ ? help"
-    } else {
-        ""
-    };
-    format!(
-        "plasma │ {} │ {light} │ {}{cost}{hint}",
-        state.plasma_normal.label(),
-        state.depth.label(),
-    )
+    let normal = state.plasma_normal.label();
+    let brief = normal.split(' ').next().unwrap_or(normal);
+    vec![
+        Field::same("plasma", None),
+        Field::new(normal, brief, 2, Some(3)),
+        Field::same(light, Some(2)),
+        Field::new(depth_text(state), short_depth(state), 3, None),
+        cost_field(state),
+    ]
 }
 
-/// The abbreviated status line: the 3D modes, the scene, the modes that
-/// differ from their defaults, and the colour depth.
-pub fn status_modes(state: &State) -> String {
-    if state.scene == SceneKind::Plasma {
-        let normal = match state.plasma_normal {
-            PlasmaNormal::Table => "Z²",
-            PlasmaNormal::Exact => "exact",
-        };
-        return format!("plasma {normal} {}", short_depth(state));
+/// The frame cost: dropped first (the line above shows it then).
+fn cost_field(state: &State) -> Field {
+    Field {
+        cost: true,
+        ..Field::new(cost_text(state, false), cost_text(state, true), 30, Some(0))
     }
-    let s = &state.settings;
-    let d = Settings::default();
-    let flag = |b: bool| if b { '+' } else { '-' };
-    let mut extras = String::new();
-    let mut add = |t: &str| {
-        extras.push(' ');
-        extras.push_str(t);
-    };
-    if s.technique != d.technique {
-        add(s.technique.label());
-    }
-    if s.technique == Technique::Dot3 && s.light_vector == LightVector::Vertex {
-        add("Lv");
-    }
-    if file_map_in_use(state) {
-        add("Nfile");
-    }
-    if s.filter != d.filter {
-        add(match s.filter {
-            Filter::Nearest => "near",
-            Filter::Bilinear => "bil",
-            Filter::NearestMip => "nmip",
-            Filter::Trilinear => "tri",
-            Filter::Anisotropic => "aniso",
-        });
-    }
-    if s.height_derivative != d.height_derivative {
-        add(&format!("dH {}", s.height_derivative.label()));
-    }
-    if s.aa != d.aa {
-        add(match s.aa {
-            AntiAlias::Off => "AA-",
-            AntiAlias::Ssaa2 => "2x2",
-            AntiAlias::Ssaa4 => "4x4",
-            AntiAlias::Msaa4 => "MS4",
-        });
-    }
-    if s.display != d.display {
-        add(s.display.label());
-    }
-    if s.tangent_frames {
-        add("TBN");
-    }
-    if !s.lights {
-        add("L-");
-    } else if !state.light_on.iter().all(|&on| on) {
-        add(&lights_text(state, true).replace("lights ", "L"));
-    }
-    if s.attenuation {
-        add("att");
-    }
-    if s.specular {
-        add(&format!("spec{}", format_shininess(s.shininess)));
-    }
-    if environment_shows(s) {
-        add("env");
-    }
-    if state.distance != REFERENCE_DISTANCE {
-        add(&format!("d{}", format_distance(state.distance)));
-    }
-    if let Some(h) = heights_text(state, true) {
-        add(&h);
-    }
-    let what: String = scene_label(state, true).chars().take(12).collect();
-    // What the status line must always show comes first (the colour depth
-    // included, and auto-rotation); the scene and the changed modes follow
-    // and are what a narrow screen cuts.
-    format!(
-        "{} {} T{} C{} B{}{} {}{} {what}{extras}",
-        s.shading.label(),
-        if s.normals == crate::settings::Normals::Vertex {
-            "V"
-        } else {
-            "F"
-        },
-        flag(s.texture),
-        flag(s.colors),
-        flag(s.bump),
-        if s.bump && s.shading != Shading::Phong {
-            " (Phong only)"
-        } else {
-            ""
-        },
-        short_depth(state),
-        if state.auto_rotate { " auto" } else { "" },
-    )
 }
 
 fn on_off(b: bool) -> &'static str {
     if b { "on" } else { "off" }
 }
 
-/// Every mode and (unless `Modes`) the last frame's cost.
-pub fn status_text(state: &State, detail: Detail) -> String {
+/// Every field of the status line, in order, with the ranks in which they
+/// shorten and go.
+fn fields(state: &State) -> Vec<Field> {
     if state.scene == SceneKind::Plasma {
-        return plasma_text(state, detail);
+        return plasma_fields(state);
     }
     let s = &state.settings;
-    let phong_only = s.bump && s.shading != Shading::Phong;
-    let strength = match detail {
-        Detail::Full | Detail::NoHint => format!(" k={}", format_strength(s.bump_strength)),
-        _ => String::new(),
-    };
-    let hint = if detail == Detail::Full {
-        " │ ? help"
+    let d = Settings::default();
+    let po = if s.bump && s.shading != Shading::Phong {
+        " (Phong only)"
     } else {
         ""
     };
-    let cost = if detail.has_cost() {
-        format!(" │ {}", cost_text(state, false))
-    } else {
-        String::new()
-    };
-    let auto = if state.auto_rotate { " │ auto" } else { "" };
-    let po = if phong_only { " (Phong only)" } else { "" };
-    // Short words in the short forms, whole words otherwise.
-    let short = matches!(detail, Detail::Short | Detail::Modes);
-    let named = |long: &str, brief: &str, value: &str| {
-        format!("{} {value}", if short { brief } else { long })
-    };
-    let fields = [
-        s.shading.label().to_string(),
-        if short {
-            s.normals.label().to_string()
-        } else {
-            format!("normals {}", s.normals.label())
-        },
-        named("texture", "tex", on_off(s.texture)),
-        named("colours", "col", on_off(s.colors)),
-        format!("bump {}{po}{strength}", on_off(s.bump)),
-        technique_text(state),
-        s.filter.label().to_string(),
-        format!("dH {}", s.height_derivative.label()),
-        format!("AA {}", s.aa.label()),
-        s.display.label().to_string(),
-        scene_label(state, short),
-        lights_text(state, short),
-        named("attenuation", "att", on_off(s.attenuation)),
-        depth_label(state),
+    let mut f = vec![
+        Field::same(s.shading.label(), None),
+        Field::new(
+            format!("normals {}", s.normals.label()),
+            s.normals.label(),
+            5,
+            drop_rank(s.normals == d.normals, 8),
+        ),
+        Field::new(
+            format!("texture {}", on_off(s.texture)),
+            format!("tex {}", on_off(s.texture)),
+            3,
+            drop_rank(s.texture == d.texture, 7),
+        ),
+        Field::new(
+            format!("colours {}", on_off(s.colors)),
+            format!("col {}", on_off(s.colors)),
+            2,
+            drop_rank(s.colors == d.colors, 6),
+        ),
+        Field::new(
+            format!(
+                "bump {}{po} k={}",
+                on_off(s.bump),
+                format_strength(s.bump_strength)
+            ),
+            format!("bump {}{po}", on_off(s.bump)),
+            0,
+            // "Phong only" says something: kept as a changed field.
+            drop_rank(s.bump == d.bump && po.is_empty(), 12),
+        ),
+        Field::same(
+            technique_text(state),
+            drop_rank(s.technique == d.technique && !file_map_in_use(state), 5),
+        ),
+        Field::same(s.filter.label(), drop_rank(s.filter == d.filter, 4)),
+        Field::same(
+            format!("dH {}", s.height_derivative.label()),
+            drop_rank(s.height_derivative == d.height_derivative, 2),
+        ),
+        Field::same(format!("AA {}", s.aa.label()), drop_rank(s.aa == d.aa, 3)),
+        Field::same(s.display.label(), drop_rank(s.display == d.display, 9)),
+        Field::new(
+            scene_label(state, false),
+            scene_label(state, true),
+            6,
+            drop_rank(false, 20),
+        ),
+        Field::new(
+            lights_text(state, false),
+            lights_text(state, true),
+            7,
+            drop_rank(s.lights && state.light_on.iter().all(|&on| on), 10),
+        ),
+        Field::new(
+            format!("attenuation {}", on_off(s.attenuation)),
+            format!("att {}", on_off(s.attenuation)),
+            1,
+            drop_rank(s.attenuation == d.attenuation, 1),
+        ),
+        Field::new(depth_text(state), short_depth(state), 20, None),
     ];
-    // The zoom shows once it leaves the reference view.
-    let zoom = if state.distance != REFERENCE_DISTANCE {
-        format!(
-            " │ {}",
-            named("distance", "dist", &format_distance(state.distance))
-        )
-    } else {
-        String::new()
-    };
+    if let Some(h) = heights_text(state, false) {
+        let short = heights_text(state, true).unwrap_or_default();
+        f.push(Field::new(h, short, 8, drop_rank(false, 1)));
+    }
     // Highlights show only when on: the reference picture has none.
-    let specular = if s.specular {
-        format!(
-            " │ {} s={}",
-            if short { "spec" } else { "specular" },
-            format_shininess(s.shininess)
-        )
-    } else {
-        String::new()
-    };
+    if s.specular {
+        f.push(Field::new(
+            format!("specular s={}", format_shininess(s.shininess)),
+            format!("spec {}", format_shininess(s.shininess)),
+            9,
+            drop_rank(false, 3),
+        ));
+    }
+    if environment_shows(s) {
+        f.push(Field::new(
+            format!("environment k={}", format_shininess(s.reflectivity)),
+            "env",
+            10,
+            drop_rank(false, 2),
+        ));
+    }
     // The tangent frames show only when drawn.
-    let frames = if s.tangent_frames {
-        format!(" │ {}", if short { "TBN" } else { "tangent frames" })
-    } else {
-        String::new()
-    };
-    let heights = heights_text(state, short).map_or(String::new(), |h| format!(" │ {h}"));
-    let environment = if environment_shows(s) {
-        format!(
-            " │ {} k={}",
-            if short { "env" } else { "environment" },
-            format_shininess(s.reflectivity)
-        )
-    } else {
-        String::new()
-    };
-    format!(
-        "{}{heights}{specular}{environment}{frames}{zoom}{cost}{auto}{hint}",
-        fields.join(" │ ")
-    )
+    if s.tangent_frames {
+        f.push(Field::new("tangent frames", "TBN", 11, drop_rank(false, 0)));
+    }
+    // The zoom shows once it leaves the reference view.
+    if state.distance != REFERENCE_DISTANCE {
+        let d = format_distance(state.distance);
+        f.push(Field::new(
+            format!("distance {d}"),
+            format!("dist {d}"),
+            12,
+            drop_rank(false, 4),
+        ));
+    }
+    f.push(cost_field(state));
+    if state.auto_rotate {
+        f.push(Field::same("auto", None));
+    }
+    f
 }
 
 /// Where the heights come from, when another texture of the list gives
@@ -378,25 +399,31 @@ fn heights_text(state: &State, short: bool) -> Option<String> {
     })
 }
 
-/// Whether the environment's reflection is in the picture: asked for, in
-/// Phong and fill display, with the Blinn kernel (docs/environment.md).
-fn environment_shows(s: &Settings) -> bool {
-    s.environment
-        && s.shading == Shading::Phong
-        && s.display == crate::settings::Display::Fill
-        && s.reflectivity > 0.0
-}
-
 /// The specular exponent without needless decimals.
-fn format_shininess(s: f32) -> String {
+pub fn format_shininess(s: f32) -> String {
     format!("{}", (s * 100.0).round() / 100.0)
 }
 
-/// The colour depth, and the symbol set when it is not half blocks.
-fn depth_label(state: &State) -> String {
+/// Dithering (`--dither`) changes the picture in 256 and 16 colours only.
+fn dithered(state: &State) -> bool {
+    state.dither && state.depth != crate::term::ColorDepth::Truecolor
+}
+
+/// The colour depth, "dithered" when dithering shows, and the symbol set
+/// when it is not half blocks.
+fn depth_text(state: &State) -> String {
+    let depth = if dithered(state) {
+        format!("{} dithered", state.depth.label())
+    } else {
+        state.depth.label().to_string()
+    };
+    with_symbols(state, depth)
+}
+
+fn with_symbols(state: &State, depth: String) -> String {
     match state.symbols {
-        crate::term::Symbols::Half => state.depth.label().to_string(),
-        s => format!("{} {}", state.depth.label(), s.name()),
+        crate::term::Symbols::Half => depth,
+        s => format!("{depth} {}", s.name()),
     }
 }
 
@@ -406,10 +433,12 @@ fn short_depth(state: &State) -> String {
         crate::term::ColorDepth::Palette256 => "256c",
         crate::term::ColorDepth::Palette16 => "16c",
     };
-    match state.symbols {
-        crate::term::Symbols::Half => depth.to_string(),
-        s => format!("{depth} {}", s.name()),
-    }
+    let depth = if dithered(state) {
+        format!("{depth}+dith")
+    } else {
+        depth.to_string()
+    };
+    with_symbols(state, depth)
 }
 
 /// The camera distance with one decimal.
@@ -417,7 +446,7 @@ fn format_distance(d: f32) -> String {
     format!("{d:.1}")
 }
 
-fn format_strength(k: f32) -> String {
+pub fn format_strength(k: f32) -> String {
     let s = format!("{k:.4}");
     let s = s.trim_end_matches('0');
     s.strip_suffix('.').unwrap_or(s).to_string()
