@@ -11,7 +11,7 @@ use crate::settings::{
     AntiAlias, Display, Filter, HeightDerivative, LightVector, Normals, Settings, Shading,
     Technique,
 };
-use crate::term::Symbols;
+use crate::term::{Format, Symbols};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -85,6 +85,11 @@ pub struct RenderArgs {
     /// half, quad, sextant or octant.
     #[arg(long, value_enum, default_value_t = Symbols::Half)]
     pub symbols: Symbols,
+    /// What --ansi writes: text cells of --symbols (auto, symbols), or the frame's pixels as
+    /// a kitty graphics image, a sixel image (--dither: ordered dithering when the frame has
+    /// more than 256 colours) or an iTerm2 inline PNG.
+    #[arg(long, value_enum, default_value_t = Format::Auto)]
+    pub format: Format,
     /// Colour depth of the PNG or the text: the picture a terminal with that depth shows.
     #[arg(long, value_enum, default_value_t = ColorDepthArg::Truecolor)]
     pub color: ColorDepthArg,

@@ -101,7 +101,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             scene.material.normal_map = normal_map;
             scene.material.environment = environment;
             let mut renderer = Renderer::new();
-            if args.ansi {
+            if args.ansi && !args.format.is_pixels() {
                 // The text's pixels are as tall as its symbols make them.
                 renderer.set_pixel_aspect(args.symbols.pixel_aspect());
             }
@@ -117,13 +117,13 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let pad = relief::scene::BACKGROUND;
     if args.ansi {
         let mut out = std::io::BufWriter::new(std::io::stdout().lock());
-        relief::term::ansi::write_symbol_text(
+        relief::term::format::write_frame(
             &fb,
+            args.format,
             args.symbols,
             depth,
             args.dither,
             pad,
-            b"\n",
             &mut out,
         )?;
         out.flush()?;

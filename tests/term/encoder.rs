@@ -527,3 +527,189 @@ fn symbol_text_has_lf_rows_and_one_cell_per_glyph() {
         }
     }
 }
+
+// ---- Pixel formats: decode what was encoded -------------------------------
+
+use relief::term::{kitty, sixel};
+
+/// A frame of pseudo-random pixels; `colours` distinct values at most
+/// (0: any).
+fn noisy_fb(w: usize, h: usize, colours: u32) -> Framebuffer {
+    let mut fb = Framebuffer::new(w, h);
+    let mut seed = 99u32;
+    for y in 0..h {
+        for x in 0..w {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let v = if colours == 0 {
+                seed
+            } else {
+                (seed >> 8) % colours
+            };
+            let c = if colours == 0 {
+                [(v >> 24) as u8, (v >> 16) as u8, (v >> 8) as u8]
+            } else {
+                [(v * 37 % 256) as u8, (v * 11 % 256) as u8, (v * 5) as u8]
+            };
+            fb.set(x, y, c);
+        }
+    }
+    fb
+}
+
+#[test]
+fn kitty_payload_decodes_to_the_frame() {
+    use base64::Engine;
+    use std::io::Read;
+    let fb = noisy_fb(70, 50, 0);
+    let mut out = Vec::new();
+    kitty::write_image(&fb, Some((35, 12)), &mut out).unwrap();
+    let text = String::from_utf8(out).unwrap();
+    let mut payload = String::new();
+    let commands: Vec<&str> = text.split("\x1b_G").skip(1).collect();
+    assert!(commands.len() > 2, "a 10 kB frame takes several chunks");
+    for (i, command) in commands.iter().enumerate() {
+        let body = command
+            .strip_suffix("\x1b\\")
+            .expect("each chunk ends with ST");
+        let (keys, data) = body.split_once(';').unwrap();
+        assert!(data.len() <= kitty::CHUNK);
+        let more = if i + 1 < commands.len() { "m=1" } else { "m=0" };
+        assert!(keys.split(',').any(|k| k == more), "{keys}");
+        if i == 0 {
+            for k in ["a=T", "f=24", "o=z", "s=70", "v=50", "c=35", "r=12", "C=1"] {
+                assert!(keys.split(',').any(|x| x == k), "{k} in {keys}");
+            }
+            assert!(keys.contains(&format!("i={}", kitty::IMAGE_ID)));
+        }
+        payload.push_str(data);
+    }
+    let packed = base64::engine::general_purpose::STANDARD
+        .decode(payload)
+        .unwrap();
+    let mut raw = Vec::new();
+    flate2::read::ZlibDecoder::new(&packed[..])
+        .read_to_end(&mut raw)
+        .unwrap();
+    let want: Vec<u8> = fb.pixels().iter().flatten().copied().collect();
+    assert_eq!(raw, want);
+}
+
+/// A small sixel decoder: the image's size and its pixels (`None` where
+/// nothing was drawn), colours as the terminal shows the percentages.
+fn decode_sixel(data: &[u8]) -> (usize, usize, Vec<Option<[u8; 3]>>) {
+    let start = data.windows(2).position(|w| w == b"\x1bP").unwrap();
+    let q = start + data[start..].iter().position(|&b| b == b'q').unwrap();
+    let end = data.windows(2).position(|w| w == b"\x1b\\").unwrap();
+    let body = &data[q + 1..end];
+    let mut i = 0;
+    let number = |i: &mut usize| {
+        let s = *i;
+        while *i < body.len() && body[*i].is_ascii_digit() {
+            *i += 1;
+        }
+        std::str::from_utf8(&body[s..*i])
+            .unwrap()
+            .parse::<usize>()
+            .unwrap()
+    };
+    let numbers = |i: &mut usize| {
+        let mut v = vec![number(i)];
+        while *i < body.len() && body[*i] == b';' {
+            *i += 1;
+            v.push(number(i));
+        }
+        v
+    };
+    let (mut w, mut h, mut pixels) = (0, 0, Vec::new());
+    let mut palette = std::collections::HashMap::new();
+    let (mut x, mut y, mut colour) = (0usize, 0usize, 0usize);
+    while i < body.len() {
+        let b = body[i];
+        i += 1;
+        match b {
+            b'"' => {
+                let v = numbers(&mut i);
+                (w, h) = (v[2], v[3]);
+                pixels = vec![None; w * h];
+            }
+            b'#' => {
+                let v = numbers(&mut i);
+                colour = v[0];
+                if v.len() == 5 {
+                    assert_eq!(v[1], 2, "RGB colour space");
+                    palette.insert(v[0], sixel::shown([v[2] as u8, v[3] as u8, v[4] as u8]));
+                }
+            }
+            b'$' => x = 0,
+            b'-' => {
+                x = 0;
+                y += 6;
+            }
+            b'!' | 63..=126 => {
+                let (count, c) = if b == b'!' {
+                    let n = number(&mut i);
+                    i += 1;
+                    (n, body[i - 1])
+                } else {
+                    (1, b)
+                };
+                for _ in 0..count {
+                    for k in 0..6 {
+                        if (c - 63) >> k & 1 == 1 {
+                            assert!(x < w && y + k < h, "draws inside the raster");
+                            pixels[(y + k) * w + x] = Some(palette[&colour]);
+                        }
+                    }
+                    x += 1;
+                }
+            }
+            other => panic!("unexpected byte {other}"),
+        }
+    }
+    (w, h, pixels)
+}
+
+#[test]
+fn sixel_decodes_to_the_frame_when_the_palette_is_exact() {
+    // 200 colours in a frame whose height is not a multiple of six.
+    let fb = noisy_fb(37, 29, 200);
+    let mut out = Vec::new();
+    sixel::write_image(&fb, false, &mut out).unwrap();
+    let (w, h, pixels) = decode_sixel(&out);
+    assert_eq!((w, h), (37, 29));
+    for y in 0..h {
+        for x in 0..w {
+            let want = sixel::shown(sixel::percent(fb.get(x, y)));
+            assert_eq!(pixels[y * w + x], Some(want), "at {x},{y}");
+        }
+    }
+    // Sixel's 1 % steps lose at most 1.3 levels.
+    for c in 0..=255u8 {
+        let back = sixel::shown(sixel::percent([c; 3]))[0];
+        assert!(back.abs_diff(c) <= 2, "{c} -> {back}");
+    }
+}
+
+#[test]
+fn sixel_with_many_colours_uses_the_cube_within_half_a_step() {
+    let fb = noisy_fb(40, 13, 0);
+    for dither in [false, true] {
+        let mut out = Vec::new();
+        sixel::write_image(&fb, dither, &mut out).unwrap();
+        let (w, h, pixels) = decode_sixel(&out);
+        assert_eq!((w, h), (40, 13));
+        for y in 0..h {
+            for x in 0..w {
+                let got = pixels[y * w + x].expect("every pixel drawn");
+                for (c, &g) in got.iter().enumerate() {
+                    let step = 255.0 / (sixel::CUBE[c] - 1) as f32;
+                    // Nearest level without dithering, one of the two
+                    // around it with; plus sixel's rounding.
+                    let bound = if dither { step } else { step / 2.0 } + 2.0;
+                    let d = (f32::from(g) - f32::from(fb.get(x, y)[c])).abs();
+                    assert!(d <= bound, "{x},{y} channel {c}: {d} > {bound}");
+                }
+            }
+        }
+    }
+}
