@@ -162,7 +162,7 @@ impl Plan {
             .objects
             .iter()
             .any(|o| o.mesh.triangles.iter().any(|t| t.textured));
-        let stages = MaterialStages::new(&scene.material, any_textured, settings);
+        let stages = MaterialStages::new(&scene.material, any_textured, settings, false);
         let depth = scene.objects.len() > 1 || scene.objects.iter().any(|o| !o.mesh.convex);
         let lights = if settings.lights {
             scene
@@ -238,15 +238,16 @@ impl Plan {
     /// The plan of the triangles drawn with `material` (an object's own,
     /// not the scene's): this frame's plan with the stages that depend on
     /// the material decided again for it, so each material runs only what
-    /// it needs. `any_textured`: some triangle with this material has
-    /// texture coordinates.
+    /// it needs; dot3 reads its normal map whatever `normal_map_file` says.
+    /// `any_textured`: some triangle with this material has texture
+    /// coordinates.
     pub fn for_material(
         &self,
         material: &Material,
         any_textured: bool,
         settings: &Settings,
     ) -> Plan {
-        let stages = MaterialStages::new(material, any_textured, settings);
+        let stages = MaterialStages::new(material, any_textured, settings, true);
         Plan {
             texture: stages.texture,
             bump: stages.bump,
@@ -278,7 +279,10 @@ struct MaterialStages {
 }
 
 impl MaterialStages {
-    fn new(material: &Material, any_textured: bool, settings: &Settings) -> Self {
+    /// `own`: an object's own material, whose normal map dot3 always reads
+    /// (`normal_map_file` chooses between `--normal-map` and the height
+    /// map for the scene's material only).
+    fn new(material: &Material, any_textured: bool, settings: &Settings, own: bool) -> Self {
         let texture = settings.texture && any_textured;
         let strength = settings.bump_strength;
         // The file's normal map, when dot3 is asked for and is to read it:
@@ -286,7 +290,7 @@ impl MaterialStages {
         let file_map = material
             .normal_map
             .as_ref()
-            .filter(|_| settings.normal_map_file && settings.technique == Technique::Dot3);
+            .filter(|_| (own || settings.normal_map_file) && settings.technique == Technique::Dot3);
         let bump = bump_shows(settings)
             && any_textured
             && (file_map.is_some() || !material.texture.height_is_flat());

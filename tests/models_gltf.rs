@@ -1,0 +1,625 @@
+//! glTF 2.0 models: files written here byte by byte (GLB) and the real
+//! files in tests/data/models/gltf, rendered and read back; bad files
+//! refused with one line naming the file and the place.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3, Vec4};
+use relief::render::render_frame;
+use relief::scene::gltf::{Model, load};
+use relief::scene::obj::FIT_RADIUS;
+use relief::scene::{Light, Scene};
+use relief::settings::{Shading, Technique};
+use relief::texture::procedural;
+use relief::{Framebuffer, Settings};
+
+const MAGENTA: [u8; 3] = [255, 0, 255];
+const W: usize = 160;
+const H: usize = 120;
+
+/// One primitive as written to the file.
+#[derive(Clone, Default)]
+struct Prim {
+    pos: Vec<[f32; 3]>,
+    nrm: Vec<[f32; 3]>,
+    uv: Vec<[f32; 2]>,
+    tan: Option<Vec<[f32; 4]>>,
+    idx: Vec<u16>,
+    material: Option<usize>,
+}
+
+/// A GLB of one mesh with these primitives, drawn by the nodes in
+/// `nodes` (JSON; node 0 is the scene's root) or by one node.
+struct Doc {
+    prims: Vec<Prim>,
+    nodes: String,
+    materials: String,
+    /// PNG files, texture i reading image i.
+    images: Vec<Vec<u8>>,
+    extra: String,
+}
+
+impl Doc {
+    fn new(prims: Vec<Prim>) -> Self {
+        Doc {
+            prims,
+            nodes: r#"[{"mesh":0}]"#.into(),
+            materials: String::new(),
+            images: Vec::new(),
+            extra: String::new(),
+        }
+    }
+}
+
+fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+    let mut json = json.as_bytes().to_vec();
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let mut bin = bin.to_vec();
+    while !bin.len().is_multiple_of(4) {
+        bin.push(0);
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut out = Vec::new();
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(&0x4E4F534Au32.to_le_bytes());
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(&0x004E4942u32.to_le_bytes());
+    out.extend_from_slice(&bin);
+    out
+}
+
+fn encode(doc: &Doc) -> Vec<u8> {
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views = Vec::new();
+    let mut accessors = Vec::new();
+    let mut add =
+        |bin: &mut Vec<u8>, bytes: Vec<u8>, count: usize, ty: &str, ct: u32, minmax: &str| {
+            while !bin.len().is_multiple_of(4) {
+                bin.push(0);
+            }
+            views.push(format!(
+                r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
+                bin.len(),
+                bytes.len()
+            ));
+            bin.extend_from_slice(&bytes);
+            accessors.push(format!(
+                r#"{{"bufferView":{},"componentType":{ct},"count":{count},"type":"{ty}"{minmax}}}"#,
+                views.len() - 1
+            ));
+            accessors.len() - 1
+        };
+    let floats = |v: &[f32]| v.iter().flat_map(|f| f.to_le_bytes()).collect::<Vec<u8>>();
+    let mut prims = Vec::new();
+    for p in &doc.prims {
+        let flat: Vec<f32> = p.pos.iter().flatten().copied().collect();
+        let lo = (0..3).map(|k| p.pos.iter().map(|q| q[k]).fold(f32::INFINITY, f32::min));
+        let hi = (0..3).map(|k| p.pos.iter().map(|q| q[k]).fold(f32::NEG_INFINITY, f32::max));
+        let list = |it: &mut dyn Iterator<Item = f32>| {
+            it.map(|f| format!("{f}")).collect::<Vec<_>>().join(",")
+        };
+        let minmax = format!(
+            r#","min":[{}],"max":[{}]"#,
+            list(&mut lo.into_iter()),
+            list(&mut hi.into_iter())
+        );
+        let pos = add(&mut bin, floats(&flat), p.pos.len(), "VEC3", 5126, &minmax);
+        let mut attrs = format!(r#""POSITION":{pos}"#);
+        if !p.nrm.is_empty() {
+            let flat: Vec<f32> = p.nrm.iter().flatten().copied().collect();
+            let a = add(&mut bin, floats(&flat), p.nrm.len(), "VEC3", 5126, "");
+            attrs += &format!(r#","NORMAL":{a}"#);
+        }
+        if !p.uv.is_empty() {
+            let flat: Vec<f32> = p.uv.iter().flatten().copied().collect();
+            let a = add(&mut bin, floats(&flat), p.uv.len(), "VEC2", 5126, "");
+            attrs += &format!(r#","TEXCOORD_0":{a}"#);
+        }
+        if let Some(t) = &p.tan {
+            let flat: Vec<f32> = t.iter().flatten().copied().collect();
+            let a = add(&mut bin, floats(&flat), t.len(), "VEC4", 5126, "");
+            attrs += &format!(r#","TANGENT":{a}"#);
+        }
+        let idx: Vec<u8> = p.idx.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let i = add(&mut bin, idx, p.idx.len(), "SCALAR", 5123, "");
+        let material = p
+            .material
+            .map_or(String::new(), |m| format!(r#","material":{m}"#));
+        prims.push(format!(
+            r#"{{"attributes":{{{attrs}}},"indices":{i}{material}}}"#
+        ));
+    }
+    let mut images = Vec::new();
+    for png in &doc.images {
+        while !bin.len().is_multiple_of(4) {
+            bin.push(0);
+        }
+        views.push(format!(
+            r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
+            bin.len(),
+            png.len()
+        ));
+        bin.extend_from_slice(png);
+        images.push(format!(
+            r#"{{"bufferView":{},"mimeType":"image/png"}}"#,
+            views.len() - 1
+        ));
+    }
+    let mut json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":{},"meshes":[{{"primitives":[{}]}}],"accessors":[{}],"bufferViews":[{}],"buffers":[{{"byteLength":{}}}]"#,
+        doc.nodes,
+        prims.join(","),
+        accessors.join(","),
+        views.join(","),
+        bin.len()
+    );
+    if !doc.materials.is_empty() {
+        json += &format!(r#","materials":{}"#, doc.materials);
+    }
+    if !images.is_empty() {
+        let textures: Vec<String> = (0..images.len())
+            .map(|i| format!(r#"{{"source":{i}}}"#))
+            .collect();
+        json += &format!(
+            r#","images":[{}],"textures":[{}]"#,
+            images.join(","),
+            textures.join(",")
+        );
+    }
+    json += &doc.extra;
+    json.push('}');
+    glb(&json, &bin)
+}
+
+fn png(w: u32, h: u32, rgba: impl Fn(u32, u32) -> [u8; 4]) -> Vec<u8> {
+    let mut img = image::RgbaImage::new(w, h);
+    for (x, y, p) in img.enumerate_pixels_mut() {
+        *p = image::Rgba(rgba(x, y));
+    }
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::Png).unwrap();
+    out.into_inner()
+}
+
+/// A temporary directory for this test's files.
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("relief-gltf-{}-{test}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write(test: &str, name: &str, bytes: &[u8]) -> PathBuf {
+    let path = scratch(test).join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// An axis-aligned quad in z = 0 facing +Z: corners (x0, y0)–(x1, y1),
+/// u from `u0` at x0 to `u1` at x1, v 0 at the top (y1) and 1 at the bottom.
+fn quad(x0: f32, x1: f32, y0: f32, y1: f32, u0: f32, u1: f32) -> Prim {
+    Prim {
+        pos: vec![[x0, y1, 0.0], [x0, y0, 0.0], [x1, y0, 0.0], [x1, y1, 0.0]],
+        nrm: vec![[0.0, 0.0, 1.0]; 4],
+        uv: vec![[u0, 0.0], [u0, 1.0], [u1, 1.0], [u1, 0.0]],
+        tan: None,
+        idx: if (x1 - x0) * (y1 - y0) > 0.0 {
+            vec![0, 1, 2, 0, 2, 3]
+        } else {
+            vec![0, 2, 1, 0, 3, 2]
+        },
+        material: None,
+    }
+}
+
+fn scene_of(model: Model) -> Scene {
+    let mut scene = Scene::gltf(model, Arc::new(procedural::brick()));
+    scene.background = MAGENTA;
+    scene
+}
+
+/// Seen face-on: no rotation.
+fn face_on() -> Settings {
+    Settings {
+        rotation: Vec3::ZERO,
+        ..Settings::default()
+    }
+}
+
+fn px(fb: &Framebuffer, x: usize, y: usize) -> [u8; 3] {
+    fb.pixels()[y * fb.width() + x]
+}
+
+fn covered(fb: &Framebuffer) -> usize {
+    fb.pixels().iter().filter(|&&p| p != MAGENTA).count()
+}
+
+fn render(scene: &Scene, settings: &Settings) -> Framebuffer {
+    render_frame(scene, settings, W, H).0
+}
+
+/// Pixel area of a polygon in z = 0 seen by the scene's camera (shoelace
+/// on the projected corners).
+fn projected_area(scene: &Scene, corners: &[Vec3]) -> f32 {
+    let vp = scene.camera.projection(W as f32 / H as f32) * scene.camera.view();
+    let px: Vec<Vec2> = corners
+        .iter()
+        .map(|c| {
+            let p = vp * c.extend(1.0);
+            let ndc = p.truncate() / p.w;
+            Vec2::new(
+                (ndc.x + 1.0) * 0.5 * W as f32,
+                (1.0 - ndc.y) * 0.5 * H as f32,
+            )
+        })
+        .collect();
+    let mut twice = 0.0;
+    for i in 0..px.len() {
+        let (a, b) = (px[i], px[(i + 1) % px.len()]);
+        twice += a.x * b.y - b.x * a.y;
+    }
+    twice.abs() / 2.0
+}
+
+fn load_ok(path: &Path) -> Model {
+    load(path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A 2 × 1 quad, turned a quarter about Z by its node (1 × 2), then
+/// stretched 2× along X by the parent node: a square. Applied in the
+/// wrong order the stretch would come first (4 × 1, turned: 1 × 4).
+/// Fitted, the square's half-diagonal is FIT_RADIUS: side 1.5·√2.
+#[test]
+fn a_node_chain_gives_the_expected_silhouette() {
+    let mut doc = Doc::new(vec![quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0)]);
+    doc.nodes = r#"[{"children":[1],"scale":[2,1,1]},{"mesh":0,"matrix":[0,1,0,0, -1,0,0,0, 0,0,1,0, 0,0,0,1]}]"#.into();
+    let path = write("chain", "chain.glb", &encode(&doc));
+    let scene = scene_of(load_ok(&path));
+    let fb = render(&scene, &face_on());
+    let h = FIT_RADIUS / 2f32.sqrt();
+    let square = [
+        Vec3::new(-h, -h, 0.0),
+        Vec3::new(h, -h, 0.0),
+        Vec3::new(h, h, 0.0),
+        Vec3::new(-h, h, 0.0),
+    ];
+    let expected = projected_area(&scene, &square);
+    let got = covered(&fb) as f32;
+    assert!(
+        (got - expected).abs() < 0.03 * expected,
+        "{got} pixels covered, {expected} expected"
+    );
+}
+
+/// The strip, fan and list (indexed or not) files of glTF-Asset-Generator
+/// draw the same square, the size the fit gives it.
+#[test]
+fn every_triangle_mode_draws_the_same_square() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/models/gltf/primitive_modes");
+    let mut areas = Vec::new();
+    for n in ["04", "05", "06", "11", "12", "13"] {
+        let path = dir.join(format!("Mesh_PrimitiveMode_{n}.gltf"));
+        let scene = scene_of(load_ok(&path));
+        let tris: usize = scene.objects.iter().map(|o| o.mesh.triangles.len()).sum();
+        assert_eq!(tris, 2, "{n}");
+        areas.push((n, covered(&render(&scene, &face_on()))));
+    }
+    let scene = scene_of(load_ok(&dir.join("Mesh_PrimitiveMode_13.gltf")));
+    let h = FIT_RADIUS / 2f32.sqrt();
+    let square = [
+        Vec3::new(-h, -h, 0.0),
+        Vec3::new(h, -h, 0.0),
+        Vec3::new(h, h, 0.0),
+        Vec3::new(-h, h, 0.0),
+    ];
+    let expected = projected_area(&scene, &square);
+    for (n, a) in areas {
+        assert!(
+            (a as f32 - expected).abs() < 0.03 * expected,
+            "mode file {n}: {a} pixels, {expected} expected"
+        );
+    }
+}
+
+/// A constant normal map tilted towards +u and up the picture:
+/// (0.5, 0.5, 0.707), green being up as in glTF.
+fn tilted_map() -> Vec<u8> {
+    png(4, 4, |_, _| [191, 191, 218, 255])
+}
+
+fn dot3() -> Settings {
+    Settings {
+        technique: Technique::Dot3,
+        shading: Shading::Phong,
+        ..face_on()
+    }
+}
+
+/// One white light straight in front of the seam at x = 0.
+fn light_on_seam(scene: &mut Scene) {
+    scene.lights = vec![Light {
+        position: Vec3::new(0.0, 0.0, 2.0),
+        color: Vec3::ONE,
+        enabled: true,
+    }];
+}
+
+fn materials_with_normal(scale: Option<f32>) -> String {
+    match scale {
+        Some(s) => format!(r#"[{{"normalTexture":{{"index":0,"scale":{s}}}}}]"#),
+        None => r#"[{}]"#.into(),
+    }
+}
+
+/// Two quads side by side, the left one's u mirrored, both normal mapped
+/// with the same tilt towards +u and up the picture. Lit from in front of
+/// the seam, each half's normals lean away from the seam and upwards
+/// alike: the picture is its own mirror image. With a wrong tangent on the
+/// mirrored half its normals would lean towards the seam, with a wrong
+/// bitangent downwards, and the halves would differ.
+fn mirrored_quads(tangents: bool) -> Framebuffer {
+    let mut right = quad(0.0, 1.0, -0.5, 0.5, 0.0, 1.0);
+    let mut left = quad(0.0, -1.0, -0.5, 0.5, 0.0, 1.0);
+    right.material = Some(0);
+    left.material = Some(0);
+    if tangents {
+        // glTF's bitangent w·(N × T) points up the picture (+y here).
+        right.tan = Some(vec![[1.0, 0.0, 0.0, 1.0]; 4]);
+        left.tan = Some(vec![[-1.0, 0.0, 0.0, -1.0]; 4]);
+    }
+    let mut doc = Doc::new(vec![right, left]);
+    doc.materials = materials_with_normal(Some(1.0));
+    doc.images = vec![tilted_map()];
+    let path = write("mirror", &format!("mirror{tangents}.glb"), &encode(&doc));
+    let mut scene = scene_of(load_ok(&path));
+    light_on_seam(&mut scene);
+    render(&scene, &dot3())
+}
+
+fn assert_mirror_symmetric(fb: &Framebuffer) {
+    let mut compared = 0;
+    for y in 0..H {
+        for x in 0..W / 2 {
+            let (a, b) = (px(fb, x, y), px(fb, W - 1 - x, y));
+            if a == MAGENTA || b == MAGENTA {
+                assert_eq!(a == MAGENTA, b == MAGENTA, "silhouette at ({x}, {y})");
+                continue;
+            }
+            compared += 1;
+            for c in 0..3 {
+                assert!(
+                    (a[c] as i32 - b[c] as i32).abs() <= 3,
+                    "({x}, {y}) {a:?} against {b:?}"
+                );
+            }
+        }
+    }
+    assert!(compared > 500, "{compared} pixel pairs");
+}
+
+#[test]
+fn a_mirrored_normal_mapped_quad_lights_both_halves_alike() {
+    for tangents in [true, false] {
+        let fb = mirrored_quads(tangents);
+        assert_mirror_symmetric(&fb);
+        // Green is up the picture: above the light the normals lean away
+        // from it (darker), below it towards it (brighter).
+        let sum = |p: [u8; 3]| p.iter().map(|&c| c as u32).sum::<u32>();
+        let (x, d) = (W / 2 + W / 10, H / 12);
+        let (above, below) = (px(&fb, x, H / 2 - d), px(&fb, x, H / 2 + d));
+        assert!(
+            sum(above) + 20 < sum(below),
+            "tangents {tangents}: {above:?} above, {below:?} below"
+        );
+        // The map does show: a point a quarter from the seam is darker than
+        // the same quad without the map (its normal leans from the light).
+        let mut flat = Doc::new(vec![quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0)]);
+        flat.materials = r#"[{}]"#.into();
+        flat.prims[0].material = Some(0);
+        let path = write("mirror", "flat.glb", &encode(&flat));
+        let mut scene = scene_of(load_ok(&path));
+        light_on_seam(&mut scene);
+        let plain = render(&scene, &dot3());
+        let y = H / 2;
+        assert!(
+            sum(px(&fb, x, y)) + 20 < sum(px(&plain, x, y)),
+            "tangents {tangents}: {:?} mapped, {:?} plain",
+            px(&fb, x, y),
+            px(&plain, x, y)
+        );
+    }
+}
+
+/// `scale` 0 flattens every normal to (0, 0, 1): the picture is the one
+/// of the same file without a normal map.
+#[test]
+fn normal_texture_scale_zero_draws_what_no_normal_map_draws() {
+    let picture = |scale: Option<f32>| {
+        let mut q = quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0);
+        q.material = Some(0);
+        let mut doc = Doc::new(vec![q]);
+        doc.materials = materials_with_normal(scale);
+        doc.images = vec![tilted_map()];
+        let path = write("scale0", &format!("s{scale:?}.glb"), &encode(&doc));
+        let mut scene = scene_of(load_ok(&path));
+        light_on_seam(&mut scene);
+        render(&scene, &dot3())
+    };
+    let none = picture(None);
+    assert_eq!(picture(Some(0.0)).pixels(), none.pixels());
+    assert_ne!(picture(Some(1.0)).pixels(), none.pixels());
+}
+
+/// Two quads, one red-textured and one green-textured: each half shows
+/// its own texture, not the scene's (brick) nor the other's.
+#[test]
+fn each_part_draws_with_its_own_texture() {
+    let mut left = quad(-1.0, 0.0, -0.5, 0.5, 0.0, 1.0);
+    let mut right = quad(0.0, 1.0, -0.5, 0.5, 0.0, 1.0);
+    left.material = Some(0);
+    right.material = Some(1);
+    let mut doc = Doc::new(vec![left, right]);
+    doc.materials = r#"[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}},{"pbrMetallicRoughness":{"baseColorTexture":{"index":1}}}]"#.into();
+    doc.images = vec![
+        png(2, 2, |_, _| [255, 0, 0, 255]),
+        png(2, 2, |_, _| [0, 255, 0, 255]),
+    ];
+    let path = write("multi", "multi.glb", &encode(&doc));
+    let model = load_ok(&path);
+    assert_eq!(model.parts.len(), 2);
+    let mut scene = scene_of(model);
+    light_on_seam(&mut scene);
+    let fb = render(&scene, &face_on());
+    let (l, r) = (px(&fb, W / 2 - W / 8, H / 2), px(&fb, W / 2 + W / 8, H / 2));
+    assert!(l[0] > 100 && l[1] == 0 && l[2] == 0, "left {l:?}");
+    assert!(r[1] > 100 && r[0] == 0 && r[2] == 0, "right {r:?}");
+}
+
+/// The base colour factor multiplies the colour: a quarter-red factor
+/// gives half the red of a half-red one.
+#[test]
+fn base_color_factor_scales_the_colour() {
+    let picture = |factor: &str| {
+        let mut q = quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0);
+        q.material = Some(0);
+        let mut doc = Doc::new(vec![q]);
+        doc.materials = format!(r#"[{{"pbrMetallicRoughness":{{"baseColorFactor":{factor}}}}}]"#);
+        let path = write("factor", &format!("f{}.glb", factor.len()), &encode(&doc));
+        let mut scene = scene_of(load_ok(&path));
+        light_on_seam(&mut scene);
+        px(&render(&scene, &face_on()), W / 2, H / 2)
+    };
+    let full = picture("[0.5,0,0,1]");
+    let half = picture("[0.25,0,0,1.0]");
+    assert_eq!((full[1], full[2], half[1], half[2]), (0, 0, 0, 0));
+    assert!(
+        (full[0] as i32 - 2 * half[0] as i32).abs() <= 2,
+        "{full:?} {half:?}"
+    );
+}
+
+fn refused(test: &str, bytes: &[u8]) -> String {
+    let path = write(test, "bad.glb", bytes);
+    let message = match load(&path) {
+        Ok(_) => panic!("{test}: loaded"),
+        Err(e) => e.to_string(),
+    };
+    assert!(message.contains("bad.glb"), "{message}");
+    assert!(!message.contains('\n'), "{message}");
+    message
+}
+
+fn good() -> Doc {
+    Doc::new(vec![quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0)])
+}
+
+#[test]
+fn bad_files_are_refused_with_the_place() {
+    // A JSON chunk claiming more bytes than the file has.
+    let mut bytes = encode(&good());
+    bytes[12..16].copy_from_slice(&100_000u32.to_le_bytes());
+    let m = refused("chunk", &bytes);
+    assert!(m.contains("chunk 0 at byte 12"), "{m}");
+
+    // The header claiming more than the file.
+    let mut bytes = encode(&good());
+    bytes[8..12].copy_from_slice(&u32::MAX.to_le_bytes());
+    assert!(refused("header", &bytes).contains("byte 8"));
+
+    // An index past the vertices.
+    let mut doc = good();
+    doc.prims[0].idx[4] = 9;
+    let m = refused("index", &encode(&doc));
+    assert!(
+        m.contains("meshes[0].primitives[0]") && m.contains("index 4 is 9"),
+        "{m}"
+    );
+
+    // A NaN position.
+    let mut doc = good();
+    doc.prims[0].pos[2][1] = f32::NAN;
+    let m = refused("nan", &encode(&doc));
+    assert!(m.contains("POSITION 2"), "{m}");
+
+    // An accessor past its buffer view.
+    let mut doc = good();
+    doc.extra = String::new();
+    let json_fix = |bytes: Vec<u8>, from: &str, to: &str| -> Vec<u8> {
+        let text = String::from_utf8_lossy(&bytes).into_owned();
+        assert!(text.contains(from));
+        let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+        let json = std::str::from_utf8(&bytes[20..20 + json_len])
+            .unwrap()
+            .replacen(from, to, 1);
+        let bin_at = 20 + json_len;
+        let bin_len = u32::from_le_bytes(bytes[bin_at..bin_at + 4].try_into().unwrap()) as usize;
+        glb(json.trim_end(), &bytes[bin_at + 8..bin_at + 8 + bin_len])
+    };
+    let bytes = json_fix(
+        encode(&doc),
+        r#""count":4,"type":"VEC3""#,
+        r#""count":400,"type":"VEC3""#,
+    );
+    let m = refused("accessor", &bytes);
+    assert!(m.contains("accessors[0]"), "{m}");
+
+    // A buffer claiming 4 GB.
+    let bytes = encode(&good());
+    let len = bytes.len();
+    let bytes = json_fix(
+        bytes,
+        r#""buffers":[{"byteLength":"#,
+        r#""buffers":[{"byteLength":4000000000"#,
+    );
+    let m = refused("huge", &bytes);
+    assert!(m.contains("buffers[0]"), "{m} ({len})");
+
+    // A required extension relief cannot do.
+    let mut doc = good();
+    doc.extra = r#","extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"]"#.into();
+    let m = refused("draco", &encode(&doc));
+    assert!(m.contains("KHR_draco_mesh_compression"), "{m}");
+}
+
+/// The real files load: the textured box is one part of 12 textured
+/// triangles; the clear-coat test has several materials, some normal mapped.
+#[test]
+fn real_files_load_with_their_materials() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/models/gltf");
+    let boxed = load_ok(&dir.join("BoxTextured.glb"));
+    assert_eq!(boxed.parts.len(), 1);
+    let mesh = &boxed.parts[0].mesh;
+    assert_eq!(mesh.triangles.len(), 12);
+    assert!(mesh.triangles.iter().all(|t| t.textured));
+    assert!(boxed.parts[0].material.texture.width() > 1);
+
+    let coat = load_ok(&dir.join("ClearCoatTest/ClearCoatTest.gltf"));
+    let distinct = coat
+        .parts
+        .iter()
+        .enumerate()
+        .filter(|(i, p)| {
+            !coat.parts[..*i]
+                .iter()
+                .any(|q| Arc::ptr_eq(&q.material, &p.material))
+        })
+        .count();
+    assert!(distinct >= 5, "{distinct} materials");
+    assert!(coat.parts.iter().any(|p| p.material.normal_map.is_some()));
+    let scene = scene_of(coat);
+    let fb = render(&scene, &dot3());
+    assert!(covered(&fb) > 1000);
+    // Tangent frames stay finite.
+    for o in &scene.objects {
+        for v in &o.mesh.vertices {
+            assert!(v.tangent_u.is_finite() && v.tangent_v.is_finite());
+            assert!(Vec4::from((v.normal, 0.0)).is_finite());
+        }
+    }
+}
