@@ -51,8 +51,32 @@ pub struct Cli {
     #[arg(long)]
     pub symbols_test: bool,
     /// Texture images to put in the texture list; the first one is applied.
-    #[arg(value_name = "IMAGE")]
+    /// A model file (.obj, .stl, .ply, .gltf, .glb) among them opens as the model.
+    #[arg(value_name = "IMAGE|MODEL")]
     pub images: Vec<PathBuf>,
+}
+
+/// Moves the model files among positional `files` (known by their
+/// extension) to `model`: the first one is opened; a note says when there
+/// were more. Images stay in `files`.
+pub fn models_from_positional(files: &mut Vec<PathBuf>, model: &mut ModelChoice) -> Vec<String> {
+    let (models, images): (Vec<PathBuf>, Vec<PathBuf>) = std::mem::take(files)
+        .into_iter()
+        .partition(|p| crate::scene::model_file::is_model_path(p));
+    *files = images;
+    let mut notes = Vec::new();
+    let mut models = models.into_iter();
+    if let Some(first) = models.next() {
+        let rest = models.count();
+        if rest > 0 {
+            notes.push(format!(
+                "{} opened as the model; {rest} other model file(s) ignored",
+                crate::sanitize::display_path(&first)
+            ));
+        }
+        *model = ModelChoice::File(first);
+    }
+    notes
 }
 
 #[derive(Subcommand, Debug)]
@@ -107,8 +131,9 @@ pub struct RenderArgs {
     /// Plasma scene: the light's position in pixels, (0,0) top left (default: the centre).
     #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
     pub light: Option<Vec2>,
-    /// Texture image (RGB = colour, alpha = height; without alpha, the mean of R, G, B).
-    #[arg(value_name = "IMAGE")]
+    /// Texture image (RGB = colour, alpha = height; without alpha, the mean of R, G, B),
+    /// or a model file (.obj, .stl, .ply) to draw as the model.
+    #[arg(value_name = "IMAGE|MODEL")]
     pub image: Option<PathBuf>,
 }
 
@@ -185,10 +210,11 @@ pub struct ViewArgs {
     /// Scene: one model (`cube`, see --model), the cube over a floor with its shadow, or the 2D plasma.
     #[arg(long, value_enum, default_value_t = SceneKind::Cube)]
     pub scene: SceneKind,
-    /// Model of the cube scene: a built-in shape, a Wavefront OBJ or a glTF 2.0 file (docs/models.md).
+    /// Model of the cube scene: a built-in shape or a model file (OBJ with its MTL, STL, PLY,
+    /// glTF 2.0; docs/models.md).
     #[arg(
         long,
-        value_name = "triangle|plane|cube|sphere|FILE.obj|FILE.gltf|FILE.glb",
+        value_name = "triangle|plane|cube|sphere|FILE",
         default_value = "cube"
     )]
     pub model: ModelChoice,
@@ -443,7 +469,17 @@ mod tests {
         let settings = args.view.settings();
         assert!(!settings.lights && settings.attenuation);
         let cli = Cli::try_parse_from(["relief", "--model", "monkey.OBJ"]).unwrap();
-        assert_eq!(cli.view.model, ModelChoice::Obj("monkey.OBJ".into()));
+        assert_eq!(cli.view.model, ModelChoice::File("monkey.OBJ".into()));
+        for file in ["part.STL", "scan.ply", "a.glb", "b.gltf"] {
+            let cli = Cli::try_parse_from(["relief", "--model", file]).unwrap();
+            assert_eq!(cli.view.model, ModelChoice::File(file.into()));
+        }
+        // A positional model file is the model; images stay textures.
+        let mut cli = Cli::try_parse_from(["relief", "a.png", "scan.ply", "b.obj"]).unwrap();
+        let notes = models_from_positional(&mut cli.images, &mut cli.view.model);
+        assert_eq!(cli.images, vec![PathBuf::from("a.png")]);
+        assert_eq!(cli.view.model, ModelChoice::File("scan.ply".into()));
+        assert_eq!(notes.len(), 1);
         assert!(Cli::try_parse_from(["relief", "--model", "teapot"]).is_err());
         assert!(Cli::try_parse_from(["relief", "--scene", "shadows"]).is_err());
         assert!(parse_point("1,NaN").is_err());

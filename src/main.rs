@@ -9,7 +9,7 @@ use clap::Parser;
 
 use relief::cli::{Cli, Command, RenderArgs};
 use relief::sanitize::clean;
-use relief::scene::{Built, build_scene};
+use relief::scene::{Built, build_scene_noting};
 use relief::texture::environment::Environment;
 use relief::{Framebuffer, Renderer};
 
@@ -66,12 +66,16 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     for note in check_render_flags(args)? {
         eprintln!("relief: {}", clean(&note));
     }
+    // A positional model file is the model; an image is the texture.
+    let mut view = args.view.clone();
+    let mut image = args.image.clone().into_iter().collect();
+    relief::cli::models_from_positional(&mut image, &mut view.model);
     // Errors name the file and are already free of control characters.
     let texture = relief::texture::load::load_for_view(
-        args.image.as_deref(),
+        image.first().map(|p| p.as_path()),
         args.view.height_map.as_deref(),
     )?;
-    let view = &args.view;
+    let view = &view;
     let specular_map = match &view.specular_map {
         Some(path) => Some(Arc::new(relief::texture::specular_map::load_specular_map(
             path,
@@ -85,8 +89,16 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         None => None,
     };
     let environment = Environment::load_optional(view.environment_map.as_deref())?;
-    let built = build_scene(view.scene, &view.model, Arc::new(texture), view.all_faces)?;
-    let settings = view.settings();
+    let (built, notes) =
+        build_scene_noting(view.scene, &view.model, Arc::new(texture), view.all_faces)?;
+    for warning in &notes.warnings {
+        eprintln!("relief: warning: {}", clean(warning));
+    }
+    let mut settings = view.settings();
+    if notes.points && settings.display == relief::settings::Display::Fill {
+        eprintln!("relief: the model is a point cloud: drawn as points");
+        settings.display = relief::settings::Display::Points;
+    }
     let (width, height) = (args.width as usize, args.height as usize);
     // The frame's memory is reserved before any of it exists.
     let _frame = relief::budget::reserve(
@@ -97,8 +109,13 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     match built {
         Built::Scene(mut scene) => {
             scene.camera = scene.camera.at_distance(view.distance);
-            scene.material.specular_map = specular_map;
-            scene.material.normal_map = normal_map;
+            // The flags' maps win over the model's own (MTL map_Ks, norm).
+            if specular_map.is_some() {
+                scene.material.specular_map = specular_map;
+            }
+            if normal_map.is_some() {
+                scene.material.normal_map = normal_map;
+            }
             scene.material.environment = environment;
             let mut renderer = Renderer::new();
             if args.ansi && !args.format.is_pixels() {

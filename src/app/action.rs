@@ -185,6 +185,9 @@ pub enum Action {
     NextScene,
     /// Outcome of a scene build: what is now shown, or the error (the old scene stays).
     SceneBuilt(Result<(SceneKind, ModelChoice), String>),
+    /// What loading the shown model had to say: its warnings go to the
+    /// message line, and a point cloud switches the display to points.
+    ModelNotes(crate::scene::LoadedNotes),
     /// The pointer is at a cell (the plasma's light follows it).
     Pointer {
         col: u16,

@@ -184,6 +184,21 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         Action::SceneBuilt(result.map(|()| (kind, model)))
     }
 
+    /// Builds a scene and tells the state, with what loading the model said.
+    fn build_and_note(&self, state: &mut State, kind: SceneKind, model: crate::scene::ModelChoice) {
+        let built = self.build_scene(kind, model);
+        let ok = matches!(built, Action::SceneBuilt(Ok(_)));
+        update(state, built);
+        if let Some(stage) = self.stage
+            && ok
+        {
+            let notes = stage.borrow_mut().take_notes();
+            if notes != crate::scene::LoadedNotes::default() {
+                update(state, Action::ModelNotes(notes));
+            }
+        }
+    }
+
     /// Runs a texture command on the list: the applied texture's label, or
     /// the first error (the list and the texture then stay as they were).
     fn texture_command(&self, command: Command) -> Option<Result<String, String>> {
@@ -327,8 +342,21 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                                     update(state, Action::PromptCompleted(found));
                                 }
                                 Some(Command::BuildScene(kind, model)) => {
-                                    let built = self.build_scene(kind, model);
-                                    update(state, built);
+                                    self.build_and_note(state, kind, model);
+                                }
+                                Some(Command::AddPaths(text)) => {
+                                    // Model files open as the model, images join the list.
+                                    let (models, images) = split_models(&text);
+                                    if let Some(model) = models {
+                                        self.build_and_note(state, SceneKind::Cube, model);
+                                    }
+                                    if let Some(images) = images
+                                        && let Some(result) =
+                                            self.texture_command(Command::AddPaths(images))
+                                    {
+                                        update(state, Action::TextureResult(result));
+                                    }
+                                    self.report_textures(state);
                                 }
                                 Some(command) => {
                                     if let Some(result) = self.texture_command(command) {
@@ -537,4 +565,27 @@ pub fn enlarge(small: &Framebuffer, big: &mut Framebuffer) {
             big.set(x, y, src[sx]);
         }
     }
+}
+
+/// A paste or typed line split into the first model file it names (by
+/// extension) and the rest, given back as text for the texture list (paths
+/// quoted so spaces survive); none where there is nothing.
+fn split_models(text: &str) -> (Option<crate::scene::ModelChoice>, Option<String>) {
+    let paths = crate::texture::list::parse_paste(text);
+    let (models, images): (Vec<_>, Vec<_>) = paths
+        .into_iter()
+        .partition(|p| crate::scene::model_file::is_model_path(p));
+    let model = models
+        .into_iter()
+        .next()
+        .map(crate::scene::ModelChoice::File);
+    if model.is_none() {
+        // Nothing to take out: the list reads the text as it came.
+        return (None, Some(text.to_string()));
+    }
+    let rest: Vec<String> = images
+        .iter()
+        .map(|p| format!("'{}'", p.to_string_lossy().replace('\'', "'\\''")))
+        .collect();
+    (model, (!rest.is_empty()).then(|| rest.join(" ")))
 }

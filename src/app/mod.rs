@@ -52,6 +52,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     } else {
         Some(std::fs::File::open("/dev/tty").context("no terminal to read keys from")?)
     };
+    let mut cli = cli;
+    let model_notes = crate::cli::models_from_positional(&mut cli.images, &mut cli.view.model);
     let settings = cli.view.settings();
     let mut state = State::new(settings, color_depth(cli.color)).with_distance(cli.view.distance);
     state.dither = cli.dither;
@@ -65,7 +67,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     }
     state.scene = cli.view.scene;
     state.model = cli.view.model.clone();
-    if let crate::scene::ModelChoice::Obj(path) = &cli.view.model {
+    if let crate::scene::ModelChoice::File(path) = &cli.view.model {
         state.obj = Some(path.clone());
     }
     state.plasma_normal = cli.view.plasma_normal;
@@ -111,6 +113,12 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     .with_environment(crate::texture::environment::Environment::load_optional(
         cli.view.environment_map.as_deref(),
     )?);
+    let mut stage = stage;
+    let mut notes = stage.take_notes();
+    notes.warnings.splice(0..0, model_notes);
+    if notes != crate::scene::LoadedNotes::default() {
+        update(&mut state, Action::ModelNotes(notes));
+    }
     let stage = std::cell::RefCell::new(stage);
     let mut stage_generation = textures.generation();
     let textures = std::cell::RefCell::new(textures);

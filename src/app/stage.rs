@@ -8,7 +8,7 @@ use crate::framebuffer::Framebuffer;
 use crate::render::Renderer;
 use crate::sanitize::clean;
 use crate::scene::obj::ObjError;
-use crate::scene::{Built, Camera, ModelChoice, SceneKind, build_scene};
+use crate::scene::{Built, Camera, LoadedNotes, ModelChoice, SceneKind, build_scene_noting};
 use crate::stats::FrameStats;
 use crate::texture::environment::Environment;
 use crate::texture::normal_map_file::FileNormalMap;
@@ -32,6 +32,8 @@ pub struct Stage {
     environment: Option<Arc<Environment>>,
     /// The scene's own camera, which the zoom moves along its line of sight.
     camera: Camera,
+    /// What the last model load had to say, until taken.
+    notes: LoadedNotes,
 }
 
 /// The camera a built scene comes with (the plasma has none).
@@ -50,8 +52,9 @@ impl Stage {
         texture: Arc<Texture>,
         all_faces: bool,
     ) -> Result<Stage, ObjError> {
-        let built = build_scene(kind, &model, texture.clone(), all_faces)?;
+        let (built, notes) = build_scene_noting(kind, &model, texture.clone(), all_faces)?;
         Ok(Stage {
+            notes,
             camera: camera_of(&built),
             built,
             kind,
@@ -97,13 +100,20 @@ impl Stage {
         if (kind, model) == (self.kind, &self.model) {
             return Ok(());
         }
-        let built = build_scene(kind, model, self.texture.clone(), self.all_faces)
+        let (built, notes) = build_scene_noting(kind, model, self.texture.clone(), self.all_faces)
             .map_err(|e| clean(&e.to_string()))?;
+        self.notes = notes;
         self.camera = camera_of(&built);
         self.built = built;
         self.kind = kind;
         self.model = model.clone();
         Ok(())
+    }
+
+    /// The warnings of the last model loaded (and whether it is a point
+    /// cloud), once.
+    pub fn take_notes(&mut self) -> LoadedNotes {
+        std::mem::take(&mut self.notes)
     }
 
     /// Applies another texture to the shown scene and to those built later.
@@ -125,8 +135,13 @@ impl Stage {
     ) -> FrameStats {
         match &mut self.built {
             Built::Scene(scene) => {
-                scene.material.specular_map = self.specular_map.clone();
-                scene.material.normal_map = self.normal_map.clone();
+                // The flags' maps win over the model's own (MTL map_Ks, norm).
+                if let Some(map) = &self.specular_map {
+                    scene.material.specular_map = Some(map.clone());
+                }
+                if let Some(map) = &self.normal_map {
+                    scene.material.normal_map = Some(map.clone());
+                }
                 scene.material.environment = self.environment.clone();
                 for (light, on) in scene.lights.iter_mut().zip(state.light_on) {
                     light.enabled = on;

@@ -123,7 +123,7 @@ pub struct State {
     pub scene: SceneKind,
     /// The model of the model scene.
     pub model: ModelChoice,
-    /// The OBJ file given with `--model`: `o` goes to it after the sphere.
+    /// The model file given with `--model` or opened since: `o` goes to it after the sphere.
     pub obj: Option<PathBuf>,
     /// Keys `1`–`4`: each reference light on or off (the scene applies them
     /// when rendering; `settings.lights` switches them all).
@@ -257,10 +257,10 @@ impl State {
     }
 
     /// The model `o` shows next: triangle → plane → cube → sphere → the
-    /// `--model` OBJ (if any) → triangle.
+    /// model file loaded last (if any) → triangle.
     pub fn next_model(&self) -> ModelChoice {
         match (&self.model, &self.obj) {
-            (ModelChoice::Sphere, Some(path)) => ModelChoice::Obj(path.clone()),
+            (ModelChoice::Sphere, Some(path)) => ModelChoice::File(path.clone()),
             (m, _) => m.next(),
         }
     }
@@ -552,7 +552,27 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
                 state.panel = Panel::default();
             }
             state.scene = scene;
+            // A model file opened from the prompt or a paste joins the `o` cycle.
+            if let ModelChoice::File(path) = &model {
+                state.obj = Some(path.clone());
+            }
             state.model = model;
+        }
+        Action::ModelNotes(notes) => {
+            if notes.points {
+                s.display = crate::settings::Display::Points;
+            }
+            let mut lines = notes.warnings.iter();
+            if let Some(first) = lines.next() {
+                let more = lines.count();
+                state.message = Some(if more > 0 {
+                    format!("{} (and {more} more warnings)", clean(first))
+                } else {
+                    clean(first)
+                });
+            } else if notes.points {
+                state.message = Some("a point cloud: drawn as points (d)".into());
+            }
         }
         Action::SceneBuilt(Err(e)) => state.message = Some(clean(&e)),
         Action::Pointer { col, row } => {

@@ -10,7 +10,8 @@ use std::sync::Arc;
 use clap::ValueEnum;
 use glam::{Mat4, Vec3};
 
-use super::obj::{self, ObjError};
+use super::model_file::{self, LoadedModel, ModelMaps, ModelPart};
+use super::obj::ObjError;
 use super::{AMBIENT, BACKGROUND, Camera, Material, Mesh, Object, Scene, cube, light, plane};
 use super::{sphere, triangle};
 use crate::plasma::Plasma;
@@ -54,44 +55,59 @@ pub enum ModelChoice {
     #[default]
     Cube,
     Sphere,
-    /// A model file: Wavefront OBJ, or glTF 2.0 (`.gltf`, `.glb`).
-    Obj(PathBuf),
+    /// A model file: OBJ (with its MTL), STL, PLY, or glTF 2.0 (`.gltf`, `.glb`).
+    File(PathBuf),
 }
 
 impl ModelChoice {
     /// The next built-in model (key `o`): triangle → plane → cube → sphere →
-    /// triangle; from an OBJ file, the triangle.
+    /// triangle; from a model file, the triangle.
     pub fn next(&self) -> Self {
         match self {
             ModelChoice::Triangle => ModelChoice::Plane,
             ModelChoice::Plane => ModelChoice::Cube,
             ModelChoice::Cube => ModelChoice::Sphere,
-            ModelChoice::Sphere | ModelChoice::Obj(_) => ModelChoice::Triangle,
+            ModelChoice::Sphere | ModelChoice::File(_) => ModelChoice::Triangle,
         }
     }
 
-    /// For the status line: the name, or the OBJ file's name (sanitised).
+    /// For the status line: the name, or the model file's name (sanitised).
     pub fn label(&self) -> String {
         match self {
             ModelChoice::Triangle => "triangle".into(),
             ModelChoice::Plane => "plane".into(),
             ModelChoice::Cube => "cube".into(),
             ModelChoice::Sphere => "sphere".into(),
-            ModelChoice::Obj(path) => path
+            ModelChoice::File(path) => path
                 .file_name()
                 .map(|n| display_path(Path::new(n)))
                 .unwrap_or_else(|| display_path(path)),
         }
     }
 
-    /// The model's mesh (the cube's texture on all faces or front and back).
+    /// The model's mesh (the cube's texture on all faces or front and
+    /// back; a file's parts together).
     pub fn mesh(&self, all_faces: bool) -> Result<Mesh, ObjError> {
-        Ok(match self {
+        Ok(self.load(all_faces)?.merged())
+    }
+
+    /// The model with its parts, maps and warnings.
+    pub fn load(&self, all_faces: bool) -> Result<LoadedModel, ObjError> {
+        let mesh = match self {
             ModelChoice::Triangle => triangle::triangle(),
             ModelChoice::Plane => plane::plane(),
             ModelChoice::Cube => cube::cube(all_faces),
             ModelChoice::Sphere => sphere::sphere(),
-            ModelChoice::Obj(path) => obj::load(path)?,
+            ModelChoice::File(path) => return model_file::load(path),
+        };
+        Ok(LoadedModel {
+            parts: vec![ModelPart {
+                mesh,
+                material: None,
+            }],
+            maps: ModelMaps::default(),
+            points: false,
+            warnings: Vec::new(),
         })
     }
 }
@@ -105,7 +121,8 @@ impl fmt::Display for ModelChoice {
 impl FromStr for ModelChoice {
     type Err = String;
 
-    /// `triangle`, `plane`, `cube`, `sphere` (any case), or a path ending in `.obj`.
+    /// `triangle`, `plane`, `cube`, `sphere` (any case), or a path ending in
+    /// a model file's extension (`.obj`, `.stl`, `.ply`, `.gltf`, `.glb`).
     fn from_str(text: &str) -> Result<Self, String> {
         let lower = text.trim().to_ascii_lowercase();
         Ok(match lower.as_str() {
@@ -113,14 +130,12 @@ impl FromStr for ModelChoice {
             "plane" => ModelChoice::Plane,
             "cube" => ModelChoice::Cube,
             "sphere" => ModelChoice::Sphere,
-            _ if lower.ends_with(".obj") => ModelChoice::Obj(PathBuf::from(text)),
-            // glTF files too (drawn by `build_scene`).
-            _ if lower.ends_with(".gltf") || lower.ends_with(".glb") => {
-                ModelChoice::Obj(PathBuf::from(text))
+            _ if model_file::is_model_path(Path::new(&lower)) => {
+                ModelChoice::File(PathBuf::from(text))
             }
             _ => {
                 return Err(format!(
-                    "unknown model '{}': expected triangle, plane, cube, sphere or a file ending in .obj, .gltf or .glb",
+                    "unknown model '{}': expected triangle, plane, cube, sphere or a file ending in .obj, .stl, .ply, .gltf or .glb",
                     crate::sanitize::clean(text)
                 ));
             }
@@ -135,7 +150,7 @@ pub enum Built {
     Plasma(Plasma),
 }
 
-/// Builds the chosen scene. Only `Cube` reads `model`; an OBJ that cannot be
+/// Builds the chosen scene. Only `Cube` reads `model`; a file that cannot be
 /// loaded is an error (the caller keeps what it had).
 pub fn build_scene(
     kind: SceneKind,
@@ -143,16 +158,52 @@ pub fn build_scene(
     texture: Arc<Texture>,
     all_faces: bool,
 ) -> Result<Built, ObjError> {
+    build_scene_noting(kind, model, texture, all_faces).map(|(built, _)| built)
+}
+
+/// [`build_scene`], with the warnings met while loading the model (one
+/// line each, safe to print) and whether it is a point cloud. A model whose
+/// material has a texture shows it instead of `texture` (docs/models.md).
+pub fn build_scene_noting(
+    kind: SceneKind,
+    model: &ModelChoice,
+    texture: Arc<Texture>,
+    all_faces: bool,
+) -> Result<(Built, LoadedNotes), ObjError> {
     Ok(match kind {
         SceneKind::Cube => match model {
-            ModelChoice::Obj(path) if super::gltf::is_gltf(path) => {
-                Built::Scene(Box::new(Scene::gltf(super::gltf::load(path)?, texture)))
+            // glTF keeps its node tree and materials (`scene::gltf`).
+            ModelChoice::File(path) if super::gltf::is_gltf(path) => (
+                Built::Scene(Box::new(Scene::gltf(super::gltf::load(path)?, texture))),
+                LoadedNotes::default(),
+            ),
+            _ => {
+                let loaded = model.load(all_faces)?;
+                let notes = LoadedNotes {
+                    warnings: loaded.warnings.clone(),
+                    points: loaded.points,
+                };
+                (
+                    Built::Scene(Box::new(Scene::loaded(loaded, texture))),
+                    notes,
+                )
             }
-            _ => Built::Scene(Box::new(Scene::model(model.mesh(all_faces)?, texture))),
         },
-        SceneKind::Shadow => Built::Scene(Box::new(Scene::shadow(texture, all_faces))),
-        SceneKind::Plasma => Built::Plasma(Plasma::new(0)),
+        SceneKind::Shadow => (
+            Built::Scene(Box::new(Scene::shadow(texture, all_faces))),
+            LoadedNotes::default(),
+        ),
+        SceneKind::Plasma => (Built::Plasma(Plasma::new(0)), LoadedNotes::default()),
     })
+}
+
+/// What loading a model had to say.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LoadedNotes {
+    /// One line each, safe to print.
+    pub warnings: Vec<String>,
+    /// A point cloud: the points display shows it.
+    pub points: bool,
 }
 
 /// Height of the shadow scene's floor (the turning cube reaches √3 ≈ 1.73).
@@ -169,6 +220,23 @@ fn floor_color(_unit: Vec3) -> Vec3 {
 }
 
 impl Scene {
+    /// A loaded model at the origin: an object per part, turning, with the
+    /// model's maps (when it has any) in place of `texture`.
+    pub fn loaded(model: LoadedModel, texture: Arc<Texture>) -> Self {
+        let LoadedModel { parts, maps, .. } = model;
+        let mut parts = parts.into_iter();
+        let first = parts.next().map(|p| p.mesh).unwrap_or_default();
+        let mut scene = Scene::model(first, maps.texture.unwrap_or(texture));
+        scene.objects.extend(parts.map(|p| Object {
+            mesh: p.mesh,
+            transform: Mat4::IDENTITY,
+            rotates: true,
+        }));
+        scene.material.specular_map = maps.specular_map;
+        scene.material.normal_map = maps.normal_map;
+        scene
+    }
+
     /// One model at the origin, turning, in the reference lighting and camera.
     pub fn model(mesh: Mesh, texture: Arc<Texture>) -> Self {
         Scene {

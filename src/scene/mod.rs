@@ -7,13 +7,16 @@ pub mod cube;
 pub mod gltf;
 pub mod light;
 pub mod mesh;
+pub mod model_file;
 pub mod obj;
 pub mod plane;
+pub mod ply;
 pub mod sphere;
+pub mod stl;
 pub mod tangents;
 pub mod triangle;
 
-pub use build::{Built, ModelChoice, SceneKind, build_scene};
+pub use build::{Built, LoadedNotes, ModelChoice, SceneKind, build_scene, build_scene_noting};
 pub use camera::Camera;
 pub use light::{AMBIENT, Light};
 pub use mesh::{Mesh, Triangle, Vertex};

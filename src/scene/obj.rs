@@ -1,9 +1,11 @@
-//! Wavefront OBJ models (`--model file.obj`).
+//! Wavefront OBJ models (`--model file.obj`), and the builder every model
+//! format shares.
 //!
 //! The file is read line by line by relief's own reader (`read`: what it
 //! accepts is listed there), so a bad file gets a one-line error with its
 //! line number, and counts, face sizes and the memory budget are checked
-//! before anything of the model's size is allocated. Then:
+//! before anything of the model's size is allocated. Its material libraries
+//! are read by `mtl`. Then (for every format):
 //! - polygons are split into fans;
 //! - the model is centred on its bounding box and scaled so its farthest
 //!   point is `FIT_RADIUS` from the centre;
@@ -20,27 +22,23 @@
 //!   hard;
 //! - tangents are accumulated per vertex (see `tangents`).
 
+pub mod mtl;
 mod read;
 
 use std::collections::HashMap;
-use std::io::Read;
 use std::path::Path;
+use std::sync::Arc;
 
 use glam::{DVec3, Vec2, Vec3};
 use thiserror::Error;
 
 use super::cube::{FACES, corner_color};
 use super::mesh::{Mesh, Triangle, Vertex};
+use super::model_file::{LoadedModel, ModelMaps, ModelPart, read_model_file};
 use super::tangents::{accumulate, face_frame};
 use crate::sanitize::{clean, display_path};
+use mtl::MaterialDesc;
 
-/// Files larger than this are refused before reading.
-pub const MAX_FILE_BYTES: u64 = 64 << 20;
-/// Most `v` lines a model may have.
-pub const MAX_POSITIONS: usize = 1_000_000;
-/// Most triangles a model may have after triangulation (the memory budget
-/// may allow fewer: see `read::MODEL_BYTES_PER_TRIANGLE`).
-pub const MAX_TRIANGLES: usize = 1_000_000;
 /// Most corners one face may have: a polygon is split into a fan, and a
 /// fan of a million corners is a million thin triangles.
 pub const MAX_FACE_CORNERS: usize = 65_536;
@@ -52,15 +50,13 @@ pub const CREASE_DEGREES: f32 = 60.0;
 /// Beyond this many faces around one position, computed normals ignore the crease angle.
 const MAX_VALENCE: usize = 256;
 
-/// Why a model could not be loaded: one line, already safe to print.
+/// Why a model (of any format) could not be loaded: one line, already safe to print.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 pub enum ObjError {
     #[error("cannot read model {name}: {reason}")]
     Read { name: String, reason: String },
     #[error("model {name} is not a regular file")]
     NotAFile { name: String },
-    #[error("model {name} is too large: {size} bytes (limit {limit})")]
-    TooLarge { name: String, size: u64, limit: u64 },
     #[error("model {name} is not a text file (a NUL byte at offset {at})")]
     NotText { name: String, at: usize },
     #[error("model {name}, line {line}: {problem}")]
@@ -69,11 +65,12 @@ pub enum ObjError {
         line: usize,
         problem: String,
     },
-    #[error("model {name} has more than {limit} {what}")]
-    TooMany {
+    /// A binary file's problem, at its byte offset.
+    #[error("model {name}, byte {offset}: {problem}")]
+    Byte {
         name: String,
-        what: &'static str,
-        limit: usize,
+        offset: u64,
+        problem: String,
     },
     #[error("model {name} has no faces")]
     Empty { name: String },
@@ -81,55 +78,41 @@ pub enum ObjError {
     Degenerate { name: String },
     #[error("model {name} could not be parsed: {reason}")]
     Parse { name: String, reason: String },
+    #[error("model {name}: {what}")]
+    Unsupported { name: String, what: String },
     /// `reason` names the model and the limit.
     #[error("{reason}")]
     Budget { name: String, reason: String },
 }
 
-/// Loads an OBJ file as a mesh fitted to the unit view.
+/// Loads an OBJ file as one mesh fitted to the unit view (all its parts
+/// together; warnings are dropped: see [`load_model`]).
 pub fn load(path: &Path) -> Result<Mesh, ObjError> {
-    let name = display_path(path);
-    let read_error = |e: std::io::Error| ObjError::Read {
-        name: name.clone(),
-        reason: clean(&e.to_string()),
-    };
-    let meta = std::fs::metadata(path).map_err(read_error)?;
-    if !meta.is_file() {
-        return Err(ObjError::NotAFile { name });
-    }
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(ObjError::TooLarge {
-            name,
-            size: meta.len(),
-            limit: MAX_FILE_BYTES,
-        });
-    }
-    let mut bytes = Vec::new();
-    std::fs::File::open(path)
-        .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
-        .map_err(read_error)?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        // It grew between the size check and the read.
-        return Err(ObjError::TooLarge {
-            name,
-            size: bytes.len() as u64,
-            limit: MAX_FILE_BYTES,
-        });
-    }
-    // Text in any 8-bit encoding is read (names and comments are not
-    // used); a NUL byte says it is not text at all.
-    if let Some(at) = bytes.iter().position(|&b| b == 0) {
-        return Err(ObjError::NotText { name, at });
-    }
-    parse(&name, &bytes)
+    load_model(path).map(|m| m.merged())
 }
 
-/// Builds a mesh from OBJ text (any 8-bit encoding); `name` (already
-/// sanitised) is used in errors. A panic while reading or building becomes
-/// an error like any other.
+/// Loads an OBJ file with its material libraries: a part per material, the
+/// maps the scene's one material shows, and the warnings.
+pub fn load_model(path: &Path) -> Result<LoadedModel, ObjError> {
+    let name = display_path(path);
+    let (bytes, held) = read_model_file(path)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let model = parse_model(&name, &bytes, Some(dir));
+    drop(held);
+    model
+}
+
+/// Builds a mesh from OBJ text (any 8-bit encoding, or UTF-16 with its
+/// byte-order mark); `name` (already sanitised) is used in errors.
+/// Material libraries are not opened (there is no directory to find them in).
 pub fn parse(name: &str, text: impl AsRef<[u8]>) -> Result<Mesh, ObjError> {
-    let text = text.as_ref();
-    crate::contain::contain(|| parse_unguarded(name, text)).unwrap_or_else(|cause| {
+    parse_model(name, text.as_ref(), None).map(|m| m.merged())
+}
+
+/// [`parse`] with the directory the material libraries are in (none: not
+/// opened). A panic while reading or building becomes an error like any other.
+pub fn parse_model(name: &str, text: &[u8], dir: Option<&Path>) -> Result<LoadedModel, ObjError> {
+    crate::contain::contain(|| parse_unguarded(name, text, dir)).unwrap_or_else(|cause| {
         Err(ObjError::Parse {
             name: name.to_string(),
             reason: format!("the reader failed on it ({cause})"),
@@ -137,12 +120,238 @@ pub fn parse(name: &str, text: impl AsRef<[u8]>) -> Result<Mesh, ObjError> {
     })
 }
 
-fn parse_unguarded(name: &str, text: &[u8]) -> Result<Mesh, ObjError> {
-    let model = read::read(name, text)?;
-    // The reservation covers building too.
-    let mesh = build(name, model.corners);
+/// UTF-16 text (known by its byte-order mark) as UTF-8; other text as it is.
+fn utf8_text(text: &[u8]) -> std::borrow::Cow<'_, [u8]> {
+    let big = match text {
+        [0xFF, 0xFE, ..] => false,
+        [0xFE, 0xFF, ..] => true,
+        _ => return text.into(),
+    };
+    let units = text[2..].chunks_exact(2).map(|p| {
+        if big {
+            u16::from_be_bytes([p[0], p[1]])
+        } else {
+            u16::from_le_bytes([p[0], p[1]])
+        }
+    });
+    let decoded: String = char::decode_utf16(units)
+        .map(|c| c.unwrap_or(char::REPLACEMENT_CHARACTER))
+        .collect();
+    decoded.into_bytes().into()
+}
+
+fn parse_unguarded(name: &str, text: &[u8], dir: Option<&Path>) -> Result<LoadedModel, ObjError> {
+    let text = utf8_text(text);
+    // Text in any 8-bit encoding is read (names and comments are not
+    // used); a NUL byte says it is not text at all.
+    if let Some(at) = text.iter().position(|&b| b == 0) {
+        return Err(ObjError::NotText {
+            name: name.to_string(),
+            at,
+        });
+    }
+    let mut model = read::read(name, &text)?;
+    drop(text);
+    let mut warnings = std::mem::take(&mut model.warnings);
+    let library = match dir {
+        Some(dir) => load_libraries(name, dir, &model.libraries, &mut warnings),
+        None => Vec::new(),
+    };
+    // Each part's material, when a library describes it.
+    let mut unknown = Vec::new();
+    let materials: Vec<Option<MaterialDesc>> = model
+        .parts
+        .iter()
+        .map(|part| {
+            let wanted = part.as_ref()?;
+            let found = library.iter().find(|m| &m.name == wanted).cloned();
+            if found.is_none() {
+                unknown.push(quote(wanted));
+            }
+            found
+        })
+        .collect();
+    if !unknown.is_empty() && dir.is_some() {
+        let more = unknown.len().saturating_sub(3);
+        unknown.truncate(3);
+        let more = if more > 0 {
+            format!(" and {more} more")
+        } else {
+            String::new()
+        };
+        warnings.push(format!(
+            "model {name}: material {}{more} in no material library (drawn with the scene's texture)",
+            unknown.join(", ")
+        ));
+    }
+    // The scene has one texture: the first material with a diffuse map
+    // that loads gives it (see docs/models.md).
+    let (maps, shown) = scene_maps(&materials, &mut warnings);
+    let textured: Vec<bool> = materials
+        .iter()
+        .enumerate()
+        .map(|(i, m)| match m {
+            // No material, or one whose map could not be shown: the scene's texture.
+            None => true,
+            Some(m) => Some(i) == shown || (shown.is_none() && m.diffuse_map.is_some()),
+        })
+        .collect();
+    // Kd is the corner colour where the file gives none.
+    for (corners, &part) in model.corners.chunks_exact_mut(3).zip(&model.part_of) {
+        if let Some(kd) = materials[part as usize].as_ref().and_then(|m| m.diffuse) {
+            for c in corners {
+                c.color.get_or_insert(kd);
+            }
+        }
+    }
+    let meshes = build_parts(name, model.corners, &model.part_of, &textured)?;
     drop(model.reservation);
-    mesh
+    let parts = meshes
+        .into_iter()
+        .map(|(part, mesh)| ModelPart {
+            mesh,
+            material: materials[part].clone(),
+        })
+        .collect();
+    Ok(LoadedModel {
+        parts,
+        maps,
+        points: false,
+        warnings,
+    })
+}
+
+/// The materials of every `mtllib`, relative to the OBJ's directory; a
+/// library that cannot be read is a warning.
+fn load_libraries(
+    name: &str,
+    dir: &Path,
+    libraries: &[String],
+    warnings: &mut Vec<String>,
+) -> Vec<MaterialDesc> {
+    let mut out = Vec::new();
+    for line in libraries {
+        // One name with spaces, or several names.
+        let files: Vec<String> = match super::model_file::resolve_beside(dir, line) {
+            Some(_) => vec![line.clone()],
+            None => line.split_whitespace().map(str::to_string).collect(),
+        };
+        for file in files {
+            let Some(path) = super::model_file::resolve_beside(dir, &file) else {
+                warnings.push(format!(
+                    "model {name}: material library {} not found",
+                    quote(&file)
+                ));
+                continue;
+            };
+            let shown = display_path(&path);
+            match read_model_file(&path) {
+                Ok((bytes, _held)) => {
+                    let lib_dir = path.parent().unwrap_or(dir);
+                    let (materials, more) = mtl::parse(&shown, &bytes, lib_dir);
+                    out.extend(materials);
+                    warnings.extend(more);
+                }
+                Err(e) => warnings.push(clean(&e.to_string())),
+            }
+        }
+    }
+    out
+}
+
+/// The maps of the first material whose `map_Kd` loads: its colour with its
+/// `bump` as height (times `-bm`), its `map_Ks` as specular map and its
+/// `norm` as normal map; and which material that is.
+fn scene_maps(
+    materials: &[Option<MaterialDesc>],
+    warnings: &mut Vec<String>,
+) -> (ModelMaps, Option<usize>) {
+    use crate::texture::load;
+    let textured: Vec<usize> = (0..materials.len())
+        .filter(|&i| {
+            materials[i]
+                .as_ref()
+                .is_some_and(|m| m.diffuse_map.is_some())
+        })
+        .collect();
+    for &i in &textured {
+        let Some(m) = &materials[i] else { continue };
+        let Some(color) = m.diffuse_map.as_ref().and_then(|t| t.file.as_ref()) else {
+            continue;
+        };
+        let texture = match load::load_texture(color) {
+            Ok(t) => t,
+            Err(e) => {
+                warnings.push(clean(&e.to_string()));
+                continue;
+            }
+        };
+        let texture = match m.bump_map.as_ref().and_then(|t| t.file.as_ref()) {
+            Some(bump) => match load::load_texture(bump)
+                .and_then(|h| load::with_height_map(texture, &scale_heights(h, m.bump_multiplier)))
+            {
+                Ok(t) => t,
+                Err(e) => {
+                    warnings.push(clean(&e.to_string()));
+                    load::load_texture(color)
+                        .unwrap_or_else(|_| crate::texture::procedural::brick())
+                }
+            },
+            None => texture,
+        };
+        let specular_map = m
+            .specular_map
+            .as_ref()
+            .and_then(|t| t.file.as_ref())
+            .and_then(
+                |p| match crate::texture::specular_map::load_specular_map(p) {
+                    Ok(level) => Some(Arc::new(level)),
+                    Err(e) => {
+                        warnings.push(clean(&e.to_string()));
+                        None
+                    }
+                },
+            );
+        let normal_map = m
+            .normal_map
+            .as_ref()
+            .and_then(|t| t.file.as_ref())
+            .and_then(
+                |p| match crate::texture::normal_map_file::load_normal_map(p) {
+                    Ok(map) => Some(Arc::new(map)),
+                    Err(e) => {
+                        warnings.push(clean(&e.to_string()));
+                        None
+                    }
+                },
+            );
+        if textured.len() > 1 {
+            warnings.push(format!(
+                "{} materials have textures: {} shows its own, the others their colour (Kd)",
+                textured.len(),
+                quote(&m.name)
+            ));
+        }
+        let maps = ModelMaps {
+            texture: Some(Arc::new(texture)),
+            specular_map,
+            normal_map,
+        };
+        return (maps, Some(i));
+    }
+    (ModelMaps::default(), None)
+}
+
+/// A height map's heights times `multiplier` (MTL `-bm`).
+pub fn scale_heights(texture: crate::texture::Texture, multiplier: f32) -> crate::texture::Texture {
+    if multiplier == 1.0 {
+        return texture;
+    }
+    let mut level = texture.base().clone();
+    for t in level.texels.iter_mut() {
+        t[3] *= multiplier;
+    }
+    crate::texture::Texture::new(texture.name.clone(), level)
 }
 
 /// A short, printable quote of a token from the file.
@@ -154,13 +363,13 @@ fn quote(token: &str) -> String {
     format!("'{s}'")
 }
 
-/// One triangle corner as read from the file.
+/// One triangle corner as read from a model file (of any format).
 #[derive(Clone, Copy)]
-struct Corner {
-    position: Vec3,
-    uv: Option<Vec2>,
-    normal: Option<Vec3>,
-    color: Option<Vec3>,
+pub(crate) struct Corner {
+    pub position: Vec3,
+    pub uv: Option<Vec2>,
+    pub normal: Option<Vec3>,
+    pub color: Option<Vec3>,
 }
 
 /// Bits of a position, with −0 and +0 alike: the key that says two corners
@@ -194,9 +403,10 @@ fn fit(corners: &mut [Corner]) -> bool {
     true
 }
 
-/// What makes two corners one vertex: position id, UV and normal bits, and
-/// whether the face's texture axes are mirrored.
-type VertexKey = (u32, [u32; 2], [u32; 3], bool);
+/// What makes two corners one vertex: position id, UV and normal bits,
+/// whether the face's texture axes are mirrored, and the part (whose
+/// material may colour it).
+type VertexKey = (u32, [u32; 2], [u32; 3], bool, u32);
 
 /// Angle of a triangle at corner `k`.
 fn corner_angle(p: [Vec3; 3], k: usize) -> f32 {
@@ -211,9 +421,75 @@ struct Tri {
     corners: [Corner; 3],
     normal: Vec3,
     position_ids: [u32; 3],
+    part: u32,
 }
 
-fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
+/// Builds the model from its triangle corners (three per triangle, in any
+/// format's reading), `part_of` giving each triangle's part (empty: all in
+/// part 0) and `textured` whether each part's triangles take the scene's
+/// texture. Returns each non-empty part's mesh, with its part number.
+pub(crate) fn build_parts(
+    name: &str,
+    corners: Vec<Corner>,
+    part_of: &[u32],
+    textured: &[bool],
+) -> Result<Vec<(usize, Mesh)>, ObjError> {
+    let (mesh, tri_parts) = build(name, corners, part_of, textured)?;
+    let count = textured.len().max(1);
+    if count == 1 || tri_parts.iter().all(|&p| p == tri_parts[0]) {
+        return Ok(vec![(tri_parts[0] as usize, mesh)]);
+    }
+    // Split: each part keeps the vertices its triangles use, renumbered.
+    let mut out = Vec::new();
+    let mut new_index = vec![u32::MAX; mesh.vertices.len()];
+    for part in 0..count as u32 {
+        let mut vertices = Vec::new();
+        let mut used: Vec<u32> = Vec::new();
+        let mut triangles = Vec::new();
+        for (t, _) in mesh
+            .triangles
+            .iter()
+            .zip(&tri_parts)
+            .filter(|(_, p)| **p == part)
+        {
+            let mut t = *t;
+            for i in t.indices.iter_mut() {
+                let slot = &mut new_index[*i as usize];
+                if *slot == u32::MAX {
+                    *slot = vertices.len() as u32;
+                    vertices.push(mesh.vertices[*i as usize]);
+                    used.push(*i);
+                }
+                *i = *slot;
+            }
+            triangles.push(t);
+        }
+        for &i in &used {
+            new_index[i as usize] = u32::MAX;
+        }
+        if triangles.is_empty() {
+            continue;
+        }
+        out.push((
+            part as usize,
+            Mesh {
+                vertices,
+                triangles,
+                convex: false,
+                // A part of a closed model shows only its front faces too.
+                closed: mesh.closed,
+            },
+        ));
+    }
+    Ok(out)
+}
+
+fn build(
+    name: &str,
+    mut corners: Vec<Corner>,
+    part_of: &[u32],
+    textured: &[bool],
+) -> Result<(Mesh, Vec<u32>), ObjError> {
     if !fit(&mut corners) {
         return Err(ObjError::Degenerate {
             name: name.to_string(),
@@ -223,13 +499,15 @@ fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
     let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
     let mut tris: Vec<Tri> = corners
         .chunks_exact(3)
-        .filter_map(|c| {
+        .enumerate()
+        .filter_map(|(t, c)| {
             let c = [c[0], c[1], c[2]];
             let [a, b, d] = c.map(|c| c.position);
             let n = (b - a).cross(d - a).normalize_or_zero();
-            (n != Vec3::ZERO).then_some((c, n))
+            let part = part_of.get(t).copied().unwrap_or(0);
+            (n != Vec3::ZERO).then_some((c, n, part))
         })
-        .map(|(c, normal)| {
+        .map(|(c, normal, part)| {
             let position_ids = c.map(|corner| {
                 let next = ids.len() as u32;
                 *ids.entry(position_key(corner.position)).or_insert(next)
@@ -238,6 +516,7 @@ fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
                 corners: c,
                 normal,
                 position_ids,
+                part,
             }
         })
         .collect();
@@ -290,6 +569,7 @@ fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
                 uvs[k].to_array().map(f32::to_bits),
                 normal.to_array().map(f32::to_bits),
                 mirrored,
+                tri.part,
             );
             indices[k] = *index_of.entry(key).or_insert_with(|| {
                 vertices.push(Vertex {
@@ -310,7 +590,7 @@ fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
             face_tangent_v: frame.tangent_v,
             facet_center: positions.iter().sum::<Vec3>() / 3.0,
             facet_color: colors.iter().sum::<Vec3>() / 3.0,
-            textured: true,
+            textured: textured.get(tri.part as usize).copied().unwrap_or(true),
         });
     }
     let closed = is_closed(&tris);
@@ -321,7 +601,7 @@ fn build(name: &str, mut corners: Vec<Corner>) -> Result<Mesh, ObjError> {
         closed,
     };
     accumulate(&mut mesh);
-    Ok(mesh)
+    Ok((mesh, tris.iter().map(|t| t.part).collect()))
 }
 
 /// File normals are normalised (an unusable one is recomputed); missing ones

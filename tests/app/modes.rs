@@ -150,7 +150,7 @@ fn o_walks_the_models_and_the_obj_file() {
     // With --model FILE.obj, the file comes after the sphere.
     let obj = PathBuf::from("teapot.obj");
     s.obj = Some(obj.clone());
-    assert_eq!(build(&mut s, 'o'), (SceneKind::Cube, Obj(obj)));
+    assert_eq!(build(&mut s, 'o'), (SceneKind::Cube, File(obj)));
     assert_eq!(build(&mut s, 'o').1, Triangle);
     assert_eq!(s.model, Triangle);
 }
@@ -165,7 +165,7 @@ fn the_model_changes_only_once_built_and_a_failure_keeps_it() {
         cmd,
         Some(Command::BuildScene(
             SceneKind::Cube,
-            ModelChoice::Obj("bad.obj".into())
+            ModelChoice::File("bad.obj".into())
         ))
     );
     assert_eq!(s.model, ModelChoice::Sphere, "not before it is built");

@@ -43,7 +43,7 @@ fn a_bad_obj_keeps_the_old_scene_and_says_why() {
     let before = picture(&mut st, &state);
     let path = bad_obj("broken\x1b[31m.obj");
     let err = st
-        .build(SceneKind::Cube, &ModelChoice::Obj(path.clone()))
+        .build(SceneKind::Cube, &ModelChoice::File(path.clone()))
         .unwrap_err();
     assert!(err.contains("broken") && err.contains(".obj"), "{err}");
     assert!(!err.chars().any(char::is_control), "sanitised: {err:?}");

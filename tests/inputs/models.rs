@@ -554,14 +554,6 @@ fn bad_text_is_refused_with_its_line() {
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "line 4"),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 1 2\n", "out of range"),
         (
-            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n",
-            "texture coordinate index 1",
-        ),
-        (
-            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2//2 3//2\n",
-            "normal index 2",
-        ),
-        (
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/2/3/4 2 3\n",
             "bad face corner",
         ),
@@ -600,6 +592,22 @@ fn bad_text_is_refused_with_its_line() {
         assert!(line.contains(expected), "{text:?} gave {line:?}");
         assert!(line.starts_with("model t.obj"), "{line}");
     }
+    // Texture coordinate and normal indices out of range drop that attribute
+    // for the face, with a warning, as tinyobjloader does.
+    for (text, expected) in [
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n",
+            "line 4: 1 line(s) with a texture coordinate index out of range",
+        ),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2//2 3//2\n",
+            "line 4: 1 line(s) with a normal index out of range",
+        ),
+    ] {
+        let model = obj::parse_model("t.obj", text.as_bytes(), None).unwrap();
+        assert_eq!(model.merged().triangles.len(), 1);
+        assert!(model.warnings[0].contains(expected), "{:?}", model.warnings);
+    }
 }
 
 fn temp_path(name: &str) -> PathBuf {
@@ -608,13 +616,15 @@ fn temp_path(name: &str) -> PathBuf {
 
 #[test]
 fn huge_and_binary_files_are_refused() {
+    // No fixed size limit: a file larger than the memory budget is refused
+    // by the budget, before it is read (the file is sparse: nothing written).
     let path = temp_path("huge.obj");
     let file = std::fs::File::create(&path).unwrap();
-    file.set_len(obj::MAX_FILE_BYTES + 1).unwrap();
+    file.set_len(relief::budget::BUDGET_BYTES + 1).unwrap();
     drop(file);
     let e = failure(obj::load(&path));
-    assert!(matches!(e, ObjError::TooLarge { .. }), "{e:?}");
-    one_clean_line(&e);
+    assert!(matches!(e, ObjError::Budget { .. }), "{e:?}");
+    assert!(one_clean_line(&e).contains("memory budget"), "{e}");
 
     std::fs::write(&path, b"v 0 0 0\n\xff\xfe\x00 binary\n").unwrap();
     let e = failure(obj::load(&path));
@@ -627,40 +637,21 @@ fn huge_and_binary_files_are_refused() {
 }
 
 #[test]
-fn too_many_vertices_or_triangles_are_refused() {
-    let mut text = "v 0 0 0\n".repeat(obj::MAX_POSITIONS + 1);
-    let e = failure(obj::parse("big.obj", &text));
-    assert!(
-        matches!(
-            e,
-            ObjError::TooMany {
-                what: "vertices",
-                ..
-            }
-        ),
-        "{e:?}"
-    );
-    one_clean_line(&e);
+fn models_beyond_the_memory_budget_are_refused() {
     // A polygon is bounded on its own line, before anything is built from it.
-    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\n# a huge polygon\nf".into();
+    let mut text: String = "v 0 0 0\nv 1 0 0\nv 0 1 0\n# a huge polygon\nf".into();
     text += &" 1 2 3".repeat(obj::MAX_FACE_CORNERS / 3 + 1);
     let e = failure(obj::parse("big.obj", &text));
     assert!(matches!(e, ObjError::Line { line: 5, .. }), "{e:?}");
     assert!(one_clean_line(&e).contains("limit 65536"), "{e}");
-    // A million triangles and one.
+    // More triangles than the budget holds at MODEL_BYTES_PER_TRIANGLE each:
+    // refused by the counting pass, before any corner is stored.
+    let triangles = (relief::budget::BUDGET_BYTES / obj::MODEL_BYTES_PER_TRIANGLE) as usize + 1;
     text = "v 0 0 0\nv 1 0 0\nv 0 1 0\n".into();
-    text += &"f 1 2 3\n".repeat(obj::MAX_TRIANGLES + 1);
+    text += &"f 1 2 3\n".repeat(triangles);
     let e = failure(obj::parse("big.obj", &text));
-    assert!(
-        matches!(
-            e,
-            ObjError::TooMany {
-                what: "triangles",
-                ..
-            }
-        ),
-        "{e:?}"
-    );
+    assert!(matches!(e, ObjError::Budget { .. }), "{e:?}");
+    assert!(one_clean_line(&e).contains("big.obj"), "{e}");
 }
 
 // ---- scenes ------------------------------------------------------------------
@@ -701,7 +692,7 @@ fn every_scene_kind_and_model_builds() {
         Ok(Built::Plasma(_))
     ));
     // A bad OBJ is an error, not a panic, in the scene that uses it only.
-    let bad = ModelChoice::Obj(data("bad_index.obj"));
+    let bad = ModelChoice::File(data("bad_index.obj"));
     assert!(build_scene(SceneKind::Cube, &bad, texture.clone(), false).is_err());
     assert!(build_scene(SceneKind::Shadow, &bad, texture, false).is_ok());
 }

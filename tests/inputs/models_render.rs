@@ -28,7 +28,7 @@ fn model_scene(model: &ModelChoice) -> Scene {
 }
 
 fn data(name: &str) -> ModelChoice {
-    ModelChoice::Obj(
+    ModelChoice::File(
         Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("tests/data")
             .join(name),
@@ -242,7 +242,7 @@ proptest! {
         let (_, stats) = render_frame(&scene, &settings, 96, 64);
         prop_assert_eq!(stats.counters.nonfinite, 0);
         // Built-in models are convex or flat: alone, they never need the pass.
-        let built_in = !matches!(model, ModelChoice::Obj(_));
+        let built_in = !matches!(model, ModelChoice::File(_));
         if !lights || (built_in && !shadow) {
             prop_assert_eq!(stats.counters.shadow_lookups, 0);
             prop_assert_eq!(stats.counters.shadow_texels, 0);

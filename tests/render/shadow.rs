@@ -359,7 +359,7 @@ fn no_shadow_pass_without_lights_and_one_for_self_shadowing_models() {
     // A lone OBJ is not known to be convex: its parts may shade each other.
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pyramid_relative.obj");
-    let obj = scene(SceneKind::Cube, ModelChoice::Obj(path));
+    let obj = scene(SceneKind::Cube, ModelChoice::File(path));
     let (fb, stats) = render_frame(&obj, &Settings::default(), 160, 120);
     assert!(stats.counters.shadow_texels > 0);
     assert_eq!(stats.counters.nonfinite, 0);

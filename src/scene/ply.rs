@@ -1,0 +1,607 @@
+//! PLY models: ASCII, binary little endian and binary big endian.
+//!
+//! The header declares elements and their properties; relief reads the
+//! `vertex` element's `x y z`, normals `nx ny nz`, colours `red green blue`
+//! (or `r g b`, `diffuse_red …`; unsigned bytes are divided by 255, floats
+//! taken as they are), texture coordinates under their usual names (`u v`,
+//! `s t`, `texture_u texture_v`, `texture_s texture_t`), and the `face`
+//! element's `vertex_indices` (or `vertex_index`) list of any count and
+//! index type. Other elements and properties are skipped.
+//!
+//! A first pass walks the body without keeping anything: counts are
+//! checked against the bytes that remain (a binary element of 2^31 items
+//! needs that many records), and the triangles are counted, so the memory
+//! budget is asked before anything of the model's size exists. Errors say
+//! the header line, the body line (ASCII) or the byte offset (binary).
+//!
+//! A PLY with vertices and no faces is a point cloud: each point becomes a
+//! triangle with three equal corners, which the points display draws.
+
+use glam::{Vec2, Vec3};
+
+use super::mesh::{Mesh, Triangle, Vertex};
+use super::model_file::{LoadedModel, ModelMaps, ModelPart, reserve};
+use super::obj::build_parts;
+use super::obj::{Corner, FIT_RADIUS, MAX_FACE_CORNERS, MODEL_BYTES_PER_TRIANGLE, ObjError};
+
+/// Bytes kept per vertex while reading (position, normal, UV, colour, flags).
+const BYTES_PER_VERTEX: u64 = 12 + 12 + 8 + 12 + 4;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    fn parse(word: &str) -> Option<Scalar> {
+        Some(match word {
+            "char" | "int8" => Scalar::I8,
+            "uchar" | "uint8" => Scalar::U8,
+            "short" | "int16" => Scalar::I16,
+            "ushort" | "uint16" => Scalar::U16,
+            "int" | "int32" => Scalar::I32,
+            "uint" | "uint32" => Scalar::U32,
+            "float" | "float32" => Scalar::F32,
+            "double" | "float64" => Scalar::F64,
+            _ => return None,
+        })
+    }
+    fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::F64 => 8,
+        }
+    }
+    /// The type's name in PLY headers.
+    fn name(self) -> &'static str {
+        match self {
+            Scalar::I8 => "char",
+            Scalar::U8 => "uchar",
+            Scalar::I16 => "short",
+            Scalar::U16 => "ushort",
+            Scalar::I32 => "int",
+            Scalar::U32 => "uint",
+            Scalar::F32 => "float",
+            Scalar::F64 => "double",
+        }
+    }
+    fn is_float(self) -> bool {
+        matches!(self, Scalar::F32 | Scalar::F64)
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Property {
+    name: String,
+    /// The count's type for a list.
+    list: Option<Scalar>,
+    ty: Scalar,
+}
+
+#[derive(Clone, Debug)]
+struct Element {
+    name: String,
+    count: u64,
+    properties: Vec<Property>,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Format {
+    Ascii,
+    Little,
+    Big,
+}
+
+/// The body being read: a cursor with its line (ASCII) or byte offset.
+struct Body<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+    line: usize,
+    format: Format,
+}
+
+impl Body<'_> {
+    fn remaining(&self) -> u64 {
+        (self.bytes.len() - self.pos) as u64
+    }
+
+    /// The next value, as a double.
+    fn value(&mut self, ty: Scalar) -> Result<f64, String> {
+        if self.format == Format::Ascii {
+            // Skip blanks, counting lines.
+            while let Some(&b) = self.bytes.get(self.pos) {
+                if !b.is_ascii_whitespace() {
+                    break;
+                }
+                if b == b'\n' {
+                    self.line += 1;
+                }
+                self.pos += 1;
+            }
+            let start = self.pos;
+            while self
+                .bytes
+                .get(self.pos)
+                .is_some_and(|b| !b.is_ascii_whitespace())
+            {
+                self.pos += 1;
+            }
+            let word = &self.bytes[start..self.pos];
+            if word.is_empty() {
+                return Err("the file ends before the data its header declares".into());
+            }
+            let text = std::str::from_utf8(word).unwrap_or("?");
+            let value = if ty.is_float() {
+                text.parse::<f64>().ok()
+            } else {
+                text.parse::<i64>().ok().map(|i| i as f64)
+            };
+            return value.ok_or_else(|| {
+                let shown: String = crate::sanitize::clean(text).chars().take(24).collect();
+                format!("'{shown}' is not a {} number", ty.name())
+            });
+        }
+        let size = ty.size();
+        let Some(raw) = self.bytes.get(self.pos..self.pos + size) else {
+            return Err("the file ends before the data its header declares".into());
+        };
+        self.pos += size;
+        let mut b = [0u8; 8];
+        b[..size].copy_from_slice(raw);
+        if self.format == Format::Big {
+            b[..size].reverse();
+        }
+        Ok(match ty {
+            Scalar::I8 => b[0] as i8 as f64,
+            Scalar::U8 => b[0] as f64,
+            Scalar::I16 => i16::from_le_bytes([b[0], b[1]]) as f64,
+            Scalar::U16 => u16::from_le_bytes([b[0], b[1]]) as f64,
+            Scalar::I32 => i32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
+            Scalar::U32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
+            Scalar::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
+            Scalar::F64 => f64::from_le_bytes(b),
+        })
+    }
+
+    /// A list's length.
+    fn length(&mut self, ty: Scalar) -> Result<usize, String> {
+        let n = self.value(ty)?;
+        if !(n >= 0.0 && n.fract() == 0.0) {
+            return Err(format!("a list length of {n}"));
+        }
+        if n > MAX_FACE_CORNERS as f64 {
+            return Err(format!("a list of {n} items (limit {MAX_FACE_CORNERS})"));
+        }
+        Ok(n as usize)
+    }
+}
+
+/// Reads a PLY file; `name` (already sanitised) is used in messages.
+pub fn parse(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
+    crate::contain::contain(|| parse_unguarded(name, bytes)).unwrap_or_else(|cause| {
+        Err(ObjError::Parse {
+            name: name.to_string(),
+            reason: format!("the reader failed on it ({cause})"),
+        })
+    })
+}
+
+/// The header: elements, format, and where the body starts.
+fn header(name: &str, bytes: &[u8]) -> Result<(Format, Vec<Element>, usize), ObjError> {
+    let at = |line: usize, problem: String| ObjError::Line {
+        name: name.to_string(),
+        line,
+        problem,
+    };
+    if !bytes.starts_with(b"ply") {
+        return Err(at(
+            1,
+            "not a PLY file (it does not begin with 'ply')".into(),
+        ));
+    }
+    let mut pos = 0;
+    let mut format = None;
+    let mut elements: Vec<Element> = Vec::new();
+    for number in 1.. {
+        let Some(end) = bytes[pos..].iter().position(|&b| b == b'\n') else {
+            return Err(at(number, "the header has no 'end_header'".into()));
+        };
+        let line = String::from_utf8_lossy(&bytes[pos..pos + end]).into_owned();
+        pos += end + 1;
+        let words: Vec<&str> = line.split_whitespace().collect();
+        match words.as_slice() {
+            ["ply"] if number == 1 => {}
+            ["format", kind, _version] => {
+                format = Some(match *kind {
+                    "ascii" => Format::Ascii,
+                    "binary_little_endian" => Format::Little,
+                    "binary_big_endian" => Format::Big,
+                    other => {
+                        let shown: String =
+                            crate::sanitize::clean(other).chars().take(24).collect();
+                        return Err(at(number, format!("unknown format '{shown}'")));
+                    }
+                })
+            }
+            ["comment", ..] | ["obj_info", ..] | [] => {}
+            ["element", element, count] => {
+                let count = count
+                    .parse::<u64>()
+                    .map_err(|_| at(number, format!("element {element}: bad count")))?;
+                elements.push(Element {
+                    name: element.to_string(),
+                    count,
+                    properties: Vec::new(),
+                });
+            }
+            ["property", "list", count, item, property] => {
+                let (Some(count), Some(item)) = (Scalar::parse(count), Scalar::parse(item)) else {
+                    return Err(at(number, "unknown type in a list property".into()));
+                };
+                if count.is_float() {
+                    return Err(at(number, "a list's count must be an integer type".into()));
+                }
+                let Some(e) = elements.last_mut() else {
+                    return Err(at(number, "a property before any element".into()));
+                };
+                e.properties.push(Property {
+                    name: property.to_string(),
+                    list: Some(count),
+                    ty: item,
+                });
+            }
+            ["property", ty, property] => {
+                let ty =
+                    Scalar::parse(ty).ok_or_else(|| at(number, "unknown property type".into()))?;
+                let Some(e) = elements.last_mut() else {
+                    return Err(at(number, "a property before any element".into()));
+                };
+                e.properties.push(Property {
+                    name: property.to_string(),
+                    list: None,
+                    ty,
+                });
+            }
+            ["end_header"] => {
+                let format = format.ok_or_else(|| at(number, "no 'format' line".into()))?;
+                return Ok((format, elements, pos));
+            }
+            _ => {
+                let shown: String = crate::sanitize::clean(&line).chars().take(40).collect();
+                return Err(at(number, format!("cannot read header line '{shown}'")));
+            }
+        }
+    }
+    unreachable!("the header loop returns")
+}
+
+/// Which of a vertex's properties relief reads, by index.
+#[derive(Default)]
+struct VertexLayout {
+    position: [Option<usize>; 3],
+    normal: [Option<usize>; 3],
+    color: [Option<usize>; 3],
+    uv: [Option<usize>; 2],
+}
+
+fn vertex_layout(e: &Element) -> VertexLayout {
+    let find = |names: &[&str]| {
+        e.properties
+            .iter()
+            .position(|p| p.list.is_none() && names.contains(&p.name.as_str()))
+    };
+    VertexLayout {
+        position: [find(&["x"]), find(&["y"]), find(&["z"])],
+        normal: [find(&["nx"]), find(&["ny"]), find(&["nz"])],
+        color: [
+            find(&["red", "r", "diffuse_red"]),
+            find(&["green", "g", "diffuse_green"]),
+            find(&["blue", "b", "diffuse_blue"]),
+        ],
+        uv: [
+            find(&["u", "s", "texture_u", "texture_s"]),
+            find(&["v", "t", "texture_v", "texture_t"]),
+        ],
+    }
+}
+
+/// The face list property relief reads.
+fn face_list(e: &Element) -> Option<usize> {
+    e.properties
+        .iter()
+        .position(|p| p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"))
+}
+
+/// The least bytes one item of `e` takes in the body.
+fn least_item_bytes(e: &Element, format: Format) -> u64 {
+    e.properties
+        .iter()
+        .map(|p| match (format, p.list) {
+            // A word and a blank.
+            (Format::Ascii, _) => 2,
+            (_, Some(count)) => count.size() as u64,
+            (_, None) => p.ty.size() as u64,
+        })
+        .sum()
+}
+
+/// One read vertex.
+#[derive(Clone, Copy, Default)]
+struct PlyVertex {
+    position: Vec3,
+    normal: Option<Vec3>,
+    color: Option<Vec3>,
+    uv: Option<Vec2>,
+}
+
+fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
+    let (format, elements, start) = header(name, bytes)?;
+    let vertex_element = elements.iter().position(|e| e.name == "vertex");
+    let Some(vertex_element) = vertex_element else {
+        return Err(ObjError::Empty {
+            name: name.to_string(),
+        });
+    };
+    let mut body = Body {
+        bytes,
+        pos: start,
+        line: bytes[..start].iter().filter(|&&b| b == b'\n').count() + 1,
+        format,
+    };
+    let place = |body: &Body, problem: String| match format {
+        Format::Ascii => ObjError::Line {
+            name: name.to_string(),
+            line: body.line,
+            problem,
+        },
+        _ => ObjError::Byte {
+            name: name.to_string(),
+            offset: body.pos as u64,
+            problem,
+        },
+    };
+    // Counts against the bytes that remain, before anything is read.
+    let mut least = 0u64;
+    for e in &elements {
+        least = least.saturating_add(e.count.saturating_mul(least_item_bytes(e, format)));
+    }
+    if least > body.remaining() {
+        let e = elements
+            .iter()
+            .max_by_key(|e| e.count)
+            .map(|e| (e.name.clone(), e.count))
+            .unwrap_or_default();
+        return Err(place(
+            &body,
+            format!(
+                "the header declares {} {} items, more than the {} bytes after it can hold",
+                e.1,
+                crate::sanitize::clean(&e.0),
+                body.remaining()
+            ),
+        ));
+    }
+    // First pass: count the triangles, keeping nothing.
+    let mut triangles = 0u64;
+    {
+        let mut walk = Body { ..body };
+        for e in &elements {
+            let list = face_list(e).filter(|_| e.name == "face");
+            for _ in 0..e.count {
+                for (k, p) in e.properties.iter().enumerate() {
+                    match p.list {
+                        Some(count) => {
+                            let n = walk.length(count).map_err(|m| place(&walk, m))?;
+                            if Some(k) == list {
+                                triangles += n.saturating_sub(2) as u64;
+                            }
+                            for _ in 0..n {
+                                walk.value(p.ty).map_err(|m| place(&walk, m))?;
+                            }
+                        }
+                        None => {
+                            walk.value(p.ty).map_err(|m| place(&walk, m))?;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let vertex_count = elements[vertex_element].count;
+    let _held = reserve(
+        name,
+        "the vertices and triangles",
+        vertex_count
+            .saturating_mul(BYTES_PER_VERTEX)
+            .saturating_add(triangles.saturating_mul(MODEL_BYTES_PER_TRIANGLE)),
+    )?;
+    // Second pass: read.
+    let mut vertices: Vec<PlyVertex> = Vec::with_capacity(vertex_count as usize);
+    let mut corners: Vec<Corner> = Vec::with_capacity(triangles as usize * 3);
+    let mut polygon: Vec<usize> = Vec::new();
+    let mut values: Vec<f64> = Vec::new();
+    for e in &elements {
+        let is_vertex = e.name == "vertex";
+        let layout = vertex_layout(e);
+        let list = face_list(e).filter(|_| e.name == "face");
+        if is_vertex && layout.position.iter().any(Option::is_none) {
+            return Err(place(&body, "the vertex element has no x, y and z".into()));
+        }
+        for item in 0..e.count {
+            values.clear();
+            polygon.clear();
+            for (k, p) in e.properties.iter().enumerate() {
+                match p.list {
+                    Some(count) => {
+                        let n = body.length(count).map_err(|m| place(&body, m))?;
+                        for _ in 0..n {
+                            let v = body.value(p.ty).map_err(|m| place(&body, m))?;
+                            if Some(k) == list {
+                                if !(v >= 0.0 && v < vertices.len() as f64 && v.fract() == 0.0) {
+                                    return Err(place(
+                                        &body,
+                                        format!(
+                                            "face {}: vertex index {v} is out of range (there are {} vertices)",
+                                            item + 1,
+                                            vertices.len()
+                                        ),
+                                    ));
+                                }
+                                polygon.push(v as usize);
+                            }
+                        }
+                        values.push(0.0);
+                    }
+                    None => values.push(body.value(p.ty).map_err(|m| place(&body, m))?),
+                }
+            }
+            if is_vertex {
+                let get = |i: Option<usize>| i.map(|i| values[i] as f32);
+                let three = |idx: [Option<usize>; 3]| {
+                    Some(Vec3::new(get(idx[0])?, get(idx[1])?, get(idx[2])?))
+                };
+                let position = three(layout.position).unwrap_or(Vec3::ZERO);
+                if !position.is_finite() {
+                    return Err(place(
+                        &body,
+                        format!("vertex {}: a position is not a finite number", item + 1),
+                    ));
+                }
+                let color = three(layout.color).map(|c| {
+                    let scale = if e.properties[layout.color[0].unwrap_or(0)].ty.is_float() {
+                        1.0
+                    } else {
+                        1.0 / 255.0
+                    };
+                    c * scale
+                });
+                let uv = match layout.uv {
+                    [Some(u), Some(v)] => Some(Vec2::new(values[u] as f32, values[v] as f32)),
+                    _ => None,
+                };
+                vertices.push(PlyVertex {
+                    position,
+                    normal: three(layout.normal).filter(|n| n.is_finite()),
+                    color: color.filter(|c| c.is_finite()),
+                    uv: uv.filter(|t| t.is_finite()),
+                });
+            } else if list.is_some() {
+                for k in 1..polygon.len().saturating_sub(1) {
+                    for i in [polygon[0], polygon[k], polygon[k + 1]] {
+                        let v = vertices[i];
+                        corners.push(Corner {
+                            position: v.position,
+                            uv: v.uv,
+                            normal: v.normal,
+                            color: v.color,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    let parts = if corners.is_empty() {
+        if vertices.is_empty() {
+            return Err(ObjError::Empty {
+                name: name.to_string(),
+            });
+        }
+        vec![ModelPart {
+            mesh: point_cloud(name, &vertices)?,
+            material: None,
+        }]
+    } else {
+        drop(vertices);
+        build_parts(name, corners, &[], &[true])?
+            .into_iter()
+            .map(|(_, mesh)| ModelPart {
+                mesh,
+                material: None,
+            })
+            .collect()
+    };
+    Ok(LoadedModel {
+        points: parts.iter().all(|p| {
+            p.mesh
+                .triangles
+                .iter()
+                .all(|t| t.indices[0] == t.indices[1])
+        }),
+        parts,
+        maps: ModelMaps::default(),
+        warnings: Vec::new(),
+    })
+}
+
+/// Points as triangles with three equal corners (drawn by the points
+/// display; they cover no pixel when filled), fitted like any model.
+fn point_cloud(name: &str, vertices: &[PlyVertex]) -> Result<Mesh, ObjError> {
+    let (mut lo, mut hi) = (
+        glam::DVec3::splat(f64::INFINITY),
+        glam::DVec3::splat(f64::NEG_INFINITY),
+    );
+    for v in vertices {
+        lo = lo.min(v.position.as_dvec3());
+        hi = hi.max(v.position.as_dvec3());
+    }
+    let center = (lo + hi) * 0.5;
+    let radius = vertices
+        .iter()
+        .map(|v| (v.position.as_dvec3() - center).length())
+        .fold(0.0f64, f64::max);
+    let scale = if radius > 0.0 && radius.is_finite() {
+        FIT_RADIUS as f64 / radius
+    } else if radius == 0.0 {
+        1.0
+    } else {
+        return Err(ObjError::Degenerate {
+            name: name.to_string(),
+        });
+    };
+    let mesh_vertices: Vec<Vertex> = vertices
+        .iter()
+        .map(|v| {
+            let position = ((v.position.as_dvec3() - center) * scale).as_vec3();
+            let normal = v.normal.and_then(|n| n.try_normalize()).unwrap_or(Vec3::Z);
+            Vertex {
+                position,
+                normal,
+                uv: v.uv.unwrap_or(Vec2::ZERO),
+                color: v
+                    .color
+                    .map(|c| c.clamp(Vec3::ZERO, Vec3::ONE))
+                    .unwrap_or(Vec3::ONE),
+                tangent_u: Vec3::ZERO,
+                tangent_v: Vec3::ZERO,
+            }
+        })
+        .collect();
+    let triangles = mesh_vertices
+        .iter()
+        .enumerate()
+        .map(|(i, v)| Triangle {
+            indices: [i as u32; 3],
+            face_normal: v.normal,
+            face_tangent_u: Vec3::ZERO,
+            face_tangent_v: Vec3::ZERO,
+            facet_center: v.position,
+            facet_color: v.color,
+            textured: false,
+        })
+        .collect();
+    Ok(Mesh {
+        vertices: mesh_vertices,
+        triangles,
+        convex: false,
+        closed: false,
+    })
+}

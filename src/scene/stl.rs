@@ -1,0 +1,222 @@
+//! STL models, binary or ASCII.
+//!
+//! Which one is decided by size and content, not by the first word (binary
+//! files from many CAD tools begin with `solid` too): a file whose length is
+//! exactly 84 + 50 × the triangle count in its header is binary; otherwise
+//! one that begins with `solid` is ASCII; otherwise it is binary and its
+//! length must cover the triangles its header claims (checked before
+//! anything is allocated, so a header claiming 4 G triangles costs nothing).
+//!
+//! Each facet's normal is used at its three corners, so edges stay hard as
+//! STL means them (a zero or unusable normal is replaced by the one its
+//! winding gives). Binary facet colours follow the two known conventions:
+//! with `COLOR=` in the header (Materialise Magics) bit 15 clear marks a
+//! facet colour, red in the low bits, the header's colour for the others;
+//! otherwise (VisCAM, SolidView) bit 15 set marks a colour, blue in the low
+//! bits. Facets without one are white when any facet has one.
+
+use glam::Vec3;
+
+use super::model_file::{LoadedModel, ModelMaps, ModelPart, reserve};
+use super::obj::{Corner, MODEL_BYTES_PER_TRIANGLE, ObjError, build_parts};
+
+const HEADER: usize = 80;
+const FACET: u64 = 50;
+
+/// Reads an STL file; `name` (already sanitised) is used in messages.
+pub fn parse(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
+    crate::contain::contain(|| parse_unguarded(name, bytes)).unwrap_or_else(|cause| {
+        Err(ObjError::Parse {
+            name: name.to_string(),
+            reason: format!("the reader failed on it ({cause})"),
+        })
+    })
+}
+
+fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
+    let claimed = (bytes.len() >= HEADER + 4)
+        .then(|| u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64);
+    let exact = claimed.is_some_and(|n| HEADER as u64 + 4 + n * FACET == bytes.len() as u64);
+    let starts_solid = bytes.trim_ascii_start().starts_with(b"solid");
+    let corners = if exact || !starts_solid {
+        binary(name, bytes, claimed)?
+    } else {
+        ascii(name, bytes)?
+    };
+    let meshes = build_parts(name, corners, &[], &[true])?;
+    Ok(LoadedModel {
+        parts: meshes
+            .into_iter()
+            .map(|(_, mesh)| ModelPart {
+                mesh,
+                material: None,
+            })
+            .collect(),
+        maps: ModelMaps::default(),
+        points: false,
+        warnings: Vec::new(),
+    })
+}
+
+fn vec3(b: &[u8]) -> Vec3 {
+    let f = |i: usize| f32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+    Vec3::new(f(0), f(4), f(8))
+}
+
+/// The facet's normal when usable, else its winding's.
+fn facet_normal(given: Vec3, p: [Vec3; 3]) -> Option<Vec3> {
+    given
+        .try_normalize()
+        .or_else(|| (p[1] - p[0]).cross(p[2] - p[0]).try_normalize())
+}
+
+/// 5-bit channels of a 15-bit colour, low bits first.
+fn channels(bits: u16) -> [f32; 3] {
+    [0, 5, 10].map(|s| ((bits >> s) & 31) as f32 / 31.0)
+}
+
+fn binary(name: &str, bytes: &[u8], claimed: Option<u64>) -> Result<Vec<Corner>, ObjError> {
+    let at = |offset: u64, problem: String| ObjError::Byte {
+        name: name.to_string(),
+        offset,
+        problem,
+    };
+    let Some(count) = claimed else {
+        return Err(at(
+            0,
+            format!(
+                "a binary STL needs an 84-byte header, the file has {} bytes",
+                bytes.len()
+            ),
+        ));
+    };
+    let need = HEADER as u64 + 4 + count * FACET;
+    if need > bytes.len() as u64 {
+        return Err(at(
+            80,
+            format!(
+                "the header claims {count} triangles ({need} bytes) but the file has {} bytes",
+                bytes.len()
+            ),
+        ));
+    }
+    if count == 0 {
+        return Err(ObjError::Empty {
+            name: name.to_string(),
+        });
+    }
+    let _held = reserve(name, "the triangles", count * MODEL_BYTES_PER_TRIANGLE)?;
+    // Materialise: the header's colour, and facets with bit 15 clear coloured.
+    let header = &bytes[..HEADER];
+    let magics = header.windows(6).position(|w| w == b"COLOR=").map(|i| {
+        let c = header.get(i + 6..i + 9).unwrap_or(&[255, 255, 255]);
+        Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32) / 255.0
+    });
+    let mut corners = Vec::with_capacity(count as usize * 3);
+    let mut any_color = false;
+    for (i, facet) in bytes[HEADER + 4..need as usize]
+        .chunks_exact(FACET as usize)
+        .enumerate()
+    {
+        let offset = (HEADER + 4) as u64 + i as u64 * FACET;
+        let p = [vec3(&facet[12..]), vec3(&facet[24..]), vec3(&facet[36..])];
+        if let Some(k) = p.iter().position(|v| !v.is_finite()) {
+            return Err(at(
+                offset + 12 + 12 * k as u64,
+                format!("triangle {}: a position is not a finite number", i + 1),
+            ));
+        }
+        let given = vec3(facet);
+        let normal = facet_normal(if given.is_finite() { given } else { Vec3::ZERO }, p);
+        let attribute = u16::from_le_bytes([facet[48], facet[49]]);
+        let color = match magics {
+            Some(_) if attribute & 0x8000 == 0 => Some(Vec3::from_array(channels(attribute))),
+            Some(default) => Some(default),
+            None if attribute & 0x8000 != 0 => {
+                let [b, g, r] = channels(attribute);
+                Some(Vec3::new(r, g, b))
+            }
+            None => None,
+        };
+        any_color |= color.is_some();
+        corners.extend(p.map(|position| Corner {
+            position,
+            uv: None,
+            normal,
+            color,
+        }));
+    }
+    if any_color {
+        for c in corners.iter_mut() {
+            c.color.get_or_insert(Vec3::ONE);
+        }
+    }
+    Ok(corners)
+}
+
+fn ascii(name: &str, bytes: &[u8]) -> Result<Vec<Corner>, ObjError> {
+    let text = String::from_utf8_lossy(bytes);
+    // A fan has fewer triangles than its facet has vertices.
+    let most = text
+        .lines()
+        .filter(|l| l.trim_start().starts_with("vertex"))
+        .count() as u64;
+    let _held = reserve(name, "the triangles", most * MODEL_BYTES_PER_TRIANGLE)?;
+    let mut corners = Vec::with_capacity(most as usize);
+    let mut normal = Vec3::ZERO;
+    let mut polygon: Vec<Vec3> = Vec::new();
+    for (number, line) in text.lines().enumerate() {
+        let at = |problem: String| ObjError::Line {
+            name: name.to_string(),
+            line: number + 1,
+            problem,
+        };
+        let mut words = line.split_whitespace();
+        let keyword = words.next().unwrap_or("");
+        let three = |words: &mut std::str::SplitWhitespace, what: &str| {
+            let n: Vec<f32> = words
+                .take(3)
+                .map(|w| w.parse::<f32>().ok().filter(|x| x.is_finite()))
+                .collect::<Option<_>>()
+                .filter(|n: &Vec<f32>| n.len() == 3)
+                .ok_or_else(|| at(format!("{what} needs three finite numbers")))?;
+            Ok::<Vec3, ObjError>(Vec3::new(n[0], n[1], n[2]))
+        };
+        match keyword {
+            "facet" => {
+                polygon.clear();
+                normal = match words.next() {
+                    Some("normal") => three(&mut words, "facet normal")?,
+                    _ => Vec3::ZERO,
+                };
+            }
+            "vertex" => {
+                let p = three(&mut words, "vertex")?;
+                if polygon.len() >= super::obj::MAX_FACE_CORNERS {
+                    return Err(at("too many vertices in one facet".into()));
+                }
+                polygon.push(p);
+            }
+            "endfacet" => {
+                for k in 1..polygon.len().saturating_sub(1) {
+                    let p = [polygon[0], polygon[k], polygon[k + 1]];
+                    let n = facet_normal(normal, p);
+                    corners.extend(p.map(|position| Corner {
+                        position,
+                        uv: None,
+                        normal: n,
+                        color: None,
+                    }));
+                }
+                polygon.clear();
+            }
+            _ => {}
+        }
+    }
+    if corners.is_empty() {
+        return Err(ObjError::Empty {
+            name: name.to_string(),
+        });
+    }
+    Ok(corners)
+}
