@@ -7,6 +7,8 @@
 mod hostile;
 
 mod models;
+mod models_formats;
+mod models_gltf;
 mod models_props;
 mod models_render;
 mod mutation;
