@@ -300,4 +300,48 @@ fn ansi_text_lines_end_with_lf() {
     // 100 pixel rows are 50 cell rows (more than one band of 32).
     assert!(!o.stdout.contains(&b'\r'), "no carriage return");
     assert_eq!(o.stdout.iter().filter(|&&b| b == b'\n').count(), 50);
+
+#[test]
+fn ansi_writes_every_symbol_set_and_pixel_format_with_lf_rows() {
+    for (symbols, rows) in [("half", 5), ("quad", 5), ("sextant", 4), ("octant", 3)] {
+        let o = relief(&[
+            "render",
+            "--ansi",
+            "--width",
+            "20",
+            "--height",
+            "10",
+            "--symbols",
+            symbols,
+        ]);
+        assert!(o.status.success());
+        let text = String::from_utf8(o.stdout).unwrap();
+        assert!(!text.contains('\r'), "{symbols}: LF only");
+        assert_eq!(text.lines().count(), rows, "{symbols}");
+    }
+    let o = relief(&[
+        "render", "--ansi", "--width", "20", "--height", "10", "--format", "kitty",
+    ]);
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        text.starts_with("\x1b_Ga=T,f=24,o=z,s=20,v=10,"),
+        "{text:?}"
+    );
+    assert!(text.ends_with("\x1b\\\n"));
+    let o = relief(&[
+        "render", "--ansi", "--width", "20", "--height", "10", "--format", "sixels",
+    ]);
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(text.starts_with("\x1bP0;1;0q\"1;1;20;10#0;2;"), "{text:?}");
+    assert!(text.ends_with("\x1b\\\n"));
+    let o = relief(&[
+        "render", "--ansi", "--width", "20", "--height", "10", "--format", "iterm",
+    ]);
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        text.starts_with("\x1b]1337;File=inline=1;size="),
+        "{text:?}"
+    );
+    assert!(text.ends_with("\x07\n"));
 }
