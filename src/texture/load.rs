@@ -10,7 +10,7 @@ use std::path::Path;
 
 use image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader, Limits};
 
-use super::{Level, Texture, resample, variants, xpm};
+use super::{Level, Texture, resample, tiff_samples, variants, xpm};
 use crate::budget::{self, Reservation};
 use crate::sanitize;
 
@@ -313,11 +313,34 @@ fn decode_level(
         Err(TextureError::Corrupt { .. } | TextureError::Unsupported { .. }) => {
             match variants::rewrite(bytes) {
                 Some((fixed, format)) => contained_decode(&fixed, file, Some(format)).or(first),
+                None if bytes.starts_with(b"II*\0") || bytes.starts_with(b"MM\0*") => {
+                    crate::contain::contain(|| tiff_level(bytes, file))
+                        .ok()
+                        .and_then(|r| r.transpose())
+                        .unwrap_or(first)
+                }
                 None => first,
             }
         }
         other => other,
     }
+}
+
+/// A TIFF through the `tiff` crate's own samples ([`tiff_samples`]):
+/// `Ok(None)` when it cannot decode it either.
+fn tiff_level(bytes: &[u8], file: &str) -> Result<Option<(Level, Reservation)>, TextureError> {
+    let Some((width, height)) = tiff_samples::dimensions(bytes) else {
+        return Ok(None);
+    };
+    check_size(file, width, height)?;
+    let held = reserve_texture(file, width as usize, height as usize)?;
+    let Some(p) = tiff_samples::decode(bytes, MAX_DECODER_ALLOC as usize) else {
+        return Ok(None);
+    };
+    let level = level_from_rows(p.width, p.height, p.has_alpha, |x, y| {
+        p.rgba[y * p.width + x]
+    });
+    Ok(Some((level, held)))
 }
 
 /// [`decode_image`] with a decoder panic turned into this file's error (its

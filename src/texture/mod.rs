@@ -20,6 +20,7 @@ pub mod resample;
 pub mod sampler;
 pub mod specular_map;
 pub mod thumbnail;
+pub mod tiff_samples;
 pub mod variants;
 pub mod xpm;
 

@@ -956,3 +956,41 @@ fn decoder_internals_stay_out_of_messages() {
         "bad.gif: corrupt or truncated GIF file: its LZW-compressed data does not decode"
     );
 }
+
+#[test]
+fn tiff_samples_the_decoder_library_refuses_load() {
+    let g = |x: usize, y: usize| ((13 * (16 * y + x)) % 256) as f32 / 255.0;
+    // Float grey holds g / 255; signed 8-bit g − 128, shown as 0..255.
+    for (name, tolerance) in [("float.tif", 1e-6), ("signed8.tif", 1e-6)] {
+        let tex =
+            load_texture(&data(&format!("variants/{name}"))).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!((tex.width(), tex.height()), (16, 8), "{name}");
+        for y in 0..8 {
+            for x in 0..16 {
+                let t = at(&tex, x, y);
+                for c in 0..4 {
+                    assert!(
+                        (t[c] - g(x, y)).abs() <= tolerance,
+                        "{name} ({x},{y}): {t:?}"
+                    );
+                }
+            }
+        }
+    }
+    // A palette picture: the colour map's entries, as Pillow reads them.
+    let tex = load_texture(&data("variants/palette.tif")).unwrap_or_else(|e| panic!("{e}"));
+    for ((x, y), rgb) in [
+        ((0, 0), [5, 12, 19]),
+        ((5, 3), [88, 95, 102]),
+        ((15, 7), [104, 111, 118]),
+    ] {
+        let t = at(&tex, x, y);
+        for c in 0..3 {
+            // Pillow stores v·256 in the 16-bit map: within half a level.
+            assert!(
+                (t[c] - rgb[c] as f32 / 255.0).abs() < 0.5 / 255.0,
+                "({x},{y}): {t:?}"
+            );
+        }
+    }
+}
