@@ -17,6 +17,7 @@ pub mod report;
 pub mod resolve;
 pub mod runner;
 pub mod terminal;
+pub mod truth;
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -137,7 +138,11 @@ fn header(plan: &Plan, texture: &str) -> Vec<String> {
             plan.min_frames,
             plan.rounds
         ),
-        "error against the reference, whole frames: PSNR (inf = identical), largest channel error (0–255), mean SSIM of luma; front = on the Pareto front of time and PSNR".into(),
+        format!(
+            "truth: the reference setting ray-cast in f64 apart from the renderer (src/bench/truth), {r}x{r} stratified rays per pixel, texture read from its finest level",
+            r = plan.truth_rays
+        ),
+        "error against the truth, whole frames: PSNR (inf = identical), largest channel error (0–255), mean SSIM of luma; self PSNR/max = against the supersampled reference image; front = on the Pareto front of time and PSNR".into(),
         format!(
             "terminal bytes: mean bytes the view's encoder writes for the picture after a {}° turn about Y (half blocks, colour tolerance {}), 24-bit and 256 colours",
             terminal::STEP_DEGREES,

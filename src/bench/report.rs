@@ -55,7 +55,7 @@ pub fn db(psnr: f64) -> String {
     }
 }
 
-const HEADINGS: [&str; 12] = [
+const HEADINGS: [&str; 14] = [
     "#",
     "configuration",
     "threads",
@@ -65,6 +65,8 @@ const HEADINGS: [&str; 12] = [
     "PSNR dB",
     "max err",
     "SSIM",
+    "self PSNR",
+    "self max",
     "KB 24-bit",
     "KB 256",
     "front",
@@ -87,6 +89,8 @@ fn cells(index: usize, row: &Row, on_front: bool) -> Vec<String> {
         db(row.psnr),
         row.max_error.to_string(),
         format!("{:.4}", row.ssim),
+        db(row.self_psnr),
+        row.self_max_error.to_string(),
         kb(row.bytes_truecolor),
         kb(row.bytes_256),
         if on_front { "*".into() } else { String::new() },
@@ -208,7 +212,7 @@ pub fn csv(report: &Report) -> String {
     let mut out = String::from(
         "index,configuration,threads,shading,normals,texture,filter,bump,technique,\
          height_derivative,light_vector,aa,scene,frames,median_ms,p10_ms,p90_ms,\
-         pixels_per_frame,pixels_per_second,psnr_db,max_error,ssim,bytes_truecolor,bytes_256,plan_ms,raster_ms,pareto\n",
+         pixels_per_frame,pixels_per_second,psnr_db,max_error,ssim,self_psnr_db,self_max_error,bytes_truecolor,bytes_256,plan_ms,raster_ms,pareto\n",
     );
     let front = report.front();
     for (i, r) in report.rows.iter().enumerate() {
@@ -241,6 +245,12 @@ pub fn csv(report: &Report) -> String {
             },
             r.max_error.to_string(),
             format!("{:.6}", r.ssim),
+            if r.self_psnr.is_infinite() {
+                "inf".into()
+            } else {
+                format!("{:.4}", r.self_psnr)
+            },
+            r.self_max_error.to_string(),
             format!("{:.0}", r.bytes_truecolor),
             format!("{:.0}", r.bytes_256),
             msf(r.plan_time),
@@ -272,6 +282,8 @@ mod tests {
             pixels_per_frame: 1000.0,
             psnr,
             max_error: 9,
+            self_psnr: psnr,
+            self_max_error: 9,
             ssim: 0.99,
             bytes_truecolor: 41_234.0,
             bytes_256: 20_000.0,
@@ -388,7 +400,7 @@ mod tests {
         let lines: Vec<&str> = c.lines().collect();
         assert_eq!(lines.len(), 4);
         let columns = lines[0].split(',').count();
-        assert_eq!(columns, 27);
+        assert_eq!(columns, 29);
         assert!(lines[1].starts_with("1,\"fast, rough\",2,phong,vertex,true,bilinear,true,blinn,"));
         assert!(lines[3].contains(",inf,"));
         assert!(lines[1].ends_with(",true") && lines[2].ends_with(",false"));

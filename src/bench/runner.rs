@@ -5,10 +5,12 @@ use std::time::{Duration, Instant};
 
 use glam::Vec3;
 
+use super::config::reference_setting;
 use super::config::{self, Config, Threads};
 use super::metrics::{self, SquaredError};
 use super::reference;
 use super::terminal;
+use super::truth;
 use crate::Renderer;
 use crate::framebuffer::Framebuffer;
 use crate::scene::Scene;
@@ -25,6 +27,8 @@ pub struct Plan {
     pub orientations: Vec<Vec3>,
     /// Supersampling of the reference, per axis.
     pub reference_factor: usize,
+    /// Rays per pixel of the ray-cast truth, per axis.
+    pub truth_rays: usize,
     /// Size of the "all threads" pool.
     pub threads: usize,
     /// Timed wall time per row, after the error pass that also warms up.
@@ -46,6 +50,7 @@ impl Plan {
             configs: config::full(),
             orientations: config::orientations(8, config::SEED),
             reference_factor: 8,
+            truth_rays: 16,
             threads,
             budget: Duration::from_millis(1000),
             min_frames: 32,
@@ -62,6 +67,7 @@ impl Plan {
             configs: config::quick(),
             orientations: config::orientations(2, config::SEED),
             reference_factor: 4,
+            truth_rays: 6,
             threads,
             budget: Duration::from_millis(50),
             min_frames: 4,
@@ -92,10 +98,15 @@ pub struct Row {
     pub p90: Duration,
     /// Mean of `pixels_shaded` over the orientations.
     pub pixels_per_frame: f64,
-    /// PSNR in dB over all orientations seen as one image (infinite if equal).
+    /// PSNR in dB against the ray-cast truth, over all orientations seen
+    /// as one image (infinite if equal).
     pub psnr: f64,
-    /// Largest channel error over all orientations.
+    /// Largest channel error against the truth over all orientations.
     pub max_error: u8,
+    /// PSNR and largest error against relief's own supersampled frame
+    /// (the reference the bench used before the truth).
+    pub self_psnr: f64,
+    pub self_max_error: u8,
     /// Mean SSIM over the orientations.
     pub ssim: f64,
     /// Mean bytes the terminal encoder writes for the frame after a small
@@ -197,6 +208,23 @@ pub fn measure(
             .map(|&r| reference::render(scene, r, plan.width, plan.height, plan.reference_factor))
             .collect()
     });
+    progress(&format!(
+        "rendering the ray-cast truth ({0}x{0} rays per pixel)…",
+        plan.truth_rays
+    ));
+    let truths: Vec<Framebuffer> = all.install(|| {
+        let k = reference_setting().bump_strength as f64;
+        plan.orientations
+            .iter()
+            .map(|&rotation| {
+                let view = truth::View {
+                    rotation,
+                    bump_strength: k,
+                };
+                truth::render(scene, view, plan.width, plan.height, plan.truth_rays)
+            })
+            .collect()
+    });
     let total = plan.configs.len();
     let mut rows: Vec<Measuring> = Vec::with_capacity(total);
     for (i, config) in plan.configs.iter().enumerate() {
@@ -208,6 +236,7 @@ pub fn measure(
                 config,
                 threads,
                 &references,
+                &truths,
             )
         })?;
         progress(&format!(
@@ -252,23 +281,29 @@ fn error_pass(
     config: &Config,
     threads: usize,
     references: &[Framebuffer],
+    truths: &[Framebuffer],
 ) -> anyhow::Result<Measuring> {
     let mut renderer = Renderer::new();
     let mut fb = Framebuffer::new(plan.width, plan.height);
     let mut turned = Framebuffer::new(plan.width, plan.height);
     let (mut bytes_truecolor, mut bytes_256) = (0u64, 0u64);
     let mut squared = SquaredError::default();
-    let (mut max_error, mut ssim_sum, mut pixels) = (0u8, 0.0, 0u64);
+    let mut self_squared = SquaredError::default();
+    let (mut max_error, mut self_max_error) = (0u8, 0u8);
+    let (mut ssim_sum, mut pixels) = (0.0, 0u64);
     let (mut plan_time, mut raster_time) = (Duration::ZERO, Duration::ZERO);
-    for (&rotation, reference) in plan.orientations.iter().zip(references) {
+    for ((&rotation, reference), truth) in plan.orientations.iter().zip(references).zip(truths) {
         let settings = Settings {
             rotation,
             ..config.settings
         };
         let stats = renderer.render(scene, &settings, &mut fb);
-        squared.add(fb.pixels(), reference.pixels());
-        max_error = max_error.max(metrics::max_channel_error(fb.pixels(), reference.pixels()));
-        ssim_sum += metrics::ssim(fb.pixels(), reference.pixels(), plan.width, plan.height);
+        self_squared.add(fb.pixels(), reference.pixels());
+        self_max_error =
+            self_max_error.max(metrics::max_channel_error(fb.pixels(), reference.pixels()));
+        squared.add(fb.pixels(), truth.pixels());
+        max_error = max_error.max(metrics::max_channel_error(fb.pixels(), truth.pixels()));
+        ssim_sum += metrics::ssim(fb.pixels(), truth.pixels(), plan.width, plan.height);
         pixels += stats.counters.pixels_shaded;
         plan_time += stats.plan_time;
         raster_time += stats.raster_time;
@@ -303,6 +338,8 @@ fn error_pass(
             pixels_per_frame: pixels as f64 / n as f64,
             psnr: squared.psnr(),
             max_error,
+            self_psnr: self_squared.psnr(),
+            self_max_error,
             ssim: ssim_sum / n as f64,
             bytes_truecolor: bytes_truecolor as f64 / n as f64,
             bytes_256: bytes_256 as f64 / n as f64,
