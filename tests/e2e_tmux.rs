@@ -353,11 +353,11 @@ fn inside_tmux_the_colour_depth_comes_from_the_client() {
         return;
     }
     let cases = [
-        ("rgb", true, "24b cube", "24-bit: tmux client RGB", "8;2;"),
+        ("rgb", true, "│ 24b │", "24-bit: tmux client RGB", "8;2;"),
         (
             "norgb",
             false,
-            "256c cube",
+            "│ 256c │",
             "256 colours: tmux client no RGB",
             "8;5;",
         ),

@@ -68,7 +68,8 @@ pub fn frame_text(
 }
 
 /// Writes [`frame_text`] to `out`, a band of [`BAND_ROWS`] cell rows at a
-/// time (each band starts from the default pen and ends with a reset).
+/// time (each band starts from the default pen and ends with a reset);
+/// rows end with LF, as a file's lines do.
 pub fn write_frame_text(
     fb: &Framebuffer,
     depth: ColorDepth,
@@ -76,7 +77,7 @@ pub fn write_frame_text(
     pad: Rgb,
     out: &mut impl io::Write,
 ) -> io::Result<()> {
-    write_symbol_text(fb, Symbols::Half, depth, dither, pad, b"\r\n", out)
+    write_symbol_text(fb, Symbols::Half, depth, dither, pad, b"\n", out)
 }
 
 /// The frame as text drawn with `symbols`, rows joined by `newline`
