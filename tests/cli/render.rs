@@ -300,6 +300,7 @@ fn ansi_text_lines_end_with_lf() {
     // 100 pixel rows are 50 cell rows (more than one band of 32).
     assert!(!o.stdout.contains(&b'\r'), "no carriage return");
     assert_eq!(o.stdout.iter().filter(|&&b| b == b'\n').count(), 50);
+}
 
 #[test]
 fn ansi_writes_every_symbol_set_and_pixel_format_with_lf_rows() {
