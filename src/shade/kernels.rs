@@ -118,6 +118,36 @@ fn bilinear_gradient(plan: &Plan) -> bool {
         && plan.height_derivative == HeightDerivative::Filtered
 }
 
+/// The light loop at eight points of `tri` (`light_lanes`), with each
+/// covered lane's shadow when the frame has a shadow map (a loop of its
+/// own, so a frame without one multiplies by no factor).
+#[inline(always)]
+fn light8<const SPEC: bool>(
+    ctx: &ShadeCtx,
+    tri: &PhongTri,
+    p: V3,
+    n: V3,
+    view: V3,
+    live: u32,
+    counters: &mut Counters,
+) -> (V3, V3) {
+    let set = LightSet::of(ctx.plan);
+    let cosine = |_, d, _: &mut Counters| facing_cosine(n, d);
+    match ctx.shadow {
+        None => light_lanes::<V3, SPEC>(&set, p, n, view, cosine, |_, _, _| f32x8::ONE, counters),
+        Some(sh) => {
+            let visibility = |i, reached: f32x8, counters: &mut Counters| {
+                if i == sh.light {
+                    shadow8(sh, p, tri, reached.to_bitmask() & live, counters)
+                } else {
+                    f32x8::ONE
+                }
+            };
+            light_lanes::<V3, SPEC>(&set, p, n, view, cosine, visibility, counters)
+        }
+    }
+}
+
 /// The shadow factor of the shadowed light at the `lanes` of `p` (a bit
 /// per lane it reaches among the covered ones; 1 in the others): each
 /// lane's one lookup, as the one-pixel kernel makes it.
@@ -422,23 +452,10 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
             }
         }
         counters.light_evals += count * plan.lights.len() as u64;
-        let shadow = ctx.shadow;
-        let visibility = |i, reached: f32x8, counters: &mut Counters| match shadow {
-            Some(sh) if sh.light == i => shadow8(sh, p, tri, reached.to_bitmask() & live, counters),
-            _ => f32x8::ONE,
-        };
         if SPEC && plan.specular.is_some() {
             counters.specular_evals += count * plan.lights.len() as u64;
             let view = view_dir(plan.eye, p);
-            let (light, mut highlight) = light_lanes::<V3, true>(
-                &LightSet::of(plan),
-                p,
-                n,
-                view,
-                |_, d, _| facing_cosine(n, d),
-                visibility,
-                counters,
-            );
+            let (light, mut highlight) = light8::<true>(ctx, tri, p, n, view, live, counters);
             if let Some(map) = gloss_map(ctx, tri.glossy) {
                 let (u, v) = packet::lerp2(&b, &tri.uv);
                 highlight = highlight.scale(gloss8(map, u, v));
@@ -446,15 +463,7 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
             let lit = albedo.times(light).plus(highlight);
             return packet::finish(mirror(plan, p, n, lit, live, counters), live, counters);
         }
-        let (light, _) = light_lanes::<V3, false>(
-            &LightSet::of(plan),
-            p,
-            n,
-            V3::splat(Vec3::ZERO),
-            |_, d, _| facing_cosine(n, d),
-            visibility,
-            counters,
-        );
+        let (light, _) = light8::<false>(ctx, tri, p, n, V3::splat(Vec3::ZERO), live, counters);
         packet::finish(
             mirror(plan, p, n, albedo.times(light), live, counters),
             live,

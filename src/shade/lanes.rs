@@ -36,6 +36,10 @@ pub trait Lanes:
     fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
     /// No lane of `mask` is set.
     fn none(mask: Self::Mask) -> bool;
+    /// Whether a step whose lanes are all off in `mask` is skipped: for one
+    /// pixel, always (a branch); for eight, never (the step's lanes are
+    /// selected away, and testing costs more than the rare packet it skips).
+    fn skips(mask: Self::Mask) -> bool;
     /// `a` and `b()`: for one pixel `&&`, which skips `b` when `a` is false.
     fn both(a: Self::Mask, b: impl FnOnce() -> Self::Mask) -> Self::Mask;
     /// x^e where x > 0, else 0 (also for NaN): `f32::powf` lane by lane.
@@ -76,6 +80,10 @@ impl Lanes for f32 {
     }
     #[inline(always)]
     fn none(mask: bool) -> bool {
+        !mask
+    }
+    #[inline(always)]
+    fn skips(mask: bool) -> bool {
         !mask
     }
     #[inline(always)]
@@ -123,6 +131,10 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn none(mask: f32x8) -> bool {
         mask.none()
+    }
+    #[inline(always)]
+    fn skips(_: f32x8) -> bool {
+        false
     }
     #[inline(always)]
     fn both(a: f32x8, b: impl FnOnce() -> f32x8) -> f32x8 {

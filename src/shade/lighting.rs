@@ -140,7 +140,7 @@ pub fn light_lanes<V: Vector, const SPEC: bool>(
         let len2 = d.dot(d);
         let inf = V::L::splat(f32::INFINITY);
         let reached = V::L::both(k.gt(zero), || V::L::both(len2.gt(zero), || len2.lt(inf)));
-        if V::L::none(reached) {
+        if V::L::skips(reached) {
             continue;
         }
         let mut ks = if SPEC {
