@@ -104,6 +104,7 @@ impl ModelChoice {
             parts: vec![ModelPart {
                 mesh,
                 material: None,
+                own_maps: None,
             }],
             maps: ModelMaps::default(),
             points: false,
@@ -225,15 +226,41 @@ impl Scene {
     pub fn loaded(model: LoadedModel, texture: Arc<Texture>) -> Self {
         let LoadedModel { parts, maps, .. } = model;
         let mut parts = parts.into_iter();
-        let first = parts.next().map(|p| p.mesh).unwrap_or_default();
-        let mut scene = Scene::model(first, maps.texture.unwrap_or(texture));
-        scene.objects.extend(parts.map(|p| Object {
-            mesh: p.mesh,
-            transform: Mat4::IDENTITY,
-            rotates: true,
-        }));
+        let first = parts.next().unwrap_or_else(|| ModelPart {
+            mesh: Mesh::default(),
+            material: None,
+            own_maps: None,
+        });
+        let mut scene = Scene::model(first.mesh, maps.texture.unwrap_or(texture));
         scene.material.specular_map = maps.specular_map;
         scene.material.normal_map = maps.normal_map;
+        let mut own = vec![first.own_maps];
+        for p in parts {
+            scene.objects.push(Object {
+                mesh: p.mesh,
+                transform: Mat4::IDENTITY,
+                rotates: true,
+            });
+            own.push(p.own_maps);
+        }
+        // A part whose material has its own texture draws with it; the
+        // others with the scene's material (which the texture keys change).
+        let environment = scene.material.environment.clone();
+        scene.object_materials = own
+            .into_iter()
+            .map(|m| {
+                let m = m?;
+                Some(Arc::new(Material {
+                    texture: m.texture?,
+                    specular_map: m.specular_map,
+                    normal_map: m.normal_map,
+                    environment: environment.clone(),
+                }))
+            })
+            .collect();
+        if scene.object_materials.iter().all(Option::is_none) {
+            scene.object_materials.clear();
+        }
         scene
     }
 

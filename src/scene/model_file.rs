@@ -57,6 +57,10 @@ pub struct ModelPart {
     pub mesh: Mesh,
     /// The material's description (none: the faces named no known material).
     pub material: Option<MaterialDesc>,
+    /// The maps of this part's own material, when it has a texture that
+    /// loaded and is not the one the scene's material shows (`LoadedModel::maps`):
+    /// the part is then drawn with them (docs/models.md).
+    pub own_maps: Option<ModelMaps>,
 }
 
 /// The maps the single scene material takes from the model's textured

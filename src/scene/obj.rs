@@ -186,14 +186,18 @@ fn parse_unguarded(name: &str, text: &[u8], dir: Option<&Path>) -> Result<Loaded
     }
     // The scene has one texture: the first material with a diffuse map
     // that loads gives it (see docs/models.md).
-    let (maps, shown) = scene_maps(&materials, &mut warnings);
+    let mut own = material_maps(&materials, &mut warnings);
+    let shown = own.iter().position(Option::is_some);
+    let maps = shown.and_then(|i| own[i].take()).unwrap_or_default();
     let textured: Vec<bool> = materials
         .iter()
         .enumerate()
         .map(|(i, m)| match m {
             // No material, or one whose map could not be shown: the scene's texture.
             None => true,
-            Some(m) => Some(i) == shown || (shown.is_none() && m.diffuse_map.is_some()),
+            Some(m) => {
+                Some(i) == shown || own[i].is_some() || (shown.is_none() && m.diffuse_map.is_some())
+            }
         })
         .collect();
     // Kd is the corner colour where the file gives none.
@@ -211,6 +215,7 @@ fn parse_unguarded(name: &str, text: &[u8], dir: Option<&Path>) -> Result<Loaded
         .map(|(part, mesh)| ModelPart {
             mesh,
             material: materials[part].clone(),
+            own_maps: own[part].clone(),
         })
         .collect();
     Ok(LoadedModel {
@@ -259,31 +264,30 @@ fn load_libraries(
     out
 }
 
-/// The maps of the first material whose `map_Kd` loads: its colour with its
-/// `bump` as height (times `-bm`), its `map_Ks` as specular map and its
-/// `norm` as normal map; and which material that is.
-fn scene_maps(
+/// The maps of every material whose `map_Kd` loads (none for the others):
+/// its colour with its `bump` as height (times `-bm`), its `map_Ks` as
+/// specular map and its `norm` as normal map. Each file is read once per
+/// material that names it.
+fn material_maps(
     materials: &[Option<MaterialDesc>],
     warnings: &mut Vec<String>,
-) -> (ModelMaps, Option<usize>) {
+) -> Vec<Option<ModelMaps>> {
+    materials
+        .iter()
+        .map(|m| m.as_ref().and_then(|m| maps_of(m, warnings)))
+        .collect()
+}
+
+/// One material's maps, or none when it has no colour map that loads.
+fn maps_of(m: &MaterialDesc, warnings: &mut Vec<String>) -> Option<ModelMaps> {
     use crate::texture::load;
-    let textured: Vec<usize> = (0..materials.len())
-        .filter(|&i| {
-            materials[i]
-                .as_ref()
-                .is_some_and(|m| m.diffuse_map.is_some())
-        })
-        .collect();
-    for &i in &textured {
-        let Some(m) = &materials[i] else { continue };
-        let Some(color) = m.diffuse_map.as_ref().and_then(|t| t.file.as_ref()) else {
-            continue;
-        };
+    {
+        let color = m.diffuse_map.as_ref().and_then(|t| t.file.as_ref())?;
         let texture = match load::load_texture(color) {
             Ok(t) => t,
             Err(e) => {
                 warnings.push(clean(&e.to_string()));
-                continue;
+                return None;
             }
         };
         let texture = match m.bump_map.as_ref().and_then(|t| t.file.as_ref()) {
@@ -325,21 +329,12 @@ fn scene_maps(
                     }
                 },
             );
-        if textured.len() > 1 {
-            warnings.push(format!(
-                "{} materials have textures: {} shows its own, the others their colour (Kd)",
-                textured.len(),
-                quote(&m.name)
-            ));
-        }
-        let maps = ModelMaps {
+        Some(ModelMaps {
             texture: Some(Arc::new(texture)),
             specular_map,
             normal_map,
-        };
-        return (maps, Some(i));
+        })
     }
-    (ModelMaps::default(), None)
 }
 
 /// A height map's heights times `multiplier` (MTL `-bm`).

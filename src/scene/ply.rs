@@ -518,6 +518,7 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
         vec![ModelPart {
             mesh: point_cloud(name, &vertices)?,
             material: None,
+            own_maps: None,
         }]
     } else {
         drop(vertices);
@@ -526,6 +527,7 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
             .map(|(_, mesh)| ModelPart {
                 mesh,
                 material: None,
+                own_maps: None,
             })
             .collect()
     };

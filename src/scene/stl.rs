@@ -50,6 +50,7 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
             .map(|(_, mesh)| ModelPart {
                 mesh,
                 material: None,
+                own_maps: None,
             })
             .collect(),
         maps: ModelMaps::default(),

@@ -592,3 +592,62 @@ fn render_opens_a_positional_model_file() {
     let mid = picture.get_pixel(32, 24).0;
     assert_ne!(mid, relief::scene::BACKGROUND);
 }
+
+#[test]
+fn each_material_draws_with_its_own_texture() {
+    use relief::render::render_frame;
+    use relief::scene::{Built, SceneKind, build_scene};
+    use relief::texture::procedural;
+    let dir = temp_dir("mtl-two");
+    png(&dir.join("red.png"), [220, 0, 0], [255; 16]);
+    png(&dir.join("blue.png"), [0, 0, 220], [255; 16]);
+    png(&dir.join("green.png"), [0, 220, 0], [255; 16]);
+    // Two quads side by side, each with its material; white Kd so only the
+    // texture colours them.
+    let obj = "mtllib two.mtl\n\
+               v -2 -1 0\nv -0.2 -1 0\nv -0.2 1 0\nv -2 1 0\n\
+               v 0.2 -1 0\nv 2 -1 0\nv 2 1 0\nv 0.2 1 0\n\
+               vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+               usemtl red\nf 1/1 2/2 3/3 4/4\nusemtl blue\nf 5/1 6/2 7/3 8/4\n";
+    write(
+        &dir,
+        "two.mtl",
+        "newmtl red\nKd 1 1 1\nmap_Kd red.png\nnewmtl blue\nKd 1 1 1\nmap_Kd blue.png\n",
+    );
+    let path = write(&dir, "two.obj", obj);
+    let model = load(&path);
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+    // The first textured material is the scene's; the other keeps its own.
+    assert!(model.parts[0].own_maps.is_none());
+    assert!(model.parts[1].own_maps.is_some());
+    let Ok(Built::Scene(scene)) = build_scene(
+        SceneKind::Cube,
+        &ModelChoice::File(path.clone()),
+        std::sync::Arc::new(procedural::brick()),
+        false,
+    ) else {
+        panic!("the model builds a scene");
+    };
+    let mut settings = relief::Settings {
+        rotation: Vec3::ZERO,
+        ..Default::default()
+    };
+    settings.bump = false;
+    let (w, h) = (160, 120);
+    let (fb, _) = render_frame(&scene, &settings, w, h);
+    // Fitted to radius 1.5 the quads span x = ±(0.13..1.34); a 160×120
+    // frame shows about 21 pixels a unit there, so 15 pixels either side
+    // of the middle is inside each.
+    let (left, right) = (fb.get(w / 2 - 15, h / 2), fb.get(w / 2 + 15, h / 2));
+    assert!(left[0] > 2 * left[2] && left[0] > 40, "left {left:?}");
+    assert!(right[2] > 2 * right[0] && right[2] > 40, "right {right:?}");
+    // Changing the scene's texture (the `x` key's job) leaves the blue
+    // part's own material alone.
+    let mut scene = *scene;
+    scene.material.texture =
+        std::sync::Arc::new(relief::texture::load::load_texture(&dir.join("green.png")).unwrap());
+    let (fb, _) = render_frame(&scene, &settings, w, h);
+    let (left, right) = (fb.get(w / 2 - 15, h / 2), fb.get(w / 2 + 15, h / 2));
+    assert!(left[1] > 2 * left[0] && left[1] > 40, "left {left:?}");
+    assert!(right[2] > 2 * right[1] && right[2] > 40, "right {right:?}");
+}
