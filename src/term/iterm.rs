@@ -14,10 +14,8 @@ pub fn write_image(
     cells: Option<(u16, u16)>,
     out: &mut impl Write,
 ) -> io::Result<()> {
-    let mut raw = Vec::with_capacity(fb.width() * fb.height() * 3);
-    for p in fb.pixels() {
-        raw.extend_from_slice(p);
-    }
+    // RGB rows, top first: the framebuffer's own bytes.
+    let raw = fb.pixels().as_flattened();
     let mut png = Vec::new();
     image::ImageEncoder::write_image(
         image::codecs::png::PngEncoder::new_with_quality(
@@ -25,7 +23,7 @@ pub fn write_image(
             image::codecs::png::CompressionType::Fast,
             image::codecs::png::FilterType::Adaptive,
         ),
-        &raw,
+        raw,
         fb.width() as u32,
         fb.height() as u32,
         image::ExtendedColorType::Rgb8,

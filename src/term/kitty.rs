@@ -25,14 +25,12 @@ pub fn write_image(
     cells: Option<(u16, u16)>,
     out: &mut impl Write,
 ) -> io::Result<()> {
-    let mut raw = Vec::with_capacity(fb.width() * fb.height() * 3);
-    for p in fb.pixels() {
-        raw.extend_from_slice(p);
-    }
+    // RGB rows, top first: the framebuffer's own bytes.
+    let raw = fb.pixels().as_flattened();
     // Fast compression: the link is what is slow, but a frame must still
     // be encoded within the frame interval.
     let mut z = ZlibEncoder::new(Vec::new(), Compression::fast());
-    z.write_all(&raw)?;
+    z.write_all(raw)?;
     let packed = z.finish()?;
     let text = base64::engine::general_purpose::STANDARD.encode(&packed);
     let chunks: Vec<&[u8]> = text.as_bytes().chunks(CHUNK).collect();

@@ -74,28 +74,30 @@ pub(super) fn axes(t: Vec3, w: f32, n: Vec3) -> (Vec3, Vec3) {
 mod tests {
     use super::*;
 
+    /// Two triangles of a unit quad in z = 0, facing +Z.
+    const QUAD: [Vec3; 6] = [
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+    ];
+    /// Their texture coordinates: u along +x, v down the picture (−y).
+    const QUAD_UV: [Vec2; 6] = [
+        Vec2::new(0.0, 0.0),
+        Vec2::new(0.0, 1.0),
+        Vec2::new(1.0, 1.0),
+        Vec2::new(0.0, 0.0),
+        Vec2::new(1.0, 1.0),
+        Vec2::new(1.0, 0.0),
+    ];
+
     /// A unit quad in z = 0 facing +Z, u along +x and v down the picture
     /// (along −y): T must be +x, and ∂P/∂v −y (w = +1).
     #[test]
     fn a_quad_gets_its_texture_axes() {
-        let p = [
-            Vec3::new(0.0, 1.0, 0.0),
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(0.0, 1.0, 0.0),
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-        ];
-        let uv = [
-            Vec2::new(0.0, 0.0),
-            Vec2::new(0.0, 1.0),
-            Vec2::new(1.0, 1.0),
-            Vec2::new(0.0, 0.0),
-            Vec2::new(1.0, 1.0),
-            Vec2::new(1.0, 0.0),
-        ];
-        let n = [Vec3::Z; 6];
-        let axes = mikktspace(&p, &n, &uv).unwrap();
+        let axes = mikktspace(&QUAD, &[Vec3::Z; 6], &QUAD_UV).unwrap();
         for (pu, pv) in axes {
             assert!(pu.abs_diff_eq(Vec3::X, 1e-5), "{pu}");
             assert!(pv.abs_diff_eq(-Vec3::Y, 1e-5), "{pv}");
@@ -105,23 +107,8 @@ mod tests {
     /// The same quad with u mirrored (u along −x): T is −x, ∂P/∂v still −y.
     #[test]
     fn a_mirrored_quad_keeps_its_v_axis() {
-        let p = [
-            Vec3::new(0.0, 1.0, 0.0),
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(0.0, 1.0, 0.0),
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-        ];
-        let uv = [
-            Vec2::new(1.0, 0.0),
-            Vec2::new(1.0, 1.0),
-            Vec2::new(0.0, 1.0),
-            Vec2::new(1.0, 0.0),
-            Vec2::new(0.0, 1.0),
-            Vec2::new(0.0, 0.0),
-        ];
-        let axes = mikktspace(&p, &[Vec3::Z; 6], &uv).unwrap();
+        let uv = QUAD_UV.map(|uv| Vec2::new(1.0 - uv.x, uv.y));
+        let axes = mikktspace(&QUAD, &[Vec3::Z; 6], &uv).unwrap();
         for (pu, pv) in axes {
             assert!(pu.abs_diff_eq(-Vec3::X, 1e-5), "{pu}");
             assert!(pv.abs_diff_eq(-Vec3::Y, 1e-5), "{pv}");
