@@ -145,6 +145,11 @@ impl<const PER_PIXEL: bool> Hook for Dot3<'_, PER_PIXEL> {
         let world_normal = plan.specular.is_some() || plan.environment.is_some();
         let frame = (PER_PIXEL || world_normal).then(|| s.frame());
         let n = frame.map_or(s.n, |f| f.t * normal.x + f.b * normal.y + f.n * normal.z);
+        // The diffuse cosine keeps the filtered normal's length (the mean
+        // N·L); the highlight and the mirror take its direction alone: a
+        // minified map's short normal would dim (N·H)^s by about |N|^s,
+        // further from the supersampled picture (docs/bump-dot3.md).
+        let n = n.normalize_or(s.n);
         let at = HookAt {
             uv: s.uv,
             n,
