@@ -373,27 +373,37 @@ fn position_key(p: Vec3) -> [u32; 3] {
     (p + Vec3::ZERO).to_array().map(f32::to_bits)
 }
 
-/// Centre and scale so the farthest point is `FIT_RADIUS` away (in f64:
-/// coordinates near f32::MAX would overflow when subtracted).
-fn fit(corners: &mut [Corner]) -> bool {
+/// The centre (of the bounding box) and the scale that put the farthest of
+/// `points` at `FIT_RADIUS`, worked out in f64 (coordinates near f32::MAX
+/// would overflow when subtracted); none when the points coincide or are
+/// not finite. `points` is walked twice. Every model format is fitted by it.
+pub(crate) fn fit_of<I: Iterator<Item = Vec3>>(points: impl Fn() -> I) -> Option<(DVec3, f64)> {
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for c in corners.iter() {
-        let p = c.position.as_dvec3();
+    for p in points() {
+        let p = p.as_dvec3();
         lo = lo.min(p);
         hi = hi.max(p);
     }
     let center = (lo + hi) * 0.5;
-    let radius = corners
-        .iter()
-        .map(|c| (c.position.as_dvec3() - center).length())
+    let radius = points()
+        .map(|p| (p.as_dvec3() - center).length())
         .fold(0.0f64, f64::max);
-    if !(radius > 0.0 && radius.is_finite()) {
+    (radius > 0.0 && radius.is_finite()).then(|| (center, FIT_RADIUS as f64 / radius))
+}
+
+/// A point moved by the fit [`fit_of`] found.
+pub(crate) fn fitted(p: Vec3, (center, scale): (DVec3, f64)) -> Vec3 {
+    ((p.as_dvec3() - center) * scale).as_vec3()
+}
+
+/// Centre and scale the corners so the farthest is `FIT_RADIUS` away.
+fn fit(corners: &mut [Corner]) -> bool {
+    let Some(fit) = fit_of(|| corners.iter().map(|c| c.position)) else {
         return false;
-    }
-    let scale = FIT_RADIUS as f64 / radius;
+    };
     for c in corners.iter_mut() {
-        c.position = ((c.position.as_dvec3() - center) * scale).as_vec3();
+        c.position = fitted(c.position, fit);
     }
     true
 }

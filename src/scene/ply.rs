@@ -22,7 +22,7 @@ use glam::{Vec2, Vec3};
 use super::mesh::{Mesh, Triangle, Vertex};
 use super::model_file::{LoadedModel, ModelMaps, ModelPart, reserve};
 use super::obj::build_parts;
-use super::obj::{Corner, FIT_RADIUS, MAX_FACE_CORNERS, MODEL_BYTES_PER_TRIANGLE, ObjError};
+use super::obj::{Corner, MAX_FACE_CORNERS, MODEL_BYTES_PER_TRIANGLE, ObjError, fit_of, fitted};
 
 /// Bytes kept per vertex while reading (position, normal, UV, colour, flags).
 const BYTES_PER_VERTEX: u64 = 12 + 12 + 8 + 12 + 4;
@@ -547,32 +547,25 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
 /// Points as triangles with three equal corners (drawn by the points
 /// display; they cover no pixel when filled), fitted like any model.
 fn point_cloud(name: &str, vertices: &[PlyVertex]) -> Result<Mesh, ObjError> {
-    let (mut lo, mut hi) = (
-        glam::DVec3::splat(f64::INFINITY),
-        glam::DVec3::splat(f64::NEG_INFINITY),
-    );
-    for v in vertices {
-        lo = lo.min(v.position.as_dvec3());
-        hi = hi.max(v.position.as_dvec3());
-    }
-    let center = (lo + hi) * 0.5;
-    let radius = vertices
-        .iter()
-        .map(|v| (v.position.as_dvec3() - center).length())
-        .fold(0.0f64, f64::max);
-    let scale = if radius > 0.0 && radius.is_finite() {
-        FIT_RADIUS as f64 / radius
-    } else if radius == 0.0 {
-        1.0
-    } else {
-        return Err(ObjError::Degenerate {
-            name: name.to_string(),
-        });
+    let fit = match fit_of(|| vertices.iter().map(|v| v.position)) {
+        Some(fit) => fit,
+        // Every point at one place: kept there, at scale 1.
+        None if vertices
+            .iter()
+            .all(|v| v.position.is_finite() && v.position == vertices[0].position) =>
+        {
+            (vertices[0].position.as_dvec3(), 1.0)
+        }
+        None => {
+            return Err(ObjError::Degenerate {
+                name: name.to_string(),
+            });
+        }
     };
     let mesh_vertices: Vec<Vertex> = vertices
         .iter()
         .map(|v| {
-            let position = ((v.position.as_dvec3() - center) * scale).as_vec3();
+            let position = fitted(v.position, fit);
             let normal = v.normal.and_then(|n| n.try_normalize()).unwrap_or(Vec3::Z);
             Vertex {
                 position,

@@ -20,10 +20,10 @@ use std::sync::Arc;
 
 use ::gltf::accessor::Accessor;
 use ::gltf::mesh::Mode;
-use glam::{DVec3, Mat3, Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use super::mesh::{Mesh, Triangle, Vertex};
-use super::obj::{FIT_RADIUS, MODEL_BYTES_PER_TRIANGLE, ObjError};
+use super::obj::{MODEL_BYTES_PER_TRIANGLE, ObjError, fit_of, fitted};
 use super::tangents::{accumulate, face_frame};
 use super::{Material, Object, Scene};
 use crate::sanitize::display_path;
@@ -414,35 +414,19 @@ fn triangles(mode: Mode, c: &[u32]) -> Vec<[u32; 3]> {
 /// Centres the model and scales it so its farthest point is `FIT_RADIUS`
 /// away (in f64, as OBJ models are fitted).
 fn fit(prims: &mut [Prim]) -> Result<(), Problem> {
-    let used = |p: &Prim| -> Vec<Vec3> {
-        p.tris
-            .iter()
-            .flatten()
-            .map(|&i| p.positions[i as usize])
-            .collect()
-    };
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for p in prims.iter() {
-        for q in used(p) {
-            lo = lo.min(q.as_dvec3());
-            hi = hi.max(q.as_dvec3());
-        }
-    }
-    let center = (lo + hi) * 0.5;
-    let mut radius = 0.0f64;
-    for p in prims.iter() {
-        for q in used(p) {
-            radius = radius.max((q.as_dvec3() - center).length());
-        }
-    }
-    if !(radius > 0.0 && radius.is_finite()) {
-        return Err("all its points coincide".into());
-    }
-    let scale = FIT_RADIUS as f64 / radius;
+    // Only the points the triangles use count.
+    let fit = fit_of(|| {
+        prims.iter().flat_map(|p| {
+            p.tris
+                .iter()
+                .flatten()
+                .map(move |&i| p.positions[i as usize])
+        })
+    })
+    .ok_or("all its points coincide")?;
     for p in prims.iter_mut() {
         for q in &mut p.positions {
-            *q = ((q.as_dvec3() - center) * scale).as_vec3();
+            *q = fitted(*q, fit);
         }
     }
     Ok(())
