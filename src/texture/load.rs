@@ -10,6 +10,7 @@ use std::path::Path;
 
 use image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader, Limits};
 
+use super::tiff_strips::Refusal;
 use super::{Level, Texture, resample, tiff_samples, variants, xpm};
 use crate::budget::{self, Reservation};
 use crate::sanitize;
@@ -334,8 +335,24 @@ fn tiff_level(bytes: &[u8], file: &str) -> Result<Option<(Level, Reservation)>, 
     };
     check_size(file, width, height)?;
     let held = reserve_texture(file, width as usize, height as usize)?;
-    let Some(p) = tiff_samples::decode(bytes, MAX_DECODER_ALLOC as usize) else {
-        return Ok(None);
+    let p = match tiff_samples::decode(bytes, MAX_DECODER_ALLOC as usize) {
+        Ok(Some(p)) => p,
+        Ok(None) => return Ok(None),
+        Err(refusal) => {
+            let (file, format) = (file.to_owned(), "TIFF".to_owned());
+            return Err(match refusal {
+                Refusal::Unsupported(reason) => TextureError::Unsupported {
+                    file,
+                    format,
+                    reason,
+                },
+                Refusal::Corrupt(reason) => TextureError::Corrupt {
+                    file,
+                    format,
+                    reason,
+                },
+            });
+        }
     };
     let level = level_from_rows(p.width, p.height, p.has_alpha, |x, y| {
         p.rgba[y * p.width + x]

@@ -21,6 +21,7 @@ pub mod sampler;
 pub mod specular_map;
 pub mod thumbnail;
 pub mod tiff_samples;
+pub mod tiff_strips;
 pub mod variants;
 pub mod xpm;
 

@@ -1,13 +1,16 @@
 //! TIFF files the `image` crate refuses although the `tiff` crate under it
-//! decodes their samples: floating-point grey, signed integers, depths
-//! between 8 and 16 bits (12-bit), and palette pictures (their indices read
-//! as grey, then looked up in the `ColorMap` tag). Tried only after the
+//! decodes their samples: floating-point grey, signed integers, and
+//! palette pictures (their indices read
+//! as grey, then looked up in the `ColorMap` tag). Depths the crate leaves
+//! packed and fax 3 strips go to [`tiff_strips`]. Tried only after the
 //! `image` crate has refused the file.
 
 use std::io::Cursor;
 
 use tiff::decoder::{Decoder, DecodingResult, Limits};
 use tiff::tags::Tag;
+
+use super::tiff_strips::{self, Refusal};
 
 /// A decoded picture: size, RGBA samples in 0..1 row by row, and whether
 /// the alpha is real.
@@ -26,8 +29,32 @@ pub fn dimensions(bytes: &[u8]) -> Option<(u32, u32)> {
 /// Photometric interpretation "RGB palette".
 const PALETTE: u16 = 3;
 
-/// Decodes the first picture; `None` when this reader cannot either.
-pub fn decode(bytes: &[u8], max_bytes: usize) -> Option<Picture> {
+/// Decodes the first picture: `Ok(None)` when this reader cannot either,
+/// `Err` when [`tiff_strips`] recognises the picture but refuses it.
+pub fn decode(bytes: &[u8], max_bytes: usize) -> Result<Option<Picture>, Refusal> {
+    let mut decoder = match Decoder::new(Cursor::new(bytes)) {
+        Ok(d) => d,
+        Err(_) => return Ok(None),
+    };
+    let compression = decoder
+        .find_tag_unsigned::<u16>(Tag::Compression)
+        .ok()
+        .flatten()
+        .unwrap_or(1);
+    let bits = decoder
+        .find_tag_unsigned_vec::<u16>(Tag::BitsPerSample)
+        .ok()
+        .flatten()
+        .and_then(|b| b.first().copied())
+        .unwrap_or(1);
+    if tiff_strips::wanted(compression, bits) {
+        return tiff_strips::decode(bytes, max_bytes).map(Some);
+    }
+    Ok(crate_samples(bytes, max_bytes))
+}
+
+/// The samples as the `tiff` crate decodes them.
+fn crate_samples(bytes: &[u8], max_bytes: usize) -> Option<Picture> {
     let mut limits = Limits::default();
     limits.decoding_buffer_size = max_bytes;
     limits.intermediate_buffer_size = max_bytes;

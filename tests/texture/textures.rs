@@ -958,6 +958,54 @@ fn decoder_internals_stay_out_of_messages() {
 }
 
 #[test]
+fn tiff_twelve_bit_and_fax3_load() {
+    // 12-bit samples, packed most significant bit first, rows padded to a
+    // byte: grey 7×5 holds (587·i) mod 4096 at i = 16y + x; RGB 5×3 holds
+    // (587·i, 1193·i + 100, 4095 − 331·i) mod 4096 (tests/data/variants/README.md).
+    let v = |k: usize| (k % 4096) as f32 / 4095.0;
+    let tex = load_texture(&data("variants/grey12.tif")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((tex.width(), tex.height()), (7, 5));
+    for y in 0..5 {
+        for x in 0..7 {
+            let t = at(&tex, x, y);
+            let g = v(587 * (16 * y + x));
+            assert!((0..3).all(|c| (t[c] - g).abs() < 1e-6), "({x},{y}): {t:?}");
+        }
+    }
+    let tex = load_texture(&data("variants/rgb12.tif")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((tex.width(), tex.height()), (5, 3));
+    for y in 0..3 {
+        for x in 0..5 {
+            let i = 16 * y + x;
+            let want = [v(587 * i), v(1193 * i + 100), 1.0 - v(331 * i)];
+            let t = at(&tex, x, y);
+            assert!(
+                (0..3).all(|c| (t[c] - want[c]).abs() < 1e-6),
+                "({x},{y}): {t:?}"
+            );
+        }
+    }
+    // CCITT group 3, 1-D, black is zero (Pillow's default): black where
+    // (⌊x/5⌋ + ⌊y/4⌋) is even or x = y, white elsewhere, on all 23 rows.
+    let tex = load_texture(&data("variants/fax3.tif")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((tex.width(), tex.height()), (37, 23));
+    for y in 0..23 {
+        for x in 0..37 {
+            let black = (x / 5 + y / 4) % 2 == 0 || x == y;
+            let t = at(&tex, x, y);
+            assert_eq!(t[0], if black { 0.0 } else { 1.0 }, "({x},{y})");
+        }
+    }
+    // The 2-D coded form is refused in a plain sentence.
+    let e = load_texture(&data("variants/fax3_2d.tif")).unwrap_err();
+    assert!(
+        e.to_string()
+            .ends_with("2-D coded CCITT group 3 fax data is not supported"),
+        "{e}"
+    );
+}
+
+#[test]
 fn tiff_samples_the_decoder_library_refuses_load() {
     let g = |x: usize, y: usize| ((13 * (16 * y + x)) % 256) as f32 / 255.0;
     // Float grey holds g / 255; signed 8-bit g − 128, shown as 0..255.
