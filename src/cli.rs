@@ -5,12 +5,11 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use glam::{Vec2, Vec3};
 
+use crate::options::OptionArgs;
+pub use crate::options::text::parse_finite;
 use crate::plasma::PlasmaNormal;
 use crate::scene::{ModelChoice, SceneKind};
-use crate::settings::{
-    AntiAlias, Display, Filter, HeightDerivative, LightVector, Normals, Settings, Shading,
-    Technique,
-};
+use crate::settings::Settings;
 use crate::term::{Format, Symbols};
 
 #[derive(Parser, Debug)]
@@ -79,6 +78,8 @@ pub fn models_from_positional(files: &mut Vec<PathBuf>, model: &mut ModelChoice)
     notes
 }
 
+// Parsed once at start: boxing the render flags would save nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Render one frame headless and write it as a PNG (or as terminal text with --ansi).
@@ -137,19 +138,6 @@ pub struct RenderArgs {
     pub image: Option<PathBuf>,
 }
 
-/// `on` or `off`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Toggle {
-    On,
-    Off,
-}
-
-impl Toggle {
-    pub fn on(self) -> bool {
-        self == Toggle::On
-    }
-}
-
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ColorDepthArg {
     Truecolor,
@@ -160,53 +148,22 @@ pub enum ColorDepthArg {
 }
 
 /// What a frame shows: shared by the interactive view and `relief render`.
+/// The options of the table ([`crate::options::OPTIONS`]) come first;
+/// the fields here are the ones the table does not hold (files, the
+/// scene, the rotation, the camera).
 #[derive(Args, Debug, Clone)]
 pub struct ViewArgs {
-    /// Lighting: per facet, per vertex (Gouraud) or per pixel (Phong).
-    #[arg(long, value_enum, default_value_t = Shading::Phong)]
-    pub shading: Shading,
-    /// Normals used by Gouraud and Phong.
-    #[arg(long, value_enum, default_value_t = Normals::Vertex)]
-    pub normals: Normals,
-    /// Colour texture.
-    #[arg(long, value_enum, default_value_t = Toggle::On)]
-    pub texture: Toggle,
-    /// Per-vertex colours (off: white material).
-    #[arg(long, value_enum, default_value_t = Toggle::On)]
-    pub colors: Toggle,
-    /// Bump mapping (shows in Phong only).
-    #[arg(long, value_enum, default_value_t = Toggle::On)]
-    pub bump: Toggle,
-    /// Bump strength k (Blinn); 0 means no bump.
-    #[arg(long, default_value_t = crate::settings::DEFAULT_BUMP_STRENGTH, value_parser = parse_strength, allow_hyphen_values = true)]
-    pub bump_strength: f32,
+    #[command(flatten)]
+    pub options: OptionArgs,
     /// Model rotation in degrees about X, then Y, then Z.
     #[arg(long, value_name = "X,Y,Z", default_value = "25,35,0", value_parser = parse_rotation, allow_hyphen_values = true)]
     pub rotate: Vec3,
     /// Map the texture on all six faces of the cube (default: front and back).
     #[arg(long)]
     pub all_faces: bool,
-    /// Texture filter.
-    #[arg(long, value_enum, default_value_t = Filter::Bilinear)]
-    pub filter: Filter,
-    /// Height derivative of the bump stage: the documented per-texel one or a filtered one.
-    #[arg(long, value_enum, default_value_t = HeightDerivative::Filtered)]
-    pub height_derivative: HeightDerivative,
     /// Separate height (bump) map for the texture: its alpha, or the mean of its RGB.
     #[arg(long, value_name = "PATH")]
     pub height_map: Option<PathBuf>,
-    /// Bump technique (shows in Phong with bump on).
-    #[arg(long, value_enum, default_value_t = Technique::Blinn)]
-    pub technique: Technique,
-    /// Dot3's light vector: interpolated from the vertices (the tutorial's artefact) or per pixel.
-    #[arg(long, value_enum, default_value_t = LightVector::Pixel)]
-    pub light_vector: LightVector,
-    /// Anti-aliasing: supersampling 2x2 or 4x4, or 4 coverage samples shaded once (msaa4).
-    #[arg(long, value_enum, default_value_t = AntiAlias::Off)]
-    pub aa: AntiAlias,
-    /// What is drawn: vertices, edges or filled triangles.
-    #[arg(long, value_enum, default_value_t = Display::Fill)]
-    pub display: Display,
     /// Scene: one model (`cube`, see --model), the cube over a floor with its shadow, or the 2D plasma.
     #[arg(long, value_enum, default_value_t = SceneKind::Cube)]
     pub scene: SceneKind,
@@ -218,37 +175,15 @@ pub struct ViewArgs {
         default_value = "cube"
     )]
     pub model: ModelChoice,
-    /// All lights on or off (the ambient term stays).
-    #[arg(long, value_enum, default_value_t = Toggle::On)]
-    pub lights: Toggle,
-    /// Distance attenuation of the lights: 1/(1 + 0.01·d²), d the distance to the light.
-    #[arg(long, value_enum, default_value_t = Toggle::Off)]
-    pub attenuation: Toggle,
-    /// Blinn-Phong specular highlights (docs/specular.md): per pixel in Phong, per vertex in Gouraud, per facet in flat.
-    #[arg(long, value_enum, default_value_t = Toggle::Off)]
-    pub specular: Toggle,
-    /// Specular exponent s of (N·H)^s: higher gives smaller, sharper highlights.
-    #[arg(long, value_name = "S", default_value_t = crate::settings::DEFAULT_SHININESS, value_parser = parse_shininess)]
-    pub shininess: f32,
     /// Grey image whose value (mean of R, G, B) scales the highlight, read with the texture coordinates.
     #[arg(long, value_name = "PATH")]
     pub specular_map: Option<PathBuf>,
     /// RGB tangent-space normal map (n = 2·rgb − 1, green up the picture) that dot3 reads instead of the one derived from the height map (docs/bump-dot3.md).
     #[arg(long, value_name = "PATH")]
     pub normal_map: Option<PathBuf>,
-    /// Draw the tangent frame at each vertex of the textured triangles: T red, B green, N blue (docs/tangent-frames.md).
-    #[arg(long)]
-    pub tangent_frames: bool,
-    /// Reflection of an environment, bent by the bump (docs/environment.md; Phong only):
-    /// the built-in sky, or --environment-map. On by itself when a map is given.
-    #[arg(long, value_enum)]
-    pub environment: Option<Toggle>,
     /// Equirectangular (latitude-longitude) picture of the environment: 360° across, 180° down.
     #[arg(long, value_name = "PATH")]
     pub environment_map: Option<PathBuf>,
-    /// Share k of the reflection: colour = (1 − k)·lit + k·environment, k in 0..=1.
-    #[arg(long, value_name = "K", default_value_t = crate::settings::DEFAULT_REFLECTIVITY, value_parser = parse_reflectivity)]
-    pub reflectivity: f32,
     /// Plasma scene: the article's Z² lookup table or the exact per-pixel normal.
     #[arg(long, value_enum, default_value_t = PlasmaNormal::Table)]
     pub plasma_normal: PlasmaNormal,
@@ -260,51 +195,14 @@ pub struct ViewArgs {
 impl ViewArgs {
     /// The settings these flags describe.
     pub fn settings(&self) -> Settings {
-        Settings {
-            shading: self.shading,
-            normals: self.normals,
-            texture: self.texture.on(),
-            colors: self.colors.on(),
-            bump: self.bump.on(),
-            bump_strength: self.bump_strength,
-            filter: self.filter,
-            height_derivative: self.height_derivative,
-            rotation: self.rotate,
-            technique: self.technique,
-            light_vector: self.light_vector,
-            aa: self.aa,
-            display: self.display,
-            lights: self.lights.on(),
-            attenuation: self.attenuation.on(),
-            specular: self.specular.on(),
-            shininess: self.shininess,
-            normal_map_file: self.normal_map.is_some(),
-            tangent_frames: self.tangent_frames,
-            environment: self
-                .environment
-                .map_or(self.environment_map.is_some(), Toggle::on),
-            reflectivity: self.reflectivity,
+        let mut s = self.options.settings;
+        s.rotation = self.rotate;
+        s.normal_map_file = self.normal_map.is_some();
+        // The environment is on by itself when a map is given.
+        if !self.options.given("environment") {
+            s.environment = self.environment_map.is_some();
         }
-    }
-}
-
-/// A specular exponent: finite and > 0.
-pub fn parse_shininess(text: &str) -> Result<f32, String> {
-    let s = parse_finite(text)?;
-    if s > 0.0 {
-        Ok(s)
-    } else {
-        Err(format!("the shininess must be above 0, got '{text}'"))
-    }
-}
-
-/// A reflectivity: finite, in 0..=1.
-pub fn parse_reflectivity(text: &str) -> Result<f32, String> {
-    let k = parse_finite(text)?;
-    if (0.0..=1.0).contains(&k) {
-        Ok(k)
-    } else {
-        Err(format!("the reflectivity must be in 0..=1, got '{text}'"))
+        s
     }
 }
 
@@ -332,28 +230,6 @@ pub fn parse_point(text: &str) -> Result<Vec2, String> {
     Ok(Vec2::new(parse_finite(parts[0])?, parse_finite(parts[1])?))
 }
 
-/// A finite number (no NaN, no infinity).
-pub fn parse_finite(text: &str) -> Result<f32, String> {
-    let value: f32 = text
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{text}' is not a number"))?;
-    if value.is_finite() {
-        Ok(value)
-    } else {
-        Err(format!("'{text}' is not a finite number"))
-    }
-}
-
-/// A bump strength: finite and not negative.
-fn parse_strength(text: &str) -> Result<f32, String> {
-    let k = parse_finite(text)?;
-    if k < 0.0 {
-        return Err(format!("bump strength must be 0 or more, got {k}"));
-    }
-    Ok(k)
-}
-
 fn parse_distance(text: &str) -> Result<f32, String> {
     use crate::scene::camera::{MAX_DISTANCE, MIN_DISTANCE};
     let d = parse_finite(text)?;
@@ -368,6 +244,7 @@ fn parse_distance(text: &str) -> Result<f32, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::settings::{AntiAlias, Display, LightVector, Technique};
 
     #[test]
     fn rotation_parses_and_refuses_garbage() {

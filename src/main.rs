@@ -178,6 +178,7 @@ fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
     use relief::scene::{ModelChoice, SceneKind};
     let mut notes = Vec::new();
     let view = &args.view;
+    let settings = view.settings();
     if view.scene != SceneKind::Cube && view.model != ModelChoice::Cube {
         notes.push(format!(
             "--model {} is ignored: only --scene cube draws a chosen model (the {} scene has its own)",
@@ -185,15 +186,15 @@ fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
             if view.scene == SceneKind::Plasma { "plasma" } else { "shadow" },
         ));
     }
-    if view.normal_map.is_some() && view.technique != relief::settings::Technique::Dot3 {
+    if view.normal_map.is_some() && !relief::plan::normal_map_file_shows(&settings, true) {
         notes.push(
             "--normal-map shows with --technique dot3 (the other techniques read the height map)"
                 .into(),
         );
     }
     let (w, h) = (args.width as usize, args.height as usize);
-    let k = relief::raster::aa::ssaa_factor(view.aa, w, h);
-    let wanted = match view.aa {
+    let k = relief::raster::aa::ssaa_factor(settings.aa, w, h);
+    let wanted = match settings.aa {
         relief::settings::AntiAlias::Ssaa2 => 2,
         relief::settings::AntiAlias::Ssaa4 => 4,
         _ => 1,

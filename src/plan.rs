@@ -115,10 +115,19 @@ pub struct Plan {
 /// strength above 0 (the scene must also have texture coordinates and a
 /// height map that is not flat: see [`Plan::new`]).
 pub fn bump_shows(settings: &Settings) -> bool {
-    settings.shading == Shading::Phong
-        && settings.bump
-        && settings.bump_strength.is_finite()
-        && settings.bump_strength > 0.0
+    bump_can_show(settings) && settings.bump_strength.is_finite() && settings.bump_strength > 0.0
+}
+
+/// Whether a bump could show with some strength: Phong with bump on (the
+/// strength keys act only then).
+pub fn bump_can_show(settings: &Settings) -> bool {
+    settings.shading == Shading::Phong && settings.bump
+}
+
+/// Whether dot3 reads the `--normal-map` file (key `N`): asked for, with
+/// dot3 chosen and a file loaded (`loaded`).
+pub fn normal_map_file_shows(settings: &Settings, loaded: bool) -> bool {
+    loaded && settings.normal_map_file && settings.technique == Technique::Dot3
 }
 
 /// Whether the bump technique (`e`) changes the picture: it is the bump's kernel.

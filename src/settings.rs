@@ -1,13 +1,15 @@
 //! Every user-visible rendering choice, in one plain `Copy` struct.
 //!
 //! The command line, the interactive app and the benchmark all build a
-//! `Settings`; the renderer only reads it. Enums derive `ValueEnum` so clap
-//! spells them exactly as the README does.
+//! `Settings`; the renderer only reads it. Most fields are options of the
+//! option table (`src/options/table.rs`), which makes their flags and
+//! keys; a key cycles an enum's values in declaration order. Enums derive
+//! `ValueEnum` so clap spells them exactly as the README does.
 
 use clap::ValueEnum;
 use glam::Vec3;
 
-/// How lighting is evaluated (key `m` cycles flat → Gouraud → Phong).
+/// How lighting is evaluated (key `m` cycles the values in this order).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
 pub enum Shading {
     /// Lighting once per facet, at its centre.
@@ -20,13 +22,6 @@ pub enum Shading {
 }
 
 impl Shading {
-    pub fn next(self) -> Self {
-        match self {
-            Shading::Flat => Shading::Gouraud,
-            Shading::Gouraud => Shading::Phong,
-            Shading::Phong => Shading::Flat,
-        }
-    }
     pub fn label(self) -> &'static str {
         match self {
             Shading::Flat => "flat",
@@ -47,12 +42,6 @@ pub enum Normals {
 }
 
 impl Normals {
-    pub fn toggle(self) -> Self {
-        match self {
-            Normals::Vertex => Normals::Face,
-            Normals::Face => Normals::Vertex,
-        }
-    }
     pub fn label(self) -> &'static str {
         match self {
             Normals::Vertex => "vertex",
@@ -76,10 +65,6 @@ pub enum Filter {
 }
 
 impl Filter {
-    /// The next filter in declaration order, wrapping (the `f` key).
-    pub fn next(self) -> Self {
-        cycle(self)
-    }
     pub fn label(self) -> &'static str {
         match self {
             Filter::Nearest => "nearest",
@@ -96,14 +81,6 @@ impl Filter {
             Filter::NearestMip | Filter::Trilinear | Filter::Anisotropic
         )
     }
-}
-
-/// The variant after `x` in declaration order, the first after the last: a
-/// new variant joins its key's cycle without another edit.
-fn cycle<T: ValueEnum + PartialEq + Copy>(x: T) -> T {
-    let all = T::value_variants();
-    let i = all.iter().position(|v| *v == x).unwrap_or(0);
-    all[(i + 1) % all.len()]
 }
 
 /// Bump-mapping technique.
@@ -123,10 +100,6 @@ pub enum Technique {
 }
 
 impl Technique {
-    /// The next technique in declaration order, wrapping (the `e` key).
-    pub fn next(self) -> Self {
-        cycle(self)
-    }
     pub fn label(self) -> &'static str {
         match self {
             Technique::Blinn => "Blinn",
@@ -149,12 +122,6 @@ pub enum HeightDerivative {
 }
 
 impl HeightDerivative {
-    pub fn toggle(self) -> Self {
-        match self {
-            HeightDerivative::Texel => HeightDerivative::Filtered,
-            HeightDerivative::Filtered => HeightDerivative::Texel,
-        }
-    }
     pub fn label(self) -> &'static str {
         match self {
             HeightDerivative::Texel => "texel",
@@ -174,12 +141,6 @@ pub enum LightVector {
 }
 
 impl LightVector {
-    pub fn toggle(self) -> Self {
-        match self {
-            LightVector::Vertex => LightVector::Pixel,
-            LightVector::Pixel => LightVector::Vertex,
-        }
-    }
     pub fn label(self) -> &'static str {
         match self {
             LightVector::Vertex => "L per vertex",
@@ -204,14 +165,6 @@ pub enum AntiAlias {
 }
 
 impl AntiAlias {
-    pub fn next(self) -> Self {
-        match self {
-            AntiAlias::Off => AntiAlias::Ssaa2,
-            AntiAlias::Ssaa2 => AntiAlias::Ssaa4,
-            AntiAlias::Ssaa4 => AntiAlias::Msaa4,
-            AntiAlias::Msaa4 => AntiAlias::Off,
-        }
-    }
     pub fn label(self) -> &'static str {
         match self {
             AntiAlias::Off => "off",
@@ -251,13 +204,6 @@ pub enum Display {
 }
 
 impl Display {
-    pub fn next(self) -> Self {
-        match self {
-            Display::Points => Display::Lines,
-            Display::Lines => Display::Fill,
-            Display::Fill => Display::Points,
-        }
-    }
     pub fn label(self) -> &'static str {
         match self {
             Display::Points => "points",
@@ -339,6 +285,12 @@ impl Default for Settings {
 
 /// Blinn bump strength of the reference scene.
 pub const DEFAULT_BUMP_STRENGTH: f32 = 0.006;
+/// `+` and `-` multiply or divide the bump strength by this.
+pub const BUMP_FACTOR: f32 = 1.25;
+/// Strongest bump `+` reaches.
+pub const BUMP_MAX: f32 = 1.0;
+/// Below this `-` goes to 0 (no bump); from 0, `+` starts here.
+pub const BUMP_MIN: f32 = 0.0005;
 /// Blinn-Phong exponent when none is given.
 pub const DEFAULT_SHININESS: f32 = 32.0;
 /// The range keys `y` and `Y` keep the exponent in (each press doubles or halves it).

@@ -1,7 +1,9 @@
 //! What the user asked for: every key, mouse report and paste becomes an `Action`.
 //!
-//! Adding a control is one `Action` variant, one row in the key table
-//! ([`super::keys::KEYS`]) and one arm in `update`.
+//! An option's keys are [`Action::Option`], made from its entry in the
+//! option table ([`crate::options::OPTIONS`]). Another control is one
+//! `Action` variant, one row in the key table ([`super::keys::KEYS`]) and
+//! one arm in `update`.
 
 use crossterm::event::{Event, MouseButton, MouseEventKind};
 
@@ -10,6 +12,7 @@ use ratatui::layout::Rect;
 use super::line_edit::{Completion, Edit};
 use super::state::{FrameDone, State};
 use super::textures::TextureListing;
+use crate::options::Press;
 use crate::scene::{ModelChoice, SceneKind};
 use crate::term::pacing::LinkInfo;
 
@@ -31,20 +34,12 @@ pub enum Action {
     Escape,
     /// Ctrl-Z: suspend (the shell's `fg` resumes).
     Suspend,
-    /// `m`: flat → Gouraud → Phong.
-    CycleShading,
-    /// `n`: vertex / face normals.
-    ToggleNormals,
-    /// `t`
-    ToggleTexture,
-    /// `c`
-    ToggleColors,
-    /// `b`
-    ToggleBump,
-    /// `+`
-    BumpStronger,
-    /// `-`
-    BumpWeaker,
+    /// A key of an option of the table ([`crate::options::OPTIONS`]):
+    /// `name` is the option, `press` what the key does to it.
+    Option {
+        name: &'static str,
+        press: Press,
+    },
     /// Arrow keys (X, Y) and PageUp/PageDown (Z): add `degrees` about `axis` (0 = X).
     RotateStep {
         axis: usize,
@@ -97,8 +92,6 @@ pub enum Action {
     MouseUp,
     /// Bracketed paste (a file dragged onto the terminal arrives this way).
     Paste(String),
-    /// `f`: next texture filter.
-    CycleFilter,
     /// `x` / `X`: next / previous texture of the list.
     NextTexture,
     PrevTexture,
@@ -146,35 +139,11 @@ pub enum Action {
     PromptCancel,
     /// What a texture command did: the new texture's label, or the error.
     TextureResult(Result<String, String>),
-    /// `e`: Blinn → emboss → dot3 → parallax → POM.
-    CycleTechnique,
-    /// `v`: dot3's light vector per vertex / per pixel.
-    ToggleLightVector,
     /// `N`: dot3's normal map from the `--normal-map` file / derived from
     /// the height map.
     ToggleNormalMapFile,
-    /// `h`: height derivative per texel / filtered.
-    ToggleHeightDerivative,
-    /// `a`: off → SSAA 2×2 → SSAA 4×4 → MSAA 4.
-    CycleAntiAlias,
-    /// `d`: points → lines → fill.
-    CycleDisplay,
-    /// `F`: the tangent frames (T, B, N at the vertices) on / off.
-    ToggleTangentFrames,
     /// `u`: the picture's glyphs: half blocks → quadrants → sextants → octants.
     CycleSymbols,
-    /// `l`: all lights on / off.
-    ToggleLights,
-    /// `L`: distance attenuation on / off.
-    ToggleAttenuation,
-    /// `g`: specular highlights on / off.
-    ToggleSpecular,
-    /// `y`: shininess doubled (smaller highlights).
-    ShinierSpecular,
-    /// `Y`: shininess halved (larger highlights).
-    DullerSpecular,
-    /// `E`: reflection of the environment on / off.
-    ToggleEnvironment,
     /// `1`–`4`: one reference light (0 = white, red, green, blue) on / off.
     ToggleLight(usize),
     /// `z`: plasma Z² table / exact normal.
@@ -216,6 +185,30 @@ pub enum Action {
         link: LinkInfo,
         frame: Option<Box<FrameDone>>,
     },
+}
+
+impl Action {
+    /// The key of option `name` that gives its next value (a toggle flips).
+    pub const fn next(name: &'static str) -> Action {
+        Action::Option {
+            name,
+            press: Press::Next,
+        }
+    }
+    /// The key of number option `name` that moves it a step up.
+    pub const fn up(name: &'static str) -> Action {
+        Action::Option {
+            name,
+            press: Press::Up,
+        }
+    }
+    /// The key of number option `name` that moves it a step down.
+    pub const fn down(name: &'static str) -> Action {
+        Action::Option {
+            name,
+            press: Press::Down,
+        }
+    }
 }
 
 pub use super::keys::{ARROW_STEP, action_for_key};

@@ -1,16 +1,21 @@
 //! Every key as one table: which input mode it works in, the key, the
 //! action it asks for and its line in the help. [`action_for_key`] and the
-//! help overlay both read [`KEYS`], so a key cannot work without being
-//! documented, nor be documented without working.
+//! help overlay both read [`bindings`] (the options' keys from the option
+//! table, then [`KEYS`]), so a key cannot work without being documented,
+//! nor be documented without working.
 //!
-//! Adding a control is one `Action` variant, one row here and one arm in
-//! `update`.
+//! An option's keys are declared in its entry of the option table
+//! ([`crate::options::OPTIONS`]). Another control is one `Action` variant,
+//! one row here and one arm in `update`.
+
+use std::sync::LazyLock;
 
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
 use super::action::Action;
 use super::line_edit::Edit;
 use super::state::State;
+use crate::options::{KeyHelp, OPTIONS};
 
 /// Who has the keyboard.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -106,7 +111,7 @@ pub enum Help {
     /// Its own line: the keys as shown, then the text.
     Line(&'static str, &'static str),
     /// Described by the nearest line above it in the same mode (e.g. `-`
-    /// under "+ -").
+    /// under "+ -"), or by an option's line that names it (`N` under "v N").
     Above,
 }
 
@@ -176,46 +181,10 @@ fn light(c: char) -> Action {
 
 use Mode::{Fields, Normal, Prompt, Textures};
 
-/// Every key of every mode, and the mouse gestures, in the help's order.
+/// The keys that are not an option's, and the mouse gestures, in the
+/// help's order ([`bindings`] adds the options' keys before them).
 pub const KEYS: &[Binding] = &[
     // The picture.
-    row(
-        Normal,
-        &[c('m')],
-        Action::CycleShading,
-        Line("m", "lighting: flat → Gouraud → Phong"),
-    ),
-    row(
-        Normal,
-        &[c('n')],
-        Action::ToggleNormals,
-        Line("n", "normals: vertex / face"),
-    ),
-    row(
-        Normal,
-        &[c('t')],
-        Action::ToggleTexture,
-        Line("t", "texture on / off"),
-    ),
-    row(
-        Normal,
-        &[c('c')],
-        Action::ToggleColors,
-        Line("c", "colours on / off"),
-    ),
-    row(
-        Normal,
-        &[c('b')],
-        Action::ToggleBump,
-        Line("b", "bump on / off (shows in Phong only)"),
-    ),
-    row(
-        Normal,
-        &[c('+'), c('=')],
-        Action::BumpStronger,
-        Line("+ -", "bump strength"),
-    ),
-    row(Normal, &[c('-'), c('_')], Action::BumpWeaker, Above),
     gesture(
         Normal,
         "left drag",
@@ -276,15 +245,6 @@ pub const KEYS: &[Binding] = &[
     ),
     row(
         Normal,
-        &[c('f')],
-        Action::CycleFilter,
-        Line(
-            "f",
-            "filter: nearest, bilinear, nearest-mip, trilinear, aniso",
-        ),
-    ),
-    row(
-        Normal,
         &[c('x')],
         Action::NextTexture,
         Line("x X T", "next / previous texture; T: the texture panel"),
@@ -319,76 +279,25 @@ pub const KEYS: &[Binding] = &[
     ),
     row(
         Normal,
-        &[c('e')],
-        Action::CycleTechnique,
-        Line(
-            "e",
-            "bump technique: Blinn → emboss → dot3 → parallax → POM",
-        ),
+        &[c('N')],
+        Action::ToggleNormalMapFile,
+        // Described by the `v N` line of the option `light_vector`.
+        Above,
     ),
     row(
         Normal,
-        &[c('v')],
-        Action::ToggleLightVector,
-        Line(
-            "v N",
-            "dot3: L per pixel / vertex; N: normal map file / derived",
-        ),
-    ),
-    row(Normal, &[c('N')], Action::ToggleNormalMapFile, Above),
-    row(
-        Normal,
-        &[c('h')],
-        Action::ToggleHeightDerivative,
-        Line("h", "height derivative: filtered / per texel"),
-    ),
-    row(
-        Normal,
-        &[c('a')],
-        Action::CycleAntiAlias,
-        Line("a", "anti-aliasing: off → SSAA 2x2 → SSAA 4x4 → MSAA 4"),
-    ),
-    row(
-        Normal,
-        &[c('d')],
-        Action::CycleDisplay,
-        Line(
-            "d F u",
-            "display: points → lines → fill; tangent frames; glyphs",
-        ),
-    ),
-    row(Normal, &[c('F')], Action::ToggleTangentFrames, Above),
-    row(Normal, &[c('u')], Action::CycleSymbols, Above),
-    row(
-        Normal,
-        &[c('l')],
-        Action::ToggleLights,
-        Line(
-            "l 1 2 3 4",
-            "all lights / the white, red, green, blue one on / off",
-        ),
+        &[c('u')],
+        Action::CycleSymbols,
+        // Described by the `d F u` line of the option `display`.
+        Above,
     ),
     Binding {
         mode: Normal,
         keys: &[c('1'), c('2'), c('3'), c('4')],
         does: Does::Char(light),
+        // Described by the `l 1 2 3 4` line of the option `lights`.
         help: Above,
     },
-    row(
-        Normal,
-        &[c('L')],
-        Action::ToggleAttenuation,
-        Line("L", "distance attenuation on / off"),
-    ),
-    row(
-        Normal,
-        &[c('g')],
-        Action::ToggleSpecular,
-        Line("g y Y E", "specular on/off; shininess ×2 ÷2; E environment"),
-    ),
-    row(Normal, &[c('y')], Action::ShinierSpecular, Above),
-    row(Normal, &[c('Y')], Action::DullerSpecular, Above),
-    row(Normal, &[c('E')], Action::ToggleEnvironment, Above),
     row(
         Normal,
         &[c('o')],
@@ -604,10 +513,46 @@ fn key_of(key: &KeyEvent) -> Option<Key> {
     Some(Plain(key.code))
 }
 
+/// The rows of the options' keys, from the option table: each press of
+/// an entry is one row of the picture's mode.
+fn option_rows() -> Vec<Binding> {
+    let mut rows = Vec::new();
+    for opt in OPTIONS {
+        for k in opt.keys {
+            // Made once (see `bindings`): the keys live as long as the program.
+            let keys: &'static [Key] = Vec::leak(k.keys.iter().map(|&ch| c(ch)).collect());
+            rows.push(Binding {
+                mode: Normal,
+                keys,
+                does: Does::Act(Action::Option {
+                    name: opt.name,
+                    press: k.press,
+                }),
+                help: match k.help {
+                    KeyHelp::Line(keys, text) => Line(keys, text),
+                    KeyHelp::Above => Above,
+                },
+            });
+        }
+    }
+    rows
+}
+
+/// Every key of every mode, and the mouse gestures, in the help's order:
+/// the options' keys first, then [`KEYS`].
+pub fn bindings() -> &'static [Binding] {
+    static ALL: LazyLock<Vec<Binding>> = LazyLock::new(|| {
+        let mut all = option_rows();
+        all.extend(KEYS.iter().cloned());
+        all
+    });
+    &ALL
+}
+
 /// The row of `mode` (not its fallback) that binds `key`, and the
 /// character when it is typed text.
 pub fn binding_in(mode: Mode, key: Key) -> Option<(&'static Binding, Key)> {
-    let rows = || KEYS.iter().filter(move |b| b.mode == mode);
+    let rows = || bindings().iter().filter(move |b| b.mode == mode);
     if let Some(b) = rows().find(|b| b.keys.contains(&key)) {
         return Some((b, key));
     }
@@ -651,7 +596,7 @@ pub fn help_lines() -> Vec<HelpLine> {
         if let Some(heading) = mode.heading() {
             lines.push(("", heading));
         }
-        for b in KEYS.iter().filter(|b| b.mode == mode) {
+        for b in bindings().iter().filter(|b| b.mode == mode) {
             if let Line(keys, text) = b.help {
                 lines.push((keys, text));
             }

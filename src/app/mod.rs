@@ -77,7 +77,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         match crate::texture::normal_map_file::load_normal_map(path) {
             Ok(map) => {
                 state.normal_map_file = Some(map.name.clone());
-                if state.settings.technique != crate::settings::Technique::Dot3 {
+                if !crate::plan::normal_map_file_shows(&state.settings, true) {
                     state.message = Some(format!(
                         "normal map {} loaded: it shows with dot3 (N)",
                         map.name

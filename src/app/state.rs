@@ -9,12 +9,12 @@ use super::action::{Action, DragButton};
 use super::cost::{CostHistory, FrameCost};
 use super::line_edit::{self, Edit};
 use super::textures::TexturePanel;
-use crate::cli::parse_finite;
+use crate::options::text::parse_finite;
 use crate::plasma::PlasmaNormal;
 use crate::sanitize::clean;
 use crate::scene::camera::{MAX_DISTANCE, MIN_DISTANCE, REFERENCE_DISTANCE};
 use crate::scene::{ModelChoice, SceneKind};
-use crate::settings::{SHININESS_RANGE, Settings, normalize_degrees};
+use crate::settings::{Settings, normalize_degrees};
 use crate::term::pacing::LinkInfo;
 use crate::term::{ColorDepth, Symbols};
 
@@ -24,12 +24,7 @@ pub const DEG_PER_COL: f32 = 2.0;
 pub const DEG_PER_ROW: f32 = 4.0;
 /// Auto-rotation speed about Y, degrees per second.
 pub const AUTO_ROTATE_SPEED: f32 = 40.0;
-/// `+` and `-` multiply or divide the bump strength by this.
-pub const BUMP_FACTOR: f32 = 1.25;
-/// Strongest bump `+` reaches.
-pub const BUMP_MAX: f32 = 1.0;
-/// Below this `-` goes to 0 (no bump); from 0, `+` starts here.
-pub const BUMP_MIN: f32 = 0.0005;
+pub use crate::settings::{BUMP_FACTOR, BUMP_MAX, BUMP_MIN};
 /// A zoom step (wheel notch, `i` or `I`) divides or multiplies the camera
 /// distance by this.
 pub const ZOOM_STEP: f32 = 1.125;
@@ -265,6 +260,15 @@ impl State {
         }
     }
 
+    /// What the option table's status fields and key messages read.
+    pub fn ctx(&self) -> crate::options::Ctx<'_> {
+        crate::options::Ctx {
+            settings: &self.settings,
+            lights_on: self.light_on.iter().any(|&on| on),
+            normal_map_loaded: self.normal_map_file.is_some(),
+        }
+    }
+
     /// Starts at `distance` (`--distance`), which `r` comes back to.
     pub fn with_distance(mut self, distance: f32) -> Self {
         let d = if distance.is_finite() {
@@ -363,21 +367,10 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
     let s = &mut state.settings;
     match action {
         Action::Quit => state.quit = true,
-        Action::CycleShading => s.shading = s.shading.next(),
-        Action::ToggleNormals => s.normals = s.normals.toggle(),
-        Action::ToggleTexture => s.texture = !s.texture,
-        Action::ToggleColors => s.colors = !s.colors,
-        Action::ToggleBump => s.bump = !s.bump,
-        Action::BumpStronger => {
-            s.bump_strength = if s.bump_strength < BUMP_MIN {
-                BUMP_MIN
-            } else {
-                (s.bump_strength * BUMP_FACTOR).min(BUMP_MAX)
-            };
-        }
-        Action::BumpWeaker => {
-            let k = s.bump_strength / BUMP_FACTOR;
-            s.bump_strength = if k < BUMP_MIN { 0.0 } else { k };
+        Action::Option { name, press } => {
+            if let Some(opt) = crate::options::find(name) {
+                opt.press(s, press);
+            }
         }
         Action::RotateStep { axis, degrees } => {
             let mut d = Vec3::ZERO;
@@ -401,7 +394,6 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
             }
         }
         Action::SavePng => return Some(Command::SavePng),
-        Action::CycleFilter => state.settings.filter = state.settings.filter.next(),
         Action::NextTexture => return Some(Command::CycleTexture(true)),
         Action::PrevTexture => return Some(Command::CycleTexture(false)),
         Action::ReloadTexture => return Some(Command::ReloadTexture),
@@ -508,20 +500,8 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
             state.message = Some(format!("texture {}", clean(&label)));
         }
         Action::TextureResult(Err(e)) => state.message = Some(clean(&e)),
-        Action::CycleTechnique => s.technique = s.technique.next(),
-        Action::ToggleLightVector => s.light_vector = s.light_vector.toggle(),
         Action::ToggleNormalMapFile => toggle_normal_map_file(state),
-        Action::ToggleHeightDerivative => s.height_derivative = s.height_derivative.toggle(),
-        Action::CycleAntiAlias => s.aa = s.aa.next(),
-        Action::CycleDisplay => s.display = s.display.next(),
-        Action::ToggleTangentFrames => s.tangent_frames = !s.tangent_frames,
         Action::CycleSymbols => state.symbols = state.symbols.next(),
-        Action::ToggleLights => s.lights = !s.lights,
-        Action::ToggleAttenuation => s.attenuation = !s.attenuation,
-        Action::ToggleSpecular => s.specular = !s.specular,
-        Action::ShinierSpecular => s.shininess = (s.shininess * 2.0).min(SHININESS_RANGE.1),
-        Action::DullerSpecular => s.shininess = (s.shininess / 2.0).max(SHININESS_RANGE.0),
-        Action::ToggleEnvironment => s.environment = !s.environment,
         Action::ToggleLight(i) => {
             if let Some(on) = state.light_on.get_mut(i) {
                 *on = !*on;
@@ -745,7 +725,8 @@ fn toggle_normal_map_file(state: &mut State) {
         return;
     };
     let s = &mut state.settings;
-    s.normal_map_file = !s.normal_map_file || s.technique != crate::settings::Technique::Dot3;
+    // Off when dot3 reads the file now; else on (switching to dot3 below).
+    s.normal_map_file = !crate::plan::normal_map_file_shows(s, true);
     let mut text = if s.normal_map_file {
         format!("normal map: file {}", clean(name))
     } else {
@@ -755,7 +736,7 @@ fn toggle_normal_map_file(state: &mut State) {
         s.technique = crate::settings::Technique::Dot3;
         text.push_str(" (technique switched to dot3)");
     }
-    if !s.bump || s.shading != crate::settings::Shading::Phong {
+    if !crate::plan::bump_can_show(s) {
         text.push_str("; shows in Phong with bump on (m, b)");
     }
     state.message = Some(text);

@@ -9,9 +9,10 @@
 use clap::ValueEnum;
 use glam::Vec3;
 
+use crate::options::{Bench, OPTIONS};
 use crate::scene::Scene;
 use crate::settings::{
-    AntiAlias, Filter, HeightDerivative, LightVector, Normals, Settings, Shading, Technique,
+    AntiAlias, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
 };
 use crate::texture::normal_map::normal_map_scale;
 use crate::texture::normal_map_file::{FileNormalMap, decode_level, encode_rgb8};
@@ -167,38 +168,22 @@ pub fn full() -> Vec<Config> {
         Config::new("reference setting", r, Threads::All),
         Config::new("reference setting, 1 thread", r, Threads::One),
     ];
-    rows.extend(axis("shading", r.shading, |s, v: Shading| s.shading = v));
-    rows.extend(axis("normals", r.normals, |s, v: Normals| s.normals = v));
-    rows.push(Config::new(
-        "texture=off",
-        Settings {
-            texture: false,
-            ..r
-        },
-        Threads::All,
-    ));
-    rows.extend(axis("filter", r.filter, |s, v: Filter| s.filter = v));
-    rows.push(Config::new(
-        "bump=off",
-        Settings { bump: false, ..r },
-        Threads::All,
-    ));
-    rows.push(Config::new(
-        "specular=on",
-        Settings {
-            specular: true,
-            ..r
-        },
-        Threads::All,
-    ));
-    rows.extend(axis("technique", r.technique, |s, v: Technique| {
-        s.technique = v
-    }));
-    rows.extend(axis(
-        "derivative",
-        r.height_derivative,
-        |s, v: HeightDerivative| s.height_derivative = v,
-    ));
+    // The options' rows (their entries' `bench`), in the order the
+    // README's row numbers cite; an option not placed here gets its rows
+    // at the end.
+    let mut placed = Vec::new();
+    let mut option = |name: &'static str| {
+        placed.push(name);
+        option_rows(name)
+    };
+    rows.extend(option("shading"));
+    rows.extend(option("normals"));
+    rows.extend(option("texture"));
+    rows.extend(option("filter"));
+    rows.extend(option("bump"));
+    rows.extend(option("specular"));
+    rows.extend(option("technique"));
+    rows.extend(option("height_derivative"));
     // The light vector only matters to dot3: measured there, against dot3's default.
     rows.extend(
         axis("light-vector", r.light_vector, |s, v: LightVector| {
@@ -211,13 +196,9 @@ pub fn full() -> Vec<Config> {
             ..c
         }),
     );
-    rows.extend(axis("aa", r.aa, |s, v: AntiAlias| s.aa = v));
+    rows.extend(option("aa"));
     // Work the plan leaves out: lights, and the depth buffer a convex cube does not need.
-    rows.push(Config::new(
-        "lights=off",
-        Settings { lights: false, ..r },
-        Threads::All,
-    ));
+    rows.extend(option("lights"));
     rows.push(Config {
         variant: SceneVariant::ForcedDepth,
         ..Config::new("depth buffer forced", r, Threads::All)
@@ -287,23 +268,37 @@ pub fn full() -> Vec<Config> {
     });
     // The debug overlay: what drawing the tangent frames adds (last, so
     // the row numbers the README cites stay valid).
-    rows.push(Config::new(
-        "tangent-frames",
-        Settings {
-            tangent_frames: true,
-            ..r
-        },
-        Threads::All,
-    ));
-    rows.push(Config::new(
-        "environment=on",
-        Settings {
-            environment: true,
-            ..r
-        },
-        Threads::All,
-    ));
+    rows.extend(option("tangent_frames"));
+    rows.extend(option("environment"));
+    // New options: after every row above, so their numbers stay.
+    for opt in OPTIONS {
+        if !placed.contains(&opt.name) {
+            rows.extend(option_rows(opt.name));
+        }
+    }
     rows
+}
+
+/// The rows of option `name` ([`Bench`] of its entry): each value but
+/// the default applied to the reference setting.
+fn option_rows(name: &str) -> Vec<Config> {
+    let Some(opt) = crate::options::find(name) else {
+        return Vec::new();
+    };
+    let r = reference_setting();
+    let away = opt.all_values().into_iter().filter(|&v| v != opt.get(&r));
+    let row = |v, name: String| {
+        let mut s = r;
+        opt.set(&mut s, v);
+        Config::new(name, s, Threads::All)
+    };
+    match opt.bench {
+        Bench::None => Vec::new(),
+        Bench::Axis(column) => away
+            .map(|v| row(v, format!("{column}={}", opt.spell(v))))
+            .collect(),
+        Bench::Row(label) => away.map(|v| row(v, label.to_string())).collect(),
+    }
 }
 
 /// The rows of `--quick`: enough to see the table work, and the two speed goals.
@@ -354,6 +349,7 @@ pub fn orientations(n: usize, seed: u64) -> Vec<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::settings::Normals;
     use std::collections::HashSet;
 
     fn check_well_formed(rows: &[Config]) {

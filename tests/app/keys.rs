@@ -1,4 +1,4 @@
-//! The key table (`relief::app::keys::KEYS`) drives both the key handling
+//! The key table (`relief::app::keys::bindings`: the options' keys, then `KEYS`) drives both the key handling
 //! and the help: every row is checked here by iterating the table, so a new
 //! row is covered without touching these tests.
 
@@ -8,7 +8,7 @@ use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 use relief::Framebuffer;
-use relief::app::keys::{Help, KEYS, Key, Mode, help_lines};
+use relief::app::keys::{Help, Key, Mode, bindings, help_lines};
 use relief::app::{State, action_for_key, update, view};
 use relief::settings::Settings;
 use relief::term::ColorDepth;
@@ -38,7 +38,7 @@ fn event(key: Key) -> KeyEvent {
 
 #[test]
 fn every_row_s_keys_give_its_action_in_its_mode() {
-    for b in KEYS {
+    for b in bindings() {
         let s = state_in(b.mode);
         for &key in b.keys {
             let typed = match event(key).code {
@@ -61,7 +61,7 @@ fn every_row_s_keys_give_its_action_in_its_mode() {
 fn no_key_is_bound_twice_in_one_mode() {
     for mode in Mode::ALL {
         let mut seen = HashSet::new();
-        for b in KEYS.iter().filter(|b| b.mode == mode) {
+        for b in bindings().iter().filter(|b| b.mode == mode) {
             for key in b.keys {
                 assert!(seen.insert(*key), "{key:?} twice in {mode:?}");
             }
@@ -93,7 +93,7 @@ fn a_mode_without_a_row_for_a_key_leaves_it_to_its_fallback_or_ignores_it() {
 fn every_row_is_described_in_the_help_and_the_overlay_shows_it() {
     let lines = help_lines();
     for mode in Mode::ALL {
-        let rows: Vec<_> = KEYS.iter().filter(|b| b.mode == mode).collect();
+        let rows: Vec<_> = bindings().iter().filter(|b| b.mode == mode).collect();
         // A row described by the line above needs a line above it in its mode.
         if let Some(first) = rows.first() {
             assert_ne!(first.help, Help::Above, "first row of {mode:?}");

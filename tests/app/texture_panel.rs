@@ -113,7 +113,7 @@ fn keys_move_pick_and_close() {
     update(&mut s, Action::TexturesListed(l));
     assert_eq!(key(&mut s, ch('H')), Some(Command::SetHeights(None)));
     // Keys the panel does not take act on the picture (`k` is the panel's).
-    assert_eq!(action_for_key(&s, &ch('m')), Some(Action::CycleShading));
+    assert_eq!(action_for_key(&s, &ch('m')), Some(Action::next("shading")));
     assert_eq!(action_for_key(&s, &ch('x')), Some(Action::NextTexture));
     assert_eq!(action_for_key(&s, &ch('k')), Some(Action::TexturesMove(-1)));
     assert_eq!(action_for_key(&s, &ch('q')), Some(Action::Quit));

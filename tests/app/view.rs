@@ -83,20 +83,20 @@ fn status_line_shows_every_mode_and_the_frame_cost() {
 #[test]
 fn status_line_follows_each_toggle() {
     let mut s = state();
-    update(&mut s, Action::CycleShading);
+    update(&mut s, Action::next("shading"));
     let st = status_line(&s, 200);
     assert!(st.starts_with("flat"), "{st}");
     assert!(st.contains("bump on (Phong only)"), "{st}");
-    update(&mut s, Action::CycleShading);
+    update(&mut s, Action::next("shading"));
     assert!(status_line(&s, 250).starts_with("Gouraud"));
-    update(&mut s, Action::ToggleNormals);
-    update(&mut s, Action::ToggleTexture);
-    update(&mut s, Action::ToggleColors);
+    update(&mut s, Action::next("normals"));
+    update(&mut s, Action::next("texture"));
+    update(&mut s, Action::next("colors"));
     let st = status_line(&s, 250);
     for want in ["normals face", "texture off", "colours off", "(Phong only)"] {
         assert!(st.contains(want), "{want:?} in {st}");
     }
-    update(&mut s, Action::ToggleBump);
+    update(&mut s, Action::next("bump"));
     let st = status_line(&s, 250);
     assert!(
         st.contains("bump off") && !st.contains("Phong only"),
@@ -111,7 +111,7 @@ fn status_line_follows_each_toggle() {
 #[test]
 fn narrow_terminals_split_modes_and_cost_over_two_lines() {
     let mut s = state();
-    update(&mut s, Action::CycleShading);
+    update(&mut s, Action::next("shading"));
     let buf = screen(&s, 40, 12);
     let status = row_text(&buf, 11);
     assert_eq!(status.trim_end(), "flat │ cube │ lights on │ 24b │ ? help");
@@ -412,15 +412,15 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
     use relief::scene::{ModelChoice, SceneKind};
     let mut s = state();
     for a in [
-        Action::CycleTechnique,
-        Action::CycleTechnique,
-        Action::ToggleLightVector,
-        Action::ToggleHeightDerivative,
-        Action::CycleAntiAlias,
-        Action::CycleDisplay,
+        Action::next("technique"),
+        Action::next("technique"),
+        Action::next("light_vector"),
+        Action::next("height_derivative"),
+        Action::next("aa"),
+        Action::next("display"),
         Action::ToggleLight(1),
         Action::ToggleLight(3),
-        Action::ToggleAttenuation,
+        Action::next("attenuation"),
         Action::SceneBuilt(Ok((SceneKind::Cube, ModelChoice::Sphere))),
     ] {
         update(&mut s, a);
@@ -458,7 +458,7 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
         at60.contains("sphere") && at60.ends_with("? help"),
         "{at60}"
     );
-    update(&mut s, Action::ToggleLights);
+    update(&mut s, Action::next("lights"));
     assert!(status_line(&s, 300).contains("lights off"));
     update(
         &mut s,

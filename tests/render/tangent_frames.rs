@@ -182,9 +182,9 @@ fn a_surface_in_front_hides_the_frames_behind_it() {
 fn key_f_toggles_the_frames_and_the_status_line_says_so() {
     let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
     assert!(!status_line(&s, 300).contains("tangent frames"));
-    update(&mut s, Action::ToggleTangentFrames);
+    update(&mut s, Action::next("tangent_frames"));
     assert!(s.settings.tangent_frames);
     assert!(status_line(&s, 300).contains("tangent frames"));
-    update(&mut s, Action::ToggleTangentFrames);
+    update(&mut s, Action::next("tangent_frames"));
     assert!(!s.settings.tangent_frames);
 }

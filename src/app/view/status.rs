@@ -5,10 +5,10 @@
 //! `? help` always stay.
 
 use crate::app::state::{LIGHT_NAMES, State, plasma_light};
-use crate::plan::environment_shows;
+use crate::options::OPTIONS;
+pub use crate::options::text::{format_shininess, format_strength};
 use crate::scene::SceneKind;
 use crate::scene::camera::REFERENCE_DISTANCE;
-use crate::settings::{Settings, Shading, Technique};
 
 /// What always ends the status line.
 pub const HELP_HINT: &str = "? help";
@@ -211,25 +211,6 @@ fn lights_text(state: &State, short: bool) -> String {
     format!("lights on ({} off)", off.join(", "))
 }
 
-/// Dot3 reads the `--normal-map` file's normal map (key `N`).
-fn file_map_in_use(state: &State) -> bool {
-    let s = &state.settings;
-    s.technique == Technique::Dot3 && s.normal_map_file && state.normal_map_file.is_some()
-}
-
-/// The bump technique, with dot3's light vector and, when it reads one,
-/// the normal map file.
-fn technique_text(state: &State) -> String {
-    let s = &state.settings;
-    if file_map_in_use(state) {
-        format!("dot3 ({}, map file)", s.light_vector.label())
-    } else if s.technique == Technique::Dot3 {
-        format!("dot3 ({})", s.light_vector.label())
-    } else {
-        s.technique.label().into()
-    }
-}
-
 /// The plasma's own fields: its normal mode and where the light is.
 fn plasma_fields(state: &State) -> Vec<Field> {
     let light = match state.pointer {
@@ -258,8 +239,35 @@ fn cost_field(state: &State) -> Field {
     }
 }
 
-fn on_off(b: bool) -> &'static str {
-    if b { "on" } else { "off" }
+/// Places of the fields the option table does not declare, among the
+/// options' (each entry's `Status::at`).
+const SCENE_AT: u8 = 10;
+const LIGHTS_AT: u8 = 11;
+const DEPTH_AT: u8 = 13;
+const HEIGHTS_AT: u8 = 14;
+const DISTANCE_AT: u8 = 18;
+const COST_AT: u8 = 19;
+const AUTO_AT: u8 = 20;
+
+/// The status fields of the option table's entries that show now, each
+/// with its place.
+fn option_fields(state: &State) -> Vec<(u8, Field)> {
+    let ctx = state.ctx();
+    let mut f = Vec::new();
+    for opt in OPTIONS {
+        let Some(st) = &opt.status else { continue };
+        if st.shown.is_some_and(|shown| !shown(&ctx)) {
+            continue;
+        }
+        let long = (st.long)(&ctx);
+        let short = st.short.map_or_else(|| long.clone(), |short| short(&ctx));
+        let at_default = st
+            .at_default
+            .map_or_else(|| opt.is_default(&state.settings), |d| d(&ctx));
+        let drop = st.drop.and_then(|rank| drop_rank(at_default, rank));
+        f.push((st.at, Field::new(long, short, st.shorten, drop)));
+    }
+    f
 }
 
 /// Every field of the status line, in order, with the ranks in which they
@@ -269,114 +277,53 @@ fn fields(state: &State) -> Vec<Field> {
         return plasma_fields(state);
     }
     let s = &state.settings;
-    let d = Settings::default();
-    let po = if s.bump && s.shading != Shading::Phong {
-        " (Phong only)"
-    } else {
-        ""
-    };
-    let mut f = vec![
-        Field::same(s.shading.label(), None),
-        Field::new(
-            format!("normals {}", s.normals.label()),
-            s.normals.label(),
-            5,
-            drop_rank(s.normals == d.normals, 8),
-        ),
-        Field::new(
-            format!("texture {}", on_off(s.texture)),
-            format!("tex {}", on_off(s.texture)),
-            3,
-            drop_rank(s.texture == d.texture, 7),
-        ),
-        Field::new(
-            format!("colours {}", on_off(s.colors)),
-            format!("col {}", on_off(s.colors)),
-            2,
-            drop_rank(s.colors == d.colors, 6),
-        ),
-        Field::new(
-            format!(
-                "bump {}{po} k={}",
-                on_off(s.bump),
-                format_strength(s.bump_strength)
-            ),
-            format!("bump {}{po}", on_off(s.bump)),
-            0,
-            // "Phong only" says something: kept as a changed field.
-            drop_rank(s.bump == d.bump && po.is_empty(), 12),
-        ),
-        Field::same(
-            technique_text(state),
-            drop_rank(s.technique == d.technique && !file_map_in_use(state), 5),
-        ),
-        Field::same(s.filter.label(), drop_rank(s.filter == d.filter, 4)),
-        Field::same(
-            format!("dH {}", s.height_derivative.label()),
-            drop_rank(s.height_derivative == d.height_derivative, 2),
-        ),
-        Field::same(format!("AA {}", s.aa.label()), drop_rank(s.aa == d.aa, 3)),
-        Field::same(s.display.label(), drop_rank(s.display == d.display, 9)),
+    let mut f = option_fields(state);
+    f.push((
+        SCENE_AT,
         Field::new(
             scene_label(state, false),
             scene_label(state, true),
             6,
             drop_rank(false, 20),
         ),
+    ));
+    f.push((
+        LIGHTS_AT,
         Field::new(
             lights_text(state, false),
             lights_text(state, true),
             7,
             drop_rank(s.lights && state.light_on.iter().all(|&on| on), 10),
         ),
-        Field::new(
-            format!("attenuation {}", on_off(s.attenuation)),
-            format!("att {}", on_off(s.attenuation)),
-            1,
-            drop_rank(s.attenuation == d.attenuation, 1),
-        ),
+    ));
+    f.push((
+        DEPTH_AT,
         Field::new(depth_text(state), short_depth(state), 20, None),
-    ];
+    ));
     if let Some(h) = heights_text(state, false) {
         let short = heights_text(state, true).unwrap_or_default();
-        f.push(Field::new(h, short, 8, drop_rank(false, 1)));
-    }
-    // Highlights show only when on: the reference picture has none.
-    if s.specular {
-        f.push(Field::new(
-            format!("specular s={}", format_shininess(s.shininess)),
-            format!("spec {}", format_shininess(s.shininess)),
-            9,
-            drop_rank(false, 3),
-        ));
-    }
-    if environment_shows(s) {
-        f.push(Field::new(
-            format!("environment k={}", format_shininess(s.reflectivity)),
-            "env",
-            10,
-            drop_rank(false, 2),
-        ));
-    }
-    // The tangent frames show only when drawn.
-    if s.tangent_frames {
-        f.push(Field::new("tangent frames", "TBN", 11, drop_rank(false, 0)));
+        f.push((HEIGHTS_AT, Field::new(h, short, 8, drop_rank(false, 1))));
     }
     // The zoom shows once it leaves the reference view.
     if state.distance != REFERENCE_DISTANCE {
         let d = format_distance(state.distance);
-        f.push(Field::new(
-            format!("distance {d}"),
-            format!("dist {d}"),
-            12,
-            drop_rank(false, 4),
+        f.push((
+            DISTANCE_AT,
+            Field::new(
+                format!("distance {d}"),
+                format!("dist {d}"),
+                12,
+                drop_rank(false, 4),
+            ),
         ));
     }
-    f.push(cost_field(state));
+    f.push((COST_AT, cost_field(state)));
     if state.auto_rotate {
-        f.push(Field::same("auto", None));
+        f.push((AUTO_AT, Field::same("auto", None)));
     }
-    f
+    // Stable: fields of one place keep their order.
+    f.sort_by_key(|(at, _)| *at);
+    f.into_iter().map(|(_, field)| field).collect()
 }
 
 /// Where the heights come from, when another texture of the list gives
@@ -397,11 +344,6 @@ fn heights_text(state: &State, short: bool) -> Option<String> {
     } else {
         format!("heights {cut}")
     })
-}
-
-/// The specular exponent without needless decimals.
-pub fn format_shininess(s: f32) -> String {
-    format!("{}", (s * 100.0).round() / 100.0)
 }
 
 /// Dithering (`--dither`) changes the picture in 256 and 16 colours only.
@@ -444,12 +386,6 @@ fn short_depth(state: &State) -> String {
 /// The camera distance with one decimal.
 fn format_distance(d: f32) -> String {
     format!("{d:.1}")
-}
-
-pub fn format_strength(k: f32) -> String {
-    let s = format!("{k:.4}");
-    let s = s.trim_end_matches('0');
-    s.strip_suffix('.').unwrap_or(s).to_string()
 }
 
 /// Bytes as the status line shows them: three significant digits, at

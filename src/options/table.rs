@@ -1,0 +1,582 @@
+//! The table: one entry per option of the view. An option is declared
+//! here once; its flag, keys, help lines, status field, key messages and
+//! bench rows are all made from its entry (see docs/architecture.md,
+//! "Adding an option").
+//!
+//! Not in the table, each for a reason:
+//! - `rotation` (`--rotate`, arrows, drags, the orientation fields): three
+//!   angles edited in many ways, not one value moved by a key;
+//! - `normal_map_file` (key `N`): on by itself when `--normal-map` loads,
+//!   and its key also switches the technique to dot3 and says which file;
+//! - the plasma normal (`z`), the camera distance (`i` `I`, wheel), the
+//!   glyphs (`u`) and the lights `1`–`4`: they live in the app's state,
+//!   not in [`Settings`], which is what the renderer reads.
+
+use super::entry::{
+    Bench, Ctx, Field, Flag, Form, KeyHelp, Kind, Opt, OptKey, Press, Shows, Status, Step, Value,
+};
+use super::text::{format_shininess, format_strength, on_off};
+use super::values;
+use crate::plan;
+use crate::settings::{
+    AntiAlias, BUMP_FACTOR, BUMP_MAX, BUMP_MIN, Display, Filter, HeightDerivative, LightVector,
+    Normals, SHININESS_RANGE, Settings, Shading, Technique,
+};
+
+/// How an entry reads and writes its [`Settings`] field: `field!(name: bool)`,
+/// `field!(name: f32)` or `field!(name: EnumType)`.
+macro_rules! field {
+    ($f:ident: bool) => {
+        Field {
+            get: |s| Value::Bool(s.$f),
+            set: |s, v| s.$f = v.bool(),
+        }
+    };
+    ($f:ident: f32) => {
+        Field {
+            get: |s| Value::Number(s.$f),
+            set: |s, v| s.$f = v.number(),
+        }
+    };
+    ($f:ident: $t:ty) => {
+        Field {
+            get: |s| Value::Index(super::index_of(s.$f)),
+            set: |s, v| s.$f = super::variant::<$t>(v.index()),
+        }
+    };
+}
+
+/// A key with its own help line.
+const fn key(
+    keys: &'static [char],
+    press: Press,
+    shown: &'static str,
+    help: &'static str,
+) -> OptKey {
+    OptKey {
+        keys,
+        press,
+        help: KeyHelp::Line(shown, help),
+    }
+}
+
+/// A key the help line above describes.
+const fn also(keys: &'static [char], press: Press) -> OptKey {
+    OptKey {
+        keys,
+        press,
+        help: KeyHelp::Above,
+    }
+}
+
+/// A flag whose value name is the option's in capitals, default shown.
+const fn flag(help: &'static str) -> Flag {
+    Flag {
+        help,
+        value_name: None,
+        form: Form::Value,
+    }
+}
+
+/// A field with one form.
+const fn same(at: u8, long: fn(&Ctx) -> String, drop: Option<u8>) -> Status {
+    Status {
+        at,
+        long,
+        short: None,
+        shorten: u8::MAX,
+        drop,
+        shown: None,
+        at_default: None,
+    }
+}
+
+/// A field with a long and a short form.
+const fn two(
+    at: u8,
+    long: fn(&Ctx) -> String,
+    short: fn(&Ctx) -> String,
+    shorten: u8,
+    drop: u8,
+) -> Status {
+    Status {
+        at,
+        long,
+        short: Some(short),
+        shorten,
+        drop: Some(drop),
+        shown: None,
+        at_default: None,
+    }
+}
+
+/// " (Phong only)" when the bump is on but the lighting hides it.
+fn phong_only(s: &Settings) -> &'static str {
+    if s.bump && !plan::bump_can_show(s) {
+        " (Phong only)"
+    } else {
+        ""
+    }
+}
+
+/// The bump technique, with dot3's light vector and, when it reads one,
+/// the normal map file.
+fn technique_text(c: &Ctx) -> String {
+    let s = c.settings;
+    if plan::normal_map_file_shows(s, c.normal_map_loaded) {
+        format!("dot3 ({}, map file)", s.light_vector.label())
+    } else if s.technique == Technique::Dot3 {
+        format!("dot3 ({})", s.light_vector.label())
+    } else {
+        s.technique.label().into()
+    }
+}
+
+/// Every option, in the order of the help (and of `--help`).
+pub static OPTIONS: &[Opt] = &[
+    Opt {
+        name: "shading",
+        title: "lighting",
+        kind: Kind::Choice {
+            values: values::<Shading>,
+        },
+        field: field!(shading: Shading),
+        flag: flag("Lighting: per facet, per vertex (Gouraud) or per pixel (Phong)"),
+        keys: &[key(
+            &['m'],
+            Press::Next,
+            "m",
+            "lighting: flat → Gouraud → Phong",
+        )],
+        shows: None,
+        status: Some(same(0, |c| c.settings.shading.label().into(), None)),
+        bench: Bench::Axis("shading"),
+    },
+    Opt {
+        name: "normals",
+        title: "normals",
+        kind: Kind::Choice {
+            values: values::<Normals>,
+        },
+        field: field!(normals: Normals),
+        flag: flag("Normals used by Gouraud and Phong"),
+        keys: &[key(&['n'], Press::Next, "n", "normals: vertex / face")],
+        shows: None,
+        status: Some(two(
+            1,
+            |c| format!("normals {}", c.settings.normals.label()),
+            |c| c.settings.normals.label().into(),
+            5,
+            8,
+        )),
+        bench: Bench::Axis("normals"),
+    },
+    Opt {
+        name: "texture",
+        title: "texture",
+        kind: Kind::Toggle,
+        field: field!(texture: bool),
+        flag: flag("Colour texture"),
+        keys: &[key(&['t'], Press::Next, "t", "texture on / off")],
+        shows: None,
+        status: Some(two(
+            2,
+            |c| format!("texture {}", on_off(c.settings.texture)),
+            |c| format!("tex {}", on_off(c.settings.texture)),
+            3,
+            7,
+        )),
+        bench: Bench::Axis("texture"),
+    },
+    Opt {
+        name: "colors",
+        title: "colours",
+        kind: Kind::Toggle,
+        field: field!(colors: bool),
+        flag: flag("Per-vertex colours (off: white material)"),
+        keys: &[key(&['c'], Press::Next, "c", "colours on / off")],
+        shows: None,
+        status: Some(two(
+            3,
+            |c| format!("colours {}", on_off(c.settings.colors)),
+            |c| format!("col {}", on_off(c.settings.colors)),
+            2,
+            6,
+        )),
+        bench: Bench::None,
+    },
+    Opt {
+        name: "bump",
+        title: "bump",
+        kind: Kind::Toggle,
+        field: field!(bump: bool),
+        flag: flag("Bump mapping (shows in Phong only)"),
+        keys: &[key(
+            &['b'],
+            Press::Next,
+            "b",
+            "bump on / off (shows in Phong only)",
+        )],
+        shows: None,
+        status: Some(Status {
+            // "Phong only" says something: kept as a changed field.
+            at_default: Some(|c| {
+                c.settings.bump == Settings::default().bump && phong_only(c.settings).is_empty()
+            }),
+            ..two(
+                4,
+                |c| {
+                    let s = c.settings;
+                    let k = format_strength(s.bump_strength);
+                    format!("bump {}{} k={k}", on_off(s.bump), phong_only(s))
+                },
+                |c| format!("bump {}{}", on_off(c.settings.bump), phong_only(c.settings)),
+                0,
+                12,
+            )
+        }),
+        bench: Bench::Axis("bump"),
+    },
+    Opt {
+        name: "bump_strength",
+        title: "bump strength",
+        kind: Kind::Number {
+            parse: super::text::parse_strength,
+            step: Step {
+                factor: BUMP_FACTOR,
+                min: 0.0,
+                max: BUMP_MAX,
+                zero_below: Some(BUMP_MIN),
+            },
+            show: format_strength,
+            negative: true,
+        },
+        field: field!(bump_strength: f32),
+        flag: flag("Bump strength k (Blinn); 0 means no bump"),
+        keys: &[
+            key(&['+', '='], Press::Up, "+ -", "bump strength"),
+            also(&['-', '_'], Press::Down),
+        ],
+        shows: Some(Shows {
+            when: |c| plan::bump_can_show(c.settings),
+            why: "shows in Phong with bump on (m, b); unchanged",
+        }),
+        // Shown in the bump's field.
+        status: None,
+        bench: Bench::None,
+    },
+    Opt {
+        name: "filter",
+        title: "filter",
+        kind: Kind::Choice {
+            values: values::<Filter>,
+        },
+        field: field!(filter: Filter),
+        flag: flag("Texture filter"),
+        keys: &[key(
+            &['f'],
+            Press::Next,
+            "f",
+            "filter: nearest, bilinear, nearest-mip, trilinear, aniso",
+        )],
+        shows: None,
+        status: Some(same(6, |c| c.settings.filter.label().into(), Some(4))),
+        bench: Bench::Axis("filter"),
+    },
+    Opt {
+        name: "technique",
+        title: "bump technique",
+        kind: Kind::Choice {
+            values: values::<Technique>,
+        },
+        field: field!(technique: Technique),
+        flag: flag("Bump technique (shows in Phong with bump on)"),
+        keys: &[key(
+            &['e'],
+            Press::Next,
+            "e",
+            "bump technique: Blinn → emboss → dot3 → parallax → POM",
+        )],
+        shows: Some(Shows {
+            when: |c| plan::technique_shows(c.settings),
+            why: "shows in Phong with bump on and strength above 0 (m, b, +); unchanged",
+        }),
+        status: Some(Status {
+            at_default: Some(|c| {
+                c.settings.technique == Settings::default().technique
+                    && !plan::normal_map_file_shows(c.settings, c.normal_map_loaded)
+            }),
+            ..same(5, technique_text, Some(5))
+        }),
+        bench: Bench::Axis("technique"),
+    },
+    Opt {
+        name: "light_vector",
+        title: "dot3 light vector",
+        kind: Kind::Choice {
+            values: values::<LightVector>,
+        },
+        field: field!(light_vector: LightVector),
+        flag: flag(
+            "Dot3's light vector: interpolated from the vertices (the tutorial's artefact) or per pixel",
+        ),
+        keys: &[key(
+            &['v'],
+            Press::Next,
+            // `N` (app/keys.rs) shares this line.
+            "v N",
+            "dot3: L per pixel / vertex; N: normal map file / derived",
+        )],
+        shows: Some(Shows {
+            when: |c| plan::light_vector_shows(c.settings),
+            why: "shows with the dot3 technique, in Phong with bump on (e, m, b); unchanged",
+        }),
+        // Shown in the technique's field.
+        status: None,
+        // Measured with dot3 (bench/config.rs): it matters to dot3 only.
+        bench: Bench::None,
+    },
+    Opt {
+        name: "height_derivative",
+        title: "height derivative",
+        kind: Kind::Choice {
+            values: values::<HeightDerivative>,
+        },
+        field: field!(height_derivative: HeightDerivative),
+        flag: flag(
+            "Height derivative of the bump stage: the documented per-texel one or a filtered one",
+        ),
+        keys: &[key(
+            &['h'],
+            Press::Next,
+            "h",
+            "height derivative: filtered / per texel",
+        )],
+        shows: None,
+        status: Some(same(
+            7,
+            |c| format!("dH {}", c.settings.height_derivative.label()),
+            Some(2),
+        )),
+        bench: Bench::Axis("derivative"),
+    },
+    Opt {
+        name: "aa",
+        title: "anti-aliasing",
+        kind: Kind::Choice {
+            values: values::<AntiAlias>,
+        },
+        field: field!(aa: AntiAlias),
+        flag: flag(
+            "Anti-aliasing: supersampling 2x2 or 4x4, or 4 coverage samples shaded once (msaa4)",
+        ),
+        keys: &[key(
+            &['a'],
+            Press::Next,
+            "a",
+            "anti-aliasing: off → SSAA 2x2 → SSAA 4x4 → MSAA 4",
+        )],
+        shows: None,
+        status: Some(same(
+            8,
+            |c| format!("AA {}", c.settings.aa.label()),
+            Some(3),
+        )),
+        bench: Bench::Axis("aa"),
+    },
+    Opt {
+        name: "display",
+        title: "display",
+        kind: Kind::Choice {
+            values: values::<Display>,
+        },
+        field: field!(display: Display),
+        flag: flag("What is drawn: vertices, edges or filled triangles"),
+        keys: &[key(
+            &['d'],
+            Press::Next,
+            // `u` (the glyphs, app/keys.rs) shares this line.
+            "d F u",
+            "display: points → lines → fill; tangent frames; glyphs",
+        )],
+        shows: None,
+        status: Some(same(9, |c| c.settings.display.label().into(), Some(9))),
+        bench: Bench::None,
+    },
+    Opt {
+        name: "tangent_frames",
+        title: "tangent frames",
+        kind: Kind::Toggle,
+        field: field!(tangent_frames: bool),
+        flag: Flag {
+            form: Form::Switch,
+            ..flag(
+                "Draw the tangent frame at each vertex of the textured triangles: T red, B green, N blue (docs/tangent-frames.md)",
+            )
+        },
+        keys: &[also(&['F'], Press::Next)],
+        shows: None,
+        // Shown only when drawn.
+        status: Some(Status {
+            shown: Some(|c| c.settings.tangent_frames),
+            ..two(17, |_| "tangent frames".into(), |_| "TBN".into(), 11, 0)
+        }),
+        bench: Bench::Row("tangent-frames"),
+    },
+    Opt {
+        name: "lights",
+        title: "lights",
+        kind: Kind::Toggle,
+        field: field!(lights: bool),
+        flag: flag("All lights on or off (the ambient term stays)"),
+        keys: &[key(
+            &['l'],
+            Press::Next,
+            // The lights 1–4 (app/keys.rs) share this line.
+            "l 1 2 3 4",
+            "all lights / the white, red, green, blue one on / off",
+        )],
+        shows: None,
+        // Worded with the lights 1–4 of the app's state (app/view/status.rs).
+        status: None,
+        bench: Bench::Axis("lights"),
+    },
+    Opt {
+        name: "attenuation",
+        title: "attenuation",
+        kind: Kind::Toggle,
+        field: field!(attenuation: bool),
+        flag: flag(
+            "Distance attenuation of the lights: 1/(1 + 0.01·d²), d the distance to the light",
+        ),
+        keys: &[key(
+            &['L'],
+            Press::Next,
+            "L",
+            "distance attenuation on / off",
+        )],
+        shows: None,
+        status: Some(two(
+            12,
+            |c| format!("attenuation {}", on_off(c.settings.attenuation)),
+            |c| format!("att {}", on_off(c.settings.attenuation)),
+            1,
+            1,
+        )),
+        bench: Bench::None,
+    },
+    Opt {
+        name: "specular",
+        title: "specular",
+        kind: Kind::Toggle,
+        field: field!(specular: bool),
+        flag: flag(
+            "Blinn-Phong specular highlights (docs/specular.md): per pixel in Phong, per vertex in Gouraud, per facet in flat",
+        ),
+        keys: &[key(
+            &['g'],
+            Press::Next,
+            "g y Y E",
+            "specular on/off; shininess ×2 ÷2; E environment",
+        )],
+        shows: None,
+        // Highlights show only when on: the reference picture has none.
+        status: Some(Status {
+            shown: Some(|c| c.settings.specular),
+            ..two(
+                15,
+                |c| format!("specular s={}", format_shininess(c.settings.shininess)),
+                |c| format!("spec {}", format_shininess(c.settings.shininess)),
+                9,
+                3,
+            )
+        }),
+        bench: Bench::Axis("specular"),
+    },
+    Opt {
+        name: "shininess",
+        title: "shininess",
+        kind: Kind::Number {
+            parse: super::text::parse_shininess,
+            step: Step {
+                factor: 2.0,
+                min: SHININESS_RANGE.0,
+                max: SHININESS_RANGE.1,
+                zero_below: None,
+            },
+            show: format_shininess,
+            negative: false,
+        },
+        field: field!(shininess: f32),
+        flag: Flag {
+            value_name: Some("S"),
+            ..flag("Specular exponent s of (N·H)^s: higher gives smaller, sharper highlights")
+        },
+        keys: &[also(&['y'], Press::Up), also(&['Y'], Press::Down)],
+        shows: Some(Shows {
+            when: |c| plan::specular_shows(c.settings, c.lights_on),
+            why: "shows with specular on (g), a light on and fill display; unchanged",
+        }),
+        // Shown in the specular field.
+        status: None,
+        bench: Bench::None,
+    },
+    Opt {
+        name: "environment",
+        title: "environment",
+        kind: Kind::Toggle,
+        field: field!(environment: bool),
+        flag: Flag {
+            form: Form::Optional,
+            ..flag(
+                "Reflection of an environment, bent by the bump (docs/environment.md; Phong only): the built-in sky, or --environment-map. On by itself when a map is given",
+            )
+        },
+        keys: &[also(&['E'], Press::Next)],
+        shows: Some(Shows {
+            when: |c| plan::environment_can_show(c.settings),
+            why: "shows in Phong with fill display (m, d); unchanged",
+        }),
+        status: Some(Status {
+            shown: Some(|c| plan::environment_shows(c.settings)),
+            ..two(
+                16,
+                |c| {
+                    format!(
+                        "environment k={}",
+                        format_shininess(c.settings.reflectivity)
+                    )
+                },
+                |_| "env".into(),
+                10,
+                2,
+            )
+        }),
+        bench: Bench::Axis("environment"),
+    },
+    Opt {
+        name: "reflectivity",
+        title: "reflectivity",
+        kind: Kind::Number {
+            parse: super::text::parse_reflectivity,
+            step: Step {
+                factor: 1.0,
+                min: 0.0,
+                max: 1.0,
+                zero_below: None,
+            },
+            show: format_shininess,
+            negative: false,
+        },
+        field: field!(reflectivity: f32),
+        flag: Flag {
+            value_name: Some("K"),
+            ..flag("Share k of the reflection: colour = (1 − k)·lit + k·environment, k in 0..=1")
+        },
+        keys: &[],
+        shows: None,
+        // Shown in the environment's field.
+        status: None,
+        bench: Bench::None,
+    },
+];
