@@ -107,18 +107,20 @@ impl Level {
     }
 
     /// From 8-bit RGBA rows stored top row first (as images are), kept in
-    /// that order, 8 bits a channel (reads give k / 255 as before).
+    /// that order. A texture made in memory (the built-in ones) keeps f32
+    /// texels and mip levels, so its pictures are those it always gave;
+    /// pictures read from files are kept at their own precision (`load`).
     pub fn from_rgba8_top_down(width: usize, height: usize, rgba: &[u8]) -> Self {
         assert_eq!(rgba.len(), width * height * 4, "RGBA buffer size");
         assert!(width > 0 && height > 0, "a texture has at least one texel");
         let texels = rgba
             .chunks_exact(4)
-            .map(|px| [px[0], px[1], px[2], px[3]])
+            .map(|px| [px[0], px[1], px[2], px[3]].map(|c| c as f32 / 255.0))
             .collect();
         Level {
             width,
             height,
-            texels: Texels::Rgba8(texels),
+            texels: Texels::F32(texels),
         }
     }
 

@@ -18,7 +18,7 @@ use glam::Vec2;
 
 use super::Level;
 use super::level::downsample_from;
-use super::texels::{Fetch, MipKind, Xyz16s, Xyz32s, to_snorm16};
+use super::texels::{Fetch, MipKind, Xyz16s, Xyz32s, to_snorm16, with_fetch};
 
 /// A map's unit normals: f32 for maps derived from f32 textures (their
 /// pictures unchanged), three signed 16-bit channels otherwise (6 bytes a
@@ -136,20 +136,24 @@ impl NormalMap {
     pub fn build(level: &Level, scale: f32) -> NormalMap {
         let s = NormalMap::effective_scale(scale);
         let (w, h) = (level.width, level.height);
-        let normal = |i: usize| {
-            let (x, y) = ((i % w) as i64, (i / w) as i64);
-            let at = |x: i64, y: i64| level.texel(x, y)[3];
-            let fu = (at(x + 1, y) - at(x - 1, y)) * 0.5 * w as f32;
-            let fv = (at(x, y + 1) - at(x, y - 1)) * 0.5 * h as f32;
-            let (nx, ny, nz) = (-s * fu, -s * fv, 1.0f32);
-            let len = (nx * nx + ny * ny + nz * nz).sqrt();
-            [nx / len, ny / len, nz / len]
-        };
-        let normals = if level.texels.is_f32() {
-            Normals::F32((0..w * h).map(normal).collect())
-        } else {
-            Normals::snorm16(w * h, normal)
-        };
+        let normals = with_fetch!(&level.texels, t => {
+            let normal = |(x, y): (usize, usize)| {
+                // Neighbours wrapped, as the texture repeats.
+                let (xp, xn) = ((x + w - 1) % w, (x + 1) % w);
+                let (yp, yn) = ((y + h - 1) % h, (y + 1) % h);
+                let fu = (t.height(y * w + xn) - t.height(y * w + xp)) * 0.5 * w as f32;
+                let fv = (t.height(yn * w + x) - t.height(yp * w + x)) * 0.5 * h as f32;
+                let (nx, ny, nz) = (-s * fu, -s * fv, 1.0f32);
+                let len = (nx * nx + ny * ny + nz * nz).sqrt();
+                [nx / len, ny / len, nz / len]
+            };
+            let texels = (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).map(normal);
+            if level.texels.is_f32() {
+                Normals::F32(texels.collect())
+            } else {
+                Normals::Snorm16(texels.map(|n| n.map(to_snorm16)).collect())
+            }
+        });
         NormalMap {
             width: w,
             height: h,
@@ -247,8 +251,14 @@ impl NormalMap {
         let xb = wrap(xi + 1, self.width);
         let ra = wrap(yi, self.height) * self.width;
         let rb = wrap(yi + 1, self.height) * self.width;
-        let (t00, t10) = (self.normals.at(ra + xa), self.normals.at(ra + xb));
-        let (t01, t11) = (self.normals.at(rb + xa), self.normals.at(rb + xb));
+        let quad = [ra + xa, ra + xb, rb + xa, rb + xb];
+        let [t00, t10, t01, t11] = match &self.normals {
+            Normals::F32(v) => quad.map(|i| v[i]),
+            Normals::Snorm16(v) => quad.map(|i| {
+                let t = Xyz16s(v).at(i);
+                [t[0], t[1], t[2]]
+            }),
+        };
         let mut out = [0.0; 3];
         for c in 0..3 {
             let top = t00[c] + (t10[c] - t00[c]) * fx;

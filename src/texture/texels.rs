@@ -3,8 +3,8 @@
 //! −1..1 for normals), so the filters compute as they always have; only
 //! what sits in memory between reads is smaller.
 //!
-//! - `F32`: as computed (procedural textures, float pictures, anything a
-//!   caller edits).
+//! - `F32`: as computed (textures made in memory, such as the built-in
+//!   ones, float pictures, anything a caller edits).
 //! - `Rgba8`: an 8-bit picture with alpha; k / 255 is exactly what the
 //!   float conversion gives.
 //! - `Rgb8`: an 8-bit picture without alpha, whose height is the mean of
@@ -13,8 +13,7 @@
 //!   f32) or the next float up: the fourth byte holds that 0 or 1, so the
 //!   height read back is bit for bit the one computed at load.
 //! - `Rgba16`: 16-bit pictures and the mip levels of 8- and 16-bit ones
-//!   (a mean of 8-bit values needs more than 8 bits): k / 65535, read as a
-//!   multiplication.
+//!   (a mean of 8-bit values needs more than 8 bits): k / 65535.
 //! - `Xyz16`: tangent-space normals and their mip levels, three signed
 //!   channels in −1..1 (k / 32767), the fourth channel 0.
 //! - `Grey8`: the grey of an 8-bit picture (a specular map): the sum
@@ -25,7 +24,7 @@
 /// RGBA (or height) in 0..1.
 pub type Texel = [f32; 4];
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub enum Texels {
     F32(Vec<[f32; 4]>),
     Rgba8(Vec<[u8; 4]>),
@@ -55,7 +54,7 @@ fn unorm8(k: u8) -> f32 {
 
 #[inline(always)]
 fn unorm16(k: u16) -> f32 {
-    k as f32 * (1.0 / 65535.0)
+    k as f32 / 65535.0
 }
 
 #[inline(always)]
@@ -180,19 +179,35 @@ macro_rules! fetch_impl {
 }
 
 fetch_impl!(F32s, t => t);
-fetch_impl!(Rgba8s, t => t.map(unorm8));
+fetch_impl!(Rgba8s, t => unorm8x4(t));
 fetch_impl!(Rgb8s, t => rgb8_texel(t));
-fetch_impl!(Rgba16s, t => t.map(unorm16));
+fetch_impl!(Rgba16s, t => unorm16x4(t));
 fetch_impl!(Xyz16s, t => [snorm16(t[0]), snorm16(t[1]), snorm16(t[2]), 0.0]);
 fetch_impl!(Grey8s, t => [grey8_value(t); 4]);
 fetch_impl!(Grey16s, t => [unorm16(t); 4]);
 fetch_impl!(Xyz32s, t => [t[0], t[1], t[2], 0.0]);
 
+/// Four 8-bit channels as floats, k / 255 in one 4-wide division (each
+/// lane rounded exactly as the scalar division is).
+#[inline(always)]
+fn unorm8x4(t: [u8; 4]) -> Texel {
+    let k = wide::i32x4::new(t.map(i32::from));
+    (k.round_float() / wide::f32x4::splat(255.0)).to_array()
+}
+
+/// Four 16-bit channels as floats, k / 65535 as the scalar division gives it.
+#[inline(always)]
+fn unorm16x4(t: [u16; 4]) -> Texel {
+    let k = wide::i32x4::new(t.map(i32::from));
+    (k.round_float() / wide::f32x4::splat(65535.0)).to_array()
+}
+
 #[inline(always)]
 fn rgb8_texel(t: [u8; 4]) -> Texel {
     let sum = t[0] as usize + t[1] as usize + t[2] as usize;
     let h = f32::from_bits(MEAN_OF_SUM[sum.min(765)] + t[3] as u32);
-    [unorm8(t[0]), unorm8(t[1]), unorm8(t[2]), h]
+    let [r, g, b, _] = unorm8x4(t);
+    [r, g, b, h]
 }
 
 #[inline(always)]
@@ -378,6 +393,14 @@ impl<'a> IntoIterator for &'a Texels {
     }
 }
 
+/// Equal when every texel reads the same, whatever the storage (a picture
+/// decoded from an 8-bit PNG equals the f32 texels of the same values).
+impl PartialEq for Texels {
+    fn eq(&self, other: &Texels) -> bool {
+        self.len() == other.len() && self.iter().zip(other.iter()).all(|(a, b)| a == b)
+    }
+}
+
 /// Equal when every texel reads the same (whatever the storage).
 impl PartialEq<Vec<[f32; 4]>> for Texels {
     fn eq(&self, other: &Vec<[f32; 4]>) -> bool {
@@ -397,6 +420,7 @@ mod tests {
                     let t = rgb8_texel(pack_rgb8(r, g, b));
                     assert_eq!(t[3].to_bits(), mean_height8(r, g, b).to_bits());
                     assert_eq!(t[0], r as f32 / 255.0);
+                    assert_eq!(unorm8x4([r, g, b, 0]), [r, g, b, 0].map(unorm8));
                     let grey = grey8_value(pack_grey8(r, g, b));
                     assert_eq!(grey.to_bits(), grey8(r, g, b).to_bits(), "{r} {g} {b}");
                 }
@@ -406,8 +430,9 @@ mod tests {
 
     #[test]
     fn sixteen_bit_steps_round_trip() {
-        for k in [0u16, 1, 2, 32767, 32768, 65534, 65535] {
+        for k in 0..=u16::MAX {
             assert_eq!(to_unorm16(unorm16(k)), k);
+            assert_eq!(unorm16x4([k; 4])[0], k as f32 / 65535.0);
         }
         for k in [-32767i16, -1, 0, 1, 12345, 32767] {
             assert_eq!(to_snorm16(snorm16(k)), k);
