@@ -24,12 +24,39 @@ pub const BASELINE_BYTES: u64 = 48 << 20;
 pub const MAX_VIEW_COLUMNS: u16 = 1024;
 pub const MAX_VIEW_ROWS: u16 = 512;
 
-/// Bytes per texel of a loaded texture at its worst: the base level (RGBA
-/// `f32`, 16), its mip chain (16/3), the dot3 normal map (12), the RGBA copy
-/// its chain is built from (16, freed after) and that chain (16/3). The
-/// decoder's own buffers (at most 16 + 16 per texel, for float pictures) are
-/// freed before the mip chains exist, and fit within this.
-pub const TEXTURE_BYTES_PER_TEXEL: f64 = 16.0 + 16.0 / 3.0 + 12.0 + 16.0 + 16.0 / 3.0;
+/// Bytes per texel of a texture kept in f32 (float pictures, textures
+/// built or edited in memory) at its worst: the base level (RGBA `f32`,
+/// 16), its mip chain (16/3), the dot3 normal map (12) and its chain
+/// (16/3, built straight from the normals). The decoder's own buffers (at
+/// most 16 + 16 per texel, for float pictures) are freed before the mip
+/// chains exist, and fit within this.
+pub const TEXTURE_BYTES_PER_TEXEL: f64 = 16.0 + 16.0 / 3.0 + 12.0 + 16.0 / 3.0;
+
+/// The precision a picture's texels are kept at (`texture::texels`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Precision {
+    /// 8 bits a channel: base 4 bytes, mip chain in 16 bits (8/3), normal
+    /// map in three signed 16-bit channels (6) and its chain (6/3). The
+    /// decoder's picture (≤ 4) and its RGBA copy (4) come and go before.
+    Unorm8,
+    /// 16 bits a channel: base 8, the rest as for 8 bits; the decoder's
+    /// picture and its RGBA copy (≤ 8 + 8) are freed before the chains exist.
+    Unorm16,
+    /// f32: [`TEXTURE_BYTES_PER_TEXEL`].
+    Float,
+}
+
+impl Precision {
+    /// Worst-case bytes per texel of a texture at this precision.
+    pub fn bytes_per_texel(self) -> f64 {
+        const DERIVED: f64 = 8.0 / 3.0 + 6.0 + 6.0 / 3.0;
+        match self {
+            Precision::Unorm8 => (4.0 + DERIVED).max(4.0 + 4.0),
+            Precision::Unorm16 => (8.0 + DERIVED).max(8.0 + 8.0),
+            Precision::Float => TEXTURE_BYTES_PER_TEXEL,
+        }
+    }
+}
 
 /// Bytes per frame pixel: the colour (3), a depth value (4) and the PNG's
 /// copy of the colour (3). Supersampling and MSAA add their own samples
@@ -102,10 +129,16 @@ pub fn in_use() -> u64 {
     RESERVED.load(Ordering::SeqCst)
 }
 
-/// Worst case of a `width × height` texture (see [`TEXTURE_BYTES_PER_TEXEL`]).
+/// Worst case of a `width × height` texture kept in f32 (see
+/// [`TEXTURE_BYTES_PER_TEXEL`]).
 pub fn texture_bytes(width: u64, height: u64) -> u64 {
+    texture_bytes_at(width, height, Precision::Float)
+}
+
+/// Worst case of a `width × height` texture kept at `precision`.
+pub fn texture_bytes_at(width: u64, height: u64, precision: Precision) -> u64 {
     let texels = width.saturating_mul(height);
-    (texels as f64 * TEXTURE_BYTES_PER_TEXEL)
+    (texels as f64 * precision.bytes_per_texel())
         .ceil()
         .min(u64::MAX as f64) as u64
 }

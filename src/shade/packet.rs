@@ -16,6 +16,7 @@ use crate::shade::lanes::Vector;
 use crate::stats::Counters;
 use crate::texture::Level;
 use crate::texture::level::around;
+use crate::texture::texels::{Fetch, with_fetch};
 
 /// Pixels per packet.
 pub const LANES: usize = 8;
@@ -291,34 +292,10 @@ pub fn bilinear<const COLOR: bool, const GRADIENT: bool>(
     let (xi, fx, x_inside) = axis(u, w);
     let (yi, fy, y_inside) = axis(v, h);
     let (fx, fy) = (fx.to_array(), fy.to_array());
-    let t = &level.texels[..];
-    let mut color = [f32x4::ZERO; LANES];
-    // East, west, north and south bilinear heights of each lane.
-    let mut heights = [f32x4::ZERO; LANES];
-    if x_inside && y_inside {
-        // No lane wraps: texel (row r, column c) of the 4×4 neighbourhood
-        // is at a fixed offset from the lane's (x0, y0).
-        assert!(w >= 4 && h >= 4 && t.len() == w * h);
-        for lane in 0..LANES {
-            let centre = yi[lane] as usize * w + xi[lane] as usize;
-            let at = |r: usize, c: usize| {
-                let k = centre + r * w + c - w - 1;
-                debug_assert!(centre > w && k < t.len());
-                // SAFETY: 1 ≤ x0 ≤ w − 3 and 1 ≤ y0 ≤ h − 3 (checked by
-                // `axis` for every lane), so for r, c in 0..4 the index
-                // (y0 + r − 1)·w + x0 + c − 1 lies in 0..w·h = t.len().
-                unsafe { *t.get_unchecked(k) }
-            };
-            (color[lane], heights[lane]) = blend::<COLOR, GRADIENT>(at, fx[lane], fy[lane]);
-        }
-    } else {
-        for lane in 0..LANES {
-            let cols = around(xi[lane] as i64, w);
-            let rows = around(yi[lane] as i64, h).map(|r| r * w);
-            let at = |r: usize, c: usize| t[rows[r] + cols[c]];
-            (color[lane], heights[lane]) = blend::<COLOR, GRADIENT>(at, fx[lane], fy[lane]);
-        }
-    }
+    let inside = x_inside && y_inside;
+    let (color, heights) = with_fetch!(&level.texels, t => {
+        lane_reads::<COLOR, GRADIENT, _>(t, (w, h), (&xi, &yi), (&fx, &fy), inside)
+    });
     let color = if COLOR {
         let [r, g, b, _] = channels(&color);
         V3 { x: r, y: g, z: b }
@@ -333,6 +310,46 @@ pub fn bilinear<const COLOR: bool, const GRADIENT: bool>(
         fv = (north - south) * half * f32x8::splat(h as f32);
     }
     TexelPacket { color, fu, fv }
+}
+
+/// Every lane's bilinear colour and its four bilinear heights, from
+/// texels read through `t` (one compiled copy per storage kind).
+#[inline(always)]
+fn lane_reads<const COLOR: bool, const GRADIENT: bool, F: Fetch>(
+    t: F,
+    (w, h): (usize, usize),
+    (xi, yi): (&[i32; LANES], &[i32; LANES]),
+    (fx, fy): (&[f32; LANES], &[f32; LANES]),
+    inside: bool,
+) -> ([f32x4; LANES], [f32x4; LANES]) {
+    let mut color = [f32x4::ZERO; LANES];
+    // East, west, north and south bilinear heights of each lane.
+    let mut heights = [f32x4::ZERO; LANES];
+    if inside {
+        // No lane wraps: texel (row r, column c) of the 4×4 neighbourhood
+        // is at a fixed offset from the lane's (x0, y0).
+        assert!(w >= 4 && h >= 4 && t.len() == w * h);
+        for lane in 0..LANES {
+            let centre = yi[lane] as usize * w + xi[lane] as usize;
+            let at = |r: usize, c: usize| {
+                let k = centre + r * w + c - w - 1;
+                debug_assert!(centre > w && k < t.len());
+                // SAFETY: 1 ≤ x0 ≤ w − 3 and 1 ≤ y0 ≤ h − 3 (checked by
+                // `axis` for every lane), so for r, c in 0..4 the index
+                // (y0 + r − 1)·w + x0 + c − 1 lies in 0..w·h = t.len().
+                unsafe { t.at_unchecked(k) }
+            };
+            (color[lane], heights[lane]) = blend::<COLOR, GRADIENT>(at, fx[lane], fy[lane]);
+        }
+    } else {
+        for lane in 0..LANES {
+            let cols = around(xi[lane] as i64, w);
+            let rows = around(yi[lane] as i64, h).map(|r| r * w);
+            let at = |r: usize, c: usize| t.at(rows[r] + cols[c]);
+            (color[lane], heights[lane]) = blend::<COLOR, GRADIENT>(at, fx[lane], fy[lane]);
+        }
+    }
+    (color, heights)
 }
 
 /// One lane's bilinear colour (RGBA) and its east, west, north and south

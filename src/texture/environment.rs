@@ -77,7 +77,7 @@ impl Environment {
             Level {
                 width,
                 height,
-                texels,
+                texels: texels.into(),
             },
         ))
     }
@@ -117,7 +117,7 @@ impl Environment {
         let c1 = if xi == w { 0 } else { xi };
         let (r0, r1) = (yi.saturating_sub(1), yi.min(h - 1));
         let at = |r: usize, c: usize| {
-            let t = level.texels[r * w + c];
+            let t = level.texels.at(r * w + c);
             Vec3::new(t[0], t[1], t[2])
         };
         let top = at(r0, c0) * (1.0 - fx) + at(r0, c1) * fx;

@@ -1,7 +1,7 @@
 //! One image level: storage, wrapping and the nearest / bilinear reads.
 
-/// RGB + height, each in 0..1.
-pub type Texel = [f32; 4];
+pub use super::texels::Texel;
+use super::texels::{Builder, Fetch, MipKind, Texels, with_fetch};
 
 /// A `width × height` grid of texels, the picture's top row first: row `y`
 /// holds texture coordinate v in [y, y + 1) / height, so v = 0 is the top of
@@ -10,7 +10,7 @@ pub type Texel = [f32; 4];
 pub struct Level {
     pub width: usize,
     pub height: usize,
-    pub texels: Vec<Texel>,
+    pub texels: Texels,
 }
 
 /// Storage indices i − 1 ..= i + 2 of a bilinear 4-tap footprint's
@@ -92,37 +92,43 @@ impl Level {
         Level {
             width,
             height,
-            texels: vec![texel; width * height],
+            texels: Texels::F32(vec![texel; width * height]),
+        }
+    }
+
+    /// A level of these f32 texels (kept as f32).
+    pub fn from_texels(width: usize, height: usize, texels: Vec<Texel>) -> Self {
+        assert_eq!(texels.len(), width * height, "one texel per cell");
+        Level {
+            width,
+            height,
+            texels: Texels::F32(texels),
         }
     }
 
     /// From 8-bit RGBA rows stored top row first (as images are), kept in
-    /// that order.
+    /// that order. A texture made in memory (the built-in ones) keeps f32
+    /// texels and mip levels, so its pictures are those it always gave;
+    /// pictures read from files are kept at their own precision (`load`).
     pub fn from_rgba8_top_down(width: usize, height: usize, rgba: &[u8]) -> Self {
         assert_eq!(rgba.len(), width * height * 4, "RGBA buffer size");
         assert!(width > 0 && height > 0, "a texture has at least one texel");
-        let mut texels = Vec::with_capacity(width * height);
-        for row in 0..height {
-            for px in rgba[row * width * 4..(row + 1) * width * 4].chunks_exact(4) {
-                texels.push([
-                    px[0] as f32 / 255.0,
-                    px[1] as f32 / 255.0,
-                    px[2] as f32 / 255.0,
-                    px[3] as f32 / 255.0,
-                ]);
-            }
-        }
+        let texels = rgba
+            .chunks_exact(4)
+            .map(|px| [px[0], px[1], px[2], px[3]].map(|c| c as f32 / 255.0))
+            .collect();
         Level {
             width,
             height,
-            texels,
+            texels: Texels::F32(texels),
         }
     }
 
     /// The texel at integer coordinates, wrapped.
     #[inline]
     pub fn texel(&self, x: i64, y: i64) -> Texel {
-        self.texels[wrap(y, self.height) * self.width + wrap(x, self.width)]
+        self.texels
+            .at(wrap(y, self.height) * self.width + wrap(x, self.width))
     }
 
     /// The texel that contains (u, v), wrapped.
@@ -130,7 +136,7 @@ impl Level {
     pub fn nearest(&self, u: f32, v: f32) -> Texel {
         let x = (to_texel_space(u, self.width) as usize).min(self.width - 1);
         let y = (to_texel_space(v, self.height) as usize).min(self.height - 1);
-        self.texels[y * self.width + x]
+        self.texels.at(y * self.width + x)
     }
 
     /// The bilinear neighbourhood of (u, v): the storage indices of the
@@ -157,44 +163,14 @@ impl Level {
     #[inline]
     pub fn bilinear(&self, u: f32, v: f32) -> Texel {
         let (cols, rows, fx, fy) = self.neighbourhood(u, v);
-        let t = &self.texels;
-        let (t00, t10) = (t[rows[1] + cols[1]], t[rows[1] + cols[2]]);
-        let (t01, t11) = (t[rows[2] + cols[1]], t[rows[2] + cols[2]]);
-        let mut out = [0.0; 4];
-        for c in 0..4 {
-            let top = t00[c] + (t10[c] - t00[c]) * fx;
-            let bottom = t01[c] + (t11[c] - t01[c]) * fx;
-            out[c] = top + (bottom - top) * fy;
-        }
-        out
+        with_fetch!(&self.texels, t => bilinear_in(t, &cols, &rows, fx, fy))
     }
 
     /// Bilinear height alone (channel 3).
     #[inline]
     pub fn bilinear_height(&self, u: f32, v: f32) -> f32 {
         let (cols, rows, fx, fy) = self.neighbourhood(u, v);
-        self.height_quad(&cols, &rows, 1, 1, fx, fy)
-    }
-
-    /// Bilinear height between columns cols[i], cols[i+1] and rows rows[j], rows[j+1].
-    #[inline]
-    fn height_quad(
-        &self,
-        cols: &[usize; 4],
-        rows: &[usize; 4],
-        i: usize,
-        j: usize,
-        fx: f32,
-        fy: f32,
-    ) -> f32 {
-        let t = &self.texels;
-        let h00 = t[rows[j] + cols[i]][3];
-        let h10 = t[rows[j] + cols[i + 1]][3];
-        let h01 = t[rows[j + 1] + cols[i]][3];
-        let h11 = t[rows[j + 1] + cols[i + 1]][3];
-        let top = h00 + (h10 - h00) * fx;
-        let bottom = h01 + (h11 - h01) * fx;
-        top + (bottom - top) * fy
+        with_fetch!(&self.texels, t => height_quad(t, &cols, &rows, 1, 1, fx, fy))
     }
 
     /// ∂F/∂u and ∂F/∂v per unit of texture coordinate, exactly as the
@@ -205,7 +181,7 @@ impl Level {
         let (w, h) = (self.width, self.height);
         let x = (to_texel_space(u, w) as usize).min(w - 1);
         let y = (to_texel_space(v, h) as usize).min(h - 1);
-        let at = |x: usize, y: usize| self.texels[y * w + x][3];
+        let at = |x: usize, y: usize| self.texels.at(y * w + x)[3];
         let (xp, xn) = (x.saturating_sub(1), (x + 1).min(w - 1));
         let (yp, yn) = (y.saturating_sub(1), (y + 1).min(h - 1));
         let du = (at(xn, y) - at(xp, y)) * 0.5 * w as f32;
@@ -220,14 +196,8 @@ impl Level {
     #[inline]
     pub fn height_gradient_filtered(&self, u: f32, v: f32) -> (f32, f32) {
         let (cols, rows, fx, fy) = self.neighbourhood(u, v);
-        let east = self.height_quad(&cols, &rows, 2, 1, fx, fy);
-        let west = self.height_quad(&cols, &rows, 0, 1, fx, fy);
-        let north = self.height_quad(&cols, &rows, 1, 2, fx, fy);
-        let south = self.height_quad(&cols, &rows, 1, 0, fx, fy);
-        (
-            (east - west) * 0.5 * self.width as f32,
-            (north - south) * 0.5 * self.height as f32,
-        )
+        let size = (self.width as f32, self.height as f32);
+        with_fetch!(&self.texels, t => gradient_in(t, &cols, &rows, fx, fy, size))
     }
 
     /// Bilinear colour and the filtered height gradient at one point, from
@@ -236,24 +206,11 @@ impl Level {
     #[inline]
     pub fn bilinear_with_gradient(&self, u: f32, v: f32) -> (Texel, (f32, f32)) {
         let (cols, rows, fx, fy) = self.neighbourhood(u, v);
-        let t = &self.texels;
-        let (t00, t10) = (t[rows[1] + cols[1]], t[rows[1] + cols[2]]);
-        let (t01, t11) = (t[rows[2] + cols[1]], t[rows[2] + cols[2]]);
-        let mut color = [0.0; 4];
-        for c in 0..4 {
-            let top = t00[c] + (t10[c] - t00[c]) * fx;
-            let bottom = t01[c] + (t11[c] - t01[c]) * fx;
-            color[c] = top + (bottom - top) * fy;
-        }
-        let east = self.height_quad(&cols, &rows, 2, 1, fx, fy);
-        let west = self.height_quad(&cols, &rows, 0, 1, fx, fy);
-        let north = self.height_quad(&cols, &rows, 1, 2, fx, fy);
-        let south = self.height_quad(&cols, &rows, 1, 0, fx, fy);
-        let gradient = (
-            (east - west) * 0.5 * self.width as f32,
-            (north - south) * 0.5 * self.height as f32,
-        );
-        (color, gradient)
+        let size = (self.width as f32, self.height as f32);
+        with_fetch!(&self.texels, t => (
+            bilinear_in(t, &cols, &rows, fx, fy),
+            gradient_in(t, &cols, &rows, fx, fy, size),
+        ))
     }
 
     /// Halves the level (box filter, odd sizes handled by weighting the
@@ -272,37 +229,95 @@ impl Level {
     /// One level down: each output texel is the area-weighted mean of the
     /// input texels it covers, so odd sizes keep the average colour exactly.
     fn downsample(&self) -> Level {
-        let (w, h) = (self.width, self.height);
-        let nw = (w / 2).max(1);
-        let nh = (h / 2).max(1);
-        let sx = w as f32 / nw as f32;
-        let sy = h as f32 / nh as f32;
-        let mut texels = Vec::with_capacity(nw * nh);
-        for oy in 0..nh {
-            let (y0, y1) = (oy as f32 * sy, (oy + 1) as f32 * sy);
-            for ox in 0..nw {
-                let (x0, x1) = (ox as f32 * sx, (ox + 1) as f32 * sx);
-                let mut acc = [0.0f32; 4];
-                let mut total = 0.0;
-                for iy in y0.floor() as usize..(y1.ceil() as usize).min(h) {
-                    let wy = (y1.min(iy as f32 + 1.0) - y0.max(iy as f32)).max(0.0);
-                    for ix in x0.floor() as usize..(x1.ceil() as usize).min(w) {
-                        let wx = (x1.min(ix as f32 + 1.0) - x0.max(ix as f32)).max(0.0);
-                        let weight = wx * wy;
-                        let t = self.texels[iy * w + ix];
-                        for c in 0..4 {
-                            acc[c] += t[c] * weight;
-                        }
-                        total += weight;
+        let kind = self.texels.mip_kind();
+        with_fetch!(&self.texels, t => downsample_from(t, self.width, self.height, kind))
+    }
+}
+
+/// Bilinear blend of texels cols[1], cols[2] × rows[1], rows[2].
+#[inline(always)]
+fn bilinear_in<F: Fetch>(t: F, cols: &[usize; 4], rows: &[usize; 4], fx: f32, fy: f32) -> Texel {
+    let (t00, t10) = (t.at(rows[1] + cols[1]), t.at(rows[1] + cols[2]));
+    let (t01, t11) = (t.at(rows[2] + cols[1]), t.at(rows[2] + cols[2]));
+    let mut out = [0.0; 4];
+    for c in 0..4 {
+        let top = t00[c] + (t10[c] - t00[c]) * fx;
+        let bottom = t01[c] + (t11[c] - t01[c]) * fx;
+        out[c] = top + (bottom - top) * fy;
+    }
+    out
+}
+
+/// Bilinear height between columns cols[i], cols[i+1] and rows rows[j], rows[j+1].
+#[inline(always)]
+fn height_quad<F: Fetch>(
+    t: F,
+    cols: &[usize; 4],
+    rows: &[usize; 4],
+    i: usize,
+    j: usize,
+    fx: f32,
+    fy: f32,
+) -> f32 {
+    let h00 = t.height(rows[j] + cols[i]);
+    let h10 = t.height(rows[j] + cols[i + 1]);
+    let h01 = t.height(rows[j + 1] + cols[i]);
+    let h11 = t.height(rows[j + 1] + cols[i + 1]);
+    let top = h00 + (h10 - h00) * fx;
+    let bottom = h01 + (h11 - h01) * fx;
+    top + (bottom - top) * fy
+}
+
+/// The filtered height gradient from a neighbourhood (see
+/// [`Level::height_gradient_filtered`]); `size` is the level's in texels.
+#[inline(always)]
+fn gradient_in<F: Fetch>(
+    t: F,
+    cols: &[usize; 4],
+    rows: &[usize; 4],
+    fx: f32,
+    fy: f32,
+    size: (f32, f32),
+) -> (f32, f32) {
+    let east = height_quad(t, cols, rows, 2, 1, fx, fy);
+    let west = height_quad(t, cols, rows, 0, 1, fx, fy);
+    let north = height_quad(t, cols, rows, 1, 2, fx, fy);
+    let south = height_quad(t, cols, rows, 1, 0, fx, fy);
+    ((east - west) * 0.5 * size.0, (north - south) * 0.5 * size.1)
+}
+
+/// The level below a `w × h` grid read through `t`, stored as `kind`: each
+/// output texel the area-weighted mean of the input texels it covers.
+pub(crate) fn downsample_from<F: Fetch>(t: F, w: usize, h: usize, kind: MipKind) -> Level {
+    let nw = (w / 2).max(1);
+    let nh = (h / 2).max(1);
+    let sx = w as f32 / nw as f32;
+    let sy = h as f32 / nh as f32;
+    let mut out = Builder::new(kind, nw * nh);
+    for oy in 0..nh {
+        let (y0, y1) = (oy as f32 * sy, (oy + 1) as f32 * sy);
+        for ox in 0..nw {
+            let (x0, x1) = (ox as f32 * sx, (ox + 1) as f32 * sx);
+            let mut acc = [0.0f32; 4];
+            let mut total = 0.0;
+            for iy in y0.floor() as usize..(y1.ceil() as usize).min(h) {
+                let wy = (y1.min(iy as f32 + 1.0) - y0.max(iy as f32)).max(0.0);
+                for ix in x0.floor() as usize..(x1.ceil() as usize).min(w) {
+                    let wx = (x1.min(ix as f32 + 1.0) - x0.max(ix as f32)).max(0.0);
+                    let weight = wx * wy;
+                    let texel = t.at(iy * w + ix);
+                    for c in 0..4 {
+                        acc[c] += texel[c] * weight;
                     }
+                    total += weight;
                 }
-                texels.push(acc.map(|a| a / total));
             }
+            out.push(acc.map(|a| a / total));
         }
-        Level {
-            width: nw,
-            height: nh,
-            texels,
-        }
+    }
+    Level {
+        width: nw,
+        height: nh,
+        texels: out.finish(),
     }
 }

@@ -10,15 +10,16 @@ use std::path::Path;
 
 use image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader, Limits};
 
+use super::texels::{Texels, pack_rgb8, to_unorm16};
 use super::tiff_strips::Refusal;
 use super::{Level, Texture, resample, tiff_samples, variants, xpm};
-use crate::budget::{self, Reservation};
+use crate::budget::{self, Precision, Reservation};
 use crate::sanitize;
 
 /// Largest width or height accepted.
 pub const MAX_DIMENSION: u32 = 16_384;
-/// Largest number of texels accepted (16 bytes each once loaded, so 256 MiB),
-/// e.g. 4096×4096 or 16384×1024.
+/// Largest number of texels accepted (4 to 16 bytes each once loaded, see
+/// `texels`), e.g. 4096×4096 or 16384×1024.
 pub const MAX_TEXELS: u64 = 1 << 24;
 /// Largest file read (compressed pictures that big are beyond any texture).
 pub const MAX_FILE_BYTES: u64 = 256 << 20;
@@ -192,7 +193,7 @@ pub fn with_height_map(color: Texture, height: &Texture) -> Result<Texture, Text
         .iter()
         .zip(heights)
         .map(|(t, hgt)| [t[0], t[1], t[2], hgt])
-        .collect();
+        .collect::<Texels>();
     drop(resize);
     Ok(Texture::new(
         name,
@@ -334,7 +335,7 @@ fn tiff_level(bytes: &[u8], file: &str) -> Result<Option<(Level, Reservation)>, 
         return Ok(None);
     };
     check_size(file, width, height)?;
-    let held = reserve_texture(file, width as usize, height as usize)?;
+    let held = reserve_texture(file, width as usize, height as usize, Precision::Float)?;
     let p = match tiff_samples::decode(bytes, MAX_DECODER_ALLOC as usize) {
         Ok(Some(p)) => p,
         Ok(None) => return Ok(None),
@@ -421,9 +422,10 @@ fn decode_image(
     let decoder = reader.into_decoder().map_err(image_error)?;
     let (width, height) = decoder.dimensions();
     check_size(file, width, height)?;
-    let held = reserve_texture(file, width as usize, height as usize)?;
+    let precision = precision_of(decoder.color_type());
+    let held = reserve_texture(file, width as usize, height as usize, precision)?;
     let image = DynamicImage::from_decoder(decoder).map_err(image_error)?;
-    Ok((level_from_image(&image), held))
+    Ok((level_from_image(image), held))
 }
 
 fn convert_error(e: ImageError, file: &str, format: &str) -> TextureError {
@@ -541,11 +543,16 @@ fn escapes_as_marks(text: &str) -> String {
     out
 }
 
-/// Holds the budget for a `width × height` texture's worst case.
-fn reserve_texture(file: &str, width: usize, height: usize) -> Result<Reservation, TextureError> {
+/// Holds the budget for a `width × height` texture's worst case at `precision`.
+fn reserve_texture(
+    file: &str,
+    width: usize,
+    height: usize,
+    precision: Precision,
+) -> Result<Reservation, TextureError> {
     budget::reserve(
         &format!("a {width}x{height} picture"),
-        budget::texture_bytes(width as u64, height as u64),
+        budget::texture_bytes_at(width as u64, height as u64, precision),
     )
     .map_err(|e| TextureError::OverBudget {
         file: file.to_owned(),
@@ -570,7 +577,7 @@ fn decode_xpm(bytes: &[u8], file: &str) -> Result<(Level, Reservation), TextureE
     if w > MAX_DIMENSION as usize || h > MAX_DIMENSION as usize {
         return Err(too_large(file, w as u64, h as u64));
     }
-    let held = reserve_texture(file, w, h)?;
+    let held = reserve_texture(file, w, h, Precision::Float)?;
     let level = level_from_rows(w, h, image.has_alpha, |x, y| image.rgba[y * w + x]);
     Ok((level, held))
 }
@@ -606,37 +613,64 @@ fn level_from_rows(
     Level {
         width,
         height,
-        texels,
+        texels: Texels::F32(texels),
     }
 }
 
-/// 8-bit pictures convert from 8 bits (as `Level::from_rgba8_top_down`
-/// does, so a PNG of a generated texture gives back the same texels),
-/// 16-bit ones from 16 bits, float ones from floats.
-fn level_from_image(image: &DynamicImage) -> Level {
+/// The precision a picture of `color` is kept at: its channels' bits.
+fn precision_of(color: image::ColorType) -> Precision {
+    match color.bytes_per_pixel() as usize * 8 / color.channel_count() as usize {
+        8 => Precision::Unorm8,
+        16 => Precision::Unorm16,
+        _ => Precision::Float,
+    }
+}
+
+/// 8-bit pictures are kept in 8 bits (they read as k / 255, as
+/// `Level::from_rgba8_top_down` does, so a PNG of a generated texture gives
+/// back the same texels), 16-bit ones in 16 bits, float ones as floats.
+fn level_from_image(image: DynamicImage) -> Level {
     let (w, h) = (image.width() as usize, image.height() as usize);
     let color = image.color();
     let has_alpha = color.has_alpha();
-    let bits = color.bytes_per_pixel() as usize * 8 / color.channel_count() as usize;
-    match bits {
-        8 => {
-            let buf = image.to_rgba8();
-            level_from_rows(w, h, has_alpha, |x, y| {
-                buf.get_pixel(x as u32, y as u32)
-                    .0
-                    .map(|c| c as f32 / 255.0)
-            })
+    match precision_of(color) {
+        Precision::Unorm8 => {
+            let buf = image.into_rgba8();
+            let texels = if has_alpha {
+                Texels::Rgba8(buf.pixels().map(|p| p.0).collect())
+            } else {
+                Texels::Rgb8(buf.pixels().map(|p| pack_rgb8(p[0], p[1], p[2])).collect())
+            };
+            Level {
+                width: w,
+                height: h,
+                texels,
+            }
         }
-        16 => {
-            let buf = image.to_rgba16();
-            level_from_rows(w, h, has_alpha, |x, y| {
-                buf.get_pixel(x as u32, y as u32)
-                    .0
-                    .map(|c| c as f32 / 65535.0)
-            })
+        Precision::Unorm16 => {
+            let buf = image.into_rgba16();
+            let texels = buf
+                .pixels()
+                .map(|p| {
+                    let [r, g, b, a] = p.0;
+                    if has_alpha {
+                        [r, g, b, a]
+                    } else {
+                        // The mean as computed from floats, to the nearest step.
+                        let c = |k: u16| (k as f32 / 65535.0) as f64;
+                        let mean = ((c(r) + c(g) + c(b)) / 3.0) as f32;
+                        [r, g, b, to_unorm16(mean)]
+                    }
+                })
+                .collect();
+            Level {
+                width: w,
+                height: h,
+                texels: Texels::Rgba16(texels),
+            }
         }
-        _ => {
-            let buf = image.to_rgba32f();
+        Precision::Float => {
+            let buf = image.into_rgba32f();
             level_from_rows(w, h, has_alpha, |x, y| buf.get_pixel(x as u32, y as u32).0)
         }
     }

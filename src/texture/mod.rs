@@ -1,6 +1,7 @@
 //! Textures: colour in RGB, height (the bump map) in the fourth channel.
 //!
-//! Texels are stored as `f32` in 0..1, **top row first** (as image files
+//! Texels read as `f32` in 0..1 (stored at their source's precision, see
+//! `texels`), **top row first** (as image files
 //! are), and (u, v) index the storage directly: texture coordinate v = 0 is
 //! the top of the picture, as it is for OpenGL renderers fed an image's rows
 //! in file order (Mesa llvmpipe, euc) and in the documented program's files.
@@ -19,6 +20,7 @@ pub mod procedural;
 pub mod resample;
 pub mod sampler;
 pub mod specular_map;
+pub mod texels;
 pub mod thumbnail;
 pub mod tiff_samples;
 pub mod tiff_strips;
@@ -32,7 +34,9 @@ pub use load::{TextureError, load_texture, load_texture_with_height};
 pub use normal_map::NormalMap;
 
 use std::sync::atomic::{AtomicU64, Ordering};
+
 use std::sync::{Arc, Mutex, OnceLock};
+use texels::{Fetch, with_fetch};
 
 /// A colour + height texture and, built on first use, its mip chain.
 #[derive(Debug)]
@@ -58,7 +62,8 @@ pub struct Texture {
 impl Texture {
     pub fn new(name: impl Into<String>, base: Level) -> Self {
         let first = base.texels.first().map_or(0.0, |t| t[3]);
-        let flat_height = base.texels.iter().all(|t| t[3] == first);
+        let flat_height =
+            with_fetch!(&base.texels, t => (0..t.len()).all(|i| t.height(i) == first));
         Texture {
             name: name.into(),
             base,

@@ -17,6 +17,81 @@ use std::sync::OnceLock;
 use glam::Vec2;
 
 use super::Level;
+use super::level::downsample_from;
+use super::texels::{Fetch, MipKind, Xyz16s, Xyz32s, to_snorm16, with_fetch};
+
+/// A map's unit normals: f32 for maps derived from f32 textures (their
+/// pictures unchanged), three signed 16-bit channels otherwise (6 bytes a
+/// texel instead of 12; a step of 1/32767 in each component).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Normals {
+    F32(Vec<[f32; 3]>),
+    Snorm16(Vec<[i16; 3]>),
+}
+
+impl Normals {
+    /// Snorm16 normals from `n` f32 ones.
+    pub fn snorm16(n: usize, normal: impl Fn(usize) -> [f32; 3]) -> Normals {
+        Normals::Snorm16((0..n).map(|i| normal(i).map(to_snorm16)).collect())
+    }
+
+    pub fn len(&self) -> usize {
+        match self {
+            Normals::F32(v) => v.len(),
+            Normals::Snorm16(v) => v.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Normal `i` as floats.
+    #[inline]
+    pub fn at(&self, i: usize) -> [f32; 3] {
+        match self {
+            Normals::F32(v) => v[i],
+            Normals::Snorm16(v) => {
+                let t = Xyz16s(v).at(i);
+                [t[0], t[1], t[2]]
+            }
+        }
+    }
+
+    /// Every normal as floats, in storage order.
+    pub fn iter(&self) -> impl Iterator<Item = [f32; 3]> + '_ {
+        (0..self.len()).map(move |i| self.at(i))
+    }
+
+    /// Normals like these (same storage) from `n` f32 ones.
+    pub(crate) fn like(&self, n: usize, normal: impl Fn(usize) -> [f32; 3]) -> Normals {
+        match self {
+            Normals::F32(_) => Normals::F32((0..n).map(normal).collect()),
+            Normals::Snorm16(_) => Normals::snorm16(n, normal),
+        }
+    }
+}
+
+impl From<Vec<[f32; 3]>> for Normals {
+    fn from(v: Vec<[f32; 3]>) -> Self {
+        Normals::F32(v)
+    }
+}
+
+/// Equal when every normal reads the same (whatever the storage).
+impl PartialEq<Vec<[f32; 3]>> for Normals {
+    fn eq(&self, other: &Vec<[f32; 3]>) -> bool {
+        self.len() == other.len() && self.iter().zip(other).all(|(a, b)| a == *b)
+    }
+}
+
+impl<'a> IntoIterator for &'a Normals {
+    type Item = [f32; 3];
+    type IntoIter = Box<dyn Iterator<Item = [f32; 3]> + 'a>;
+    fn into_iter(self) -> Self::IntoIter {
+        Box::new(self.iter())
+    }
+}
 
 /// |∂P/∂u| of the reference cube's faces: the normal map's slope scale is
 /// Blinn's k times this, so both techniques show the same relief there.
@@ -35,7 +110,7 @@ pub struct NormalMap {
     pub height: usize,
     /// The slope scale the map was built with (see [`NormalMap::build`]).
     pub scale: f32,
-    pub normals: Vec<[f32; 3]>,
+    pub normals: Normals,
     /// Levels 1.. (x, y, z in the first three channels, the fourth 0),
     /// built on the first minified read; same sizes as the texture's chain.
     mips: OnceLock<Vec<Level>>,
@@ -56,21 +131,29 @@ impl NormalMap {
     /// difference one texel either side (wrapped, as the texture repeats), per
     /// unit of texture coordinate: at texel centres the same derivative as the
     /// filtered Blinn gradient. `scale` is s; a non-finite or negative scale
-    /// counts as 0 (a flat map).
+    /// counts as 0 (a flat map). The normals are f32 when the level is,
+    /// 16-bit otherwise.
     pub fn build(level: &Level, scale: f32) -> NormalMap {
         let s = NormalMap::effective_scale(scale);
         let (w, h) = (level.width, level.height);
-        let at = |x: i64, y: i64| level.texel(x, y)[3];
-        let mut normals = Vec::with_capacity(w * h);
-        for y in 0..h as i64 {
-            for x in 0..w as i64 {
-                let fu = (at(x + 1, y) - at(x - 1, y)) * 0.5 * w as f32;
-                let fv = (at(x, y + 1) - at(x, y - 1)) * 0.5 * h as f32;
+        let normals = with_fetch!(&level.texels, t => {
+            let normal = |(x, y): (usize, usize)| {
+                // Neighbours wrapped, as the texture repeats.
+                let (xp, xn) = ((x + w - 1) % w, (x + 1) % w);
+                let (yp, yn) = ((y + h - 1) % h, (y + 1) % h);
+                let fu = (t.height(y * w + xn) - t.height(y * w + xp)) * 0.5 * w as f32;
+                let fv = (t.height(yn * w + x) - t.height(yp * w + x)) * 0.5 * h as f32;
                 let (nx, ny, nz) = (-s * fu, -s * fv, 1.0f32);
                 let len = (nx * nx + ny * ny + nz * nz).sqrt();
-                normals.push([nx / len, ny / len, nz / len]);
+                [nx / len, ny / len, nz / len]
+            };
+            let texels = (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).map(normal);
+            if level.texels.is_f32() {
+                Normals::F32(texels.collect())
+            } else {
+                Normals::Snorm16(texels.map(|n| n.map(to_snorm16)).collect())
             }
-        }
+        });
         NormalMap {
             width: w,
             height: h,
@@ -87,8 +170,9 @@ impl NormalMap {
         width: usize,
         height: usize,
         scale: f32,
-        normals: Vec<[f32; 3]>,
+        normals: impl Into<Normals>,
     ) -> NormalMap {
+        let normals = normals.into();
         assert_eq!(normals.len(), width * height, "one normal per texel");
         NormalMap {
             width,
@@ -110,16 +194,16 @@ impl NormalMap {
     /// are averaged as they are, never renormalised.
     pub fn mip_levels(&self) -> &[Level] {
         self.mips.get_or_init(|| {
-            let base = Level {
-                width: self.width,
-                height: self.height,
-                texels: self
-                    .normals
-                    .iter()
-                    .map(|&[x, y, z]| [x, y, z, 0.0])
-                    .collect(),
+            let (w, h) = (self.width, self.height);
+            if w <= 1 && h <= 1 {
+                return Vec::new();
+            }
+            let first = match &self.normals {
+                Normals::F32(v) => downsample_from(Xyz32s(v), w, h, MipKind::F32),
+                Normals::Snorm16(v) => downsample_from(Xyz16s(v), w, h, MipKind::Xyz16),
             };
-            base.build_chain()
+            let rest = first.build_chain();
+            std::iter::once(first).chain(rest).collect()
         })
     }
 
@@ -167,8 +251,14 @@ impl NormalMap {
         let xb = wrap(xi + 1, self.width);
         let ra = wrap(yi, self.height) * self.width;
         let rb = wrap(yi + 1, self.height) * self.width;
-        let (t00, t10) = (self.normals[ra + xa], self.normals[ra + xb]);
-        let (t01, t11) = (self.normals[rb + xa], self.normals[rb + xb]);
+        let quad = [ra + xa, ra + xb, rb + xa, rb + xb];
+        let [t00, t10, t01, t11] = match &self.normals {
+            Normals::F32(v) => quad.map(|i| v[i]),
+            Normals::Snorm16(v) => quad.map(|i| {
+                let t = Xyz16s(v).at(i);
+                [t[0], t[1], t[2]]
+            }),
+        };
         let mut out = [0.0; 3];
         for c in 0..3 {
             let top = t00[c] + (t10[c] - t00[c]) * fx;
@@ -187,7 +277,7 @@ mod tests {
         let mut level = Level::solid(n, n, [0.5; 4]);
         for y in 0..n {
             for x in 0..n {
-                level.texels[y * n + x][3] = x as f32 / n as f32;
+                level.texels.as_mut_slice()[y * n + x][3] = x as f32 / n as f32;
             }
         }
         level
@@ -199,7 +289,7 @@ mod tests {
         assert!(
             map.normals
                 .iter()
-                .all(|&n| n == [0.0, 0.0, 1.0] || n == [-0.0, -0.0, 1.0])
+                .all(|n| n == [0.0, 0.0, 1.0] || n == [-0.0, -0.0, 1.0])
         );
         assert_eq!(map.bilinear(0.37, 0.91)[2], 1.0);
     }
@@ -208,7 +298,7 @@ mod tests {
     fn rising_u_tilts_toward_minus_u_like_blinn() {
         // F = x/n: ∂F/∂u = 1 per unit of u away from the wrap seam.
         let map = NormalMap::build(&ramp_u(16), 0.5);
-        let n = map.normals[5 * 16 + 7];
+        let n = map.normals.at(5 * 16 + 7);
         let expected = glam::Vec3::new(-0.5, 0.0, 1.0).normalize();
         assert!((glam::Vec3::from(n) - expected).length() < 1e-6, "{n:?}");
     }

@@ -22,14 +22,15 @@ use std::sync::{Arc, Mutex};
 use glam::Vec3;
 
 use super::load::load_texture_from_bytes;
+use super::normal_map::Normals;
 use super::{Level, NormalMap, Texture, TextureError, load_texture};
 use crate::budget::{self, Reservation};
 use crate::settings::DEFAULT_BUMP_STRENGTH;
 
 /// Bytes per texel a file normal map may hold: the map as given and one copy
-/// tilted for another strength, each with the RGBA copy its mip chain is
-/// built from (16, freed after) and that chain (16/3).
-pub const BYTES_PER_TEXEL: f64 = 2.0 * (12.0 + 16.0 + 16.0 / 3.0);
+/// tilted for another strength, each three signed 16-bit channels (6) with
+/// its mip chain (6/3).
+pub const BYTES_PER_TEXEL: f64 = 2.0 * (6.0 + 6.0 / 3.0);
 
 /// Texels shorter than this (before renormalising) have no direction.
 const MIN_LENGTH: f32 = 1e-4;
@@ -70,13 +71,13 @@ pub fn encode_texel(n: [f32; 3]) -> [f32; 3] {
     [c(n[0]), c(-n[1]), c(n[2])]
 }
 
-/// A level's RGB decoded as normals (its fourth channel is ignored).
+/// A level's RGB decoded as normals (its fourth channel is ignored), kept
+/// as three signed 16-bit channels.
 pub fn decode_level(level: &Level) -> NormalMap {
-    let normals = level
-        .texels
-        .iter()
-        .map(|t| decode_texel([t[0], t[1], t[2]]))
-        .collect();
+    let normals = Normals::snorm16(level.texels.len(), |i| {
+        let t = level.texels.at(i);
+        decode_texel([t[0], t[1], t[2]])
+    });
     NormalMap::from_normals(level.width, level.height, 1.0, normals)
 }
 
@@ -84,7 +85,7 @@ pub fn decode_level(level: &Level) -> NormalMap {
 pub fn encode_rgb8(map: &NormalMap) -> Vec<u8> {
     map.normals
         .iter()
-        .flat_map(|&n| encode_texel(n).map(|c| (c * 255.0).round() as u8))
+        .flat_map(|n| encode_texel(n).map(|c| (c * 255.0).round() as u8))
         .collect()
 }
 
@@ -92,7 +93,7 @@ pub fn encode_rgb8(map: &NormalMap) -> Vec<u8> {
 pub fn encode_rgb16(map: &NormalMap) -> Vec<u16> {
     map.normals
         .iter()
-        .flat_map(|&n| encode_texel(n).map(|c| (c * 65535.0).round() as u16))
+        .flat_map(|n| encode_texel(n).map(|c| (c * 65535.0).round() as u16))
         .collect()
 }
 
@@ -189,19 +190,16 @@ pub fn tilt_factor(k: f32) -> f32 {
 
 /// `map` with every normal's x and y scaled by `factor`, renormalised.
 pub(crate) fn tilt(map: &NormalMap, factor: f32) -> NormalMap {
-    let normals = map
-        .normals
-        .iter()
-        .map(|&[x, y, z]| {
-            let n = Vec3::new(x * factor, y * factor, z);
-            let len = n.length();
-            if len.is_finite() && len >= MIN_LENGTH {
-                (n / len).to_array()
-            } else {
-                [0.0, 0.0, 1.0]
-            }
-        })
-        .collect();
+    let normals = map.normals.like(map.normals.len(), |i| {
+        let [x, y, z] = map.normals.at(i);
+        let n = Vec3::new(x * factor, y * factor, z);
+        let len = n.length();
+        if len.is_finite() && len >= MIN_LENGTH {
+            (n / len).to_array()
+        } else {
+            [0.0, 0.0, 1.0]
+        }
+    });
     NormalMap::from_normals(map.width, map.height, factor, normals)
 }
 
@@ -242,10 +240,10 @@ mod tests {
         let (double, built) = file.for_strength(2.0 * DEFAULT_BUMP_STRENGTH);
         assert!(built);
         let expected = Vec3::new(1.2, 0.0, 0.8).normalize();
-        assert!((Vec3::from(double.normals[0]) - expected).length() < 1e-6);
+        assert!((Vec3::from(double.normals.at(0)) - expected).length() < 1e-6);
         assert!(!file.for_strength(2.0 * DEFAULT_BUMP_STRENGTH).1);
         assert_eq!(file.builds(), 1);
         let (flat, _) = file.for_strength(f32::NAN);
-        assert_eq!(flat.normals[0], [0.0, 0.0, 1.0]);
+        assert_eq!(flat.normals.at(0), [0.0, 0.0, 1.0]);
     }
 }

@@ -5,6 +5,7 @@
 
 use std::path::Path;
 
+use super::texels::{Texels, pack_grey8, to_unorm16};
 use super::{Level, Texture, TextureError, load_texture};
 
 /// The picture at `path` as a specular map (see [`grey`]).
@@ -14,18 +15,24 @@ pub fn load_specular_map(path: &Path) -> Result<Level, TextureError> {
 
 /// A texture's base level as grey: the mean of R, G and B in every channel,
 /// so a grey picture reads as itself and a coloured one as its brightness.
+/// One channel is stored (2 bytes a texel): for an 8-bit picture exactly
+/// the f32 mean, for others the mean to the nearest 1/65535.
 pub fn grey(texture: &Texture) -> Level {
     let base = texture.base();
+    let grey8 =
+        |v: &[[u8; 4]]| Texels::Grey8(v.iter().map(|t| pack_grey8(t[0], t[1], t[2])).collect());
+    let texels = match &base.texels {
+        Texels::Rgba8(v) | Texels::Rgb8(v) => grey8(v),
+        other => Texels::Grey16(
+            other
+                .iter()
+                .map(|t| to_unorm16((t[0] + t[1] + t[2]) / 3.0))
+                .collect(),
+        ),
+    };
     Level {
         width: base.width,
         height: base.height,
-        texels: base
-            .texels
-            .iter()
-            .map(|t| {
-                let g = (t[0] + t[1] + t[2]) / 3.0;
-                [g; 4]
-            })
-            .collect(),
+        texels,
     }
 }

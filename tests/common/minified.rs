@@ -33,7 +33,7 @@ pub fn texture(n: usize, height: impl Fn(usize, usize) -> f32) -> Arc<Texture> {
             } else {
                 0.55
             };
-            level.texels[y * n + x] = [c, 0.7, 1.0 - c, height(x, y)];
+            level.texels.as_mut_slice()[y * n + x] = [c, 0.7, 1.0 - c, height(x, y)];
         }
     }
     Arc::new(Texture::new("test", level))

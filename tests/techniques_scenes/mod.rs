@@ -94,7 +94,7 @@ pub fn texture_of(n: usize, f: impl Fn(usize, usize) -> [f32; 4]) -> Texture {
     let mut level = Level::solid(n, n, [0.0; 4]);
     for y in 0..n {
         for x in 0..n {
-            level.texels[y * n + x] = f(x, y);
+            level.texels.as_mut_slice()[y * n + x] = f(x, y);
         }
     }
     Texture::new("test", level)

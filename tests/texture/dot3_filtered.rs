@@ -198,14 +198,14 @@ fn the_map_chain_averages_the_vectors_without_renormalising() {
     );
     for (i, t) in levels[0].texels.iter().enumerate() {
         let (x, y) = (2 * (i % 4), 2 * (i / 4));
-        let a = Vec3::from(map.normals[y * 8 + x]);
-        let b = Vec3::from(map.normals[y * 8 + x + 1]);
+        let a = Vec3::from(map.normals.at(y * 8 + x));
+        let b = Vec3::from(map.normals.at(y * 8 + x + 1));
         let mean = (a + b) * 0.5;
         assert!((Vec3::new(t[0], t[1], t[2]) - mean).length() < 1e-6);
     }
     // Tilted both ways in turn, the mean over the whole map is straight up
     // and shorter than 1: the relief is rough at that scale.
-    let last = levels[2].texels[0];
+    let last = levels[2].texels.at(0);
     assert!(last[0].abs() < 1e-6 && last[1].abs() < 1e-6, "{last:?}");
     assert!(last[2] > 0.0 && last[2] < 0.99, "{last:?}");
     // At the smallest level's lod and beyond, every read is that vector.

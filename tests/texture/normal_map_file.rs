@@ -100,7 +100,7 @@ fn map_difference(a: &NormalMap, b: &NormalMap, axis: Axis) -> f32 {
             if t == 0 || t == N - 1 {
                 continue;
             }
-            let (p, q) = (a.normals[y * N + x], b.normals[y * N + x]);
+            let (p, q) = (a.normals.at(y * N + x), b.normals.at(y * N + x));
             for c in 0..3 {
                 worst = worst.max((p[c] - q[c]).abs());
             }
@@ -123,7 +123,7 @@ fn a_file_of_a_known_slope_matches_the_height_derived_map() {
     for axis in [Axis::U, Axis::V] {
         let derived = derived(axis, K_FILE);
         // The derived map tilts by the slope (not a flat map).
-        let mid = derived.normals[(N / 2) * N + N / 2];
+        let mid = derived.normals.at((N / 2) * N + N / 2);
         assert!(mid[0].abs().max(mid[1].abs()) > 0.2, "{axis:?}: {mid:?}");
         // Quantisation: half a step of the channel is 1/255 (1/65535) of
         // a component, a little more once renormalised.

@@ -81,7 +81,7 @@ fn the_chain_is_built_only_for_minified_textures() {
         relief::texture::Level {
             width: 96,
             height: 96,
-            texels,
+            texels: texels.into(),
         },
     ));
     for filter in filters() {
@@ -140,7 +140,7 @@ fn texture_mapping_is_perspective_correct_across_both_triangles() {
     };
     let ramp = Scene::cube(Arc::new(Texture::new("ramp", level(ramp))), false);
     let flat = Scene::cube(
-        Arc::new(Texture::new("flat", level(vec![[0.5; 4]; 256]))),
+        Arc::new(Texture::new("flat", level(vec![[0.5; 4]; 256].into()))),
         false,
     );
     let angle = 40.0f32;
@@ -229,7 +229,7 @@ fn whole_number_uv_shifts_change_no_mip_filtered_pixel() {
         relief::texture::Level {
             width: 256,
             height: 256,
-            texels: noise,
+            texels: noise.into(),
         },
     ));
     let (w, h) = (240, 180);

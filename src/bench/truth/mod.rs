@@ -116,7 +116,11 @@ pub fn bilinear(level: &Level, u: f64, v: f64) -> [f64; 4] {
     let y = (v - v.floor()) * h as f64 - 0.5;
     let (x0, y0) = (x.floor(), y.floor());
     let (fx, fy) = (x - x0, y - y0);
-    let at = |i: i64, j: i64| level.texels[(j.rem_euclid(h) * w + i.rem_euclid(w)) as usize];
+    let at = |i: i64, j: i64| {
+        level
+            .texels
+            .at((j.rem_euclid(h) * w + i.rem_euclid(w)) as usize)
+    };
     let (i, j) = (x0 as i64, y0 as i64);
     let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1));
     std::array::from_fn(|k| {
@@ -236,7 +240,7 @@ mod tests {
         let level = Level {
             width: 4,
             height: 4,
-            texels: vec![[0.8, 0.6, 0.4, 0.5]; 16],
+            texels: vec![[0.8, 0.6, 0.4, 0.5]; 16].into(),
         };
         let s = Scene::cube(
             std::sync::Arc::new(crate::texture::Texture::new("c", level)),

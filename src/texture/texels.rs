@@ -1,0 +1,452 @@
+//! How a level's texels are stored: at the precision their source has
+//! (docs/textures.md, "Memory"). Every read gives `f32` RGBA in 0..1 (or
+//! −1..1 for normals), so the filters compute as they always have; only
+//! what sits in memory between reads is smaller.
+//!
+//! - `F32`: as computed (textures made in memory, such as the built-in
+//!   ones, float pictures, anything a caller edits).
+//! - `Rgba8`: an 8-bit picture with alpha; k / 255 is exactly what the
+//!   float conversion gives.
+//! - `Rgb8`: an 8-bit picture without alpha, whose height is the mean of
+//!   R, G and B. That mean (in f64, rounded to f32) is not a function of
+//!   the 8-bit sum alone, but it is always the sum's mean `s / 765` (in
+//!   f32) or the next float up: the fourth byte holds that 0 or 1, so the
+//!   height read back is bit for bit the one computed at load.
+//! - `Rgba16`: 16-bit pictures and the mip levels of 8- and 16-bit ones
+//!   (a mean of 8-bit values needs more than 8 bits): k / 65535.
+//! - `Xyz16`: tangent-space normals and their mip levels, three signed
+//!   channels in −1..1 (k / 32767), the fourth channel 0.
+//! - `Grey8`: the grey of an 8-bit picture (a specular map): the sum
+//!   r + g + b and the grey's offset in floats from `s / 765`, exact as
+//!   for `Rgb8`.
+//! - `Grey16`: the grey of any other picture, k / 65535.
+
+/// RGBA (or height) in 0..1.
+pub type Texel = [f32; 4];
+
+#[derive(Clone, Debug)]
+pub enum Texels {
+    F32(Vec<[f32; 4]>),
+    Rgba8(Vec<[u8; 4]>),
+    Rgb8(Vec<[u8; 4]>),
+    Rgba16(Vec<[u16; 4]>),
+    Xyz16(Vec<[i16; 3]>),
+    Grey8(Vec<u16>),
+    Grey16(Vec<u16>),
+}
+
+/// The bits of `s / 765` as f32, for every sum of three bytes.
+static MEAN_OF_SUM: [u32; 766] = {
+    let mut table = [0u32; 766];
+    let mut s = 0;
+    while s < 766 {
+        table[s] = (s as f32 / 765.0).to_bits();
+        s += 1;
+    }
+    table
+};
+
+/// An 8-bit channel as the float conversion gives it.
+#[inline(always)]
+fn unorm8(k: u8) -> f32 {
+    k as f32 / 255.0
+}
+
+#[inline(always)]
+fn unorm16(k: u16) -> f32 {
+    k as f32 / 65535.0
+}
+
+#[inline(always)]
+fn snorm16(k: i16) -> f32 {
+    k as f32 * (1.0 / 32767.0)
+}
+
+/// 0..1 to the nearest 16-bit step (NaN to 0).
+#[inline]
+pub fn to_unorm16(x: f32) -> u16 {
+    if x.is_nan() {
+        0
+    } else {
+        (x.clamp(0.0, 1.0) * 65535.0 + 0.5) as u16
+    }
+}
+
+/// −1..1 to the nearest signed 16-bit step (NaN to 0).
+#[inline]
+pub fn to_snorm16(x: f32) -> i16 {
+    if x.is_nan() {
+        0
+    } else {
+        let k = x.clamp(-1.0, 1.0) * 32767.0;
+        (if k < 0.0 { k - 0.5 } else { k + 0.5 }) as i16
+    }
+}
+
+/// The height of an 8-bit texel without alpha, exactly as computed from
+/// floats: the mean of R, G and B in f64, rounded to f32.
+#[inline]
+pub fn mean_height8(r: u8, g: u8, b: u8) -> f32 {
+    ((unorm8(r) as f64 + unorm8(g) as f64 + unorm8(b) as f64) / 3.0) as f32
+}
+
+/// The grey of an 8-bit texel as the specular map computes it in f32.
+#[inline]
+pub fn grey8(r: u8, g: u8, b: u8) -> f32 {
+    (unorm8(r) + unorm8(g) + unorm8(b)) / 3.0
+}
+
+/// `value`'s offset in floats (0 ..= 3) from `s / 765` after adding `bias`.
+fn offset_from_mean(sum: usize, value: f32, bias: i64) -> u8 {
+    let off = value.to_bits() as i64 - MEAN_OF_SUM[sum] as i64 + bias;
+    debug_assert!((0..4).contains(&off), "offset {off} at sum {sum}");
+    off.clamp(0, 3) as u8
+}
+
+/// An 8-bit RGB texel without alpha as stored in `Rgb8`.
+#[inline]
+pub fn pack_rgb8(r: u8, g: u8, b: u8) -> [u8; 4] {
+    let sum = r as usize + g as usize + b as usize;
+    [r, g, b, offset_from_mean(sum, mean_height8(r, g, b), 0)]
+}
+
+/// An 8-bit texel's grey as stored in `Grey8`.
+#[inline]
+pub fn pack_grey8(r: u8, g: u8, b: u8) -> u16 {
+    let sum = r as usize + g as usize + b as usize;
+    (sum as u16) << 2 | offset_from_mean(sum, grey8(r, g, b), 1) as u16
+}
+
+/// Read access to one kind of storage; the filters are generic over it so
+/// each kind gets its own compiled loop (no branch per texel).
+pub trait Fetch: Copy {
+    fn at(self, i: usize) -> Texel;
+    /// Channel 3 alone.
+    #[inline(always)]
+    fn height(self, i: usize) -> f32 {
+        self.at(i)[3]
+    }
+    fn len(self) -> usize;
+    #[inline(always)]
+    fn is_empty(self) -> bool {
+        self.len() == 0
+    }
+    /// [`Fetch::at`] without the bounds check.
+    ///
+    /// # Safety
+    /// `i < self.len()`.
+    unsafe fn at_unchecked(self, i: usize) -> Texel;
+}
+
+#[derive(Clone, Copy)]
+pub struct F32s<'a>(pub &'a [[f32; 4]]);
+#[derive(Clone, Copy)]
+pub struct Rgba8s<'a>(pub &'a [[u8; 4]]);
+#[derive(Clone, Copy)]
+pub struct Rgb8s<'a>(pub &'a [[u8; 4]]);
+#[derive(Clone, Copy)]
+pub struct Rgba16s<'a>(pub &'a [[u16; 4]]);
+#[derive(Clone, Copy)]
+pub struct Xyz16s<'a>(pub &'a [[i16; 3]]);
+#[derive(Clone, Copy)]
+pub struct Grey8s<'a>(pub &'a [u16]);
+#[derive(Clone, Copy)]
+pub struct Grey16s<'a>(pub &'a [u16]);
+/// Unit normals in f32 read as texels `[x, y, z, 0]`.
+#[derive(Clone, Copy)]
+pub struct Xyz32s<'a>(pub &'a [[f32; 3]]);
+
+macro_rules! fetch_impl {
+    ($view:ident, $t:ident => $conv:expr) => {
+        impl Fetch for $view<'_> {
+            #[inline(always)]
+            fn at(self, i: usize) -> Texel {
+                let $t = self.0[i];
+                $conv
+            }
+            #[inline(always)]
+            fn len(self) -> usize {
+                self.0.len()
+            }
+            #[inline(always)]
+            unsafe fn at_unchecked(self, i: usize) -> Texel {
+                // SAFETY: the caller keeps i < len.
+                let $t = unsafe { *self.0.get_unchecked(i) };
+                $conv
+            }
+        }
+    };
+}
+
+fetch_impl!(F32s, t => t);
+fetch_impl!(Rgba8s, t => unorm8x4(t));
+fetch_impl!(Rgb8s, t => rgb8_texel(t));
+fetch_impl!(Rgba16s, t => unorm16x4(t));
+fetch_impl!(Xyz16s, t => [snorm16(t[0]), snorm16(t[1]), snorm16(t[2]), 0.0]);
+fetch_impl!(Grey8s, t => [grey8_value(t); 4]);
+fetch_impl!(Grey16s, t => [unorm16(t); 4]);
+fetch_impl!(Xyz32s, t => [t[0], t[1], t[2], 0.0]);
+
+/// Four 8-bit channels as floats, k / 255 in one 4-wide division (each
+/// lane rounded exactly as the scalar division is).
+#[inline(always)]
+fn unorm8x4(t: [u8; 4]) -> Texel {
+    let k = wide::i32x4::new(t.map(i32::from));
+    (k.round_float() / wide::f32x4::splat(255.0)).to_array()
+}
+
+/// Four 16-bit channels as floats, k / 65535 as the scalar division gives it.
+#[inline(always)]
+fn unorm16x4(t: [u16; 4]) -> Texel {
+    let k = wide::i32x4::new(t.map(i32::from));
+    (k.round_float() / wide::f32x4::splat(65535.0)).to_array()
+}
+
+#[inline(always)]
+fn rgb8_texel(t: [u8; 4]) -> Texel {
+    let sum = t[0] as usize + t[1] as usize + t[2] as usize;
+    let h = f32::from_bits(MEAN_OF_SUM[sum.min(765)] + t[3] as u32);
+    let [r, g, b, _] = unorm8x4(t);
+    [r, g, b, h]
+}
+
+#[inline(always)]
+fn grey8_value(code: u16) -> f32 {
+    let sum = (code >> 2) as usize;
+    f32::from_bits((MEAN_OF_SUM[sum.min(765)] + (code & 3) as u32).wrapping_sub(1))
+}
+
+/// Runs `$body` with `$f` bound to the [`Fetch`] view of `$texels`, one
+/// compiled copy per storage kind.
+macro_rules! with_fetch {
+    ($texels:expr, $f:ident => $body:expr) => {
+        match $texels {
+            $crate::texture::texels::Texels::F32(v) => {
+                let $f = $crate::texture::texels::F32s(&v[..]);
+                $body
+            }
+            $crate::texture::texels::Texels::Rgba8(v) => {
+                let $f = $crate::texture::texels::Rgba8s(&v[..]);
+                $body
+            }
+            $crate::texture::texels::Texels::Rgb8(v) => {
+                let $f = $crate::texture::texels::Rgb8s(&v[..]);
+                $body
+            }
+            $crate::texture::texels::Texels::Rgba16(v) => {
+                let $f = $crate::texture::texels::Rgba16s(&v[..]);
+                $body
+            }
+            $crate::texture::texels::Texels::Xyz16(v) => {
+                let $f = $crate::texture::texels::Xyz16s(&v[..]);
+                $body
+            }
+            $crate::texture::texels::Texels::Grey8(v) => {
+                let $f = $crate::texture::texels::Grey8s(&v[..]);
+                $body
+            }
+            $crate::texture::texels::Texels::Grey16(v) => {
+                let $f = $crate::texture::texels::Grey16s(&v[..]);
+                $body
+            }
+        }
+    };
+}
+pub(crate) use with_fetch;
+
+/// The storage a level's mip chain uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MipKind {
+    F32,
+    Rgba16,
+    Xyz16,
+}
+
+/// Texels pushed one at a time into a chosen kind of storage.
+pub(crate) enum Builder {
+    F32(Vec<[f32; 4]>),
+    Rgba16(Vec<[u16; 4]>),
+    Xyz16(Vec<[i16; 3]>),
+}
+
+impl Builder {
+    pub(crate) fn new(kind: MipKind, capacity: usize) -> Builder {
+        match kind {
+            MipKind::F32 => Builder::F32(Vec::with_capacity(capacity)),
+            MipKind::Rgba16 => Builder::Rgba16(Vec::with_capacity(capacity)),
+            MipKind::Xyz16 => Builder::Xyz16(Vec::with_capacity(capacity)),
+        }
+    }
+
+    #[inline]
+    pub(crate) fn push(&mut self, t: Texel) {
+        match self {
+            Builder::F32(v) => v.push(t),
+            Builder::Rgba16(v) => v.push(t.map(to_unorm16)),
+            Builder::Xyz16(v) => v.push([to_snorm16(t[0]), to_snorm16(t[1]), to_snorm16(t[2])]),
+        }
+    }
+
+    pub(crate) fn finish(self) -> Texels {
+        match self {
+            Builder::F32(v) => Texels::F32(v),
+            Builder::Rgba16(v) => Texels::Rgba16(v),
+            Builder::Xyz16(v) => Texels::Xyz16(v),
+        }
+    }
+}
+
+impl Texels {
+    /// Number of texels.
+    pub fn len(&self) -> usize {
+        with_fetch!(self, f => f.len())
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Texel `i` (storage order) as floats.
+    #[inline]
+    pub fn at(&self, i: usize) -> Texel {
+        with_fetch!(self, f => f.at(i))
+    }
+
+    pub fn first(&self) -> Option<Texel> {
+        (!self.is_empty()).then(|| self.at(0))
+    }
+
+    /// Every texel as floats, in storage order.
+    pub fn iter(&self) -> impl Iterator<Item = Texel> + '_ {
+        (0..self.len()).map(move |i| self.at(i))
+    }
+
+    /// True when the texels are kept as f32.
+    pub fn is_f32(&self) -> bool {
+        matches!(self, Texels::F32(_))
+    }
+
+    /// Bytes one texel takes in this storage.
+    pub fn bytes_per_texel(&self) -> usize {
+        match self {
+            Texels::F32(_) => 16,
+            Texels::Rgba8(_) | Texels::Rgb8(_) => 4,
+            Texels::Rgba16(_) => 8,
+            Texels::Xyz16(_) => 6,
+            Texels::Grey8(_) | Texels::Grey16(_) => 2,
+        }
+    }
+
+    /// The storage this level's mip levels use: f32 stays f32 (pictures of
+    /// procedural textures unchanged), normals stay signed, the rest 16-bit.
+    pub fn mip_kind(&self) -> MipKind {
+        match self {
+            Texels::F32(_) => MipKind::F32,
+            Texels::Xyz16(_) => MipKind::Xyz16,
+            _ => MipKind::Rgba16,
+        }
+    }
+
+    /// The texels as f32 for editing, converting the storage first if it
+    /// is compact (it then takes 16 bytes a texel).
+    pub fn as_mut_slice(&mut self) -> &mut [[f32; 4]] {
+        if !self.is_f32() {
+            *self = Texels::F32(self.iter().collect());
+        }
+        match self {
+            Texels::F32(v) => v,
+            _ => unreachable!("converted to f32 just above"),
+        }
+    }
+
+    /// [`Texels::as_mut_slice`]'s texels, one at a time.
+    pub fn iter_mut(&mut self) -> std::slice::IterMut<'_, [f32; 4]> {
+        self.as_mut_slice().iter_mut()
+    }
+}
+
+impl From<Vec<[f32; 4]>> for Texels {
+    fn from(v: Vec<[f32; 4]>) -> Self {
+        Texels::F32(v)
+    }
+}
+
+impl FromIterator<[f32; 4]> for Texels {
+    fn from_iter<I: IntoIterator<Item = [f32; 4]>>(iter: I) -> Self {
+        Texels::F32(iter.into_iter().collect())
+    }
+}
+
+impl<'a> IntoIterator for &'a mut Texels {
+    type Item = &'a mut [f32; 4];
+    type IntoIter = std::slice::IterMut<'a, [f32; 4]>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter_mut()
+    }
+}
+
+impl<'a> IntoIterator for &'a Texels {
+    type Item = Texel;
+    type IntoIter = Box<dyn Iterator<Item = Texel> + 'a>;
+    fn into_iter(self) -> Self::IntoIter {
+        Box::new(self.iter())
+    }
+}
+
+/// Equal when every texel reads the same, whatever the storage (a picture
+/// decoded from an 8-bit PNG equals the f32 texels of the same values).
+impl PartialEq for Texels {
+    fn eq(&self, other: &Texels) -> bool {
+        self.len() == other.len() && self.iter().zip(other.iter()).all(|(a, b)| a == b)
+    }
+}
+
+/// Equal when every texel reads the same (whatever the storage).
+impl PartialEq<Vec<[f32; 4]>> for Texels {
+    fn eq(&self, other: &Vec<[f32; 4]>) -> bool {
+        self.len() == other.len() && self.iter().zip(other).all(|(a, b)| a == *b)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rgb8_height_and_grey8_are_bit_exact_for_every_colour() {
+        for r in 0..=255u8 {
+            for g in 0..=255u8 {
+                for b in 0..=255u8 {
+                    let t = rgb8_texel(pack_rgb8(r, g, b));
+                    assert_eq!(t[3].to_bits(), mean_height8(r, g, b).to_bits());
+                    assert_eq!(t[0], r as f32 / 255.0);
+                    assert_eq!(unorm8x4([r, g, b, 0]), [r, g, b, 0].map(unorm8));
+                    let grey = grey8_value(pack_grey8(r, g, b));
+                    assert_eq!(grey.to_bits(), grey8(r, g, b).to_bits(), "{r} {g} {b}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn sixteen_bit_steps_round_trip() {
+        for k in 0..=u16::MAX {
+            assert_eq!(to_unorm16(unorm16(k)), k);
+            assert_eq!(unorm16x4([k; 4])[0], k as f32 / 65535.0);
+        }
+        for k in [-32767i16, -1, 0, 1, 12345, 32767] {
+            assert_eq!(to_snorm16(snorm16(k)), k);
+        }
+        assert_eq!(to_unorm16(f32::NAN), 0);
+        assert_eq!(to_snorm16(-2.0), -32767);
+    }
+
+    #[test]
+    fn editing_converts_to_f32_and_keeps_the_values() {
+        let mut t = Texels::Rgba8(vec![[255, 0, 51, 102]]);
+        let before = t.at(0);
+        t.as_mut_slice()[0][3] = 0.5;
+        assert!(t.is_f32());
+        assert_eq!(t.at(0), [before[0], before[1], before[2], 0.5]);
+    }
+}
