@@ -14,7 +14,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crate::Renderer;
-use crate::framebuffer::Framebuffer;
+use crate::framebuffer::{Framebuffer, Rgb};
 use crate::scene::Scene;
 use crate::settings::{Normals, Settings, Shading};
 use crate::texture::Texture;
@@ -199,6 +199,140 @@ pub fn markdown(rows: &[AnchorRow]) -> String {
     s
 }
 
+/// How far one picture is from another over the pixels the cube covers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Agreement {
+    pub psnr: f64,
+    pub rms: f64,
+    /// Largest channel difference.
+    pub max: u8,
+}
+
+/// `a` against `b` over the pixels where `covered` is true.
+pub fn agreement(a: &[Rgb], b: &[Rgb], covered: &[bool]) -> Agreement {
+    let (mut sum, mut count, mut max) = (0.0, 0u64, 0u8);
+    for ((x, y), &c) in a.iter().zip(b).zip(covered) {
+        if c {
+            for k in 0..3 {
+                let d = x[k].abs_diff(y[k]);
+                max = max.max(d);
+                sum += (d as f64).powi(2);
+                count += 1;
+            }
+        }
+    }
+    let mse = if count == 0 { 0.0 } else { sum / count as f64 };
+    Agreement {
+        psnr: if mse == 0.0 {
+            f64::INFINITY
+        } else {
+            10.0 * (255.0f64 * 255.0 / mse).log10()
+        },
+        rms: mse.sqrt(),
+        max,
+    }
+}
+
+/// relief, Mesa llvmpipe and the ray-cast truth on one variant at 320×240.
+#[derive(Clone, Debug)]
+pub struct ThreeWay {
+    pub variant: &'static str,
+    /// Pixels covered by both renderers.
+    pub covered: usize,
+    /// Against the truth's area mean (its rays over the whole pixel).
+    pub relief_truth: Agreement,
+    pub llvmpipe_truth: Agreement,
+    pub relief_llvmpipe: Agreement,
+    /// Against the truth's ray through the pixel centre, where both
+    /// renderers sample (no anti-aliasing on either side).
+    pub relief_centre: Agreement,
+    pub llvmpipe_centre: Agreement,
+}
+
+/// Size of the llvmpipe pictures in tests/data/anchors.
+pub const ANCHOR_SIZE: (usize, usize) = (320, 240);
+
+/// Where the repository keeps llvmpipe's pictures (known at build time; an
+/// installed binary may not find them).
+const ANCHOR_PICTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/anchors");
+
+/// llvmpipe's picture of `variant`, rows top first, if it is there.
+pub fn llvmpipe_picture(variant: &str) -> Option<Vec<Rgb>> {
+    let (w, h) = ANCHOR_SIZE;
+    let path = format!("{ANCHOR_PICTURES}/anchor_llvmpipe_{variant}_{w}x{h}.png");
+    let img = image::open(path).ok()?.to_rgb8();
+    ((img.width() as usize, img.height() as usize) == (w, h))
+        .then(|| img.pixels().map(|p| p.0).collect())
+}
+
+/// The three-way comparison of every variant whose llvmpipe picture is
+/// found, the truth cast with `rays × rays` rays per pixel. The truth's
+/// setting is the variant's (`truth::Setting::of`): Phong with face normals,
+/// no texture for `flat`, texture for `gouraud`, texture and Blinn's bump
+/// for `phong`; flat and Gouraud approximate that per-pixel picture.
+pub fn three_way(texture: Arc<Texture>, rays: usize) -> Vec<ThreeWay> {
+    let scene = scene(texture);
+    let (w, h) = ANCHOR_SIZE;
+    let background = scene.background;
+    VARIANTS
+        .iter()
+        .filter_map(|&variant| {
+            let theirs = llvmpipe_picture(variant)?;
+            let settings = settings(variant);
+            let mut fb = Framebuffer::new(w, h);
+            Renderer::new().render(&scene, &settings, &mut fb);
+            let ours = fb.pixels();
+            let view = super::truth::View::of(&settings, &scene);
+            let area = super::truth::render(&scene, &view, w, h, rays);
+            let centre: Vec<Rgb> = super::truth::render_centres(&scene, &view, w, h)
+                .into_iter()
+                .map(|c| {
+                    c.map_or(background, |c| {
+                        let q = |x: f64| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+                        [q(c.x), q(c.y), q(c.z)]
+                    })
+                })
+                .collect();
+            let covered: Vec<bool> = ours
+                .iter()
+                .zip(&theirs)
+                .map(|(a, b)| *a != background && *b != background)
+                .collect();
+            Some(ThreeWay {
+                variant,
+                covered: covered.iter().filter(|&&c| c).count(),
+                relief_truth: agreement(ours, area.pixels(), &covered),
+                llvmpipe_truth: agreement(&theirs, area.pixels(), &covered),
+                relief_llvmpipe: agreement(ours, &theirs, &covered),
+                relief_centre: agreement(ours, &centre, &covered),
+                llvmpipe_centre: agreement(&theirs, &centre, &covered),
+            })
+        })
+        .collect()
+}
+
+/// The three-way comparison as a Markdown table: PSNR in dB (RMS, largest
+/// difference) over the covered pixels.
+pub fn three_way_markdown(rows: &[ThreeWay]) -> String {
+    let cell = |a: &Agreement| format!("{:.2} ({:.2}, {})", a.psnr, a.rms, a.max);
+    let mut s = String::from(
+        "| variant | covered px | relief vs truth | llvmpipe vs truth | relief vs llvmpipe | relief vs truth at centres | llvmpipe vs truth at centres |\n|:--|--:|--:|--:|--:|--:|--:|\n",
+    );
+    for r in rows {
+        s += &format!(
+            "| {} | {} | {} | {} | {} | {} | {} |\n",
+            r.variant,
+            r.covered,
+            cell(&r.relief_truth),
+            cell(&r.llvmpipe_truth),
+            cell(&r.relief_llvmpipe),
+            cell(&r.relief_centre),
+            cell(&r.llvmpipe_centre)
+        );
+    }
+    s
+}
+
 /// Runs the anchors' bench: `quick` is a smoke run (one small size, few frames).
 pub fn run(
     quick: bool,
@@ -231,6 +365,27 @@ pub fn run(
     } else {
         write!(out, "{}", key_values(&rows))?;
     }
+    if !quick {
+        let (texture, _) = super::reference::texture();
+        let rays = 16;
+        writeln!(
+            log,
+            "anchors: ray-casting the truth of each variant ({rays}x{rays} rays)…"
+        )?;
+        let three = three_way(texture, rays);
+        if three.is_empty() {
+            writeln!(
+                log,
+                "anchors: llvmpipe's pictures not found (tests/data/anchors); no three-way comparison"
+            )?;
+        } else {
+            writeln!(
+                out,
+                "\nrelief, Mesa llvmpipe and the ray-cast truth ({rays}x{rays} rays; and its ray through each pixel centre), 320x240, over the pixels both renderers cover: PSNR dB (RMS, largest channel difference)"
+            )?;
+            write!(out, "{}", three_way_markdown(&three))?;
+        }
+    }
     Ok(rows)
 }
 
@@ -250,5 +405,18 @@ mod tests {
         let text = key_values(&rows);
         assert_eq!(text.lines().count(), 6);
         assert!(markdown(&rows).contains("| gouraud | 64×48 | 2 |"));
+    }
+
+    /// Two pixels covered of three: differences 0, 3, 4 in one channel of
+    /// the second and 0 elsewhere; MSE = 25/6 per channel value.
+    #[test]
+    fn agreement_counts_covered_pixels_only() {
+        let a = [[10, 10, 10], [13, 14, 10], [200, 0, 0]];
+        let b = [[10, 10, 10], [10, 10, 10], [0, 0, 0]];
+        let got = agreement(&a, &b, &[true, true, false]);
+        assert_eq!(got.max, 4);
+        assert!((got.rms - (25.0f64 / 6.0).sqrt()).abs() < 1e-12);
+        assert!((got.psnr - 10.0 * (255.0f64 * 255.0 * 6.0 / 25.0).log10()).abs() < 1e-9);
+        assert!(agreement(&a, &a, &[true; 3]).psnr.is_infinite());
     }
 }

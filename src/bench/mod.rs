@@ -139,10 +139,11 @@ fn header(plan: &Plan, texture: &str) -> Vec<String> {
             plan.rounds
         ),
         format!(
-            "truth: the reference setting ray-cast in f64 apart from the renderer (src/bench/truth), {r}x{r} stratified rays per pixel, texture read from its finest level",
-            r = plan.truth_rays
+            "truth: each row's ideal picture (its technique's own definition) ray-cast in f64 apart from the renderer (src/bench/truth), {r}x{r} stratified rays per pixel, texture read from its finest level; truth dB = that truth with {h}x{h} rays against itself (its own error is smaller still)",
+            r = plan.truth_rays.max(2),
+            h = plan.truth_rays.max(2) / 2
         ),
-        "error against the truth, whole frames: PSNR (inf = identical), largest channel error (0–255), mean SSIM of luma; self PSNR/max = against the supersampled reference image; front = on the Pareto front of time and PSNR".into(),
+        "error against the row's truth, whole frames: PSNR (inf = identical), largest channel error (0–255), mean SSIM of luma; self PSNR/max = against the supersampled reference image; front = on the Pareto front of time and PSNR".into(),
         format!(
             "terminal bytes: mean bytes the view's encoder writes for the picture after a {}° turn about Y (half blocks, colour tolerance {}), 24-bit and 256 colours",
             terminal::STEP_DEGREES,

@@ -55,7 +55,7 @@ pub fn db(psnr: f64) -> String {
     }
 }
 
-const HEADINGS: [&str; 14] = [
+const HEADINGS: [&str; 16] = [
     "#",
     "configuration",
     "threads",
@@ -65,12 +65,17 @@ const HEADINGS: [&str; 14] = [
     "PSNR dB",
     "max err",
     "SSIM",
+    "truth",
+    "truth dB",
     "self PSNR",
     "self max",
     "KB 24-bit",
     "KB 256",
     "front",
 ];
+
+/// The columns of text (left-aligned); the others are numbers.
+const TEXT_COLUMNS: [usize; 2] = [1, 9];
 
 /// Kilobytes (1000 bytes) with one decimal.
 pub fn kb(bytes: f64) -> String {
@@ -89,6 +94,8 @@ fn cells(index: usize, row: &Row, on_front: bool) -> Vec<String> {
         db(row.psnr),
         row.max_error.to_string(),
         format!("{:.4}", row.ssim),
+        row.truth.clone(),
+        db(row.truth_psnr),
         db(row.self_psnr),
         row.self_max_error.to_string(),
         kb(row.bytes_truecolor),
@@ -128,7 +135,7 @@ pub fn text(report: &Report) -> String {
             if i > 0 {
                 s.push_str("  ");
             }
-            if i == 1 {
+            if TEXT_COLUMNS.contains(&i) {
                 s.push_str(c);
                 s.push_str(&" ".repeat(pad));
             } else {
@@ -185,7 +192,13 @@ pub fn markdown(report: &Report) -> String {
     out.push('\n');
     let _ = writeln!(out, "| {} |", HEADINGS.join(" | "));
     let align: Vec<&str> = (0..HEADINGS.len())
-        .map(|i| if i == 1 { ":--" } else { "--:" })
+        .map(|i| {
+            if TEXT_COLUMNS.contains(&i) {
+                ":--"
+            } else {
+                "--:"
+            }
+        })
         .collect();
     let _ = writeln!(out, "|{}|", align.join("|"));
     for row in all_cells(report) {
@@ -212,7 +225,7 @@ pub fn csv(report: &Report) -> String {
     let mut out = String::from(
         "index,configuration,threads,shading,normals,texture,filter,bump,technique,\
          height_derivative,light_vector,aa,scene,frames,median_ms,p10_ms,p90_ms,\
-         pixels_per_frame,pixels_per_second,psnr_db,max_error,ssim,self_psnr_db,self_max_error,bytes_truecolor,bytes_256,plan_ms,raster_ms,pareto\n",
+         pixels_per_frame,pixels_per_second,psnr_db,max_error,ssim,truth,truth_psnr_db,self_psnr_db,self_max_error,bytes_truecolor,bytes_256,plan_ms,raster_ms,pareto\n",
     );
     let front = report.front();
     for (i, r) in report.rows.iter().enumerate() {
@@ -245,6 +258,12 @@ pub fn csv(report: &Report) -> String {
             },
             r.max_error.to_string(),
             format!("{:.6}", r.ssim),
+            field(&r.truth),
+            if r.truth_psnr.is_infinite() {
+                "inf".into()
+            } else {
+                format!("{:.4}", r.truth_psnr)
+            },
             if r.self_psnr.is_infinite() {
                 "inf".into()
             } else {
@@ -284,6 +303,8 @@ mod tests {
             max_error: 9,
             self_psnr: psnr,
             self_max_error: 9,
+            truth: "Blinn".into(),
+            truth_psnr: 60.0,
             ssim: 0.99,
             bytes_truecolor: 41_234.0,
             bytes_256: 20_000.0,

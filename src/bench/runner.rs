@@ -5,7 +5,6 @@ use std::time::{Duration, Instant};
 
 use glam::Vec3;
 
-use super::config::reference_setting;
 use super::config::{self, Config, Threads};
 use super::metrics::{self, SquaredError};
 use super::reference;
@@ -107,6 +106,12 @@ pub struct Row {
     /// (the reference the bench used before the truth).
     pub self_psnr: f64,
     pub self_max_error: u8,
+    /// What the row's truth draws (`truth::Setting::label`).
+    pub truth: String,
+    /// The truth's own convergence: PSNR of that truth cast with half the
+    /// rays per axis (a quarter of the rays) against itself; the full
+    /// truth's error is smaller still.
+    pub truth_psnr: f64,
     /// Mean SSIM over the orientations.
     pub ssim: f64,
     /// Mean bytes the terminal encoder writes for the frame after a small
@@ -208,37 +213,19 @@ pub fn measure(
             .map(|&r| reference::render(scene, r, plan.width, plan.height, plan.reference_factor))
             .collect()
     });
-    progress(&format!(
-        "rendering the ray-cast truth ({0}x{0} rays per pixel)…",
-        plan.truth_rays
-    ));
-    let truths: Vec<Framebuffer> = all.install(|| {
-        let k = reference_setting().bump_strength as f64;
-        plan.orientations
-            .iter()
-            .map(|&rotation| {
-                let view = truth::View {
-                    rotation,
-                    bump_strength: k,
-                };
-                truth::render(scene, view, plan.width, plan.height, plan.truth_rays)
-            })
-            .collect()
-    });
+    let truths = truths(plan, scene, all, &mut progress);
     let total = plan.configs.len();
     let mut rows: Vec<Measuring> = Vec::with_capacity(total);
     for (i, config) in plan.configs.iter().enumerate() {
         let threads = plan.pool_size(config.threads);
-        let measuring = pool(&pools, threads).install(|| {
-            error_pass(
-                plan,
-                &config.variant.apply(scene),
-                config,
-                threads,
-                &references,
-                &truths,
-            )
-        })?;
+        let variant = config.variant.apply(scene);
+        let setting = truth::Setting::of(&config.settings, &variant);
+        let own = truths
+            .iter()
+            .find(|t| t.setting == setting)
+            .expect("a truth per setting");
+        let measuring = pool(&pools, threads)
+            .install(|| error_pass(plan, &variant, config, threads, &references, own))?;
         progress(&format!(
             "[{}/{total}] {}: {} dB",
             i + 1,
@@ -273,6 +260,67 @@ pub fn measure(
         .collect())
 }
 
+/// The truth of one setting at every orientation, and its convergence.
+struct Truth {
+    setting: truth::Setting,
+    frames: Vec<Framebuffer>,
+    /// PSNR of the same truth with half the rays per axis against it.
+    psnr: f64,
+}
+
+/// One truth per distinct setting of the rows (`truth::Setting::of`), each
+/// also cast with half the rays per axis to measure its own convergence.
+fn truths(
+    plan: &Plan,
+    scene: &Scene,
+    pool: &rayon::ThreadPool,
+    progress: &mut impl FnMut(&str),
+) -> Vec<Truth> {
+    let mut settings: Vec<truth::Setting> = Vec::new();
+    for config in &plan.configs {
+        let s = truth::Setting::of(&config.settings, &config.variant.apply(scene));
+        if !settings.contains(&s) {
+            settings.push(s);
+        }
+    }
+    let rays = plan.truth_rays.max(2);
+    let count = settings.len();
+    settings
+        .into_iter()
+        .enumerate()
+        .map(|(i, setting)| {
+            progress(&format!(
+                "ray-cast truth {}/{}: {} ({rays}x{rays} rays per pixel, and {h}x{h})…",
+                i + 1,
+                count,
+                setting.label(),
+                h = rays / 2
+            ));
+            let mut squared = SquaredError::default();
+            let frames = pool.install(|| {
+                plan.orientations
+                    .iter()
+                    .map(|&rotation| {
+                        let view = truth::View {
+                            rotation,
+                            setting: setting.clone(),
+                        };
+                        let full = truth::render(scene, &view, plan.width, plan.height, rays);
+                        let half = truth::render(scene, &view, plan.width, plan.height, rays / 2);
+                        squared.add(half.pixels(), full.pixels());
+                        full
+                    })
+                    .collect()
+            });
+            Truth {
+                setting,
+                frames,
+                psnr: squared.psnr(),
+            }
+        })
+        .collect()
+}
+
 /// One frame per orientation, compared with the reference, and the bytes
 /// the terminal gets for the frame after it.
 fn error_pass(
@@ -281,7 +329,7 @@ fn error_pass(
     config: &Config,
     threads: usize,
     references: &[Framebuffer],
-    truths: &[Framebuffer],
+    truth: &Truth,
 ) -> anyhow::Result<Measuring> {
     let mut renderer = Renderer::new();
     let mut fb = Framebuffer::new(plan.width, plan.height);
@@ -292,7 +340,9 @@ fn error_pass(
     let (mut max_error, mut self_max_error) = (0u8, 0u8);
     let (mut ssim_sum, mut pixels) = (0.0, 0u64);
     let (mut plan_time, mut raster_time) = (Duration::ZERO, Duration::ZERO);
-    for ((&rotation, reference), truth) in plan.orientations.iter().zip(references).zip(truths) {
+    for ((&rotation, reference), truth) in
+        plan.orientations.iter().zip(references).zip(&truth.frames)
+    {
         let settings = Settings {
             rotation,
             ..config.settings
@@ -340,6 +390,8 @@ fn error_pass(
             max_error,
             self_psnr: self_squared.psnr(),
             self_max_error,
+            truth: truth.setting.label(),
+            truth_psnr: truth.psnr,
             ssim: ssim_sum / n as f64,
             bytes_truecolor: bytes_truecolor as f64 / n as f64,
             bytes_256: bytes_256 as f64 / n as f64,

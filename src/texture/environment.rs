@@ -93,6 +93,12 @@ impl Environment {
         &self.texture.name
     }
 
+    /// The picture's texels (for readers other than `lookup`, such as the
+    /// bench's ray-cast truth).
+    pub fn picture(&self) -> &crate::texture::Level {
+        self.texture.base()
+    }
+
     /// Size of the picture in texels.
     pub fn size(&self) -> (usize, usize) {
         (self.texture.width(), self.texture.height())

@@ -86,3 +86,16 @@ fn flat_covers_the_same_pixels() {
     assert_eq!(covered, 11_741);
     assert_eq!(mismatch, 0);
 }
+
+/// The three-way comparison (`relief bench --anchors`) finds the three
+/// pictures, and both renderers cover the same 11,741 pixels in each.
+#[test]
+fn the_three_way_comparison_finds_every_variant() {
+    let texture = load_texture(&data("reference-brick.png")).expect("reference brick");
+    let rows = anchors::three_way(Arc::new(texture), 1);
+    let variants: Vec<&str> = rows.iter().map(|r| r.variant).collect();
+    assert_eq!(variants, anchors::VARIANTS);
+    assert!(rows.iter().all(|r| r.covered == 11_741));
+    // The same pair as `phong_agrees_with_llvmpipe_within_3_levels`.
+    assert!(rows[2].relief_llvmpipe.max <= 3);
+}

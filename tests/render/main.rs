@@ -25,3 +25,4 @@ mod shadow;
 mod specular;
 mod tangent_frames;
 mod techniques;
+mod truth;

@@ -20,6 +20,8 @@ pub struct Hit {
     pub uv: DVec2,
     pub tangent_u: DVec3,
     pub tangent_v: DVec3,
+    /// The unit normal of the triangle's plane, on its counter-clockwise side.
+    pub face_normal: DVec3,
     pub textured: bool,
 }
 
@@ -117,30 +119,57 @@ impl World {
         }
     }
 
+    /// The camera's position.
+    pub fn eye(&self) -> DVec3 {
+        self.eye
+    }
+
+    /// Whether any triangle lies strictly between `from` and `to` (a shadow
+    /// ray): hits within a millionth of the segment's ends do not count, so
+    /// the triangle `from` lies on does not shadow itself.
+    pub fn occluded(&self, from: DVec3, to: DVec3) -> bool {
+        let ray = Ray {
+            origin: from,
+            dir: to - from,
+        };
+        (0..self.tris.len()).any(|i| {
+            self.intersect(i, &ray)
+                .is_some_and(|(d, ..)| d > 1e-6 && d < 1.0 - 1e-6)
+        })
+    }
+
+    /// Möller–Trumbore: solve origin + d·dir = p0 + b1·e1 + b2·e2 for
+    /// triangle `i`; (d, b1, b2) when the ray's line crosses it.
+    fn intersect(&self, i: usize, ray: &Ray) -> Option<(f64, f64, f64)> {
+        let t = &self.tris[i];
+        let e1 = t.p[1] - t.p[0];
+        let e2 = t.p[2] - t.p[0];
+        let pv = ray.dir.cross(e2);
+        let det = e1.dot(pv);
+        if det.abs() < 1e-300 {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let s = ray.origin - t.p[0];
+        let b1 = s.dot(pv) * inv;
+        if !(0.0..=1.0).contains(&b1) {
+            return None;
+        }
+        let q = s.cross(e1);
+        let b2 = ray.dir.dot(q) * inv;
+        if b2 < 0.0 || b1 + b2 > 1.0 {
+            return None;
+        }
+        Some((e2.dot(q) * inv, b1, b2))
+    }
+
     /// The nearest triangle the ray meets in front of the eye.
     pub fn hit(&self, ray: &Ray) -> Option<Hit> {
         let mut best: Option<(f64, usize, f64, f64)> = None;
-        for (i, t) in self.tris.iter().enumerate() {
-            // Möller–Trumbore: solve origin + s·dir = p0 + b1·e1 + b2·e2.
-            let e1 = t.p[1] - t.p[0];
-            let e2 = t.p[2] - t.p[0];
-            let pv = ray.dir.cross(e2);
-            let det = e1.dot(pv);
-            if det.abs() < 1e-300 {
+        for i in 0..self.tris.len() {
+            let Some((d, b1, b2)) = self.intersect(i, ray) else {
                 continue;
-            }
-            let inv = 1.0 / det;
-            let s = ray.origin - t.p[0];
-            let b1 = s.dot(pv) * inv;
-            if !(0.0..=1.0).contains(&b1) {
-                continue;
-            }
-            let q = s.cross(e1);
-            let b2 = ray.dir.dot(q) * inv;
-            if b2 < 0.0 || b1 + b2 > 1.0 {
-                continue;
-            }
-            let d = e2.dot(q) * inv;
+            };
             if d > 0.0 && best.is_none_or(|(bd, ..)| d < bd) {
                 best = Some((d, i, b1, b2));
             }
@@ -157,6 +186,7 @@ impl World {
             uv: t.uv[0] * b[0] + t.uv[1] * b[1] + t.uv[2] * b[2],
             tangent_u: mix3(&t.tu),
             tangent_v: mix3(&t.tv),
+            face_normal: (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).normalize_or_zero(),
             textured: t.textured,
         })
     }
