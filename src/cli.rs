@@ -45,6 +45,13 @@ pub struct Cli {
     /// sextants (2×3, Unicode 13) or octants (2×4, Unicode 16); `u` cycles them.
     #[arg(long, value_enum, default_value_t = Symbols::Half)]
     pub symbols: Symbols,
+    /// The link to the terminal in bits/s (1M, 50M, 500k), or auto. A stated rate spaces the
+    /// frames so the link carries them and sends previews while input keeps coming when the
+    /// exact picture takes it longer than a frame. auto measures: by the terminal's replies,
+    /// and inside tmux or GNU screen over SSH by the SSH connection's send queue
+    /// (docs/ssh-tmux.md).
+    #[arg(long, value_name = "RATE", default_value = "auto", value_parser = crate::term::hold::parse_link)]
+    pub link: crate::term::hold::LinkRate,
     /// Print a line of every glyph of each symbol set and exit: a set whose line shows
     /// boxes, gaps or a ragged right bar is missing from the font.
     #[arg(long)]

@@ -39,7 +39,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use ssh::{EXITED, Options, Session};
+use ssh::{EXITED, Mux, Options, QueueSampler, Session};
 
 /// How long the picture must stay unchanged to be the final one.
 const SETTLE: Duration = Duration::from_millis(1500);
@@ -59,9 +59,20 @@ struct Figure {
     /// Bytes towards the client (none for the round trip).
     bytes: Option<u64>,
     lag: Duration,
+    /// The largest send queue of the server's socket from the last input on.
+    queued: Option<u64>,
 }
 
-fn options(rate_kbit: u32) -> Options {
+/// The multiplexer `RELIEF_SSH_MUX` names (`tmux`, `screen`), if any.
+fn env_mux() -> Option<Mux> {
+    let name = std::env::var("RELIEF_SSH_MUX").ok()?;
+    Some(
+        Mux::from_name(&name)
+            .unwrap_or_else(|| panic!("RELIEF_SSH_MUX: tmux or screen, not {name}")),
+    )
+}
+
+fn options(rate_kbit: u32, server_mux: Option<Mux>) -> Options {
     let binary = std::env::var_os("RELIEF_SSH_BIN")
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_BIN_EXE_relief")));
@@ -74,13 +85,16 @@ fn options(rate_kbit: u32) -> Options {
         color: std::env::var("RELIEF_SSH_COLOR").unwrap_or_else(|_| "truecolor".into()),
         width: 160,
         height: 48,
-        server_tmux: std::env::var("RELIEF_SSH_MUX").is_ok_and(|m| m == "tmux"),
+        server_mux,
+        relief_args: std::env::var("RELIEF_SSH_ARGS")
+            .map(|a| a.split_whitespace().map(String::from).collect())
+            .unwrap_or_default(),
     }
 }
 
 /// The session, or `None` after a printed notice when it cannot be had here.
 fn session(opts: &Options) -> Option<Session> {
-    if let Some(why) = ssh::missing_prerequisite() {
+    if let Some(why) = ssh::missing_for(opts.server_mux) {
         println!("ssh link test skipped: {why}");
         return None;
     }
@@ -148,8 +162,10 @@ fn status(screen: &str) -> &str {
 
 /// Waits for the final picture after `input`, checks the orientation it shows
 /// and returns the figure (bytes counted from `bytes_before`).
+#[allow(clippy::too_many_arguments)]
 fn measure(
     s: &Session,
+    q: &QueueSampler,
     name: &'static str,
     before: &str,
     bytes_before: u64,
@@ -164,7 +180,13 @@ fn measure(
         input: name,
         bytes: Some(bytes),
         lag,
+        queued: peak(q, input),
     }
+}
+
+/// The largest send queue read from `from` on.
+fn peak(q: &QueueSampler, from: Instant) -> Option<u64> {
+    q.since(from).iter().map(|&(_, b)| b).max()
 }
 
 /// Sends the drag, one event every 20 ms (40 steps in 0.8 s), ending with the release.
@@ -186,9 +208,9 @@ fn drag(s: &Session) {
 
 /// One session: connect, the four inputs, and checks that it all ends cleanly.
 /// `None` when the session cannot be had here.
-fn run_session(rate_kbit: u32) -> Option<Vec<Figure>> {
-    let opts = options(rate_kbit);
-    let s = session(&opts)?;
+fn run_session(opts: &Options) -> Option<Vec<Figure>> {
+    let s = session(opts)?;
+    let q = s.queue_sampler();
     let mut figures = Vec::new();
 
     // Connecting (ssh's handshake included) up to the first full frame.
@@ -206,12 +228,14 @@ fn run_session(rate_kbit: u32) -> Option<Vec<Figure>> {
         input: "connect, first frame",
         bytes: Some(bytes),
         lag,
+        queued: None,
     });
     // The link's round trip, idle (what a terminal query's answer takes at least).
     figures.push(Figure {
         input: "round trip (TCP connect, idle link)",
         bytes: None,
         lag: s.round_trip(),
+        queued: None,
     });
 
     // One arrow key: Y + 5°.
@@ -222,6 +246,7 @@ fn run_session(rate_kbit: u32) -> Option<Vec<Figure>> {
     let [x, y, z] = START;
     figures.push(measure(
         &s,
+        &q,
         "one arrow key",
         &before,
         b0,
@@ -243,6 +268,7 @@ fn run_session(rate_kbit: u32) -> Option<Vec<Figure>> {
     let want = [x, y + 105, z];
     figures.push(measure(
         &s,
+        &q,
         "20 arrow keys, 30 ms apart",
         &before,
         b0,
@@ -258,6 +284,7 @@ fn run_session(rate_kbit: u32) -> Option<Vec<Figure>> {
     let want = [x + 40, y + 25, z];
     figures.push(measure(
         &s,
+        &q,
         "40-step mouse drag in 0.8 s",
         &before,
         b0,
@@ -290,7 +317,9 @@ fn run_session(rate_kbit: u32) -> Option<Vec<Figure>> {
         input: "`q` right after a drag (screen restored)",
         bytes: Some(s.bytes_to_client() - b0),
         lag,
+        queued: peak(&q, input),
     });
+    drop(q);
     assert_restored(&s);
 
     let (namespaces, dir) = s.leftovers();
@@ -337,35 +366,46 @@ fn rate_name(kbit: u32) -> String {
     }
 }
 
-/// The Markdown table: per rate and input, the median bytes and lag over the sessions.
-fn table(runs: &[(u32, Vec<Figure>)], binary: &str, color: &str) -> String {
-    // (rate, input's place) -> (input, bytes of each session, lag of each session)
-    type Row<'a> = (&'a str, Vec<Option<u64>>, Vec<Duration>);
+/// The Markdown table: per rate and input, the median bytes, lag and peak send
+/// queue over the sessions.
+fn table(runs: &[(u32, Vec<Figure>)], opts: &Options) -> String {
+    // (rate, input's place) -> (input, bytes, lag and queue of each session)
+    type Row<'a> = (&'a str, Vec<Option<u64>>, Vec<Duration>, Vec<Option<u64>>);
     let mut by: BTreeMap<(u32, usize), Row> = BTreeMap::new();
     for (rate, figures) in runs {
         for (i, f) in figures.iter().enumerate() {
             let e = by
                 .entry((*rate, i))
-                .or_insert((f.input, Vec::new(), Vec::new()));
+                .or_insert((f.input, Vec::new(), Vec::new(), Vec::new()));
             e.1.push(f.bytes);
             e.2.push(f.lag);
+            e.3.push(f.queued);
         }
     }
+    let kb = |b: Option<u64>| b.map_or("—".into(), |b| format!("{:.0} kB", b as f64 / 1000.0));
     let mut out = format!(
-        "relief over ssh -tt, 160x48, --color {color}, link 20 ms each way ({binary})\n\n\
-         | link | input | bytes to client | time: last input → final picture | range | n |\n\
-         |---|---|--:|--:|--:|--:|\n"
+        "relief{} over ssh -tt, 160x48, --color {} {}, link 20 ms each way ({})\n\n\
+         | link | input | bytes to client | time: last input → final picture | range | n | peak send queue |\n\
+         |---|---|--:|--:|--:|--:|--:|\n",
+        opts.server_mux.map_or(String::new(), |m| format!(
+            " inside {} on the server",
+            m.program()
+        )),
+        opts.color,
+        opts.relief_args.join(" "),
+        opts.binary.display(),
     );
-    for ((rate, _), (input, bytes, lags)) in by {
+    for ((rate, _), (input, bytes, lags, queued)) in by {
         let n = lags.len();
         let (lo, hi) = (*lags.iter().min().unwrap(), *lags.iter().max().unwrap());
         out += &format!(
-            "| {} | {input} | {} | {:.3} s | {:.3}–{:.3} s | {n} |\n",
+            "| {} | {input} | {} | {:.3} s | {:.3}–{:.3} s | {n} | {} |\n",
             rate_name(rate),
-            median(bytes).map_or("—".into(), |b| format!("{:.0} kB", b as f64 / 1000.0)),
+            kb(median(bytes)),
             median(lags).as_secs_f64(),
             lo.as_secs_f64(),
             hi.as_secs_f64(),
+            kb(median(queued)),
         );
     }
     out
@@ -383,24 +423,17 @@ fn env_list(name: &str, default: &str) -> Vec<u32> {
         .collect()
 }
 
-fn report(runs: &[(u32, Vec<Figure>)]) {
-    let opts = options(1);
-    if opts.server_tmux {
-        println!("relief inside tmux on the server");
-    }
-    println!(
-        "{}",
-        table(runs, &opts.binary.display().to_string(), &opts.color)
-    );
+fn report(runs: &[(u32, Vec<Figure>)], mux: Option<Mux>) {
+    println!("{}", table(runs, &options(1, mux)));
 }
 
 /// One session at 8 Mbit/s: everything works through real SSH; the figures printed.
 #[test]
 fn keys_drag_and_quit_over_a_slow_ssh_link() {
-    let Some(figures) = run_session(8000) else {
+    let Some(figures) = run_session(&options(8000, None)) else {
         return;
     };
-    report(&[(8000, figures)]);
+    report(&[(8000, figures)], None);
 }
 
 /// The full measurement: every rate, several sessions each, medians.
@@ -409,15 +442,16 @@ fn keys_drag_and_quit_over_a_slow_ssh_link() {
 fn measure_lag_and_bytes_over_ssh() {
     let rates = env_list("RELIEF_SSH_RATES", "1000,8000");
     let reps = env_list("RELIEF_SSH_REPS", "3")[0];
+    let mux = env_mux();
     let mut runs = Vec::new();
     for rep in 0..reps {
         for &rate in &rates {
             eprintln!("session {} of {reps} at {}", rep + 1, rate_name(rate));
-            let Some(figures) = run_session(rate) else {
+            let Some(figures) = run_session(&options(rate, mux)) else {
                 return;
             };
             runs.push((rate, figures));
         }
     }
-    report(&runs);
+    report(&runs, mux);
 }

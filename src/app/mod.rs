@@ -186,7 +186,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         rx: &rx,
         textures: Some(&textures),
         stage: Some(&stage),
-        pacer: crate::term::pacing::Pacer::default(),
+        pacer: crate::term::hold::pacer_here(cli.link),
     };
     let exit = looper.run(&mut state);
     // The screen first (quitting never waits for the terminal), then the

@@ -4,6 +4,7 @@
 
 pub mod ansi;
 pub mod backend;
+pub mod backlog;
 pub mod cells;
 pub mod color;
 pub mod counting;
@@ -12,6 +13,7 @@ pub mod fit;
 pub mod format;
 pub mod guard;
 pub mod halfblock;
+pub mod hold;
 pub mod input;
 pub mod iterm;
 pub mod kitty;

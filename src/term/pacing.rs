@@ -26,6 +26,12 @@
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
+use super::hold::{Hold, HoldBy};
+
+/// Reads the SSH connection's send queue (see [`crate::term::backlog`]):
+/// bytes queued, `None` when the socket is not found.
+pub type ReadQueue = Box<dyn FnMut() -> Option<u64> + Send>;
+
 /// Primary device attributes (DA1): answered `ESC [ ? … c` by every terminal.
 pub const QUERY: &[u8] = b"\x1b[c";
 
@@ -141,7 +147,6 @@ const THROUGHPUT_MIN_BYTES: u64 = 2048;
 const SMOOTHING: f64 = 0.25;
 
 /// The pacing state machine (see the module notes).
-#[derive(Clone, Debug)]
 pub struct Pacer {
     config: PacingConfig,
     answers: Answers,
@@ -151,6 +156,21 @@ pub struct Pacer {
     round_trip: Option<f64>,
     throughput: Option<f64>,
     late_replies: u64,
+    /// What else holds frames where the replies do not see the link.
+    hold: Hold,
+    read_queue: Option<ReadQueue>,
+    /// While the replies are in but the hold holds: when to look again.
+    held_until: Option<Instant>,
+}
+
+impl std::fmt::Debug for Pacer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Pacer")
+            .field("answers", &self.answers)
+            .field("outstanding", &self.flights.len())
+            .field("hold", &self.hold)
+            .finish_non_exhaustive()
+    }
 }
 
 impl Default for Pacer {
@@ -177,7 +197,23 @@ impl Pacer {
             round_trip: None,
             throughput: None,
             late_replies: 0,
+            hold: Hold::new(HoldBy::Nothing),
+            read_queue: None,
+            held_until: None,
         }
+    }
+
+    /// Frames are also held by `hold` (see [`crate::term::hold`]); `read`
+    /// reads the send queue when the hold is by the queue.
+    pub fn with_hold(mut self, hold: Hold, read: Option<ReadQueue>) -> Self {
+        self.hold = hold;
+        self.read_queue = read;
+        self
+    }
+
+    /// What holds frames besides the replies.
+    pub fn held_by(&self) -> HoldBy {
+        self.hold.by()
     }
 
     /// A pacer that never asks: frames paced by the writes alone (a
@@ -197,6 +233,7 @@ impl Pacer {
     /// A write went out at `at` (when it started) with `bytes`, followed by
     /// a query when `asked`.
     pub fn sent(&mut self, at: Instant, bytes: u64, asked: bool) {
+        self.hold.wrote(at, bytes);
         if asked {
             self.first_query.get_or_insert(at);
             self.flights.push_back(Flight {
@@ -245,8 +282,23 @@ impl Pacer {
     }
 
     /// Applies the time-outs at `now`; true when no frame is in flight and
-    /// the next one may go.
+    /// the next one may go (the hold reads the queue when it wants to).
     pub fn ready(&mut self, now: Instant) -> bool {
+        let replied = self.replied(now);
+        self.held_until = None;
+        if !replied {
+            return false;
+        }
+        if self.hold.wants_reading(now) {
+            let queued = self.read_queue.as_mut().and_then(|read| read());
+            self.hold.reading(now, queued);
+        }
+        self.held_until = self.hold.until(now);
+        self.held_until.is_none()
+    }
+
+    /// [`Pacer::ready`] by the replies alone.
+    fn replied(&mut self, now: Instant) -> bool {
         if self.answers == Answers::Unknown
             && self
                 .first_query
@@ -277,16 +329,19 @@ impl Pacer {
         }
         let expected = self.flights.back().map_or(Duration::ZERO, |f| {
             let rtt = self.round_trip.unwrap_or(0.0);
-            let transfer = self.throughput.map_or(0.0, |t| f.bytes as f64 / t);
+            let transfer = self.throughput().map_or(0.0, |t| f.bytes as f64 / t);
             Duration::from_secs_f64((rtt + transfer) * 4.0)
         });
         Some(self.config.lost_reply.max(expected))
     }
 
-    /// When the wait for the frame in flight times out (`None`: nothing in
-    /// flight, or no time-out applies).
+    /// When the wait for the frame in flight times out, or, its reply in,
+    /// when the hold looks again (`None`: nothing in flight and nothing
+    /// held, or no time-out applies).
     pub fn deadline(&self) -> Option<Instant> {
-        let newest = self.flights.back().filter(|f| !f.abandoned)?;
+        let Some(newest) = self.flights.back().filter(|f| !f.abandoned) else {
+            return self.held_until;
+        };
         match self.answers {
             Answers::Unknown => self.first_query.map(|t| t + self.config.first_reply),
             Answers::Yes => self.lost_after().map(|d| newest.sent + d),
@@ -309,15 +364,17 @@ impl Pacer {
         self.round_trip.map(Duration::from_secs_f64)
     }
 
-    /// Smoothed throughput in bytes per second.
+    /// The link's throughput in bytes per second: the hold's rate (stated,
+    /// or measured from the send queue) where it has one, else the one
+    /// measured from the replies.
     pub fn throughput(&self) -> Option<f64> {
-        self.throughput
+        self.hold.rate().or(self.throughput)
     }
 
     /// Whether `bytes` take longer than `interval` to reach the terminal
     /// (unknown throughput: no).
     pub fn too_slow_for(&self, bytes: u64, interval: Duration) -> bool {
-        self.throughput
+        self.throughput()
             .is_some_and(|t| bytes as f64 / t > interval.as_secs_f64())
     }
 
@@ -344,7 +401,7 @@ impl Pacer {
         LinkInfo {
             answers: self.answers,
             round_trip: self.round_trip(),
-            throughput: self.throughput,
+            throughput: self.throughput(),
             late_replies: self.late_replies,
         }
     }
@@ -525,5 +582,52 @@ mod tests {
         assert!(t2 > t && t2 < 250_000.0, "{t2}");
         let rtt = p.round_trip().unwrap();
         assert!(rtt > Duration::from_millis(40) && rtt < Duration::from_millis(240));
+    }
+
+    #[test]
+    fn inside_a_multiplexer_the_send_queue_holds_and_measures() {
+        use crate::term::hold::{GRACE, POLL};
+        use std::sync::{Arc, Mutex};
+        let c = Clock::new();
+        let queue = Arc::new(Mutex::new(Some(0u64)));
+        let reads = Arc::new(Mutex::new(0));
+        let (q, r) = (queue.clone(), reads.clone());
+        let read: ReadQueue = Box::new(move || {
+            *r.lock().unwrap() += 1;
+            *q.lock().unwrap()
+        });
+        let mut p = Pacer::default().with_hold(Hold::new(HoldBy::Queue), Some(read));
+        assert_eq!(p.held_by(), HoldBy::Queue);
+        let frame = Duration::from_millis(33);
+        // The multiplexer answers at once: the replies alone would let the
+        // next frame go 2 ms later and call the link fast.
+        p.sent(c.at(0), 20, true);
+        p.reply(c.at(1));
+        assert!(!p.ready(c.at(1)), "within the grace");
+        assert_eq!(p.deadline(), Some(c.at(0) + GRACE));
+        assert!(p.ready(c.at(20)), "the probe put nothing on the link");
+        p.sent(c.at(100), 25_000, true);
+        p.reply(c.at(102));
+        *queue.lock().unwrap() = Some(25_000);
+        assert!(!p.ready(c.at(102)) && !p.ready(c.at(115)));
+        assert_eq!(p.deadline(), Some(c.at(115) + POLL));
+        // Read once a poll, not at every look.
+        let n = *reads.lock().unwrap();
+        assert!(!p.ready(c.at(120)));
+        assert_eq!(*reads.lock().unwrap(), n);
+        // Draining at 125 kB/s (1 Mbit/s): that is the link's rate now.
+        *queue.lock().unwrap() = Some(23_750);
+        assert!(!p.ready(c.at(125)));
+        assert!((p.throughput().unwrap() - 125_000.0).abs() < 1e-6);
+        assert_eq!(p.info().throughput, p.throughput());
+        assert!(p.preview(true, Some(25_000), frame));
+        *queue.lock().unwrap() = Some(0);
+        assert!(p.ready(c.at(135)));
+        assert_eq!(p.deadline(), None);
+        // The socket gone (the session detached): the replies alone pace.
+        p.sent(c.at(200), 25_000, true);
+        p.reply(c.at(201));
+        *queue.lock().unwrap() = None;
+        assert!(p.ready(c.at(200) + GRACE));
     }
 }

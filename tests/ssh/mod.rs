@@ -15,9 +15,11 @@
 
 pub mod delay_line;
 
+use std::os::fd::AsRawFd;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use delay_line::DelayLine;
@@ -40,9 +42,38 @@ pub struct Options {
     pub color: String,
     pub width: u16,
     pub height: u16,
-    /// Run relief inside tmux on the server (its status bar off), as people
-    /// who keep their work in tmux do.
-    pub server_tmux: bool,
+    /// Run relief inside a terminal multiplexer on the server, as people who
+    /// keep their work in tmux or GNU screen do.
+    pub server_mux: Option<Mux>,
+    /// Extra arguments of relief (e.g. `--link 1M`).
+    pub relief_args: Vec<String>,
+}
+
+/// A terminal multiplexer on the server.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mux {
+    /// tmux, its status bar off.
+    Tmux,
+    /// GNU screen, no configuration (no status line).
+    Screen,
+}
+
+impl Mux {
+    /// `RELIEF_SSH_MUX`'s value: `tmux` or `screen`.
+    pub fn from_name(name: &str) -> Option<Mux> {
+        match name {
+            "tmux" => Some(Mux::Tmux),
+            "screen" => Some(Mux::Screen),
+            _ => None,
+        }
+    }
+
+    pub fn program(self) -> &'static str {
+        match self {
+            Mux::Tmux => "tmux",
+            Mux::Screen => "screen",
+        }
+    }
 }
 
 /// Why a session cannot be had on this machine (the test then skips).
@@ -62,6 +93,17 @@ pub struct Session {
 
 /// The first missing prerequisite, if any: root, and the tools run here.
 pub fn missing_prerequisite() -> Option<String> {
+    missing_for(None)
+}
+
+/// [`missing_prerequisite`], and the multiplexer run on the server.
+pub fn missing_for(mux: Option<Mux>) -> Option<String> {
+    if let Some(mux) = mux
+        && find_program(mux.program()).is_none()
+    {
+        let p = mux.program();
+        return Some(format!("`{p}` not found (apt-get install {p})"));
+    }
     // SAFETY: geteuid has no preconditions.
     if unsafe { libc::geteuid() } != 0 {
         return Some("not root (network namespaces need it)".into());
@@ -285,13 +327,25 @@ impl Session {
     fn start_pane(&mut self, opts: &Options) {
         let socket = self.tag.clone();
         let ssh = self.ssh_args().join(" ");
-        let relief = format!("{} --color {}", opts.binary.display(), opts.color);
-        let remote = if opts.server_tmux {
-            format!(
+        let relief = format!(
+            "{} --color {} {}",
+            opts.binary.display(),
+            opts.color,
+            opts.relief_args.join(" ")
+        );
+        let remote = match opts.server_mux {
+            Some(Mux::Tmux) => format!(
                 "exec tmux -u -L {socket}-server -f /dev/null new-session \"{relief}\" \\; set status off"
-            )
-        } else {
-            format!("exec {relief}")
+            ),
+            Some(Mux::Screen) => {
+                // Its own socket directory (screen wants it private).
+                let dir = self.dir.join("screen");
+                format!(
+                    "mkdir -m 700 {d} && SCREENDIR={d} exec screen -U -c /dev/null -S {socket} {relief}",
+                    d = dir.display()
+                )
+            }
+            None => format!("exec {relief}"),
         };
         let command = format!("ssh -tt {ssh} '{remote}'; echo {EXITED}$?; sleep 600");
         let size = format!("-x {} -y {}", opts.width, opts.height);
@@ -331,6 +385,42 @@ impl Session {
         .expect("a connection to sshd");
         times.sort();
         times[2]
+    }
+
+    /// Starts reading, every 10 ms, the server's send queue towards the client
+    /// (`tx_queue` of sshd's sockets to the client in the server's `/proc/net/tcp`:
+    /// the signal relief reads inside a multiplexer, read here independently).
+    pub fn queue_sampler(&self) -> QueueSampler {
+        let samples = Arc::new(Mutex::new(Vec::new()));
+        let stop = Arc::new(AtomicBool::new(false));
+        let path = format!("/run/netns/{}", self.ns('s'));
+        let (out, halt) = (samples.clone(), stop.clone());
+        let server: std::net::SocketAddr = format!("{SERVER_ADDR}:{SSH_PORT}").parse().unwrap();
+        let client: std::net::IpAddr = CLIENT_ADDR.parse().unwrap();
+        let thread = std::thread::spawn(move || {
+            let ns = std::fs::File::open(path).expect("the server namespace");
+            // SAFETY: setns on a valid descriptor affects only this thread.
+            if unsafe { libc::setns(ns.as_raw_fd(), libc::CLONE_NEWNET) } != 0 {
+                panic!("setns: {}", std::io::Error::last_os_error());
+            }
+            while !halt.load(Ordering::Relaxed) {
+                // thread-self: /proc/net follows the process's first thread.
+                let table =
+                    std::fs::read_to_string("/proc/thread-self/net/tcp").unwrap_or_default();
+                let queued = relief::term::backlog::sockets(&table)
+                    .filter(|s| s.state == 1 && s.local == server && s.remote.ip() == client)
+                    .map(|s| s.tx_queue)
+                    .max()
+                    .unwrap_or(0);
+                out.lock().unwrap().push((Instant::now(), queued));
+                std::thread::sleep(Duration::from_millis(10));
+            }
+        });
+        QueueSampler {
+            samples,
+            stop,
+            thread: Some(thread),
+        }
     }
 
     /// Bytes that crossed the link towards the client since the pane started.
@@ -395,6 +485,30 @@ impl Session {
     /// The server's log so far (for a failure message).
     pub fn sshd_log(&self) -> String {
         std::fs::read_to_string(self.dir.join("sshd.log")).unwrap_or_default()
+    }
+}
+
+/// Readings of the server's send queue towards the client: (when, bytes).
+pub struct QueueSampler {
+    samples: Arc<Mutex<Vec<(Instant, u64)>>>,
+    stop: Arc<AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl QueueSampler {
+    /// The readings taken at or after `from`.
+    pub fn since(&self, from: Instant) -> Vec<(Instant, u64)> {
+        let all = self.samples.lock().unwrap();
+        all.iter().filter(|(t, _)| *t >= from).copied().collect()
+    }
+}
+
+impl Drop for QueueSampler {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
     }
 }
 
