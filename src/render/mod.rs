@@ -3,10 +3,12 @@
 
 mod bands;
 mod dispatch;
+mod repeat_cache;
 mod shaders;
 
 use bands::{CHUNKS_PER_THREAD, MaterialCtxs, PARALLEL_MIN_WORK, RowWork, draw_bands, split_rows};
 pub use dispatch::{draw_into, draw_triangle};
+use repeat_cache::RepeatCache;
 use shaders::{build_shader, wire_triangle};
 
 use std::time::Instant;
@@ -21,6 +23,7 @@ use crate::raster::aa::{
 use crate::raster::frames::{DepthView, draw_tangent_frames};
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
+use crate::scene::repeats::RepeatSkipper;
 use crate::scene::{Scene, normal_matrix};
 use crate::settings::{AntiAlias, Display, Settings};
 use crate::shade::{ShadeCtx, TriShader};
@@ -62,6 +65,9 @@ pub struct Renderer {
     /// Width over height of a pixel where the frame is shown (`None`:
     /// square): the sub-cell symbol sets have tall pixels.
     pixel_aspect: Option<f32>,
+    /// The repeated triangles of each object's mesh, which add nothing
+    /// behind a depth buffer (`scene::repeats`).
+    repeats: RepeatCache,
 }
 
 impl Renderer {
@@ -106,8 +112,15 @@ impl Renderer {
         let k = ssaa_factor(plan.aa, width, height);
         // Taken out of `self` for the frame so the shaders can borrow it.
         let mut shadow_map = std::mem::take(&mut self.shadow);
-        let (shadow, mut counters) =
-            shadow_pass(&mut shadow_map, scene, plan, width * k, height * k);
+        self.repeats.update(scene);
+        let (shadow, mut counters) = shadow_pass(
+            &mut shadow_map,
+            scene,
+            plan,
+            &self.repeats,
+            width * k,
+            height * k,
+        );
         counters += self.prepare(scene, &plans, shadow, width * k, height * k);
         counters.normal_map_builds += normal_map_builds(scene) - normal_maps_before;
         stats.plan_time = start.elapsed();
@@ -151,7 +164,15 @@ impl Renderer {
     ) -> (&[ScreenTri], &[TriShader]) {
         let plans = FramePlans::new(scene, settings, Plan::new(scene, settings));
         let mut shadow_map = std::mem::take(&mut self.shadow);
-        let (shadow, _) = shadow_pass(&mut shadow_map, scene, &plans.plans[0], width, height);
+        self.repeats.update(scene);
+        let (shadow, _) = shadow_pass(
+            &mut shadow_map,
+            scene,
+            &plans.plans[0],
+            &self.repeats,
+            width,
+            height,
+        );
         self.prepare(scene, &plans, shadow, width, height);
         self.shadow = shadow_map;
         (&self.tris, &self.shaders)
@@ -205,7 +226,18 @@ impl Renderer {
                 });
                 self.clip.push(view_proj * position.extend(1.0));
             }
-            for tri in &object.mesh.triangles {
+            // Behind a depth buffer a repeated triangle changes nothing.
+            let skips_repeats = plan.display == Display::Fill && plan.depth;
+            let mut repeats = RepeatSkipper::new(if skips_repeats {
+                self.repeats.of(object_index)
+            } else {
+                &[]
+            });
+            let triangles = &object.mesh.triangles;
+            for (tri_index, tri) in triangles.iter().enumerate() {
+                if repeats.skip(tri_index, triangles) {
+                    continue;
+                }
                 let idx = tri.indices.map(|i| i as usize);
                 if idx.iter().any(|&i| i >= self.world.len()) {
                     continue;
@@ -454,19 +486,21 @@ fn shadow_pass<'a>(
     map: &'a mut ShadowMap,
     scene: &Scene,
     plan: &Plan,
+    repeats: &RepeatCache,
     width: usize,
     height: usize,
 ) -> (Option<Shadow<'a>>, Counters) {
     let Some(light) = plan.shadow_light else {
         return (None, Counters::default());
     };
-    let counters = map.render(
+    let counters = map.render_skipping(
         scene,
         plan.rotation,
         plan.lights[light].position,
         &plan.shadow_casters,
         width,
         height,
+        &repeats.all(),
     );
     (Some(Shadow { light, map }), counters)
 }

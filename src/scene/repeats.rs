@@ -1,0 +1,96 @@
+//! Triangles that repeat an earlier triangle of the same mesh: the same
+//! three vertex indices in the same order (a polygon fanned over a few
+//! corners again and again, faces exported twice).
+//!
+//! Every depth test in relief is strict (`z < stored`), and a triangle's
+//! depths depend only on its vertices: a repeat lands on exactly the depths
+//! its first copy left or something nearer, so behind a depth buffer it can
+//! change no pixel and no shadow texel. The renderer and the shadow pass
+//! skip repeats when they test depth; without a depth buffer (painter's
+//! order on convex meshes) a repeat still paints and is drawn.
+
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+use super::mesh::Triangle;
+
+/// Each repeated triangle with the first triangle it repeats, in
+/// increasing order of the repeat (empty when every triangle is unique).
+pub type RepeatPairs = Vec<(u32, u32)>;
+
+/// The repeats of `triangles`, found in one hashing pass.
+pub fn find_repeats(triangles: &[Triangle]) -> RepeatPairs {
+    let mut first: HashMap<[u32; 3], u32, BuildHasherDefault<IndexHasher>> =
+        HashMap::with_capacity_and_hasher(triangles.len(), Default::default());
+    let mut pairs = Vec::new();
+    for (i, t) in triangles.iter().enumerate() {
+        let i = i as u32;
+        let f = *first.entry(t.indices).or_insert(i);
+        if f != i {
+            pairs.push((i, f));
+        }
+    }
+    pairs
+}
+
+/// Walks the triangles of a mesh in order and says which to skip. A skip is
+/// checked against the triangles as they are now (the pairs may have been
+/// found on an older version of the mesh): a stale pair only costs a
+/// triangle drawn in vain, never a triangle missed.
+pub struct RepeatSkipper<'a> {
+    pairs: &'a [(u32, u32)],
+    next: usize,
+}
+
+impl<'a> RepeatSkipper<'a> {
+    pub fn new(pairs: &'a [(u32, u32)]) -> Self {
+        RepeatSkipper { pairs, next: 0 }
+    }
+
+    /// Whether triangle `i` of `triangles` repeats an earlier one; call
+    /// with increasing `i`.
+    #[inline]
+    pub fn skip(&mut self, i: usize, triangles: &[Triangle]) -> bool {
+        while let Some(&(repeat, first)) = self.pairs.get(self.next) {
+            let repeat = repeat as usize;
+            if repeat > i {
+                return false;
+            }
+            self.next += 1;
+            if repeat == i {
+                let first = first as usize;
+                return first < i
+                    && triangles.get(first).map(|t| t.indices)
+                        == triangles.get(i).map(|t| t.indices);
+            }
+        }
+        false
+    }
+}
+
+/// A fast hasher for triples of indices (not for untrusted keys at risk of
+/// collision attacks: a model can only slow its own loading).
+#[derive(Default)]
+struct IndexHasher(u64);
+
+impl Hasher for IndexHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        let mut words = bytes.chunks_exact(4);
+        for w in &mut words {
+            self.write_u32(u32::from_le_bytes([w[0], w[1], w[2], w[3]]));
+        }
+        for &b in words.remainder() {
+            self.write_u32(b as u32);
+        }
+    }
+    fn write_u32(&mut self, n: u32) {
+        self.0 = (self.0.rotate_left(5) ^ n as u64).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_usize(&mut self, n: usize) {
+        self.write_u32(n as u32);
+        self.write_u32((n as u64 >> 32) as u32);
+    }
+}
