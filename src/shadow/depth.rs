@@ -8,13 +8,15 @@ use crate::scene::Mesh;
 use crate::scene::repeats::RepeatSkipper;
 
 /// Draws `mesh` (object `object`) placed by `model` into the map, but for
-/// the triangles `repeats` skips; returns the texels written.
+/// the triangles `repeats` skips, until `stop` says so; returns the texels
+/// written.
 pub(super) fn draw_mesh(
     map: &mut ShadowMap,
     mesh: &Mesh,
     model: Mat4,
     object: u32,
     mut repeats: RepeatSkipper,
+    stop: &dyn Fn() -> bool,
 ) -> u64 {
     let size = map.size as f32;
     let normal_matrix = crate::scene::normal_matrix(model);
@@ -37,6 +39,9 @@ pub(super) fn draw_mesh(
     for (i, tri) in mesh.triangles.iter().enumerate() {
         if repeats.skip(i, &mesh.triangles) {
             continue;
+        }
+        if i % 4096 == 4095 && stop() {
+            break;
         }
         let Some(v) = tri
             .indices

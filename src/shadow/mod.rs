@@ -108,12 +108,16 @@ impl ShadowMap {
         width: usize,
         height: usize,
     ) -> Counters {
-        self.render_skipping(scene, rotation, light, casters, width, height, &[])
+        self.render_skipping(scene, rotation, light, casters, width, height, &[], &|| {
+            false
+        })
     }
 
     /// [`ShadowMap::render`] skipping the repeated triangles of each object
     /// (`scene::repeats`: the pairs of object `i` are `repeats[i]`, none
-    /// past the end), which cannot change a texel.
+    /// past the end), which cannot change a texel, and stopping (the map
+    /// incomplete) as soon as `stop` says so, asked every few thousand
+    /// triangles.
     #[allow(clippy::too_many_arguments)]
     pub fn render_skipping(
         &mut self,
@@ -124,6 +128,7 @@ impl ShadowMap {
         width: usize,
         height: usize,
         repeats: &[&[(u32, u32)]],
+        stop: &dyn Fn() -> bool,
     ) -> Counters {
         let mut counters = Counters::default();
         let size = Self::size_for(width, height);
@@ -165,7 +170,7 @@ impl ShadowMap {
             let model = object.model_matrix(rotation);
             let skipper = RepeatSkipper::new(repeats.get(i).copied().unwrap_or(&[]));
             counters.shadow_texels +=
-                depth::draw_mesh(self, &object.mesh, model, i as u32, skipper);
+                depth::draw_mesh(self, &object.mesh, model, i as u32, skipper, stop);
         }
         counters
     }

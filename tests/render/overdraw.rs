@@ -11,7 +11,9 @@ use proptest::prelude::*;
 use relief::scene::repeats::{RepeatSkipper, find_repeats};
 use relief::scene::{Mesh, Triangle, obj};
 use relief::settings::{AntiAlias, Settings};
-use relief::{FrameStats, Scene};
+use relief::{FrameStats, Framebuffer, Renderer, Scene};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A mesh of `faces` over `points`, read as an OBJ (normals, UVs and
 /// tangents from the builder), with no face repeated.
@@ -171,4 +173,97 @@ fn copies_on_a_convex_mesh_are_drawn() {
         2 * once.counters.triangles_drawn
     );
     assert_eq!(both.counters.pixels_shaded, 2 * once.counters.pixels_shaded);
+}
+
+/// A frame whose cancel hook says stop after `allowed` questions.
+fn cancelled_after(allowed: usize) -> (relief::render::CancelHook, Arc<AtomicUsize>) {
+    let asked = Arc::new(AtomicUsize::new(0));
+    let count = asked.clone();
+    let hook: relief::render::CancelHook =
+        Arc::new(move || count.fetch_add(1, Ordering::SeqCst) >= allowed);
+    (hook, asked)
+}
+
+/// The hook is asked before each band: told to stop after three answers,
+/// the frame draws three bands whole and no more, and says it was abandoned.
+#[test]
+fn a_cancelled_frame_draws_no_band_after_the_stop() {
+    let scene = reference_scene(true);
+    let settings = Settings::default();
+    let mut fb = Framebuffer::new(640, 480);
+    let mut renderer = Renderer::new();
+    let whole = renderer.render(&scene, &settings, &mut fb);
+    assert!(!whole.abandoned);
+    assert_eq!(whole.bands_drawn, whole.bands);
+    let (hook, _) = cancelled_after(3);
+    renderer.set_cancel(Some(hook));
+    let cut = renderer.render(&scene, &settings, &mut fb);
+    // One thread draws the frame as one band: nothing to stop.
+    assert_eq!(cut.abandoned, whole.bands > 3);
+    assert_eq!(cut.bands_drawn, whole.bands.min(3));
+    assert_eq!(cut.bands, whole.bands);
+    if whole.bands > 3 {
+        assert!(cut.counters.pixels_shaded < whole.counters.pixels_shaded);
+    }
+    renderer.set_cancel(None);
+    let again = renderer.render(&scene, &settings, &mut fb);
+    assert!(!again.abandoned);
+    assert_eq!(again.counters, whole.counters);
+}
+
+/// Within a band the hook is asked every 1024 triangles: a frame of 3,200
+/// triangles drawn by one thread (one band) stops at the second question.
+#[test]
+fn a_cancelled_band_stops_between_triangles() {
+    // A 40 × 40 grid of quads facing the camera.
+    let n = 40;
+    let mut text = String::new();
+    for y in 0..=n {
+        for x in 0..=n {
+            let (u, v) = (x as f32 / n as f32, y as f32 / n as f32);
+            text += &format!(
+                "v {} {} {}\n",
+                u * 2.0 - 1.0,
+                v * 2.0 - 1.0,
+                0.1 * (u * 9.0).sin()
+            );
+        }
+    }
+    let at = |x: usize, y: usize| y * (n + 1) + x + 1;
+    for y in 0..n {
+        for x in 0..n {
+            let (a, b, c, d) = (at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1));
+            text += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        }
+    }
+    let mesh = obj::parse("grid.obj", text).expect("a valid OBJ");
+    assert_eq!(mesh.triangles.len(), 3200);
+    let scene = scene_of(mesh);
+    let settings = Settings {
+        rotation: Vec3::ZERO,
+        ..Settings::default()
+    };
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a pool");
+    one.install(|| {
+        let mut fb = Framebuffer::new(320, 200);
+        let mut renderer = Renderer::new();
+        let whole = renderer.render(&scene, &settings, &mut fb);
+        assert_eq!((whole.bands_drawn, whole.bands), (1, 1));
+        assert!(
+            whole.counters.triangles_drawn > 2048,
+            "{:?}",
+            whole.counters
+        );
+        let (hook, asked) = cancelled_after(1);
+        renderer.set_cancel(Some(hook));
+        let cut = renderer.render(&scene, &settings, &mut fb);
+        assert!(cut.abandoned);
+        assert_eq!(asked.load(Ordering::SeqCst), 2);
+        assert_eq!(cut.bands_drawn, 0);
+        assert!(cut.counters.pixels_shaded > 0);
+        assert!(cut.counters.pixels_shaded < whole.counters.pixels_shaded);
+    });
 }
