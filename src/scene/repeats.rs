@@ -9,8 +9,7 @@
 //! skip repeats when they test depth; without a depth buffer (painter's
 //! order on convex meshes) a repeat still paints and is drawn.
 
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
+use foldhash::{HashMap, HashMapExt};
 
 use super::mesh::Triangle;
 
@@ -20,8 +19,7 @@ pub type RepeatPairs = Vec<(u32, u32)>;
 
 /// The repeats of `triangles`, found in one hashing pass.
 pub fn find_repeats(triangles: &[Triangle]) -> RepeatPairs {
-    let mut first: HashMap<[u32; 3], u32, BuildHasherDefault<IndexHasher>> =
-        HashMap::with_capacity_and_hasher(triangles.len(), Default::default());
+    let mut first: HashMap<[u32; 3], u32> = HashMap::with_capacity(triangles.len());
     let mut pairs = Vec::new();
     for (i, t) in triangles.iter().enumerate() {
         let i = i as u32;
@@ -65,32 +63,5 @@ impl<'a> RepeatSkipper<'a> {
             }
         }
         false
-    }
-}
-
-/// A fast hasher for triples of indices (not for untrusted keys at risk of
-/// collision attacks: a model can only slow its own loading).
-#[derive(Default)]
-struct IndexHasher(u64);
-
-impl Hasher for IndexHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        let mut words = bytes.chunks_exact(4);
-        for w in &mut words {
-            self.write_u32(u32::from_le_bytes([w[0], w[1], w[2], w[3]]));
-        }
-        for &b in words.remainder() {
-            self.write_u32(b as u32);
-        }
-    }
-    fn write_u32(&mut self, n: u32) {
-        self.0 = (self.0.rotate_left(5) ^ n as u64).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-    fn write_usize(&mut self, n: usize) {
-        self.write_u32(n as u32);
-        self.write_u32((n as u64 >> 32) as u32);
     }
 }
