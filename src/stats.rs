@@ -67,4 +67,11 @@ pub struct FrameStats {
     pub plan_time: Duration,
     /// Rasterizing and shading (including any shadow pass and resolve).
     pub raster_time: Duration,
+    /// Bands of rows drawn whole, and in all (they depend on the number
+    /// of threads, unlike the counters).
+    pub bands_drawn: usize,
+    pub bands: usize,
+    /// The frame was stopped by the renderer's cancel hook: its picture
+    /// is incomplete.
+    pub abandoned: bool,
 }

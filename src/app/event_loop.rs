@@ -449,7 +449,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                     stats = (self.render)(state, &mut fb);
                 }
                 last_counters = stats.counters;
-                rendered = Some(key);
+                // An abandoned frame (a key pressed during a long one) is
+                // drawn again once that key is applied.
+                rendered = (!stats.abandoned).then_some(key);
+                dirty |= stats.abandoned;
                 previewing = cheaper;
             }
             // A status-only redraw comes once nothing else is due: no

@@ -165,7 +165,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(file) => Box::new(std::io::Cursor::new(typed).chain(file)),
         None => Box::new(std::io::Cursor::new(typed).chain(std::io::stdin())),
     };
-    spawn_terminal_reader(input, fd, tx);
+    // Keys pressed are counted on their way to the loop, so a long frame
+    // can see that the user wants something else (`q` quits at once).
+    let keys = Arc::new(std::sync::atomic::AtomicU64::new(0));
+    spawn_terminal_reader(input, fd, count_keys(tx, keys.clone()));
     let mut backend = SgrBackend::new(GuardedStdout::new()?);
     backend.set_tolerance(cli.color_tolerance);
     let mut terminal = Terminal::new(backend)?;
@@ -180,6 +183,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 stage_generation = list.generation();
             }
             renderer.set_pixel_aspect(s.symbols.pixel_aspect());
+            renderer.set_cancel(Some(abandon_when_keys(keys.clone())));
             stage.render(&mut renderer, s, fb)
         },
         background: crate::scene::BACKGROUND,
@@ -204,6 +208,35 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Exit::InputClosed(_) => Ok(()),
         Exit::Signal(sig) => std::process::exit(128 + sig),
     }
+}
+
+/// A frame running longer than this is abandoned when a key is pressed.
+const LONG_FRAME: std::time::Duration = std::time::Duration::from_millis(500);
+
+/// A sender whose messages reach `tx`, counting the keys among them in `keys`.
+fn count_keys(tx: mpsc::Sender<Msg>, keys: Arc<std::sync::atomic::AtomicU64>) -> mpsc::Sender<Msg> {
+    let (forward, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for msg in rx {
+            if matches!(msg, Msg::Input(crossterm::event::Event::Key(_))) {
+                keys.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            }
+            if tx.send(msg).is_err() {
+                return;
+            }
+        }
+    });
+    forward
+}
+
+/// The renderer's cancel hook for the frame starting now: stop once the
+/// frame has run [`LONG_FRAME`] and a key was pressed since it began.
+fn abandon_when_keys(keys: Arc<std::sync::atomic::AtomicU64>) -> crate::render::CancelHook {
+    let start = std::time::Instant::now();
+    let before = keys.load(std::sync::atomic::Ordering::Relaxed);
+    Arc::new(move || {
+        start.elapsed() >= LONG_FRAME && keys.load(std::sync::atomic::Ordering::Relaxed) != before
+    })
 }
 
 /// Forwards SIGWINCH, SIGINT, SIGTERM and SIGHUP to the loop. After a

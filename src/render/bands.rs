@@ -3,6 +3,7 @@
 
 use rayon::prelude::*;
 
+use super::abandon::{Abandon, CHECK_EVERY};
 use super::dispatch::draw_into;
 use crate::framebuffer::Rgb;
 use crate::raster::ScreenTri;
@@ -113,7 +114,9 @@ pub(super) enum MaterialCtxs<'a> {
 }
 
 /// Clears each band and draws every triangle into it, in parallel or not
-/// (the same result either way: bands never share a pixel).
+/// (the same result either way: bands never share a pixel). Stops when
+/// `abandon` says so (a band then stays as it was); returns the counters
+/// and how many bands were drawn whole.
 pub(super) fn draw_bands<T: RasterTarget + Send>(
     bands: &mut [T],
     parallel: bool,
@@ -121,35 +124,38 @@ pub(super) fn draw_bands<T: RasterTarget + Send>(
     shaders: &[TriShader],
     ctxs: &MaterialCtxs,
     background: Rgb,
-) -> Counters {
-    let draw = |band: &mut T| -> Counters {
-        band.clear(background);
+    abandon: &Abandon,
+) -> (Counters, usize) {
+    let draw = |band: &mut T| -> (Counters, bool) {
         let mut counters = Counters::default();
-        match ctxs {
-            MaterialCtxs::One(ctx) => {
-                for tri in tris {
-                    draw_into(tri, &shaders[tri.shader as usize], ctx, band, &mut counters);
-                }
-            }
-            MaterialCtxs::Many { ctxs, of_shader } => {
-                for tri in tris {
-                    let s = tri.shader as usize;
-                    let ctx = &ctxs[of_shader[s] as usize];
-                    draw_into(tri, &shaders[s], ctx, band, &mut counters);
-                }
-            }
+        if abandon.now() {
+            return (counters, false);
         }
-        counters
+        band.clear(background);
+        for (n, tri) in tris.iter().enumerate() {
+            if n % CHECK_EVERY == CHECK_EVERY - 1 && abandon.now() {
+                return (counters, false);
+            }
+            let s = tri.shader as usize;
+            let ctx = match ctxs {
+                MaterialCtxs::One(ctx) => ctx,
+                MaterialCtxs::Many { ctxs, of_shader } => &ctxs[of_shader[s] as usize],
+            };
+            draw_into(tri, &shaders[s], ctx, band, &mut counters);
+        }
+        (counters, true)
     };
-    let per_band: Vec<Counters> = if parallel {
+    let per_band: Vec<(Counters, bool)> = if parallel {
         // One band per task, so an idle thread can take any band left.
         bands.par_iter_mut().with_max_len(1).map(draw).collect()
     } else {
         bands.iter_mut().map(draw).collect()
     };
     let mut total = Counters::default();
-    for c in per_band {
+    let mut drawn = 0;
+    for (c, whole) in per_band {
         total += c;
+        drawn += usize::from(whole);
     }
-    total
+    (total, drawn)
 }

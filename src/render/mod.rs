@@ -1,12 +1,17 @@
 //! The frame: plan → transform → cull/clip/setup → bands of rows rasterized
 //! and shaded (in parallel when the frame is big enough to gain).
 
+mod abandon;
 mod bands;
 mod dispatch;
+mod repeat_cache;
 mod shaders;
 
+use abandon::Abandon;
+pub use abandon::CancelHook;
 use bands::{CHUNKS_PER_THREAD, MaterialCtxs, PARALLEL_MIN_WORK, RowWork, draw_bands, split_rows};
 pub use dispatch::{draw_into, draw_triangle};
+use repeat_cache::RepeatCache;
 use shaders::{build_shader, wire_triangle};
 
 use std::time::Instant;
@@ -21,6 +26,7 @@ use crate::raster::aa::{
 use crate::raster::frames::{DepthView, draw_tangent_frames};
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
+use crate::scene::repeats::RepeatSkipper;
 use crate::scene::{Scene, normal_matrix};
 use crate::settings::{AntiAlias, Display, Settings};
 use crate::shade::{ShadeCtx, TriShader};
@@ -62,6 +68,11 @@ pub struct Renderer {
     /// Width over height of a pixel where the frame is shown (`None`:
     /// square): the sub-cell symbol sets have tall pixels.
     pixel_aspect: Option<f32>,
+    /// The repeated triangles of each object's mesh, which add nothing
+    /// behind a depth buffer (`scene::repeats`).
+    repeats: RepeatCache,
+    /// Asked during each frame whether to abandon it.
+    cancel: Option<CancelHook>,
 }
 
 impl Renderer {
@@ -73,6 +84,12 @@ impl Renderer {
     /// projection widens the view by it so shapes keep their proportions.
     pub fn set_pixel_aspect(&mut self, aspect: f32) {
         self.pixel_aspect = (aspect.is_finite() && aspect > 0.0 && aspect != 1.0).then_some(aspect);
+    }
+
+    /// From now on each frame asks `hook` as it goes and stops when it says
+    /// so (`FrameStats::abandoned`); `None`: frames always finish.
+    pub fn set_cancel(&mut self, hook: Option<CancelHook>) {
+        self.cancel = hook;
     }
 
     /// Draws `scene` into `fb` and says what it cost. Output is identical
@@ -95,6 +112,8 @@ impl Renderer {
             scene.material.texture.normal_map_builds()
                 + scene.material.normal_map.as_ref().map_or(0, |m| m.builds())
         };
+        let cancel = self.cancel.clone();
+        let abandon = Abandon::new(cancel.as_deref());
         let normal_maps_before = normal_map_builds(scene);
         let plans = FramePlans::new(scene, settings, Plan::new(scene, settings));
         let plan = &plans.plans[0];
@@ -106,8 +125,16 @@ impl Renderer {
         let k = ssaa_factor(plan.aa, width, height);
         // Taken out of `self` for the frame so the shaders can borrow it.
         let mut shadow_map = std::mem::take(&mut self.shadow);
-        let (shadow, mut counters) =
-            shadow_pass(&mut shadow_map, scene, plan, width * k, height * k);
+        self.repeats.update(scene);
+        let (shadow, mut counters) = shadow_pass(
+            &mut shadow_map,
+            scene,
+            plan,
+            &self.repeats,
+            &abandon,
+            width * k,
+            height * k,
+        );
         counters += self.prepare(scene, &plans, shadow, width * k, height * k);
         counters.normal_map_builds += normal_map_builds(scene) - normal_maps_before;
         stats.plan_time = start.elapsed();
@@ -119,12 +146,16 @@ impl Renderer {
                 .take()
                 .unwrap_or_else(|| Framebuffer::new(0, 0));
             big.resize(width * k, height * k);
-            counters += self.rasterize(scene, &plans, shadow, &mut big, k);
+            let (drawn, bands) = self.rasterize(scene, &plans, shadow, &mut big, k, &abandon);
+            counters += drawn;
+            (stats.bands_drawn, stats.bands) = bands;
             counters += self.tangent_frames(scene, plan, &mut big, k);
             resolve_box(&big, k, fb);
             self.supersampled = Some(big);
         } else {
-            counters += self.rasterize(scene, &plans, shadow, fb, 1);
+            let (drawn, bands) = self.rasterize(scene, &plans, shadow, fb, 1, &abandon);
+            counters += drawn;
+            (stats.bands_drawn, stats.bands) = bands;
             counters += self.tangent_frames(scene, plan, fb, 1);
         }
         self.shadow = shadow_map;
@@ -136,6 +167,7 @@ impl Renderer {
         }
         stats.raster_time = raster_start.elapsed();
         stats.counters = counters;
+        stats.abandoned = abandon.stopped();
         stats
     }
 
@@ -151,7 +183,16 @@ impl Renderer {
     ) -> (&[ScreenTri], &[TriShader]) {
         let plans = FramePlans::new(scene, settings, Plan::new(scene, settings));
         let mut shadow_map = std::mem::take(&mut self.shadow);
-        let (shadow, _) = shadow_pass(&mut shadow_map, scene, &plans.plans[0], width, height);
+        self.repeats.update(scene);
+        let (shadow, _) = shadow_pass(
+            &mut shadow_map,
+            scene,
+            &plans.plans[0],
+            &self.repeats,
+            &Abandon::new(None),
+            width,
+            height,
+        );
         self.prepare(scene, &plans, shadow, width, height);
         self.shadow = shadow_map;
         (&self.tris, &self.shaders)
@@ -205,7 +246,18 @@ impl Renderer {
                 });
                 self.clip.push(view_proj * position.extend(1.0));
             }
-            for tri in &object.mesh.triangles {
+            // Behind a depth buffer a repeated triangle changes nothing.
+            let skips_repeats = plan.display == Display::Fill && plan.depth;
+            let mut repeats = RepeatSkipper::new(if skips_repeats {
+                self.repeats.of(object_index)
+            } else {
+                &[]
+            });
+            let triangles = &object.mesh.triangles;
+            for (tri_index, tri) in triangles.iter().enumerate() {
+                if repeats.skip(tri_index, triangles) {
+                    continue;
+                }
                 let idx = tri.indices.map(|i| i as usize);
                 if idx.iter().any(|&i| i >= self.world.len()) {
                     continue;
@@ -279,7 +331,8 @@ impl Renderer {
 
     /// Clears and draws the frame: bands of pixels (or of samples, with
     /// multisampling), or the wireframe. `brush` is the supersampling factor,
-    /// which widens lines and points so they keep their size.
+    /// which widens lines and points so they keep their size. Returns the
+    /// counters, and the bands drawn whole and in all.
     fn rasterize(
         &mut self,
         scene: &Scene,
@@ -287,7 +340,8 @@ impl Renderer {
         shadow: Option<Shadow>,
         fb: &mut Framebuffer,
         brush: usize,
-    ) -> Counters {
+        abandon: &Abandon,
+    ) -> (Counters, (usize, usize)) {
         let plan = &plans.plans[0];
         let width = fb.width();
         let height = fb.height();
@@ -302,7 +356,7 @@ impl Renderer {
             } else {
                 draw_lines(&self.wire, brush, &mut canvas, &mut counters);
             }
-            return counters;
+            return (counters, (1, 1));
         }
         let ctx = if plans.plans.len() == 1 {
             MaterialCtxs::One(ShadeCtx {
@@ -363,10 +417,13 @@ impl Renderer {
                     })
                     .collect()
             };
-            let total = draw_bands(&mut bands, parallel, tris, shaders, &ctx, background);
+            let count = bands.len();
+            let (total, drawn) = draw_bands(
+                &mut bands, parallel, tris, shaders, &ctx, background, abandon,
+            );
             drop(bands);
             resolve_msaa(&self.msaa_color, fb.pixels_mut());
-            return total;
+            return (total, (drawn, count));
         }
         let mut bands: Vec<Band> = if plan.depth {
             self.depth.clear();
@@ -390,7 +447,11 @@ impl Renderer {
                 })
                 .collect()
         };
-        draw_bands(&mut bands, parallel, tris, shaders, &ctx, background)
+        let count = bands.len();
+        let (total, drawn) = draw_bands(
+            &mut bands, parallel, tris, shaders, &ctx, background, abandon,
+        );
+        (total, (drawn, count))
     }
 }
 
@@ -454,19 +515,23 @@ fn shadow_pass<'a>(
     map: &'a mut ShadowMap,
     scene: &Scene,
     plan: &Plan,
+    repeats: &RepeatCache,
+    abandon: &Abandon,
     width: usize,
     height: usize,
 ) -> (Option<Shadow<'a>>, Counters) {
     let Some(light) = plan.shadow_light else {
         return (None, Counters::default());
     };
-    let counters = map.render(
+    let counters = map.render_skipping(
         scene,
         plan.rotation,
         plan.lights[light].position,
         &plan.shadow_casters,
         width,
         height,
+        &repeats.all(),
+        &|| abandon.now(),
     );
     (Some(Shadow { light, map }), counters)
 }

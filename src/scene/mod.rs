@@ -11,6 +11,7 @@ pub mod model_file;
 pub mod obj;
 pub mod plane;
 pub mod ply;
+pub mod repeats;
 pub mod sphere;
 pub mod stl;
 pub mod tangents;

@@ -25,11 +25,13 @@
 pub mod mtl;
 mod read;
 
-use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
+// Maps of vertex keys, only looked up (never iterated): a fast hash.
+use foldhash::{HashMap, HashMapExt};
 use glam::{DVec3, Vec2, Vec3};
+use rayon::prelude::*;
 use thiserror::Error;
 
 use super::cube::{FACES, corner_color};
@@ -112,7 +114,19 @@ pub fn parse(name: &str, text: impl AsRef<[u8]>) -> Result<Mesh, ObjError> {
 /// [`parse`] with the directory the material libraries are in (none: not
 /// opened). A panic while reading or building becomes an error like any other.
 pub fn parse_model(name: &str, text: &[u8], dir: Option<&Path>) -> Result<LoadedModel, ObjError> {
-    crate::contain::contain(|| parse_unguarded(name, text, dir)).unwrap_or_else(|cause| {
+    parse_in_chunks(name, text, dir, None)
+}
+
+/// [`parse_model`] with the text read in at most `chunks` line-aligned
+/// pieces in parallel (`None`: as many as its size calls for). Whatever the
+/// cut, the model, its warnings and its first error are the same.
+pub fn parse_in_chunks(
+    name: &str,
+    text: &[u8],
+    dir: Option<&Path>,
+    chunks: Option<usize>,
+) -> Result<LoadedModel, ObjError> {
+    crate::contain::contain(|| parse_unguarded(name, text, dir, chunks)).unwrap_or_else(|cause| {
         Err(ObjError::Parse {
             name: name.to_string(),
             reason: format!("the reader failed on it ({cause})"),
@@ -140,7 +154,12 @@ fn utf8_text(text: &[u8]) -> std::borrow::Cow<'_, [u8]> {
     decoded.into_bytes().into()
 }
 
-fn parse_unguarded(name: &str, text: &[u8], dir: Option<&Path>) -> Result<LoadedModel, ObjError> {
+fn parse_unguarded(
+    name: &str,
+    text: &[u8],
+    dir: Option<&Path>,
+    chunks: Option<usize>,
+) -> Result<LoadedModel, ObjError> {
     let text = utf8_text(text);
     // Text in any 8-bit encoding is read (names and comments are not
     // used); a NUL byte says it is not text at all.
@@ -150,7 +169,10 @@ fn parse_unguarded(name: &str, text: &[u8], dir: Option<&Path>) -> Result<Loaded
             at,
         });
     }
-    let mut model = read::read(name, &text)?;
+    let mut model = match chunks {
+        Some(parts) => read::read_in_chunks(name, &text, parts)?,
+        None => read::read(name, &text)?,
+    };
     drop(text);
     let mut warnings = std::mem::take(&mut model.warnings);
     let library = match dir {
@@ -645,8 +667,9 @@ fn fill_normals(tris: &mut [Tri], positions: usize) {
             (p as u32, list.iter().map(weighted).sum::<Vec3>())
         })
         .collect();
+    // Each triangle's normals read only the triangles around it: in parallel.
     let computed: Vec<[Vec3; 3]> = tris
-        .iter()
+        .par_iter()
         .map(|tri| {
             let normal_at = |k: usize| {
                 if let Some(given) = tri.corners[k].normal.and_then(|g| g.try_normalize()) {

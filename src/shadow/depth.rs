@@ -5,10 +5,19 @@ use glam::{Mat4, Vec3};
 
 use super::ShadowMap;
 use crate::scene::Mesh;
+use crate::scene::repeats::RepeatSkipper;
 
-/// Draws `mesh` (object `object`) placed by `model` into the map; returns
-/// the texels written.
-pub(super) fn draw_mesh(map: &mut ShadowMap, mesh: &Mesh, model: Mat4, object: u32) -> u64 {
+/// Draws `mesh` (object `object`) placed by `model` into the map, but for
+/// the triangles `repeats` skips, until `stop` says so; returns the texels
+/// written.
+pub(super) fn draw_mesh(
+    map: &mut ShadowMap,
+    mesh: &Mesh,
+    model: Mat4,
+    object: u32,
+    mut repeats: RepeatSkipper,
+    stop: &dyn Fn() -> bool,
+) -> u64 {
     let size = map.size as f32;
     let normal_matrix = crate::scene::normal_matrix(model);
     // Per vertex: texel coordinates and 1/w (None when too near the light).
@@ -27,7 +36,13 @@ pub(super) fn draw_mesh(map: &mut ShadowMap, mesh: &Mesh, model: Mat4, object: u
         })
         .collect();
     let mut written = 0;
-    for tri in &mesh.triangles {
+    for (i, tri) in mesh.triangles.iter().enumerate() {
+        if repeats.skip(i, &mesh.triangles) {
+            continue;
+        }
+        if i % 4096 == 4095 && stop() {
+            break;
+        }
         let Some(v) = tri
             .indices
             .iter()

@@ -25,6 +25,7 @@ use glam::{Mat4, Vec3};
 
 use crate::scene::Scene;
 use crate::scene::casters::{Caster, enclose};
+use crate::scene::repeats::RepeatSkipper;
 use crate::stats::Counters;
 
 /// Smallest and largest shadow map side, in texels.
@@ -107,6 +108,28 @@ impl ShadowMap {
         width: usize,
         height: usize,
     ) -> Counters {
+        self.render_skipping(scene, rotation, light, casters, width, height, &[], &|| {
+            false
+        })
+    }
+
+    /// [`ShadowMap::render`] skipping the repeated triangles of each object
+    /// (`scene::repeats`: the pairs of object `i` are `repeats[i]`, none
+    /// past the end), which cannot change a texel, and stopping (the map
+    /// incomplete) as soon as `stop` says so, asked every few thousand
+    /// triangles.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_skipping(
+        &mut self,
+        scene: &Scene,
+        rotation: Mat4,
+        light: Vec3,
+        casters: &[Caster],
+        width: usize,
+        height: usize,
+        repeats: &[&[(u32, u32)]],
+        stop: &dyn Fn() -> bool,
+    ) -> Counters {
         let mut counters = Counters::default();
         let size = Self::size_for(width, height);
         self.size = size;
@@ -145,7 +168,9 @@ impl ShadowMap {
             let i = caster.object;
             let object = &scene.objects[i];
             let model = object.model_matrix(rotation);
-            counters.shadow_texels += depth::draw_mesh(self, &object.mesh, model, i as u32);
+            let skipper = RepeatSkipper::new(repeats.get(i).copied().unwrap_or(&[]));
+            counters.shadow_texels +=
+                depth::draw_mesh(self, &object.mesh, model, i as u32, skipper, stop);
         }
         counters
     }

@@ -12,5 +12,6 @@ mod models_gltf;
 mod models_props;
 mod models_render;
 mod mutation;
+mod obj_chunks;
 mod obj_corpus;
 mod parser_messages;

@@ -17,6 +17,7 @@ mod display;
 mod environment;
 mod flags;
 mod hard_cases;
+mod overdraw;
 mod packets;
 mod plan;
 mod plasma;

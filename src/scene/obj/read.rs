@@ -25,6 +25,7 @@
 //! before anything of the model's size is allocated.
 
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 
 use super::{Corner, MAX_FACE_CORNERS, ObjError, quote};
 use crate::budget::Reservation;
@@ -180,16 +181,37 @@ impl Tally {
         }
         self.count += 1;
     }
+
+    /// Adds the tally of a later chunk whose lines start at `offset`.
+    fn merge(&mut self, later: &Tally, offset: usize) {
+        if self.count == 0 {
+            self.first_line = later.first_line + offset;
+        }
+        self.count += later.count;
+    }
 }
 
 /// What the counting pass found: upper bounds for the reading pass.
-#[derive(Default)]
+#[derive(Default, Clone, Copy)]
 struct Counts {
+    lines: usize,
     positions: usize,
     texcoords: usize,
     normals: usize,
     /// Corners − 2 summed over the faces (before repeats are dropped).
     triangles: usize,
+}
+
+impl Counts {
+    fn add(self, o: Counts) -> Counts {
+        Counts {
+            lines: self.lines + o.lines,
+            positions: self.positions + o.positions,
+            texcoords: self.texcoords + o.texcoords,
+            normals: self.normals + o.normals,
+            triangles: self.triangles + o.triangles,
+        }
+    }
 }
 
 /// One face corner: indices into the positions, UVs and normals read so far.
@@ -216,19 +238,39 @@ pub(super) struct ReadModel {
     pub reservation: Reservation,
 }
 
-/// Reads `bytes` (a whole OBJ file); `name` (already sanitised) is used in errors.
-pub(super) fn read(name: &str, bytes: &[u8]) -> Result<ReadModel, ObjError> {
-    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    let at = |line: usize| {
-        move |problem: String| ObjError::Line {
-            name: name.to_string(),
-            line,
-            problem,
-        }
-    };
+/// Bytes of text per chunk read by one task: below this a file is read as
+/// one chunk (splitting would cost more than it gains).
+const CHUNK_BYTES: usize = 1 << 20;
 
+/// A problem on a line of a chunk (0-based within the chunk).
+type LineProblem = (usize, String);
+
+/// `bytes` cut into at most `parts` pieces of about equal size, each but
+/// the last ending just after a `\n`: every piece holds whole lines, and
+/// the lines of the pieces, in order, are the lines of `bytes`.
+fn line_chunks(bytes: &[u8], parts: usize) -> Vec<&[u8]> {
+    let target = bytes.len().div_ceil(parts.max(1)).max(1);
+    let mut out = Vec::with_capacity(parts);
+    let mut rest = bytes;
+    while out.len() + 1 < parts && rest.len() > target {
+        match rest[target..].iter().position(|&b| b == b'\n') {
+            Some(at) => {
+                let (piece, tail) = rest.split_at(target + at + 1);
+                out.push(piece);
+                rest = tail;
+            }
+            None => break,
+        }
+    }
+    out.push(rest);
+    out
+}
+
+/// The counting pass over one chunk.
+fn count(chunk: &[u8]) -> Result<Counts, LineProblem> {
     let mut counts = Counts::default();
-    for (number, line) in lines(bytes).enumerate() {
+    for (number, line) in lines(chunk).enumerate() {
+        counts.lines += 1;
         let mut w = words(line);
         match w.next() {
             Some(b"v") => counts.positions += 1,
@@ -237,13 +279,262 @@ pub(super) fn read(name: &str, bytes: &[u8]) -> Result<ReadModel, ObjError> {
             Some(b"f") => {
                 let corners = w.count();
                 if corners > MAX_FACE_CORNERS {
-                    return Err(at(number + 1)(format!(
-                        "a face of {corners} corners (limit {MAX_FACE_CORNERS})"
-                    )));
+                    return Err((
+                        number,
+                        format!("a face of {corners} corners (limit {MAX_FACE_CORNERS})"),
+                    ));
                 }
                 counts.triangles += corners.saturating_sub(2);
             }
             _ => {}
+        }
+    }
+    Ok(counts)
+}
+
+/// Where one chunk writes its `v`, `vt` and `vn` lines.
+struct Attributes<'a> {
+    positions: &'a mut [Vec3],
+    colors: &'a mut [Option<Vec3>],
+    texcoords: &'a mut [Vec2],
+    normals: &'a mut [Vec3],
+}
+
+/// The `v`, `vt` and `vn` lines of one chunk, into `out` (sized by the
+/// counting pass); stops at the first bad line. Returns that line's
+/// problem, if any, and the lines whose numbers had text after them.
+fn read_attributes(chunk: &[u8], out: Attributes) -> (Option<LineProblem>, Tally) {
+    let mut cut_numbers = Tally::default();
+    let (mut p, mut t, mut n) = (0, 0, 0);
+    for (number, line) in lines(chunk).enumerate() {
+        let mut w = words(line);
+        let mut cut = false;
+        let problem = match w.next() {
+            Some(b"v") => match numbers(w, 3, 6, "position", &mut cut) {
+                Ok(x) => {
+                    let color = match x.len() {
+                        3 => Ok(None),
+                        4 if x[3] != 0.0 => Ok(None),
+                        4 => Err("bad w '0'".to_string()),
+                        6 => Ok(Some(Vec3::new(x[3], x[4], x[5]))),
+                        k => Err(format!("position has {k} numbers")),
+                    };
+                    color.map(|color| {
+                        out.positions[p] = Vec3::new(x[0], x[1], x[2]);
+                        out.colors[p] = color;
+                        p += 1;
+                    })
+                }
+                Err(e) => Err(e),
+            },
+            Some(b"vt") => numbers(w, 1, 3, "texture coordinate", &mut cut).map(|x| {
+                out.texcoords[t] = Vec2::new(x[0], x.get(1).copied().unwrap_or(0.0));
+                t += 1;
+            }),
+            Some(b"vn") => numbers(w, 3, 3, "normal", &mut cut).map(|x| {
+                out.normals[n] = Vec3::new(x[0], x[1], x[2]);
+                n += 1;
+            }),
+            _ => Ok(()),
+        };
+        if let Err(problem) = problem {
+            return (Some((number, problem)), cut_numbers);
+        }
+        if cut {
+            cut_numbers.add(number);
+        }
+    }
+    (None, cut_numbers)
+}
+
+/// Everything read from the faces and keywords of one chunk. Parts are
+/// local: part 0 is the one in effect when the chunk begins, the others
+/// are `names[k - 1]` in order of first use within the chunk.
+#[derive(Default)]
+struct FaceChunk {
+    corners: Vec<Corner>,
+    part_of: Vec<u32>,
+    names: Vec<Option<String>>,
+    /// The local part in effect at the end of the chunk.
+    end_part: u32,
+    libraries: Vec<String>,
+    all_uv: bool,
+    all_normals: bool,
+    bad_uv: Tally,
+    bad_normal: Tally,
+    problem: Option<LineProblem>,
+}
+
+/// All the `v`, `vt`, `vn` read from the file, and how many of each come
+/// before the chunk being read.
+struct Read<'a> {
+    positions: &'a [Vec3],
+    colors: &'a [Option<Vec3>],
+    texcoords: &'a [Vec2],
+    normals: &'a [Vec3],
+}
+
+/// The faces, `usemtl` and `mtllib` lines of one chunk; `before` counts
+/// the lines of the chunks before it. Stops at the first bad line.
+fn read_faces(chunk: &[u8], before: Counts, all: &Read) -> FaceChunk {
+    let mut out = FaceChunk {
+        all_uv: true,
+        all_normals: true,
+        ..FaceChunk::default()
+    };
+    let (mut positions, mut texcoords, mut normals) =
+        (before.positions, before.texcoords, before.normals);
+    let mut face: Vec<FaceCorner> = Vec::new();
+    let mut part = 0u32;
+    for (number, line) in lines(chunk).enumerate() {
+        let mut w = words(line);
+        match w.next() {
+            Some(b"v") => positions += 1,
+            Some(b"vt") => texcoords += 1,
+            Some(b"vn") => normals += 1,
+            Some(b"mtllib") => out.libraries.push(rest_of_line(line, b"mtllib")),
+            Some(b"usemtl") => {
+                let material = rest_of_line(line, b"usemtl");
+                let key = (!material.is_empty()).then_some(material);
+                part = match out.names.iter().position(|p| *p == key) {
+                    Some(i) => i as u32 + 1,
+                    None => {
+                        out.names.push(key);
+                        out.names.len() as u32
+                    }
+                };
+            }
+            Some(b"f") => {
+                let counts = (positions, texcoords, normals);
+                let (uv_dropped, normal_dropped) = match read_face(w, counts, &mut face) {
+                    Ok(dropped) => dropped,
+                    Err(problem) => {
+                        out.problem = Some((number, problem));
+                        break;
+                    }
+                };
+                if uv_dropped {
+                    out.bad_uv.add(number);
+                    face.iter_mut().for_each(|c| c.uv = None);
+                }
+                if normal_dropped {
+                    out.bad_normal.add(number);
+                    face.iter_mut().for_each(|c| c.normal = None);
+                }
+                while face.len() > 1
+                    && face.first().map(|c| c.position) == face.last().map(|c| c.position)
+                {
+                    face.pop();
+                }
+                // One or two corners are a point or a line: not drawn.
+                if face.len() >= 3 {
+                    // A face that lost an attribute gets a computed one; it
+                    // does not make the model drop the file's everywhere.
+                    out.all_uv &= uv_dropped || face.iter().all(|c| c.uv.is_some());
+                    out.all_normals &= normal_dropped || face.iter().all(|c| c.normal.is_some());
+                    let corner = |c: &FaceCorner| Corner {
+                        position: all.positions[c.position],
+                        uv: c.uv.map(|i| all.texcoords[i]),
+                        normal: c.normal.map(|i| all.normals[i]),
+                        color: all.colors[c.position],
+                    };
+                    for k in 1..face.len() - 1 {
+                        out.corners
+                            .extend([&face[0], &face[k], &face[k + 1]].map(corner));
+                        out.part_of.push(part);
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    out.end_part = part;
+    out
+}
+
+/// The corners of one `f` line into `face`, given the `v`, `vt`, `vn`
+/// counts so far. Returns whether a `vt`, and a `vn`, index was out of
+/// range (the caller drops that attribute for the whole face).
+fn read_face<'a>(
+    words: impl Iterator<Item = &'a [u8]>,
+    (positions, texcoords, normals): (usize, usize, usize),
+    face: &mut Vec<FaceCorner>,
+) -> Result<(bool, bool), String> {
+    face.clear();
+    let (mut uv_dropped, mut normal_dropped) = (false, false);
+    for word in words {
+        let mut pieces = word.split(|&b| b == b'/');
+        let (p, t, n) = (pieces.next(), pieces.next(), pieces.next());
+        let p = match p {
+            Some(p) if !p.is_empty() && pieces.next().is_none() => p,
+            _ => return Err(format!("bad face corner {}", quote_bytes(word))),
+        };
+        let position = resolve(p, positions, "vertex")?;
+        // Out of range: tinyobjloader drops the attribute (with a warning).
+        let optional =
+            |word: Option<&[u8]>, count: usize, what: &str, dropped: &mut bool| match word {
+                Some(x) if !x.is_empty() => match resolve(x, count, what) {
+                    Ok(i) => Ok(Some(i)),
+                    Err(e) if e.contains("out of range") => {
+                        *dropped = true;
+                        Ok(None)
+                    }
+                    Err(e) => Err(e),
+                },
+                _ => Ok(None),
+            };
+        let uv = optional(t, texcoords, "texture coordinate", &mut uv_dropped)?;
+        let normal = optional(n, normals, "normal", &mut normal_dropped)?;
+        let corner = FaceCorner {
+            position,
+            uv,
+            normal,
+        };
+        // A repeated position is a zero-length edge.
+        if face.last().is_none_or(|p| p.position != position) {
+            face.push(corner);
+        }
+    }
+    Ok((uv_dropped, normal_dropped))
+}
+
+/// Reads `bytes` (a whole OBJ file); `name` (already sanitised) is used in
+/// errors. Big files are cut into line-aligned chunks read in parallel
+/// (see [`read_in_chunks`]).
+pub(super) fn read(name: &str, bytes: &[u8]) -> Result<ReadModel, ObjError> {
+    let parts = (bytes.len() / CHUNK_BYTES).clamp(1, 4 * rayon::current_num_threads());
+    read_in_chunks(name, bytes, parts)
+}
+
+/// [`read`] with the text cut into at most `parts` chunks: whatever the
+/// cut, the same model, warnings and first error as one chunk gives.
+///
+/// Three passes, each over the chunks in parallel: counting (sizes and
+/// budget are settled before anything of the model's size is allocated),
+/// the `v`/`vt`/`vn` lines into arrays sized by the counts (each chunk
+/// knows where its own start), then the faces, which may use any of those
+/// read before their line. Parts, warnings and errors are merged in chunk
+/// order, so the first line in the file wins as it does when read in one go.
+pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadModel, ObjError> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let chunks = line_chunks(bytes, parts);
+    let error = |line: usize, problem: String| ObjError::Line {
+        name: name.to_string(),
+        line: line + 1,
+        problem,
+    };
+
+    let counted: Vec<Result<Counts, LineProblem>> = chunks.par_iter().map(|c| count(c)).collect();
+    // What comes before each chunk, and the whole file's counts.
+    let mut before = Vec::with_capacity(chunks.len());
+    let mut counts = Counts::default();
+    for c in counted {
+        match c {
+            Ok(c) => {
+                before.push(counts);
+                counts = counts.add(c);
+            }
+            Err((line, problem)) => return Err(error(counts.lines + line, problem)),
         }
     }
     // No fixed limit: the memory budget decides, before anything is allocated.
@@ -256,138 +547,99 @@ pub(super) fn read(name: &str, bytes: &[u8]) -> Result<ReadModel, ObjError> {
         );
     let reservation = crate::scene::model_file::reserve(name, "the triangles", need)?;
 
-    let mut positions: Vec<Vec3> = Vec::with_capacity(counts.positions);
-    let mut colors: Vec<Option<Vec3>> = Vec::with_capacity(counts.positions);
-    let mut texcoords: Vec<Vec2> = Vec::with_capacity(counts.texcoords);
-    let mut normals: Vec<Vec3> = Vec::with_capacity(counts.normals);
-    let mut face: Vec<FaceCorner> = Vec::new();
-    let mut corners: Vec<Corner> = Vec::with_capacity(counts.triangles * 3);
-    let mut part_of: Vec<u32> = Vec::with_capacity(counts.triangles);
+    let mut positions = vec![Vec3::ZERO; counts.positions];
+    let mut colors: Vec<Option<Vec3>> = vec![None; counts.positions];
+    let mut texcoords = vec![Vec2::ZERO; counts.texcoords];
+    let mut normals = vec![Vec3::ZERO; counts.normals];
+    let mut outs = Vec::with_capacity(chunks.len());
+    {
+        let (mut p, mut c, mut t, mut n) = (
+            &mut positions[..],
+            &mut colors[..],
+            &mut texcoords[..],
+            &mut normals[..],
+        );
+        for (k, b) in before.iter().enumerate() {
+            let next = before.get(k + 1).copied().unwrap_or(counts);
+            let (p1, p2) = std::mem::take(&mut p).split_at_mut(next.positions - b.positions);
+            let (c1, c2) = std::mem::take(&mut c).split_at_mut(next.positions - b.positions);
+            let (t1, t2) = std::mem::take(&mut t).split_at_mut(next.texcoords - b.texcoords);
+            let (n1, n2) = std::mem::take(&mut n).split_at_mut(next.normals - b.normals);
+            outs.push(Attributes {
+                positions: p1,
+                colors: c1,
+                texcoords: t1,
+                normals: n1,
+            });
+            (p, c, t, n) = (p2, c2, t2, n2);
+        }
+    }
+    let attributes: Vec<(Option<LineProblem>, Tally)> = outs
+        .into_par_iter()
+        .zip(chunks.par_iter())
+        .map(|(out, chunk)| read_attributes(chunk, out))
+        .collect();
+    let all = Read {
+        positions: &positions,
+        colors: &colors,
+        texcoords: &texcoords,
+        normals: &normals,
+    };
+    let faces: Vec<FaceChunk> = chunks
+        .par_iter()
+        .zip(before.par_iter())
+        .map(|(chunk, b)| read_faces(chunk, *b, &all))
+        .collect();
+
+    // The first bad line of the file, of either pass.
+    let first_problem = attributes
+        .iter()
+        .zip(&faces)
+        .zip(&before)
+        .flat_map(|(((a, _), f), b)| {
+            [a, &f.problem]
+                .into_iter()
+                .flatten()
+                .map(move |(line, problem)| (b.lines + line, problem))
+        })
+        .min_by_key(|(line, _)| *line);
+    if let Some((line, problem)) = first_problem {
+        return Err(error(line, problem.clone()));
+    }
+
+    let triangles: usize = faces.iter().map(|f| f.part_of.len()).sum();
+    let mut corners: Vec<Corner> = Vec::with_capacity(triangles * 3);
+    let mut part_of: Vec<u32> = Vec::with_capacity(triangles);
     let mut parts: Vec<Option<String>> = vec![None];
     let mut part = 0u32;
     let mut libraries = Vec::new();
     let (mut all_uv, mut all_normals) = (true, true);
     let (mut bad_uv, mut bad_normal, mut cut_numbers) =
         (Tally::default(), Tally::default(), Tally::default());
-    for (number, line) in lines(bytes).enumerate() {
-        let at = at(number + 1);
-        let mut w = words(line);
-        let mut cut = false;
-        match w.next() {
-            Some(b"v") => {
-                let n = numbers(w, 3, 6, "position", &mut cut).map_err(at)?;
-                match n.len() {
-                    3 => colors.push(None),
-                    4 if n[3] != 0.0 => colors.push(None),
-                    4 => return Err(at("bad w '0'".into())),
-                    6 => colors.push(Some(Vec3::new(n[3], n[4], n[5]))),
-                    k => return Err(at(format!("position has {k} numbers"))),
+    for ((f, (_, cut)), b) in faces.into_iter().zip(attributes).zip(&before) {
+        // Local parts to the file's, in order of first use.
+        let mut global = vec![part];
+        for key in f.names {
+            global.push(match parts.iter().position(|p| *p == key) {
+                Some(i) => i as u32,
+                None => {
+                    parts.push(key);
+                    (parts.len() - 1) as u32
                 }
-                positions.push(Vec3::new(n[0], n[1], n[2]));
-            }
-            Some(b"vt") => {
-                let n = numbers(w, 1, 3, "texture coordinate", &mut cut).map_err(at)?;
-                texcoords.push(Vec2::new(n[0], n.get(1).copied().unwrap_or(0.0)));
-            }
-            Some(b"vn") => {
-                let n = numbers(w, 3, 3, "normal", &mut cut).map_err(at)?;
-                normals.push(Vec3::new(n[0], n[1], n[2]));
-            }
-            Some(b"mtllib") => libraries.push(rest_of_line(line, b"mtllib")),
-            Some(b"usemtl") => {
-                let material = rest_of_line(line, b"usemtl");
-                let key = (!material.is_empty()).then_some(material);
-                part = match parts.iter().position(|p| *p == key) {
-                    Some(i) => i as u32,
-                    None => {
-                        parts.push(key);
-                        (parts.len() - 1) as u32
-                    }
-                };
-            }
-            Some(b"f") => {
-                face.clear();
-                let (mut uv_dropped, mut normal_dropped) = (false, false);
-                for word in w {
-                    let mut pieces = word.split(|&b| b == b'/');
-                    let (p, t, n) = (pieces.next(), pieces.next(), pieces.next());
-                    let p = match p {
-                        Some(p) if !p.is_empty() && pieces.next().is_none() => p,
-                        _ => return Err(at(format!("bad face corner {}", quote_bytes(word)))),
-                    };
-                    let position = resolve(p, positions.len(), "vertex").map_err(&at)?;
-                    // Out of range: tinyobjloader drops the attribute (with a warning).
-                    let uv = match t {
-                        Some(t) if !t.is_empty() => {
-                            match resolve(t, texcoords.len(), "texture coordinate") {
-                                Ok(i) => Some(i),
-                                Err(e) if e.contains("out of range") => {
-                                    uv_dropped = true;
-                                    None
-                                }
-                                Err(e) => return Err(at(e)),
-                            }
-                        }
-                        _ => None,
-                    };
-                    let normal = match n {
-                        Some(n) if !n.is_empty() => match resolve(n, normals.len(), "normal") {
-                            Ok(i) => Some(i),
-                            Err(e) if e.contains("out of range") => {
-                                normal_dropped = true;
-                                None
-                            }
-                            Err(e) => return Err(at(e)),
-                        },
-                        _ => None,
-                    };
-                    let corner = FaceCorner {
-                        position,
-                        uv,
-                        normal,
-                    };
-                    // A repeated position is a zero-length edge.
-                    if face.last().is_none_or(|p| p.position != position) {
-                        face.push(corner);
-                    }
-                }
-                if uv_dropped {
-                    bad_uv.add(number + 1);
-                    face.iter_mut().for_each(|c| c.uv = None);
-                }
-                if normal_dropped {
-                    bad_normal.add(number + 1);
-                    face.iter_mut().for_each(|c| c.normal = None);
-                }
-                while face.len() > 1
-                    && face.first().map(|c| c.position) == face.last().map(|c| c.position)
-                {
-                    face.pop();
-                }
-                // One or two corners are a point or a line: not drawn.
-                if face.len() >= 3 {
-                    // A face that lost an attribute gets a computed one; it
-                    // does not make the model drop the file's everywhere.
-                    all_uv &= uv_dropped || face.iter().all(|c| c.uv.is_some());
-                    all_normals &= normal_dropped || face.iter().all(|c| c.normal.is_some());
-                    let corner = |c: &FaceCorner| Corner {
-                        position: positions[c.position],
-                        uv: c.uv.map(|i| texcoords[i]),
-                        normal: c.normal.map(|i| normals[i]),
-                        color: colors[c.position],
-                    };
-                    for k in 1..face.len() - 1 {
-                        corners.extend([&face[0], &face[k], &face[k + 1]].map(corner));
-                        part_of.push(part);
-                    }
-                }
-            }
-            _ => {}
+            });
         }
-        if cut {
-            cut_numbers.add(number + 1);
-        }
+        part = global[f.end_part as usize];
+        corners.extend(f.corners);
+        part_of.extend(f.part_of.iter().map(|&p| global[p as usize]));
+        libraries.extend(f.libraries);
+        all_uv &= f.all_uv;
+        all_normals &= f.all_normals;
+        bad_uv.merge(&f.bad_uv, b.lines);
+        bad_normal.merge(&f.bad_normal, b.lines);
+        cut_numbers.merge(&cut, b.lines);
     }
+    drop(texcoords);
+    drop(normals);
     if corners.is_empty() {
         return Err(ObjError::Empty {
             name: name.to_string(),
@@ -396,7 +648,7 @@ pub(super) fn read(name: &str, bytes: &[u8]) -> Result<ReadModel, ObjError> {
     // UVs and normals are used when every corner has one; colours when any
     // position has one (the others are white).
     let any_color = colors.iter().any(Option::is_some);
-    for c in corners.iter_mut() {
+    corners.par_iter_mut().for_each(|c| {
         if !all_uv {
             c.uv = None;
         }
@@ -406,7 +658,7 @@ pub(super) fn read(name: &str, bytes: &[u8]) -> Result<ReadModel, ObjError> {
         if any_color {
             c.color = Some(c.color.unwrap_or(Vec3::ONE));
         }
-    }
+    });
     let mut warnings = Vec::new();
     for (tally, what) in [
         (
@@ -425,7 +677,8 @@ pub(super) fn read(name: &str, bytes: &[u8]) -> Result<ReadModel, ObjError> {
         if tally.count > 0 {
             warnings.push(format!(
                 "model {name}, line {}: {} line(s) with {what}",
-                tally.first_line, tally.count
+                tally.first_line + 1,
+                tally.count
             ));
         }
     }

@@ -1,0 +1,269 @@
+//! Overdraw: a triangle that repeats an earlier one of its mesh is skipped
+//! behind the depth buffer (src/scene/repeats.rs). The picture must be the
+//! one the mesh without its repeats gives, and the repeats must cost no
+//! depth test and no shadow texel.
+
+use crate::common;
+
+use common::*;
+use glam::Vec3;
+use proptest::prelude::*;
+use relief::scene::repeats::{RepeatSkipper, find_repeats};
+use relief::scene::{Mesh, Triangle, obj};
+use relief::settings::{AntiAlias, Settings};
+use relief::{FrameStats, Framebuffer, Renderer, Scene};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A mesh of `faces` over `points`, read as an OBJ (normals, UVs and
+/// tangents from the builder), with no face repeated.
+fn unique_mesh(points: &[[f32; 3]], faces: &[[u32; 3]]) -> Option<Mesh> {
+    let mut text = String::new();
+    for p in points {
+        text += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+    }
+    for f in faces {
+        text += &format!("f {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1);
+    }
+    obj::parse("random.obj", text).ok()
+}
+
+/// `mesh` with copies of its triangles: `copies[k]` = (which triangle, a
+/// position after it among the triangles, as a fraction of what follows).
+fn with_repeats(mesh: &Mesh, copies: &[(usize, f32)]) -> Mesh {
+    let mut triangles: Vec<Triangle> = mesh.triangles.clone();
+    for &(which, place) in copies {
+        let src = which % mesh.triangles.len();
+        // The copy goes after the first copy of triangle `src`.
+        let first = triangles
+            .iter()
+            .position(|t| t.indices == mesh.triangles[src].indices)
+            .expect("present");
+        let after = first + 1 + ((triangles.len() - first) as f32 * place) as usize;
+        triangles.insert(after.min(triangles.len()), mesh.triangles[src]);
+    }
+    Mesh {
+        triangles,
+        ..mesh.clone()
+    }
+}
+
+fn scene_of(mesh: Mesh) -> Scene {
+    let mut scene = reference_scene(true);
+    scene.objects[0].mesh = mesh;
+    scene
+}
+
+fn pixels_and_stats(scene: &Scene, settings: &Settings) -> (Vec<[u8; 3]>, FrameStats) {
+    let (fb, stats) = render(scene, settings, 64, 40);
+    (fb.pixels().to_vec(), stats)
+}
+
+fn point() -> impl Strategy<Value = [f32; 3]> {
+    prop::array::uniform3(-1.0f32..1.0)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    /// Random overlapping triangles, some drawn again later: the same
+    /// pixels as without the copies, and the copies do no depth work.
+    #[test]
+    fn repeated_triangles_change_no_pixel_and_cost_no_depth_test(
+        points in prop::collection::vec(point(), 6..10),
+        faces in prop::collection::vec(prop::array::uniform3(0u32..6), 4..14),
+        copies in prop::collection::vec((0usize..64, 0.0f32..1.0), 1..24),
+        msaa in any::<bool>(),
+        rotation in prop::array::uniform3(-180.0f32..180.0),
+    ) {
+        let faces: Vec<[u32; 3]> = faces
+            .into_iter()
+            .filter(|f| f[0] != f[1] && f[1] != f[2] && f[0] != f[2])
+            .fold(Vec::new(), |mut acc, f| {
+                if !acc.contains(&f) {
+                    acc.push(f);
+                }
+                acc
+            });
+        prop_assume!(!faces.is_empty());
+        let Some(mesh) = unique_mesh(&points, &faces) else {
+            return Err(TestCaseError::reject("degenerate model"));
+        };
+        prop_assume!(find_repeats(&mesh.triangles).is_empty());
+        let repeated = with_repeats(&mesh, &copies);
+        prop_assert!(!find_repeats(&repeated.triangles).is_empty());
+        let settings = Settings {
+            rotation: Vec3::from(rotation),
+            aa: if msaa { AntiAlias::Msaa4 } else { AntiAlias::Off },
+            ..Settings::default()
+        };
+        let (want, plain) = pixels_and_stats(&scene_of(mesh), &settings);
+        let (got, skipped) = pixels_and_stats(&scene_of(repeated), &settings);
+        prop_assert!(want == got, "the copies changed the picture");
+        prop_assert_eq!(plain.counters.depth_tests, skipped.counters.depth_tests);
+        prop_assert_eq!(plain.counters.shadow_texels, skipped.counters.shadow_texels);
+        prop_assert_eq!(plain.counters.pixels_shaded, skipped.counters.pixels_shaded);
+        prop_assert_eq!(plain.counters.triangles_drawn, skipped.counters.triangles_drawn);
+    }
+}
+
+/// The skipper follows the pairs it was given only where the triangles
+/// still match: a pair found on an older mesh never hides a triangle.
+#[test]
+fn stale_repeat_pairs_hide_no_triangle() {
+    let tri = |indices| Triangle {
+        indices,
+        face_normal: Vec3::Z,
+        face_tangent_u: Vec3::X,
+        face_tangent_v: Vec3::Y,
+        facet_center: Vec3::ZERO,
+        facet_color: Vec3::ONE,
+        textured: false,
+    };
+    let old = [
+        tri([0, 1, 2]),
+        tri([1, 2, 3]),
+        tri([0, 1, 2]),
+        tri([1, 2, 3]),
+    ];
+    let pairs = find_repeats(&old);
+    assert_eq!(pairs, vec![(2, 0), (3, 1)]);
+    let skipped = |tris: &[Triangle]| {
+        let mut s = RepeatSkipper::new(&pairs);
+        (0..tris.len())
+            .filter(|&i| s.skip(i, tris))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(skipped(&old), vec![2, 3]);
+    // Triangle 2 is no longer a copy of 0; 3 still is of 1.
+    let new = [
+        tri([0, 1, 2]),
+        tri([1, 2, 3]),
+        tri([2, 1, 0]),
+        tri([1, 2, 3]),
+    ];
+    assert_eq!(skipped(&new), vec![3]);
+    // A shorter list: nothing past its end.
+    assert_eq!(skipped(&new[..3]), Vec::<usize>::new());
+    // The same indices in another order are another triangle.
+    assert!(find_repeats(&[tri([0, 1, 2]), tri([1, 2, 0])]).is_empty());
+}
+
+/// Without a depth buffer (a convex mesh, painter's order) a copy still
+/// paints: it is drawn, not skipped.
+#[test]
+fn copies_on_a_convex_mesh_are_drawn() {
+    let cube = reference_scene(true).objects[0].mesh.clone();
+    assert!(cube.convex);
+    let twice = Mesh {
+        triangles: cube
+            .triangles
+            .iter()
+            .chain(&cube.triangles)
+            .copied()
+            .collect(),
+        ..cube.clone()
+    };
+    let settings = Settings::default();
+    let (_, once) = pixels_and_stats(&scene_of(cube), &settings);
+    let (_, both) = pixels_and_stats(&scene_of(twice), &settings);
+    assert_eq!(once.counters.depth_tests, 0);
+    assert_eq!(
+        both.counters.triangles_drawn,
+        2 * once.counters.triangles_drawn
+    );
+    assert_eq!(both.counters.pixels_shaded, 2 * once.counters.pixels_shaded);
+}
+
+/// A frame whose cancel hook says stop after `allowed` questions.
+fn cancelled_after(allowed: usize) -> (relief::render::CancelHook, Arc<AtomicUsize>) {
+    let asked = Arc::new(AtomicUsize::new(0));
+    let count = asked.clone();
+    let hook: relief::render::CancelHook =
+        Arc::new(move || count.fetch_add(1, Ordering::SeqCst) >= allowed);
+    (hook, asked)
+}
+
+/// The hook is asked before each band: told to stop after three answers,
+/// the frame draws three bands whole and no more, and says it was abandoned.
+#[test]
+fn a_cancelled_frame_draws_no_band_after_the_stop() {
+    let scene = reference_scene(true);
+    let settings = Settings::default();
+    let mut fb = Framebuffer::new(640, 480);
+    let mut renderer = Renderer::new();
+    let whole = renderer.render(&scene, &settings, &mut fb);
+    assert!(!whole.abandoned);
+    assert_eq!(whole.bands_drawn, whole.bands);
+    let (hook, _) = cancelled_after(3);
+    renderer.set_cancel(Some(hook));
+    let cut = renderer.render(&scene, &settings, &mut fb);
+    // One thread draws the frame as one band: nothing to stop.
+    assert_eq!(cut.abandoned, whole.bands > 3);
+    assert_eq!(cut.bands_drawn, whole.bands.min(3));
+    assert_eq!(cut.bands, whole.bands);
+    if whole.bands > 3 {
+        assert!(cut.counters.pixels_shaded < whole.counters.pixels_shaded);
+    }
+    renderer.set_cancel(None);
+    let again = renderer.render(&scene, &settings, &mut fb);
+    assert!(!again.abandoned);
+    assert_eq!(again.counters, whole.counters);
+}
+
+/// Within a band the hook is asked every 1024 triangles: a frame of 3,200
+/// triangles drawn by one thread (one band) stops at the second question.
+#[test]
+fn a_cancelled_band_stops_between_triangles() {
+    // A 40 × 40 grid of quads facing the camera.
+    let n = 40;
+    let mut text = String::new();
+    for y in 0..=n {
+        for x in 0..=n {
+            let (u, v) = (x as f32 / n as f32, y as f32 / n as f32);
+            text += &format!(
+                "v {} {} {}\n",
+                u * 2.0 - 1.0,
+                v * 2.0 - 1.0,
+                0.1 * (u * 9.0).sin()
+            );
+        }
+    }
+    let at = |x: usize, y: usize| y * (n + 1) + x + 1;
+    for y in 0..n {
+        for x in 0..n {
+            let (a, b, c, d) = (at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1));
+            text += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        }
+    }
+    let mesh = obj::parse("grid.obj", text).expect("a valid OBJ");
+    assert_eq!(mesh.triangles.len(), 3200);
+    let scene = scene_of(mesh);
+    let settings = Settings {
+        rotation: Vec3::ZERO,
+        ..Settings::default()
+    };
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a pool");
+    one.install(|| {
+        let mut fb = Framebuffer::new(320, 200);
+        let mut renderer = Renderer::new();
+        let whole = renderer.render(&scene, &settings, &mut fb);
+        assert_eq!((whole.bands_drawn, whole.bands), (1, 1));
+        assert!(
+            whole.counters.triangles_drawn > 2048,
+            "{:?}",
+            whole.counters
+        );
+        let (hook, asked) = cancelled_after(1);
+        renderer.set_cancel(Some(hook));
+        let cut = renderer.render(&scene, &settings, &mut fb);
+        assert!(cut.abandoned);
+        assert_eq!(asked.load(Ordering::SeqCst), 2);
+        assert_eq!(cut.bands_drawn, 0);
+        assert!(cut.counters.pixels_shaded > 0);
+        assert!(cut.counters.pixels_shaded < whole.counters.pixels_shaded);
+    });
+}
