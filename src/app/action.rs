@@ -163,6 +163,8 @@ pub enum Action {
     ToggleTangentFrames,
     /// `u`: the picture's glyphs: half blocks → quadrants → sextants → octants.
     CycleSymbols,
+    /// `U`: the output format: symbols → kitty → sixels → iTerm2 images.
+    CycleFormat,
     /// `l`: all lights on / off.
     ToggleLights,
     /// `L`: distance attenuation on / off.

@@ -353,12 +353,13 @@ pub const KEYS: &[Binding] = &[
         &[c('d')],
         Action::CycleDisplay,
         Line(
-            "d F u",
-            "display: points → lines → fill; tangent frames; glyphs",
+            "d F u U",
+            "display: points → lines → fill; tangent frames; glyphs; format",
         ),
     ),
     row(Normal, &[c('F')], Action::ToggleTangentFrames, Above),
     row(Normal, &[c('u')], Action::CycleSymbols, Above),
+    row(Normal, &[c('U')], Action::CycleFormat, Above),
     row(
         Normal,
         &[c('l')],

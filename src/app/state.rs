@@ -103,6 +103,8 @@ pub struct State {
     pub dither: bool,
     /// Glyphs the picture is drawn with (`u` cycles them).
     pub symbols: Symbols,
+    /// Text symbols or pixel images (`U` cycles them), and why.
+    pub output: crate::term::pixel_view::Output,
     pub help: bool,
     /// First help line shown when the help is taller than the screen.
     pub help_scroll: u16,
@@ -215,6 +217,7 @@ impl State {
             depth_source: "--color".into(),
             dither: false,
             symbols: Symbols::Half,
+            output: Default::default(),
             help: false,
             help_scroll: 0,
             auto_rotate: false,
@@ -516,6 +519,10 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
         Action::CycleDisplay => s.display = s.display.next(),
         Action::ToggleTangentFrames => s.tangent_frames = !s.tangent_frames,
         Action::CycleSymbols => state.symbols = state.symbols.next(),
+        Action::CycleFormat => {
+            state.output.cycle();
+            state.message = state.output.choice.note.clone();
+        }
         Action::ToggleLights => s.lights = !s.lights,
         Action::ToggleAttenuation => s.attenuation = !s.attenuation,
         Action::ToggleSpecular => s.specular = !s.specular,
