@@ -19,6 +19,10 @@ use relief::term::{ColorDepth, SgrBackend, kitty};
 
 use super::encoder::decode_sixel;
 
+/// The tests that show a kitty image take turns: the clean-up the
+/// terminal guard reads is one for the process.
+static IMAGE_SHOWN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 fn key(c: char) -> Msg {
     Msg::Input(Event::Key(KeyEvent::new(
         KeyCode::Char(c),
@@ -159,6 +163,7 @@ fn key_value(keys: &str, name: &str) -> usize {
 /// image that decodes to the picture.
 #[test]
 fn the_view_sends_kitty_frames_that_decode_to_the_picture_and_deletes_them() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
     let _ = pixel_view::take_cleanup();
     let (bytes, sizes, state) = run(output(Format::Kitty), vec![]);
     assert_eq!(state.output.format(), Format::Kitty);
@@ -372,4 +377,116 @@ fn an_image_never_reaches_the_last_row() {
     .run(&mut state)
     .unwrap();
     assert_eq!(count(term.backend().writer(), b"\x1bP0;1;0q"), 0);
+}
+
+/// A terminal over a slow link: it answers each query (`CSI c`) as a link
+/// of [`LINK_RATE`] bytes a second would (the reply's time stamp is when
+/// the frame would have arrived), sends an arrow key after each write
+/// while `keys` last, and ends the input once the exact picture (a kitty
+/// image as wide as the first) has come after them.
+struct SlowLink {
+    out: Vec<u8>,
+    tx: mpsc::Sender<Msg>,
+    keys: usize,
+    full_width: Option<usize>,
+}
+
+const LINK_RATE: f64 = 20_000.0;
+
+impl std::io::Write for SlowLink {
+    fn write(&mut self, data: &[u8]) -> std::io::Result<usize> {
+        self.out.extend_from_slice(data);
+        let now = std::time::Instant::now();
+        let base = std::time::Duration::from_millis(10);
+        let queries = count(data, b"\x1b[c");
+        for i in 0..queries {
+            // A probe before the frame comes back after the latency alone.
+            let transfer = if i + 1 < queries {
+                0.0
+            } else {
+                data.len() as f64 / LINK_RATE
+            };
+            let at = now + base + std::time::Duration::from_secs_f64(transfer);
+            let _ = self.tx.send(Msg::Shown(at));
+        }
+        let images = kitty_images(data);
+        if let Some((keys, _)) = images.first() {
+            self.full_width.get_or_insert(key_value(keys, "s"));
+        }
+        if self.keys > 0 {
+            self.keys -= 1;
+            let _ = self.tx.send(Msg::Input(Event::Key(KeyEvent::new(
+                KeyCode::Right,
+                KeyModifiers::NONE,
+            ))));
+        } else if images
+            .iter()
+            .any(|(keys, _)| Some(key_value(keys, "s")) == self.full_width)
+        {
+            let _ = self.tx.send(Msg::InputClosed("end of input".into()));
+        }
+        Ok(data.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// While keys keep coming over a link too slow for the exact kitty frame
+/// at 15 frames a second, smaller images are sent (the terminal scales
+/// them over the same cells); once the keys stop the exact frame comes.
+#[test]
+fn pixel_previews_shrink_over_a_slow_link_and_the_exact_frame_follows() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
+    let _ = pixel_view::take_cleanup();
+    let (tx, rx) = mpsc::channel();
+    let link = SlowLink {
+        out: Vec::new(),
+        tx,
+        keys: 8,
+        full_width: None,
+    };
+    let mut term = Terminal::new(SgrBackend::with_size(link, 60, 14)).unwrap();
+    let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
+    state.output = output(Format::Kitty);
+    let exit = Looper {
+        terminal: &mut term,
+        // A picture that changes everywhere with the rotation.
+        render: |s: &State, fb: &mut Framebuffer| {
+            let turn = s.settings.rotation.y as usize;
+            for y in 0..fb.height() {
+                for x in 0..fb.width() {
+                    let v = (x * 7 + y * 13 + turn * 31) % 251;
+                    fb.set(x, y, [v as u8, (v * 3 % 256) as u8, (255 - v) as u8]);
+                }
+            }
+            relief::FrameStats::default()
+        },
+        background: [0, 0, 0],
+        rx: &rx,
+        textures: None,
+        stage: None,
+        pacer: relief::term::pacing::Pacer::default(),
+    }
+    .run(&mut state)
+    .unwrap();
+    assert!(matches!(exit, Exit::InputClosed(_)));
+    let images = kitty_images(&term.backend().writer().out);
+    let widths: Vec<usize> = images.iter().map(|(k, _)| key_value(k, "s")).collect();
+    let full = widths[0];
+    assert!(
+        widths.iter().any(|&w| w < full),
+        "a smaller preview while the keys came: {widths:?}"
+    );
+    for (keys, raw) in &images {
+        // Every image covers the picture's cells, whatever its pixels.
+        assert_eq!((key_value(keys, "c"), key_value(keys, "r")), (60, 12));
+        assert_eq!(raw.len(), key_value(keys, "s") * key_value(keys, "v") * 3);
+    }
+    assert_eq!(
+        *widths.last().unwrap(),
+        full,
+        "the exact frame last: {widths:?}"
+    );
+    let _ = pixel_view::take_cleanup();
 }
