@@ -41,6 +41,12 @@ pub struct Cli {
     /// has are drawn with it, which saves bytes on slow links; 0 means exact.
     #[arg(long, value_name = "N", default_value_t = 2, value_parser = clap::value_parser!(u8).range(0..=32))]
     pub color_tolerance: u8,
+    /// What the picture is sent as: text symbols (--symbols), or pixels through the kitty
+    /// graphics protocol, sixel or iTerm2 inline images; `U` cycles them. Default (auto): what
+    /// the terminal is found to speak (kitty > iterm > sixels > symbols), or the environment
+    /// variable RELIEF_FORMAT. Inside tmux, pixels need `allow-passthrough` on.
+    #[arg(long, value_enum)]
+    pub format: Option<Format>,
     /// Glyphs of the picture: half blocks (1×2 pixels a cell, every font), quadrants (2×2),
     /// sextants (2×3, Unicode 13) or octants (2×4, Unicode 16); `u` cycles them.
     #[arg(long, value_enum, default_value_t = Symbols::Half)]

@@ -144,6 +144,8 @@ pub enum Action {
     ToggleNormalMapFile,
     /// `u`: the picture's glyphs: half blocks → quadrants → sextants → octants.
     CycleSymbols,
+    /// `U`: the output format: symbols → kitty → sixels → iTerm2 images.
+    CycleFormat,
     /// `1`–`4`: one reference light (0 = white, red, green, blue) on / off.
     ToggleLight(usize),
     /// `z`: plasma Z² table / exact normal.

@@ -36,6 +36,7 @@ use crate::term::SgrBackend;
 use crate::term::input::{Input, InputParser};
 use crate::term::modes::{MouseReports, TermModes};
 use crate::term::pacing::{Activity, Answers, Pacer, QUERY};
+use crate::term::pixel_view::{self, PixelFrame, PixelView, TextLook};
 
 /// The terminal modes the state wants: only the plasma asks for every
 /// pointer motion (its light follows the pointer); everything else for
@@ -275,6 +276,8 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         // Bytes of the last exact picture: what the link must carry.
         let mut exact_bytes: Option<u64> = None;
         let mut probed = false;
+        // Pixel images on screen (kitty, sixel, iTerm2).
+        let mut pixels = PixelView::new();
         self.report_textures(state);
         loop {
             let now = Instant::now();
@@ -336,6 +339,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                                     self.terminal.clear()?;
                                     modes = TermModes::app(MouseReports::Drags); // what reenter sets up
                                     rendered = None;
+                                    pixels.forget();
                                 }
                                 Some(Command::CompletePath(typed)) => {
                                     let found = super::line_edit::complete_path(&typed);
@@ -426,7 +430,12 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 state,
                 Action::TexturesFit(view::texture_panel_area(areas.viewport, state)),
             );
-            let (w, h) = view::framebuffer_size(areas.viewport, state.symbols);
+            let (w, h) = PixelView::framebuffer_size(
+                &state.output,
+                areas.viewport,
+                size.height,
+                state.symbols,
+            );
             let generation = self.textures.map_or(0, |t| t.borrow().generation());
             let key = (state.look(), w, h, generation);
             // A frame that only redraws the text costs no render time; the
@@ -440,7 +449,13 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             let new_picture = !same || (previewing && !cheaper);
             if new_picture {
                 if cheaper {
-                    coarse.resize(w.div_ceil(2), h.div_ceil(2));
+                    let (pw, ph) = pixel_view::preview_for(
+                        state.output.format(),
+                        (w, h),
+                        exact_bytes,
+                        self.pacer.throughput(),
+                    );
+                    coarse.resize(pw, ph);
                     stats = (self.render)(state, &mut coarse);
                     fb.resize(w, h);
                     enlarge(&coarse, &mut fb);
@@ -484,8 +499,22 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 probed = true;
             }
             backend.begin_frame()?;
-            self.terminal
-                .draw(|frame| view::view(frame, state, &fb, self.background))?;
+            let look = TextLook {
+                symbols: state.symbols,
+                depth: state.depth,
+                dither: state.dither,
+                pad: self.background,
+            };
+            let frame = PixelFrame {
+                output: &state.output,
+                fb: &fb,
+                preview: previewing.then_some(&coarse),
+                new_picture,
+                look,
+            };
+            pixels.draw(self.terminal, frame, areas.viewport, |f, pic| {
+                view::view(f, state, pic, self.background)
+            })?;
             let write_start = Instant::now();
             let trailer: &[u8] = if asks { QUERY } else { &[] };
             let bytes = self.terminal.backend_mut().end_frame_then(trailer)?;

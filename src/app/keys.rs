@@ -288,7 +288,14 @@ pub const KEYS: &[Binding] = &[
         Normal,
         &[c('u')],
         Action::CycleSymbols,
-        // Described by the `d F u` line of the option `display`.
+        // Described by the `d F u U` line of the option `display`.
+        Above,
+    ),
+    row(
+        Normal,
+        &[c('U')],
+        Action::CycleFormat,
+        // Described by the `d F u U` line of the option `display`.
         Above,
     ),
     Binding {

@@ -127,35 +127,46 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let signals = spawn_signal_thread(tx.clone())?;
     // tmux and infocmp are asked before the terminal is set up.
     let settled = cli.color.is_none().then(depth::settled_here).flatten();
+    let mut clues = crate::term::format::clues_here(cli.format);
     let guard = TerminalGuard::enter().context("cannot set up the terminal")?;
     // Ask the terminal for 24-bit colour when neither --color nor the
-    // environment, tmux or terminfo settled it; keys typed meanwhile go to
-    // the decoder first.
+    // environment, tmux or terminfo settled it, and for its pixel formats
+    // unless one is forced: one burst of questions; keys typed meanwhile
+    // go to the decoder first.
     let mut typed = Vec::new();
+    let ask_colour = cli.color.is_none() && settled.is_none();
+    let found = (ask_colour || clues.wants_probe()).then(|| {
+        let stdin = std::io::stdin();
+        let fd = match &tty {
+            Some(file) => file.as_fd(),
+            None => stdin.as_fd(),
+        };
+        probe::ask(fd, &mut std::io::stdout(), probe::TIMEOUT).ok()
+    });
+    let mut truecolor_reply = None;
+    let mut cell_reply = None;
+    if let Some(found) = found.flatten() {
+        clues.kitty_reply = found.kitty;
+        clues.sixel_da1 = found.sixel;
+        clues.version = found.version;
+        truecolor_reply = Some(found.truecolor);
+        cell_reply = found.cell_pixels;
+        typed = found.other;
+    }
+    state.output = crate::term::pixel_view::Output::from_clues(&clues, cell_reply);
+    if state.message.is_none() {
+        state.message = state.output.choice.note.clone();
+    }
     if cli.color.is_none() {
         let choice = match settled {
             Some(choice) => choice,
-            None => {
-                let stdin = std::io::stdin();
-                let fd = match &tty {
-                    Some(file) => file.as_fd(),
-                    None => stdin.as_fd(),
-                };
-                match probe::ask(fd, &mut std::io::stdout(), probe::TIMEOUT) {
-                    Ok(found) => {
-                        typed = found.other;
-                        if found.truecolor {
-                            depth::DepthChoice {
-                                depth: ColorDepth::Truecolor,
-                                source: "terminal's reply".into(),
-                            }
-                        } else {
-                            depth::fallback_here()
-                        }
-                    }
-                    Err(_) => depth::fallback_here(),
-                }
-            }
+            None => match truecolor_reply {
+                Some(true) => depth::DepthChoice {
+                    depth: ColorDepth::Truecolor,
+                    source: "terminal's reply".into(),
+                },
+                _ => depth::fallback_here(),
+            },
         };
         state.depth = choice.depth;
         state.depth_source = choice.source;
@@ -182,7 +193,12 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 stage.set_texture(list.texture().clone());
                 stage_generation = list.generation();
             }
-            renderer.set_pixel_aspect(s.symbols.pixel_aspect());
+            // Pixel images have square pixels.
+            renderer.set_pixel_aspect(if s.output.format().is_pixels() {
+                1.0
+            } else {
+                s.symbols.pixel_aspect()
+            });
             renderer.set_cancel(Some(abandon_when_keys(keys.clone())));
             stage.render(&mut renderer, s, fb)
         },

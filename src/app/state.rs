@@ -98,6 +98,8 @@ pub struct State {
     pub dither: bool,
     /// Glyphs the picture is drawn with (`u` cycles them).
     pub symbols: Symbols,
+    /// Text symbols or pixel images (`U` cycles them), and why.
+    pub output: crate::term::pixel_view::Output,
     pub help: bool,
     /// First help line shown when the help is taller than the screen.
     pub help_scroll: u16,
@@ -210,6 +212,7 @@ impl State {
             depth_source: "--color".into(),
             dither: false,
             symbols: Symbols::Half,
+            output: Default::default(),
             help: false,
             help_scroll: 0,
             auto_rotate: false,
@@ -502,6 +505,10 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
         Action::TextureResult(Err(e)) => state.message = Some(clean(&e)),
         Action::ToggleNormalMapFile => toggle_normal_map_file(state),
         Action::CycleSymbols => state.symbols = state.symbols.next(),
+        Action::CycleFormat => {
+            state.output.cycle();
+            state.message = state.output.choice.note.clone();
+        }
         Action::ToggleLight(i) => {
             if let Some(on) = state.light_on.get_mut(i) {
                 *on = !*on;

@@ -55,6 +55,12 @@ pub struct BenchArgs {
     /// flat / Gouraud / Phong, 320x240 and 640x480, 1 thread and all).
     #[arg(long)]
     pub anchors: bool,
+    /// Compare the output modes instead (half, quad, sextant, octant, kitty,
+    /// sixels, iterm): bytes of a first frame and of a 2° turn, encode time,
+    /// and PSNR / SSIM of what the terminal shows against the full-resolution
+    /// frame, on 100x30 cells of 8x16 pixels.
+    #[arg(long, conflicts_with = "anchors")]
+    pub modes: bool,
 }
 
 /// Largest side `--size` accepts.
@@ -158,6 +164,63 @@ fn header(plan: &Plan, texture: &str) -> Vec<String> {
     lines
 }
 
+/// `relief bench --modes`: the output-mode table for the default view
+/// settings over the plan's orientations.
+fn output_modes(
+    args: &BenchArgs,
+    plan: &Plan,
+    scene: &Scene,
+    out: &mut dyn Write,
+    log: &mut dyn Write,
+) -> anyhow::Result<Report> {
+    writeln!(
+        log,
+        "relief bench --modes: {} orientations…",
+        plan.orientations.len()
+    )?;
+    let mut renderer = crate::Renderer::new();
+    let settings = crate::settings::Settings::default();
+    let rows = terminal::measure_modes(
+        &plan.orientations,
+        scene.background,
+        |rotation, aspect, fb| {
+            renderer.set_pixel_aspect(aspect);
+            renderer.render(
+                scene,
+                &crate::settings::Settings {
+                    rotation,
+                    ..settings
+                },
+                fb,
+            );
+        },
+    )?;
+    let (c, r) = terminal::MODE_CELLS;
+    let (cw, ch) = terminal::MODE_CELL_PIXELS;
+    writeln!(
+        out,
+        "relief bench --modes: reference cube, default view settings, {} orientations; a {c}x{r}-cell picture, cells of {cw}x{ch} pixels",
+        plan.orientations.len()
+    )?;
+    writeln!(
+        out,
+        "bytes: first frame on a blank screen, then the frame after a {}° turn about Y (text: ratatui's diff, 24-bit, colour tolerance {}; pixels: the whole image again); encode ms: that frame, median",
+        terminal::STEP_DEGREES,
+        terminal::TOLERANCE
+    )?;
+    writeln!(
+        out,
+        "error: what the terminal shows (each cell's glyph in its two colours; sixel's palette) against the frame rendered at {}x{} pixels: PSNR and mean SSIM of luma",
+        usize::from(c) * cw,
+        usize::from(r) * ch
+    )?;
+    write!(out, "{}", terminal::modes_table(&rows, args.markdown))?;
+    Ok(Report {
+        header: Vec::new(),
+        rows: Vec::new(),
+    })
+}
+
 /// Runs the bench `args` describe: the table goes to `out`, progress to `log`,
 /// the CSV and plot to their files. Returns the report.
 pub fn run(args: &BenchArgs, out: &mut dyn Write, log: &mut dyn Write) -> anyhow::Result<Report> {
@@ -171,6 +234,9 @@ pub fn run(args: &BenchArgs, out: &mut dyn Write, log: &mut dyn Write) -> anyhow
     }
     let (texture, texture_line) = reference::texture();
     let scene = Scene::cube(texture, true);
+    if args.modes {
+        return output_modes(args, &plan, &scene, out, log);
+    }
     let header = header(&plan, &texture_line);
     writeln!(
         log,

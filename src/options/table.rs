@@ -395,9 +395,9 @@ pub static OPTIONS: &[Opt] = &[
         keys: &[key(
             &['d'],
             Press::Next,
-            // `u` (the glyphs, app/keys.rs) shares this line.
-            "d F u",
-            "display: points → lines → fill; tangent frames; glyphs",
+            // `u` and `U` (glyphs, format; app/keys.rs) share this line.
+            "d F u U",
+            "display: points → lines → fill; tangent frames; glyphs; format",
         )],
         shows: None,
         status: Some(same(9, |c| c.settings.display.label().into(), Some(9))),

@@ -123,7 +123,15 @@ static RAW: AtomicBool = AtomicBool::new(false);
 pub fn restore_screen() {
     if ACTIVE.swap(false, Ordering::SeqCst) {
         let mut out = io::stdout().lock();
-        let _ = out.write_all(&restore_sequence(SYNC_OPEN.swap(false, Ordering::SeqCst)));
+        let open = SYNC_OPEN.swap(false, Ordering::SeqCst);
+        // A pixel image still shown is deleted after the frame's end mark.
+        let mut bytes = Vec::new();
+        if open {
+            bytes.extend_from_slice(super::backend::END_SYNC);
+        }
+        bytes.extend(super::pixel_view::take_cleanup());
+        bytes.extend(restore_sequence(false));
+        let _ = out.write_all(&bytes);
         let _ = out.flush();
     }
 }

@@ -21,6 +21,7 @@ pub mod modes;
 pub mod oklab;
 pub mod pacing;
 pub mod palette;
+pub mod pixel_view;
 pub mod probe;
 pub mod sixel;
 pub mod symbols;

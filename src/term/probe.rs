@@ -8,9 +8,15 @@
 //! - DECRQSS: set the background to the 24-bit colour 1,2,3 and ask for the
 //!   current SGR (`DCS $ q m ST`); a terminal that keeps 24-bit colours reports
 //!   the same colour (`DCS 1 $ r …48:2::1:2:3m ST`), others a palette index.
+//! - For pixel output ([`crate::term::format`]): the kitty graphics query
+//!   (`APC G a=q` of a 1×1 image; a kitty-speaking terminal answers
+//!   `APC G i=31;OK ST`), XTVERSION (`CSI > q`, answered `DCS > | name
+//!   version ST`) and the cell size in pixels (`CSI 16 t`, answered
+//!   `CSI 6 ; height ; width t`).
 //! - Primary device attributes (`CSI c`), which every terminal answers, and
 //!   answers after the questions before it: once its reply is in, no other
-//!   answer is coming and there is nothing to wait for.
+//!   answer is coming and there is nothing to wait for. A parameter `4` in
+//!   it says the terminal draws sixel images.
 //!
 //! Bytes that are not replies (keys typed meanwhile) are kept for the input
 //! decoder.
@@ -20,7 +26,8 @@ use std::os::fd::{AsRawFd, BorrowedFd};
 use std::time::{Duration, Instant};
 
 /// The questions, in the order the replies come back.
-pub const QUERY: &[u8] = b"\x1bP+q524742;5463\x1b\\\x1b[48:2::1:2:3m\x1bP$qm\x1b\\\x1b[0m\x1b[c";
+pub const QUERY: &[u8] = b"\x1bP+q524742;5463\x1b\\\x1b[48:2::1:2:3m\x1bP$qm\x1b\\\x1b[0m\
+\x1b_Gi=31,s=1,v=1,a=q,t=d,f=24;AAAA\x1b\\\x1b[>q\x1b[16t\x1b[c";
 
 /// Longest wait for the replies (over SSH the round trip counts).
 pub const TIMEOUT: Duration = Duration::from_millis(250);
@@ -32,6 +39,14 @@ pub struct Outcome {
     pub truecolor: bool,
     /// The device-attributes reply came (false: timed out).
     pub answered: bool,
+    /// The kitty graphics query was answered OK.
+    pub kitty: bool,
+    /// The device attributes list `4`: sixel graphics.
+    pub sixel: bool,
+    /// The XTVERSION reply (`kitty(0.35.2)`, `XTerm(390)`, `WezTerm 2024…`).
+    pub version: Option<String>,
+    /// The cell size in pixels (width, height) from the `CSI 16 t` reply.
+    pub cell_pixels: Option<(u16, u16)>,
     /// Input that was not part of a reply, in arrival order.
     pub other: Vec<u8>,
 }
@@ -47,7 +62,8 @@ pub struct ReplyScanner {
 enum Seq {
     /// Needs more bytes.
     Partial,
-    /// A device-control string: its body (between `ESC P` and `ESC \`) and length.
+    /// A device-control or application-program-command string: its body
+    /// (between `ESC P` or `ESC _` and `ESC \`) and length.
     Dcs(usize, usize),
     /// A control sequence: parameters end and length.
     Csi(usize),
@@ -58,7 +74,7 @@ enum Seq {
 fn sequence(bytes: &[u8]) -> Seq {
     match bytes.get(1) {
         None => Seq::Partial,
-        Some(b'P') => match bytes[2..].windows(2).position(|w| w == b"\x1b\\") {
+        Some(b'P') | Some(b'_') => match bytes[2..].windows(2).position(|w| w == b"\x1b\\") {
             Some(end) => Seq::Dcs(2 + end, 2 + end + 2),
             None => Seq::Partial,
         },
@@ -89,6 +105,32 @@ fn positive(body: &[u8]) -> bool {
     false
 }
 
+/// True for the kitty graphics reply to relief's query (image id 31) that
+/// says OK; an error reply (`i=31;ENOTSUPPORTED:…`) is not.
+fn kitty_ok(body: &[u8]) -> bool {
+    let Some(rest) = body.strip_prefix(b"G") else {
+        return false;
+    };
+    let (keys, message) = match rest.iter().position(|&b| b == b';') {
+        Some(at) => (&rest[..at], &rest[at + 1..]),
+        None => return false,
+    };
+    keys.split(|&b| b == b',').any(|k| k == b"i=31") && message == b"OK"
+}
+
+/// The cell size (width, height) in a `CSI 6 ; height ; width t` reply's
+/// parameters; none for other replies or a zero size.
+fn cell_size(params: &[u8]) -> Option<(u16, u16)> {
+    let text = std::str::from_utf8(params).ok()?;
+    let mut it = text.split(';');
+    if it.next()? != "6" {
+        return None;
+    }
+    let h: u16 = it.next()?.parse().ok()?;
+    let w: u16 = it.next()?.parse().ok()?;
+    (w > 0 && h > 0 && it.next().is_none()).then_some((w, h))
+}
+
 impl ReplyScanner {
     pub fn new() -> Self {
         Self::default()
@@ -108,14 +150,25 @@ impl ReplyScanner {
             match sequence(rest) {
                 Seq::Partial => break,
                 Seq::Dcs(end, len) => {
-                    if positive(&rest[2..end]) {
+                    let body = &rest[2..end];
+                    if rest[1] == b'_' {
+                        self.outcome.kitty |= kitty_ok(body);
+                    } else if let Some(name) = body.strip_prefix(b">|") {
+                        self.outcome.version = Some(String::from_utf8_lossy(name).into_owned());
+                    } else if positive(body) {
                         self.outcome.truecolor = true;
                     }
                     i += len;
                 }
                 Seq::Csi(len) => {
+                    let params = &rest[2..len - 1];
                     if rest[2] == b'?' && rest[len - 1] == b'c' {
                         self.outcome.answered = true;
+                        self.outcome.sixel = params[1..].split(|&b| b == b';').any(|p| p == b"4");
+                    } else if rest[len - 1] == b't'
+                        && let Some(size) = cell_size(params)
+                    {
+                        self.outcome.cell_pixels = Some(size);
                     } else {
                         // A key (arrows, function keys): the decoder's.
                         self.outcome.other.extend_from_slice(&rest[..len]);
@@ -210,7 +263,7 @@ mod tests {
             Outcome {
                 truecolor: false,
                 answered: true,
-                other: vec![]
+                ..Outcome::default()
             }
         );
         let o = scan(&[DA1]);
@@ -231,8 +284,56 @@ mod tests {
     }
 
     #[test]
+    fn kitty_sixel_version_and_cell_size_replies() {
+        // kitty: the graphics reply, its version, no sixel in DA1.
+        let o = scan(&[
+            b"\x1b_Gi=31;OK\x1b\\",
+            b"\x1bP>|kitty(0.35.2)\x1b\\",
+            b"\x1b[6;20;10t",
+            b"\x1b[?62;c",
+        ]);
+        assert!(
+            o.kitty && !o.sixel && o.answered && o.other.is_empty(),
+            "{o:?}"
+        );
+        assert_eq!(o.version.as_deref(), Some("kitty(0.35.2)"));
+        assert_eq!(o.cell_pixels, Some((10, 20)));
+        // xterm -ti vt340: no graphics reply, sixel in DA1.
+        let o = scan(&[b"\x1bP>|XTerm(390)\x1b\\\x1b[?63;1;2;4;6;9;15;16;22;28;29c"]);
+        assert!(!o.kitty && o.sixel, "{o:?}");
+        assert_eq!(o.version.as_deref(), Some("XTerm(390)"));
+        // A refusal is not support; 4 must be a whole parameter (not 64, 14 or 42).
+        let o = scan(&[b"\x1b_Gi=31;ENOTSUPPORTED:no\x1b\\", b"\x1b[?64;14;42c"]);
+        assert!(!o.kitty && !o.sixel && o.cell_pixels.is_none(), "{o:?}");
+        // Another image's OK is not an answer to relief's query.
+        assert!(!scan(&[b"\x1b_Gi=7;OK\x1b\\", DA1]).kitty);
+        // Other t replies (window size in characters, 8 t) are not a cell size.
+        assert!(scan(&[b"\x1b[8;24;80t", DA1]).cell_pixels.is_none());
+        assert!(scan(&[b"\x1b[6;0;0t", DA1]).cell_pixels.is_none());
+    }
+
+    #[test]
+    fn the_query_asks_every_question_before_the_device_attributes() {
+        let text = String::from_utf8_lossy(QUERY);
+        let da1 = text.find("\x1b[c").unwrap();
+        assert_eq!(da1 + 3, text.len(), "DA1 is the fence, last");
+        for q in [
+            "\x1b_Gi=31,s=1,v=1,a=q,t=d,f=24;AAAA\x1b\\",
+            "\x1b[>q",
+            "\x1b[16t",
+        ] {
+            assert!(text[..da1].contains(q), "{q:?}");
+        }
+    }
+
+    #[test]
     fn replies_split_anywhere_are_read_whole() {
-        let all: Vec<u8> = [&b"\x1bP1+r5463\x1b\\"[..], DA1].concat();
+        let all: Vec<u8> = [
+            &b"\x1bP1+r5463\x1b\\"[..],
+            b"\x1b_Gi=31;OK\x1b\\\x1b[6;16;8t",
+            DA1,
+        ]
+        .concat();
         for cut in 1..all.len() {
             let (a, b) = all.split_at(cut);
             let mut s = ReplyScanner::new();
@@ -241,7 +342,11 @@ mod tests {
             s.feed(b);
             assert!(s.done());
             let o = s.finish();
-            assert!(o.truecolor && o.other.is_empty(), "cut {cut}: {o:?}");
+            assert!(
+                o.truecolor && o.kitty && o.other.is_empty(),
+                "cut {cut}: {o:?}"
+            );
+            assert_eq!(o.cell_pixels, Some((8, 16)));
         }
     }
 

@@ -87,6 +87,17 @@ fn cube_frame(fb: &Framebuffer, dither: bool) -> Indexed {
     Indexed { palette, index }
 }
 
+/// The picture a terminal shows for `fb` sent as sixel: each pixel its
+/// palette entry at sixel's colour precision (the bench's error).
+pub fn shown_frame(fb: &Framebuffer, dither: bool) -> Framebuffer {
+    let Indexed { palette, index } = index_frame(fb, dither);
+    let mut out = Framebuffer::new(fb.width(), fb.height());
+    for (p, &i) in out.pixels_mut().iter_mut().zip(&index) {
+        *p = shown(percent(palette[i as usize]));
+    }
+    out
+}
+
 /// Writes `fb` as one sixel image at the cursor.
 pub fn write_image(fb: &Framebuffer, dither: bool, out: &mut impl Write) -> io::Result<()> {
     let (w, h) = (fb.width(), fb.height());

@@ -17,6 +17,7 @@ fn quick_bench_writes_table_csv_and_plot() {
         plot: Some(plot.clone()),
         threads: Some(2),
         anchors: false,
+        modes: false,
     };
     let (mut out, mut log) = (Vec::new(), Vec::new());
     let report = bench::run(&args, &mut out, &mut log).unwrap();

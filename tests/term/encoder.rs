@@ -596,7 +596,7 @@ fn kitty_payload_decodes_to_the_frame() {
 
 /// A small sixel decoder: the image's size and its pixels (`None` where
 /// nothing was drawn), colours as the terminal shows the percentages.
-fn decode_sixel(data: &[u8]) -> (usize, usize, Vec<Option<[u8; 3]>>) {
+pub fn decode_sixel(data: &[u8]) -> (usize, usize, Vec<Option<[u8; 3]>>) {
     let start = data.windows(2).position(|w| w == b"\x1bP").unwrap();
     let q = start + data[start..].iter().position(|&b| b == b'q').unwrap();
     let end = data.windows(2).position(|w| w == b"\x1b\\").unwrap();

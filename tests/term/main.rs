@@ -7,3 +7,4 @@ mod bytes;
 mod colour;
 mod encoder;
 mod input;
+mod pixels;

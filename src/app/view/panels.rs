@@ -24,7 +24,13 @@ pub(super) fn cost_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
     CostPanel {
         history: &state.costs,
         link: &state.link,
-        colour: crate::app::cost::colour_line(state.depth, &state.depth_source),
+        colour: match &state.output.choice {
+            // A pixel format, or the reason one is not in use.
+            c if c.format.is_pixels() || state.output.wanted.is_pixels() => {
+                format!("{}: {}", c.format.name(), c.source)
+            }
+            _ => crate::app::cost::colour_line(state.depth, &state.depth_source),
+        },
     }
     .render(area, buf);
 }

@@ -363,6 +363,11 @@ fn depth_text(state: &State) -> String {
 }
 
 fn with_symbols(state: &State, depth: String) -> String {
+    // Pixel images: the format instead of the depth and glyphs.
+    let format = state.output.format();
+    if format.is_pixels() {
+        return format.name().to_string();
+    }
     match state.symbols {
         crate::term::Symbols::Half => depth,
         s => format!("{depth} {}", s.name()),

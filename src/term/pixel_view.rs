@@ -1,0 +1,541 @@
+//! Pixel frames in the interactive view: the picture sent as a kitty, sixel
+//! or iTerm2 image over the picture area, the rest of the screen (status
+//! line, panels, help) text drawn by ratatui.
+//!
+//! ratatui's diff must not write over the image: the picture area's cells
+//! are marked `skip` in its buffer, so the diff leaves them alone (and a
+//! frame whose picture did not change sends nothing there). When something
+//! is drawn over the picture (a panel, the help, a message), the picture
+//! is drawn as text for as long as it stays, the image deleted, and sent
+//! again once the picture is uncovered.
+//!
+//! The image goes to the picture area's top-left cell with an absolute
+//! cursor move. It never scrolls the screen: the picture area ends two
+//! rows above the bottom, and a screen too small for that gets text.
+//! Inside tmux the sequences go through tmux's passthrough (`DCS tmux;`
+//! with every `ESC` doubled). The image is deleted (kitty `a=d`, sixel and
+//! iTerm2 cells cleared) on exit, on Ctrl-Z and when leaving pixels; the
+//! terminal guard calls [`take_cleanup`] for the first two.
+
+use std::io::{self, Write};
+use std::sync::Mutex;
+
+use ratatui::Terminal;
+use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
+use ratatui::widgets::Widget;
+
+use super::backend::SgrBackend;
+use super::cells::SymbolCells;
+use super::color::ColorDepth;
+use super::format::{Format, FormatChoice, TmuxPixels};
+use super::symbols::Symbols;
+use super::{iterm, kitty, sixel};
+use crate::framebuffer::{Framebuffer, Rgb};
+
+/// Cell size in pixels when neither the kernel (`TIOCGWINSZ`) nor the
+/// terminal (`CSI 16 t`) says: a common 8×16 font.
+pub const DEFAULT_CELL: (u16, u16) = (8, 16);
+
+/// Most pixels of one frame: the frame buffer, its depth and the encoder's
+/// copies take about 10 bytes a pixel (see [`crate::budget`]); 8 Mpx keep a
+/// huge cell size (or a huge window) within a tenth of the budget.
+pub const MAX_PIXELS: usize =
+    (crate::budget::BUDGET_BYTES / 10 / (crate::budget::FRAME_BYTES_PER_PIXEL + 3)) as usize;
+
+/// Smallest preview scale while input keeps coming: one pixel in eight
+/// each way.
+pub const MIN_PREVIEW_SCALE: f64 = 0.125;
+
+/// What the view sends, chosen at start and changed by the format key.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Output {
+    /// The format asked for (`--format`, `RELIEF_FORMAT`, detection or the key).
+    pub wanted: Format,
+    /// The format in use (the wanted one, or symbols inside tmux without
+    /// passthrough), why, and whether it goes through tmux's passthrough.
+    pub choice: FormatChoice,
+    /// What tmux said (inside tmux).
+    pub tmux: Option<TmuxPixels>,
+    /// tmux draws sixel itself.
+    pub tmux_sixel: bool,
+    /// The cell size the terminal replied to `CSI 16 t`.
+    pub cell_reply: Option<(u16, u16)>,
+}
+
+impl Default for Output {
+    fn default() -> Self {
+        Output {
+            wanted: Format::Symbols,
+            choice: FormatChoice {
+                format: Format::Symbols,
+                source: "default".into(),
+                passthrough: false,
+                note: None,
+            },
+            tmux: None,
+            tmux_sixel: false,
+            cell_reply: None,
+        }
+    }
+}
+
+impl Output {
+    /// The output the clues decide (see [`super::format::choose`]), with
+    /// the cell size the terminal replied.
+    pub fn from_clues(c: &super::format::Clues, cell_reply: Option<(u16, u16)>) -> Self {
+        let (wanted, _) = super::format::wanted(c);
+        Output {
+            wanted,
+            choice: super::format::choose(c),
+            tmux: c.tmux.clone(),
+            tmux_sixel: c.tmux_draws_sixel(),
+            cell_reply,
+        }
+    }
+
+    /// The format in use.
+    pub fn format(&self) -> Format {
+        self.choice.format
+    }
+
+    /// The next format (the key): tmux's fallback applies to it too.
+    pub fn cycle(&mut self) {
+        self.wanted = self.wanted.next();
+        self.choice = super::format::in_tmux(
+            self.wanted,
+            "key".into(),
+            self.tmux.as_ref(),
+            self.tmux_sixel,
+        );
+    }
+}
+
+/// The cell size in pixels and where it came from: the kernel's window
+/// size (`ws_xpixel`/`ws_ypixel` over the cells), else the terminal's
+/// reply, else [`DEFAULT_CELL`].
+pub fn cell_pixels(
+    window: Option<(u16, u16, u16, u16)>,
+    reply: Option<(u16, u16)>,
+) -> ((u16, u16), &'static str) {
+    if let Some((cols, rows, w, h)) = window
+        && cols > 0
+        && rows > 0
+        && w >= cols
+        && h >= rows
+    {
+        return ((w / cols, h / rows), "window size");
+    }
+    match reply {
+        Some((w, h)) if w > 0 && h > 0 => ((w, h), "CSI 16 t"),
+        _ => (DEFAULT_CELL, "default"),
+    }
+}
+
+/// The kernel's window size of standard output: columns, rows, width and
+/// height in pixels (none when it is not a terminal).
+pub fn window_size() -> Option<(u16, u16, u16, u16)> {
+    let w = crossterm::terminal::window_size().ok()?;
+    Some((w.columns, w.rows, w.width, w.height))
+}
+
+/// The frame's pixel size for `cols × rows` cells of `cell` pixels,
+/// scaled down evenly (pixels stay square) to at most [`MAX_PIXELS`].
+pub fn frame_size(cols: u16, rows: u16, cell: (u16, u16)) -> (usize, usize) {
+    let w = usize::from(cols) * usize::from(cell.0.max(1));
+    let h = usize::from(rows) * usize::from(cell.1.max(1));
+    scaled_within(w, h, MAX_PIXELS)
+}
+
+fn scaled_within(w: usize, h: usize, max: usize) -> (usize, usize) {
+    if w * h <= max {
+        return (w, h);
+    }
+    let s = (max as f64 / (w * h) as f64).sqrt();
+    let sw = ((w as f64 * s).floor() as usize).max(1);
+    let sh = ((h as f64 * s).floor() as usize).max(1);
+    (sw, sh)
+}
+
+/// The size of a pixel preview of a `w × h` frame while input keeps
+/// coming: scaled so its bytes (about proportional to its pixels, from the
+/// last exact frame's `exact_bytes`) fit what the link carries in a frame
+/// interval (`budget_bytes`), between [`MIN_PREVIEW_SCALE`] and half.
+pub fn preview_size(w: usize, h: usize, exact_bytes: u64, budget_bytes: f64) -> (usize, usize) {
+    let s = (budget_bytes / exact_bytes.max(1) as f64)
+        .sqrt()
+        .clamp(MIN_PREVIEW_SCALE, 0.5);
+    (
+        ((w as f64 * s).round() as usize).max(1),
+        ((h as f64 * s).round() as usize).max(1),
+    )
+}
+
+/// Frames per second a pixel preview is sized for.
+pub const PREVIEW_RATE: f64 = 15.0;
+
+/// The size of a preview of a `size` frame in `format`: half each way for
+/// text; for pixels what the link's `throughput` (bytes per second)
+/// carries at [`PREVIEW_RATE`], judged by the last exact frame's bytes.
+pub fn preview_for(
+    format: Format,
+    size: (usize, usize),
+    exact_bytes: Option<u64>,
+    throughput: Option<f64>,
+) -> (usize, usize) {
+    let (w, h) = size;
+    match (format.is_pixels(), exact_bytes, throughput) {
+        (true, Some(bytes), Some(t)) => preview_size(w, h, bytes, t / PREVIEW_RATE),
+        _ => (w.div_ceil(2), h.div_ceil(2)),
+    }
+}
+
+/// `seq` wrapped in tmux's passthrough: `ESC P tmux;`, the sequence with
+/// each `ESC` doubled, `ESC \`.
+pub fn wrap_tmux(seq: &[u8], out: &mut Vec<u8>) {
+    out.extend_from_slice(b"\x1bPtmux;");
+    for &b in seq {
+        if b == 0x1b {
+            out.push(0x1b);
+        }
+        out.push(b);
+    }
+    out.extend_from_slice(b"\x1b\\");
+}
+
+/// Moves the cursor to `area`'s top-left cell (1-based, absolute).
+pub fn place(area: Rect, out: &mut Vec<u8>) {
+    let _ = write!(out, "\x1b[{};{}H", area.y + 1, area.x + 1);
+}
+
+/// The bytes that delete relief's kitty image (wrapped for tmux when
+/// `passthrough`).
+pub fn kitty_delete(passthrough: bool) -> Vec<u8> {
+    if passthrough {
+        let mut out = Vec::new();
+        wrap_tmux(kitty::DELETE, &mut out);
+        out
+    } else {
+        kitty::DELETE.to_vec()
+    }
+}
+
+/// What the terminal guard writes before putting the screen back: the
+/// delete of a kitty image still shown (the cleared screen takes sixel
+/// and iTerm2 pixels with it).
+static CLEANUP: Mutex<Vec<u8>> = Mutex::new(Vec::new());
+
+fn set_cleanup(bytes: &[u8]) {
+    if let Ok(mut c) = CLEANUP.lock() {
+        c.clear();
+        c.extend_from_slice(bytes);
+    }
+}
+
+/// The bytes that remove an image still on screen (empty when none), once.
+pub fn take_cleanup() -> Vec<u8> {
+    CLEANUP
+        .lock()
+        .map(|mut c| std::mem::take(&mut *c))
+        .unwrap_or_default()
+}
+
+/// One image of `fb` in `format` over `area` (the image fills its cells:
+/// kitty and iTerm2 scale it, sixel has it at its own size), placed at
+/// `area`'s top-left, wrapped for tmux when `passthrough`.
+pub fn image_bytes(
+    fb: &Framebuffer,
+    format: Format,
+    area: Rect,
+    dither: bool,
+    passthrough: bool,
+) -> io::Result<Vec<u8>> {
+    let mut seq = Vec::new();
+    let cells = Some((area.width, area.height));
+    match format {
+        Format::Kitty => kitty::write_image(fb, cells, &mut seq)?,
+        Format::Sixels => sixel::write_image(fb, dither, &mut seq)?,
+        Format::Iterm => iterm::write_image(fb, cells, &mut seq)?,
+        Format::Auto | Format::Symbols => return Ok(Vec::new()),
+    }
+    let mut out = Vec::with_capacity(seq.len() + 16);
+    place(area, &mut out);
+    if !passthrough {
+        out.extend_from_slice(&seq);
+    } else if format == Format::Kitty {
+        // One passthrough per chunk: tmux bounds the size of one sequence.
+        let mut start = 0;
+        for end in 1..seq.len() {
+            if &seq[end - 1..=end] == b"\x1b\\" {
+                wrap_tmux(&seq[start..=end], &mut out);
+                start = end + 1;
+            }
+        }
+    } else {
+        wrap_tmux(&seq, &mut out);
+    }
+    Ok(out)
+}
+
+/// Average of `src` over each pixel of `dst` (box filter): the picture at
+/// the text's resolution while something covers the image.
+pub fn downscale(src: &Framebuffer, dst: &mut Framebuffer) {
+    let (sw, sh, dw, dh) = (src.width(), src.height(), dst.width(), dst.height());
+    if sw == 0 || sh == 0 {
+        dst.fill([0, 0, 0]);
+        return;
+    }
+    for y in 0..dh {
+        let (y0, y1) = (
+            y * sh / dh,
+            ((y + 1) * sh / dh).max(y * sh / dh + 1).min(sh),
+        );
+        for x in 0..dw {
+            let (x0, x1) = (
+                x * sw / dw,
+                ((x + 1) * sw / dw).max(x * sw / dw + 1).min(sw),
+            );
+            let mut sum = [0u32; 3];
+            for yy in y0..y1 {
+                for p in &src.row(yy)[x0..x1] {
+                    for c in 0..3 {
+                        sum[c] += u32::from(p[c]);
+                    }
+                }
+            }
+            let n = ((y1 - y0) * (x1 - x0)) as u32;
+            dst.set(x, y, sum.map(|s| ((s + n / 2) / n) as u8));
+        }
+    }
+}
+
+/// How the picture looks as text (while covered, or in symbols).
+#[derive(Clone, Copy, Debug)]
+pub struct TextLook {
+    pub symbols: Symbols,
+    pub depth: ColorDepth,
+    pub dither: bool,
+    pub pad: Rgb,
+}
+
+/// The pixel side of the view between frames: what is on screen.
+pub struct PixelView {
+    /// The picture at the text's resolution.
+    small: Framebuffer,
+    /// An image is on screen over this area, in this format.
+    shown: Option<(Rect, Format)>,
+}
+
+/// What a frame is: the format in use and its pictures.
+pub struct PixelFrame<'a> {
+    pub output: &'a Output,
+    /// The exact (or enlarged preview) picture.
+    pub fb: &'a Framebuffer,
+    /// A smaller preview the terminal scales up (kitty, iTerm2).
+    pub preview: Option<&'a Framebuffer>,
+    /// The picture changed since the last frame.
+    pub new_picture: bool,
+    pub look: TextLook,
+}
+
+impl Default for PixelView {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl PixelView {
+    pub fn new() -> Self {
+        PixelView {
+            small: Framebuffer::new(0, 0),
+            shown: None,
+        }
+    }
+
+    /// True when `format` can show on a screen of `screen` with the picture
+    /// in `viewport`: a pixel format, and the picture clear of the last row
+    /// (an image reaching it would scroll).
+    pub fn usable(format: Format, viewport: Rect, screen_height: u16) -> bool {
+        format.is_pixels() && !viewport.is_empty() && viewport.bottom() < screen_height
+    }
+
+    /// The framebuffer size for the picture in `viewport`: the text's
+    /// pixels, or for a pixel format the cells' pixels.
+    pub fn framebuffer_size(
+        output: &Output,
+        viewport: Rect,
+        screen_height: u16,
+        symbols: Symbols,
+    ) -> (usize, usize) {
+        if Self::usable(output.format(), viewport, screen_height) {
+            let (cell, _) = cell_pixels(window_size(), output.cell_reply);
+            frame_size(viewport.width, viewport.height, cell)
+        } else {
+            (
+                usize::from(viewport.width) * symbols.columns(),
+                usize::from(viewport.height) * symbols.rows(),
+            )
+        }
+    }
+
+    /// Draws one frame: `view` draws the whole screen from a picture at the
+    /// text's resolution into ratatui's buffer; in a pixel format the
+    /// picture's cells are then skipped by the diff and the image sent
+    /// (when new, moved or uncovered), all inside the open frame.
+    pub fn draw<W: Write>(
+        &mut self,
+        terminal: &mut Terminal<SgrBackend<W>>,
+        frame: PixelFrame,
+        viewport: Rect,
+        mut view: impl FnMut(&mut ratatui::Frame, &Framebuffer),
+    ) -> io::Result<()> {
+        let format = frame.output.format();
+        let screen = terminal.size()?;
+        let pixels = Self::usable(format, viewport, screen.height);
+        let fb = frame.fb;
+        let text_size = (
+            usize::from(viewport.width) * frame.look.symbols.columns(),
+            usize::from(viewport.height) * frame.look.symbols.rows(),
+        );
+        let text_fb = if pixels && (fb.width(), fb.height()) != text_size {
+            self.small.resize(text_size.0, text_size.1);
+            downscale(fb, &mut self.small);
+            &self.small
+        } else {
+            fb
+        };
+        let mut covered = false;
+        terminal.draw(|f| {
+            view(f, text_fb);
+            if pixels {
+                covered = !skip_picture(f.buffer_mut(), viewport, text_fb, frame.look);
+            }
+        })?;
+        let show = pixels && !covered;
+        let mut bytes = Vec::new();
+        if let Some((_, was)) = self.shown
+            && (!show || was != format)
+        {
+            // Leaving the image: kitty's is deleted; sixel and iTerm2
+            // pixels are covered by the text cells drawn meanwhile.
+            if was == Format::Kitty {
+                bytes.extend(kitty_delete(frame.output.choice.passthrough));
+            }
+            self.shown = None;
+            set_cleanup(&[]);
+        }
+        if show && (frame.new_picture || self.shown != Some((viewport, format))) {
+            let send = match (format, frame.preview) {
+                (Format::Kitty | Format::Iterm, Some(p)) => p,
+                _ => fb,
+            };
+            let passthrough = frame.output.choice.passthrough;
+            bytes.extend(image_bytes(
+                send,
+                format,
+                viewport,
+                frame.look.dither,
+                passthrough,
+            )?);
+            self.shown = Some((viewport, format));
+            set_cleanup(&if format == Format::Kitty {
+                kitty_delete(passthrough)
+            } else {
+                Vec::new()
+            });
+        }
+        if !bytes.is_empty() {
+            terminal.backend_mut().write_raw(&bytes)?;
+        }
+        Ok(())
+    }
+
+    /// The screen is new (after Ctrl-Z): nothing of ours is on it.
+    pub fn forget(&mut self) {
+        self.shown = None;
+    }
+
+    /// Where an image is shown, if one is.
+    pub fn shown(&self) -> Option<(Rect, Format)> {
+        self.shown
+    }
+}
+
+/// Marks the picture's cells in `buf` as skipped by the diff when they
+/// all still hold the picture's text (nothing drawn over them); false
+/// (and nothing marked) when something covers them.
+fn skip_picture(buf: &mut Buffer, viewport: Rect, fb: &Framebuffer, look: TextLook) -> bool {
+    let mut text = Buffer::empty(viewport);
+    SymbolCells {
+        fb,
+        symbols: look.symbols,
+        depth: look.depth,
+        dither: look.dither,
+        pad: look.pad,
+    }
+    .render(viewport, &mut text);
+    for y in viewport.top()..viewport.bottom() {
+        for x in viewport.left()..viewport.right() {
+            if buf[(x, y)] != text[(x, y)] {
+                return false;
+            }
+        }
+    }
+    for y in viewport.top()..viewport.bottom() {
+        for x in viewport.left()..viewport.right() {
+            buf[(x, y)].set_diff_option(ratatui::buffer::CellDiffOption::Skip);
+        }
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cell_size_comes_from_the_window_then_the_reply_then_the_default() {
+        assert_eq!(
+            cell_pixels(Some((80, 24, 800, 480)), Some((9, 18))),
+            ((10, 20), "window size")
+        );
+        // No pixel fields (many terminals over SSH, tmux): the reply.
+        assert_eq!(
+            cell_pixels(Some((80, 24, 0, 0)), Some((9, 18))),
+            ((9, 18), "CSI 16 t")
+        );
+        assert_eq!(cell_pixels(None, None), (DEFAULT_CELL, "default"));
+    }
+
+    #[test]
+    fn a_huge_frame_is_scaled_down_evenly_within_the_cap() {
+        assert_eq!(frame_size(100, 40, (10, 20)), (1000, 800));
+        let (w, h) = frame_size(1024, 512, (200, 400));
+        assert!(w * h <= MAX_PIXELS, "{w}×{h}");
+        // Square pixels: the aspect of 204800 × 204800 stays 1.
+        assert!(w.abs_diff(h) <= 1, "{w}×{h}");
+        assert!(w * h > MAX_PIXELS * 99 / 100);
+    }
+
+    #[test]
+    fn previews_shrink_with_the_link() {
+        // Four times the bytes the link carries: half each way.
+        assert_eq!(preview_size(800, 600, 400_000, 100_000.0), (400, 300));
+        // Sixteen times: a quarter.
+        assert_eq!(preview_size(800, 600, 1_600_000, 100_000.0), (200, 150));
+        // Never below an eighth, never above half.
+        assert_eq!(preview_size(800, 600, u64::MAX, 1.0), (100, 75));
+        assert_eq!(preview_size(800, 600, 10, 1e9), (400, 300));
+    }
+
+    #[test]
+    fn downscale_averages_boxes() {
+        let mut src = Framebuffer::new(4, 2);
+        src.set(0, 0, [100, 0, 0]);
+        src.set(1, 1, [0, 200, 0]);
+        let mut dst = Framebuffer::new(2, 1);
+        downscale(&src, &mut dst);
+        assert_eq!(dst.get(0, 0), [25, 50, 0]);
+        assert_eq!(dst.get(1, 0), [0, 0, 0]);
+    }
+}
