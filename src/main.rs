@@ -109,6 +109,7 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     match built {
         Built::Scene(mut scene) => {
             scene.camera = scene.camera.at_distance(view.distance);
+            scene.camera.fov_y_degrees = settings.fov;
             // The flags' maps win over the model's own (MTL map_Ks, norm).
             if specular_map.is_some() {
                 scene.material.specular_map = specular_map;

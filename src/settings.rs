@@ -253,6 +253,9 @@ pub struct Settings {
     pub normal_map_file: bool,
     /// Key `F`: the tangent frames (T, B, N) drawn at the vertices.
     pub tangent_frames: bool,
+    /// Vertical field of view of the camera in degrees (keys `w`, `W`);
+    /// the reference view's is 60.
+    pub fov: f32,
 }
 
 impl Default for Settings {
@@ -279,6 +282,7 @@ impl Default for Settings {
             rotation: DEFAULT_ROTATION,
             normal_map_file: false,
             tangent_frames: false,
+            fov: DEFAULT_FOV,
         }
     }
 }
@@ -297,6 +301,10 @@ pub const DEFAULT_SHININESS: f32 = 32.0;
 pub const SHININESS_RANGE: (f32, f32) = (1.0, 1024.0);
 /// Share of the environment in a reflecting pixel when none is given.
 pub const DEFAULT_REFLECTIVITY: f32 = 0.35;
+/// Vertical field of view of the reference camera, in degrees.
+pub const DEFAULT_FOV: f32 = 60.0;
+/// The field of view `--fov` and keys `w`, `W` keep to, in degrees.
+pub const FOV_RANGE: (f32, f32) = (10.0, 120.0);
 /// Model rotation of the reference scene, in degrees.
 pub const DEFAULT_ROTATION: Vec3 = Vec3::new(25.0, 35.0, 0.0);
 

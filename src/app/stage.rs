@@ -147,6 +147,7 @@ impl Stage {
                     light.enabled = on;
                 }
                 scene.camera = self.camera.at_distance(state.distance);
+                scene.camera.fov_y_degrees = state.settings.fov;
                 renderer.render(scene, &state.settings, fb)
             }
             Built::Plasma(plasma) => {

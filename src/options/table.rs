@@ -15,12 +15,12 @@
 use super::entry::{
     Bench, Ctx, Field, Flag, Form, KeyHelp, Kind, Opt, OptKey, Press, Shows, Status, Step, Value,
 };
-use super::text::{format_shininess, format_strength, on_off};
+use super::text::{format_shininess, format_strength, on_off, parse_finite};
 use super::values;
 use crate::plan;
 use crate::settings::{
-    AntiAlias, BUMP_FACTOR, BUMP_MAX, BUMP_MIN, Display, Filter, HeightDerivative, LightVector,
-    Normals, SHININESS_RANGE, Settings, Shading, Technique,
+    AntiAlias, BUMP_FACTOR, BUMP_MAX, BUMP_MIN, DEFAULT_FOV, Display, FOV_RANGE, Filter,
+    HeightDerivative, LightVector, Normals, SHININESS_RANGE, Settings, Shading, Technique,
 };
 
 /// How an entry reads and writes its [`Settings`] field: `field!(name: bool)`,
@@ -577,6 +577,55 @@ pub static OPTIONS: &[Opt] = &[
         shows: None,
         // Shown in the environment's field.
         status: None,
+        bench: Bench::None,
+    },
+    Opt {
+        name: "fov",
+        title: "field of view",
+        kind: Kind::Number {
+            parse: |text| {
+                let (min, max) = FOV_RANGE;
+                let fov = parse_finite(text)?;
+                if (min..=max).contains(&fov) {
+                    Ok(fov)
+                } else {
+                    Err(format!(
+                        "the field of view must be from {min} to {max} degrees, got '{text}'"
+                    ))
+                }
+            },
+            step: Step {
+                factor: 1.125,
+                min: FOV_RANGE.0,
+                max: FOV_RANGE.1,
+                zero_below: None,
+            },
+            show: |fov| format!("{}°", format_shininess(fov)),
+            negative: false,
+        },
+        field: field!(fov: f32),
+        flag: Flag {
+            value_name: Some("DEGREES"),
+            ..flag(
+                "Vertical field of view of the camera in degrees, from 10 to 120 (the reference view: 60)",
+            )
+        },
+        keys: &[
+            key(&['w'], Press::Up, "w W", "field of view wider / narrower"),
+            also(&['W'], Press::Down),
+        ],
+        shows: None,
+        // Shown once it leaves the reference view.
+        status: Some(Status {
+            shown: Some(|c| c.settings.fov != DEFAULT_FOV),
+            ..two(
+                18,
+                |c| format!("fov {}°", format_shininess(c.settings.fov)),
+                |c| format!("fov {}", format_shininess(c.settings.fov)),
+                13,
+                5,
+            )
+        }),
         bench: Bench::None,
     },
 ];

@@ -262,3 +262,28 @@ fn a_texture_applied_to_the_stage_stays_through_rebuilds() {
     st.build(SceneKind::Cube, &ModelChoice::Cube).unwrap();
     assert_eq!(picture(&mut st, &state), want, "and to the rebuilt one");
 }
+
+/// Pixels of a 320×240 picture of the stage that are not the background.
+fn covered(stage: &mut Stage, state: &State) -> usize {
+    let mut fb = Framebuffer::new(320, 240);
+    stage.render(&mut Renderer::new(), state, &mut fb);
+    let bg = fb.pixels()[0];
+    fb.pixels().iter().filter(|&&p| p != bg).count()
+}
+
+#[test]
+fn the_field_of_view_scales_the_cube_as_the_projection_says() {
+    let mut st = stage();
+    let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
+    let at60 = covered(&mut st, &state);
+    state.settings.fov = 90.0;
+    let at90 = covered(&mut st, &state);
+    // The picture shrinks by tan(30°)/tan(45°) across and down: its area
+    // by that squared, 1/3 (within 5 % for the pixels on the edges).
+    let ratio = at90 as f64 / at60 as f64;
+    let want = (30f64.to_radians().tan() / 45f64.to_radians().tan()).powi(2);
+    assert!(
+        (ratio / want - 1.0).abs() < 0.05,
+        "{at60} → {at90}: {ratio} vs {want}"
+    );
+}

@@ -103,7 +103,7 @@ fn quit_keys() {
 #[test]
 fn unbound_keys_do_nothing() {
     let mut s = state();
-    for c in ['j', 'U', 'w', 'Q'] {
+    for c in ['j', 'U', 'K', 'Q'] {
         let m = if c.is_uppercase() {
             KeyModifiers::SHIFT
         } else {
@@ -721,4 +721,38 @@ fn ctrl_z_asks_the_loop_to_suspend() {
         Some(Command::Suspend)
     );
     assert!(!s.quit);
+}
+
+#[test]
+fn w_and_w_widen_and_narrow_the_field_of_view_within_its_range() {
+    let mut s = state();
+    assert_eq!(s.settings.fov, 60.0);
+    // Each press multiplies or divides by 9/8, exact in binary.
+    ch(&mut s, 'w');
+    assert_eq!(s.settings.fov, 67.5);
+    assert_eq!(s.message.as_deref(), Some("field of view 67.5°"));
+    assert!(relief::app::view::status_line(&s, 300).contains("fov 67.5°"));
+    ch(&mut s, 'W');
+    assert_eq!(s.settings.fov, 60.0);
+    assert!(!relief::app::view::status_line(&s, 300).contains("fov"));
+    // 60 · (9/8)^6 ≈ 121.6: the sixth press stops at 120, and 10 is the floor.
+    for _ in 0..6 {
+        ch(&mut s, 'w');
+    }
+    assert_eq!(s.settings.fov, 120.0);
+    for _ in 0..30 {
+        ch(&mut s, 'W');
+    }
+    assert_eq!(s.settings.fov, 10.0);
+    // The plasma has no camera.
+    let mut p = state();
+    p.scene = relief::scene::SceneKind::Plasma;
+    ch(&mut p, 'w');
+    assert_eq!(p.settings.fov, 60.0);
+    assert!(
+        p.message
+            .as_deref()
+            .unwrap()
+            .starts_with("w W (field of view): not in the plasma")
+    );
 }
