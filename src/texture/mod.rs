@@ -81,6 +81,12 @@ impl Texture {
         self
     }
 
+    /// Bytes held against the memory budget for this texture (0 for one
+    /// made in memory).
+    pub fn reserved_bytes(&self) -> u64 {
+        self.reservation.as_ref().map_or(0, |r| r.bytes())
+    }
+
     /// From 8-bit RGBA rows, **top row first** (as images are stored).
     pub fn from_rgba8(name: impl Into<String>, width: usize, height: usize, rgba: &[u8]) -> Self {
         Texture::new(name, Level::from_rgba8_top_down(width, height, rgba))

@@ -46,6 +46,14 @@ impl Normals {
         self.len() == 0
     }
 
+    /// Bytes one normal takes in this storage.
+    pub fn bytes_per_texel(&self) -> usize {
+        match self {
+            Normals::F32(_) => 12,
+            Normals::Snorm16(_) => 6,
+        }
+    }
+
     /// Normal `i` as floats.
     #[inline]
     pub fn at(&self, i: usize) -> [f32; 3] {

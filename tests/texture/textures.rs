@@ -1042,3 +1042,59 @@ fn tiff_samples_the_decoder_library_refuses_load() {
         }
     }
 }
+
+/// Bytes a loaded texture ends up holding with every derived map built:
+/// the base level, its mip chain, the dot3 normal map and that map's chain.
+fn allocated_bytes(tex: &Texture) -> usize {
+    let level_bytes = |l: &Level| l.texels.len() * l.texels.bytes_per_texel();
+    let (map, _) = tex.normal_map(1.0);
+    level_bytes(tex.base())
+        + tex.mip_levels().iter().map(level_bytes).sum::<usize>()
+        + map.normals.len() * map.normals.bytes_per_texel()
+        + map.mip_levels().iter().map(level_bytes).sum::<usize>()
+}
+
+/// Pictures are kept at their precision, and what the budget reserves for
+/// one covers what it allocates without reserving much more (the decoder's
+/// buffers, freed before the derived maps exist, fit inside): 8-bit RGB
+/// and RGBA, 16-bit and float pictures, each read back as loaded.
+#[test]
+fn reservation_matches_what_a_texture_allocates() {
+    use image::{ImageFormat, Rgb, Rgb32FImage, RgbImage, Rgba, RgbaImage};
+    let (w, h) = (96u32, 64u32);
+    let encode = |img: image::DynamicImage, format| {
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        img.write_to(&mut bytes, format).unwrap();
+        bytes.into_inner()
+    };
+    let rgb8 = RgbImage::from_fn(w, h, |x, y| Rgb([x as u8 * 2, y as u8 * 3, (x ^ y) as u8]));
+    let rgba8 = RgbaImage::from_fn(w, h, |x, y| Rgba([x as u8, y as u8, 7, (x + y) as u8]));
+    let rgb16 = image::ImageBuffer::<Rgb<u16>, _>::from_fn(w, h, |x, y| {
+        Rgb([x as u16 * 600, y as u16 * 1000, 65535 - x as u16])
+    });
+    let float = Rgb32FImage::from_fn(w, h, |x, y| Rgb([x as f32 / 96.0, y as f32 / 64.0, 0.5]));
+    let cases = [
+        ("rgb8.png", encode(rgb8.into(), ImageFormat::Png), 4),
+        ("rgba8.png", encode(rgba8.into(), ImageFormat::Png), 4),
+        ("rgb16.png", encode(rgb16.into(), ImageFormat::Png), 8),
+        ("float.exr", encode(float.into(), ImageFormat::OpenExr), 16),
+    ];
+    for (name, bytes, base_bytes) in cases {
+        let tex = load_texture_from_bytes(name, &bytes).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(tex.base().texels.bytes_per_texel(), base_bytes, "{name}");
+        let allocated = allocated_bytes(&tex) as u64;
+        let reserved = tex.reserved_bytes();
+        assert!(
+            allocated <= reserved && reserved <= allocated + allocated / 4,
+            "{name}: allocated {allocated}, reserved {reserved}"
+        );
+    }
+    // An 8-bit picture's derived maps are 16-bit: 4 + 8/3 + 6 + 6/3 bytes
+    // a texel, where f32 storage took 16 + 16/3 + 12 + 16/3.
+    let per_texel = relief::budget::Precision::Unorm8.bytes_per_texel();
+    assert!((per_texel - (4.0 + 8.0 / 3.0 + 6.0 + 2.0)).abs() < 1e-9);
+    assert_eq!(
+        relief::budget::texture_bytes_at(4096, 4096, relief::budget::Precision::Unorm8) >> 20,
+        234
+    );
+}
