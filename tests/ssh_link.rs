@@ -45,6 +45,7 @@
 //! - `RELIEF_SSH_MUX=tmux` relief runs inside tmux on the server (`tmux new-session`
 //!   in the `ssh -tt` session, status bar off); `screen`: inside GNU screen
 //! - `RELIEF_SSH_ARGS="--link 1M"` more arguments of relief
+//! - `RELIEF_SSH_TRACE=1` prints the server's send queue through the drag
 
 mod ssh;
 
