@@ -12,13 +12,25 @@
 //! unchanged for 1.5 s; the lag is when it first appeared. For `q`, the time until the
 //! pane shows the shell again with the alternate screen left.
 //!
-//! The assertions are functional only (the final picture shows the expected orientation,
-//! `q` restores the terminal, nothing is left behind); the times and bytes are printed
-//! as a Markdown table. Needs root, iproute2 (`ip netns`, `tc`), OpenSSH (client and
-//! server) and tmux; skipped with a notice otherwise.
+//! The server's send queue towards the client (sshd's socket in the server's
+//! `/proc/net/tcp`) is read every 10 ms; its peak after the last input is printed.
 //!
-//! `cargo test --release --test ssh_link` runs one session at 8 Mbit/s (~20 s). The full
-//! measurement (1 and 8 Mbit/s, 3 sessions each, medians):
+//! The assertions are functional (the final picture shows the expected orientation,
+//! `q` restores the terminal, nothing is left behind) and, inside a multiplexer, count
+//! bytes: what crosses the link after the last input and what the send queue holds
+//! stay within a few frames (no backlog). Times are printed as a Markdown table, never
+//! asserted. Needs root, iproute2 (`ip netns`, `tc`), OpenSSH (client and server) and
+//! tmux (GNU screen for its case); skipped with a notice otherwise.
+//!
+//! `cargo test --release --test ssh_link` runs one plain session at 8 Mbit/s and one
+//! inside tmux and one inside screen at 1 Mbit/s (~45 s). Plain SSH against tmux and
+//! screen at 1 and 50 Mbit/s, 3 sessions each, interleaved:
+//!
+//! ```sh
+//! cargo test --release --test ssh_link compare -- --ignored --nocapture
+//! ```
+//!
+//! The full measurement (1 and 8 Mbit/s, 3 sessions each, medians):
 //!
 //! ```sh
 //! cargo test --release --test ssh_link -- --ignored --nocapture
@@ -31,12 +43,15 @@
 //! - `RELIEF_SSH_RATES=1000,8000` link rates of the full run, in kbit/s
 //! - `RELIEF_SSH_REPS=3` sessions per rate in the full run (interleaved across rates)
 //! - `RELIEF_SSH_MUX=tmux` relief runs inside tmux on the server (`tmux new-session`
-//!   in the `ssh -tt` session, status bar off)
+//!   in the `ssh -tt` session, status bar off); `screen`: inside GNU screen
+//! - `RELIEF_SSH_ARGS="--link 1M"` more arguments of relief
+//! - `RELIEF_SSH_TRACE=1` prints the server's send queue through the drag
 
 mod ssh;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use ssh::{EXITED, Mux, Options, QueueSampler, Session};
@@ -54,6 +69,7 @@ const DRAG_FROM: (i32, i32) = (100, 20);
 const DRAG_STEPS: i32 = 40;
 
 /// One measured input of one session.
+#[derive(Clone)]
 struct Figure {
     input: &'static str,
     /// Bytes towards the client (none for the round trip).
@@ -61,6 +77,22 @@ struct Figure {
     lag: Duration,
     /// The largest send queue of the server's socket from the last input on.
     queued: Option<u64>,
+    /// Bytes towards the client from the last input on.
+    after: Option<u64>,
+}
+
+/// The moment of the last input and the link's byte count then.
+struct LastInput {
+    at: Instant,
+    bytes: u64,
+}
+
+fn last_input(s: &Session) -> LastInput {
+    let at = Instant::now();
+    LastInput {
+        at,
+        bytes: s.bytes_to_client(),
+    }
 }
 
 /// The multiplexer `RELIEF_SSH_MUX` names (`tmux`, `screen`), if any.
@@ -169,18 +201,19 @@ fn measure(
     name: &'static str,
     before: &str,
     bytes_before: u64,
-    input: Instant,
+    input: LastInput,
     want: [i32; 3],
 ) -> Figure {
-    let (_, lag) = final_picture(s, before, input, name);
-    let bytes = s.bytes_to_client() - bytes_before;
+    let (_, lag) = final_picture(s, before, input.at, name);
+    let end = s.bytes_to_client();
     let screen = s.screen();
     assert_eq!(orientation(&screen), Some(want), "after {name}:\n{screen}");
     Figure {
         input: name,
-        bytes: Some(bytes),
+        bytes: Some(end - bytes_before),
         lag,
-        queued: peak(q, input),
+        queued: peak(q, input.at),
+        after: Some(end - input.bytes),
     }
 }
 
@@ -229,6 +262,7 @@ fn run_session(opts: &Options) -> Option<Vec<Figure>> {
         bytes: Some(bytes),
         lag,
         queued: None,
+        after: None,
     });
     // The link's round trip, idle (what a terminal query's answer takes at least).
     figures.push(Figure {
@@ -236,13 +270,14 @@ fn run_session(opts: &Options) -> Option<Vec<Figure>> {
         bytes: None,
         lag: s.round_trip(),
         queued: None,
+        after: None,
     });
 
     // One arrow key: Y + 5°.
     let before = s.picture();
     let b0 = s.bytes_to_client();
     s.keys(&["Right"]);
-    let input = Instant::now();
+    let input = last_input(&s);
     let [x, y, z] = START;
     figures.push(measure(
         &s,
@@ -264,7 +299,7 @@ fn run_session(opts: &Options) -> Option<Vec<Figure>> {
         );
         s.keys(&["Right"]);
     }
-    let input = Instant::now();
+    let input = last_input(&s);
     let want = [x, y + 105, z];
     figures.push(measure(
         &s,
@@ -280,9 +315,10 @@ fn run_session(opts: &Options) -> Option<Vec<Figure>> {
     let before = s.picture();
     let b0 = s.bytes_to_client();
     drag(&s);
-    let input = Instant::now();
+    let input = last_input(&s);
     let want = [x + 40, y + 25, z];
-    figures.push(measure(
+    let drag_start = input.at - Duration::from_millis(20 * DRAG_STEPS as u64);
+    let fig = measure(
         &s,
         &q,
         "40-step mouse drag in 0.8 s",
@@ -290,13 +326,24 @@ fn run_session(opts: &Options) -> Option<Vec<Figure>> {
         b0,
         input,
         want,
-    ));
+    );
+    if std::env::var_os("RELIEF_SSH_TRACE").is_some() {
+        // The send queue through the drag and after it: ms since the drag began, kB.
+        let trace: Vec<String> = q
+            .since(drag_start)
+            .iter()
+            .map(|(t, b)| format!("{}:{:.1}", (*t - drag_start).as_millis(), *b as f64 / 1e3))
+            .collect();
+        eprintln!("send queue during the drag (ms:kB): {}", trace.join(" "));
+    }
+    figures.push(fig);
 
     // Another drag, and `q` right after its release: the shell again.
     let b0 = s.bytes_to_client();
     drag(&s);
     s.keys(&["q"]);
-    let input = Instant::now();
+    let last = last_input(&s);
+    let input = last.at;
     loop {
         let out = s.tmux(&[
             "capture-pane",
@@ -318,6 +365,7 @@ fn run_session(opts: &Options) -> Option<Vec<Figure>> {
         bytes: Some(s.bytes_to_client() - b0),
         lag,
         queued: peak(&q, input),
+        after: Some(s.bytes_to_client() - last.bytes),
     });
     drop(q);
     assert_restored(&s);
@@ -370,23 +418,34 @@ fn rate_name(kbit: u32) -> String {
 /// queue over the sessions.
 fn table(runs: &[(u32, Vec<Figure>)], opts: &Options) -> String {
     // (rate, input's place) -> (input, bytes, lag and queue of each session)
-    type Row<'a> = (&'a str, Vec<Option<u64>>, Vec<Duration>, Vec<Option<u64>>);
+    type Row<'a> = (
+        &'a str,
+        Vec<Option<u64>>,
+        Vec<Duration>,
+        Vec<Option<u64>>,
+        Vec<Option<u64>>,
+    );
     let mut by: BTreeMap<(u32, usize), Row> = BTreeMap::new();
     for (rate, figures) in runs {
         for (i, f) in figures.iter().enumerate() {
-            let e = by
-                .entry((*rate, i))
-                .or_insert((f.input, Vec::new(), Vec::new(), Vec::new()));
+            let e = by.entry((*rate, i)).or_insert((
+                f.input,
+                Vec::new(),
+                Vec::new(),
+                Vec::new(),
+                Vec::new(),
+            ));
             e.1.push(f.bytes);
             e.2.push(f.lag);
             e.3.push(f.queued);
+            e.4.push(f.after);
         }
     }
     let kb = |b: Option<u64>| b.map_or("—".into(), |b| format!("{:.0} kB", b as f64 / 1000.0));
     let mut out = format!(
         "relief{} over ssh -tt, 160x48, --color {} {}, link 20 ms each way ({})\n\n\
-         | link | input | bytes to client | time: last input → final picture | range | n | peak send queue |\n\
-         |---|---|--:|--:|--:|--:|--:|\n",
+         | link | input | bytes to client | time: last input → final picture | range | n | peak send queue | bytes after the last input |\n\
+         |---|---|--:|--:|--:|--:|--:|--:|\n",
         opts.server_mux.map_or(String::new(), |m| format!(
             " inside {} on the server",
             m.program()
@@ -395,17 +454,18 @@ fn table(runs: &[(u32, Vec<Figure>)], opts: &Options) -> String {
         opts.relief_args.join(" "),
         opts.binary.display(),
     );
-    for ((rate, _), (input, bytes, lags, queued)) in by {
+    for ((rate, _), (input, bytes, lags, queued, after)) in by {
         let n = lags.len();
         let (lo, hi) = (*lags.iter().min().unwrap(), *lags.iter().max().unwrap());
         out += &format!(
-            "| {} | {input} | {} | {:.3} s | {:.3}–{:.3} s | {n} | {} |\n",
+            "| {} | {input} | {} | {:.3} s | {:.3}–{:.3} s | {n} | {} | {} |\n",
             rate_name(rate),
             kb(median(bytes)),
             median(lags).as_secs_f64(),
             lo.as_secs_f64(),
             hi.as_secs_f64(),
             kb(median(queued)),
+            kb(median(after)),
         );
     }
     out
@@ -427,19 +487,143 @@ fn report(runs: &[(u32, Vec<Figure>)], mux: Option<Mux>) {
     println!("{}", table(runs, &options(1, mux)));
 }
 
+/// Sessions one at a time: the figures printed are not those of a shared machine.
+static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+
+fn one_at_a_time() -> MutexGuard<'static, ()> {
+    ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// One session at 8 Mbit/s: everything works through real SSH; the figures printed.
 #[test]
 fn keys_drag_and_quit_over_a_slow_ssh_link() {
+    let _one = one_at_a_time();
     let Some(figures) = run_session(&options(8000, None)) else {
         return;
     };
     report(&[(8000, figures)], None);
 }
 
+/// The link carried the newest frames, not a backlog of stale ones. The pacing keeps
+/// one frame on the link: from the last input on, what crosses it is the rest of the
+/// frame in flight, at most one preview sent before input counts as stopped, and the
+/// exact picture (with the status line's refresh) — three frames at most, an exact
+/// frame being what one arrow key took. The server's send queue then holds at most
+/// the frame in flight and the next one's first bytes: two frames. Without the
+/// pacing, inside a multiplexer the multiplexer queues seconds of frames: the send
+/// queue stays at the kernel's send buffer (80 kB) and about 900 kB follow the last
+/// input at 1 Mbit/s (docs/ssh-tmux.md).
+fn assert_no_backlog(figures: &[Figure]) {
+    let frame = figures
+        .iter()
+        .find(|f| f.input == "one arrow key")
+        .and_then(|f| f.bytes)
+        .expect("one arrow key measured");
+    for f in figures.iter().filter(|f| f.input != "one arrow key") {
+        if let Some(after) = f.after {
+            assert!(
+                after <= 3 * frame,
+                "{}: {after} bytes crossed the link after the last input, more than \
+                 three frames of {frame}",
+                f.input
+            );
+        }
+        if let Some(queued) = f.queued {
+            assert!(
+                queued <= 2 * frame,
+                "{}: the send queue held {queued} bytes, more than two frames of {frame}",
+                f.input
+            );
+        }
+    }
+}
+
+/// relief inside a multiplexer on the server at 1 Mbit/s: everything works, and
+/// frames are paced by the SSH connection (no backlog); the figures printed.
+fn inside_a_multiplexer(mux: Mux) {
+    let _one = one_at_a_time();
+    let opts = options(1000, Some(mux));
+    let Some(figures) = run_session(&opts) else {
+        return;
+    };
+    report(&[(1000, figures.clone())], Some(mux));
+    assert_no_backlog(&figures);
+}
+
+#[test]
+fn inside_tmux_on_the_server_frames_are_paced_by_the_ssh_connection() {
+    inside_a_multiplexer(Mux::Tmux);
+}
+
+#[test]
+fn inside_screen_on_the_server_frames_are_paced_by_the_ssh_connection() {
+    inside_a_multiplexer(Mux::Screen);
+}
+
+/// Plain SSH, inside tmux and inside screen, sessions interleaved, at each rate of
+/// `RELIEF_SSH_RATES` (default 1 and 50 Mbit/s): each table, then the median time to
+/// the final picture inside each multiplexer against plain SSH.
+#[test]
+#[ignore = "the comparison (minutes): cargo test --release --test ssh_link compare -- --ignored --nocapture"]
+fn compare_multiplexers_with_plain_ssh() {
+    let _one = one_at_a_time();
+    let rates = env_list("RELIEF_SSH_RATES", "1000,50000");
+    let reps = env_list("RELIEF_SSH_REPS", "3")[0];
+    let muxes = [None, Some(Mux::Tmux), Some(Mux::Screen)];
+    let mut runs: Vec<Vec<(u32, Vec<Figure>)>> = vec![Vec::new(); muxes.len()];
+    for rep in 0..reps {
+        for &rate in &rates {
+            for (m, &mux) in muxes.iter().enumerate() {
+                let name = mux.map_or("plain SSH", Mux::program);
+                eprintln!(
+                    "session {} of {reps} at {}, {name}",
+                    rep + 1,
+                    rate_name(rate)
+                );
+                let Some(figures) = run_session(&options(rate, mux)) else {
+                    return;
+                };
+                runs[m].push((rate, figures));
+            }
+        }
+    }
+    for (m, &mux) in muxes.iter().enumerate() {
+        report(&runs[m], mux);
+    }
+    println!(
+        "| link | input | plain SSH | inside tmux | tmux / plain | inside screen | screen / plain |\n\
+         |---|---|--:|--:|--:|--:|--:|"
+    );
+    let lag = |m: usize, rate: u32, i: usize| {
+        median(
+            runs[m]
+                .iter()
+                .filter(|(r, _)| *r == rate)
+                .map(|(_, f)| f[i].lag)
+                .collect(),
+        )
+        .as_secs_f64()
+    };
+    for &rate in &rates {
+        let first = &runs[0].iter().find(|(r, _)| *r == rate).unwrap().1;
+        for (i, f) in first.iter().enumerate().skip(2) {
+            let (p, t, s) = (lag(0, rate, i), lag(1, rate, i), lag(2, rate, i));
+            println!(
+                "| {} | {} | {p:.3} s | {t:.3} s | {:.2} | {s:.3} s | {:.2} |",
+                rate_name(rate),
+                f.input,
+                t / p,
+                s / p
+            );
+        }
+    }
+}
+
 /// The full measurement: every rate, several sessions each, medians.
 #[test]
 #[ignore = "the full measurement (minutes): cargo test --release --test ssh_link -- --ignored --nocapture"]
 fn measure_lag_and_bytes_over_ssh() {
+    let _one = one_at_a_time();
     let rates = env_list("RELIEF_SSH_RATES", "1000,8000");
     let reps = env_list("RELIEF_SSH_REPS", "3")[0];
     let mux = env_mux();

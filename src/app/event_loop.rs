@@ -25,6 +25,7 @@ use ratatui::Terminal;
 
 use super::action::{Action, action_for_event};
 use super::cost::FrameCost;
+use super::schedule::Schedule;
 use super::stage::Stage;
 use super::state::{Command, FrameDone, Look, State, update};
 use super::textures;
@@ -35,7 +36,7 @@ use crate::stats::{Counters, FrameStats};
 use crate::term::SgrBackend;
 use crate::term::input::{Input, InputParser};
 use crate::term::modes::{MouseReports, TermModes};
-use crate::term::pacing::{Activity, Answers, Pacer, QUERY};
+use crate::term::pacing::{Answers, Pacer, QUERY};
 use crate::term::pixel_view::{self, PixelFrame, PixelView, TextLook};
 
 /// The terminal modes the state wants: only the plasma asks for every
@@ -49,8 +50,7 @@ pub fn wanted_modes(state: &State) -> TermModes {
     })
 }
 
-/// Auto-rotation frame pacing.
-pub const FRAME_INTERVAL: Duration = Duration::from_millis(33);
+pub use super::schedule::FRAME_INTERVAL;
 
 /// What reaches the loop from the input and signal threads.
 #[derive(Debug)]
@@ -261,49 +261,21 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         // What the guard's setup left the terminal in.
         let mut modes = TermModes::app(MouseReports::Drags);
         let mut clock = FrameClock::default();
-        let mut dirty = true;
-        // After a new picture, one more (text-only) write lets the status
-        // line show that picture's own time and bytes instead of the
-        // previous one's; skipped while auto-rotation draws anyway.
-        let mut refresh_status = false;
-        let mut last_tick = Instant::now();
         let mut last_counters = Counters::default();
-        // Whether input keeps coming (previews) or has stopped (refine).
-        let mut activity = Activity::default();
-        // The picture on screen is a preview: the exact one is due once
-        // input stops.
-        let mut previewing = false;
-        // Bytes of the last exact picture: what the link must carry.
-        let mut exact_bytes: Option<u64> = None;
-        let mut probed = false;
+        // When to draw and what (see `schedule`).
+        let mut schedule = Schedule::new(Instant::now());
         // Pixel images on screen (kitty, sixel, iTerm2).
         let mut pixels = PixelView::new();
         self.report_textures(state);
         loop {
             let now = Instant::now();
-            let ready = self.pacer.ready(now);
-            let quiet = self.pacer.quiet();
-            let refine_at = (previewing && !state.auto_rotate)
-                .then(|| activity.settled_at(quiet).unwrap_or(now));
             // Wait: for the frame in flight to be shown (input is applied
             // meanwhile and folded into the next frame), not at all when a
             // frame is due, until the exact picture or the next
             // auto-rotation frame is due, or for as long as it takes.
-            let wait = if refresh_status && !dirty {
-                // The status refresh (a few hundred bytes) follows its
-                // picture at once, without waiting for it to be shown.
-                Some(now)
-            } else if !ready {
-                self.pacer.deadline()
-            } else if dirty {
-                Some(now)
-            } else if let Some(at) = refine_at {
-                Some(at)
-            } else if state.auto_rotate {
-                Some(last_tick + FRAME_INTERVAL)
-            } else {
-                None
-            };
+            let wait = schedule
+                .wait(&mut self.pacer, state.auto_rotate, now)
+                .until(now);
             let first = match wait {
                 Some(at) if at <= now => self.rx.try_recv().ok(),
                 Some(at) => match self.rx.recv_timeout(at - now) {
@@ -324,8 +296,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 match msg {
                     Msg::Input(event) => {
                         if let Some(action) = action_for_event(state, &event) {
-                            dirty = true;
-                            activity.input(Instant::now(), quiet);
+                            schedule.input(Instant::now());
                             match update(state, action) {
                                 Some(Command::SavePng) => {
                                     let (w, h) = (fb.width(), fb.height());
@@ -373,7 +344,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                         }
                     }
                     Msg::Shown(at) => self.pacer.reply(at),
-                    Msg::Resized => dirty = true,
+                    Msg::Resized => schedule.redraw(),
                     Msg::InputClosed(why) => return Ok(Exit::InputClosed(why)),
                     Msg::Signal(sig) => return Ok(Exit::Signal(sig)),
                 }
@@ -381,36 +352,16 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                     return Ok(Exit::Quit);
                 }
             }
-            let now = Instant::now();
-            let refresh_due = refresh_status && !dirty;
-            if !refresh_due && !self.pacer.ready(now) {
-                // A frame in flight: what came meanwhile waits for the next.
+            // A frame in flight or held: what came meanwhile waits for the next.
+            let Some(next) = schedule.next(&mut self.pacer, state.auto_rotate, Instant::now())
+            else {
                 continue;
+            };
+            if let Some(seconds) = next.tick {
+                update(state, Action::AutoRotateTick { seconds });
             }
-            if state.auto_rotate {
-                if now >= last_tick + FRAME_INTERVAL {
-                    let seconds = now.duration_since(last_tick).as_secs_f32();
-                    update(state, Action::AutoRotateTick { seconds });
-                    last_tick = now;
-                    dirty = true;
-                }
-            } else {
-                last_tick = now;
-            }
-            if previewing && !state.auto_rotate && !activity.moving(now, quiet) {
-                // Input stopped: the exact picture replaces the preview.
-                dirty = true;
-            }
-            let status_only = refresh_status && !dirty;
-            refresh_status = false;
-            if !dirty && !status_only {
-                continue;
-            }
-            dirty = false;
-            // While input keeps coming over a link too slow for the exact
-            // picture at the frame rate, send a cheaper one.
-            let moving = state.auto_rotate || activity.moving(now, quiet);
-            let cheaper = self.pacer.preview(moving, exact_bytes, FRAME_INTERVAL);
+            let status_only = next.status_only;
+            let cheaper = next.preview;
 
             // Render only when what the picture depends on changed.
             let start = Instant::now();
@@ -446,13 +397,13 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             };
             let same = rendered.as_ref() == Some(&key);
             // A preview is replaced by the exact picture even when nothing changed.
-            let new_picture = !same || (previewing && !cheaper);
+            let new_picture = schedule.new_picture(&next, same);
             if new_picture {
                 if cheaper {
                     let (pw, ph) = pixel_view::preview_for(
                         state.output.format(),
                         (w, h),
-                        exact_bytes,
+                        schedule.exact_bytes(),
                         self.pacer.throughput(),
                     );
                     coarse.resize(pw, ph);
@@ -467,15 +418,16 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 // An abandoned frame (a key pressed during a long one) is
                 // drawn again once that key is applied.
                 rendered = (!stats.abandoned).then_some(key);
-                dirty |= stats.abandoned;
-                previewing = cheaper;
+                if stats.abandoned {
+                    schedule.redraw();
+                }
             }
             // A status-only redraw comes once nothing else is due: no
             // frames are flowing.
             update(
                 state,
                 Action::FrameStart {
-                    preview: previewing,
+                    preview: schedule.previewing(),
                     idle: status_only,
                 },
             );
@@ -493,10 +445,9 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             // The first write starts with a query of its own: its reply
             // comes one round trip later whatever the frame's size, so a
             // terminal that answers is known as such in time.
-            let probe = asks && !probed;
+            let probe = schedule.probe(asks);
             if probe {
                 backend.write_raw(QUERY)?;
-                probed = true;
             }
             backend.begin_frame()?;
             let look = TextLook {
@@ -508,7 +459,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             let frame = PixelFrame {
                 output: &state.output,
                 fb: &fb,
-                preview: previewing.then_some(&coarse),
+                preview: schedule.previewing().then_some(&coarse),
                 new_picture,
                 look,
             };
@@ -545,13 +496,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                     frame,
                 },
             );
-            if status_only {
-                continue;
-            }
-            if new_picture && !previewing {
-                exact_bytes = Some(bytes);
-            }
-            refresh_status = new_picture && !previewing && !state.auto_rotate;
+            schedule.written(&next, new_picture, bytes, state.auto_rotate);
         }
     }
 

@@ -7,6 +7,7 @@ pub mod event_loop;
 pub mod feedback;
 pub mod keys;
 pub mod line_edit;
+pub mod schedule;
 pub mod screenshot;
 pub mod stage;
 pub mod state;

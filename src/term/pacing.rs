@@ -335,6 +335,12 @@ impl Pacer {
         Some(self.config.lost_reply.max(expected))
     }
 
+    /// The replies are in but the hold holds the next frame (as of the
+    /// last [`Pacer::ready`]).
+    pub fn held(&self) -> bool {
+        self.held_until.is_some()
+    }
+
     /// When the wait for the frame in flight times out, or, its reply in,
     /// when the hold looks again (`None`: nothing in flight and nothing
     /// held, or no time-out applies).
@@ -608,7 +614,8 @@ mod tests {
         assert!(p.ready(c.at(20)), "the probe put nothing on the link");
         p.sent(c.at(100), 25_000, true);
         p.reply(c.at(102));
-        *queue.lock().unwrap() = Some(25_000);
+        // The frame and what the multiplexer adds to it.
+        *queue.lock().unwrap() = Some(26_000);
         assert!(!p.ready(c.at(102)) && !p.ready(c.at(115)));
         assert_eq!(p.deadline(), Some(c.at(115) + POLL));
         // Read once a poll, not at every look.
@@ -616,7 +623,7 @@ mod tests {
         assert!(!p.ready(c.at(120)));
         assert_eq!(*reads.lock().unwrap(), n);
         // Draining at 125 kB/s (1 Mbit/s): that is the link's rate now.
-        *queue.lock().unwrap() = Some(23_750);
+        *queue.lock().unwrap() = Some(24_750);
         assert!(!p.ready(c.at(125)));
         assert!((p.throughput().unwrap() - 125_000.0).abs() < 1e-6);
         assert_eq!(p.info().throughput, p.throughput());

@@ -103,7 +103,7 @@ fn quit_keys() {
 #[test]
 fn unbound_keys_do_nothing() {
     let mut s = state();
-    for c in ['j', 'U', 'K', 'Q'] {
+    for c in ['j', 'J', 'K', 'Q'] {
         let m = if c.is_uppercase() {
             KeyModifiers::SHIFT
         } else {
