@@ -421,7 +421,7 @@ mod tests {
         let lines: Vec<&str> = c.lines().collect();
         assert_eq!(lines.len(), 4);
         let columns = lines[0].split(',').count();
-        assert_eq!(columns, 29);
+        assert_eq!(columns, 31);
         assert!(lines[1].starts_with("1,\"fast, rough\",2,phong,vertex,true,bilinear,true,blinn,"));
         assert!(lines[3].contains(",inf,"));
         assert!(lines[1].ends_with(",true") && lines[2].ends_with(",false"));
