@@ -311,7 +311,7 @@ fn help_overlay_lists_every_key_and_mouse_action() {
         "v N",
         "h",
         "a",
-        "d F u",
+        "d F u U",
         "l 1 2 3 4",
         "L",
         "o",
