@@ -324,6 +324,8 @@ pub struct PixelView {
     small: Framebuffer,
     /// An image is on screen over this area, in this format.
     shown: Option<(Rect, Format)>,
+    /// The format of the last frame.
+    last_format: Option<Format>,
 }
 
 /// What a frame is: the format in use and its pictures.
@@ -349,6 +351,7 @@ impl PixelView {
         PixelView {
             small: Framebuffer::new(0, 0),
             shown: None,
+            last_format: None,
         }
     }
 
@@ -404,6 +407,19 @@ impl PixelView {
         } else {
             fb
         };
+        if self.last_format.is_some_and(|f| f != format) {
+            // A new format: the whole screen is drawn again, so nothing a
+            // terminal made of the last one's sequences (a format it
+            // ignores may print its bytes, even scroll) stays.
+            if let Some((_, Format::Kitty)) = self.shown.take() {
+                terminal
+                    .backend_mut()
+                    .write_raw(&kitty_delete(frame.output.choice.passthrough))?;
+                set_cleanup(&[]);
+            }
+            terminal.clear()?;
+        }
+        self.last_format = Some(format);
         let mut covered = false;
         terminal.draw(|f| {
             view(f, text_fb);
@@ -453,6 +469,7 @@ impl PixelView {
     /// The screen is new (after Ctrl-Z): nothing of ours is on it.
     pub fn forget(&mut self) {
         self.shown = None;
+        set_cleanup(&[]);
     }
 
     /// Where an image is shown, if one is.

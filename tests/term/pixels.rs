@@ -212,6 +212,9 @@ fn the_view_sends_kitty_frames_that_decode_to_the_picture_and_deletes_them() {
     let del = find(&bytes, kitty::DELETE).expect("kitty image deleted");
     let six = find(&bytes, b"\x1bP0;1;0q").expect("a sixel image");
     assert!(del < six);
+    // The whole screen is drawn again for the new format.
+    let clear = find(&bytes[del..], b"\x1b[2J").expect("the screen cleared") + del;
+    assert!(clear < six);
     assert!(bytes[..six].ends_with(b"\x1b[1;1H"));
     let (w, h) = *sizes.last().unwrap();
     let (sw, sh, pixels) = decode_sixel(&bytes[six..]);
