@@ -9,7 +9,7 @@ use crate::plasma::PlasmaNormal;
 use crate::scene::{ModelChoice, SceneKind};
 use crate::settings::{
     AntiAlias, Display, Filter, HeightDerivative, LightVector, Normals, Settings, Shading,
-    Technique,
+    Technique, UpAxis,
 };
 use crate::term::{Format, Symbols};
 
@@ -221,6 +221,9 @@ pub struct ViewArgs {
     /// All lights on or off (the ambient term stays).
     #[arg(long, value_enum, default_value_t = Toggle::On)]
     pub lights: Toggle,
+    /// The model's up axis: z for Z-up CAD files (turned so +Z is up).
+    #[arg(long, value_enum, default_value_t = UpAxis::Y)]
+    pub up: UpAxis,
     /// Distance attenuation of the lights: 1/(1 + 0.01·d²), d the distance to the light.
     #[arg(long, value_enum, default_value_t = Toggle::Off)]
     pub attenuation: Toggle,
@@ -280,6 +283,7 @@ impl ViewArgs {
             shininess: self.shininess,
             normal_map_file: self.normal_map.is_some(),
             tangent_frames: self.tangent_frames,
+            up: self.up,
             environment: self
                 .environment
                 .map_or(self.environment_map.is_some(), Toggle::on),

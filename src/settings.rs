@@ -307,6 +307,18 @@ pub struct Settings {
     pub normal_map_file: bool,
     /// Key `F`: the tangent frames (T, B, N) drawn at the vertices.
     pub tangent_frames: bool,
+    /// Key `U`, `--up`: the model's axis that points up (Z for CAD files).
+    pub up: UpAxis,
+}
+
+/// The model axis drawn upwards (docs/models.md, "Camera").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum UpAxis {
+    /// +Y up, as glTF, OBJ and the built-in models have it.
+    #[default]
+    Y,
+    /// +Z up (most CAD and 3D-printing files): turned −90° about X first.
+    Z,
 }
 
 impl Default for Settings {
@@ -333,6 +345,7 @@ impl Default for Settings {
             rotation: DEFAULT_ROTATION,
             normal_map_file: false,
             tangent_frames: false,
+            up: UpAxis::Y,
         }
     }
 }

@@ -226,6 +226,24 @@ pub const KEYS: &[Binding] = &[
         "right drag",
         "rotate about Z (left/right) and X (up/down)",
     ),
+    gesture(
+        Normal,
+        "Shift+drag",
+        "pan (or middle drag): move the model's centre",
+    ),
+    gesture(Normal, "Ctrl+drag", "turn the lights about the model"),
+    row(
+        Normal,
+        &[c('w')],
+        Action::ToggleLightDrag,
+        Line("w", "left drag turns the lights / the model"),
+    ),
+    row(
+        Normal,
+        &[c('U')],
+        Action::ToggleUpAxis,
+        Line("U", "model up axis: Y / Z (CAD files)"),
+    ),
     row(
         Normal,
         &[Plain(Left)],
@@ -266,7 +284,7 @@ pub const KEYS: &[Binding] = &[
         Normal,
         &[c('r')],
         Action::ResetView,
-        Line("r", "reset the orientation and the zoom"),
+        Line("r", "reset the orientation, zoom, pan and lights"),
     ),
     row(
         Normal,

@@ -208,6 +208,20 @@ fn parse_unguarded(name: &str, text: &[u8], dir: Option<&Path>) -> Result<Loaded
             }
         }
     }
+    // `map_d`: each material's opacity, read once.
+    let opacity: Vec<Option<Arc<crate::texture::Level>>> = materials
+        .iter()
+        .map(|m| {
+            let path = m.as_ref()?.opacity_map.as_ref()?.file.as_ref()?;
+            match crate::texture::specular_map::load_specular_map(path) {
+                Ok(level) => Some(Arc::new(level)),
+                Err(e) => {
+                    warnings.push(clean(&e.to_string()));
+                    None
+                }
+            }
+        })
+        .collect();
     let meshes = build_parts(name, model.corners, &model.part_of, &textured)?;
     drop(model.reservation);
     let parts = meshes
@@ -216,6 +230,7 @@ fn parse_unguarded(name: &str, text: &[u8], dir: Option<&Path>) -> Result<Loaded
             mesh,
             material: materials[part].clone(),
             own_maps: own[part].clone(),
+            opacity_map: opacity[part].clone(),
         })
         .collect();
     Ok(LoadedModel {

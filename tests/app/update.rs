@@ -103,7 +103,7 @@ fn quit_keys() {
 #[test]
 fn unbound_keys_do_nothing() {
     let mut s = state();
-    for c in ['j', 'U', 'w', 'Q'] {
+    for c in ['j', 'V', 'W', 'Q'] {
         let m = if c.is_uppercase() {
             KeyModifiers::SHIFT
         } else {
