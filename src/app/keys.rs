@@ -219,30 +219,13 @@ pub const KEYS: &[Binding] = &[
     gesture(
         Normal,
         "left drag",
-        "rotate about X (up/down) and Y (left/right)",
+        "rotate about X (↕) and Y (↔); Shift: pan; Ctrl, w: lights",
     ),
+    row(Normal, &[c('w')], Action::ToggleLightDrag, Above),
     gesture(
         Normal,
         "right drag",
-        "rotate about Z (left/right) and X (up/down)",
-    ),
-    gesture(
-        Normal,
-        "Shift+drag",
-        "pan (or middle drag): move the model's centre",
-    ),
-    gesture(Normal, "Ctrl+drag", "turn the lights about the model"),
-    row(
-        Normal,
-        &[c('w')],
-        Action::ToggleLightDrag,
-        Line("w", "left drag turns the lights / the model"),
-    ),
-    row(
-        Normal,
-        &[c('U')],
-        Action::ToggleUpAxis,
-        Line("U", "model up axis: Y / Z (CAD files)"),
+        "rotate about Z (↔) and X (↕); middle drag: pan",
     ),
     row(
         Normal,
@@ -277,14 +260,18 @@ pub const KEYS: &[Binding] = &[
         Normal,
         &[c('i')],
         Action::ZoomIn,
-        Line("i I wheel", "zoom: camera closer / farther"),
+        Line(
+            "i I wheel U",
+            "zoom: camera closer / farther; U: up axis Z / Y",
+        ),
     ),
     row(Normal, &[c('I')], Action::ZoomOut, Above),
+    row(Normal, &[c('U')], Action::ToggleUpAxis, Above),
     row(
         Normal,
         &[c('r')],
         Action::ResetView,
-        Line("r", "reset the orientation, zoom, pan and lights"),
+        Line("r", "reset orientation, zoom, pan and lights"),
     ),
     row(
         Normal,
