@@ -7,11 +7,11 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 
 use crate::scene::casters::{Caster, casters, enclose};
+use crate::scene::terms::MaterialTerms;
 use crate::scene::{Material, Scene, rotation_matrix};
 use crate::settings::{
     AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique, UpAxis,
 };
-use crate::shade::terms::MaterialTerms;
 use crate::texture::environment::Environment;
 use crate::texture::normal_map::normal_map_scale;
 use crate::texture::{Level, NormalMap};

@@ -22,9 +22,9 @@ use crate::raster::aa::{
 use crate::raster::frames::{DepthView, draw_tangent_frames};
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
+use crate::scene::terms::MaterialTerms;
 use crate::scene::{Scene, normal_matrix};
 use crate::settings::{AntiAlias, Display, Settings};
-use crate::shade::terms::MaterialTerms;
 use crate::shade::{ShadeCtx, TriShader};
 use crate::shadow::{Shadow, ShadowMap};
 use crate::stats::{Counters, FrameStats};

@@ -17,7 +17,7 @@ use super::{AMBIENT, BACKGROUND, Camera, Material, Mesh, Object, Scene, cube, li
 use super::{sphere, triangle};
 use crate::plasma::Plasma;
 use crate::sanitize::display_path;
-use crate::shade::terms::{Cutout, MaterialTerms};
+use crate::scene::terms::{Cutout, MaterialTerms};
 use crate::texture::Texture;
 
 /// Which scene is shown.

@@ -15,6 +15,7 @@ pub mod ply;
 pub mod sphere;
 pub mod stl;
 pub mod tangents;
+pub mod terms;
 pub mod triangle;
 
 pub use build::{Built, LoadedNotes, ModelChoice, SceneKind, build_scene, build_scene_noting};
@@ -92,7 +93,7 @@ pub struct Scene {
     pub object_materials: Vec<Option<Arc<Material>>>,
     /// Objects' extra material terms (a loaded model's emission,
     /// occlusion, specular colour…), by object index like `object_materials`.
-    pub object_terms: Vec<Option<Arc<crate::shade::terms::MaterialTerms>>>,
+    pub object_terms: Vec<Option<Arc<crate::scene::terms::MaterialTerms>>>,
     pub lights: Vec<Light>,
     pub ambient: Vec3,
     pub camera: Camera,
@@ -106,7 +107,7 @@ impl Scene {
     }
 
     /// Object `index`'s extra material terms, if it has any.
-    pub fn own_terms(&self, index: usize) -> Option<&Arc<crate::shade::terms::MaterialTerms>> {
+    pub fn own_terms(&self, index: usize) -> Option<&Arc<crate::scene::terms::MaterialTerms>> {
         self.object_terms.get(index).and_then(Option::as_ref)
     }
 

@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use super::{Material, Scene};
-use crate::shade::terms::MaterialTerms;
+use crate::scene::terms::MaterialTerms;
 
 /// One line per map of each material the scene's objects draw with, in
 /// order of first use: the material's number on its first line, which map,

@@ -16,6 +16,5 @@ pub mod packet;
 pub mod parallax;
 pub mod specular;
 pub mod tangent;
-pub mod terms;
 
 pub use kernels::{GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, TriShader};

@@ -18,7 +18,7 @@ use glam::Vec3;
 use super::data::{self, Problem, Uri};
 use super::sampling::Reading;
 use crate::scene::Material;
-use crate::shade::terms::{Cutout, MaterialTerms};
+use crate::scene::terms::{Cutout, MaterialTerms};
 use crate::texture::load::load_texture_from_bytes;
 use crate::texture::normal_map_file::{
     FileNormalMap, decode_level, load_normal_map_from_bytes, tilt,

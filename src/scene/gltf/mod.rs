@@ -52,7 +52,7 @@ pub struct Part {
     pub mesh: Mesh,
     pub material: Arc<Material>,
     /// Emission, occlusion, the sampler's filter (shared like the material).
-    pub terms: Option<Arc<crate::shade::terms::MaterialTerms>>,
+    pub terms: Option<Arc<crate::scene::terms::MaterialTerms>>,
 }
 
 /// A loaded model: its parts in world space, fitted to the unit view.
