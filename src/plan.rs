@@ -1,14 +1,16 @@
 //! Which stages a frame runs, decided once from the scene and the settings,
 //! so that an effect that is off, or cannot show, costs nothing.
 
+use std::f32::consts::FRAC_PI_2;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
 use crate::scene::casters::{Caster, casters, enclose};
+use crate::scene::terms::MaterialTerms;
 use crate::scene::{Material, Scene, rotation_matrix};
 use crate::settings::{
-    AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
+    AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique, UpAxis,
 };
 use crate::texture::environment::Environment;
 use crate::texture::normal_map::normal_map_scale;
@@ -109,6 +111,9 @@ pub struct Plan {
     /// The tangent frames drawn over the picture: only when asked for and
     /// some triangle has texture coordinates (the frames come from them).
     pub tangent_frames: bool,
+    /// A model material's extra terms (emission, occlusion, specular
+    /// colour), only when they change a pixel (`Plan::with_terms`).
+    pub terms: Option<Arc<MaterialTerms>>,
 }
 
 /// Whether the settings let a bump show at all: Phong, bump on and a
@@ -192,7 +197,11 @@ impl Plan {
         } else {
             settings.aa
         };
-        let rotation = rotation_matrix(settings.rotation);
+        // A Z-up model is first turned so +Z is up, then the user's rotation.
+        let rotation = match settings.up {
+            UpAxis::Y => rotation_matrix(settings.rotation),
+            UpAxis::Z => rotation_matrix(settings.rotation) * Mat4::from_rotation_x(-FRAC_PI_2),
+        };
         let (shadow_light, shadow_casters) =
             shadow_light(scene, settings.display, rotation, &lights).unzip();
         let specular = (settings.specular
@@ -239,6 +248,7 @@ impl Plan {
             shadow_light,
             shadow_casters: shadow_casters.unwrap_or_default(),
             tangent_frames: settings.tangent_frames && any_textured,
+            terms: None,
         }
     }
 }
@@ -271,6 +281,32 @@ impl Plan {
             }),
             ..self.clone()
         }
+    }
+}
+
+impl Plan {
+    /// The plan of an object whose material has extra `terms`: the file's
+    /// filter and exponent replace the view's, and the shading terms ride
+    /// along only when they change a pixel.
+    pub fn with_terms(&self, terms: &Arc<MaterialTerms>) -> Plan {
+        let mut plan = self.clone();
+        if let Some(filter) = terms.filter {
+            plan.filter = filter;
+            plan.footprint = filter.uses_mips()
+                && (plan.texture
+                    || (plan.bump && plan.height_derivative == HeightDerivative::Filtered));
+        }
+        if let (Some(s), Some(spec)) = (terms.shininess, plan.specular.as_mut())
+            && s.is_finite()
+            && s > 0.0
+        {
+            spec.shininess = s;
+        }
+        let shades = plan.display == Display::Fill
+            && plan.shading == Shading::Phong
+            && terms.shade(plan.ambient, plan.specular.is_some());
+        plan.terms = shades.then(|| terms.clone());
+        plan
     }
 }
 

@@ -256,6 +256,18 @@ pub struct Settings {
     /// Vertical field of view of the camera in degrees (keys `w`, `W`);
     /// the reference view's is 60.
     pub fov: f32,
+    /// Key `U`, `--up`: the model's axis that points up (Z for CAD files).
+    pub up: UpAxis,
+}
+
+/// The model axis drawn upwards (docs/models.md, "Camera").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum UpAxis {
+    /// +Y up, as glTF, OBJ and the built-in models have it.
+    #[default]
+    Y,
+    /// +Z up (most CAD and 3D-printing files): turned −90° about X first.
+    Z,
 }
 
 impl Default for Settings {
@@ -283,6 +295,7 @@ impl Default for Settings {
             normal_map_file: false,
             tangent_frames: false,
             fov: DEFAULT_FOV,
+            up: UpAxis::Y,
         }
     }
 }

@@ -5,7 +5,7 @@
 //! `Action` variant, one row in the key table ([`super::keys::KEYS`]) and
 //! one arm in `update`.
 
-use crossterm::event::{Event, MouseButton, MouseEventKind};
+use crossterm::event::{Event, KeyModifiers, MouseButton, MouseEventKind};
 
 use ratatui::layout::Rect;
 
@@ -16,13 +16,17 @@ use crate::options::Press;
 use crate::scene::{ModelChoice, SceneKind};
 use crate::term::pacing::LinkInfo;
 
-/// Which button drags.
+/// Which button drags (with its modifier), and so what the drag does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DragButton {
     /// Rotates about X (vertical motion) and Y (horizontal motion).
     Left,
     /// Rotates about Z (horizontal motion) and X (vertical motion).
     Right,
+    /// Middle button or Shift+left: moves the orbit centre in the view plane.
+    Pan,
+    /// Ctrl+left, or left while `D` is on: turns the lights about the model.
+    Light,
 }
 
 /// Everything that changes the state.
@@ -47,6 +51,8 @@ pub enum Action {
     },
     /// `r`: back to the start orientation and distance, auto-rotation off.
     ResetView,
+    /// `D`: a left drag turns the lights instead of the model.
+    ToggleLightDrag,
     /// Wheel up or `i`: the camera one step closer.
     ZoomIn,
     /// Wheel down or `I`: the camera one step farther.
@@ -220,10 +226,15 @@ pub fn action_for_event(state: &State, event: &Event) -> Option<Action> {
     match event {
         Event::Key(key) => action_for_key(state, key),
         Event::Mouse(mouse) => {
+            let mods = mouse.modifiers;
             let button = |b: MouseButton| match b {
+                MouseButton::Left if mods.contains(KeyModifiers::SHIFT) => Some(DragButton::Pan),
+                MouseButton::Left if mods.contains(KeyModifiers::CONTROL) || state.light_drag => {
+                    Some(DragButton::Light)
+                }
                 MouseButton::Left => Some(DragButton::Left),
                 MouseButton::Right => Some(DragButton::Right),
-                MouseButton::Middle => None,
+                MouseButton::Middle => Some(DragButton::Pan),
             };
             let (col, row) = (mouse.column, mouse.row);
             if state.textures.contains(col, row) {

@@ -198,6 +198,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 update(state, Action::ModelNotes(notes));
             }
         }
+        if ok {
+            // The panel lists the new model's textures.
+            self.report_textures(state);
+        }
     }
 
     /// Runs a texture command on the list: the applied texture's label, or
@@ -245,7 +249,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
     /// thumbnails while it is open: each made once, by the list).
     fn report_textures(&self, state: &mut State) {
         if let Some(list) = self.textures {
-            let listing = textures::listing(&mut list.borrow_mut(), state.textures.open);
+            let mut listing = textures::listing(&mut list.borrow_mut(), state.textures.open);
+            if let Some(stage) = self.stage {
+                listing.model = stage.borrow().model_textures();
+            }
             update(state, Action::TexturesListed(listing));
         }
     }

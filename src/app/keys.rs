@@ -188,12 +188,13 @@ pub const KEYS: &[Binding] = &[
     gesture(
         Normal,
         "left drag",
-        "rotate about X (up/down) and Y (left/right)",
+        "rotate about X (↕) and Y (↔); Shift: pan; Ctrl, D: lights",
     ),
+    row(Normal, &[c('D')], Action::ToggleLightDrag, Above),
     gesture(
         Normal,
         "right drag",
-        "rotate about Z (left/right) and X (up/down)",
+        "rotate about Z (↔) and X (↕); middle drag: pan",
     ),
     row(
         Normal,
@@ -235,7 +236,7 @@ pub const KEYS: &[Binding] = &[
         Normal,
         &[c('r')],
         Action::ResetView,
-        Line("r", "reset the orientation and the zoom"),
+        Line("r", "reset orientation, zoom, pan and lights"),
     ),
     row(
         Normal,

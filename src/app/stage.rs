@@ -4,9 +4,12 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use glam::Vec3;
+
 use crate::framebuffer::Framebuffer;
 use crate::render::Renderer;
 use crate::sanitize::clean;
+use crate::scene::camera::light_turn;
 use crate::scene::obj::ObjError;
 use crate::scene::{Built, Camera, LoadedNotes, ModelChoice, SceneKind, build_scene_noting};
 use crate::stats::FrameStats;
@@ -32,8 +35,18 @@ pub struct Stage {
     environment: Option<Arc<Environment>>,
     /// The scene's own camera, which the zoom moves along its line of sight.
     camera: Camera,
+    /// Where the scene's lights were built: a light drag turns them from here.
+    light_positions: Vec<Vec3>,
     /// What the last model load had to say, until taken.
     notes: LoadedNotes,
+}
+
+/// Where a built scene's lights are (the plasma has none).
+fn lights_of(built: &Built) -> Vec<Vec3> {
+    match built {
+        Built::Scene(scene) => scene.lights.iter().map(|l| l.position).collect(),
+        Built::Plasma(_) => Vec::new(),
+    }
 }
 
 /// The camera a built scene comes with (the plasma has none).
@@ -56,6 +69,7 @@ impl Stage {
         Ok(Stage {
             notes,
             camera: camera_of(&built),
+            light_positions: lights_of(&built),
             built,
             kind,
             model,
@@ -104,10 +118,22 @@ impl Stage {
             .map_err(|e| clean(&e.to_string()))?;
         self.notes = notes;
         self.camera = camera_of(&built);
+        self.light_positions = lights_of(&built);
         self.built = built;
         self.kind = kind;
         self.model = model.clone();
         Ok(())
+    }
+
+    /// The shown model file's own textures, a line per map of each
+    /// material (none for the built-in models and the plasma).
+    pub fn model_textures(&self) -> Vec<String> {
+        match (&self.built, &self.model) {
+            (Built::Scene(scene), ModelChoice::File(_)) => {
+                crate::scene::model_textures::model_textures(scene)
+            }
+            _ => Vec::new(),
+        }
     }
 
     /// The warnings of the last model loaded (and whether it is a point
@@ -146,7 +172,11 @@ impl Stage {
                 for (light, on) in scene.lights.iter_mut().zip(state.light_on) {
                     light.enabled = on;
                 }
-                scene.camera = self.camera.at_distance(state.distance);
+                let turn = light_turn(state.light_turn);
+                for (light, at) in scene.lights.iter_mut().zip(&self.light_positions) {
+                    light.position = turn * *at;
+                }
+                scene.camera = self.camera.at_distance(state.distance).panned(state.pan);
                 scene.camera.fov_y_degrees = state.settings.fov;
                 renderer.render(scene, &state.settings, fb)
             }

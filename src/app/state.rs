@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::action::{Action, DragButton};
 use super::cost::{CostHistory, FrameCost};
@@ -22,6 +22,13 @@ use crate::term::{ColorDepth, Symbols};
 pub const DEG_PER_COL: f32 = 2.0;
 /// Degrees per row of a drag (a row is two pixels tall).
 pub const DEG_PER_ROW: f32 = 4.0;
+/// World units a pan drag moves the orbit centre per column and per row
+/// at the reference distance: in a 48-row terminal showing the reference
+/// view (5.8 units tall at the target) the model follows the pointer.
+pub const PAN_PER_ROW: f32 = 0.12;
+pub const PAN_PER_COL: f32 = 0.06;
+/// Farthest a pan moves the orbit centre (world units): the model stays findable.
+pub const PAN_MAX: Vec2 = Vec2::splat(20.0);
 /// Auto-rotation speed about Y, degrees per second.
 pub const AUTO_ROTATE_SPEED: f32 = 40.0;
 pub use crate::settings::{BUMP_FACTOR, BUMP_MAX, BUMP_MIN};
@@ -147,6 +154,14 @@ pub struct State {
     pub distance: f32,
     /// Distance `r` goes back to (`--distance`).
     pub start_distance: f32,
+    /// Where the orbit centre appears, moved from the picture's centre in
+    /// the view plane (world units, x right, y up): middle or Shift+drag.
+    pub pan: Vec2,
+    /// Degrees the lights are turned about the model (x about the
+    /// vertical, y about the horizontal): Ctrl+drag, or drag with `D` on.
+    pub light_turn: Vec2,
+    /// Key `D`: a left drag turns the lights.
+    pub light_drag: bool,
     /// The normal map file loaded with `--normal-map` (its name, sanitised):
     /// key `N` switches dot3 between it and the height-derived map.
     pub normal_map_file: Option<String>,
@@ -174,6 +189,8 @@ pub struct Look {
     pub pointer: Option<(u16, u16)>,
     /// Camera distance (not in the plasma, which has no camera).
     pub distance: Option<f32>,
+    pub pan: Vec2,
+    pub light_turn: Vec2,
 }
 
 /// Something `update` asks the event loop to do.
@@ -237,6 +254,9 @@ impl State {
             textures: TexturePanel::default(),
             distance: REFERENCE_DISTANCE,
             start_distance: REFERENCE_DISTANCE,
+            pan: Vec2::ZERO,
+            light_turn: Vec2::ZERO,
+            light_drag: false,
             normal_map_file: None,
         }
     }
@@ -251,6 +271,8 @@ impl State {
             plasma_normal: self.plasma_normal,
             pointer: self.pointer.filter(|_| self.scene == SceneKind::Plasma),
             distance: Some(self.distance).filter(|_| self.scene != SceneKind::Plasma),
+            pan: self.pan,
+            light_turn: self.light_turn,
         }
     }
 
@@ -382,9 +404,12 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
         }
         Action::ZoomIn => state.distance = (state.distance / ZOOM_STEP).max(MIN_DISTANCE),
         Action::ZoomOut => state.distance = (state.distance * ZOOM_STEP).min(MAX_DISTANCE),
+        Action::ToggleLightDrag => state.light_drag = !state.light_drag,
         Action::ResetView => {
             state.settings.rotation = state.start_rotation;
             state.distance = state.start_distance;
+            state.pan = Vec2::ZERO;
+            state.light_turn = Vec2::ZERO;
             state.auto_rotate = false;
             state.drag = None;
         }
@@ -430,8 +455,8 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
             if let Some(i) = t.entry_at(col, row) {
                 t.cursor = i;
                 return Some(match button {
-                    DragButton::Left => Command::SelectTexture(i),
                     DragButton::Right => Command::SetHeights(t.heights_for(i)),
+                    _ => Command::SelectTexture(i),
                 });
             }
         }
@@ -662,11 +687,25 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
                 Some(d) if d.button == button => {
                     let dx = col as f32 - d.col as f32;
                     let dy = row as f32 - d.row as f32;
-                    let delta = match button {
-                        DragButton::Left => Vec3::new(dy * DEG_PER_ROW, dx * DEG_PER_COL, 0.0),
-                        DragButton::Right => Vec3::new(dy * DEG_PER_ROW, 0.0, -dx * DEG_PER_COL),
-                    };
-                    state.rotate(delta);
+                    match button {
+                        DragButton::Left => {
+                            state.rotate(Vec3::new(dy * DEG_PER_ROW, dx * DEG_PER_COL, 0.0))
+                        }
+                        DragButton::Right => {
+                            state.rotate(Vec3::new(dy * DEG_PER_ROW, 0.0, -dx * DEG_PER_COL))
+                        }
+                        DragButton::Pan => {
+                            // World units per cell at the camera's distance.
+                            let scale = state.distance / REFERENCE_DISTANCE;
+                            let moved = Vec2::new(dx * PAN_PER_COL, -dy * PAN_PER_ROW) * scale;
+                            state.pan = (state.pan + moved).clamp(-PAN_MAX, PAN_MAX);
+                        }
+                        DragButton::Light => {
+                            let turn =
+                                state.light_turn + Vec2::new(dx * DEG_PER_COL, dy * DEG_PER_ROW);
+                            state.light_turn = turn.map(normalize_degrees);
+                        }
+                    }
                 }
                 // The press was missed (or the other button): start from here.
                 _ => {}

@@ -41,6 +41,9 @@ pub struct TextureListing {
     pub current: usize,
     /// The entry that gives the heights, when not the applied one's own.
     pub heights: Option<usize>,
+    /// The shown model's own textures, a line per map of each material
+    /// (`scene::model_textures`), drawn under the list; not entries.
+    pub model: Vec<String>,
 }
 
 impl TextureListing {
@@ -68,6 +71,7 @@ pub fn listing(list: &mut TextureList, previews: bool) -> TextureListing {
         rows,
         current: list.current(),
         heights: list.heights(),
+        model: Vec::new(),
     }
 }
 
@@ -102,6 +106,28 @@ pub fn panel_area(viewport: Rect, listing: &TextureListing) -> Option<Rect> {
     let height = wanted.min(viewport.height);
     (width > TEXT_COLUMN + 2 && height >= 2 + ENTRY_ROWS)
         .then(|| Rect::new(viewport.x, viewport.y, width, height))
+}
+
+/// Where the model's texture lines go: under the panel `above`, as wide,
+/// as tall as they need within `viewport` (`None`: no lines, or no room).
+pub fn model_area(viewport: Rect, above: Rect, listing: &TextureListing) -> Option<Rect> {
+    if listing.model.is_empty() {
+        return None;
+    }
+    let longest = listing
+        .model
+        .iter()
+        .map(|l| l.chars().count())
+        .max()
+        .unwrap_or(0) as u16;
+    let width = longest
+        .saturating_add(2)
+        .clamp(MIN_WIDTH, MAX_WIDTH)
+        .min(viewport.width);
+    let y = above.y + above.height;
+    let room = (viewport.y + viewport.height).saturating_sub(y);
+    let height = (listing.model.len() as u16).saturating_add(2).min(room);
+    (height >= 3).then(|| Rect::new(above.x, y, width, height))
 }
 
 /// Entries a panel of `area` shows at once.

@@ -20,7 +20,7 @@ use super::values;
 use crate::plan;
 use crate::settings::{
     AntiAlias, BUMP_FACTOR, BUMP_MAX, BUMP_MIN, DEFAULT_FOV, Display, FOV_RANGE, Filter,
-    HeightDerivative, LightVector, Normals, SHININESS_RANGE, Settings, Shading, Technique,
+    HeightDerivative, LightVector, Normals, SHININESS_RANGE, Settings, Shading, Technique, UpAxis,
 };
 
 /// How an entry reads and writes its [`Settings`] field: `field!(name: bool)`,
@@ -611,7 +611,13 @@ pub static OPTIONS: &[Opt] = &[
             )
         },
         keys: &[
-            key(&['w'], Press::Up, "w W", "field of view wider / narrower"),
+            // `Z` (the up axis, next entry) shares this line.
+            key(
+                &['w'],
+                Press::Up,
+                "w W Z",
+                "field of view wider / narrower; Z: up axis Y / Z",
+            ),
             also(&['W'], Press::Down),
         ],
         shows: None,
@@ -625,6 +631,25 @@ pub static OPTIONS: &[Opt] = &[
                 13,
                 5,
             )
+        }),
+        bench: Bench::None,
+    },
+    Opt {
+        name: "up",
+        title: "up axis",
+        kind: Kind::Choice {
+            values: values::<UpAxis>,
+        },
+        field: field!(up: UpAxis),
+        flag: flag(
+            "The model's up axis: z stands Z-up files (most CAD and 3D-printing files) upright",
+        ),
+        keys: &[also(&['Z'], Press::Next)],
+        shows: None,
+        // Shown only for Z-up.
+        status: Some(Status {
+            shown: Some(|c| c.settings.up == UpAxis::Z),
+            ..same(19, |_| "Z up".into(), Some(4))
         }),
         bench: Bench::None,
     },

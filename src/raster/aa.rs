@@ -12,7 +12,7 @@
 //! Resolves average the 8-bit values the renderer writes (the same space as
 //! every other pixel: no linear-light conversion), rounded to nearest.
 
-use super::scan::{Band, pixel_setup, raster_triangle, shade_at};
+use super::scan::{Band, opaque_at, pixel_setup, raster_triangle, shade_at};
 use super::setup::{ONE, ScreenTri};
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::shade::{PixelShader, ShadeCtx};
@@ -168,6 +168,8 @@ pub fn raster_triangle_msaa<S: PixelShader>(
     let xa = tri.x0 as usize;
     let xb = (tri.x1 as usize).min(width - 1);
     let (footprint, inv_area, steps) = pixel_setup(tri, shader, ctx);
+    // An alpha mask drops a pixel (all its samples) at its centre.
+    let cut = shader.cutout(ctx);
     // Edge offsets of each sample from the pixel centre (exact integers).
     let delta: [[i64; 3]; MSAA_SAMPLES] =
         MSAA4_OFFSETS.map(|(ox, oy)| [0, 1, 2].map(|i| (steps[i].0 * ox + steps[i].1 * oy) / ONE));
@@ -190,6 +192,12 @@ pub fn raster_triangle_msaa<S: PixelShader>(
                     >= 0
                 {
                     mask |= 1 << s;
+                }
+            }
+            if mask != 0 && cut {
+                let l = [0, 1, 2].map(|i| e[i] as f32 * inv_area);
+                if !opaque_at(tri, shader, ctx, l) {
+                    mask = 0;
                 }
             }
             if mask != 0

@@ -83,6 +83,8 @@ pub fn raster_triangle<S: PixelShader>(
         return raster_packets(tri, shader, ctx, band, counters, ya..yb);
     }
     let (footprint, inv_area, steps) = pixel_setup(tri, shader, ctx);
+    // An alpha mask drops a pixel before its depth test.
+    let cut = shader.cutout(ctx);
     let x0 = tri.x0 as usize;
     let cx = tri.x0 as i64 * ONE + ONE / 2;
     let width = band.width;
@@ -97,20 +99,21 @@ pub fn raster_triangle<S: PixelShader>(
                     e[1] as f32 * inv_area,
                     e[2] as f32 * inv_area,
                 ];
-                let covered = match band.depth.as_deref_mut() {
-                    Some(depth) => {
-                        counters.depth_tests += 1;
-                        let z = l[0] * tri.z[0] + l[1] * tri.z[1] + l[2] * tri.z[2];
-                        let slot = &mut depth[row + px];
-                        if z < *slot {
-                            *slot = z;
-                            true
-                        } else {
-                            false
+                let covered = (!cut || opaque_at(tri, shader, ctx, l))
+                    && match band.depth.as_deref_mut() {
+                        Some(depth) => {
+                            counters.depth_tests += 1;
+                            let z = l[0] * tri.z[0] + l[1] * tri.z[1] + l[2] * tri.z[2];
+                            let slot = &mut depth[row + px];
+                            if z < *slot {
+                                *slot = z;
+                                true
+                            } else {
+                                false
+                            }
                         }
-                    }
-                    None => true,
-                };
+                        None => true,
+                    };
                 if covered {
                     band.color[row + px] =
                         shade_at(tri, shader, ctx, footprint.as_ref(), l, counters);
@@ -271,6 +274,26 @@ fn covered_span(
         }
     }
     (lo <= hi).then_some((lo as usize, hi as usize))
+}
+
+/// Whether an alpha-masked shader draws the point with screen-space
+/// barycentrics `l` (the source triangle's weights, as `shade_at` finds them).
+#[inline]
+pub(crate) fn opaque_at<S: PixelShader>(
+    tri: &ScreenTri,
+    shader: &S,
+    ctx: &ShadeCtx,
+    l: [f32; 3],
+) -> bool {
+    let w = [l[0] * tri.q[0], l[1] * tri.q[1], l[2] * tri.q[2]];
+    let inv = 1.0 / (w[0] + w[1] + w[2]);
+    let b = Vec3::new(w[0] * inv, w[1] * inv, w[2] * inv);
+    let b = if tri.unclipped {
+        b
+    } else {
+        tri.bary[0] * b.x + tri.bary[1] * b.y + tri.bary[2] * b.z
+    };
+    shader.opaque(ctx, b)
 }
 
 /// Shades the point with screen-space barycentrics `l` (summing to 1):

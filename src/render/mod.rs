@@ -14,6 +14,7 @@ pub use dispatch::{draw_into, draw_triangle};
 use repeat_cache::RepeatCache;
 use shaders::{build_shader, wire_triangle};
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use glam::{Mat3, Vec2, Vec3, Vec4};
@@ -27,6 +28,7 @@ use crate::raster::frames::{DepthView, draw_tangent_frames};
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
 use crate::scene::repeats::RepeatSkipper;
+use crate::scene::terms::MaterialTerms;
 use crate::scene::{Scene, normal_matrix};
 use crate::settings::{AntiAlias, Display, Settings};
 use crate::shade::{ShadeCtx, TriShader};
@@ -500,6 +502,24 @@ impl<'s> FramePlans<'s> {
                 .any(|(o, _)| o.mesh.triangles.iter().any(|t| t.textured));
             plans.push(plans[0].for_material(material, any_textured, settings));
             textures.push(&material.texture);
+        }
+        // Objects with extra terms: a plan per material group and terms.
+        let mut of_object = of_object;
+        let mut with_terms: Vec<(usize, *const MaterialTerms, usize)> = Vec::new();
+        for (i, group) in of_object.iter_mut().enumerate() {
+            let Some(terms) = scene.own_terms(i) else {
+                continue;
+            };
+            let key = (*group, Arc::as_ptr(terms));
+            *group = match with_terms.iter().find(|(g, t, _)| (*g, *t) == key) {
+                Some(&(_, _, k)) => k,
+                None => {
+                    plans.push(plans[*group].with_terms(terms));
+                    textures.push(textures[*group]);
+                    with_terms.push((key.0, key.1, plans.len() - 1));
+                    plans.len() - 1
+                }
+            };
         }
         FramePlans {
             plans,

@@ -12,10 +12,12 @@ use glam::{Mat4, Vec3};
 
 use super::model_file::{self, LoadedModel, ModelMaps, ModelPart};
 use super::obj::ObjError;
+use super::obj::mtl::MaterialDesc;
 use super::{AMBIENT, BACKGROUND, Camera, Material, Mesh, Object, Scene, cube, light, plane};
 use super::{sphere, triangle};
 use crate::plasma::Plasma;
 use crate::sanitize::display_path;
+use crate::scene::terms::{Cutout, MaterialTerms};
 use crate::texture::Texture;
 
 /// Which scene is shown.
@@ -105,6 +107,7 @@ impl ModelChoice {
                 mesh,
                 material: None,
                 own_maps: None,
+                opacity_map: None,
             }],
             maps: ModelMaps::default(),
             points: false,
@@ -207,6 +210,35 @@ pub struct LoadedNotes {
     pub points: bool,
 }
 
+/// What an MTL material adds to relief's material: `Ks` tints the
+/// highlight, `Ns` (above 0) is its exponent, and an opacity (`d`, or
+/// 1 − `Tr`, times `map_d`) below 0.5 cuts the pixel out (docs/models.md).
+fn mtl_terms(
+    desc: Option<&MaterialDesc>,
+    opacity_map: Option<Arc<crate::texture::Level>>,
+) -> Option<Arc<MaterialTerms>> {
+    let desc = desc?;
+    let factor = desc.opacity.filter(|d| d.is_finite()).unwrap_or(1.0);
+    let cutout = (opacity_map.is_some() || factor < MTL_CUTOFF).then_some(Cutout {
+        factor,
+        map: opacity_map,
+        cutoff: MTL_CUTOFF,
+    });
+    let terms = MaterialTerms {
+        specular_color: desc
+            .specular
+            .filter(|ks| ks.is_finite())
+            .map_or(Vec3::ONE, |ks| ks.max(Vec3::ZERO)),
+        shininess: desc.shininess.filter(|ns| ns.is_finite() && *ns > 0.0),
+        cutout,
+        ..MaterialTerms::default()
+    };
+    (terms != MaterialTerms::default()).then(|| Arc::new(terms))
+}
+
+/// MTL opacity below this is not drawn (relief draws no translucency).
+const MTL_CUTOFF: f32 = 0.5;
+
 /// Height of the shadow scene's floor (the turning cube reaches √3 ≈ 1.73).
 pub const FLOOR_Y: f32 = -1.8;
 /// Half the side of the floor: wide enough for the cube's shadow.
@@ -230,11 +262,13 @@ impl Scene {
             mesh: Mesh::default(),
             material: None,
             own_maps: None,
+            opacity_map: None,
         });
         let mut scene = Scene::model(first.mesh, maps.texture.unwrap_or(texture));
         scene.material.specular_map = maps.specular_map;
         scene.material.normal_map = maps.normal_map;
         let mut own = vec![first.own_maps];
+        let mut terms = vec![mtl_terms(first.material.as_ref(), first.opacity_map)];
         for p in parts {
             scene.objects.push(Object {
                 mesh: p.mesh,
@@ -242,6 +276,10 @@ impl Scene {
                 rotates: true,
             });
             own.push(p.own_maps);
+            terms.push(mtl_terms(p.material.as_ref(), p.opacity_map));
+        }
+        if terms.iter().any(Option::is_some) {
+            scene.object_terms = terms;
         }
         // A part whose material has its own texture draws with it; the
         // others with the scene's material (which the texture keys change).
@@ -279,6 +317,7 @@ impl Scene {
                 environment: None,
             },
             object_materials: Vec::new(),
+            object_terms: Vec::new(),
             lights: light::reference_lights(),
             ambient: AMBIENT,
             camera: Camera::default(),

@@ -70,3 +70,61 @@ impl Camera {
         }
     }
 }
+
+impl Camera {
+    /// This camera moved in its view plane so that what it looked at
+    /// appears `pan` (world units, x right, y up) away from the centre of
+    /// the picture: the pan of the orbit centre (docs/models.md, "Camera").
+    pub fn panned(&self, pan: glam::Vec2) -> Camera {
+        if !pan.is_finite() || pan == glam::Vec2::ZERO {
+            return *self;
+        }
+        let forward = (self.target - self.eye).normalize_or_zero();
+        let right = forward.cross(self.up).normalize_or_zero();
+        let up = right.cross(forward);
+        let shift = -(right * pan.x + up * pan.y);
+        Camera {
+            eye: self.eye + shift,
+            target: self.target + shift,
+            ..*self
+        }
+    }
+}
+
+/// The turn a light drag gives the scene's lights about the origin:
+/// `turn.x` degrees about the vertical (a drag to the right moves the
+/// light to the right), then `turn.y` about the horizontal (a drag down
+/// moves it down), as the reference camera sees them.
+pub fn light_turn(turn: glam::Vec2) -> glam::Mat3 {
+    if !turn.is_finite() {
+        return glam::Mat3::IDENTITY;
+    }
+    glam::Mat3::from_rotation_y(turn.x.to_radians())
+        * glam::Mat3::from_rotation_x(turn.y.to_radians())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_pan_shifts_the_target_in_the_view_plane() {
+        let c = Camera::default().panned(glam::Vec2::new(0.5, -0.25));
+        // The reference camera looks down −Z with +Y up: right is +X.
+        assert_eq!(c.eye, Vec3::new(-0.5, 0.25, 5.0));
+        assert_eq!(c.target, Vec3::new(-0.5, 0.25, 0.0));
+        let p = c.projection(1.0) * c.view() * glam::Vec4::new(0.0, 0.0, 0.0, 1.0);
+        assert!(
+            p.x > 0.0 && p.y < 0.0,
+            "the origin moves right and down: {p}"
+        );
+    }
+
+    #[test]
+    fn a_light_turn_moves_a_light_in_front_right_and_down() {
+        let m = light_turn(glam::Vec2::new(90.0, 0.0));
+        assert!((m * Vec3::Z - Vec3::X).length() < 1e-6);
+        let m = light_turn(glam::Vec2::new(0.0, 90.0));
+        assert!((m * Vec3::Z + Vec3::Y).length() < 1e-6);
+    }
+}

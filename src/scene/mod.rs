@@ -8,6 +8,7 @@ pub mod gltf;
 pub mod light;
 pub mod mesh;
 pub mod model_file;
+pub mod model_textures;
 pub mod obj;
 pub mod plane;
 pub mod ply;
@@ -15,6 +16,7 @@ pub mod repeats;
 pub mod sphere;
 pub mod stl;
 pub mod tangents;
+pub mod terms;
 pub mod triangle;
 
 pub use build::{Built, LoadedNotes, ModelChoice, SceneKind, build_scene, build_scene_noting};
@@ -90,6 +92,9 @@ pub struct Scene {
     /// i uses `object_materials[i]` when it is there and set, else
     /// `material`. Materials shared by objects are shared `Arc`s.
     pub object_materials: Vec<Option<Arc<Material>>>,
+    /// Objects' extra material terms (a loaded model's emission,
+    /// occlusion, specular colour…), by object index like `object_materials`.
+    pub object_terms: Vec<Option<Arc<crate::scene::terms::MaterialTerms>>>,
     pub lights: Vec<Light>,
     pub ambient: Vec3,
     pub camera: Camera,
@@ -100,6 +105,11 @@ impl Scene {
     /// Object `index`'s own material, if it has one.
     pub fn own_material(&self, index: usize) -> Option<&Arc<Material>> {
         self.object_materials.get(index).and_then(Option::as_ref)
+    }
+
+    /// Object `index`'s extra material terms, if it has any.
+    pub fn own_terms(&self, index: usize) -> Option<&Arc<crate::scene::terms::MaterialTerms>> {
+        self.object_terms.get(index).and_then(Option::as_ref)
     }
 
     /// The distinct own materials of the objects, in order of first use,

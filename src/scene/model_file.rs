@@ -61,6 +61,8 @@ pub struct ModelPart {
     /// loaded and is not the one the scene's material shows (`LoadedModel::maps`):
     /// the part is then drawn with them (docs/models.md).
     pub own_maps: Option<ModelMaps>,
+    /// MTL `map_d`: the material's opacity (grey), when it loaded.
+    pub opacity_map: Option<Arc<crate::texture::Level>>,
 }
 
 /// The maps the single scene material takes from the model's textured

@@ -230,6 +230,20 @@ fn parse_unguarded(
             }
         }
     }
+    // `map_d`: each material's opacity, read once.
+    let opacity: Vec<Option<Arc<crate::texture::Level>>> = materials
+        .iter()
+        .map(|m| {
+            let path = m.as_ref()?.opacity_map.as_ref()?.file.as_ref()?;
+            match crate::texture::specular_map::load_specular_map(path) {
+                Ok(level) => Some(Arc::new(level)),
+                Err(e) => {
+                    warnings.push(clean(&e.to_string()));
+                    None
+                }
+            }
+        })
+        .collect();
     let meshes = build_parts(name, model.corners, &model.part_of, &textured)?;
     drop(model.reservation);
     let parts = meshes
@@ -238,6 +252,7 @@ fn parse_unguarded(
             mesh,
             material: materials[part].clone(),
             own_maps: own[part].clone(),
+            opacity_map: opacity[part].clone(),
         })
         .collect();
     Ok(LoadedModel {

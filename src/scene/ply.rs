@@ -519,6 +519,7 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
             mesh: point_cloud(name, &vertices)?,
             material: None,
             own_maps: None,
+            opacity_map: None,
         }]
     } else {
         drop(vertices);
@@ -528,6 +529,7 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
                 mesh,
                 material: None,
                 own_maps: None,
+                opacity_map: None,
             })
             .collect()
     };

@@ -51,6 +51,7 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
                 mesh,
                 material: None,
                 own_maps: None,
+                opacity_map: None,
             })
             .collect(),
         maps: ModelMaps::default(),

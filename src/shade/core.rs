@@ -105,10 +105,21 @@ pub fn shade_pixel<H: Hook, const TEX: bool, const SPEC: bool>(
         if let Some(map) = gloss_map(ctx, tri.glossy) {
             highlight *= gloss(map, at.uv);
         }
+        if let Some(terms) = plan.terms.as_deref() {
+            let light = terms.occlude(plan.ambient, at.uv, light);
+            let lit = albedo * light + highlight * terms.specular_color;
+            let c = mirror(plan, s.p, at.n, lit, 1, counters) + terms.emission(at.uv);
+            return finish(c, counters);
+        }
         let lit = albedo * light + highlight;
         return finish(mirror(plan, s.p, at.n, lit, 1, counters), counters);
     }
     let (light, _) = light_with::<false>(&set, s.p, at.n, Vec3::ZERO, cosine, visibility, counters);
+    if let Some(terms) = plan.terms.as_deref() {
+        let lit = albedo * terms.occlude(plan.ambient, at.uv, light);
+        let c = mirror(plan, s.p, at.n, lit, 1, counters) + terms.emission(at.uv);
+        return finish(c, counters);
+    }
     finish(
         mirror(plan, s.p, at.n, albedo * light, 1, counters),
         counters,
@@ -140,5 +151,12 @@ impl<H: Hook, const TEX: bool, const SPEC: bool> PixelShader for HookKernel<'_, 
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.tri.uv)
+    }
+    fn cutout(&self, ctx: &ShadeCtx) -> bool {
+        super::kernels::cuts(ctx)
+    }
+    fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
+        let uv = self.tri.uv[0] * b.x + self.tri.uv[1] * b.y + self.tri.uv[2] * b.z;
+        super::kernels::opaque_at(ctx, uv)
     }
 }

@@ -42,6 +42,16 @@ pub trait PixelShader {
     fn packets(&self, _ctx: &ShadeCtx) -> bool {
         false
     }
+    /// Whether this triangle's pixels may be cut out by an alpha mask
+    /// (asked once per triangle; then `opaque` once per covered pixel,
+    /// before its depth test).
+    fn cutout(&self, _ctx: &ShadeCtx) -> bool {
+        false
+    }
+    /// Whether the pixel at barycentrics `b` of the source triangle is drawn.
+    fn opaque(&self, _ctx: &ShadeCtx, _b: Vec3) -> bool {
+        true
+    }
     /// The one colour of every pixel, for a kernel that has one: its rows
     /// are filled, not shaded.
     fn solid(&self) -> Option<Rgb> {
@@ -75,6 +85,9 @@ pub fn one_pixel_reason(plan: &Plan) -> Option<&'static str> {
     }
     if plan.aa == AntiAlias::Msaa4 {
         return Some("MSAA: coverage and depth per sample");
+    }
+    if plan.terms.is_some() {
+        return Some("a model material's emission, occlusion or specular colour");
     }
     if bumped && plan.technique != Technique::Blinn {
         return Some("emboss, dot3, parallax and POM have no packet kernel yet");
@@ -160,6 +173,21 @@ fn shadow8(sh: Shadow, p: V3, tri: &PhongTri, lanes: u32, counters: &mut Counter
         seen[lane] = sh.factor(sh.light, p, tri.face_normal, tri.object, counters);
     }
     f32x8::from(seen)
+}
+
+/// Whether the plan's material has an alpha mask.
+#[inline]
+pub(crate) fn cuts(ctx: &ShadeCtx) -> bool {
+    ctx.plan.terms.as_ref().is_some_and(|t| t.cutout.is_some())
+}
+
+/// Whether the plan's alpha mask draws the pixel at `uv`.
+#[inline]
+pub(crate) fn opaque_at(ctx: &ShadeCtx, uv: Vec2) -> bool {
+    match ctx.plan.terms.as_ref().and_then(|t| t.cutout.as_ref()) {
+        Some(c) => c.opaque(uv),
+        None => true,
+    }
 }
 
 #[inline]
@@ -382,8 +410,15 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
     }
-    fn packets(&self, _: &ShadeCtx) -> bool {
-        true
+    fn packets(&self, ctx: &ShadeCtx) -> bool {
+        // A model material's extra terms are read one pixel at a time.
+        ctx.plan.terms.is_none()
+    }
+    fn cutout(&self, ctx: &ShadeCtx) -> bool {
+        cuts(ctx)
+    }
+    fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
+        opaque_at(ctx, lerp2(b, &self.0.uv))
     }
     #[inline]
     fn shade8(

@@ -69,6 +69,7 @@ fn rows(n: usize, current: usize) -> TextureListing {
             .collect(),
         current,
         heights: None,
+        model: Vec::new(),
     }
 }
 
@@ -425,4 +426,44 @@ fn heights_from_another_texture_change_the_bump_as_the_height_map_option_does() 
     assert_eq!(list.heights(), Some(h));
     list.set_heights(None).unwrap();
     assert_eq!(render(Arc::clone(list.texture())), own);
+}
+
+/// A loaded model's own textures are listed under the panel, a line per
+/// map of each material; the built-in models list none.
+#[test]
+fn the_panel_lists_the_model_s_own_textures() {
+    let cube = Stage::new(
+        SceneKind::Cube,
+        ModelChoice::Cube,
+        Arc::new(relief::texture::procedural::brick()),
+        false,
+    )
+    .unwrap();
+    assert!(cube.model_textures().is_empty());
+    let path = data("models/gltf/BoxTextured.glb");
+    let stage = Stage::new(
+        SceneKind::Cube,
+        ModelChoice::File(path),
+        Arc::new(relief::texture::procedural::brick()),
+        false,
+    )
+    .unwrap();
+    let lines = stage.model_textures();
+    assert!(lines[0].starts_with("material 1:"), "{lines:?}");
+    assert!(
+        lines[0].contains("base") && lines[0].contains("BoxTextured.glb images[0]"),
+        "{lines:?}"
+    );
+    let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
+    update(&mut s, Action::ToggleTextures);
+    let mut shown = rows(1, 0);
+    shown.model = lines.clone();
+    update(&mut s, Action::TexturesListed(shown));
+    let buf = draw(&s, 100, 40);
+    let text: Vec<String> = (0..40).map(|y| row_text(&buf, y)).collect();
+    let at = text
+        .iter()
+        .position(|r| r.contains("model textures"))
+        .expect("the model's box");
+    assert!(text[at + 1].contains("material 1:"), "{}", text[at + 1]);
 }

@@ -651,3 +651,119 @@ fn each_material_draws_with_its_own_texture() {
     assert!(left[1] > 2 * left[0] && left[1] > 40, "left {left:?}");
     assert!(right[2] > 2 * right[1] && right[2] > 40, "right {right:?}");
 }
+
+/// The highlight alone (black `Kd`, one white light in front, no
+/// attenuation) of a quad whose material has these `Ks` and `Ns` lines.
+fn highlight_picture(name: &str, mtl: &str) -> relief::Framebuffer {
+    use relief::render::render_frame;
+    use relief::scene::{Built, Light, SceneKind, build_scene};
+    let dir = temp_dir(name);
+    write(&dir, "q.mtl", format!("newmtl m\nKd 0 0 0\n{mtl}\n"));
+    let obj = "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nusemtl m\nf 1 2 3 4\n";
+    let path = write(&dir, "q.obj", obj);
+    let Ok(Built::Scene(mut scene)) = build_scene(
+        SceneKind::Cube,
+        &ModelChoice::File(path),
+        std::sync::Arc::new(relief::texture::procedural::brick()),
+        false,
+    ) else {
+        panic!("the model builds a scene");
+    };
+    scene.lights = vec![Light {
+        position: Vec3::new(0.4, 0.3, 3.0),
+        color: Vec3::ONE,
+        enabled: true,
+    }];
+    let settings = relief::Settings {
+        rotation: Vec3::ZERO,
+        specular: true,
+        shininess: 10.0,
+        attenuation: false,
+        bump: false,
+        ..Default::default()
+    };
+    render_frame(&scene, &settings, 160, 120).0
+}
+
+/// `Ks` multiplies the highlight per channel and `Ns` is its exponent:
+/// with (N·H)^s, Ns 20 gives the square of what Ns 10 gives at each pixel;
+/// Ks 1 0.5 0.25 gives the white highlight's half and quarter in G and B.
+#[test]
+fn mtl_ks_and_ns_shape_the_highlight() {
+    let plain = highlight_picture("ks-plain", "Ks 1 1 1\nNs 10");
+    let tinted = highlight_picture("ks-tinted", "Ks 1 0.5 0.25\nNs 10");
+    let sharper = highlight_picture("ns-sharper", "Ks 1 1 1\nNs 20");
+    let unset = highlight_picture("ks-unset", "");
+    // Without Ks and Ns the view's exponent (10 here) and a white highlight.
+    assert_eq!(unset.pixels(), plain.pixels());
+    let mut checked = 0;
+    for ((p, t), s) in plain
+        .pixels()
+        .iter()
+        .zip(tinted.pixels())
+        .zip(sharper.pixels())
+    {
+        let h = p[0] as f32;
+        if !(20.0..250.0).contains(&h) || p[1] != p[0] {
+            continue;
+        }
+        checked += 1;
+        assert_eq!(t[0], p[0]);
+        assert!((t[1] as f32 - h * 0.5).abs() <= 1.0, "{p:?} {t:?}");
+        assert!((t[2] as f32 - h * 0.25).abs() <= 1.0, "{p:?} {t:?}");
+        let squared = 255.0 * (h / 255.0).powi(2);
+        assert!(
+            (s[0] as f32 - squared).abs() <= 2.0,
+            "{p:?} {s:?} {squared}"
+        );
+    }
+    assert!(checked > 50, "only {checked} pixels in the highlight");
+}
+
+/// MTL opacity as a mask at 0.5: `d 0.4` (or `Tr 0.6`) hides the quad,
+/// `d 0.6` draws it, and a `map_d` black on its left half and white on its
+/// right cuts the left half out.
+#[test]
+fn mtl_opacity_below_one_half_is_cut_out() {
+    use relief::render::render_frame;
+    use relief::scene::{BACKGROUND, Built, SceneKind, build_scene};
+    let picture = |name: &str, mtl: &str| {
+        let dir = temp_dir(name);
+        let mut img = image::RgbImage::new(4, 4);
+        for (x, _, p) in img.enumerate_pixels_mut() {
+            *p = if x < 2 {
+                image::Rgb([0, 0, 0])
+            } else {
+                image::Rgb([255, 255, 255])
+            };
+        }
+        img.save(dir.join("d.png")).unwrap();
+        write(&dir, "q.mtl", format!("newmtl m\nKd 1 1 1\n{mtl}\n"));
+        let obj = "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
+                   vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n";
+        let path = write(&dir, "q.obj", obj);
+        let Ok(Built::Scene(scene)) = build_scene(
+            SceneKind::Cube,
+            &ModelChoice::File(path),
+            std::sync::Arc::new(relief::texture::procedural::brick()),
+            false,
+        ) else {
+            panic!("the model builds a scene");
+        };
+        let settings = relief::Settings {
+            rotation: Vec3::ZERO,
+            ..Default::default()
+        };
+        let (fb, _) = render_frame(&scene, &settings, 160, 120);
+        // A quarter of the quad's width either side of the middle.
+        (
+            fb.get(80 - 15, 60) != BACKGROUND,
+            fb.get(80 + 15, 60) != BACKGROUND,
+        )
+    };
+    assert_eq!(picture("d-opaque", ""), (true, true));
+    assert_eq!(picture("d-low", "d 0.4"), (false, false));
+    assert_eq!(picture("tr-high", "Tr 0.6"), (false, false));
+    assert_eq!(picture("d-high", "d 0.6"), (true, true));
+    assert_eq!(picture("map-d", "map_d d.png"), (false, true));
+}

@@ -37,6 +37,8 @@ struct Doc {
     materials: String,
     /// PNG files, texture i reading image i.
     images: Vec<Vec<u8>>,
+    /// A sampler every texture uses (JSON), if any.
+    sampler: Option<String>,
     extra: String,
 }
 
@@ -47,6 +49,7 @@ impl Doc {
             nodes: r#"[{"mesh":0}]"#.into(),
             materials: String::new(),
             images: Vec::new(),
+            sampler: None,
             extra: String::new(),
         }
     }
@@ -164,9 +167,17 @@ fn encode(doc: &Doc) -> Vec<u8> {
         json += &format!(r#","materials":{}"#, doc.materials);
     }
     if !images.is_empty() {
+        let sampler = if doc.sampler.is_some() {
+            r#","sampler":0"#
+        } else {
+            ""
+        };
         let textures: Vec<String> = (0..images.len())
-            .map(|i| format!(r#"{{"source":{i}}}"#))
+            .map(|i| format!(r#"{{"source":{i}{sampler}}}"#))
             .collect();
+        if let Some(sampler) = &doc.sampler {
+            json += &format!(r#","samplers":[{sampler}]"#);
+        }
         json += &format!(
             r#","images":[{}],"textures":[{}]"#,
             images.join(","),
@@ -622,4 +633,228 @@ fn real_files_load_with_their_materials() {
             assert!(Vec4::from((v.normal, 0.0)).is_finite());
         }
     }
+}
+
+/// One quad with this material (JSON) and these images, seen face-on with
+/// highlights off, its pixel at the quad's centre and at `x`.
+fn material_picture(
+    test: &str,
+    material: &str,
+    images: Vec<Vec<u8>>,
+    scene: impl Fn(&mut Scene),
+) -> Framebuffer {
+    let mut q = quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0);
+    q.material = Some(0);
+    let mut doc = Doc::new(vec![q]);
+    doc.materials = format!("[{material}]");
+    doc.images = images;
+    let path = write(test, "m.glb", &encode(&doc));
+    let mut s = scene_of(load_ok(&path));
+    light_on_seam(&mut s);
+    scene(&mut s);
+    render(&s, &face_on())
+}
+
+/// A black material gives off exactly its emissive colour, whatever the
+/// light: 0.2, 0.4, 0.6 → 51, 102, 153 (x·255 rounded); the texture
+/// multiplies the factor; the strength extension multiplies it too.
+#[test]
+fn an_emissive_material_on_black_gives_its_emissive_colour() {
+    let black = r#""pbrMetallicRoughness":{"baseColorFactor":[0,0,0,1]}"#;
+    let factor = material_picture(
+        "emit",
+        &format!(r#"{{{black},"emissiveFactor":[0.2,0.4,0.6]}}"#),
+        vec![],
+        |_| {},
+    );
+    assert_eq!(px(&factor, W / 2, H / 2), [51, 102, 153]);
+    assert_eq!(px(&factor, W / 2 + W / 8, H / 2 - H / 20), [51, 102, 153]);
+    let strength = material_picture(
+        "emit-strength",
+        &format!(
+            r#"{{{black},"emissiveFactor":[0.1,0.2,0.3],"extensions":{{"KHR_materials_emissive_strength":{{"emissiveStrength":2}}}}}}"#
+        ),
+        vec![],
+        |_| {},
+    );
+    assert_eq!(px(&strength, W / 2, H / 2), [51, 102, 153]);
+    let texture = material_picture(
+        "emit-map",
+        &format!(r#"{{{black},"emissiveFactor":[1,1,1],"emissiveTexture":{{"index":0}}}}"#),
+        vec![png(2, 2, |_, _| [128, 64, 32, 255])],
+        |_| {},
+    );
+    assert_eq!(px(&texture, W / 2, H / 2), [128, 64, 32]);
+    // Lights off: still the same colour; the quad's emission is its own.
+    let dark = material_picture(
+        "emit-dark",
+        &format!(r#"{{{black},"emissiveFactor":[0.2,0.4,0.6]}}"#),
+        vec![],
+        |s| {
+            s.lights.clear();
+            s.ambient = Vec3::ZERO;
+        },
+    );
+    assert_eq!(px(&dark, W / 2, H / 2), [51, 102, 153]);
+}
+
+/// Occlusion strength 0 draws what no occlusion draws; a black occlusion
+/// map at strength 1 removes the ambient term: what an ambient of 0 draws.
+#[test]
+fn occlusion_scales_the_ambient_term_by_its_strength() {
+    let black_map = || vec![png(2, 2, |_, _| [0, 0, 0, 255])];
+    let grey = r#""pbrMetallicRoughness":{"baseColorFactor":[0.8,0.8,0.8,1]}"#;
+    let plain = material_picture("occ-none", &format!("{{{grey}}}"), vec![], |_| {});
+    let zero = material_picture(
+        "occ-zero",
+        &format!(r#"{{{grey},"occlusionTexture":{{"index":0,"strength":0}}}}"#),
+        black_map(),
+        |_| {},
+    );
+    assert_eq!(plain.pixels(), zero.pixels());
+    let full = material_picture(
+        "occ-full",
+        &format!(r#"{{{grey},"occlusionTexture":{{"index":0}}}}"#),
+        black_map(),
+        |_| {},
+    );
+    let no_ambient = material_picture("occ-ambient", &format!("{{{grey}}}"), vec![], |s| {
+        s.ambient = Vec3::ZERO
+    });
+    assert_ne!(plain.pixels(), full.pixels(), "the occlusion shows");
+    for (a, b) in full.pixels().iter().zip(no_ambient.pixels()) {
+        for k in 0..3 {
+            assert!((a[k] as i32 - b[k] as i32).abs() <= 1, "{a:?} {b:?}");
+        }
+    }
+}
+
+/// A texture red in its left half and green in its right, on a quad whose
+/// u runs from 1 to 2: under MIRRORED_REPEAT, u = 1.25 reads u = 0.75
+/// (green) and u = 1.75 reads 0.25 (red); under REPEAT the other way round.
+#[test]
+fn mirrored_repeat_reads_the_mirror_image() {
+    let picture = |wrap: u32| {
+        let mut q = quad(-1.0, 1.0, -0.5, 0.5, 1.0, 2.0);
+        q.material = Some(0);
+        let mut doc = Doc::new(vec![q]);
+        doc.materials = r#"[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}]"#.into();
+        doc.images = vec![png(4, 1, |x, _| {
+            if x < 2 {
+                [255, 0, 0, 255]
+            } else {
+                [0, 255, 0, 255]
+            }
+        })];
+        doc.sampler = Some(format!(
+            r#"{{"magFilter":9728,"minFilter":9728,"wrapS":{wrap}}}"#
+        ));
+        let path = write("mirror", &format!("w{wrap}.glb"), &encode(&doc));
+        let mut scene = scene_of(load_ok(&path));
+        light_on_seam(&mut scene);
+        let fb = render(&scene, &face_on());
+        let x = |u: f32| {
+            // The quad spans the fitted width: u − 1 of the way across it.
+            let left = W as f32 / 2.0 - projected_half_width(&scene);
+            (left + (u - 1.0) * 2.0 * projected_half_width(&scene)) as usize
+        };
+        (px(&fb, x(1.25), H / 2), px(&fb, x(1.75), H / 2))
+    };
+    let (quarter, three_quarters) = picture(33648);
+    assert!(
+        quarter[1] > 0 && quarter[0] == 0,
+        "mirrored 1.25 {quarter:?}"
+    );
+    assert!(
+        three_quarters[0] > 0 && three_quarters[1] == 0,
+        "mirrored 1.75 {three_quarters:?}"
+    );
+    let (quarter, three_quarters) = picture(10497);
+    assert!(quarter[0] > 0 && quarter[1] == 0, "repeat 1.25 {quarter:?}");
+    assert!(
+        three_quarters[1] > 0 && three_quarters[0] == 0,
+        "repeat 1.75 {three_quarters:?}"
+    );
+}
+
+/// Half the projected width of the fitted 2 × 1 quad, in pixels.
+fn projected_half_width(scene: &Scene) -> f32 {
+    let r = FIT_RADIUS / (1.25f32).sqrt();
+    let area = projected_area(
+        scene,
+        &[
+            Vec3::new(-r, -r / 2.0, 0.0),
+            Vec3::new(r, -r / 2.0, 0.0),
+            Vec3::new(r, r / 2.0, 0.0),
+            Vec3::new(-r, r / 2.0, 0.0),
+        ],
+    );
+    // Face-on the quad keeps its 2:1 shape: area = w · w / 2.
+    (area * 2.0).sqrt() / 2.0
+}
+
+/// KHR_texture_transform's offset moves the texture: an offset of half a
+/// texture makes u = 0.25 read 0.75, so the red left half shows green.
+#[test]
+fn a_texture_transform_offset_moves_the_texture() {
+    let picture = |transform: &str| {
+        let mut q = quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0);
+        q.material = Some(0);
+        let mut doc = Doc::new(vec![q]);
+        doc.materials = format!(
+            r#"[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0{transform}}}}}}}]"#
+        );
+        doc.images = vec![png(4, 1, |x, _| {
+            if x < 2 {
+                [255, 0, 0, 255]
+            } else {
+                [0, 255, 0, 255]
+            }
+        })];
+        doc.sampler = Some(r#"{"magFilter":9728,"minFilter":9728}"#.into());
+        let path = write(
+            "transform",
+            &format!("t{}.glb", transform.len()),
+            &encode(&doc),
+        );
+        let mut scene = scene_of(load_ok(&path));
+        light_on_seam(&mut scene);
+        px(&render(&scene, &face_on()), W / 2 - W / 8, H / 2)
+    };
+    let plain = picture("");
+    assert!(plain[0] > 0 && plain[1] == 0, "{plain:?}");
+    let moved = picture(r#","extensions":{"KHR_texture_transform":{"offset":[0.5,0]}}"#);
+    assert!(moved[1] > 0 && moved[0] == 0, "{moved:?}");
+}
+
+/// alphaMode MASK: a texture whose alpha is 0.2, 0.4, 0.6, 0.8 in its four
+/// columns, cutoff 0.5: the quad shows the background over the first two
+/// columns and is drawn over the last two; cutoff 0.3 drops only the
+/// first; OPAQUE drops none, and BLEND is MASK at 0.5.
+#[test]
+fn an_alpha_mask_drops_exactly_the_texels_below_the_cutoff() {
+    let drawn = |mode: &str| {
+        let mut q = quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0);
+        q.material = Some(0);
+        let mut doc = Doc::new(vec![q]);
+        doc.materials =
+            format!(r#"[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}}{mode}}}]"#);
+        doc.images = vec![png(4, 1, |x, _| [255, 255, 255, 51 * (x as u8 + 1)])];
+        doc.sampler = Some(r#"{"magFilter":9728,"minFilter":9728}"#.into());
+        let path = write("mask", &format!("m{}.glb", mode.len()), &encode(&doc));
+        let mut scene = scene_of(load_ok(&path));
+        light_on_seam(&mut scene);
+        let fb = render(&scene, &face_on());
+        let half = projected_half_width(&scene);
+        let left = W as f32 / 2.0 - half;
+        [0.125f32, 0.375, 0.625, 0.875]
+            .map(|u| px(&fb, (left + u * 2.0 * half) as usize, H / 2) != MAGENTA)
+    };
+    assert_eq!(drawn(r#","alphaMode":"MASK""#), [false, false, true, true]);
+    assert_eq!(
+        drawn(r#","alphaMode":"MASK","alphaCutoff":0.3"#),
+        [false, true, true, true]
+    );
+    assert_eq!(drawn(""), [true; 4]);
+    assert_eq!(drawn(r#","alphaMode":"BLEND""#), [false, false, true, true]);
 }

@@ -66,6 +66,7 @@ pub fn scene_of(
             environment: None,
         },
         object_materials: Vec::new(),
+        object_terms: Vec::new(),
         lights,
         ambient,
         camera: Camera::default(),

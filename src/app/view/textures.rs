@@ -10,7 +10,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Clear, Widget};
 
 use crate::app::state::State;
-use crate::app::textures::{ENTRY_ROWS, TEXT_COLUMN, panel_area, visible_entries};
+use crate::app::textures::{ENTRY_ROWS, TEXT_COLUMN, model_area, panel_area, visible_entries};
 use crate::term::HalfBlocks;
 use crate::texture::thumbnail::{THUMB_HEIGHT, THUMB_WIDTH};
 
@@ -39,6 +39,16 @@ fn tail(text: &str, width: usize) -> String {
     out
 }
 
+/// `text` cut to `width` characters, its start kept.
+fn head(text: &str, width: usize) -> String {
+    if text.chars().count() <= width {
+        return text.to_string();
+    }
+    let mut out: String = text.chars().take(width.saturating_sub(1)).collect();
+    out.push('…');
+    out
+}
+
 pub(super) fn texture_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
     let Some(area) = texture_panel_area(viewport, state) else {
         return;
@@ -57,6 +67,7 @@ pub(super) fn texture_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
         .title_bottom(" Enter use · H heights · Esc ");
     let inner = block.inner(area);
     block.render(area, buf);
+    model_textures(state, viewport, area, buf);
     let first = panel.first_shown();
     let text_x = inner.x + TEXT_COLUMN;
     let text_w = inner.width.saturating_sub(TEXT_COLUMN);
@@ -114,9 +125,34 @@ pub(super) fn texture_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
     }
 }
 
+/// The shown model's own textures, in a box under the panel `above`.
+fn model_textures(state: &State, viewport: Rect, above: Rect, buf: &mut Buffer) {
+    let listing = &state.textures.listing;
+    let Some(area) = model_area(viewport, above, listing) else {
+        return;
+    };
+    Clear.render(area, buf);
+    let block = Block::bordered().title(" model textures ");
+    let inner = block.inner(area);
+    block.render(area, buf);
+    for (k, line) in listing.model.iter().take(inner.height as usize).enumerate() {
+        let text = head(line, inner.width as usize);
+        Line::from(text).render(Rect::new(inner.x, inner.y + k as u16, inner.width, 1), buf);
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::tail;
+    use super::{head, tail};
+
+    #[test]
+    fn model_lines_keep_their_start() {
+        assert_eq!(head("material 1: base", 30), "material 1: base");
+        assert_eq!(
+            head("material 1: base 4×4 a/long/name.png", 20),
+            "material 1: base 4×…"
+        );
+    }
 
     #[test]
     fn long_names_keep_their_end() {

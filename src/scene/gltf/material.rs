@@ -16,9 +16,13 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::data::{self, Problem, Uri};
+use super::sampling::Reading;
 use crate::scene::Material;
+use crate::scene::terms::{Cutout, MaterialTerms};
 use crate::texture::load::load_texture_from_bytes;
-use crate::texture::normal_map_file::{FileNormalMap, load_normal_map_from_bytes, tilt};
+use crate::texture::normal_map_file::{
+    FileNormalMap, decode_level, load_normal_map_from_bytes, tilt,
+};
 use crate::texture::{Level, Texture};
 
 /// What a primitive takes from its material.
@@ -30,16 +34,8 @@ pub(super) struct Look {
     pub double_sided: bool,
     /// The material has a normal map: the primitive needs tangents.
     pub normal_mapped: bool,
-}
-
-/// The texture coordinate set a material's textures read (the base
-/// colour's, else the normal map's; one set per primitive).
-pub(super) fn uv_set(m: &::gltf::Material) -> u32 {
-    m.pbr_metallic_roughness()
-        .base_color_texture()
-        .map(|t| t.tex_coord())
-        .or_else(|| m.normal_texture().map(|t| t.tex_coord()))
-        .unwrap_or(0)
+    /// Emission, occlusion and the sampler's filter, when it has any.
+    pub terms: Option<Arc<MaterialTerms>>,
 }
 
 /// The model's materials, each built once when first used.
@@ -86,6 +82,7 @@ impl<'a> Materials<'a> {
                 base_color: Vec3::ONE,
                 double_sided: false,
                 normal_mapped: false,
+                terms: None,
             },
         };
         self.looks.insert(index, look.clone());
@@ -94,13 +91,22 @@ impl<'a> Materials<'a> {
 
     fn build(&self, m: &::gltf::Material) -> Result<Look, Problem> {
         let pbr = m.pbr_metallic_roughness();
+        let reading = Reading::of(m);
+        // MASK draws the pixels whose alpha reaches the cutoff; BLEND is
+        // drawn as MASK at 0.5 (relief draws no translucency).
+        let cutoff = match m.alpha_mode() {
+            ::gltf::material::AlphaMode::Opaque => None,
+            ::gltf::material::AlphaMode::Mask => Some(m.alpha_cutoff().unwrap_or(0.5)),
+            ::gltf::material::AlphaMode::Blend => Some(0.5),
+        };
+        let mut alpha_map = None;
         let texture = match pbr.base_color_texture() {
             Some(info) => {
-                let image = info.texture().source();
-                let name = self.image_name(&image);
-                let bytes = self.image_bytes(&image)?;
-                let decoded = load_texture_from_bytes(&name, &bytes).map_err(|e| e.to_string())?;
-                Arc::new(flat_height(decoded)?)
+                let decoded = self.decode(&info.texture(), &reading)?;
+                if cutoff.is_some() && decoded.has_alpha {
+                    alpha_map = Some(Arc::new(alpha_of(decoded.texture.base())));
+                }
+                Arc::new(flat_height(decoded.texture)?)
             }
             None => white(format!("{} material {}", self.name, m.index().unwrap_or(0))),
         };
@@ -108,8 +114,13 @@ impl<'a> Materials<'a> {
             Some(info) if info.scale() != 0.0 && info.scale().is_finite() => {
                 let image = info.texture().source();
                 let name = self.image_name(&image);
-                let bytes = self.image_bytes(&image)?;
-                let map = load_normal_map_from_bytes(&name, &bytes).map_err(|e| e.to_string())?;
+                let map = if reading.lays_out() {
+                    let t = self.decode(&info.texture(), &reading)?.texture;
+                    FileNormalMap::new(name.clone(), decode_level(t.base()))
+                } else {
+                    let bytes = self.image_bytes(&image)?;
+                    load_normal_map_from_bytes(&name, &bytes).map_err(|e| e.to_string())?
+                };
                 Some(Arc::new(if info.scale() == 1.0 {
                     map
                 } else {
@@ -121,10 +132,7 @@ impl<'a> Materials<'a> {
         let roughness = pbr.roughness_factor().clamp(0.0, 1.0);
         let specular_map = match pbr.metallic_roughness_texture() {
             Some(info) => {
-                let image = info.texture().source();
-                let name = self.image_name(&image);
-                let bytes = self.image_bytes(&image)?;
-                let t = load_texture_from_bytes(&name, &bytes).map_err(|e| e.to_string())?;
+                let t = self.decode(&info.texture(), &reading)?.texture;
                 let base = t.base();
                 Level {
                     width: base.width,
@@ -138,6 +146,51 @@ impl<'a> Materials<'a> {
             }
             None => Level::solid(1, 1, [gloss(roughness); 4]),
         };
+        let mut map_names = Vec::new();
+        let occlusion = match m.occlusion_texture() {
+            Some(info) if info.strength().is_finite() && info.strength() != 0.0 => {
+                let t = self.decode(&info.texture(), &reading)?.texture;
+                map_names.push(("occlusion", t.name.clone()));
+                Some((Arc::new(t.base().clone()), info.strength().clamp(0.0, 1.0)))
+            }
+            _ => None,
+        };
+        let strength = m
+            .extension_value("KHR_materials_emissive_strength")
+            .and_then(|e| e.get("emissiveStrength"))
+            .and_then(|v| v.as_f64())
+            .map_or(1.0, |v| v as f32);
+        let emissive = Vec3::from(m.emissive_factor()) * strength;
+        let emissive = if emissive.is_finite() {
+            emissive.max(Vec3::ZERO)
+        } else {
+            Vec3::ZERO
+        };
+        let emissive_map = match m.emissive_texture() {
+            Some(info) if emissive.max_element() > 0.0 => {
+                let t = self.decode(&info.texture(), &reading)?.texture;
+                map_names.push(("emissive", t.name.clone()));
+                Some(Arc::new(t.base().clone()))
+            }
+            _ => None,
+        };
+        let factor = pbr.base_color_factor()[3];
+        let cutout = cutoff
+            .filter(|c| c.is_finite() && (alpha_map.is_some() || factor < *c))
+            .map(|cutoff| Cutout {
+                factor,
+                map: alpha_map,
+                cutoff,
+            });
+        let terms = MaterialTerms {
+            cutout,
+            emissive,
+            emissive_map,
+            occlusion,
+            filter: reading.filter,
+            map_names,
+            ..MaterialTerms::default()
+        };
         let [r, g, b, _] = pbr.base_color_factor();
         Ok(Look {
             normal_mapped: normal_map.is_some(),
@@ -149,6 +202,37 @@ impl<'a> Materials<'a> {
             }),
             base_color: Vec3::new(r, g, b),
             double_sided: m.double_sided(),
+            terms: (terms != MaterialTerms::default()).then(|| Arc::new(terms)),
+        })
+    }
+
+    /// A texture's image decoded, laid out for the material's wrap modes.
+    fn decode(&self, texture: &::gltf::Texture, reading: &Reading) -> Result<Decoded, Problem> {
+        let image = texture.source();
+        let name = self.image_name(&image);
+        let bytes = self.image_bytes(&image)?;
+        let has_alpha = has_alpha(&bytes);
+        let decoded = load_texture_from_bytes(&name, &bytes).map_err(|e| e.to_string())?;
+        if !reading.lays_out() {
+            return Ok(Decoded {
+                texture: decoded,
+                has_alpha,
+            });
+        }
+        let base = decoded.base();
+        // Read as f32 (the wrapped layout's copy keeps the decoded values).
+        let source: Vec<[f32; 4]> = base.texels.iter().collect();
+        let (width, height, texels) = reading.lay_out(base.width, base.height, &source);
+        let bytes = crate::budget::texture_bytes(width as u64, height as u64);
+        let held = crate::budget::reserve(&name, bytes).map_err(|e| e.to_string())?;
+        let level = Level {
+            width,
+            height,
+            texels: texels.into(),
+        };
+        Ok(Decoded {
+            texture: Texture::new(name, level).holding(held),
+            has_alpha,
         })
     }
 
@@ -195,6 +279,32 @@ impl<'a> Materials<'a> {
                 }
             }
         }
+    }
+}
+
+/// A decoded image, and whether the file has an alpha channel (else the
+/// decoder's alpha is relief's height from the colours, not opacity).
+struct Decoded {
+    texture: Texture,
+    has_alpha: bool,
+}
+
+/// Whether an encoded image has an alpha channel (its header says).
+fn has_alpha(bytes: &[u8]) -> bool {
+    use image::ImageDecoder;
+    image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .ok()
+        .and_then(|r| r.into_decoder().ok())
+        .is_some_and(|d| d.color_type().has_alpha())
+}
+
+/// A level's alpha as opacity in every channel.
+fn alpha_of(level: &Level) -> Level {
+    Level {
+        width: level.width,
+        height: level.height,
+        texels: level.texels.iter().map(|t| [t[3]; 4]).collect(),
     }
 }
 

@@ -13,6 +13,7 @@
 
 mod data;
 mod material;
+mod sampling;
 mod tangent;
 
 use std::path::Path;
@@ -32,10 +33,9 @@ use crate::texture::Texture;
 use data::Problem;
 use material::Materials;
 
-/// Extensions a file may require: none changes what relief must do to
-/// draw it correctly and is supported (`KHR_materials_emissive_strength`,
-/// `KHR_texture_transform`… are not), so any required one is refused.
-const SUPPORTED_REQUIRED: &[&str] = &[];
+/// Extensions a file may require that relief draws; any other required
+/// one is refused.
+const SUPPORTED_REQUIRED: &[&str] = &["KHR_materials_emissive_strength", "KHR_texture_transform"];
 
 /// Deepest node hierarchy walked (a file with a cycle would never end).
 const MAX_DEPTH: usize = 64;
@@ -51,6 +51,8 @@ pub fn is_gltf(path: &Path) -> bool {
 pub struct Part {
     pub mesh: Mesh,
     pub material: Arc<Material>,
+    /// Emission, occlusion, the sampler's filter (shared like the material).
+    pub terms: Option<Arc<crate::scene::terms::MaterialTerms>>,
 }
 
 /// A loaded model: its parts in world space, fitted to the unit view.
@@ -74,6 +76,7 @@ impl Scene {
                 rotates: true,
             });
             scene.object_materials.push(Some(part.material));
+            scene.object_terms.push(part.terms);
         }
         scene
     }
@@ -155,6 +158,7 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
             parts.push(Part {
                 mesh,
                 material: look.material.clone(),
+                terms: look.terms.clone(),
             });
         }
     }
@@ -329,10 +333,10 @@ fn read_primitive(
         same_count("NORMAL", v.len())?;
     }
     let material = prim.material();
-    let set = material::uv_set(&material);
+    let reading = sampling::Reading::of(&material);
     let uvs: Option<Vec<Vec2>> = reader
-        .read_tex_coords(set)
-        .map(|r| r.into_f32().map(Vec2::from).collect());
+        .read_tex_coords(reading.set)
+        .map(|r| r.into_f32().map(|uv| reading.uv(Vec2::from(uv))).collect());
     if let Some(v) = &uvs {
         same_count("TEXCOORD", v.len())?;
     }

@@ -1,0 +1,291 @@
+//! How a glTF material's textures are read (docs/models.md): the UV set,
+//! `KHR_texture_transform` and the sampler's wrap modes and filters.
+//!
+//! relief's textures always repeat and a primitive has one UV set, so the
+//! material's first texture (base colour, else normal, occlusion, emissive,
+//! metallic-roughness) decides for all its maps, and everything is done
+//! once when loading, at no cost per pixel:
+//! - the texture transform is affine, so it is applied to the vertices'
+//!   UVs (interpolating transformed UVs is transforming interpolated ones);
+//! - MIRRORED_REPEAT on an axis doubles the image there with its mirror
+//!   image and halves that coordinate: repeating the doubled image is the
+//!   mirrored repeat of the original, texel for texel;
+//! - CLAMP_TO_EDGE doubles it with copies of the edge texels (half the
+//!   width each side) and halves the coordinate: exact for coordinates
+//!   within half the texture of its edges, repeating further out;
+//! - the filters become the material's filter (`MaterialTerms::filter`).
+
+use glam::{Mat3, Vec2};
+
+use crate::settings::Filter;
+use ::gltf::texture::{MagFilter, MinFilter, WrappingMode};
+
+/// How a material's textures are read.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reading {
+    /// The TEXCOORD_n set.
+    pub set: u32,
+    /// `KHR_texture_transform` as a matrix on (u, v, 1).
+    pub transform: Mat3,
+    /// S and T wrap modes.
+    pub wrap: [WrappingMode; 2],
+    /// The filter the sampler asks for (none: the view's).
+    pub filter: Option<Filter>,
+}
+
+impl Default for Reading {
+    fn default() -> Self {
+        Reading {
+            set: 0,
+            transform: Mat3::IDENTITY,
+            wrap: [WrappingMode::Repeat; 2],
+            filter: None,
+        }
+    }
+}
+
+/// One texture reference of a material, whatever its kind.
+pub struct MapRef<'a> {
+    pub texture: ::gltf::Texture<'a>,
+    pub tex_coord: u32,
+    /// The `KHR_texture_transform` object, if any.
+    pub transform: Option<::gltf::json::Value>,
+}
+
+/// A material's texture references, base colour first.
+pub fn maps_of<'a>(m: &::gltf::Material<'a>) -> Vec<MapRef<'a>> {
+    let ext = "KHR_texture_transform";
+    let pbr = m.pbr_metallic_roughness();
+    let info = |i: ::gltf::texture::Info<'a>| MapRef {
+        texture: i.texture(),
+        tex_coord: i.tex_coord(),
+        transform: i.extension_value(ext).cloned(),
+    };
+    let mut out = Vec::new();
+    out.extend(pbr.base_color_texture().map(info));
+    out.extend(m.normal_texture().map(|n| MapRef {
+        texture: n.texture(),
+        tex_coord: n.tex_coord(),
+        transform: n.extension_value(ext).cloned(),
+    }));
+    out.extend(m.occlusion_texture().map(|o| MapRef {
+        texture: o.texture(),
+        tex_coord: o.tex_coord(),
+        transform: o.extension_value(ext).cloned(),
+    }));
+    out.extend(m.emissive_texture().map(info));
+    out.extend(pbr.metallic_roughness_texture().map(info));
+    out
+}
+
+impl Reading {
+    /// How material `m`'s textures are read: its first texture's way.
+    pub fn of(m: &::gltf::Material) -> Reading {
+        let Some(first) = maps_of(m).into_iter().next() else {
+            return Reading::default();
+        };
+        let sampler = first.texture.sampler();
+        let (transform, set) = first
+            .transform
+            .as_ref()
+            .map_or((Mat3::IDENTITY, None), transform_of);
+        Reading {
+            set: set.unwrap_or(first.tex_coord),
+            transform,
+            wrap: [sampler.wrap_s(), sampler.wrap_t()],
+            filter: filter_of(sampler.mag_filter(), sampler.min_filter()),
+        }
+    }
+
+    /// A vertex's texture coordinate as relief reads the laid-out maps.
+    pub fn uv(&self, uv: Vec2) -> Vec2 {
+        let t = self.transform.transform_point2(uv);
+        let half = |w: WrappingMode| if w == WrappingMode::Repeat { 1.0 } else { 0.5 };
+        Vec2::new(t.x * half(self.wrap[0]), t.y * half(self.wrap[1]))
+    }
+
+    /// Whether the maps are laid out anew (a wrap mode other than REPEAT).
+    pub fn lays_out(&self) -> bool {
+        self.wrap != [WrappingMode::Repeat; 2]
+    }
+
+    /// An image of `width` × `height` items, rows top first, laid out for
+    /// the wrap modes: doubled along each axis that does not repeat.
+    pub fn lay_out<T: Copy>(
+        &self,
+        width: usize,
+        height: usize,
+        items: &[T],
+    ) -> (usize, usize, Vec<T>) {
+        let w2 = if self.wrap[0] == WrappingMode::Repeat {
+            width
+        } else {
+            2 * width
+        };
+        let h2 = if self.wrap[1] == WrappingMode::Repeat {
+            height
+        } else {
+            2 * height
+        };
+        let mut out = Vec::with_capacity(w2 * h2);
+        for y in 0..h2 {
+            let sy = source(self.wrap[1], y, height);
+            for x in 0..w2 {
+                out.push(items[sy * width + source(self.wrap[0], x, width)]);
+            }
+        }
+        (w2, h2, out)
+    }
+}
+
+/// The source index of item `i` of an axis laid out for `wrap` (`n` items
+/// in the source).
+fn source(wrap: WrappingMode, i: usize, n: usize) -> usize {
+    match wrap {
+        WrappingMode::Repeat => i,
+        _ if i < n => i,
+        // The mirror image: item n is item n − 1, 2n − 1 is item 0.
+        WrappingMode::MirroredRepeat => 2 * n - 1 - i,
+        // The edges: the last item for the first half of the pad (past the
+        // far edge), the first for the second (before the near edge, wrapped).
+        _ if i < n + n.div_ceil(2) => n - 1,
+        _ => 0,
+    }
+}
+
+/// `KHR_texture_transform`'s matrix (offset · rotation · scale, the
+/// rotation counter-clockwise in UV space as the extension writes it) and
+/// its texCoord override. Missing or malformed numbers keep their defaults.
+pub fn transform_of(json: &::gltf::json::Value) -> (Mat3, Option<u32>) {
+    let num = |v: &::gltf::json::Value| v.as_f64().map(|x| x as f32).filter(|x| x.is_finite());
+    let pair = |key: &str, default: Vec2| {
+        json.get(key)
+            .and_then(|v| v.as_array())
+            .filter(|a| a.len() == 2)
+            .and_then(|a| Some(Vec2::new(num(&a[0])?, num(&a[1])?)))
+            .unwrap_or(default)
+    };
+    let offset = pair("offset", Vec2::ZERO);
+    let scale = pair("scale", Vec2::ONE);
+    let rotation = json.get("rotation").and_then(num).unwrap_or(0.0);
+    let (s, c) = rotation.sin_cos();
+    // Columns: u' = c·u − s·v + offset.x, v' = s·u + c·v + offset.y.
+    let rotate = Mat3::from_cols_array(&[c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0]);
+    let m = Mat3::from_translation(offset) * rotate * Mat3::from_scale(scale);
+    let set = json
+        .get("texCoord")
+        .and_then(|v| v.as_u64())
+        .and_then(|v| u32::try_from(v).ok());
+    (m, set)
+}
+
+/// relief's filter for a sampler's filters: the minification filter
+/// decides when given (it is what most pixels of a model need), else the
+/// magnification one; LINEAR magnification alone is the view's choice.
+pub fn filter_of(mag: Option<MagFilter>, min: Option<MinFilter>) -> Option<Filter> {
+    match min {
+        Some(MinFilter::Nearest) => Some(Filter::Nearest),
+        Some(MinFilter::Linear) => Some(Filter::Bilinear),
+        Some(MinFilter::NearestMipmapNearest | MinFilter::LinearMipmapNearest) => {
+            Some(Filter::NearestMip)
+        }
+        Some(MinFilter::NearestMipmapLinear | MinFilter::LinearMipmapLinear) => {
+            Some(Filter::Trilinear)
+        }
+        None => (mag == Some(MagFilter::Nearest)).then_some(Filter::Nearest),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn reading(s: WrappingMode, t: WrappingMode) -> Reading {
+        Reading {
+            wrap: [s, t],
+            ..Reading::default()
+        }
+    }
+
+    /// The item of a laid-out axis at coordinate u (nearest, repeating).
+    fn at(items: &[u32], u: f32) -> u32 {
+        let n = items.len() as f32;
+        items[((u.rem_euclid(1.0) * n).floor() as usize).min(items.len() - 1)]
+    }
+
+    #[test]
+    fn mirrored_repeat_at_1_25_reads_0_75() {
+        let r = reading(WrappingMode::MirroredRepeat, WrappingMode::Repeat);
+        let row = [10, 11, 12, 13];
+        let (w, h, laid) = r.lay_out(4, 1, &row);
+        assert_eq!((w, h), (8, 1));
+        assert_eq!(laid, [10, 11, 12, 13, 13, 12, 11, 10]);
+        // The mirror image of u in 1..2 is 2 − u: u = 1.25 + 0.01 reads
+        // 0.75 − 0.01 (texel 2), 1.875 + 0.01 reads 0.115 (texel 0),
+        // −0.24 reads 0.24 (texel 0), and 0.31 is itself (texel 1).
+        for (u, want) in [(1.26, 12), (1.885, 10), (-0.24, 10), (0.31, 11)] {
+            assert_eq!(at(&laid, r.uv(Vec2::new(u, 0.0)).x), want, "u = {u}");
+            let mirrored = if u > 1.0 { 2.0 - u } else { u.abs() };
+            assert_eq!(at(&row, mirrored), want, "u = {u}");
+        }
+    }
+
+    #[test]
+    fn clamp_to_edge_reads_the_edge_texels_past_the_edges() {
+        let r = reading(WrappingMode::ClampToEdge, WrappingMode::Repeat);
+        let row = [10, 11, 12, 13];
+        let (_, _, laid) = r.lay_out(4, 1, &row);
+        assert_eq!(laid, [10, 11, 12, 13, 13, 13, 10, 10]);
+        for (u, want) in [(1.2, 13), (1.45, 13), (-0.2, 10), (-0.45, 10), (0.6, 12)] {
+            assert_eq!(at(&laid, r.uv(Vec2::new(u, 0.0)).x), want, "u = {u}");
+        }
+    }
+
+    #[test]
+    fn a_quarter_turn_maps_a_known_texel() {
+        // rotation π/2: u' = −v, v' = u; then offset (1, 0): (0.25, 0.5)
+        // reads (1 − 0.5, 0.25) = (0.5, 0.25).
+        let json: ::gltf::json::Value = ::gltf::json::deserialize::from_str(
+            r#"{"rotation": 1.5707964, "offset": [1, 0], "texCoord": 1}"#,
+        )
+        .unwrap();
+        let (m, set) = transform_of(&json);
+        assert_eq!(set, Some(1));
+        let uv = m.transform_point2(Vec2::new(0.25, 0.5));
+        assert!(
+            (uv - Vec2::new(0.5, 0.25)).abs().max_element() < 1e-6,
+            "{uv}"
+        );
+        // Scale applies first: (0.25, 0.5) scaled by (2, 4) is (0.5, 2).
+        let json: ::gltf::json::Value =
+            ::gltf::json::deserialize::from_str(r#"{"scale": [2, 4], "offset": [0.1, 0.2]}"#)
+                .unwrap();
+        let uv = transform_of(&json).0.transform_point2(Vec2::new(0.25, 0.5));
+        assert!(
+            (uv - Vec2::new(0.6, 2.2)).abs().max_element() < 1e-6,
+            "{uv}"
+        );
+    }
+
+    #[test]
+    fn filters_follow_the_minification_filter() {
+        assert_eq!(filter_of(None, None), None);
+        assert_eq!(filter_of(Some(MagFilter::Linear), None), None);
+        assert_eq!(
+            filter_of(Some(MagFilter::Nearest), None),
+            Some(Filter::Nearest)
+        );
+        assert_eq!(
+            filter_of(None, Some(MinFilter::LinearMipmapLinear)),
+            Some(Filter::Trilinear)
+        );
+        assert_eq!(
+            filter_of(None, Some(MinFilter::LinearMipmapNearest)),
+            Some(Filter::NearestMip)
+        );
+        assert_eq!(
+            filter_of(Some(MagFilter::Nearest), Some(MinFilter::Linear)),
+            Some(Filter::Bilinear)
+        );
+    }
+}
