@@ -404,7 +404,17 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
         }
         Action::ZoomIn => state.distance = (state.distance / ZOOM_STEP).max(MIN_DISTANCE),
         Action::ZoomOut => state.distance = (state.distance * ZOOM_STEP).min(MAX_DISTANCE),
-        Action::ToggleLightDrag => state.light_drag = !state.light_drag,
+        Action::ToggleLightDrag => {
+            state.light_drag = !state.light_drag;
+            state.message = Some(
+                if state.light_drag {
+                    "a left drag turns the lights (D again: the model)"
+                } else {
+                    "a left drag turns the model"
+                }
+                .into(),
+            );
+        }
         Action::ResetView => {
             state.settings.rotation = state.start_rotation;
             state.distance = state.start_distance;

@@ -285,6 +285,10 @@ fn a_light_drag_turns_the_lights_and_r_brings_them_back() {
     assert_eq!(s.settings.rotation, Vec3::ZERO);
     let mut w = State::new(settings, ColorDepth::Truecolor);
     key(&mut w, 'D');
+    assert_eq!(
+        w.message.as_deref(),
+        Some("a left drag turns the lights (D again: the model)")
+    );
     mouse(
         &mut w,
         MouseEventKind::Down(MouseButton::Left),
@@ -301,6 +305,7 @@ fn a_light_drag_turns_the_lights_and_r_brings_them_back() {
     );
     assert_eq!(w.light_turn, s.light_turn);
     key(&mut w, 'D');
+    assert_eq!(w.message.as_deref(), Some("a left drag turns the model"));
     mouse(
         &mut w,
         MouseEventKind::Down(MouseButton::Left),
