@@ -46,15 +46,32 @@ static MEAN_OF_SUM: [u32; 766] = {
     table
 };
 
+/// k / 255 for every byte, divided once here: a read is a table lookup,
+/// not a division in the sampling loop.
+static UNORM8: [f32; 256] = {
+    let mut table = [0.0f32; 256];
+    let mut k = 0;
+    while k < 256 {
+        table[k] = k as f32 / 255.0;
+        k += 1;
+    }
+    table
+};
+
 /// An 8-bit channel as the float conversion gives it.
 #[inline(always)]
 fn unorm8(k: u8) -> f32 {
-    k as f32 / 255.0
+    UNORM8[k as usize]
 }
 
+/// k / 65535 exactly as the f32 division rounds it, by one f64 product:
+/// the product is within 2^-52 (relative) of k / 65535, while k / 65535 is
+/// at least 2^-41 away from any point where f32 rounding changes (an odd
+/// denominator never meets a binary fraction), so rounding the product
+/// to f32 gives the division's result (checked for every k in the tests).
 #[inline(always)]
 fn unorm16(k: u16) -> f32 {
-    k as f32 / 65535.0
+    (k as f64 * (1.0 / 65535.0)) as f32
 }
 
 #[inline(always)]
@@ -187,19 +204,16 @@ fetch_impl!(Grey8s, t => [grey8_value(t); 4]);
 fetch_impl!(Grey16s, t => [unorm16(t); 4]);
 fetch_impl!(Xyz32s, t => [t[0], t[1], t[2], 0.0]);
 
-/// Four 8-bit channels as floats, k / 255 in one 4-wide division (each
-/// lane rounded exactly as the scalar division is).
+/// Four 8-bit channels as floats, k / 255 each (see [`unorm8`]).
 #[inline(always)]
 fn unorm8x4(t: [u8; 4]) -> Texel {
-    let k = wide::i32x4::new(t.map(i32::from));
-    (k.round_float() / wide::f32x4::splat(255.0)).to_array()
+    t.map(unorm8)
 }
 
-/// Four 16-bit channels as floats, k / 65535 as the scalar division gives it.
+/// Four 16-bit channels as floats, k / 65535 each (see [`unorm16`]).
 #[inline(always)]
 fn unorm16x4(t: [u16; 4]) -> Texel {
-    let k = wide::i32x4::new(t.map(i32::from));
-    (k.round_float() / wide::f32x4::splat(65535.0)).to_array()
+    t.map(unorm16)
 }
 
 #[inline(always)]
