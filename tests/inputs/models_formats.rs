@@ -767,3 +767,25 @@ fn mtl_opacity_below_one_half_is_cut_out() {
     assert_eq!(picture("d-high", "d 0.6"), (true, true));
     assert_eq!(picture("map-d", "map_d d.png"), (false, true));
 }
+
+/// The README's model (assets/models): its MTL's texture and normal map
+/// load from beside it, and the torus has its 48 × 24 quads.
+#[test]
+fn the_readme_torus_loads_with_its_texture_and_normal_map() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/models/torus.obj");
+    let model = load(&path);
+    assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+    assert_eq!(model.merged().triangles.len(), 2 * 48 * 24);
+    let texture = model.maps.texture.as_ref().expect("map_Kd");
+    // The texture is assets/brick.png, at its own size.
+    let brick =
+        image::open(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/brick.png")).unwrap();
+    assert_eq!(
+        (texture.width() as u32, texture.height() as u32),
+        (brick.width(), brick.height())
+    );
+    assert!(model.maps.normal_map.is_some(), "norm");
+    let m = model.parts[0].material.as_ref().unwrap();
+    assert_eq!(m.specular, Some(Vec3::splat(0.6)));
+    assert_eq!(m.shininess, Some(40.0));
+}
