@@ -13,6 +13,7 @@ use ratatui::text::Line;
 use ratatui::widgets::{Block, Borders, Paragraph, Sparkline, Widget, Wrap};
 
 use crate::stats::{Counters, FrameStats};
+use crate::term::hold::HoldBy;
 use crate::term::pacing::{Answers, LinkInfo};
 
 /// Frames the panel remembers (and the sparkline shows at most).
@@ -166,8 +167,22 @@ pub fn stage_lines(history: &CostHistory) -> Vec<String> {
 }
 
 /// The link to the terminal: round trip and throughput measured by the
-/// pacing queries, or why there are none.
+/// pacing queries, or why there are none, and what else holds frames.
 pub fn link_lines(link: &LinkInfo) -> Vec<String> {
+    let mut lines = reply_lines(link);
+    match link.held_by {
+        HoldBy::Nothing => {}
+        HoldBy::Queue => lines.push("held by      SSH send queue".into()),
+        HoldBy::Rate(bytes) => lines.push(format!(
+            "held by      --link {:.2} Mbit/s",
+            bytes * 8.0 / 1e6
+        )),
+    }
+    lines
+}
+
+/// Round trip and throughput, or why there are none.
+fn reply_lines(link: &LinkInfo) -> Vec<String> {
     let rtt = |d: std::time::Duration| format!("{:7.1} ms", d.as_secs_f64() * 1e3);
     match (link.answers, link.round_trip) {
         (Answers::No, _) => vec![
@@ -299,6 +314,7 @@ mod tests {
             round_trip: Some(Duration::from_millis(42)),
             throughput: Some(125_000.0),
             late_replies: 0,
+            held_by: HoldBy::Nothing,
         };
         CostPanel {
             history: &h,
@@ -345,6 +361,18 @@ mod tests {
             ..LinkInfo::default()
         };
         assert!(link_lines(&silent)[1].contains("paced by the writes"));
+        assert_eq!(link_lines(&silent).len(), 2);
+        // Inside a multiplexer over SSH, or with --link, the panel says what holds frames.
+        let queue = LinkInfo {
+            held_by: HoldBy::Queue,
+            ..silent
+        };
+        assert_eq!(link_lines(&queue)[2], "held by      SSH send queue");
+        let stated = LinkInfo {
+            held_by: HoldBy::Rate(125_000.0),
+            ..silent
+        };
+        assert_eq!(link_lines(&stated)[2], "held by      --link 1.00 Mbit/s");
     }
 
     #[test]

@@ -126,6 +126,9 @@ pub struct LinkInfo {
     pub throughput: Option<f64>,
     /// Replies that came after their query was given up.
     pub late_replies: u64,
+    /// What else holds frames: the SSH send queue (inside tmux or screen)
+    /// or a stated rate.
+    pub held_by: HoldBy,
 }
 
 impl Default for LinkInfo {
@@ -135,6 +138,7 @@ impl Default for LinkInfo {
             round_trip: None,
             throughput: None,
             late_replies: 0,
+            held_by: HoldBy::Nothing,
         }
     }
 }
@@ -409,6 +413,7 @@ impl Pacer {
             round_trip: self.round_trip(),
             throughput: self.throughput(),
             late_replies: self.late_replies,
+            held_by: self.held_by(),
         }
     }
 }
