@@ -135,25 +135,47 @@ fn crate_samples(bytes: &[u8], max_bytes: usize) -> Option<Picture> {
     if per_pixel < channels || samples.len() != per_pixel * width * height {
         return None;
     }
-    let has_alpha = per_pixel > channels;
-    let rgba = samples
-        .chunks_exact(per_pixel)
-        .map(|p| {
-            let a = if has_alpha { p[channels] } else { 1.0 };
-            if channels == 1 {
-                let g = if white_is_zero { 1.0 - p[0] } else { p[0] };
-                [g, g, g, a]
-            } else {
-                [p[0], p[1], p[2], a]
-            }
-        })
-        .collect();
-    Some(Picture {
+    Some(Picture::from_samples(
         width,
         height,
-        rgba,
-        has_alpha,
-    })
+        &samples,
+        per_pixel,
+        channels,
+        white_is_zero,
+    ))
+}
+
+impl Picture {
+    /// Samples in 0..1, `per_pixel` to a pixel (grey or RGB first, then
+    /// alpha if there is one more), as RGBA; `white_is_zero` turns grey over.
+    pub fn from_samples(
+        width: usize,
+        height: usize,
+        samples: &[f32],
+        per_pixel: usize,
+        channels: usize,
+        white_is_zero: bool,
+    ) -> Picture {
+        let has_alpha = per_pixel > channels;
+        let rgba = samples
+            .chunks_exact(per_pixel)
+            .map(|p| {
+                let a = if has_alpha { p[channels] } else { 1.0 };
+                if channels == 1 {
+                    let g = if white_is_zero { 1.0 - p[0] } else { p[0] };
+                    [g, g, g, a]
+                } else {
+                    [p[0], p[1], p[2], a]
+                }
+            })
+            .collect();
+        Picture {
+            width,
+            height,
+            rgba,
+            has_alpha,
+        }
+    }
 }
 
 /// The file with its first directory's photometric interpretation set to

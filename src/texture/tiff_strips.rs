@@ -144,26 +144,14 @@ pub fn decode(bytes: &[u8], max_bytes: usize) -> Result<Picture, Refusal> {
         )?
     };
     debug_assert_eq!(samples.len(), values);
-    let white_is_zero = photometric == 0;
-    let has_alpha = spp > channels;
-    let rgba = samples
-        .chunks_exact(spp)
-        .map(|p| {
-            let a = if has_alpha { p[channels] } else { 1.0 };
-            if channels == 1 {
-                let g = if white_is_zero { 1.0 - p[0] } else { p[0] };
-                [g, g, g, a]
-            } else {
-                [p[0], p[1], p[2], a]
-            }
-        })
-        .collect();
-    Ok(Picture {
+    Ok(Picture::from_samples(
         width,
         height,
-        rgba,
-        has_alpha,
-    })
+        &samples,
+        spp,
+        channels,
+        photometric == 0,
+    ))
 }
 
 /// A strip's bytes decompressed.
