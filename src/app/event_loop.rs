@@ -145,7 +145,7 @@ pub struct Looper<'a, W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats
     pub rx: &'a Receiver<Msg>,
     /// The texture list the texture keys and pastes act on (the render
     /// closure reads the applied texture from it).
-    pub textures: Option<&'a RefCell<crate::texture::TextureList>>,
+    pub textures: Option<&'a RefCell<super::texture_list::TextureList>>,
     /// The scene that `o` and `p` rebuild (the render closure draws it).
     pub stage: Option<&'a RefCell<Stage>>,
     /// Frames in flight and the link's figures.
@@ -555,7 +555,7 @@ pub fn enlarge(small: &Framebuffer, big: &mut Framebuffer) {
 /// extension) and the rest, given back as text for the texture list (paths
 /// quoted so spaces survive); none where there is nothing.
 fn split_models(text: &str) -> (Option<crate::scene::ModelChoice>, Option<String>) {
-    let paths = crate::texture::list::parse_paste(text);
+    let paths = super::texture_list::parse_paste(text);
     let (models, images): (Vec<_>, Vec<_>) = paths
         .into_iter()
         .partition(|p| crate::scene::model_file::is_model_path(p));

@@ -12,7 +12,9 @@ pub mod screenshot;
 pub mod stage;
 pub mod state;
 pub mod suspend;
+pub mod texture_list;
 pub mod textures;
+pub mod thumbnail;
 pub mod view;
 
 pub use action::{Action, DragButton, action_for_event, action_for_key};
@@ -61,7 +63,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     state.symbols = cli.symbols;
     // The first image that loads is applied; the others wait for the texture list.
     let (textures, errors) =
-        crate::texture::list::TextureList::from_args(&cli.images, cli.view.height_map.as_deref());
+        texture_list::TextureList::from_args(&cli.images, cli.view.height_map.as_deref());
     if !errors.is_empty() {
         let text: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
         state.message = Some(crate::sanitize::clean(&text.join("; ")));

@@ -7,29 +7,19 @@
 //! in file order (Mesa llvmpipe, euc) and in the documented program's files.
 //! Coordinates wrap (repeat): u = 1.0 reads texel 0.
 
-pub mod builtin;
+pub mod decode;
 pub mod environment;
-pub mod filter;
-pub mod level;
-pub mod list;
-pub mod load;
-pub mod mip;
-pub mod normal_map;
 pub mod normal_map_file;
-pub mod procedural;
-pub mod resample;
-pub mod sampler;
+pub mod sample;
 pub mod specular_map;
-pub mod texels;
-pub mod thumbnail;
-pub mod tiff_samples;
-pub mod tiff_strips;
-pub mod variants;
-pub mod xpm;
+
+// The modules' old paths (`texture::load`, `texture::filter`, ...) stay
+// valid, so code outside `texture/` names them as before.
+pub use decode::{builtin, load, procedural, resample, tiff_samples, tiff_strips, variants, xpm};
+pub use sample::{filter, level, mip, normal_map, sampler, texels};
 
 pub use builtin::{Builtin, builtins};
 pub use level::Level;
-pub use list::TextureList;
 pub use load::{TextureError, load_texture, load_texture_with_height};
 pub use normal_map::NormalMap;
 

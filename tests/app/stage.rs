@@ -248,7 +248,7 @@ fn every_scene_switch_leaves_the_terminal_in_the_modes_of_the_scene() {
 
 #[test]
 fn a_texture_applied_to_the_stage_stays_through_rebuilds() {
-    let mut list = relief::texture::TextureList::new();
+    let mut list = relief::app::texture_list::TextureList::new();
     list.cycle(true).unwrap();
     let other = list.texture().clone();
     let state = State::new(Settings::default(), ColorDepth::Truecolor);

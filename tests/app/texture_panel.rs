@@ -17,13 +17,13 @@ use ratatui::style::Color;
 use relief::app::event_loop::{Looper, Msg};
 use relief::app::keys::Mode;
 use relief::app::stage::Stage;
+use relief::app::texture_list::TextureList;
 use relief::app::textures::{TextureListing, TextureRow, listing};
 use relief::app::view::status_line;
 use relief::app::{Action, Command, DragButton, State, action_for_event, action_for_key, update};
 use relief::scene::{ModelChoice, SceneKind};
 use relief::settings::Settings;
 use relief::term::{ColorDepth, HalfBlocks, SgrBackend};
-use relief::texture::TextureList;
 use relief::{Framebuffer, Renderer};
 
 fn data(rel: &str) -> PathBuf {

@@ -7,8 +7,8 @@
 
 use glam::Vec2;
 
-use super::Texture;
 use super::filter::Footprint;
+use crate::texture::Texture;
 
 /// Most trilinear taps an anisotropic sample takes.
 pub const MAX_ANISOTROPY: usize = 16;

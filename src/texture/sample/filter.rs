@@ -2,9 +2,11 @@
 
 use glam::Vec2;
 
+use super::level::{Level, Texel};
+use super::normal_map::NormalMap;
 use super::sampler::Sampler;
-use super::{Level, NormalMap, Texture, level::Texel};
 use crate::settings::{Filter, HeightDerivative};
+use crate::texture::Texture;
 
 /// Screen-space derivatives of the texture coordinates at a pixel
 /// (∂(u,v)/∂x and ∂(u,v)/∂y), which size the pixel's footprint in the texture.
