@@ -2,7 +2,6 @@
 //! pure [`update`] changes the [`State`], [`view`] draws it.
 
 pub mod action;
-pub mod cost;
 pub mod event_loop;
 pub mod feedback;
 pub mod keys;
