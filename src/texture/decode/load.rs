@@ -10,7 +10,7 @@ use std::path::Path;
 
 use image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader, Limits};
 
-use super::tiff_strips::Refusal;
+use super::tiff_picture::Refusal;
 use super::{resample, tiff_samples, variants, xpm};
 use crate::budget::{self, Precision, Reservation};
 use crate::sanitize;

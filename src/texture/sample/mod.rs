@@ -8,3 +8,4 @@ pub mod mip;
 pub mod normal_map;
 pub mod sampler;
 pub mod texels;
+pub mod texture;
