@@ -24,12 +24,12 @@ use crossterm::event::Event;
 use ratatui::Terminal;
 
 use super::action::{Action, action_for_event};
+use super::frame_cost::FrameCost;
 use super::schedule::Schedule;
 use super::stage::Stage;
 use super::state::{Command, FrameDone, Look, State, update};
 use super::textures;
 use super::view;
-use super::view::cost::FrameCost;
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::scene::SceneKind;
 use crate::stats::{Counters, FrameStats};

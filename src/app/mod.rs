@@ -4,6 +4,7 @@
 pub mod action;
 pub mod event_loop;
 pub mod feedback;
+pub mod frame_cost;
 pub mod keys;
 pub mod line_edit;
 pub mod schedule;

@@ -6,9 +6,9 @@ use std::time::Duration;
 use glam::{Vec2, Vec3};
 
 use super::action::{Action, DragButton};
+use super::frame_cost::{CostHistory, FrameCost};
 use super::line_edit::{self, Edit};
 use super::textures::TexturePanel;
-use super::view::cost::{CostHistory, FrameCost};
 use crate::options::text::parse_finite;
 use crate::plasma::PlasmaNormal;
 use crate::sanitize::clean;
