@@ -177,17 +177,25 @@ impl FrameClock {
 impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R> {
     /// Runs a scene build on the stage: what is shown now, or the error
     /// (the old scene stays). Without a stage there is nothing to build.
-    fn build_scene(&self, kind: SceneKind, model: crate::scene::ModelChoice) -> Action {
+    /// The state says what is shown: asking for it again builds nothing.
+    fn build_scene(
+        &self,
+        state: &State,
+        kind: SceneKind,
+        model: crate::scene::ModelChoice,
+    ) -> Action {
         let result = match self.stage {
-            Some(stage) => stage.borrow_mut().build(kind, &model),
-            None => Ok(()),
+            Some(stage) if (kind, &model) != (state.scene, &state.model) => {
+                stage.borrow_mut().build(kind, &model)
+            }
+            _ => Ok(()),
         };
         Action::SceneBuilt(result.map(|()| (kind, model)))
     }
 
     /// Builds a scene and tells the state, with what loading the model said.
     fn build_and_note(&self, state: &mut State, kind: SceneKind, model: crate::scene::ModelChoice) {
-        let built = self.build_scene(kind, model);
+        let built = self.build_scene(state, kind, model);
         let ok = matches!(built, Action::SceneBuilt(Ok(_)));
         update(state, built);
         if let Some(stage) = self.stage
@@ -251,7 +259,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         if let Some(list) = self.textures {
             let mut listing = textures::listing(&mut list.borrow_mut(), state.textures.open);
             if let Some(stage) = self.stage {
-                listing.model = stage.borrow().model_textures();
+                listing.model = stage.borrow().model_textures(&state.model);
             }
             update(state, Action::TexturesListed(listing));
         }

@@ -8,8 +8,8 @@ use anyhow::Context;
 
 use crate::cli::RenderArgs;
 use crate::sanitize::clean;
+use crate::scene::flag_maps::FlagMaps;
 use crate::scene::{Built, build_scene_noting};
-use crate::texture::environment::Environment;
 use crate::{Framebuffer, Renderer};
 
 pub mod out;
@@ -31,19 +31,12 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         args.view.height_map.as_deref(),
     )?;
     let view = &view;
-    let specular_map = match &view.specular_map {
-        Some(path) => Some(Arc::new(crate::texture::specular_map::load_specular_map(
-            path,
-        )?)),
-        None => None,
-    };
-    let normal_map = match &view.normal_map {
-        Some(path) => Some(Arc::new(crate::texture::normal_map_file::load_normal_map(
-            path,
-        )?)),
-        None => None,
-    };
-    let environment = Environment::load_optional(view.environment_map.as_deref())?;
+    let maps = FlagMaps::read(
+        view.specular_map.as_deref(),
+        view.normal_map.as_deref(),
+        view.environment_map.as_deref(),
+    )
+    .all()?;
     let (built, notes) =
         build_scene_noting(view.scene, &view.model, Arc::new(texture), view.all_faces)?;
     for warning in &notes.warnings {
@@ -65,14 +58,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         Built::Scene(mut scene) => {
             scene.camera = scene.camera.at_distance(view.distance);
             scene.camera.fov_y_degrees = settings.fov;
-            // The flags' maps win over the model's own (MTL map_Ks, norm).
-            if specular_map.is_some() {
-                scene.material.specular_map = specular_map;
-            }
-            if normal_map.is_some() {
-                scene.material.normal_map = normal_map;
-            }
-            scene.material.environment = environment;
+            maps.dress(&mut scene);
             let mut renderer = Renderer::new();
             if args.ansi && !args.format.is_pixels() {
                 // The text's pixels are as tall as its symbols make them.
