@@ -19,6 +19,7 @@ pub mod settings;
 pub mod shade;
 pub mod shadow;
 pub mod stats;
+pub mod still;
 pub mod term;
 pub mod texture;
 

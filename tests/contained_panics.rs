@@ -12,9 +12,9 @@ use crossterm::event::Event;
 use ratatui::Terminal;
 use relief::app::State;
 use relief::app::event_loop::{Looper, Msg};
+use relief::app::texture_list::TextureList;
 use relief::settings::Settings;
 use relief::term::{ColorDepth, SgrBackend};
-use relief::texture::TextureList;
 use relief::texture::load::load_texture_from_bytes;
 
 static HOOK_CALLS: AtomicUsize = AtomicUsize::new(0);

@@ -24,7 +24,7 @@ use crossterm::event::Event;
 use ratatui::Terminal;
 
 use super::action::{Action, action_for_event};
-use super::cost::FrameCost;
+use super::frame_cost::FrameCost;
 use super::schedule::Schedule;
 use super::stage::Stage;
 use super::state::{Command, FrameDone, Look, State, update};
@@ -145,7 +145,7 @@ pub struct Looper<'a, W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats
     pub rx: &'a Receiver<Msg>,
     /// The texture list the texture keys and pastes act on (the render
     /// closure reads the applied texture from it).
-    pub textures: Option<&'a RefCell<crate::texture::TextureList>>,
+    pub textures: Option<&'a RefCell<super::texture_list::TextureList>>,
     /// The scene that `o` and `p` rebuild (the render closure draws it).
     pub stage: Option<&'a RefCell<Stage>>,
     /// Frames in flight and the link's figures.
@@ -177,17 +177,25 @@ impl FrameClock {
 impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R> {
     /// Runs a scene build on the stage: what is shown now, or the error
     /// (the old scene stays). Without a stage there is nothing to build.
-    fn build_scene(&self, kind: SceneKind, model: crate::scene::ModelChoice) -> Action {
+    /// The state says what is shown: asking for it again builds nothing.
+    fn build_scene(
+        &self,
+        state: &State,
+        kind: SceneKind,
+        model: crate::scene::ModelChoice,
+    ) -> Action {
         let result = match self.stage {
-            Some(stage) => stage.borrow_mut().build(kind, &model),
-            None => Ok(()),
+            Some(stage) if (kind, &model) != (state.scene, &state.model) => {
+                stage.borrow_mut().build(kind, &model)
+            }
+            _ => Ok(()),
         };
         Action::SceneBuilt(result.map(|()| (kind, model)))
     }
 
     /// Builds a scene and tells the state, with what loading the model said.
     fn build_and_note(&self, state: &mut State, kind: SceneKind, model: crate::scene::ModelChoice) {
-        let built = self.build_scene(kind, model);
+        let built = self.build_scene(state, kind, model);
         let ok = matches!(built, Action::SceneBuilt(Ok(_)));
         update(state, built);
         if let Some(stage) = self.stage
@@ -251,7 +259,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         if let Some(list) = self.textures {
             let mut listing = textures::listing(&mut list.borrow_mut(), state.textures.open);
             if let Some(stage) = self.stage {
-                listing.model = stage.borrow().model_textures();
+                listing.model = stage.borrow().model_textures(&state.model);
             }
             update(state, Action::TexturesListed(listing));
         }
@@ -555,7 +563,7 @@ pub fn enlarge(small: &Framebuffer, big: &mut Framebuffer) {
 /// extension) and the rest, given back as text for the texture list (paths
 /// quoted so spaces survive); none where there is nothing.
 fn split_models(text: &str) -> (Option<crate::scene::ModelChoice>, Option<String>) {
-    let paths = crate::texture::list::parse_paste(text);
+    let paths = super::texture_list::parse_paste(text);
     let (models, images): (Vec<_>, Vec<_>) = paths
         .into_iter()
         .partition(|p| crate::scene::model_file::is_model_path(p));

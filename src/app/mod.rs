@@ -2,9 +2,9 @@
 //! pure [`update`] changes the [`State`], [`view`] draws it.
 
 pub mod action;
-pub mod cost;
 pub mod event_loop;
 pub mod feedback;
+pub mod frame_cost;
 pub mod keys;
 pub mod line_edit;
 pub mod schedule;
@@ -12,7 +12,9 @@ pub mod screenshot;
 pub mod stage;
 pub mod state;
 pub mod suspend;
+pub mod texture_list;
 pub mod textures;
+pub mod thumbnail;
 pub mod view;
 
 pub use action::{Action, DragButton, action_for_event, action_for_key};
@@ -61,7 +63,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     state.symbols = cli.symbols;
     // The first image that loads is applied; the others wait for the texture list.
     let (textures, errors) =
-        crate::texture::list::TextureList::from_args(&cli.images, cli.view.height_map.as_deref());
+        texture_list::TextureList::from_args(&cli.images, cli.view.height_map.as_deref());
     if !errors.is_empty() {
         let text: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
         state.message = Some(crate::sanitize::clean(&text.join("; ")));
@@ -72,11 +74,17 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         state.obj = Some(path.clone());
     }
     state.plasma_normal = cli.view.plasma_normal;
-    // A normal map file that cannot be read is a message; the view goes on
-    // with the height-derived map.
-    let normal_map = cli.view.normal_map.as_deref().and_then(|path| {
-        match crate::texture::normal_map_file::load_normal_map(path) {
-            Ok(map) => {
+    // The flags' maps, read as `relief render` reads them. A normal map
+    // file that cannot be read is a message; the view goes on with the
+    // height-derived map.
+    let read = crate::scene::flag_maps::FlagMaps::read(
+        cli.view.specular_map.as_deref(),
+        cli.view.normal_map.as_deref(),
+        cli.view.environment_map.as_deref(),
+    );
+    let normal = match read.normal {
+        Ok(map) => {
+            if let Some(map) = &map {
                 state.normal_map_file = Some(map.name.clone());
                 if !crate::plan::normal_map_file_shows(&state.settings, true) {
                     state.message = Some(format!(
@@ -84,37 +92,32 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                         map.name
                     ));
                 }
-                Some(Arc::new(map))
             }
-            Err(e) => {
-                state.settings.normal_map_file = false;
-                let text = crate::sanitize::clean(&e.to_string());
-                state.message = Some(match state.message.take() {
-                    Some(before) => format!("{before}; {text}"),
-                    None => text,
-                });
-                None
-            }
+            map
         }
-    });
-    // A --model file that cannot be read stops here, before the terminal is touched.
-    let stage = Stage::new(
+        Err(e) => {
+            state.settings.normal_map_file = false;
+            let text = crate::sanitize::clean(&e.to_string());
+            state.message = Some(match state.message.take() {
+                Some(before) => format!("{before}; {text}"),
+                None => text,
+            });
+            None
+        }
+    };
+    // A --model file that cannot be read stops here, before the terminal is
+    // touched; then a specular or environment map that cannot.
+    let mut stage = Stage::new(
         cli.view.scene,
-        cli.view.model.clone(),
+        &cli.view.model,
         textures.texture().clone(),
         cli.view.all_faces,
     )?
-    .with_specular_map(match &cli.view.specular_map {
-        Some(path) => Some(Arc::new(crate::texture::specular_map::load_specular_map(
-            path,
-        )?)),
-        None => None,
-    })
-    .with_normal_map(normal_map)
-    .with_environment(crate::texture::environment::Environment::load_optional(
-        cli.view.environment_map.as_deref(),
-    )?);
-    let mut stage = stage;
+    .with_maps(crate::scene::flag_maps::FlagMaps {
+        specular: read.specular?,
+        normal,
+        environment: read.environment?,
+    });
     let mut notes = stage.take_notes();
     notes.warnings.splice(0..0, model_notes);
     if notes != crate::scene::LoadedNotes::default() {

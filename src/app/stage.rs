@@ -1,5 +1,8 @@
-//! What the interactive view shows: the built scene (3D or plasma), rebuilt
-//! when the user picks another scene or model, kept when that fails.
+//! What the interactive view draws: the built scene (3D or plasma), rebuilt
+//! when the user picks another scene or model, kept when that fails. Which
+//! scene and model are shown is the state's to say (`State::scene`,
+//! `State::model`); the stage holds what was built from them and from the
+//! pictures the flags gave, which it puts on each scene once, as it is built.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -10,29 +13,23 @@ use crate::framebuffer::Framebuffer;
 use crate::render::Renderer;
 use crate::sanitize::clean;
 use crate::scene::camera::light_turn;
+use crate::scene::flag_maps::FlagMaps;
 use crate::scene::obj::ObjError;
 use crate::scene::{Built, Camera, LoadedNotes, ModelChoice, SceneKind, build_scene_noting};
 use crate::stats::FrameStats;
-use crate::texture::environment::Environment;
-use crate::texture::normal_map_file::FileNormalMap;
-use crate::texture::{Level, Texture};
+use crate::texture::Texture;
 
 use super::state::{State, plasma_light};
 
-/// The shown scene, with what it was built from.
+/// The shown scene, with the pictures it was built with.
 pub struct Stage {
     built: Built,
-    kind: SceneKind,
-    model: ModelChoice,
     /// Kept across the plasma (which has none) for the next 3D scene.
     texture: Arc<Texture>,
     all_faces: bool,
-    /// `--specular-map`, given to every 3D scene shown.
-    specular_map: Option<Arc<Level>>,
-    /// `--normal-map`, given to every 3D scene shown.
-    normal_map: Option<Arc<FileNormalMap>>,
-    /// `--environment-map`, given to every 3D scene shown.
-    environment: Option<Arc<Environment>>,
+    /// `--specular-map`, `--normal-map`, `--environment-map`, given to
+    /// every 3D scene built.
+    maps: FlagMaps,
     /// The scene's own camera, which the zoom moves along its line of sight.
     camera: Camera,
     /// Where the scene's lights were built: a light drag turns them from here.
@@ -61,74 +58,57 @@ impl Stage {
     /// Builds the starting scene (a bad `--model` file is an error).
     pub fn new(
         kind: SceneKind,
-        model: ModelChoice,
+        model: &ModelChoice,
         texture: Arc<Texture>,
         all_faces: bool,
     ) -> Result<Stage, ObjError> {
-        let (built, notes) = build_scene_noting(kind, &model, texture.clone(), all_faces)?;
+        let (built, notes) = build_scene_noting(kind, model, texture.clone(), all_faces)?;
         Ok(Stage {
             notes,
             camera: camera_of(&built),
             light_positions: lights_of(&built),
             built,
-            kind,
-            model,
             texture,
             all_faces,
-            specular_map: None,
-            normal_map: None,
-            environment: None,
+            maps: FlagMaps::default(),
         })
     }
 
-    /// Gives the 3D scenes this specular map.
-    pub fn with_specular_map(mut self, map: Option<Arc<Level>>) -> Stage {
-        self.specular_map = map;
+    /// Gives the shown 3D scene and every one built later the flags' maps.
+    pub fn with_maps(mut self, maps: FlagMaps) -> Stage {
+        if let Built::Scene(scene) = &mut self.built {
+            maps.dress(scene);
+        }
+        self.maps = maps;
         self
-    }
-
-    /// Gives the 3D scenes this normal map file.
-    pub fn with_normal_map(mut self, map: Option<Arc<FileNormalMap>>) -> Stage {
-        self.normal_map = map;
-        self
-    }
-
-    /// Gives the 3D scenes this environment to reflect.
-    pub fn with_environment(mut self, environment: Option<Arc<Environment>>) -> Stage {
-        self.environment = environment;
-        self
-    }
-
-    /// The scene and model shown.
-    pub fn shown(&self) -> (SceneKind, &ModelChoice) {
-        (self.kind, &self.model)
     }
 
     pub fn built(&self) -> &Built {
         &self.built
     }
 
-    /// Shows `kind` with `model` (the texture stays). On error the scene
-    /// shown stays and the error comes back one line long, sanitised.
+    /// Builds `kind` with `model` (the texture and the flags' maps stay).
+    /// On error the scene built before stays and the error comes back one
+    /// line long, sanitised.
     pub fn build(&mut self, kind: SceneKind, model: &ModelChoice) -> Result<(), String> {
-        if (kind, model) == (self.kind, &self.model) {
-            return Ok(());
+        let (mut built, notes) =
+            build_scene_noting(kind, model, self.texture.clone(), self.all_faces)
+                .map_err(|e| clean(&e.to_string()))?;
+        if let Built::Scene(scene) = &mut built {
+            self.maps.dress(scene);
         }
-        let (built, notes) = build_scene_noting(kind, model, self.texture.clone(), self.all_faces)
-            .map_err(|e| clean(&e.to_string()))?;
         self.notes = notes;
         self.camera = camera_of(&built);
         self.light_positions = lights_of(&built);
         self.built = built;
-        self.kind = kind;
-        self.model = model.clone();
         Ok(())
     }
 
-    /// The shown model file's own textures, a line per map of each
-    /// material (none for the built-in models and the plasma).
-    pub fn model_textures(&self) -> Vec<String> {
-        match (&self.built, &self.model) {
+    /// The own textures of `model` (the state's, which this stage was
+    /// built from) when it is a file, a line per map of each material
+    /// (none for the built-in models and the plasma).
+    pub fn model_textures(&self, model: &ModelChoice) -> Vec<String> {
+        match (&self.built, model) {
             (Built::Scene(scene), ModelChoice::File(_)) => {
                 crate::scene::model_textures::model_textures(scene)
             }
@@ -161,14 +141,6 @@ impl Stage {
     ) -> FrameStats {
         match &mut self.built {
             Built::Scene(scene) => {
-                // The flags' maps win over the model's own (MTL map_Ks, norm).
-                if let Some(map) = &self.specular_map {
-                    scene.material.specular_map = Some(map.clone());
-                }
-                if let Some(map) = &self.normal_map {
-                    scene.material.normal_map = Some(map.clone());
-                }
-                scene.material.environment = self.environment.clone();
                 for (light, on) in scene.lights.iter_mut().zip(state.light_on) {
                     light.enabled = on;
                 }

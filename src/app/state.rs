@@ -6,7 +6,7 @@ use std::time::Duration;
 use glam::{Vec2, Vec3};
 
 use super::action::{Action, DragButton};
-use super::cost::{CostHistory, FrameCost};
+use super::frame_cost::{CostHistory, FrameCost};
 use super::line_edit::{self, Edit};
 use super::textures::TexturePanel;
 use crate::options::text::parse_finite;

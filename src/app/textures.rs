@@ -12,8 +12,8 @@ use std::sync::Arc;
 
 use ratatui::layout::Rect;
 
-use crate::texture::TextureList;
-use crate::texture::thumbnail::{Preview, THUMB_HEIGHT, THUMB_WIDTH};
+use super::texture_list::TextureList;
+use super::thumbnail::{Preview, THUMB_HEIGHT, THUMB_WIDTH};
 
 /// Terminal rows per entry: the thumbnail's height (two pixels a row).
 pub const ENTRY_ROWS: u16 = THUMB_HEIGHT.div_ceil(2) as u16;

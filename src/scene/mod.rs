@@ -4,6 +4,7 @@ pub mod build;
 pub mod camera;
 pub mod casters;
 pub mod cube;
+pub mod flag_maps;
 pub mod gltf;
 pub mod light;
 pub mod mesh;

@@ -10,10 +10,10 @@ use clap::ValueEnum;
 use crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
 use ratatui::Terminal;
 use relief::app::event_loop::{Looper, Msg};
+use relief::app::texture_list::TextureList;
 use relief::app::{Action, Command, State, action_for_key, update};
 use relief::settings::{Filter, Settings};
 use relief::term::{ColorDepth, SgrBackend};
-use relief::texture::TextureList;
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

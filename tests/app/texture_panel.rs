@@ -17,13 +17,13 @@ use ratatui::style::Color;
 use relief::app::event_loop::{Looper, Msg};
 use relief::app::keys::Mode;
 use relief::app::stage::Stage;
+use relief::app::texture_list::TextureList;
 use relief::app::textures::{TextureListing, TextureRow, listing};
 use relief::app::view::status_line;
 use relief::app::{Action, Command, DragButton, State, action_for_event, action_for_key, update};
 use relief::scene::{ModelChoice, SceneKind};
 use relief::settings::Settings;
 use relief::term::{ColorDepth, HalfBlocks, SgrBackend};
-use relief::texture::TextureList;
 use relief::{Framebuffer, Renderer};
 
 fn data(rel: &str) -> PathBuf {
@@ -384,7 +384,7 @@ fn the_loop_fills_the_panel_and_applies_what_it_picks() {
 }
 
 fn render(texture: Arc<relief::texture::Texture>) -> Framebuffer {
-    let mut stage = Stage::new(SceneKind::Cube, ModelChoice::Cube, texture, false).unwrap();
+    let mut stage = Stage::new(SceneKind::Cube, &ModelChoice::Cube, texture, false).unwrap();
     let state = State::new(Settings::default(), ColorDepth::Truecolor);
     let mut fb = Framebuffer::new(96, 72);
     stage.render(&mut Renderer::new(), &state, &mut fb);
@@ -434,21 +434,22 @@ fn heights_from_another_texture_change_the_bump_as_the_height_map_option_does() 
 fn the_panel_lists_the_model_s_own_textures() {
     let cube = Stage::new(
         SceneKind::Cube,
-        ModelChoice::Cube,
+        &ModelChoice::Cube,
         Arc::new(relief::texture::procedural::brick()),
         false,
     )
     .unwrap();
-    assert!(cube.model_textures().is_empty());
+    assert!(cube.model_textures(&ModelChoice::Cube).is_empty());
     let path = data("models/gltf/BoxTextured.glb");
+    let model = ModelChoice::File(path);
     let stage = Stage::new(
         SceneKind::Cube,
-        ModelChoice::File(path),
+        &model,
         Arc::new(relief::texture::procedural::brick()),
         false,
     )
     .unwrap();
-    let lines = stage.model_textures();
+    let lines = stage.model_textures(&model);
     assert!(lines[0].starts_with("material 1:"), "{lines:?}");
     assert!(
         lines[0].contains("base") && lines[0].contains("BoxTextured.glb images[0]"),

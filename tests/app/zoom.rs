@@ -146,7 +146,7 @@ fn centre_through_stage(s: &State, size: usize) -> (f64, f64) {
     use relief::app::stage::Stage;
     let mut stage = Stage::new(
         SceneKind::Cube,
-        ModelChoice::Cube,
+        &ModelChoice::Cube,
         Arc::new(relief::texture::procedural::brick()),
         false,
     )
@@ -331,7 +331,7 @@ fn a_light_drag_turns_the_lights_and_r_brings_them_back() {
         use relief::app::stage::Stage;
         let mut stage = Stage::new(
             SceneKind::Cube,
-            ModelChoice::Cube,
+            &ModelChoice::Cube,
             Arc::new(relief::texture::procedural::brick()),
             false,
         )

@@ -556,18 +556,25 @@ fn a_bad_model_keeps_the_scene_shown() {
     let good = write(&dir, "good.ply", ply("ascii"));
     let bad = write(&dir, "bad.stl", [0u8; 10]);
     let texture = std::sync::Arc::new(relief::texture::procedural::brick());
-    let mut stage = relief::app::stage::Stage::new(
-        SceneKind::Cube,
-        ModelChoice::File(good.clone()),
-        texture,
-        false,
-    )
-    .unwrap();
+    let mut stage =
+        relief::app::stage::Stage::new(SceneKind::Cube, &ModelChoice::File(good), texture, false)
+            .unwrap();
+    let state = relief::app::State::new(
+        relief::Settings::default(),
+        relief::term::ColorDepth::Truecolor,
+    );
+    let picture = |stage: &mut relief::app::stage::Stage| {
+        let mut fb = relief::Framebuffer::new(32, 24);
+        stage.render(&mut relief::Renderer::new(), &state, &mut fb);
+        fb
+    };
+    let before = picture(&mut stage);
     let e = stage
         .build(SceneKind::Cube, &ModelChoice::File(bad))
         .expect_err("refused");
     assert!(e.contains("bad.stl, byte 0"), "{e}");
-    assert_eq!(stage.shown().1, &ModelChoice::File(good));
+    // The good model is still the one drawn.
+    assert_eq!(picture(&mut stage), before);
 }
 
 #[test]

@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use relief::app::texture_list::{ListError, TextureList};
 use relief::texture::builtin::{builtins, write_assets};
-use relief::texture::list::{ListError, TextureList};
 use relief::texture::load::{
     TextureError, load_for_view, load_texture, load_texture_from_bytes, load_texture_with_height,
     load_texture_with_height_from_bytes,

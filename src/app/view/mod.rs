@@ -4,6 +4,7 @@
 //! ([`help`]). Drawing only: every
 //! decision is in `State`.
 
+pub mod cost;
 mod fields;
 pub mod help;
 mod panels;

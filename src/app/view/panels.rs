@@ -4,8 +4,8 @@ use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::widgets::{Clear, Widget};
 
-use crate::app::cost::CostPanel;
 use crate::app::state::State;
+use crate::app::view::cost::CostPanel;
 
 /// The cost panel (key `k`) in the top-right corner of the picture.
 pub(super) fn cost_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
@@ -29,7 +29,7 @@ pub(super) fn cost_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
             c if c.format.is_pixels() || state.output.wanted.is_pixels() => {
                 format!("{}: {}", c.format.name(), c.source)
             }
-            _ => crate::app::cost::colour_line(state.depth, &state.depth_source),
+            _ => crate::app::view::cost::colour_line(state.depth, &state.depth_source),
         },
     }
     .render(area, buf);

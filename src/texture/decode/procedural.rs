@@ -1,7 +1,7 @@
 //! The built-in textures, drawn by code. `relief assets` writes them to
 //! `assets/`; a test checks that the shipped files match this code.
 
-use super::Texture;
+use crate::texture::Texture;
 
 /// A small integer hash: deterministic noise without a random crate.
 fn hash(mut x: u32) -> u32 {

@@ -16,7 +16,7 @@ use std::sync::OnceLock;
 
 use glam::Vec2;
 
-use super::Level;
+use super::level::Level;
 use super::level::downsample_from;
 use super::texels::{Fetch, MipKind, Xyz16s, Xyz32s, to_snorm16, with_fetch};
 
@@ -172,7 +172,7 @@ impl NormalMap {
     }
 
     /// A map of given unit normals (a normal-map file's, see
-    /// [`super::normal_map_file`]); `scale` records how much its tilt was
+    /// [`crate::texture::normal_map_file`]); `scale` records how much its tilt was
     /// scaled (1: as given).
     pub fn from_normals(
         width: usize,

@@ -9,7 +9,7 @@ use std::io::{Cursor, Read};
 use tiff::decoder::Decoder;
 use tiff::tags::Tag;
 
-use super::tiff_samples::Picture;
+use super::tiff_picture::{Picture, Refusal};
 
 /// TIFF compression codes this reader handles.
 const NONE: u16 = 1;
@@ -20,15 +20,6 @@ const DEFLATE_OLD: u16 = 32946;
 
 /// Tag 292 (T4Options): bit 0 set means some rows are 2-D coded.
 const T4_OPTIONS: u16 = 292;
-
-/// Why a picture this reader recognises is not drawn, in plain words.
-#[derive(Debug, PartialEq)]
-pub enum Refusal {
-    /// Valid, but a variant relief does not decode.
-    Unsupported(String),
-    /// Damaged: the data contradicts the tags.
-    Corrupt(String),
-}
 
 use Refusal::{Corrupt, Unsupported};
 

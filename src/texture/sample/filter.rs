@@ -2,17 +2,12 @@
 
 use glam::Vec2;
 
+use super::level::{Level, Texel};
+pub use super::mip::Footprint;
+use super::normal_map::NormalMap;
 use super::sampler::Sampler;
-use super::{Level, NormalMap, Texture, level::Texel};
+use super::texture::Texture;
 use crate::settings::{Filter, HeightDerivative};
-
-/// Screen-space derivatives of the texture coordinates at a pixel
-/// (∂(u,v)/∂x and ∂(u,v)/∂y), which size the pixel's footprint in the texture.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Footprint {
-    pub dx: Vec2,
-    pub dy: Vec2,
-}
 
 /// Colour and height at `uv` with the chosen filter. Nearest and bilinear read
 /// the base level and ignore the footprint; nearest-mip, trilinear and anisotropic size

@@ -7,8 +7,7 @@
 
 use glam::Vec2;
 
-use super::filter::Footprint;
-use super::mip::{AnisoPlan, lod_at, nearest_level};
+use super::mip::{AnisoPlan, Footprint, lod_at, nearest_level};
 use crate::settings::Filter;
 
 /// A value the filters blend: colour texels, heights, gradients, normals.

@@ -10,16 +10,8 @@ use std::io::Cursor;
 use tiff::decoder::{Decoder, DecodingResult, Limits};
 use tiff::tags::Tag;
 
-use super::tiff_strips::{self, Refusal};
-
-/// A decoded picture: size, RGBA samples in 0..1 row by row, and whether
-/// the alpha is real.
-pub struct Picture {
-    pub width: usize,
-    pub height: usize,
-    pub rgba: Vec<[f32; 4]>,
-    pub has_alpha: bool,
-}
+use super::tiff_picture::{Picture, Refusal};
+use super::tiff_strips;
 
 /// The picture's size from its header, when the `tiff` crate reads it.
 pub fn dimensions(bytes: &[u8]) -> Option<(u32, u32)> {
@@ -143,39 +135,6 @@ fn crate_samples(bytes: &[u8], max_bytes: usize) -> Option<Picture> {
         channels,
         white_is_zero,
     ))
-}
-
-impl Picture {
-    /// Samples in 0..1, `per_pixel` to a pixel (grey or RGB first, then
-    /// alpha if there is one more), as RGBA; `white_is_zero` turns grey over.
-    pub fn from_samples(
-        width: usize,
-        height: usize,
-        samples: &[f32],
-        per_pixel: usize,
-        channels: usize,
-        white_is_zero: bool,
-    ) -> Picture {
-        let has_alpha = per_pixel > channels;
-        let rgba = samples
-            .chunks_exact(per_pixel)
-            .map(|p| {
-                let a = if has_alpha { p[channels] } else { 1.0 };
-                if channels == 1 {
-                    let g = if white_is_zero { 1.0 - p[0] } else { p[0] };
-                    [g, g, g, a]
-                } else {
-                    [p[0], p[1], p[2], a]
-                }
-            })
-            .collect();
-        Picture {
-            width,
-            height,
-            rgba,
-            has_alpha,
-        }
-    }
 }
 
 /// The file with its first directory's photometric interpretation set to

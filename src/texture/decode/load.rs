@@ -10,11 +10,13 @@ use std::path::Path;
 
 use image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader, Limits};
 
-use super::texels::{Texels, pack_rgb8, to_unorm16};
-use super::tiff_strips::Refusal;
-use super::{Level, Texture, resample, tiff_samples, variants, xpm};
+use super::tiff_picture::Refusal;
+use super::{resample, tiff_samples, variants, xpm};
 use crate::budget::{self, Precision, Reservation};
 use crate::sanitize;
+use crate::texture::Texture;
+use crate::texture::sample::level::Level;
+use crate::texture::sample::texels::{Texels, pack_rgb8, to_unorm16};
 
 /// Largest width or height accepted.
 pub const MAX_DIMENSION: u32 = 16_384;

@@ -7,8 +7,15 @@
 
 use glam::Vec2;
 
-use super::Texture;
-use super::filter::Footprint;
+use super::texture::Texture;
+
+/// Screen-space derivatives of the texture coordinates at a pixel
+/// (∂(u,v)/∂x and ∂(u,v)/∂y), which size the pixel's footprint in the texture.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Footprint {
+    pub dx: Vec2,
+    pub dy: Vec2,
+}
 
 /// Most trilinear taps an anisotropic sample takes.
 pub const MAX_ANISOTROPY: usize = 16;

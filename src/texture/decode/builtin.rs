@@ -5,7 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use super::load::{TextureError, load_texture_from_bytes};
-use super::{Texture, procedural};
+use super::procedural;
+use crate::texture::Texture;
 
 /// One built-in texture: its name, its shipped PNG and the code that drew it.
 #[derive(Clone, Copy)]
@@ -44,19 +45,19 @@ pub fn builtins() -> Vec<Builtin> {
         Builtin {
             name: "brick",
             file: "brick.png",
-            png: include_bytes!("../../assets/brick.png"),
+            png: include_bytes!("../../../assets/brick.png"),
             generate: procedural::brick_rgba,
         },
         Builtin {
             name: "tiles",
             file: "tiles.png",
-            png: include_bytes!("../../assets/tiles.png"),
+            png: include_bytes!("../../../assets/tiles.png"),
             generate: procedural::tiles_rgba,
         },
         Builtin {
             name: "waves",
             file: "waves.png",
-            png: include_bytes!("../../assets/waves.png"),
+            png: include_bytes!("../../../assets/waves.png"),
             generate: procedural::waves_rgba,
         },
     ]
