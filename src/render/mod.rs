@@ -9,7 +9,10 @@ mod shaders;
 
 use abandon::Abandon;
 pub use abandon::CancelHook;
-use bands::{CHUNKS_PER_THREAD, MaterialCtxs, PARALLEL_MIN_WORK, RowWork, draw_bands, split_rows};
+use bands::{
+    CHUNKS_PER_THREAD, MaterialCtxs, PARALLEL_MIN_WORK, RowWork, depth_first_pays, draw_bands,
+    split_rows,
+};
 pub use dispatch::{draw_into, draw_triangle};
 use repeat_cache::RepeatCache;
 use shaders::{build_shader, wire_triangle};
@@ -25,6 +28,7 @@ use crate::raster::aa::{
     MSAA_REACH, MSAA_SAMPLES, MsaaBand, resolve_box, resolve_msaa, ssaa_factor,
 };
 use crate::raster::frames::{DepthView, draw_tangent_frames};
+use crate::raster::scan::OwnedBand;
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
 use crate::scene::Scene;
@@ -48,6 +52,9 @@ pub struct Renderer {
     shader_groups: Vec<u32>,
     tris: Vec<ScreenTri>,
     depth: Vec<f32>,
+    /// Per pixel, the triangle a depth pre-pass found nearest (when the
+    /// frame draws depth first).
+    owner: Vec<u32>,
     polygon: Vec<ClipVertex>,
     /// Visible triangles of the points and lines displays.
     wire: Vec<WireTri>,
@@ -400,6 +407,35 @@ impl Renderer {
             );
             drop(bands);
             resolve_msaa(&self.msaa_color, fb.pixels_mut());
+            return (total, (drawn, count));
+        }
+        // Depth before shading, where overdraw would multiply the shading
+        // (alpha masks excepted: their depth depends on the texture).
+        let cutout = plans
+            .plans
+            .iter()
+            .any(|p| p.terms.as_ref().is_some_and(|t| t.cutout.is_some()));
+        if plan.depth && !cutout && depth_first_pays(tris) {
+            self.depth.clear();
+            self.depth.resize(width * height, f32::INFINITY);
+            self.owner.resize(width * height, u32::MAX);
+            let mut bands: Vec<OwnedBand> = split_rows(fb.pixels_mut(), width, &bounds)
+                .zip(split_rows(&mut self.depth, width, &bounds))
+                .zip(split_rows(&mut self.owner, width, &bounds))
+                .map(|(((y0, color), (_, depth)), (_, owner))| OwnedBand {
+                    band: Band {
+                        y0,
+                        width,
+                        color,
+                        depth: Some(depth),
+                    },
+                    owner,
+                })
+                .collect();
+            let count = bands.len();
+            let (total, drawn) = draw_bands(
+                &mut bands, parallel, tris, shaders, &ctx, background, abandon,
+            );
             return (total, (drawn, count));
         }
         let mut bands: Vec<Band> = if plan.depth {
