@@ -12,7 +12,9 @@
 //! Resolves average the 8-bit values the renderer writes (the same space as
 //! every other pixel: no linear-light conversion), rounded to nearest.
 
-use super::scan::{Band, opaque_at, pixel_setup, raster_triangle, shade_at};
+use super::scan::{
+    Band, OwnedBand, depth_prepass, opaque_at, pixel_setup, raster_owned, raster_triangle, shade_at,
+};
 use super::setup::{ONE, ScreenTri};
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::shade::{PixelShader, ShadeCtx};
@@ -98,6 +100,36 @@ pub trait RasterTarget {
         ctx: &ShadeCtx,
         counters: &mut Counters,
     );
+    /// Whether every triangle's depth is drawn ([`RasterTarget::prepass`])
+    /// before any is shaded.
+    fn depth_first(&self) -> bool {
+        false
+    }
+    /// The depth pre-pass of `tri`, for a target that draws depth first.
+    fn prepass(&mut self, _tri: &ScreenTri, _counters: &mut Counters) {}
+}
+
+impl RasterTarget for OwnedBand<'_> {
+    fn clear(&mut self, color: Rgb) {
+        fill(self.band.color, color);
+        fill(self.owner, u32::MAX);
+    }
+    #[inline]
+    fn raster<S: PixelShader>(
+        &mut self,
+        tri: &ScreenTri,
+        shader: &S,
+        ctx: &ShadeCtx,
+        counters: &mut Counters,
+    ) {
+        raster_owned(tri, shader, ctx, self, counters)
+    }
+    fn depth_first(&self) -> bool {
+        true
+    }
+    fn prepass(&mut self, tri: &ScreenTri, counters: &mut Counters) {
+        depth_prepass(tri, self, counters)
+    }
 }
 
 impl RasterTarget for Band<'_> {

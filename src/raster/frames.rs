@@ -14,13 +14,14 @@
 
 use std::collections::HashSet;
 
-use glam::{Mat3, Vec3, Vec4};
+use glam::{Vec3, Vec4};
 
 use crate::framebuffer::Framebuffer;
 use crate::plan::Plan;
 use crate::raster::aa::MSAA_SAMPLES;
 use crate::raster::wire::{Canvas, draw_line};
-use crate::scene::{Scene, Triangle, normal_matrix};
+use crate::scene::world::World;
+use crate::scene::{Scene, Triangle};
 use crate::settings::Shading;
 use crate::shade::tangent::Frame;
 use crate::stats::Counters;
@@ -95,56 +96,38 @@ pub struct VertexFrame {
 }
 
 /// The frames at the vertices of every front-facing textured triangle of
-/// `scene` (back faces of open meshes count, with N towards the eye, as
-/// fill lights them), each shared vertex once.
-pub fn vertex_frames(scene: &Scene, plan: &Plan) -> Vec<VertexFrame> {
+/// `scene` placed as `world` (back faces of open meshes count, with N
+/// towards the eye, as fill lights them), each shared vertex once.
+pub fn vertex_frames(scene: &Scene, world: &World, plan: &Plan) -> Vec<VertexFrame> {
     let mut frames = Vec::new();
     // Vertices split only for their UVs (a cube's corner on three faces)
     // share a position and a normal but not their tangents: one frame each.
     let mut seen = HashSet::new();
     let facets = plan.face_normals || plan.shading == Shading::Flat;
-    for (object_index, object) in scene.objects.iter().enumerate() {
-        let model = object.model_matrix(plan.rotation);
-        let linear = Mat3::from_mat4(model);
-        let normals = normal_matrix(model);
-        let world: Vec<Vec3> = object
-            .mesh
-            .vertices
-            .iter()
-            .map(|v| model.transform_point3(v.position))
-            .collect();
-        let Some(length) = segment_length(&world, &object.mesh.triangles) else {
+    for (object_index, (object, placed)) in scene.objects.iter().zip(world.objects()).enumerate() {
+        let positions = &placed.positions;
+        let Some(length) = segment_length(positions, &object.mesh.triangles) else {
             continue;
         };
-        for tri in object.mesh.triangles.iter().filter(|t| t.textured) {
-            let idx = tri.indices.map(|i| i as usize);
-            if idx.iter().any(|&i| i >= world.len()) {
+        for (t, tri) in object.mesh.triangles.iter().enumerate() {
+            // The renderer's cull.
+            if !tri.textured || placed.sides[t] == 0 {
                 continue;
             }
-            let face_normal = (normals * tri.face_normal).normalize_or_zero();
-            // The culling of the renderer's triangle loop.
-            let facing = face_normal.dot(plan.eye - world[idx[0]]);
-            if !facing.is_finite() || facing == 0.0 || (facing < 0.0 && object.mesh.closed) {
-                continue;
-            }
-            let side = if facing < 0.0 { -1.0 } else { 1.0 };
-            for i in idx {
-                let v = &object.mesh.vertices[i];
+            let side = f32::from(placed.sides[t]);
+            for i in tri.indices.map(|i| i as usize) {
+                let v = placed.vertex(i);
                 let (n, pu, pv) = if facets {
                     (
-                        face_normal,
-                        linear * tri.face_tangent_u,
-                        linear * tri.face_tangent_v,
+                        placed.facet_normal(t),
+                        placed.linear * tri.face_tangent_u,
+                        placed.linear * tri.face_tangent_v,
                     )
                 } else {
-                    (
-                        (normals * v.normal).normalize_or_zero(),
-                        linear * v.tangent_u,
-                        linear * v.tangent_v,
-                    )
+                    (v.normal, v.tangent_u, v.tangent_v)
                 };
                 let n = n * side;
-                let origin = world[i];
+                let origin = v.position;
                 if n == Vec3::ZERO || !origin.is_finite() {
                     continue;
                 }
@@ -204,11 +187,13 @@ fn bounding_radius(points: &[Vec3]) -> Option<f32> {
     (r.is_finite() && r > 0.0).then_some(r)
 }
 
-/// Draws the plan's tangent frames over `fb` (already drawn), segments
-/// `brush` pixels thick, the origins tested against `depth` (the frame's
-/// own depth buffer, of `fb`'s size). Counts the segments drawn.
+/// Draws the plan's tangent frames of `scene` placed as `world` over `fb`
+/// (already drawn), segments `brush` pixels thick, the origins tested
+/// against `depth` (the frame's own depth buffer, of `fb`'s size). Counts
+/// the segments drawn.
 pub fn draw_tangent_frames(
     scene: &Scene,
+    world: &World,
     plan: &Plan,
     depth: DepthView,
     fb: &mut Framebuffer,
@@ -225,7 +210,7 @@ pub fn draw_tangent_frames(
     let view_proj = scene.camera.projection(width as f32 / height as f32) * scene.camera.view();
     let clip = |p: Vec3| -> Vec4 { view_proj * p.extend(1.0) };
     let mut canvas = Canvas::new(width, height, fb.pixels_mut());
-    for f in vertex_frames(scene, plan) {
+    for f in vertex_frames(scene, world, plan) {
         if !visible(
             clip(f.origin + f.n * (f.length * DEPTH_LIFT)),
             depth,

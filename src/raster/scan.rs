@@ -65,6 +65,58 @@ impl FootprintSetup {
     }
 }
 
+/// A band whose depth was drawn first (a depth pre-pass): each pixel
+/// holds its nearest depth, and `owner` the shader index of the first
+/// triangle at that depth, the one a single pass with the depth test
+/// keeps. Only that triangle shades the pixel, so overdraw costs a depth
+/// test per layer, not a shading.
+pub struct OwnedBand<'a> {
+    pub band: Band<'a>,
+    /// One per pixel of the band; `u32::MAX` where no triangle is.
+    pub owner: &'a mut [u32],
+}
+
+/// How a covered pixel's depth decides whether it is drawn.
+enum DepthRule<'a> {
+    /// No depth buffer: every covered pixel.
+    Off,
+    /// Nearer than the buffer holds (which then takes the pixel's depth).
+    Less(&'a mut [f32]),
+    /// After a depth pre-pass: the pixel's owner only.
+    Owner(&'a [u32]),
+}
+
+impl DepthRule<'_> {
+    /// Whether the pixel at index `at` of the band, at screen-space
+    /// barycentrics `l` of `tri`, is drawn (and the buffer updated).
+    #[inline(always)]
+    fn passes(&mut self, at: usize, l: [f32; 3], tri: &ScreenTri, counters: &mut Counters) -> bool {
+        match self {
+            DepthRule::Off => true,
+            DepthRule::Less(depth) => {
+                counters.depth_tests += 1;
+                let z = l[0] * tri.z[0] + l[1] * tri.z[1] + l[2] * tri.z[2];
+                let slot = &mut depth[at];
+                if z < *slot {
+                    *slot = z;
+                    true
+                } else {
+                    false
+                }
+            }
+            DepthRule::Owner(owner) => owner[at] == tri.shader,
+        }
+    }
+}
+
+/// The pixels of one band and how their depth is tested.
+struct Rows<'a> {
+    y0: usize,
+    width: usize,
+    color: &'a mut [Rgb],
+    depth: DepthRule<'a>,
+}
+
 /// Rasterizes the part of `tri` inside `band` with shader `S`.
 pub fn raster_triangle<S: PixelShader>(
     tri: &ScreenTri,
@@ -73,7 +125,89 @@ pub fn raster_triangle<S: PixelShader>(
     band: &mut Band,
     counters: &mut Counters,
 ) {
-    let band_last = band.y0 + band.rows();
+    let rows = band.rows();
+    let target = Rows {
+        y0: band.y0,
+        width: band.width,
+        color: band.color,
+        depth: match band.depth.as_deref_mut() {
+            Some(depth) => DepthRule::Less(depth),
+            None => DepthRule::Off,
+        },
+    };
+    raster_rows(tri, shader, ctx, target, rows, counters)
+}
+
+/// Rasterizes the part of `tri` inside a band whose depth was drawn first
+/// ([`depth_prepass`]): only the pixels `tri` owns are shaded.
+pub fn raster_owned<S: PixelShader>(
+    tri: &ScreenTri,
+    shader: &S,
+    ctx: &ShadeCtx,
+    band: &mut OwnedBand,
+    counters: &mut Counters,
+) {
+    let rows = band.band.rows();
+    let target = Rows {
+        y0: band.band.y0,
+        width: band.band.width,
+        color: band.band.color,
+        depth: DepthRule::Owner(band.owner),
+    };
+    raster_rows(tri, shader, ctx, target, rows, counters)
+}
+
+/// The depth pre-pass of one triangle over `band`: each covered pixel
+/// nearer than the buffer takes the triangle's depth (computed exactly as
+/// the shading pass computes it) and its shader as owner. Never for an
+/// alpha-masked plan: its depth depends on the texture.
+pub fn depth_prepass(tri: &ScreenTri, band: &mut OwnedBand, counters: &mut Counters) {
+    let Some(depth) = band.band.depth.as_deref_mut() else {
+        return;
+    };
+    let (y0, width) = (band.band.y0, band.band.width);
+    let band_last = y0 + depth.len().checked_div(width).unwrap_or(0);
+    let ya = (tri.y0 as usize).max(y0);
+    let yb = (tri.y1 as usize + 1).min(band_last);
+    if ya >= yb {
+        return;
+    }
+    let inv_area = (1.0 / tri.area as f64) as f32;
+    let steps = [tri.edge_steps(0), tri.edge_steps(1), tri.edge_steps(2)];
+    let span_steps = steps.map(|s| s.0);
+    let (x0, x1) = (tri.x0 as usize, tri.x1 as usize);
+    let cx = tri.x0 as i64 * ONE + ONE / 2;
+    for py in ya..yb {
+        let cy = py as i64 * ONE + ONE / 2;
+        let e_row = tri.edges(cx, cy);
+        let Some((first, last)) = covered_span(&e_row, &tri.bias, &span_steps, x1 - x0) else {
+            continue;
+        };
+        let row = (py - y0) * width + x0;
+        for k in first..=last {
+            let e = [0, 1, 2].map(|i| e_row[i] + steps[i].0 * k as i64);
+            let l = e.map(|e| e as f32 * inv_area);
+            counters.depth_tests += 1;
+            let z = l[0] * tri.z[0] + l[1] * tri.z[1] + l[2] * tri.z[2];
+            let at = row + k;
+            if z < depth[at] {
+                depth[at] = z;
+                band.owner[at] = tri.shader;
+            }
+        }
+    }
+}
+
+/// The pixel loops over the rows of `target` (`rows` of them).
+fn raster_rows<S: PixelShader>(
+    tri: &ScreenTri,
+    shader: &S,
+    ctx: &ShadeCtx,
+    mut band: Rows,
+    rows: usize,
+    counters: &mut Counters,
+) {
+    let band_last = band.y0 + rows;
     let ya = (tri.y0 as usize).max(band.y0);
     let yb = (tri.y1 as usize + 1).min(band_last);
     if ya >= yb {
@@ -100,20 +234,7 @@ pub fn raster_triangle<S: PixelShader>(
                     e[2] as f32 * inv_area,
                 ];
                 let covered = (!cut || opaque_at(tri, shader, ctx, l))
-                    && match band.depth.as_deref_mut() {
-                        Some(depth) => {
-                            counters.depth_tests += 1;
-                            let z = l[0] * tri.z[0] + l[1] * tri.z[1] + l[2] * tri.z[2];
-                            let slot = &mut depth[row + px];
-                            if z < *slot {
-                                *slot = z;
-                                true
-                            } else {
-                                false
-                            }
-                        }
-                        None => true,
-                    };
+                    && band.depth.passes(row + px, l, tri, counters);
                 if covered {
                     band.color[row + px] =
                         shade_at(tri, shader, ctx, footprint.as_ref(), l, counters);
@@ -152,7 +273,7 @@ fn raster_packets<S: PixelShader>(
     tri: &ScreenTri,
     shader: &S,
     ctx: &ShadeCtx,
-    band: &mut Band,
+    mut band: Rows,
     counters: &mut Counters,
     rows: std::ops::Range<usize>,
 ) {
@@ -177,7 +298,8 @@ fn raster_packets<S: PixelShader>(
         };
         let (first, last) = (x0 + first, x0 + last);
         let row = (py - band.y0) * width;
-        if let (Some(color), None) = (shader.solid(), band.depth.as_ref()) {
+        let no_depth = matches!(band.depth, DepthRule::Off);
+        if let (Some(color), true) = (shader.solid(), no_depth) {
             band.color[row + first..=row + last].fill(color);
             counters.pixels_shaded += (last + 1 - first) as u64;
             continue;
@@ -187,7 +309,7 @@ fn raster_packets<S: PixelShader>(
             let lanes = LANES.min(last + 1 - px);
             let mut live = (1u32 << lanes) - 1;
             let mut l = [[0.0f32; LANES]; 3];
-            if band.depth.is_none() {
+            if no_depth {
                 // Every pixel of the span is inside. The edge values are
                 // integers below 2^53, exact in f64: e + step·lane there
                 // rounds to f32 exactly as the integer does.
@@ -204,19 +326,12 @@ fn raster_packets<S: PixelShader>(
                         e[1] as f32 * inv_area,
                         e[2] as f32 * inv_area,
                     ];
-                    if let Some(depth) = band.depth.as_deref_mut() {
-                        counters.depth_tests += 1;
-                        let z = lf[0] * tri.z[0] + lf[1] * tri.z[1] + lf[2] * tri.z[2];
-                        let slot = &mut depth[row + px + lane];
-                        if z < *slot {
-                            *slot = z;
-                        } else {
-                            live &= !(1 << lane);
-                            continue;
-                        }
+                    if !band.depth.passes(row + px + lane, lf, tri, counters) {
+                        live &= !(1 << lane);
+                        continue;
                     }
-                    for k in 0..3 {
-                        l[k][lane] = lf[k];
+                    for (lk, v) in l.iter_mut().zip(lf) {
+                        lk[lane] = v;
                     }
                 }
             }

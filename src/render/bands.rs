@@ -89,6 +89,32 @@ impl RowWork {
     }
 }
 
+/// Overdraw at which drawing every triangle's depth before shading any
+/// pays (see [`depth_first_pays`]).
+pub(super) const DEPTH_FIRST_OVERDRAW: f64 = 2.0;
+
+/// Whether a depth pre-pass pays for these triangles: when their areas sum
+/// to at least [`DEPTH_FIRST_OVERDRAW`] times the box that holds them all,
+/// at least half the pixels a single pass shades would be shaded again
+/// (a lone surface sums to at most its box; a mesh stacked over itself to
+/// a multiple of it). The pre-pass costs a depth test per covered pixel
+/// and layer, far less than a shading.
+pub(super) fn depth_first_pays(tris: &[ScreenTri]) -> bool {
+    let Some(first) = tris.first() else {
+        return false;
+    };
+    let (mut x0, mut x1, mut y0, mut y1) = (first.x0, first.x1, first.y0, first.y1);
+    let mut area = 0.0f64;
+    for t in tris {
+        (x0, x1) = (x0.min(t.x0), x1.max(t.x1));
+        (y0, y1) = (y0.min(t.y0), y1.max(t.y1));
+        area += t.area as f64;
+    }
+    let pixels = area / (2 * ONE * ONE) as f64;
+    let box_pixels = (x1 - x0 + 1) as f64 * (y1 - y0 + 1) as f64;
+    pixels >= DEPTH_FIRST_OVERDRAW * box_pixels
+}
+
 /// Cuts a frame-sized buffer into the bands between consecutive row
 /// `bounds`, each with its first row.
 pub(super) fn split_rows<'a, T>(
@@ -132,6 +158,14 @@ pub(super) fn draw_bands<T: RasterTarget + Send>(
             return (counters, false);
         }
         band.clear(background);
+        if band.depth_first() {
+            for (n, tri) in tris.iter().enumerate() {
+                if n % CHECK_EVERY == CHECK_EVERY - 1 && abandon.now() {
+                    return (counters, false);
+                }
+                band.prepass(tri, &mut counters);
+            }
+        }
         for (n, tri) in tris.iter().enumerate() {
             if n % CHECK_EVERY == CHECK_EVERY - 1 && abandon.now() {
                 return (counters, false);

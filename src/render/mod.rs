@@ -9,7 +9,10 @@ mod shaders;
 
 use abandon::Abandon;
 pub use abandon::CancelHook;
-use bands::{CHUNKS_PER_THREAD, MaterialCtxs, PARALLEL_MIN_WORK, RowWork, draw_bands, split_rows};
+use bands::{
+    CHUNKS_PER_THREAD, MaterialCtxs, PARALLEL_MIN_WORK, RowWork, depth_first_pays, draw_bands,
+    split_rows,
+};
 pub use dispatch::{draw_into, draw_triangle};
 use repeat_cache::RepeatCache;
 use shaders::{build_shader, wire_triangle};
@@ -17,7 +20,7 @@ use shaders::{build_shader, wire_triangle};
 use std::sync::Arc;
 use std::time::Instant;
 
-use glam::{Mat3, Vec2, Vec3, Vec4};
+use glam::{Vec3, Vec4};
 
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::plan::Plan;
@@ -25,31 +28,23 @@ use crate::raster::aa::{
     MSAA_REACH, MSAA_SAMPLES, MsaaBand, resolve_box, resolve_msaa, ssaa_factor,
 };
 use crate::raster::frames::{DepthView, draw_tangent_frames};
+use crate::raster::scan::OwnedBand;
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
+use crate::scene::Scene;
 use crate::scene::repeats::RepeatSkipper;
 use crate::scene::terms::MaterialTerms;
-use crate::scene::{Scene, normal_matrix};
+use crate::scene::world::World;
 use crate::settings::{AntiAlias, Display, Settings};
 use crate::shade::{ShadeCtx, TriShader};
 use crate::shadow::{Shadow, ShadowMap};
 use crate::stats::{Counters, FrameStats};
 
-/// A vertex after the model transform, in world space.
-#[derive(Clone, Copy, Debug)]
-struct WorldVertex {
-    position: Vec3,
-    normal: Vec3,
-    uv: Vec2,
-    color: Vec3,
-    tangent_u: Vec3,
-    tangent_v: Vec3,
-}
-
 /// Reusable buffers: one `Renderer` per view keeps allocations across frames.
 #[derive(Default)]
 pub struct Renderer {
-    world: Vec<WorldVertex>,
+    /// The scene placed for the frame, read by every pass.
+    world: World,
     clip: Vec<Vec4>,
     shaders: Vec<TriShader>,
     /// The material group (index in the frame's plans) of each shader,
@@ -57,6 +52,9 @@ pub struct Renderer {
     shader_groups: Vec<u32>,
     tris: Vec<ScreenTri>,
     depth: Vec<f32>,
+    /// Per pixel, the triangle a depth pre-pass found nearest (when the
+    /// frame draws depth first).
+    owner: Vec<u32>,
     polygon: Vec<ClipVertex>,
     /// Visible triangles of the points and lines displays.
     wire: Vec<WireTri>,
@@ -128,9 +126,11 @@ impl Renderer {
         // Taken out of `self` for the frame so the shaders can borrow it.
         let mut shadow_map = std::mem::take(&mut self.shadow);
         self.repeats.update(scene);
+        self.world.place(scene, plan.rotation);
         let (shadow, mut counters) = shadow_pass(
             &mut shadow_map,
             scene,
+            &self.world,
             plan,
             &self.repeats,
             &abandon,
@@ -186,9 +186,11 @@ impl Renderer {
         let plans = FramePlans::new(scene, settings, Plan::new(scene, settings));
         let mut shadow_map = std::mem::take(&mut self.shadow);
         self.repeats.update(scene);
+        self.world.place(scene, plans.plans[0].rotation);
         let (shadow, _) = shadow_pass(
             &mut shadow_map,
             scene,
+            &self.world,
             &plans.plans[0],
             &self.repeats,
             &Abandon::new(None),
@@ -200,8 +202,8 @@ impl Renderer {
         (&self.tris, &self.shaders)
     }
 
-    /// Transforms vertices, culls, clips, sets triangles up and builds their
-    /// shaders. Returns the counters of the work done here (per-vertex and
+    /// Projects the placed vertices (`self.world`, culled there), clips,
+    /// sets triangles up and builds their shaders. Returns the counters of the work done here (per-vertex and
     /// per-facet lighting).
     fn prepare(
         &mut self,
@@ -219,8 +221,6 @@ impl Renderer {
         self.tris.clear();
         let aspect = width as f32 / height as f32 * self.pixel_aspect.unwrap_or(1.0);
         let view_proj = scene.camera.projection(aspect) * scene.camera.view();
-        let eye = scene.camera.eye;
-        let user_rotation = plan.rotation;
         // Multisampling covers samples off the pixel centres: a sliver
         // between two rows of centres still has samples inside.
         let reach = if plan.aa == AntiAlias::Msaa4 {
@@ -231,23 +231,10 @@ impl Renderer {
         for (object_index, object) in scene.objects.iter().enumerate() {
             let group = plans.of_object[object_index];
             let plan = &plans.plans[group];
-            let model = object.model_matrix(user_rotation);
-            let linear = Mat3::from_mat4(model);
-            let normal_matrix = normal_matrix(model);
-            self.world.clear();
+            let placed = self.world.object(object_index);
             self.clip.clear();
-            for v in &object.mesh.vertices {
-                let position = model.transform_point3(v.position);
-                self.world.push(WorldVertex {
-                    position,
-                    normal: (normal_matrix * v.normal).normalize_or_zero(),
-                    uv: v.uv,
-                    color: v.color,
-                    tangent_u: linear * v.tangent_u,
-                    tangent_v: linear * v.tangent_v,
-                });
-                self.clip.push(view_proj * position.extend(1.0));
-            }
+            self.clip
+                .extend(placed.positions.iter().map(|p| view_proj * p.extend(1.0)));
             // Behind a depth buffer a repeated triangle changes nothing.
             let skips_repeats = plan.display == Display::Fill && plan.depth;
             let mut repeats = RepeatSkipper::new(if skips_repeats {
@@ -260,23 +247,18 @@ impl Renderer {
                 if repeats.skip(tri_index, triangles) {
                     continue;
                 }
-                let idx = tri.indices.map(|i| i as usize);
-                if idx.iter().any(|&i| i >= self.world.len()) {
-                    continue;
-                }
-                let face_normal = (normal_matrix * tri.face_normal).normalize_or_zero();
-                let p0 = self.world[idx[0]].position;
-                let facing = face_normal.dot(eye - p0);
-                if !facing.is_finite() || facing == 0.0 || (facing < 0.0 && object.mesh.closed) {
-                    continue;
-                }
                 // An open surface seen from behind is lit on the side we see.
-                let side = if facing < 0.0 { -1.0 } else { 1.0 };
+                let side = match placed.sides[tri_index] {
+                    0 => continue,
+                    s => f32::from(s),
+                };
+                let idx = tri.indices.map(|i| i as usize);
+                let face_normal = placed.facet_normal(tri_index);
                 if plan.display != Display::Fill {
                     counters.light_evals += 3 * plan.lights.len() as u64;
                     self.wire.push(wire_triangle(
                         plan,
-                        idx.map(|i| &self.world[i]),
+                        idx.map(|i| placed.vertex(i)),
                         idx.map(|i| self.clip[i]),
                         face_normal * side,
                         side,
@@ -308,15 +290,15 @@ impl Renderer {
                 if self.tris.len() == first_tri {
                     continue;
                 }
-                let verts = idx.map(|i| self.world[i]);
+                let verts = idx.map(|i| placed.vertex(i));
                 let shader = build_shader(
                     plan,
                     &verts,
                     tri,
                     face_normal * side,
                     side,
-                    &model,
-                    &linear,
+                    &placed.model,
+                    &placed.linear,
                     shadow,
                     object_index as u32,
                     &mut counters,
@@ -427,6 +409,35 @@ impl Renderer {
             resolve_msaa(&self.msaa_color, fb.pixels_mut());
             return (total, (drawn, count));
         }
+        // Depth before shading, where overdraw would multiply the shading
+        // (alpha masks excepted: their depth depends on the texture).
+        let cutout = plans
+            .plans
+            .iter()
+            .any(|p| p.terms.as_ref().is_some_and(|t| t.cutout.is_some()));
+        if plan.depth && !cutout && depth_first_pays(tris) {
+            self.depth.clear();
+            self.depth.resize(width * height, f32::INFINITY);
+            self.owner.resize(width * height, u32::MAX);
+            let mut bands: Vec<OwnedBand> = split_rows(fb.pixels_mut(), width, &bounds)
+                .zip(split_rows(&mut self.depth, width, &bounds))
+                .zip(split_rows(&mut self.owner, width, &bounds))
+                .map(|(((y0, color), (_, depth)), (_, owner))| OwnedBand {
+                    band: Band {
+                        y0,
+                        width,
+                        color,
+                        depth: Some(depth),
+                    },
+                    owner,
+                })
+                .collect();
+            let count = bands.len();
+            let (total, drawn) = draw_bands(
+                &mut bands, parallel, tris, shaders, &ctx, background, abandon,
+            );
+            return (total, (drawn, count));
+        }
         let mut bands: Vec<Band> = if plan.depth {
             self.depth.clear();
             self.depth.resize(width * height, f32::INFINITY);
@@ -475,7 +486,7 @@ impl Renderer {
             (Display::Fill, true, _) => DepthView::Pixels(&self.depth),
             _ => DepthView::None,
         };
-        draw_tangent_frames(scene, plan, depth, fb, brush)
+        draw_tangent_frames(scene, &self.world, plan, depth, fb, brush)
     }
 }
 
@@ -531,9 +542,11 @@ impl<'s> FramePlans<'s> {
 
 /// Pass 1 of the shadows, when the plan asks for it: the map of the plan's
 /// shadow light, and what drawing it cost.
+#[allow(clippy::too_many_arguments)]
 fn shadow_pass<'a>(
     map: &'a mut ShadowMap,
     scene: &Scene,
+    world: &World,
     plan: &Plan,
     repeats: &RepeatCache,
     abandon: &Abandon,
@@ -543,9 +556,9 @@ fn shadow_pass<'a>(
     let Some(light) = plan.shadow_light else {
         return (None, Counters::default());
     };
-    let counters = map.render_skipping(
+    let counters = map.render_placed(
         scene,
-        plan.rotation,
+        world,
         plan.lights[light].position,
         &plan.shadow_casters,
         width,

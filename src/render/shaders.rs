@@ -3,9 +3,9 @@
 
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
-use super::WorldVertex;
 use crate::plan::Plan;
 use crate::raster::wire::WireTri;
+use crate::scene::world::WorldVertex;
 use crate::settings::Shading;
 use crate::shade::lighting::{LightSet, diffuse, finish, lambert, light_with};
 use crate::shade::specular::{gloss, view_dir};
@@ -17,7 +17,7 @@ use crate::stats::Counters;
 /// light at each vertex (Gouraud's, whatever the shading mode).
 pub(super) fn wire_triangle(
     plan: &Plan,
-    verts: [&WorldVertex; 3],
+    verts: [WorldVertex; 3],
     clip: [Vec4; 3],
     face_normal: Vec3,
     side: f32,

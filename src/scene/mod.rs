@@ -19,6 +19,7 @@ pub mod stl;
 pub mod tangents;
 pub mod terms;
 pub mod triangle;
+pub mod world;
 
 pub use build::{Built, LoadedNotes, ModelChoice, SceneKind, build_scene, build_scene_noting};
 pub use camera::Camera;

@@ -1,31 +1,30 @@
 //! The depth-only rasterizer of the shadow pass: no colour, no attributes,
 //! just the nearest distance along the light's axis per texel.
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 
 use super::ShadowMap;
 use crate::scene::Mesh;
 use crate::scene::repeats::RepeatSkipper;
+use crate::scene::world::Placed;
 
-/// Draws `mesh` (object `object`) placed by `model` into the map, but for
+/// Draws `mesh` (object `object`) placed as `placed` into the map, but for
 /// the triangles `repeats` skips, until `stop` says so; returns the texels
 /// written.
 pub(super) fn draw_mesh(
     map: &mut ShadowMap,
     mesh: &Mesh,
-    model: Mat4,
+    placed: &Placed,
     object: u32,
     mut repeats: RepeatSkipper,
     stop: &dyn Fn() -> bool,
 ) -> u64 {
     let size = map.size as f32;
-    let normal_matrix = crate::scene::normal_matrix(model);
     // Per vertex: texel coordinates and 1/w (None when too near the light).
-    let projected: Vec<Option<(f32, f32, f32, Vec3)>> = mesh
-        .vertices
+    let projected: Vec<Option<(f32, f32, f32, Vec3)>> = placed
+        .positions
         .iter()
-        .map(|v| {
-            let world = model.transform_point3(v.position);
+        .map(|&world| {
             let clip = map.view_proj * world.extend(1.0);
             (clip.w > map.near * 0.5 && clip.is_finite()).then(|| {
                 let inv_w = 1.0 / clip.w;
@@ -53,7 +52,7 @@ pub(super) fn draw_mesh(
         };
         if mesh.closed {
             // Second depth: keep the faces turned away from the light.
-            let n = normal_matrix * tri.face_normal;
+            let n = placed.facets[i];
             if n.dot(map.light - v[0].3) > 0.0 {
                 continue;
             }

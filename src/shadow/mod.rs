@@ -26,6 +26,7 @@ use glam::{Mat4, Vec3};
 use crate::scene::Scene;
 use crate::scene::casters::{Caster, enclose};
 use crate::scene::repeats::RepeatSkipper;
+use crate::scene::world::World;
 use crate::stats::Counters;
 
 /// Smallest and largest shadow map side, in texels.
@@ -108,21 +109,21 @@ impl ShadowMap {
         width: usize,
         height: usize,
     ) -> Counters {
-        self.render_skipping(scene, rotation, light, casters, width, height, &[], &|| {
-            false
-        })
+        let world = World::of(scene, rotation);
+        self.render_placed(scene, &world, light, casters, width, height, &[], &|| false)
     }
 
-    /// [`ShadowMap::render`] skipping the repeated triangles of each object
+    /// [`ShadowMap::render`] of the scene placed as `world` (the frame's
+    /// world-space vertices), skipping the repeated triangles of each object
     /// (`scene::repeats`: the pairs of object `i` are `repeats[i]`, none
     /// past the end), which cannot change a texel, and stopping (the map
     /// incomplete) as soon as `stop` says so, asked every few thousand
     /// triangles.
     #[allow(clippy::too_many_arguments)]
-    pub fn render_skipping(
+    pub fn render_placed(
         &mut self,
         scene: &Scene,
-        rotation: Mat4,
+        world: &World,
         light: Vec3,
         casters: &[Caster],
         width: usize,
@@ -166,11 +167,10 @@ impl ShadowMap {
 
         for caster in casters {
             let i = caster.object;
-            let object = &scene.objects[i];
-            let model = object.model_matrix(rotation);
+            let mesh = &scene.objects[i].mesh;
             let skipper = RepeatSkipper::new(repeats.get(i).copied().unwrap_or(&[]));
             counters.shadow_texels +=
-                depth::draw_mesh(self, &object.mesh, model, i as u32, skipper, stop);
+                depth::draw_mesh(self, mesh, world.object(i), i as u32, skipper, stop);
         }
         counters
     }

@@ -1,16 +1,24 @@
 //! Overdraw: a triangle that repeats an earlier one of its mesh is skipped
 //! behind the depth buffer (src/scene/repeats.rs). The picture must be the
 //! one the mesh without its repeats gives, and the repeats must cost no
-//! depth test and no shadow texel.
+//! depth test and no shadow texel. Distinct layers over the same pixels are
+//! drawn depth first: the picture of one pass, each pixel shaded once.
 
 use crate::common;
 
 use common::*;
 use glam::Vec3;
 use proptest::prelude::*;
+use relief::plan::Plan;
+use relief::raster::Band;
+use relief::raster::scan::{OwnedBand, depth_prepass};
+use relief::render::draw_into;
 use relief::scene::repeats::{RepeatSkipper, find_repeats};
 use relief::scene::{Mesh, Triangle, obj};
-use relief::settings::{AntiAlias, Settings};
+use relief::settings::{AntiAlias, Settings, Shading};
+use relief::shade::ShadeCtx;
+use relief::shadow::{Shadow, ShadowMap};
+use relief::stats::Counters;
 use relief::{FrameStats, Framebuffer, Renderer, Scene};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -266,4 +274,154 @@ fn a_cancelled_band_stops_between_triangles() {
         assert!(cut.counters.pixels_shaded > 0);
         assert!(cut.counters.pixels_shaded < whole.counters.pixels_shaded);
     });
+}
+
+/// `layers` square quads over the same pixels, each at its own depth but
+/// every fourth at the depth of the one before with the other diagonal
+/// (two different triangles tie at each of those pixels), front last.
+fn stacked_quads(layers: usize) -> Mesh {
+    let mut text = String::new();
+    let mut depth = -0.5f32;
+    for k in 0..layers {
+        if k % 4 != 3 {
+            depth += 1.0 / layers as f32;
+        }
+        for (x, y) in [(-0.8, -0.8), (0.8, -0.8), (0.8, 0.8), (-0.8, 0.8)] {
+            text += &format!("v {x} {y} {depth}\nvt {} {}\n", x + 0.8, y + 0.8);
+        }
+        let v = 4 * k as u32 + 1;
+        if k % 4 == 3 {
+            text += &format!("f {v}/{v} {}/{} {}/{}\n", v + 1, v + 1, v + 3, v + 3);
+            text += &format!(
+                "f {}/{} {}/{} {}/{}\n",
+                v + 1,
+                v + 1,
+                v + 2,
+                v + 2,
+                v + 3,
+                v + 3
+            );
+        } else {
+            text += &format!("f {v}/{v} {}/{} {}/{}\n", v + 1, v + 1, v + 2, v + 2);
+            text += &format!("f {v}/{v} {}/{} {}/{}\n", v + 2, v + 2, v + 3, v + 3);
+        }
+    }
+    obj::parse("stacked.obj", text).expect("a valid OBJ")
+}
+
+/// A frame's colours and depths.
+type Drawn = (Vec<[u8; 3]>, Vec<f32>);
+
+/// Draws the frame's triangles one pass as the depth test decides, and
+/// again depth first (every triangle's depth, then only each pixel's
+/// owner shaded): the same colours and the same depths, bit for bit.
+fn one_pass_and_depth_first(
+    scene: &Scene,
+    settings: &Settings,
+    w: usize,
+    h: usize,
+) -> (Drawn, Drawn, Counters) {
+    let plan = Plan::new(scene, settings);
+    let mut renderer = Renderer::new();
+    let (tris, shaders) = renderer.screen_triangles(scene, settings, w, h);
+    let mut map = ShadowMap::new();
+    if let Some(light) = plan.shadow_light {
+        let at = plan.lights[light].position;
+        map.render(scene, plan.rotation, at, &plan.shadow_casters, w, h);
+    }
+    let ctx = ShadeCtx {
+        plan: &plan,
+        texture: &scene.material.texture,
+        shadow: plan.shadow_light.map(|light| Shadow { light, map: &map }),
+    };
+    let mut one = (vec![scene.background; w * h], vec![f32::INFINITY; w * h]);
+    let mut first = one.clone();
+    let mut owner = vec![u32::MAX; w * h];
+    let mut counters = Counters::default();
+    let mut band = Band {
+        y0: 0,
+        width: w,
+        color: &mut one.0,
+        depth: Some(&mut one.1),
+    };
+    for tri in tris {
+        draw_into(
+            tri,
+            &shaders[tri.shader as usize],
+            &ctx,
+            &mut band,
+            &mut counters,
+        );
+    }
+    let mut owned = OwnedBand {
+        band: Band {
+            y0: 0,
+            width: w,
+            color: &mut first.0,
+            depth: Some(&mut first.1),
+        },
+        owner: &mut owner,
+    };
+    counters = Counters::default();
+    for tri in tris {
+        depth_prepass(tri, &mut owned, &mut counters);
+    }
+    for tri in tris {
+        draw_into(
+            tri,
+            &shaders[tri.shader as usize],
+            &ctx,
+            &mut owned,
+            &mut counters,
+        );
+    }
+    (one, first, counters)
+}
+
+/// Depth before shading changes no pixel and no depth, ties between
+/// different triangles included (the first at the nearest depth keeps the
+/// pixel, as in one pass), on every kind of kernel and on clipped
+/// triangles; and each pixel is shaded at most once.
+#[test]
+fn depth_first_gives_the_pixels_and_depths_of_one_pass() {
+    let (w, h) = (48, 40);
+    let mut scenes = vec![("stacked", scene_of(stacked_quads(24)))];
+    let mut near = scene_of(stacked_quads(12));
+    // Close enough that the near plane cuts the nearest quads.
+    near.camera.eye *= 0.25;
+    scenes.push(("clipped", near));
+    scenes.push(("cube", reference_scene(true)));
+    for (name, scene) in &scenes {
+        for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+            for (specular, rotation) in [(false, Vec3::ZERO), (true, Vec3::new(20.0, -30.0, 5.0))] {
+                let settings = Settings {
+                    shading,
+                    specular,
+                    rotation,
+                    ..Settings::default()
+                };
+                let (one, first, counters) = one_pass_and_depth_first(scene, &settings, w, h);
+                let what = format!("{name} {shading:?} specular {specular}");
+                assert!(one.0 == first.0, "{what}: colours");
+                let bits = |d: &[f32]| d.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
+                assert!(bits(&one.1) == bits(&first.1), "{what}: depths");
+                assert!(counters.pixels_shaded <= (w * h) as u64, "{what}");
+            }
+        }
+    }
+}
+
+/// The renderer draws a stack of distinct layers depth first by itself:
+/// the picture of one pass, and each pixel shaded at most once (a single
+/// pass would shade about one pixel per layer in front of those drawn).
+#[test]
+fn overdraw_does_not_multiply_shading() {
+    let (w, h) = (64, 40);
+    let scene = scene_of(stacked_quads(32));
+    let settings = Settings::default();
+    let (one, _, _) = one_pass_and_depth_first(&scene, &settings, w, h);
+    let (fb, stats) = render(&scene, &settings, w, h);
+    assert!(fb.pixels() == one.0.as_slice());
+    assert!(stats.counters.pixels_shaded > 0);
+    assert!(stats.counters.pixels_shaded <= (w * h) as u64);
 }

@@ -1,0 +1,167 @@
+//! The scene placed in the world for one frame: each object's matrices, its
+//! vertices and facet normals in world space, and which triangles face the
+//! camera. Built once per frame and read by every pass that needs geometry
+//! (the shadow pass, the main pass, the lines and points displays, the
+//! tangent frames), so the model matrix and the cull are applied once.
+
+use glam::{Mat3, Mat4, Vec2, Vec3};
+
+use super::{Object, Scene, normal_matrix};
+
+/// A vertex after the model transform, in world space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorldVertex {
+    pub position: Vec3,
+    /// The normal carried by the normal matrix, unit length (or zero).
+    pub normal: Vec3,
+    pub uv: Vec2,
+    pub color: Vec3,
+    /// ∂P/∂u and ∂P/∂v carried by the model's linear part.
+    pub tangent_u: Vec3,
+    pub tangent_v: Vec3,
+}
+
+/// One object placed for the frame.
+#[derive(Clone, Debug, Default)]
+pub struct Placed {
+    pub model: Mat4,
+    /// The model's linear part (carries tangents).
+    pub linear: Mat3,
+    /// The inverse transpose of `linear` (carries normals).
+    pub normals: Mat3,
+    /// World positions, one per mesh vertex.
+    pub positions: Vec<Vec3>,
+    /// Per triangle: its facet normal carried by `normals`, not normalized
+    /// (the shadow pass's cull reads it so; [`Placed::facet_normal`] is
+    /// its unit vector).
+    pub facets: Vec<Vec3>,
+    /// Per triangle: the side the camera sees, 1 (front), −1 (the back of
+    /// an open surface) or 0 (culled: a back face of a closed mesh, edge
+    /// on, not finite, or with an index past the vertices).
+    pub sides: Vec<i8>,
+    /// Normals, texture coordinates, colours and tangents in world space,
+    /// one per mesh vertex (positions are in `positions`).
+    attributes: Vec<Attributes>,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Attributes {
+    normal: Vec3,
+    uv: Vec2,
+    color: Vec3,
+    tangent_u: Vec3,
+    tangent_v: Vec3,
+}
+
+impl Placed {
+    /// Vertex `i` in world space (`i` below the vertex count).
+    #[inline]
+    pub fn vertex(&self, i: usize) -> WorldVertex {
+        let a = &self.attributes[i];
+        WorldVertex {
+            position: self.positions[i],
+            normal: a.normal,
+            uv: a.uv,
+            color: a.color,
+            tangent_u: a.tangent_u,
+            tangent_v: a.tangent_v,
+        }
+    }
+
+    /// The unit facet normal of triangle `t` in world space (or zero).
+    #[inline]
+    pub fn facet_normal(&self, t: usize) -> Vec3 {
+        self.facets[t].normalize_or_zero()
+    }
+
+    /// Places `object` with the user's `rotation`, its triangles culled for
+    /// an eye at `eye`.
+    fn place(&mut self, object: &Object, rotation: Mat4, eye: Vec3) {
+        let model = object.model_matrix(rotation);
+        let linear = Mat3::from_mat4(model);
+        let normals = normal_matrix(model);
+        self.model = model;
+        self.linear = linear;
+        self.normals = normals;
+        let mesh = &object.mesh;
+        self.positions.clear();
+        self.positions.extend(
+            mesh.vertices
+                .iter()
+                .map(|v| model.transform_point3(v.position)),
+        );
+        self.attributes.clear();
+        self.attributes
+            .extend(mesh.vertices.iter().map(|v| Attributes {
+                normal: (normals * v.normal).normalize_or_zero(),
+                uv: v.uv,
+                color: v.color,
+                tangent_u: linear * v.tangent_u,
+                tangent_v: linear * v.tangent_v,
+            }));
+        self.facets.clear();
+        self.sides.clear();
+        for tri in &mesh.triangles {
+            let facet = normals * tri.face_normal;
+            self.facets.push(facet);
+            let first = tri.indices[0] as usize;
+            let valid = tri
+                .indices
+                .iter()
+                .all(|&i| (i as usize) < self.positions.len());
+            let side = if valid {
+                let facing = facet.normalize_or_zero().dot(eye - self.positions[first]);
+                if !facing.is_finite() || facing == 0.0 || (facing < 0.0 && mesh.closed) {
+                    0
+                } else if facing < 0.0 {
+                    -1
+                } else {
+                    1
+                }
+            } else {
+                0
+            };
+            self.sides.push(side);
+        }
+    }
+}
+
+/// Every object of a scene placed for one frame; its buffers are kept from
+/// frame to frame.
+#[derive(Clone, Debug, Default)]
+pub struct World {
+    objects: Vec<Placed>,
+}
+
+impl World {
+    pub fn new() -> Self {
+        World::default()
+    }
+
+    /// Places every object of `scene` with the user's `rotation`, culled
+    /// for the scene's camera.
+    pub fn of(scene: &Scene, rotation: Mat4) -> Self {
+        let mut world = World::new();
+        world.place(scene, rotation);
+        world
+    }
+
+    /// Places every object of `scene` with the user's `rotation`, culled
+    /// for the scene's camera, reusing the buffers.
+    pub fn place(&mut self, scene: &Scene, rotation: Mat4) {
+        self.objects
+            .resize_with(scene.objects.len(), Placed::default);
+        for (placed, object) in self.objects.iter_mut().zip(&scene.objects) {
+            placed.place(object, rotation, scene.camera.eye);
+        }
+    }
+
+    /// Object `i` as placed (index in `Scene::objects`).
+    pub fn object(&self, i: usize) -> &Placed {
+        &self.objects[i]
+    }
+
+    pub fn objects(&self) -> &[Placed] {
+        &self.objects
+    }
+}
