@@ -12,6 +12,7 @@ use ratatui::widgets::Widget;
 
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::term::halfblock::cells_for_pixels;
+use crate::term::sixel::{self, Palette};
 use crate::term::{ColorDepth, Format, HalfBlocks, SgrBackend, SymbolCells, Symbols, pixel_view};
 
 /// Rotation between the two frames, degrees about Y: one step of a slow drag.
@@ -67,16 +68,22 @@ pub const MODE_CELL_PIXELS: (usize, usize) = (8, 16);
 pub enum Mode {
     Text(Symbols),
     Pixels(Format),
+    /// Sixel with a given palette, with or without ordered dithering (the
+    /// choices side by side, in one sitting).
+    Sixel(Palette, bool),
 }
 
 /// Every output mode, in the order of the rows.
-pub const MODES: [Mode; 7] = [
+pub const MODES: [Mode; 10] = [
     Mode::Text(Symbols::Half),
     Mode::Text(Symbols::Quad),
     Mode::Text(Symbols::Sextant),
     Mode::Text(Symbols::Octant),
     Mode::Pixels(Format::Kitty),
     Mode::Pixels(Format::Sixels),
+    Mode::Sixel(Palette::Cube, false),
+    Mode::Sixel(Palette::PerFrame, true),
+    Mode::Sixel(Palette::Cube, true),
     Mode::Pixels(Format::Iterm),
 ];
 
@@ -85,6 +92,10 @@ impl Mode {
         match self {
             Mode::Text(s) => s.name(),
             Mode::Pixels(f) => f.name(),
+            Mode::Sixel(Palette::PerFrame, false) => "sixels per-frame",
+            Mode::Sixel(Palette::PerFrame, true) => "sixels per-frame dither",
+            Mode::Sixel(Palette::Cube, false) => "sixels cube",
+            Mode::Sixel(Palette::Cube, true) => "sixels cube dither",
         }
     }
 
@@ -93,7 +104,7 @@ impl Mode {
         let (c, r) = (usize::from(cells.0), usize::from(cells.1));
         match self {
             Mode::Text(s) => (c * s.columns(), r * s.rows()),
-            Mode::Pixels(_) => (c * cell.0, r * cell.1),
+            Mode::Pixels(_) | Mode::Sixel(..) => (c * cell.0, r * cell.1),
         }
     }
 
@@ -102,7 +113,7 @@ impl Mode {
     pub fn pixel_aspect(self) -> f32 {
         match self {
             Mode::Text(s) => s.pixel_aspect(),
-            Mode::Pixels(_) => 1.0,
+            Mode::Pixels(_) | Mode::Sixel(..) => 1.0,
         }
     }
 }
@@ -250,9 +261,20 @@ pub fn measure_modes(
                     change += pixel_view::image_bytes(&b, format, area, false, false)?.len() as u64;
                     times.push(start.elapsed());
                     match format {
-                        Format::Sixels => crate::term::sixel::shown_frame(&a, false),
+                        Format::Sixels => sixel::shown_frame(&a, Palette::CHOSEN, false),
                         _ => a.clone(),
                     }
+                }
+                Mode::Sixel(palette, dither) => {
+                    let mut bytes = Vec::new();
+                    sixel::write_image_with(&a, palette, dither, &mut bytes)?;
+                    first += bytes.len() as u64;
+                    bytes.clear();
+                    let start = Instant::now();
+                    sixel::write_image_with(&b, palette, dither, &mut bytes)?;
+                    times.push(start.elapsed());
+                    change += bytes.len() as u64;
+                    sixel::shown_frame(&a, palette, dither)
                 }
             };
             squared.add(shown.pixels(), full.pixels());

@@ -17,6 +17,7 @@ pub mod hold;
 pub mod input;
 pub mod iterm;
 pub mod kitty;
+pub mod median_cut;
 pub mod modes;
 pub mod oklab;
 pub mod pacing;

@@ -691,11 +691,11 @@ fn sixel_decodes_to_the_frame_when_the_palette_is_exact() {
 }
 
 #[test]
-fn sixel_with_many_colours_uses_the_cube_within_half_a_step() {
+fn sixel_with_the_cube_comes_back_within_half_a_step() {
     let fb = noisy_fb(40, 13, 0);
     for dither in [false, true] {
         let mut out = Vec::new();
-        sixel::write_image(&fb, dither, &mut out).unwrap();
+        sixel::write_image_with(&fb, sixel::Palette::Cube, dither, &mut out).unwrap();
         let (w, h, pixels) = decode_sixel(&out);
         assert_eq!((w, h), (40, 13));
         for y in 0..h {
@@ -712,4 +712,59 @@ fn sixel_with_many_colours_uses_the_cube_within_half_a_step() {
             }
         }
     }
+}
+
+#[test]
+fn sixel_with_a_per_frame_palette_decodes_to_the_quantised_frame() {
+    // Any colours (far more than 256), a height not a multiple of six.
+    let fb = noisy_fb(53, 23, 0);
+    for dither in [false, true] {
+        let mut out = Vec::new();
+        sixel::write_image(&fb, dither, &mut out).unwrap();
+        let (w, h, pixels) = decode_sixel(&out);
+        assert_eq!((w, h), (53, 23));
+        let want = sixel::shown_frame(&fb, sixel::Palette::PerFrame, dither);
+        for y in 0..h {
+            for x in 0..w {
+                assert_eq!(pixels[y * w + x], Some(want.get(x, y)), "at {x},{y}");
+            }
+        }
+        let palette_entries = String::from_utf8_lossy(&out).matches(";2;").count();
+        assert_eq!(
+            palette_entries, 256,
+            "a full palette for a frame of many colours"
+        );
+    }
+}
+
+#[test]
+fn sixel_per_frame_palette_keeps_frames_of_few_bins_within_a_bin() {
+    // Every grey level 0..=255 and 44 reds: 300 colours (so not the exact
+    // palette), but only 64 + 44 histogram bins of 4 levels a channel,
+    // each of which gets an entry: a pixel is at most 3 levels from its
+    // bin's mean, plus sixel's 1 % rounding (2). The cube is 25 off.
+    let mut fb = Framebuffer::new(60, 5);
+    for i in 0..300 {
+        let c = if i < 256 {
+            [i as u8; 3]
+        } else {
+            [(i - 256) as u8 * 4 + 80, 0, 0]
+        };
+        fb.set(i % 60, i / 60, c);
+    }
+    let mut out = Vec::new();
+    sixel::write_image(&fb, false, &mut out).unwrap();
+    let (w, _, pixels) = decode_sixel(&out);
+    let mut worst_cube = 0;
+    let cube = sixel::shown_frame(&fb, sixel::Palette::Cube, false);
+    for i in 0..300 {
+        let (x, y) = (i % 60, i / 60);
+        let got = pixels[y * w + x].unwrap();
+        for c in 0..3 {
+            let d = got[c].abs_diff(fb.get(x, y)[c]);
+            assert!(d <= 5, "{x},{y}: {got:?} for {:?}", fb.get(x, y));
+            worst_cube = worst_cube.max(cube.get(x, y)[c].abs_diff(fb.get(x, y)[c]));
+        }
+    }
+    assert!(worst_cube >= 20, "the cube is coarser: {worst_cube}");
 }
