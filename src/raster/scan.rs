@@ -157,6 +157,8 @@ fn raster_packets<S: PixelShader>(
     rows: std::ops::Range<usize>,
 ) {
     let (footprint, inv_area, steps) = pixel_setup(tri, shader, ctx);
+    // An alpha mask drops a lane before its depth test, as it drops a pixel.
+    let cut = shader.cutout(ctx);
     let (x0, x1) = (tri.x0 as usize, tri.x1 as usize);
     let cx = tri.x0 as i64 * ONE + ONE / 2;
     let width = band.width;
@@ -187,7 +189,7 @@ fn raster_packets<S: PixelShader>(
             let lanes = LANES.min(last + 1 - px);
             let mut live = (1u32 << lanes) - 1;
             let mut l = [[0.0f32; LANES]; 3];
-            if band.depth.is_none() {
+            if band.depth.is_none() && !cut {
                 // Every pixel of the span is inside. The edge values are
                 // integers below 2^53, exact in f64: e + step·lane there
                 // rounds to f32 exactly as the integer does.
@@ -204,6 +206,10 @@ fn raster_packets<S: PixelShader>(
                         e[1] as f32 * inv_area,
                         e[2] as f32 * inv_area,
                     ];
+                    if cut && !opaque_at(tri, shader, ctx, lf) {
+                        live &= !(1 << lane);
+                        continue;
+                    }
                     if let Some(depth) = band.depth.as_deref_mut() {
                         counters.depth_tests += 1;
                         let z = lf[0] * tri.z[0] + lf[1] * tri.z[1] + lf[2] * tri.z[2];
