@@ -278,6 +278,8 @@ fn raster_packets<S: PixelShader>(
     rows: std::ops::Range<usize>,
 ) {
     let (footprint, inv_area, steps) = pixel_setup(tri, shader, ctx);
+    // An alpha mask drops a lane before its depth test, as it drops a pixel.
+    let cut = shader.cutout(ctx);
     let (x0, x1) = (tri.x0 as usize, tri.x1 as usize);
     let cx = tri.x0 as i64 * ONE + ONE / 2;
     let width = band.width;
@@ -309,7 +311,7 @@ fn raster_packets<S: PixelShader>(
             let lanes = LANES.min(last + 1 - px);
             let mut live = (1u32 << lanes) - 1;
             let mut l = [[0.0f32; LANES]; 3];
-            if no_depth {
+            if no_depth && !cut {
                 // Every pixel of the span is inside. The edge values are
                 // integers below 2^53, exact in f64: e + step·lane there
                 // rounds to f32 exactly as the integer does.
@@ -326,6 +328,10 @@ fn raster_packets<S: PixelShader>(
                         e[1] as f32 * inv_area,
                         e[2] as f32 * inv_area,
                     ];
+                    if cut && !opaque_at(tri, shader, ctx, lf) {
+                        live &= !(1 << lane);
+                        continue;
+                    }
                     if !band.depth.passes(row + px + lane, lf, tri, counters) {
                         live &= !(1 << lane);
                         continue;

@@ -167,7 +167,7 @@ fn lights_at(
 /// The specular map's value at `uv` for a `glossy` triangle, else 1.
 fn glossiness(plan: &Plan, glossy: bool, uv: Vec2) -> f32 {
     match plan.specular.as_ref().and_then(|s| s.map.as_deref()) {
-        Some(map) if glossy => gloss(map, uv),
+        Some(map) if glossy => gloss(map, uv.x, uv.y),
         _ => 1.0,
     }
 }

@@ -12,9 +12,9 @@
 use glam::{Vec2, Vec3};
 
 use super::PhongTri;
-use super::environment::mirror;
 use super::kernels::{PixelShader, ShadeCtx};
 use super::lighting::{LightSet, finish, lambert, light_with};
+use super::material::compose;
 use super::specular::{gloss, view_dir};
 use super::tangent::Surface;
 use crate::framebuffer::Rgb;
@@ -98,32 +98,20 @@ pub fn shade_pixel<H: Hook, const TEX: bool, const SPEC: bool>(
         })
     };
     let cosine = |i, d, counters: &mut Counters| hook.cosine(ctx, &px, at.n, i, d, counters);
+    let uv = (at.uv.x, at.uv.y);
     if SPEC {
         let view = view_dir(plan.eye, s.p);
         let (light, mut highlight) =
             light_with::<true>(&set, s.p, at.n, view, cosine, visibility, counters);
         if let Some(map) = gloss_map(ctx, tri.glossy) {
-            highlight *= gloss(map, at.uv);
+            highlight *= gloss(map, at.uv.x, at.uv.y);
         }
-        if let Some(terms) = plan.terms.as_deref() {
-            let light = terms.occlude(plan.ambient, at.uv, light);
-            let lit = albedo * light + highlight * terms.specular_color;
-            let c = mirror(plan, s.p, at.n, lit, 1, counters) + terms.emission(at.uv);
-            return finish(c, counters);
-        }
-        let lit = albedo * light + highlight;
-        return finish(mirror(plan, s.p, at.n, lit, 1, counters), counters);
-    }
-    let (light, _) = light_with::<false>(&set, s.p, at.n, Vec3::ZERO, cosine, visibility, counters);
-    if let Some(terms) = plan.terms.as_deref() {
-        let lit = albedo * terms.occlude(plan.ambient, at.uv, light);
-        let c = mirror(plan, s.p, at.n, lit, 1, counters) + terms.emission(at.uv);
+        let c = compose::<Vec3, true>(plan, s.p, at.n, uv, albedo, light, highlight, 1, counters);
         return finish(c, counters);
     }
-    finish(
-        mirror(plan, s.p, at.n, albedo * light, 1, counters),
-        counters,
-    )
+    let (light, _) = light_with::<false>(&set, s.p, at.n, Vec3::ZERO, cosine, visibility, counters);
+    let c = compose::<Vec3, false>(plan, s.p, at.n, uv, albedo, light, Vec3::ZERO, 1, counters);
+    finish(c, counters)
 }
 
 /// The specular map of the plan, when `glossy` triangles read one.

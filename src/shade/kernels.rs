@@ -6,11 +6,11 @@ use wide::f32x8;
 use super::bump::Blinn;
 use super::bump::blinn;
 use super::core::{gloss_map, shade_pixel};
-use super::environment::mirror;
 use super::lanes::Vector;
 use super::lighting::{LightSet, facing_cosine, finish, light_lanes};
+use super::material::compose;
 use super::packet::{self, LANES, V3};
-use super::specular::{gloss, gloss8, view_dir};
+use super::specular::{gloss, view_dir};
 use crate::framebuffer::Rgb;
 use crate::plan::Plan;
 use crate::settings::{Filter, HeightDerivative};
@@ -85,9 +85,6 @@ pub fn one_pixel_reason(plan: &Plan) -> Option<&'static str> {
     }
     if plan.aa == AntiAlias::Msaa4 {
         return Some("MSAA: coverage and depth per sample");
-    }
-    if plan.terms.is_some() {
-        return Some("a model material's emission, occlusion or specular colour");
     }
     if bumped && plan.technique != Technique::Blinn {
         return Some("emboss, dot3, parallax and POM have no packet kernel yet");
@@ -328,7 +325,8 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
         if SPEC {
             let mut highlight = lerp3(b, &tri.highlight);
             if let Some(map) = gloss_map(ctx, tri.glossy) {
-                highlight *= gloss(map, lerp2(b, &tri.uv));
+                let uv = lerp2(b, &tri.uv);
+                highlight *= gloss(map, uv.x, uv.y);
             }
             return finish(albedo * lerp3(b, &tri.light) + highlight, counters);
         }
@@ -363,7 +361,7 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
             let mut highlight = packet::lerp3(&b, &tri.highlight);
             if let Some(map) = gloss_map(ctx, tri.glossy) {
                 let (u, v) = packet::lerp2(&b, &tri.uv);
-                highlight = highlight.scale(gloss8(map, u, v));
+                highlight = highlight.scale(gloss(map, u, v));
             }
             return packet::finish(lit.plus(highlight), live, counters);
         }
@@ -410,9 +408,8 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
     }
-    fn packets(&self, ctx: &ShadeCtx) -> bool {
-        // A model material's extra terms are read one pixel at a time.
-        ctx.plan.terms.is_none()
+    fn packets(&self, _: &ShadeCtx) -> bool {
+        true
     }
     fn cutout(&self, ctx: &ShadeCtx) -> bool {
         cuts(ctx)
@@ -487,22 +484,20 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
             }
         }
         counters.light_evals += count * plan.lights.len() as u64;
+        let uv = packet::lerp2(&b, &tri.uv);
         if SPEC && plan.specular.is_some() {
             counters.specular_evals += count * plan.lights.len() as u64;
             let view = view_dir(plan.eye, p);
             let (light, mut highlight) = light8::<true>(ctx, tri, p, n, view, live, counters);
             if let Some(map) = gloss_map(ctx, tri.glossy) {
-                let (u, v) = packet::lerp2(&b, &tri.uv);
-                highlight = highlight.scale(gloss8(map, u, v));
+                highlight = highlight.scale(gloss(map, uv.0, uv.1));
             }
-            let lit = albedo.times(light).plus(highlight);
-            return packet::finish(mirror(plan, p, n, lit, live, counters), live, counters);
+            let c = compose::<V3, true>(plan, p, n, uv, albedo, light, highlight, live, counters);
+            return packet::finish(c, live, counters);
         }
-        let (light, _) = light8::<false>(ctx, tri, p, n, V3::splat(Vec3::ZERO), live, counters);
-        packet::finish(
-            mirror(plan, p, n, albedo.times(light), live, counters),
-            live,
-            counters,
-        )
+        let zero = V3::splat(Vec3::ZERO);
+        let (light, _) = light8::<false>(ctx, tri, p, n, zero, live, counters);
+        let c = compose::<V3, false>(plan, p, n, uv, albedo, light, zero, live, counters);
+        packet::finish(c, live, counters)
     }
 }

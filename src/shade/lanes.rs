@@ -16,6 +16,8 @@ use std::ops::{Add, BitAnd, Div, Mul, Sub};
 use glam::Vec3;
 use wide::f32x8;
 
+use crate::texture::Level;
+
 /// One value per lane: `f32` (one pixel) or `f32x8` (eight).
 pub trait Lanes:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
@@ -44,6 +46,9 @@ pub trait Lanes:
     fn both(a: Self::Mask, b: impl FnOnce() -> Self::Mask) -> Self::Mask;
     /// x^e where x > 0, else 0 (also for NaN): `f32::powf` lane by lane.
     fn pow_positive(self, e: f32) -> Self;
+    /// `level`'s bilinear colour (R, G, B) at (u, v): `Level::bilinear`, or
+    /// the packet read that gives its bits lane by lane.
+    fn bilinear(level: &Level, u: Self, v: Self) -> [Self; 3];
 }
 
 impl Lanes for f32 {
@@ -93,6 +98,11 @@ impl Lanes for f32 {
     #[inline(always)]
     fn pow_positive(self, e: f32) -> f32 {
         if self > 0.0 { self.powf(e) } else { 0.0 }
+    }
+    #[inline(always)]
+    fn bilinear(level: &Level, u: f32, v: f32) -> [f32; 3] {
+        let t = level.bilinear(u, v);
+        [t[0], t[1], t[2]]
     }
 }
 
@@ -144,6 +154,11 @@ impl Lanes for f32x8 {
     fn pow_positive(self, e: f32) -> f32x8 {
         f32x8::from(self.to_array().map(|x| x.pow_positive(e)))
     }
+    #[inline(always)]
+    fn bilinear(level: &Level, u: f32x8, v: f32x8) -> [f32x8; 3] {
+        let c = crate::shade::packet::bilinear::<true, false>(level, u, v).color;
+        [c.x, c.y, c.z]
+    }
 }
 
 /// A 3-vector per lane: glam's `Vec3` for one pixel, `packet::V3` for
@@ -162,6 +177,8 @@ pub trait Vector:
     const WIDTH: usize;
     /// `v` in every lane.
     fn uniform(v: Vec3) -> Self;
+    /// The vector of components `x`, `y`, `z`.
+    fn new(x: Self::L, y: Self::L, z: Self::L) -> Self;
     /// glam's `dot`: (x·x') + (y·y') + (z·z').
     fn dot(self, o: Self) -> Self::L;
     /// glam's `cross`, term for term.
@@ -189,6 +206,10 @@ impl Vector for Vec3 {
     #[inline(always)]
     fn uniform(v: Vec3) -> Vec3 {
         v
+    }
+    #[inline(always)]
+    fn new(x: f32, y: f32, z: f32) -> Vec3 {
+        Vec3::new(x, y, z)
     }
     #[inline(always)]
     fn dot(self, o: Vec3) -> f32 {

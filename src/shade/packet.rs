@@ -155,6 +155,10 @@ impl Vector for V3 {
         V3::splat(v)
     }
     #[inline(always)]
+    fn new(x: f32x8, y: f32x8, z: f32x8) -> V3 {
+        V3 { x, y, z }
+    }
+    #[inline(always)]
     fn dot(self, o: V3) -> f32x8 {
         V3::dot(self, o)
     }

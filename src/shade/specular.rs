@@ -3,13 +3,11 @@
 //!
 //! Written once for one point or eight (`shade::lanes`), so packets stay bit
 //! for bit equal to the one-pixel kernels; the power is taken lane by lane
-//! with the same `powf`.
+//! with the same `powf`, and the specular map read lane by lane.
 
-use glam::{Vec2, Vec3};
-use wide::f32x8;
+use glam::Vec3;
 
 use super::lanes::{Lanes, Vector};
-use super::packet;
 use crate::texture::Level;
 
 /// The unit vector from `p` toward the eye (NaN when `p` is the eye: the
@@ -32,14 +30,9 @@ pub fn blinn_phong<V: Vector>(n: V, d: V, len2: V::L, view: V, shininess: f32) -
     ndh.pow_positive(shininess)
 }
 
-/// The specular map at `uv`: its bilinear grey value.
-#[inline]
-pub fn gloss(map: &Level, uv: Vec2) -> f32 {
-    map.bilinear(uv.x, uv.y)[0]
-}
-
-/// `gloss` at eight points (the packet bilinear read is the one-pixel one, lane-wise).
+/// The specular map at (u, v): its bilinear grey value, at one point or
+/// eight.
 #[inline(always)]
-pub fn gloss8(map: &Level, u: f32x8, v: f32x8) -> f32x8 {
-    packet::bilinear::<true, false>(map, u, v).color.x
+pub fn gloss<L: Lanes>(map: &Level, u: L, v: L) -> L {
+    L::bilinear(map, u, v)[0]
 }

@@ -34,6 +34,12 @@ impl<S: PixelShader> PixelShader for OnePixel<'_, S> {
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         self.0.uvs()
     }
+    fn cutout(&self, ctx: &ShadeCtx) -> bool {
+        self.0.cutout(ctx)
+    }
+    fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
+        self.0.opaque(ctx, b)
+    }
 }
 
 /// Draws every triangle of the frame twice, with and without packets, and
@@ -44,7 +50,18 @@ fn both(
     w: usize,
     h: usize,
 ) -> (Vec<Rgb>, Vec<Rgb>, Counters, Counters, usize) {
-    let plan = Plan::new(scene, settings);
+    both_planned(scene, &Plan::new(scene, settings), settings, w, h)
+}
+
+/// `both` under a given plan of the scene (a model material's, say).
+fn both_planned(
+    scene: &Scene,
+    plan: &Plan,
+    settings: &Settings,
+    w: usize,
+    h: usize,
+) -> (Vec<Rgb>, Vec<Rgb>, Counters, Counters, usize) {
+    let plan = plan.clone();
     let mut renderer = Renderer::new();
     let (tris, shaders) = renderer.screen_triangles(scene, settings, w, h);
     // The plan's shadow map, when it asks for one (the shadow scene).
@@ -341,6 +358,74 @@ fn shadowed_kernels_match_the_one_pixel_loop() {
                 check_in(&scene, s, 96, 72);
                 let (_, stats) = relief::render::render_frame(&scene, &s, 96, 72);
                 assert!(stats.counters.shadow_lookups > 0, "{s:?}");
+            }
+        }
+    }
+}
+
+/// A model material's terms (emission with and without a map, ambient
+/// occlusion, a tinted highlight with its own exponent, the sampler's
+/// filter, an alpha mask) on every Phong kernel, as the one-pixel loop
+/// draws them.
+#[test]
+fn material_terms_match_the_one_pixel_loop() {
+    use relief::scene::terms::{Cutout, MaterialTerms};
+    let scene = common::reference_scene(true);
+    // Odd sizes, so lanes wrap at the borders of both maps.
+    let map = |w: usize, h: usize, k: usize| {
+        let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * k % 253) as u8).collect();
+        Arc::new(Texture::from_rgba8("terms", w, h, &rgba).base().clone())
+    };
+    let glowing = MaterialTerms {
+        emissive: Vec3::new(0.3, 0.1, 0.05),
+        emissive_map: Some(map(5, 3, 71)),
+        occlusion: Some((map(7, 9, 43), 0.8)),
+        specular_color: Vec3::new(0.9, 0.4, 0.2),
+        shininess: Some(12.0),
+        filter: Some(Filter::Trilinear),
+        ..Default::default()
+    };
+    let plain_glow = MaterialTerms {
+        emissive: Vec3::new(0.05, 0.2, 0.1),
+        specular_color: Vec3::new(0.5, 1.0, 0.5),
+        ..Default::default()
+    };
+    let masked = MaterialTerms {
+        emissive: Vec3::new(0.1, 0.0, 0.2),
+        cutout: Some(Cutout {
+            factor: 0.9,
+            map: Some(map(11, 6, 97)),
+            cutoff: 0.5,
+        }),
+        ..Default::default()
+    };
+    for terms in [glowing, plain_glow, masked].map(Arc::new) {
+        for normals in [Normals::Face, Normals::Vertex] {
+            for (texture, bump) in [(true, true), (true, false), (false, true), (false, false)] {
+                for (specular, environment, rotation) in [
+                    (false, false, Vec3::new(25.0, 35.0, 0.0)),
+                    (true, false, Vec3::new(70.0, -20.0, 10.0)),
+                    (true, true, Vec3::new(-30.0, 50.0, 5.0)),
+                ] {
+                    let s = Settings {
+                        normals,
+                        texture,
+                        bump,
+                        specular,
+                        environment,
+                        rotation,
+                        ..Settings::default()
+                    };
+                    let plan = Plan::new(&scene, &s).with_terms(&terms);
+                    assert!(plan.terms.is_some(), "{s:?}");
+                    let (a, b, ca, cb, packed) = both_planned(&scene, &plan, &s, 80, 60);
+                    assert!(packed > 0, "no triangle used packets: {s:?}");
+                    assert!(a == b, "{s:?}");
+                    assert_eq!(ca, cb, "{s:?}");
+                    // The terms show: the picture is not the plain plan's.
+                    let (plain, ..) = both(&scene, &s, 80, 60);
+                    assert!(a != plain, "{s:?}");
+                }
             }
         }
     }

@@ -1,0 +1,77 @@
+//! A pixel's colour from its light (docs/shading.md): albedo × light +
+//! highlight, with a model material's terms when the plan carries them
+//! (`scene::terms`: the ambient occluded, the highlight tinted by `Ks`, the
+//! emission added), and the environment mixed in.
+//!
+//! Written once for one point or eight (`shade::lanes`), so a material with
+//! terms takes the packet path bit for bit; the maps are read lane by lane
+//! with the one-pixel bilinear read.
+
+use glam::Vec3;
+
+use super::environment::mirror;
+use super::lanes::{Lanes, Vector};
+use crate::plan::Plan;
+use crate::scene::terms::MaterialTerms;
+use crate::stats::Counters;
+
+/// The diffuse `light` at (u, v) with its ambient part occluded: `light`
+/// holds the plan's `ambient` once (the light loop starts from it), and the
+/// occlusion map's red r at strength s keeps 1 + s·(r − 1) of it.
+#[inline(always)]
+pub fn occlude<V: Vector>(terms: &MaterialTerms, ambient: Vec3, u: V::L, v: V::L, light: V) -> V {
+    match &terms.occlusion {
+        Some((map, strength)) => {
+            let occ = V::L::bilinear(map, u, v)[0];
+            light - V::uniform(ambient) * (V::L::splat(*strength) * (V::L::ONE - occ))
+        }
+        None => light,
+    }
+}
+
+/// The light given off at (u, v): the emissive colour, times the emissive
+/// map's RGB when there is one.
+#[inline(always)]
+pub fn emission<V: Vector>(terms: &MaterialTerms, u: V::L, v: V::L) -> V {
+    match &terms.emissive_map {
+        Some(map) => {
+            let [r, g, b] = V::L::bilinear(map, u, v);
+            V::uniform(terms.emissive) * V::new(r, g, b)
+        }
+        None => V::uniform(terms.emissive),
+    }
+}
+
+/// The colour of the point(s) `p` of shading normal `n` and texture
+/// coordinate (u, v), before quantising: `albedo × light` plus, when
+/// `SPEC`, the `highlight`; with the plan's material terms and environment.
+/// `live` has a bit per covered lane (1 for one pixel).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn compose<V: Vector, const SPEC: bool>(
+    plan: &Plan,
+    p: V,
+    n: V,
+    (u, v): (V::L, V::L),
+    albedo: V,
+    light: V,
+    highlight: V,
+    live: u32,
+    counters: &mut Counters,
+) -> V {
+    let Some(terms) = plan.terms.as_deref() else {
+        let lit = if SPEC {
+            albedo * light + highlight
+        } else {
+            albedo * light
+        };
+        return mirror(plan, p, n, lit, live, counters);
+    };
+    let light = occlude(terms, plan.ambient, u, v, light);
+    let lit = if SPEC {
+        albedo * light + highlight * V::uniform(terms.specular_color)
+    } else {
+        albedo * light
+    };
+    mirror(plan, p, n, lit, live, counters) + emission(terms, u, v)
+}
