@@ -67,6 +67,9 @@ pub const FRAME_BYTES_PER_PIXEL: u64 = 3 + 4 + 3;
 pub const SAMPLE_BYTES: u64 = 3 + 4;
 
 static RESERVED: AtomicU64 = AtomicU64::new(BASELINE_BYTES);
+/// The most ever reserved at once since [`reset_peak`] (tests and benchmarks
+/// compare it with what was allocated).
+static PEAK: AtomicU64 = AtomicU64::new(BASELINE_BYTES);
 
 /// A reservation that did not fit.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -97,6 +100,22 @@ impl Reservation {
     pub fn bytes(&self) -> u64 {
         self.bytes
     }
+
+    /// Holds `more` bytes for `what` as well (a computation whose needs are
+    /// known step by step reserves each step before allocating it).
+    pub fn grow(&mut self, what: &str, more: u64) -> Result<(), BudgetError> {
+        let extra = reserve(what, more)?;
+        self.bytes += extra.bytes;
+        std::mem::forget(extra);
+        Ok(())
+    }
+
+    /// Gives back `bytes` (at most what is held) once they are freed.
+    pub fn shrink(&mut self, bytes: u64) {
+        let bytes = bytes.min(self.bytes);
+        self.bytes -= bytes;
+        RESERVED.fetch_sub(bytes, Ordering::SeqCst);
+    }
 }
 
 impl Drop for Reservation {
@@ -118,7 +137,10 @@ pub fn reserve(what: &str, bytes: u64) -> Result<Reservation, BudgetError> {
             });
         }
         match RESERVED.compare_exchange(used, total, Ordering::SeqCst, Ordering::SeqCst) {
-            Ok(_) => return Ok(Reservation { bytes }),
+            Ok(_) => {
+                PEAK.fetch_max(total, Ordering::SeqCst);
+                return Ok(Reservation { bytes });
+            }
             Err(now) => used = now,
         }
     }
@@ -127,6 +149,16 @@ pub fn reserve(what: &str, bytes: u64) -> Result<Reservation, BudgetError> {
 /// Bytes reserved now (the baseline included).
 pub fn in_use() -> u64 {
     RESERVED.load(Ordering::SeqCst)
+}
+
+/// The most reserved at once (the baseline included) since [`reset_peak`].
+pub fn peak() -> u64 {
+    PEAK.load(Ordering::SeqCst)
+}
+
+/// Starts [`peak`] again from what is reserved now.
+pub fn reset_peak() {
+    PEAK.store(in_use(), Ordering::SeqCst);
 }
 
 /// Worst case of a `width × height` texture kept in f32 (see
@@ -199,6 +231,14 @@ mod tests {
         );
         drop(a);
         assert!(reserve("u64::MAX", u64::MAX).is_err());
+        let mut grown = reserve("b", 1 << 20).unwrap();
+        grown.grow("b", 2 << 20).unwrap();
+        assert_eq!(grown.bytes(), 3 << 20);
+        assert!(peak() >= BASELINE_BYTES + (3 << 20));
+        grown.shrink(1 << 20);
+        assert_eq!(grown.bytes(), 2 << 20);
+        assert!(grown.grow("b", BUDGET_BYTES).is_err());
+        assert_eq!(grown.bytes(), 2 << 20);
     }
 
     #[test]

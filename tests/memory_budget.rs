@@ -3,9 +3,65 @@
 
 mod hostile;
 
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::io::Write;
 use std::path::Path;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
-use relief::budget::BUDGET_BYTES;
+use relief::budget::{self, BUDGET_BYTES};
+
+/// The heap in use now, and its most since [`start_counting`].
+static LIVE: AtomicUsize = AtomicUsize::new(0);
+static MOST: AtomicUsize = AtomicUsize::new(0);
+
+/// The system allocator, counting the bytes in use.
+struct Counting;
+
+fn add(bytes: usize) {
+    let now = LIVE.fetch_add(bytes, Ordering::SeqCst) + bytes;
+    MOST.fetch_max(now, Ordering::SeqCst);
+}
+
+// SAFETY: every call is passed on to the system allocator unchanged.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let p = unsafe { System.alloc(layout) };
+        if !p.is_null() {
+            add(layout.size());
+        }
+        p
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        let p = unsafe { System.alloc_zeroed(layout) };
+        if !p.is_null() {
+            add(layout.size());
+        }
+        p
+    }
+
+    unsafe fn dealloc(&self, p: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(p, layout) };
+        LIVE.fetch_sub(layout.size(), Ordering::SeqCst);
+    }
+
+    unsafe fn realloc(&self, p: *mut u8, layout: Layout, size: usize) -> *mut u8 {
+        let q = unsafe { System.realloc(p, layout, size) };
+        if !q.is_null() {
+            // The old block may live on until the new one is filled.
+            add(size);
+            LIVE.fetch_sub(layout.size(), Ordering::SeqCst);
+        }
+        q
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// The tests of this file one at a time (the counts are the process's).
+static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
 
 fn mib(bytes: u64) -> u64 {
     bytes >> 20
@@ -45,6 +101,7 @@ fn write_png(path: &Path, w: u32, h: u32) {
 
 #[test]
 fn bad_inputs_stay_under_the_budget() {
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let dir = hostile::scratch("budget");
     let p = |n: &str| dir.join(n).to_str().unwrap().to_owned();
     let out = p("out.png");
@@ -176,5 +233,185 @@ fn bad_inputs_stay_under_the_budget() {
             "{err}"
         );
     }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Small bookkeeping (names, warnings, the reader's per-chunk lists) is
+/// not reserved one by one: [`budget::BASELINE_BYTES`] covers it.
+const UNRESERVED: usize = 1 << 20;
+
+/// Loads `path` in this process: returns the triangles, the most heap
+/// allocated during the load, the most reserved from the budget during it,
+/// and the heap the model holds once loaded (all beyond what was in use).
+fn load_counted(path: &Path) -> (usize, usize, usize, usize) {
+    let live = LIVE.load(Ordering::SeqCst);
+    MOST.store(live, Ordering::SeqCst);
+    budget::reset_peak();
+    let reserved = budget::in_use();
+    let model = relief::scene::model_file::load(path).expect("the model loads");
+    let allocated = MOST.load(Ordering::SeqCst) - live;
+    let most_reserved = (budget::peak() - reserved) as usize;
+    let held = LIVE.load(Ordering::SeqCst).saturating_sub(live);
+    let triangles = model.parts.iter().map(|p| p.mesh.triangles.len()).sum();
+    drop(model);
+    (triangles, allocated, most_reserved, held)
+}
+
+/// An `n × n` grid with a position, UV and normal per `v`/`vt`/`vn` line
+/// shared by the corners (`v/vt/vn`), two triangles a cell.
+fn write_grid(path: &Path, n: usize) {
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+    for y in 0..n {
+        for x in 0..n {
+            let (u, v) = (x as f32 / (n - 1) as f32, y as f32 / (n - 1) as f32);
+            let z = 0.05 * (u * 40.0).sin() * (v * 30.0).cos();
+            writeln!(out, "v {:.8} {:.8} {:.8}", u * 2.0 - 1.0, v * 2.0 - 1.0, z).unwrap();
+        }
+    }
+    for y in 0..n {
+        for x in 0..n {
+            writeln!(
+                out,
+                "vt {:.6} {:.6}",
+                x as f32 / n as f32,
+                y as f32 / n as f32
+            )
+            .unwrap();
+        }
+    }
+    for _ in 0..n * n {
+        writeln!(out, "vn 0.00000000 0.00000000 1.00000000").unwrap();
+    }
+    let at = |x: usize, y: usize| y * n + x + 1;
+    for y in 0..n - 1 {
+        for x in 0..n - 1 {
+            let (a, b, c, d) = (at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1));
+            writeln!(out, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}").unwrap();
+            writeln!(out, "f {a}/{a}/{a} {c}/{c}/{c} {d}/{d}/{d}").unwrap();
+        }
+    }
+    out.flush().unwrap();
+}
+
+#[test]
+fn loading_a_model_allocates_no_more_than_it_reserved() {
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = hostile::scratch("model-reservation");
+    let mut cases = Vec::new();
+
+    // Shared vertices with UVs and normals.
+    let grid = dir.join("grid.obj");
+    write_grid(&grid, 200);
+    cases.push(("grid v/vt/vn", grid));
+
+    // Positions only, shared: normals computed, UVs projected; two
+    // materials with their Kd (two parts).
+    let mut text = String::from("mtllib two.mtl\n");
+    let n = 150;
+    for y in 0..n {
+        for x in 0..n {
+            let (a, b) = (x as f32 * 0.1, y as f32 * 0.05);
+            text += &format!("v {} {} {}\n", a.cos() * (1.0 + b), b, a.sin());
+        }
+    }
+    for y in 0..n - 1 {
+        text += if y % 2 == 0 {
+            "usemtl red\n"
+        } else {
+            "usemtl blue\n"
+        };
+        for x in 0..n - 1 {
+            let a = y * n + x + 1;
+            text += &format!("f {a} {} {} {}\n", a + 1, a + n + 1, a + n);
+        }
+    }
+    std::fs::write(dir.join("parts.obj"), text).unwrap();
+    std::fs::write(
+        dir.join("two.mtl"),
+        "newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\n",
+    )
+    .unwrap();
+    cases.push(("positions only, two parts", dir.join("parts.obj")));
+
+    // Every corner its own position and UV: the most vertices a triangle has.
+    let mut text = String::new();
+    for t in 0..40_000 {
+        let (a, b) = ((t % 200) as f32, (t / 200) as f32);
+        text += &format!(
+            "v {a} {b} 0\nv {} {b} 0.5\nv {a} {} 0.25\nvt 0 0\nvt 1 0\nvt {} 1\nf -3/-3 -2/-2 -1/-1\n",
+            a + 0.9,
+            b + 0.9,
+            t % 7
+        );
+    }
+    std::fs::write(dir.join("soup.obj"), text).unwrap();
+    cases.push(("a vertex per corner", dir.join("soup.obj")));
+
+    // A binary STL (read corner by corner).
+    let mut stl = vec![0u8; 80];
+    let count = 30_000u32;
+    stl.extend(count.to_le_bytes());
+    for t in 0..count {
+        let (a, b) = ((t % 150) as f32, (t / 150) as f32);
+        for v in [
+            [0.0, 0.0, 1.0],
+            [a, b, 0.0],
+            [a + 1.0, b, 0.0],
+            [a, b + 1.0, 0.3],
+        ] {
+            for x in v {
+                stl.extend(x.to_le_bytes());
+            }
+        }
+        stl.extend([0, 0]);
+    }
+    std::fs::write(dir.join("facets.stl"), stl).unwrap();
+    cases.push(("binary STL", dir.join("facets.stl")));
+
+    for (what, path) in cases {
+        let (triangles, allocated, reserved, held) = load_counted(&path);
+        let per = |b: usize| b as f64 / triangles as f64;
+        println!(
+            "{what}: {triangles} triangles, at most {:.0} bytes a triangle allocated, \
+             {:.0} reserved, {:.0} held by the model",
+            per(allocated),
+            per(reserved),
+            per(held)
+        );
+        assert!(triangles > 20_000, "{what}");
+        assert!(
+            allocated <= reserved + UNRESERVED,
+            "{what}: {allocated} bytes allocated, {reserved} reserved"
+        );
+        // A true estimate, not a worst case far above it.
+        assert!(
+            reserved <= 2 * allocated + UNRESERVED,
+            "{what}: {allocated} bytes allocated, {reserved} reserved"
+        );
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn a_100_mb_obj_of_a_million_triangles_opens_within_the_budget() {
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = hostile::scratch("million");
+    let grid = dir.join("grid.obj");
+    // 708 × 708 positions: 999,698 triangles, 110 MB of text.
+    write_grid(&grid, 708);
+    assert!(std::fs::metadata(&grid).unwrap().len() > 100_000_000);
+    let out = dir.join("out.png");
+    let (code, err, peak) = hostile::relief_peak(&[
+        "render",
+        "--out",
+        out.to_str().unwrap(),
+        grid.to_str().unwrap(),
+    ]);
+    println!(
+        "1 M triangles, 110 MB: peak {} MiB, exit {code:?}",
+        mib(peak)
+    );
+    assert_eq!(code, Some(0), "{err}");
+    assert!(peak < BUDGET_BYTES, "{} MiB", mib(peak));
     let _ = std::fs::remove_dir_all(dir);
 }

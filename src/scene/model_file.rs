@@ -152,7 +152,7 @@ pub(crate) fn read_model_file(path: &Path) -> Result<(Vec<u8>, Reservation), Obj
         return Err(ObjError::NotAFile { name });
     }
     let held = reserve(&name, "the file", meta.len())?;
-    let mut bytes = Vec::new();
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
     std::fs::File::open(path)
         .and_then(|f| f.take(meta.len()).read_to_end(&mut bytes))
         .map_err(read_error)?;

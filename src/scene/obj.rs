@@ -38,13 +38,17 @@ use super::cube::{FACES, corner_color};
 use super::mesh::{Mesh, Triangle, Vertex};
 use super::model_file::{LoadedModel, ModelMaps, ModelPart, read_model_file};
 use super::tangents::{accumulate, face_frame};
+use crate::budget::Reservation;
 use crate::sanitize::{clean, display_path};
 use mtl::MaterialDesc;
 
 /// Most corners one face may have: a polygon is split into a fan, and a
 /// fan of a million corners is a million thin triangles.
 pub const MAX_FACE_CORNERS: usize = 65_536;
-pub use read::MODEL_BYTES_PER_TRIANGLE;
+pub use read::READ_BYTES_PER_TRIANGLE;
+/// Bytes per triangle a glTF model reserves for building its meshes (an
+/// upper bound measured on its worst cases).
+pub const MODEL_BYTES_PER_TRIANGLE: u64 = 920;
 /// Distance from the model's centre to its farthest point once loaded.
 pub const FIT_RADIUS: f32 = 1.5;
 /// Faces meeting at a larger angle keep separate normals when normals are computed.
@@ -99,9 +103,24 @@ pub fn load_model(path: &Path) -> Result<LoadedModel, ObjError> {
     let name = display_path(path);
     let (bytes, held) = read_model_file(path)?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    let model = parse_model(&name, &bytes, Some(dir));
-    drop(held);
-    model
+    // The text is freed once read, before the mesh is built.
+    parse_guarded(&name, Text::Owned { bytes, _held: held }, Some(dir), None)
+}
+
+/// The OBJ text: borrowed, or read from its file (and freed, with its
+/// reservation, once read).
+enum Text<'a> {
+    Borrowed(&'a [u8]),
+    Owned { bytes: Vec<u8>, _held: Reservation },
+}
+
+impl Text<'_> {
+    fn bytes(&self) -> &[u8] {
+        match self {
+            Text::Borrowed(b) => b,
+            Text::Owned { bytes, .. } => bytes,
+        }
+    }
 }
 
 /// Builds a mesh from OBJ text (any 8-bit encoding, or UTF-16 with its
@@ -123,6 +142,16 @@ pub fn parse_model(name: &str, text: &[u8], dir: Option<&Path>) -> Result<Loaded
 pub fn parse_in_chunks(
     name: &str,
     text: &[u8],
+    dir: Option<&Path>,
+    chunks: Option<usize>,
+) -> Result<LoadedModel, ObjError> {
+    parse_guarded(name, Text::Borrowed(text), dir, chunks)
+}
+
+/// [`parse_unguarded`], a panic made an error.
+fn parse_guarded(
+    name: &str,
+    text: Text,
     dir: Option<&Path>,
     chunks: Option<usize>,
 ) -> Result<LoadedModel, ObjError> {
@@ -156,11 +185,21 @@ fn utf8_text(text: &[u8]) -> std::borrow::Cow<'_, [u8]> {
 
 fn parse_unguarded(
     name: &str,
-    text: &[u8],
+    file: Text,
     dir: Option<&Path>,
     chunks: Option<usize>,
 ) -> Result<LoadedModel, ObjError> {
-    let text = utf8_text(text);
+    // UTF-16 is decoded to at most 3 bytes of UTF-8 for each 2 bytes.
+    let raw = file.bytes();
+    let _decoded = match raw {
+        [0xFF, 0xFE, ..] | [0xFE, 0xFF, ..] => Some(super::model_file::reserve(
+            name,
+            "the decoded text",
+            (raw.len() as u64 / 2).saturating_mul(3),
+        )?),
+        _ => None,
+    };
+    let text = utf8_text(raw);
     // Text in any 8-bit encoding is read (names and comments are not
     // used); a NUL byte says it is not text at all.
     if let Some(at) = text.iter().position(|&b| b == 0) {
@@ -174,6 +213,8 @@ fn parse_unguarded(
         None => read::read(name, &text)?,
     };
     drop(text);
+    drop(_decoded);
+    drop(file);
     let mut warnings = std::mem::take(&mut model.warnings);
     let library = match dir {
         Some(dir) => load_libraries(name, dir, &model.libraries, &mut warnings),
@@ -223,13 +264,10 @@ fn parse_unguarded(
         })
         .collect();
     // Kd is the corner colour where the file gives none.
-    for (corners, &part) in model.corners.chunks_exact_mut(3).zip(&model.part_of) {
-        if let Some(kd) = materials[part as usize].as_ref().and_then(|m| m.diffuse) {
-            for c in corners {
-                c.color.get_or_insert(kd);
-            }
-        }
-    }
+    let part_colors: Vec<Option<Vec3>> = materials
+        .iter()
+        .map(|m| m.as_ref().and_then(|m| m.diffuse))
+        .collect();
     // `map_d`: each material's opacity, read once.
     let opacity: Vec<Option<Arc<crate::texture::Level>>> = materials
         .iter()
@@ -244,7 +282,13 @@ fn parse_unguarded(
             }
         })
         .collect();
-    let meshes = build_parts(name, model.corners, &model.part_of, &textured)?;
+    let meshes = build_indexed(
+        name,
+        model.corners,
+        &part_colors,
+        &textured,
+        &mut model.reservation,
+    )?;
     drop(model.reservation);
     let parts = meshes
         .into_iter()
@@ -404,6 +448,77 @@ pub(crate) struct Corner {
     pub color: Option<Vec3>,
 }
 
+/// Bytes a format that reads corner by corner holds per triangle before
+/// building (its three [`Corner`]s); the builder reserves the rest itself.
+pub const CORNER_BYTES_PER_TRIANGLE: u64 = 3 * std::mem::size_of::<Corner>() as u64;
+
+/// The index of a corner's missing UV or normal.
+pub(crate) const NO_INDEX: u32 = u32::MAX;
+
+/// Bytes of `n` values of `T`.
+pub(crate) fn bytes_of<T>(n: u64) -> u64 {
+    n.saturating_mul(std::mem::size_of::<T>() as u64)
+}
+
+/// Triangle corners as indices into attribute arrays, what the builder
+/// reads: an OBJ's `v`, `vt` and `vn` as written (shared ones stay shared,
+/// 12 bytes a corner), other formats one entry per corner.
+#[derive(Default)]
+pub(crate) struct IndexedCorners {
+    pub positions: Vec<Vec3>,
+    /// Per position, when the file gives colours (else empty).
+    pub colors: Vec<Option<Vec3>>,
+    pub uvs: Vec<Vec2>,
+    pub normals: Vec<Vec3>,
+    /// Three per triangle: position, UV and normal indices ([`NO_INDEX`]: none).
+    pub corners: Vec<[u32; 3]>,
+    /// Each triangle's part (empty: all in part 0).
+    pub part_of: Vec<u32>,
+}
+
+impl IndexedCorners {
+    /// Each corner with entries of its own.
+    fn from_corners(corners: Vec<Corner>, part_of: &[u32]) -> IndexedCorners {
+        let n = corners.len();
+        let any_color = corners.iter().any(|c| c.color.is_some());
+        let mut out = IndexedCorners {
+            positions: corners.iter().map(|c| c.position).collect(),
+            colors: if any_color {
+                corners.iter().map(|c| c.color).collect()
+            } else {
+                Vec::new()
+            },
+            uvs: Vec::with_capacity(n),
+            normals: Vec::with_capacity(n),
+            corners: Vec::with_capacity(n),
+            part_of: part_of.to_vec(),
+        };
+        for c in &corners {
+            let mut index = [out.corners.len() as u32, NO_INDEX, NO_INDEX];
+            if let Some(uv) = c.uv {
+                index[1] = out.uvs.len() as u32;
+                out.uvs.push(uv);
+            }
+            if let Some(normal) = c.normal {
+                index[2] = out.normals.len() as u32;
+                out.normals.push(normal);
+            }
+            out.corners.push(index);
+        }
+        out
+    }
+
+    /// Bytes the arrays of `corners` corners with entries of their own hold.
+    fn bytes_for(corners: u64, triangles: u64) -> u64 {
+        bytes_of::<Vec3>(corners)
+            .saturating_add(bytes_of::<Option<Vec3>>(corners))
+            .saturating_add(bytes_of::<Vec2>(corners))
+            .saturating_add(bytes_of::<Vec3>(corners))
+            .saturating_add(bytes_of::<[u32; 3]>(corners))
+            .saturating_add(bytes_of::<u32>(triangles))
+    }
+}
+
 /// Bits of a position, with −0 and +0 alike: the key that says two corners
 /// are the same point.
 fn position_key(p: Vec3) -> [u32; 3] {
@@ -434,21 +549,10 @@ pub(crate) fn fitted(p: Vec3, (center, scale): (DVec3, f64)) -> Vec3 {
     ((p.as_dvec3() - center) * scale).as_vec3()
 }
 
-/// Centre and scale the corners so the farthest is `FIT_RADIUS` away.
-fn fit(corners: &mut [Corner]) -> bool {
-    let Some(fit) = fit_of(|| corners.iter().map(|c| c.position)) else {
-        return false;
-    };
-    for c in corners.iter_mut() {
-        c.position = fitted(c.position, fit);
-    }
-    true
-}
-
-/// What makes two corners one vertex: position id, UV and normal bits,
-/// whether the face's texture axes are mirrored, and the part (whose
-/// material may colour it).
-type VertexKey = (u32, [u32; 2], [u32; 3], bool, u32);
+/// What makes two corners one vertex: position id, UV bits, normal bits,
+/// and the part (whose material may colour it) times two plus whether the
+/// face's texture axes are mirrored.
+type VertexKey = [u32; 7];
 
 /// Angle of a triangle at corner `k`.
 fn corner_angle(p: [Vec3; 3], k: usize) -> f32 {
@@ -457,13 +561,51 @@ fn corner_angle(p: [Vec3; 3], k: usize) -> f32 {
     a.angle_between(b)
 }
 
-/// A triangle being built: its corners, its normal, and the ids of its
-/// corners' positions (equal ids for equal points).
-struct Tri {
-    corners: [Corner; 3],
-    normal: Vec3,
-    position_ids: [u32; 3],
-    part: u32,
+/// Bytes of a hash table of `capacity` entries of `E`: buckets (a power of
+/// two at most 7/8 full) of one entry and one control byte, and a group of
+/// control bytes more.
+fn table_bytes<E>(capacity: u64) -> u64 {
+    if capacity == 0 {
+        return 0;
+    }
+    let buckets = match capacity {
+        0..4 => 4,
+        4..8 => 8,
+        _ => (capacity.saturating_mul(8) / 7).next_power_of_two(),
+    };
+    bytes_of::<E>(buckets)
+        .saturating_add(buckets)
+        .saturating_add(32)
+}
+
+/// Reserves `bytes` more for `what` of model `name` in `held`.
+fn hold(held: &mut Reservation, name: &str, what: &str, bytes: u64) -> Result<(), ObjError> {
+    held.grow(&format!("{what} of model {name}"), bytes)
+        .map_err(|e| ObjError::Budget {
+            name: name.to_string(),
+            reason: e.to_string(),
+        })
+}
+
+/// Makes room for `more` items in `v`, reserving first what the move
+/// allocates (old and new blocks together) and giving back the old block.
+fn grow_vec<T>(
+    v: &mut Vec<T>,
+    more: usize,
+    held: &mut Reservation,
+    name: &str,
+    what: &str,
+) -> Result<(), ObjError> {
+    let old = bytes_of::<T>(v.capacity() as u64);
+    hold(
+        held,
+        name,
+        what,
+        old + bytes_of::<T>((v.capacity() + more) as u64),
+    )?;
+    v.reserve_exact(more);
+    held.shrink(old);
+    Ok(())
 }
 
 /// Builds the model from its triangle corners (three per triangle, in any
@@ -476,12 +618,38 @@ pub(crate) fn build_parts(
     part_of: &[u32],
     textured: &[bool],
 ) -> Result<Vec<(usize, Mesh)>, ObjError> {
-    let (mesh, tri_parts) = build(name, corners, part_of, textured)?;
+    let need = IndexedCorners::bytes_for(corners.len() as u64, part_of.len() as u64);
+    let mut held = super::model_file::reserve(name, "the corners", need)?;
+    let indexed = IndexedCorners::from_corners(corners, part_of);
+    build_indexed(name, indexed, &[], textured, &mut held)
+}
+
+/// [`build_parts`] from indexed corners; `part_colors` colours the corners
+/// of each part that have no colour of their own (an MTL's `Kd`). `held`
+/// covers `corners` and grows by what building allocates, step by step,
+/// before it is allocated.
+pub(crate) fn build_indexed(
+    name: &str,
+    corners: IndexedCorners,
+    part_colors: &[Option<Vec3>],
+    textured: &[bool],
+    held: &mut Reservation,
+) -> Result<Vec<(usize, Mesh)>, ObjError> {
+    let (mesh, tri_parts) = build(name, corners, part_colors, textured, held)?;
     let count = textured.len().max(1);
     if count == 1 || tri_parts.iter().all(|&p| p == tri_parts[0]) {
         return Ok(vec![(tri_parts[0] as usize, mesh)]);
     }
-    // Split: each part keeps the vertices its triangles use, renumbered.
+    // Split: each part keeps the vertices its triangles use, renumbered
+    // (each vertex belongs to one part: the part is in its key).
+    hold(
+        held,
+        name,
+        "the parts",
+        bytes_of::<Vertex>(mesh.vertices.len() as u64)
+            .saturating_add(bytes_of::<Triangle>(mesh.triangles.len() as u64))
+            .saturating_add(bytes_of::<u32>(mesh.vertices.len() as u64) * 2),
+    )?;
     let mut out = Vec::new();
     let mut new_index = vec![u32::MAX; mesh.vertices.len()];
     for part in 0..count as u32 {
@@ -512,6 +680,8 @@ pub(crate) fn build_parts(
         if triangles.is_empty() {
             continue;
         }
+        vertices.shrink_to_fit();
+        triangles.shrink_to_fit();
         out.push((
             part as usize,
             Mesh {
@@ -526,151 +696,265 @@ pub(crate) fn build_parts(
     Ok(out)
 }
 
+/// The UVs of triangle `t`: the file's, or (when a corner has none) a box
+/// projection with the cube's texture axes.
+fn uvs_of(c: &IndexedCorners, t: usize, normal: Vec3) -> [Vec2; 3] {
+    let corners = &c.corners[3 * t..3 * t + 3];
+    if corners.iter().all(|k| k[1] != NO_INDEX) {
+        return [0, 1, 2].map(|k| c.uvs[corners[k][1] as usize]);
+    }
+    let (_, u_axis, v_axis) = FACES
+        .iter()
+        .copied()
+        .max_by(|x, y| normal.dot(x.0).total_cmp(&normal.dot(y.0)))
+        .unwrap_or(FACES[4]);
+    [0, 1, 2].map(|k| {
+        let p = c.positions[corners[k][0] as usize] / FIT_RADIUS;
+        Vec2::new(0.5 + 0.5 * p.dot(u_axis), 0.5 + 0.5 * p.dot(v_axis))
+    })
+}
+
+/// The colour of corner `k` of triangle `t`: the file's, else its part's,
+/// else one computed from the position.
+fn color_of(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize, k: usize) -> Vec3 {
+    let p = c.corners[3 * t + k][0] as usize;
+    let part = c.part_of.get(t).copied().unwrap_or(0) as usize;
+    c.colors
+        .get(p)
+        .copied()
+        .flatten()
+        .or_else(|| part_colors.get(part).copied().flatten())
+        .map(|k| k.clamp(Vec3::ZERO, Vec3::ONE))
+        .unwrap_or_else(|| corner_color(c.positions[p] / FIT_RADIUS).min(Vec3::ONE))
+}
+
 fn build(
     name: &str,
-    mut corners: Vec<Corner>,
-    part_of: &[u32],
+    mut c: IndexedCorners,
+    part_colors: &[Option<Vec3>],
     textured: &[bool],
+    held: &mut Reservation,
 ) -> Result<(Mesh, Vec<u32>), ObjError> {
-    if !fit(&mut corners) {
-        return Err(ObjError::Degenerate {
-            name: name.to_string(),
-        });
-    }
+    let degenerate = || ObjError::Degenerate {
+        name: name.to_string(),
+    };
+    let fit = {
+        let (positions, corners) = (&c.positions, &c.corners);
+        fit_of(|| corners.iter().map(|k| positions[k[0] as usize])).ok_or_else(degenerate)?
+    };
+    c.positions
+        .par_iter_mut()
+        .for_each(|p| *p = fitted(*p, fit));
     // Keep the triangles that have an area (and so a normal).
-    let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
-    let mut tris: Vec<Tri> = corners
-        .chunks_exact(3)
-        .enumerate()
-        .filter_map(|(t, c)| {
-            let c = [c[0], c[1], c[2]];
-            let [a, b, d] = c.map(|c| c.position);
-            let n = (b - a).cross(d - a).normalize_or_zero();
-            let part = part_of.get(t).copied().unwrap_or(0);
-            (n != Vec3::ZERO).then_some((c, n, part))
+    let all = c.corners.len() / 3;
+    hold(
+        held,
+        name,
+        "the face normals",
+        bytes_of::<Vec3>(all as u64) + bytes_of::<u32>(all as u64),
+    )?;
+    let mut face_normals: Vec<Vec3> = c
+        .corners
+        .par_chunks_exact(3)
+        .map(|k| {
+            let [a, b, d] = [0, 1, 2].map(|i| c.positions[k[i][0] as usize]);
+            (b - a).cross(d - a).normalize_or_zero()
         })
-        .map(|(c, normal, part)| {
-            let position_ids = c.map(|corner| {
+        .collect();
+    if c.part_of.len() != all {
+        c.part_of = vec![0; all];
+    }
+    let mut kept = 0;
+    for t in 0..all {
+        if face_normals[t] != Vec3::ZERO {
+            c.corners.copy_within(3 * t..3 * t + 3, 3 * kept);
+            face_normals[kept] = face_normals[t];
+            c.part_of[kept] = c.part_of[t];
+            kept += 1;
+        }
+    }
+    if kept == 0 {
+        return Err(degenerate());
+    }
+    c.corners.truncate(3 * kept);
+    face_normals.truncate(kept);
+    c.part_of.truncate(kept);
+    // Equal points get one id.
+    let table = table_bytes::<([u32; 3], u32)>(c.positions.len() as u64);
+    hold(
+        held,
+        name,
+        "the position ids",
+        table + bytes_of::<u32>(c.positions.len() as u64),
+    )?;
+    let (position_id, ids) = {
+        let mut ids: HashMap<[u32; 3], u32> = HashMap::with_capacity(c.positions.len());
+        let position_id: Vec<u32> = c
+            .positions
+            .iter()
+            .map(|&p| {
                 let next = ids.len() as u32;
-                *ids.entry(position_key(corner.position)).or_insert(next)
-            });
-            Tri {
-                corners: c,
-                normal,
-                position_ids,
-                part,
+                *ids.entry(position_key(p)).or_insert(next)
+            })
+            .collect();
+        (position_id, ids.len())
+    };
+    held.shrink(table);
+    // File normals are normalised; a missing or unusable one is computed.
+    c.normals
+        .par_iter_mut()
+        .for_each(|n| *n = n.try_normalize().unwrap_or(Vec3::ZERO));
+    let missing = c
+        .corners
+        .par_iter()
+        .any(|k| k[2] == NO_INDEX || c.normals[k[2] as usize] == Vec3::ZERO);
+    if missing {
+        fill_normals(name, &mut c, &face_normals, &position_id, ids, held)?;
+    }
+    // The triangles' facet data, in parallel.
+    hold(
+        held,
+        name,
+        "the triangles",
+        bytes_of::<Triangle>(kept as u64),
+    )?;
+    let mut triangles: Vec<Triangle> = (0..kept)
+        .into_par_iter()
+        .map(|t| {
+            let normal = face_normals[t];
+            let positions = [0, 1, 2].map(|k| c.positions[c.corners[3 * t + k][0] as usize]);
+            let uvs = uvs_of(&c, t, normal);
+            let colors = [0, 1, 2].map(|k| color_of(&c, part_colors, t, k));
+            let frame = face_frame(positions, uvs, normal);
+            Triangle {
+                indices: [0; 3],
+                face_normal: normal,
+                face_tangent_u: frame.tangent_u,
+                face_tangent_v: frame.tangent_v,
+                facet_center: positions.iter().sum::<Vec3>() / 3.0,
+                facet_color: colors.iter().sum::<Vec3>() / 3.0,
+                textured: textured.get(c.part_of[t] as usize).copied().unwrap_or(true),
             }
         })
         .collect();
-    // The triangles hold copies of the corners: free them before the mesh grows.
-    drop(corners);
-    if tris.is_empty() {
-        return Err(ObjError::Degenerate {
-            name: name.to_string(),
-        });
-    }
-    fill_normals(&mut tris, ids.len());
-    // Missing UVs: box projection with the cube's texture axes.
-    for tri in tris.iter_mut() {
-        if tri.corners.iter().any(|c| c.uv.is_none()) {
-            let n = tri.normal;
-            let (_, u_axis, v_axis) = FACES
-                .iter()
-                .copied()
-                .max_by(|x, y| n.dot(x.0).total_cmp(&n.dot(y.0)))
-                .unwrap_or(FACES[4]);
-            for corner in tri.corners.iter_mut() {
-                let p = corner.position / FIT_RADIUS;
-                corner.uv = Some(Vec2::new(
-                    0.5 + 0.5 * p.dot(u_axis),
-                    0.5 + 0.5 * p.dot(v_axis),
-                ));
-            }
-        }
-    }
+    drop(face_normals);
+    // Vertices: one per distinct key, in order of first use.
     let mut vertices: Vec<Vertex> = Vec::new();
-    let mut triangles = Vec::with_capacity(tris.len());
     let mut index_of: HashMap<VertexKey, u32> = HashMap::new();
-    for tri in &tris {
-        let c = &tri.corners;
-        let positions = c.map(|c| c.position);
-        let uvs = c.map(|c| c.uv.unwrap_or(Vec2::ZERO));
-        // Colours belong to positions (the file's, or computed from the position).
-        let colors = c.map(|c| {
-            c.color
-                .map(|k| k.clamp(Vec3::ZERO, Vec3::ONE))
-                .unwrap_or_else(|| corner_color(c.position / FIT_RADIUS).min(Vec3::ONE))
-        });
-        let frame = face_frame(positions, uvs, tri.normal);
-        let mirrored = frame.handedness(tri.normal) < 0.0;
-        let mut indices = [0u32; 3];
-        for k in 0..3 {
-            let normal = c[k].normal.unwrap_or(tri.normal);
-            let key = (
-                tri.position_ids[k],
-                uvs[k].to_array().map(f32::to_bits),
-                normal.to_array().map(f32::to_bits),
-                mirrored,
-                tri.part,
-            );
-            indices[k] = *index_of.entry(key).or_insert_with(|| {
+    let mut table = 0;
+    for (t, tri) in triangles.iter_mut().enumerate() {
+        let mirrored = tri
+            .face_tangent_u
+            .cross(tri.face_tangent_v)
+            .dot(tri.face_normal)
+            < 0.0;
+        let uvs = uvs_of(&c, t, tri.face_normal);
+        for (k, uv) in uvs.into_iter().enumerate() {
+            let corner = c.corners[3 * t + k];
+            let normal = c.normals[corner[2] as usize];
+            let [u, v] = uv.to_array().map(f32::to_bits);
+            let [x, y, z] = normal.to_array().map(f32::to_bits);
+            let key = [
+                position_id[corner[0] as usize],
+                u,
+                v,
+                x,
+                y,
+                z,
+                c.part_of[t] << 1 | mirrored as u32,
+            ];
+            if vertices.len() == vertices.capacity() {
+                let more = vertices.len().max(1024);
+                grow_vec(&mut vertices, more, held, name, "the vertices")?;
+            }
+            if index_of.len() == index_of.capacity() {
+                let more = index_of.len().max(1024);
+                let bigger = table_bytes::<(VertexKey, u32)>((index_of.len() + more) as u64);
+                hold(held, name, "the vertex map", bigger)?;
+                index_of.reserve(more);
+                held.shrink(table);
+                table = bigger;
+            }
+            let next = vertices.len() as u32;
+            tri.indices[k] = *index_of.entry(key).or_insert_with(|| {
                 vertices.push(Vertex {
-                    position: positions[k],
+                    position: c.positions[corner[0] as usize],
                     normal,
-                    uv: uvs[k],
-                    color: colors[k],
+                    uv,
+                    color: color_of(&c, part_colors, t, k),
                     tangent_u: Vec3::ZERO,
                     tangent_v: Vec3::ZERO,
                 });
-                (vertices.len() - 1) as u32
+                next
             });
         }
-        triangles.push(Triangle {
-            indices,
-            face_normal: tri.normal,
-            face_tangent_u: frame.tangent_u,
-            face_tangent_v: frame.tangent_v,
-            facet_center: positions.iter().sum::<Vec3>() / 3.0,
-            facet_color: colors.iter().sum::<Vec3>() / 3.0,
-            textured: textured.get(tri.part as usize).copied().unwrap_or(true),
-        });
     }
-    let closed = is_closed(&tris);
+    drop(index_of);
+    held.shrink(table);
+    let spare = bytes_of::<Vertex>((vertices.capacity() - vertices.len()) as u64);
+    vertices.shrink_to_fit();
+    held.shrink(spare);
+    let closed = is_closed(name, &c.corners, &position_id, held)?;
+    let tri_parts = std::mem::take(&mut c.part_of);
+    drop(c);
+    drop(position_id);
     let mut mesh = Mesh {
         vertices,
         triangles,
         convex: false,
         closed,
     };
+    hold(
+        held,
+        name,
+        "the tangent sums",
+        bytes_of::<[f32; 10]>(mesh.vertices.len() as u64),
+    )?;
     accumulate(&mut mesh);
-    Ok((mesh, tris.iter().map(|t| t.part).collect()))
+    Ok((mesh, tri_parts))
 }
 
-/// File normals are normalised (an unusable one is recomputed); missing ones
-/// are computed by angle weighting within the crease angle.
-fn fill_normals(tris: &mut [Tri], positions: usize) {
+/// Computes every corner's normal into a new normal array (the file's,
+/// normalised, where it has a usable one): by angle weighting, from the
+/// faces around the same position within the crease angle.
+fn fill_normals(
+    name: &str,
+    c: &mut IndexedCorners,
+    face_normals: &[Vec3],
+    position_id: &[u32],
+    positions: usize,
+    held: &mut Reservation,
+) -> Result<(), ObjError> {
     let cos_crease = CREASE_DEGREES.to_radians().cos();
+    let corners = c.corners.len() as u64;
+    hold(
+        held,
+        name,
+        "the normals",
+        bytes_of::<u32>(2 * (positions as u64 + 1))
+            .saturating_add(bytes_of::<(u32, u8)>(corners))
+            .saturating_add(bytes_of::<Vec3>(corners)),
+    )?;
+    let id = |i: usize| position_id[c.corners[i][0] as usize];
     // The corners around each position, as one flat list (counting sort).
     let mut start = vec![0u32; positions + 1];
-    for tri in tris.iter() {
-        for &p in &tri.position_ids {
-            start[p as usize + 1] += 1;
-        }
+    for i in 0..c.corners.len() {
+        start[id(i) as usize + 1] += 1;
     }
     for i in 0..positions {
         start[i + 1] += start[i];
     }
     let mut fill = start.clone();
     let mut around = vec![(0u32, 0u8); start[positions] as usize];
-    for (t, tri) in tris.iter().enumerate() {
-        for (k, &p) in tri.position_ids.iter().enumerate() {
-            around[fill[p as usize] as usize] = (t as u32, k as u8);
-            fill[p as usize] += 1;
-        }
+    for i in 0..c.corners.len() {
+        let p = id(i) as usize;
+        around[fill[p] as usize] = ((i / 3) as u32, (i % 3) as u8);
+        fill[p] += 1;
     }
+    drop(fill);
+    let triangle = |t: usize| [0, 1, 2].map(|k| c.positions[c.corners[3 * t + k][0] as usize]);
     let weighted = |&(t, k): &(u32, u8)| {
-        let tri = &tris[t as usize];
-        corner_angle(tri.corners.map(|c| c.position), k as usize) * tri.normal
+        corner_angle(triangle(t as usize), k as usize) * face_normals[t as usize]
     };
     // Around a position shared by very many faces (a cone's apex), the
     // per-corner crease test would cost valence²: there all faces are
@@ -682,50 +966,63 @@ fn fill_normals(tris: &mut [Tri], positions: usize) {
             (p as u32, list.iter().map(weighted).sum::<Vec3>())
         })
         .collect();
-    // Each triangle's normals read only the triangles around it: in parallel.
-    let computed: Vec<[Vec3; 3]> = tris
-        .par_iter()
-        .map(|tri| {
-            let normal_at = |k: usize| {
-                if let Some(given) = tri.corners[k].normal.and_then(|g| g.try_normalize()) {
-                    return given;
-                }
-                let p = tri.position_ids[k];
-                let sum = match big.get(&p) {
-                    Some(sum) => *sum,
-                    None => around[start[p as usize] as usize..start[p as usize + 1] as usize]
-                        .iter()
-                        .filter(|&&(t2, _)| tri.normal.dot(tris[t2 as usize].normal) >= cos_crease)
-                        .map(weighted)
-                        .sum(),
-                };
-                sum.normalize_or(tri.normal)
+    // Each corner's normal reads only the triangles around it: in parallel.
+    let normals: Vec<Vec3> = (0..c.corners.len())
+        .into_par_iter()
+        .map(|i| {
+            let normal = face_normals[i / 3];
+            let given = c.corners[i][2];
+            if given != NO_INDEX && c.normals[given as usize] != Vec3::ZERO {
+                return c.normals[given as usize];
+            }
+            let p = id(i);
+            let sum = match big.get(&p) {
+                Some(sum) => *sum,
+                None => around[start[p as usize] as usize..start[p as usize + 1] as usize]
+                    .iter()
+                    .filter(|&&(t2, _)| normal.dot(face_normals[t2 as usize]) >= cos_crease)
+                    .map(weighted)
+                    .sum(),
             };
-            [normal_at(0), normal_at(1), normal_at(2)]
+            sum.normalize_or(normal)
         })
         .collect();
-    for (tri, normals) in tris.iter_mut().zip(computed) {
-        for (corner, normal) in tri.corners.iter_mut().zip(normals) {
-            corner.normal = Some(normal);
-        }
-    }
+    drop(big);
+    drop(around);
+    drop(start);
+    c.normals = normals;
+    c.corners
+        .par_iter_mut()
+        .enumerate()
+        .for_each(|(i, k)| k[2] = i as u32);
+    Ok(())
 }
 
 /// True when every edge (between positions) is used exactly twice, in
 /// opposite directions: a closed, consistently wound surface whose back
 /// faces can be culled.
-fn is_closed(tris: &[Tri]) -> bool {
-    let mut edges: Vec<u64> = tris
-        .iter()
-        .flat_map(|t| {
-            let p = t.position_ids;
+fn is_closed(
+    name: &str,
+    corners: &[[u32; 3]],
+    position_id: &[u32],
+    held: &mut Reservation,
+) -> Result<bool, ObjError> {
+    let bytes = bytes_of::<u64>(corners.len() as u64);
+    hold(held, name, "the edges", bytes)?;
+    let mut edges: Vec<u64> = corners
+        .par_chunks_exact(3)
+        .flat_map_iter(|t| {
+            let p = [0, 1, 2].map(|k| position_id[t[k][0] as usize]);
             (0..3).map(move |k| (p[k] as u64) << 32 | p[(k + 1) % 3] as u64)
         })
         .collect();
-    edges.sort_unstable();
-    let unique = edges.windows(2).all(|w| w[0] != w[1]);
-    unique
+    edges.par_sort_unstable();
+    let unique = edges.par_windows(2).all(|w| w[0] != w[1]);
+    let closed = unique
         && edges
-            .iter()
-            .all(|&e| edges.binary_search(&e.rotate_right(32)).is_ok())
+            .par_iter()
+            .all(|&e| edges.binary_search(&e.rotate_right(32)).is_ok());
+    drop(edges);
+    held.shrink(bytes);
+    Ok(closed)
 }

@@ -22,7 +22,7 @@ use glam::{Vec2, Vec3};
 use super::mesh::{Mesh, Triangle, Vertex};
 use super::model_file::{LoadedModel, ModelMaps, ModelPart, reserve};
 use super::obj::build_parts;
-use super::obj::{Corner, MAX_FACE_CORNERS, MODEL_BYTES_PER_TRIANGLE, ObjError, fit_of, fitted};
+use super::obj::{CORNER_BYTES_PER_TRIANGLE, Corner, MAX_FACE_CORNERS, ObjError, fit_of, fitted};
 
 /// Bytes kept per vertex while reading (position, normal, UV, colour, flags).
 const BYTES_PER_VERTEX: u64 = 12 + 12 + 8 + 12 + 4;
@@ -422,7 +422,7 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
         "the vertices and triangles",
         vertex_count
             .saturating_mul(BYTES_PER_VERTEX)
-            .saturating_add(triangles.saturating_mul(MODEL_BYTES_PER_TRIANGLE)),
+            .saturating_add(triangles.saturating_mul(CORNER_BYTES_PER_TRIANGLE)),
     )?;
     // Second pass: read.
     let mut vertices: Vec<PlyVertex> = Vec::with_capacity(vertex_count as usize);

@@ -18,7 +18,7 @@
 use glam::Vec3;
 
 use super::model_file::{LoadedModel, ModelMaps, ModelPart, reserve};
-use super::obj::{Corner, MODEL_BYTES_PER_TRIANGLE, ObjError, build_parts};
+use super::obj::{CORNER_BYTES_PER_TRIANGLE, Corner, ObjError, build_parts};
 
 const HEADER: usize = 80;
 const FACET: u64 = 50;
@@ -107,7 +107,7 @@ fn binary(name: &str, bytes: &[u8], claimed: Option<u64>) -> Result<Vec<Corner>,
             name: name.to_string(),
         });
     }
-    let _held = reserve(name, "the triangles", count * MODEL_BYTES_PER_TRIANGLE)?;
+    let _held = reserve(name, "the triangles", count * CORNER_BYTES_PER_TRIANGLE)?;
     // Materialise: the header's colour, and facets with bit 15 clear coloured.
     let header = &bytes[..HEADER];
     let magics = header.windows(6).position(|w| w == b"COLOR=").map(|i| {
@@ -163,7 +163,7 @@ fn ascii(name: &str, bytes: &[u8]) -> Result<Vec<Corner>, ObjError> {
         .lines()
         .filter(|l| l.trim_start().starts_with("vertex"))
         .count() as u64;
-    let _held = reserve(name, "the triangles", most * MODEL_BYTES_PER_TRIANGLE)?;
+    let _held = reserve(name, "the triangles", most * CORNER_BYTES_PER_TRIANGLE)?;
     let mut corners = Vec::with_capacity(most as usize);
     let mut normal = Vec3::ZERO;
     let mut polygon: Vec<Vec3> = Vec::new();

@@ -644,11 +644,14 @@ fn models_beyond_the_memory_budget_are_refused() {
     let e = failure(obj::parse("big.obj", &text));
     assert!(matches!(e, ObjError::Line { line: 5, .. }), "{e:?}");
     assert!(one_clean_line(&e).contains("limit 65536"), "{e}");
-    // More triangles than the budget holds at MODEL_BYTES_PER_TRIANGLE each:
-    // refused by the counting pass, before any corner is stored.
-    let triangles = (relief::budget::BUDGET_BYTES / obj::MODEL_BYTES_PER_TRIANGLE) as usize + 1;
+    // More triangles than the budget holds at READ_BYTES_PER_TRIANGLE each
+    // (fans of the same three corners, two bytes a triangle): refused by
+    // the counting pass, before any corner is stored.
+    let triangles = (relief::budget::BUDGET_BYTES / obj::READ_BYTES_PER_TRIANGLE) as usize + 1;
+    let fan = obj::MAX_FACE_CORNERS / 3 * 3;
+    let face = format!("f{}\n", " 1 2 3".repeat(fan / 3));
     text = "v 0 0 0\nv 1 0 0\nv 0 1 0\n".into();
-    text += &"f 1 2 3\n".repeat(triangles);
+    text += &face.repeat(triangles.div_ceil(fan - 2));
     let e = failure(obj::parse("big.obj", &text));
     assert!(matches!(e, ObjError::Budget { .. }), "{e:?}");
     assert!(one_clean_line(&e).contains("big.obj"), "{e}");

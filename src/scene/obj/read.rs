@@ -27,19 +27,13 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::{Corner, MAX_FACE_CORNERS, ObjError, quote};
+use super::{IndexedCorners, MAX_FACE_CORNERS, NO_INDEX, ObjError, bytes_of, quote};
 use crate::budget::Reservation;
 
-/// Bytes the loader holds per triangle at its peak (corners as read, the
-/// triangles being built, the vertex and position maps, the mesh), an upper
-/// bound measured on the worst cases (every corner a vertex of its own).
-pub const MODEL_BYTES_PER_TRIANGLE: u64 = 920;
-/// Bytes per `v` line (position and optional colour), `vt` and `vn` line.
-const BYTES_PER_POSITION: u64 = 12 + 16;
-/// Bytes per triangle of the part each triangle belongs to.
-const BYTES_PER_PART_ID: u64 = 4;
-const BYTES_PER_TEXCOORD: u64 = 8;
-const BYTES_PER_NORMAL: u64 = 12;
+/// Bytes the reading holds per triangle: its corners' three indices and
+/// its part (besides the `v`, `vt`, `vn` arrays).
+pub const READ_BYTES_PER_TRIANGLE: u64 =
+    3 * std::mem::size_of::<[u32; 3]>() as u64 + std::mem::size_of::<u32>() as u64;
 
 /// The lines of `bytes`, ended by `\n`, `\r\n` or `\r`, without the ending.
 fn lines(bytes: &[u8]) -> impl Iterator<Item = &[u8]> {
@@ -223,11 +217,11 @@ struct FaceCorner {
 }
 
 /// The model's triangle corners, and the reservation that covers them
-/// (and the mesh built from them) until it is dropped.
+/// until it is dropped (the builder grows it for what it allocates).
 pub(super) struct ReadModel {
-    pub corners: Vec<Corner>,
-    /// The part of each triangle (an index into `parts`).
-    pub part_of: Vec<u32>,
+    /// The `v`, `vt`, `vn` arrays and the corners' indices into them;
+    /// `part_of` indexes `parts`.
+    pub corners: IndexedCorners,
     /// The material each part names (`usemtl`); part 0 is the faces before
     /// any `usemtl` (or after an empty one).
     pub parts: Vec<Option<String>>,
@@ -352,8 +346,8 @@ fn read_attributes(chunk: &[u8], out: Attributes) -> (Option<LineProblem>, Tally
 /// are `names[k - 1]` in order of first use within the chunk.
 #[derive(Default)]
 struct FaceChunk {
-    corners: Vec<Corner>,
-    part_of: Vec<u32>,
+    /// Triangles written at the start of the chunk's slices.
+    triangles: usize,
     names: Vec<Option<String>>,
     /// The local part in effect at the end of the chunk.
     end_part: u32,
@@ -365,18 +359,16 @@ struct FaceChunk {
     problem: Option<LineProblem>,
 }
 
-/// All the `v`, `vt`, `vn` read from the file, and how many of each come
-/// before the chunk being read.
-struct Read<'a> {
-    positions: &'a [Vec3],
-    colors: &'a [Option<Vec3>],
-    texcoords: &'a [Vec2],
-    normals: &'a [Vec3],
+/// Where one chunk writes its triangles: their corners' indices and their
+/// (chunk-local) parts, sized by the counting pass.
+struct FaceSlots<'a> {
+    corners: &'a mut [[u32; 3]],
+    part_of: &'a mut [u32],
 }
 
 /// The faces, `usemtl` and `mtllib` lines of one chunk; `before` counts
 /// the lines of the chunks before it. Stops at the first bad line.
-fn read_faces(chunk: &[u8], before: Counts, all: &Read) -> FaceChunk {
+fn read_faces(chunk: &[u8], before: Counts, slots: FaceSlots) -> FaceChunk {
     let mut out = FaceChunk {
         all_uv: true,
         all_normals: true,
@@ -432,16 +424,16 @@ fn read_faces(chunk: &[u8], before: Counts, all: &Read) -> FaceChunk {
                     // does not make the model drop the file's everywhere.
                     out.all_uv &= uv_dropped || face.iter().all(|c| c.uv.is_some());
                     out.all_normals &= normal_dropped || face.iter().all(|c| c.normal.is_some());
-                    let corner = |c: &FaceCorner| Corner {
-                        position: all.positions[c.position],
-                        uv: c.uv.map(|i| all.texcoords[i]),
-                        normal: c.normal.map(|i| all.normals[i]),
-                        color: all.colors[c.position],
+                    let corner = |c: &FaceCorner| {
+                        let index = |i: Option<usize>| i.map_or(NO_INDEX, |i| i as u32);
+                        [c.position as u32, index(c.uv), index(c.normal)]
                     };
                     for k in 1..face.len() - 1 {
-                        out.corners
-                            .extend([&face[0], &face[k], &face[k + 1]].map(corner));
-                        out.part_of.push(part);
+                        let t = out.triangles;
+                        slots.corners[3 * t..3 * t + 3]
+                            .copy_from_slice(&[&face[0], &face[k], &face[k + 1]].map(corner));
+                        slots.part_of[t] = part;
+                        out.triangles += 1;
                     }
                 }
             }
@@ -537,15 +529,16 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
             Err((line, problem)) => return Err(error(counts.lines + line, problem)),
         }
     }
-    // No fixed limit: the memory budget decides, before anything is allocated.
-    let need = (bytes.len() as u64)
-        .saturating_add(counts.positions as u64 * BYTES_PER_POSITION)
-        .saturating_add(counts.texcoords as u64 * BYTES_PER_TEXCOORD)
-        .saturating_add(counts.normals as u64 * BYTES_PER_NORMAL)
-        .saturating_add(
-            (counts.triangles as u64).saturating_mul(MODEL_BYTES_PER_TRIANGLE + BYTES_PER_PART_ID),
-        );
+    // No fixed limit: the memory budget decides, before anything is
+    // allocated. The text itself is held by whoever read it.
+    let need = read_bytes(&counts);
     let reservation = crate::scene::model_file::reserve(name, "the triangles", need)?;
+    if counts.positions.max(counts.texcoords).max(counts.normals) >= NO_INDEX as usize {
+        return Err(ObjError::Unsupported {
+            name: name.to_string(),
+            what: format!("more than {} positions, UVs or normals", NO_INDEX - 1),
+        });
+    }
 
     let mut positions = vec![Vec3::ZERO; counts.positions];
     let mut colors: Vec<Option<Vec3>> = vec![None; counts.positions];
@@ -579,16 +572,30 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         .zip(chunks.par_iter())
         .map(|(out, chunk)| read_attributes(chunk, out))
         .collect();
-    let all = Read {
-        positions: &positions,
-        colors: &colors,
-        texcoords: &texcoords,
-        normals: &normals,
-    };
+    // Each chunk's triangles go to its own slices (at most what it counted),
+    // closed up afterwards: no copy of the whole.
+    let mut corners = vec![[0u32; 3]; counts.triangles * 3];
+    let mut part_of = vec![0u32; counts.triangles];
+    let mut slots = Vec::with_capacity(chunks.len());
+    {
+        let (mut c, mut p) = (&mut corners[..], &mut part_of[..]);
+        for (k, b) in before.iter().enumerate() {
+            let next = before.get(k + 1).copied().unwrap_or(counts);
+            let n = next.triangles - b.triangles;
+            let (c1, c2) = std::mem::take(&mut c).split_at_mut(3 * n);
+            let (p1, p2) = std::mem::take(&mut p).split_at_mut(n);
+            slots.push(FaceSlots {
+                corners: c1,
+                part_of: p1,
+            });
+            (c, p) = (c2, p2);
+        }
+    }
     let faces: Vec<FaceChunk> = chunks
         .par_iter()
         .zip(before.par_iter())
-        .map(|(chunk, b)| read_faces(chunk, *b, &all))
+        .zip(slots.into_par_iter())
+        .map(|((chunk, b), slots)| read_faces(chunk, *b, slots))
         .collect();
 
     // The first bad line of the file, of either pass.
@@ -607,9 +614,7 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         return Err(error(line, problem.clone()));
     }
 
-    let triangles: usize = faces.iter().map(|f| f.part_of.len()).sum();
-    let mut corners: Vec<Corner> = Vec::with_capacity(triangles * 3);
-    let mut part_of: Vec<u32> = Vec::with_capacity(triangles);
+    let mut triangles = 0;
     let mut parts: Vec<Option<String>> = vec![None];
     let mut part = 0u32;
     let mut libraries = Vec::new();
@@ -629,8 +634,12 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
             });
         }
         part = global[f.end_part as usize];
-        corners.extend(f.corners);
-        part_of.extend(f.part_of.iter().map(|&p| global[p as usize]));
+        let first = b.triangles;
+        corners.copy_within(3 * first..3 * (first + f.triangles), 3 * triangles);
+        for t in 0..f.triangles {
+            part_of[triangles + t] = global[part_of[first + t] as usize];
+        }
+        triangles += f.triangles;
         libraries.extend(f.libraries);
         all_uv &= f.all_uv;
         all_normals &= f.all_normals;
@@ -638,27 +647,30 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         bad_normal.merge(&f.bad_normal, b.lines);
         cut_numbers.merge(&cut, b.lines);
     }
-    drop(texcoords);
-    drop(normals);
-    if corners.is_empty() {
+    if triangles == 0 {
         return Err(ObjError::Empty {
             name: name.to_string(),
         });
     }
+    corners.truncate(3 * triangles);
+    part_of.truncate(triangles);
     // UVs and normals are used when every corner has one; colours when any
     // position has one (the others are white).
-    let any_color = colors.iter().any(Option::is_some);
-    corners.par_iter_mut().for_each(|c| {
-        if !all_uv {
-            c.uv = None;
-        }
-        if !all_normals {
-            c.normal = None;
-        }
-        if any_color {
-            c.color = Some(c.color.unwrap_or(Vec3::ONE));
-        }
-    });
+    if !all_uv {
+        texcoords = Vec::new();
+        corners.par_iter_mut().for_each(|c| c[1] = NO_INDEX);
+    }
+    if !all_normals {
+        normals = Vec::new();
+        corners.par_iter_mut().for_each(|c| c[2] = NO_INDEX);
+    }
+    if colors.iter().any(Option::is_some) {
+        colors
+            .par_iter_mut()
+            .for_each(|c| *c = Some(c.unwrap_or(Vec3::ONE)));
+    } else {
+        colors = Vec::new();
+    }
     let mut warnings = Vec::new();
     for (tally, what) in [
         (
@@ -683,13 +695,31 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         }
     }
     Ok(ReadModel {
-        corners,
-        part_of,
+        corners: IndexedCorners {
+            positions,
+            colors,
+            uvs: texcoords,
+            normals,
+            corners,
+            part_of,
+        },
         parts,
         libraries,
         warnings,
         reservation,
     })
+}
+
+/// What the reading allocates for a file of `counts`: the `v` (position
+/// and optional colour), `vt` and `vn` arrays, each triangle's corner
+/// indices and part.
+fn read_bytes(counts: &Counts) -> u64 {
+    let (p, t) = (counts.positions as u64, counts.triangles as u64);
+    bytes_of::<Vec3>(p)
+        .saturating_add(bytes_of::<Option<Vec3>>(p))
+        .saturating_add(bytes_of::<Vec2>(counts.texcoords as u64))
+        .saturating_add(bytes_of::<Vec3>(counts.normals as u64))
+        .saturating_add(t.saturating_mul(READ_BYTES_PER_TRIANGLE))
 }
 
 /// The text after a line's keyword, its comment cut and its blanks trimmed
