@@ -454,6 +454,12 @@ const KNOWN: &[(&str, &[&str], &str)] = &[
          instantiate them",
     ),
     (
+        "shade",
+        &["lanes", "packet"],
+        "the lane trait's eight-lane texel read is packet::bilinear, and the packet \
+         kernels are written over the lane trait's Vector",
+    ),
+    (
         "shadow",
         &["[shadow]", "depth"],
         "the depth pass fills ShadowMap, defined in shadow/mod.rs which runs the pass",
