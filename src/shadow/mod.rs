@@ -15,6 +15,8 @@
 //! - Closed casters are drawn by their faces turned away from the light
 //!   (second-depth shadow mapping): the lit side is never compared against
 //!   itself, so it cannot self-shadow ("acne"). Open casters draw both sides.
+//! - A caster with an alpha mask (glTF MASK, MTL `d`/`map_d`) writes only
+//!   the texels whose point the mask keeps, as the main pass draws it.
 //! - The lookup compares with a slope-scaled bias (one texel plus twice
 //!   tan θ texels, θ between the surface and the light) over a 3×3
 //!   percentage-closer filter: 9 depth compares, soft one-texel edges.
@@ -169,8 +171,10 @@ impl ShadowMap {
             let object = &scene.objects[i];
             let model = object.model_matrix(rotation);
             let skipper = RepeatSkipper::new(repeats.get(i).copied().unwrap_or(&[]));
+            // A texel its alpha mask cuts out casts nothing.
+            let cutout = scene.own_terms(i).and_then(|t| t.cutout.as_ref());
             counters.shadow_texels +=
-                depth::draw_mesh(self, &object.mesh, model, i as u32, skipper, stop);
+                depth::draw_mesh(self, &object.mesh, model, i as u32, cutout, skipper, stop);
         }
         counters
     }

@@ -830,9 +830,18 @@ fn a_texture_transform_offset_moves_the_texture() {
 /// alphaMode MASK: a texture whose alpha is 0.2, 0.4, 0.6, 0.8 in its four
 /// columns, cutoff 0.5: the quad shows the background over the first two
 /// columns and is drawn over the last two; cutoff 0.3 drops only the
-/// first; OPAQUE drops none, and BLEND is MASK at 0.5.
+/// first; OPAQUE drops none, and BLEND is MASK at 0.5. Flat and Gouraud
+/// shading cut the same texels as Phong, with the texture shown or not.
 #[test]
 fn an_alpha_mask_drops_exactly_the_texels_below_the_cutoff() {
+    for shading in [Shading::Phong, Shading::Flat, Shading::Gouraud] {
+        for texture in [true, false] {
+            alpha_mask_in(shading, texture);
+        }
+    }
+}
+
+fn alpha_mask_in(shading: Shading, texture: bool) {
     let drawn = |mode: &str| {
         let mut q = quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0);
         q.material = Some(0);
@@ -844,17 +853,32 @@ fn an_alpha_mask_drops_exactly_the_texels_below_the_cutoff() {
         let path = write("mask", &format!("m{}.glb", mode.len()), &encode(&doc));
         let mut scene = scene_of(load_ok(&path));
         light_on_seam(&mut scene);
-        let fb = render(&scene, &face_on());
+        let settings = Settings {
+            shading,
+            texture,
+            ..face_on()
+        };
+        let fb = render(&scene, &settings);
         let half = projected_half_width(&scene);
         let left = W as f32 / 2.0 - half;
         [0.125f32, 0.375, 0.625, 0.875]
             .map(|u| px(&fb, (left + u * 2.0 * half) as usize, H / 2) != MAGENTA)
     };
-    assert_eq!(drawn(r#","alphaMode":"MASK""#), [false, false, true, true]);
+    let mask = r#","alphaMode":"MASK""#;
+    assert_eq!(
+        drawn(mask),
+        [false, false, true, true],
+        "{shading:?}, texture {texture}"
+    );
     assert_eq!(
         drawn(r#","alphaMode":"MASK","alphaCutoff":0.3"#),
-        [false, true, true, true]
+        [false, true, true, true],
+        "{shading:?}, texture {texture}"
     );
-    assert_eq!(drawn(""), [true; 4]);
-    assert_eq!(drawn(r#","alphaMode":"BLEND""#), [false, false, true, true]);
+    assert_eq!(drawn(""), [true; 4], "{shading:?}, texture {texture}");
+    assert_eq!(
+        drawn(r#","alphaMode":"BLEND""#),
+        [false, false, true, true],
+        "{shading:?}, texture {texture}"
+    );
 }
