@@ -93,11 +93,13 @@ fn the_floor_under_the_cube_is_in_shadow_and_far_out_is_lit() {
             );
         }
         // Just behind the cube as seen from the light: a point of the floor
-        // there is in shadow, but the cube (convex) is never shaded by its
-        // own texels.
+        // there is in shadow; the cube (convex) is never shaded by its own
+        // texels, but a point of it whose normal turns away from the light
+        // is in shadow by that alone.
         let back = -2.0 * light.normalize();
-        assert_eq!(map.visibility(back, -light.normalize(), CUBE), 1.0);
-        assert_eq!(map.visibility(back, -light.normalize(), FLOOR), 0.0);
+        assert_eq!(map.visibility(back, light.normalize(), CUBE), 1.0);
+        assert_eq!(map.visibility(back, -light.normalize(), CUBE), 0.0);
+        assert_eq!(map.visibility(back, light.normalize(), FLOOR), 0.0);
     }
 }
 
