@@ -302,9 +302,12 @@ impl Plan {
         {
             spec.shininess = s;
         }
+        // Flat and Gouraud read only the alpha mask of the terms.
         let shades = plan.display == Display::Fill
-            && plan.shading == Shading::Phong
-            && terms.shade(plan.ambient, plan.specular.is_some());
+            && match plan.shading {
+                Shading::Phong => terms.shade(plan.ambient, plan.specular.is_some()),
+                Shading::Flat | Shading::Gouraud => terms.cutout.is_some(),
+            };
         plan.terms = shades.then(|| terms.clone());
         plan
     }

@@ -6,6 +6,7 @@ pub mod clip;
 pub mod frames;
 pub mod scan;
 pub mod setup;
+pub mod strokes;
 pub mod wire;
 
 pub use clip::{ClipVertex, Clipped, clip_triangle};

@@ -134,7 +134,7 @@ pub fn draw_lines(tris: &[WireTri], size: usize, canvas: &mut Canvas, counters: 
 }
 
 /// Clips the segment a→b in clip space to −w ≤ z ≤ w (parameters along it).
-fn clip_depth(a: Vec4, b: Vec4) -> Option<(f32, f32)> {
+pub(crate) fn clip_depth(a: Vec4, b: Vec4) -> Option<(f32, f32)> {
     let mut t0 = 0.0f32;
     let mut t1 = 1.0f32;
     // Distances to the near and far planes, each ≥ 0 inside; also w ≥ a tiny
@@ -156,7 +156,7 @@ fn clip_depth(a: Vec4, b: Vec4) -> Option<(f32, f32)> {
 }
 
 /// Liang–Barsky: the part of segment a→b inside [0, w) × [0, h).
-fn clip_viewport(a: DVec2, b: DVec2, w: f64, h: f64) -> Option<(f64, f64)> {
+pub(crate) fn clip_viewport(a: DVec2, b: DVec2, w: f64, h: f64) -> Option<(f64, f64)> {
     let d = b - a;
     let mut t0 = 0.0f64;
     let mut t1 = 1.0f64;

@@ -6,6 +6,7 @@ mod bands;
 mod dispatch;
 mod repeat_cache;
 mod shaders;
+mod strokes;
 
 use abandon::Abandon;
 pub use abandon::CancelHook;
@@ -151,6 +152,7 @@ impl Renderer {
             let (drawn, bands) = self.rasterize(scene, &plans, shadow, &mut big, k, &abandon);
             counters += drawn;
             (stats.bands_drawn, stats.bands) = bands;
+            counters += self.strokes(scene, plan, &mut big, k);
             counters += self.tangent_frames(scene, plan, &mut big, k);
             resolve_box(&big, k, fb);
             self.supersampled = Some(big);
@@ -158,6 +160,7 @@ impl Renderer {
             let (drawn, bands) = self.rasterize(scene, &plans, shadow, fb, 1, &abandon);
             counters += drawn;
             (stats.bands_drawn, stats.bands) = bands;
+            counters += self.strokes(scene, plan, fb, 1);
             counters += self.tangent_frames(scene, plan, fb, 1);
         }
         self.shadow = shadow_map;

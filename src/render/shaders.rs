@@ -75,8 +75,20 @@ pub(super) fn build_shader(
             let gloss_uv = (uv[0] + uv[1] + uv[2]) / 3.0;
             let highlight = highlight * glossiness(plan, glossy, gloss_uv);
             let lit = albedo * light;
+            let cut = plan.terms.as_ref().is_some_and(|t| t.cutout.is_some());
             if textured {
                 TriShader::FlatTextured(TexturedFlatTri { lit, uv, highlight })
+            } else if cut {
+                // One colour, but the alpha mask needs the UVs: Gouraud
+                // with the same light at the three corners.
+                TriShader::Gouraud(GouraudTri {
+                    light: [lit; 3],
+                    highlight: [highlight; 3],
+                    color: [white; 3],
+                    uv,
+                    textured: false,
+                    glossy: false,
+                })
             } else if plan.specular.is_some() {
                 TriShader::Solid(finish(lit + highlight, counters))
             } else {

@@ -318,6 +318,7 @@ impl Scene {
             },
             object_materials: Vec::new(),
             object_terms: Vec::new(),
+            strokes: Default::default(),
             lights: light::reference_lights(),
             ambient: AMBIENT,
             camera: Camera::default(),

@@ -16,6 +16,7 @@ pub mod ply;
 pub mod repeats;
 pub mod sphere;
 pub mod stl;
+pub mod strokes;
 pub mod tangents;
 pub mod terms;
 pub mod triangle;
@@ -97,6 +98,9 @@ pub struct Scene {
     /// Objects' extra material terms (a loaded model's emission,
     /// occlusion, specular colour…), by object index like `object_materials`.
     pub object_terms: Vec<Option<Arc<crate::scene::terms::MaterialTerms>>>,
+    /// A model's points and lines, drawn over the objects (following the
+    /// user's rotation as they do).
+    pub strokes: strokes::Strokes,
     pub lights: Vec<Light>,
     pub ambient: Vec3,
     pub camera: Camera,

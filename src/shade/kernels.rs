@@ -268,8 +268,15 @@ impl<const SPEC: bool> PixelShader for FlatTexturedKernel<'_, SPEC> {
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
     }
-    fn packets(&self, _: &ShadeCtx) -> bool {
-        true
+    fn packets(&self, ctx: &ShadeCtx) -> bool {
+        // A masked pixel is tested before its depth, one at a time.
+        !cuts(ctx)
+    }
+    fn cutout(&self, ctx: &ShadeCtx) -> bool {
+        cuts(ctx)
+    }
+    fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
+        opaque_at(ctx, lerp2(b, &self.0.uv))
     }
     #[inline]
     fn shade8(
@@ -335,8 +342,15 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
     }
-    fn packets(&self, _: &ShadeCtx) -> bool {
-        true
+    fn packets(&self, ctx: &ShadeCtx) -> bool {
+        // A masked pixel is tested before its depth, one at a time.
+        !cuts(ctx)
+    }
+    fn cutout(&self, ctx: &ShadeCtx) -> bool {
+        cuts(ctx)
+    }
+    fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
+        opaque_at(ctx, lerp2(b, &self.0.uv))
     }
     #[inline]
     fn shade8(

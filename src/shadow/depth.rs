@@ -1,21 +1,23 @@
 //! The depth-only rasterizer of the shadow pass: no colour, no attributes,
 //! just the nearest distance along the light's axis per texel.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::ShadowMap;
 use crate::scene::Mesh;
 use crate::scene::repeats::RepeatSkipper;
+use crate::scene::terms::Cutout;
 use crate::scene::world::Placed;
 
 /// Draws `mesh` (object `object`) placed as `placed` into the map, but for
-/// the triangles `repeats` skips, until `stop` says so; returns the texels
-/// written.
+/// the triangles `repeats` skips and the points `cutout` drops, until
+/// `stop` says so; returns the texels written.
 pub(super) fn draw_mesh(
     map: &mut ShadowMap,
     mesh: &Mesh,
     placed: &Placed,
     object: u32,
+    cutout: Option<&Cutout>,
     mut repeats: RepeatSkipper,
     stop: &dyn Fn() -> bool,
 ) -> u64 {
@@ -57,10 +59,12 @@ pub(super) fn draw_mesh(
                 continue;
             }
         }
+        let mask = cutout.map(|c| (c, tri.indices.map(|i| mesh.vertices[i as usize].uv)));
         written += fill(
             map,
             [v[0], v[1], v[2]].map(|(x, y, q, _)| (x, y, q)),
             object,
+            mask,
         );
     }
     written
@@ -68,7 +72,15 @@ pub(super) fn draw_mesh(
 
 /// Fills one triangle (texel centres inside, either winding), keeping the
 /// nearest depth. `q` is 1/w, which is linear across the projected triangle.
-fn fill(map: &mut ShadowMap, v: [(f32, f32, f32); 3], object: u32) -> u64 {
+/// With a `mask` (the alpha mask and the corners' UVs), a texel whose
+/// point it cuts out is left as it is; its UV is perspective-correct
+/// (uv·q is linear too), as the main pass reads it.
+fn fill(
+    map: &mut ShadowMap,
+    v: [(f32, f32, f32); 3],
+    object: u32,
+    mask: Option<(&Cutout, [Vec2; 3])>,
+) -> u64 {
     let [(x0, y0, q0), (x1, y1, q1), (x2, y2, q2)] = v;
     let area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
     // Also refuses NaN.
@@ -104,6 +116,12 @@ fn fill(map: &mut ShadowMap, v: [(f32, f32, f32); 3], object: u32) -> u64 {
             let q = b0 * q0 + b1 * q1 + b2 * q2;
             let depth = 1.0 / q;
             if depth < *texel {
+                if let Some((cutout, uv)) = &mask {
+                    let uv = (uv[0] * (b0 * q0) + uv[1] * (b1 * q1) + uv[2] * (b2 * q2)) * depth;
+                    if !cutout.opaque(uv) {
+                        continue;
+                    }
+                }
                 *texel = depth;
                 *owner = object;
                 written += 1;

@@ -15,6 +15,10 @@
 //! - Closed casters are drawn by their faces turned away from the light
 //!   (second-depth shadow mapping): the lit side is never compared against
 //!   itself, so it cannot self-shadow ("acne"). Open casters draw both sides.
+//!   A point on a face turned away from the light is in shadow without a
+//!   lookup (its smoothed normal may light it; its own surface blocks).
+//! - A caster with an alpha mask (glTF MASK, MTL `d`/`map_d`) writes only
+//!   the texels whose point the mask keeps, as the main pass draws it.
 //! - The lookup compares with a slope-scaled bias (one texel plus twice
 //!   tan θ texels, θ between the surface and the light) over a 3×3
 //!   percentage-closer filter: 9 depth compares, soft one-texel edges.
@@ -169,21 +173,31 @@ impl ShadowMap {
             let i = caster.object;
             let mesh = &scene.objects[i].mesh;
             let skipper = RepeatSkipper::new(repeats.get(i).copied().unwrap_or(&[]));
+            // A texel its alpha mask cuts out casts nothing.
+            let cutout = scene.own_terms(i).and_then(|t| t.cutout.as_ref());
             counters.shadow_texels +=
-                depth::draw_mesh(self, mesh, world.object(i), i as u32, skipper, stop);
+                depth::draw_mesh(self, mesh, world.object(i), i as u32, cutout, skipper, stop);
         }
         counters
     }
 
     /// Pass 2: the lit fraction (0..1) of the point `p` of object `object`
-    /// whose geometric normal is `normal`, for the light the map was drawn
-    /// from. A convex object's own texels never shade it: it cannot cast
-    /// onto itself (only its smooth normals can light a side that faces
-    /// away, and that is the shading's business, as without shadows).
+    /// whose geometric normal is `normal` (turned to the side seen), for
+    /// the light the map was drawn from. A point whose geometric normal
+    /// turns away from the light is in shadow (0): smoothed vertex normals
+    /// can light it, but a ray from it to the light enters its own surface.
+    /// Otherwise a convex object's own texels never shade it: it cannot
+    /// cast onto itself.
     pub fn visibility(&self, p: Vec3, normal: Vec3, object: u32) -> f32 {
         let size = self.size;
         if size == 0 {
             return 1.0;
+        }
+        // A surface whose own normal turns away from the light is behind
+        // itself: in shadow, whatever its smoothed normal says (the map
+        // holds such faces, so it would compare a point with its own depth).
+        if normal.dot(self.light - p) < 0.0 {
+            return 0.0;
         }
         let clip = self.view_proj * p.extend(1.0);
         let w = clip.w;

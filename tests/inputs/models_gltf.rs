@@ -27,6 +27,10 @@ struct Prim {
     tan: Option<Vec<[f32; 4]>>,
     idx: Vec<u16>,
     material: Option<usize>,
+    /// COLOR_0 (RGB), if any.
+    col: Vec<[f32; 3]>,
+    /// The primitive's mode (absent: triangles).
+    mode: Option<u32>,
 }
 
 /// A GLB of one mesh with these primitives, drawn by the nodes in
@@ -125,6 +129,11 @@ fn encode(doc: &Doc) -> Vec<u8> {
             let a = add(&mut bin, floats(&flat), p.uv.len(), "VEC2", 5126, "");
             attrs += &format!(r#","TEXCOORD_0":{a}"#);
         }
+        if !p.col.is_empty() {
+            let flat: Vec<f32> = p.col.iter().flatten().copied().collect();
+            let a = add(&mut bin, floats(&flat), p.col.len(), "VEC3", 5126, "");
+            attrs += &format!(r#","COLOR_0":{a}"#);
+        }
         if let Some(t) = &p.tan {
             let flat: Vec<f32> = t.iter().flatten().copied().collect();
             let a = add(&mut bin, floats(&flat), t.len(), "VEC4", 5126, "");
@@ -135,8 +144,9 @@ fn encode(doc: &Doc) -> Vec<u8> {
         let material = p
             .material
             .map_or(String::new(), |m| format!(r#","material":{m}"#));
+        let mode = p.mode.map_or(String::new(), |m| format!(r#","mode":{m}"#));
         prims.push(format!(
-            r#"{{"attributes":{{{attrs}}},"indices":{i}{material}}}"#
+            r#"{{"attributes":{{{attrs}}},"indices":{i}{material}{mode}}}"#
         ));
     }
     let mut images = Vec::new();
@@ -226,6 +236,7 @@ fn quad(x0: f32, x1: f32, y0: f32, y1: f32, u0: f32, u1: f32) -> Prim {
             vec![0, 2, 1, 0, 3, 2]
         },
         material: None,
+        ..Default::default()
     }
 }
 
@@ -830,9 +841,18 @@ fn a_texture_transform_offset_moves_the_texture() {
 /// alphaMode MASK: a texture whose alpha is 0.2, 0.4, 0.6, 0.8 in its four
 /// columns, cutoff 0.5: the quad shows the background over the first two
 /// columns and is drawn over the last two; cutoff 0.3 drops only the
-/// first; OPAQUE drops none, and BLEND is MASK at 0.5.
+/// first; OPAQUE drops none, and BLEND is MASK at 0.5. Flat and Gouraud
+/// shading cut the same texels as Phong, with the texture shown or not.
 #[test]
 fn an_alpha_mask_drops_exactly_the_texels_below_the_cutoff() {
+    for shading in [Shading::Phong, Shading::Flat, Shading::Gouraud] {
+        for texture in [true, false] {
+            alpha_mask_in(shading, texture);
+        }
+    }
+}
+
+fn alpha_mask_in(shading: Shading, texture: bool) {
     let drawn = |mode: &str| {
         let mut q = quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0);
         q.material = Some(0);
@@ -844,17 +864,146 @@ fn an_alpha_mask_drops_exactly_the_texels_below_the_cutoff() {
         let path = write("mask", &format!("m{}.glb", mode.len()), &encode(&doc));
         let mut scene = scene_of(load_ok(&path));
         light_on_seam(&mut scene);
-        let fb = render(&scene, &face_on());
+        let settings = Settings {
+            shading,
+            texture,
+            ..face_on()
+        };
+        let fb = render(&scene, &settings);
         let half = projected_half_width(&scene);
         let left = W as f32 / 2.0 - half;
         [0.125f32, 0.375, 0.625, 0.875]
             .map(|u| px(&fb, (left + u * 2.0 * half) as usize, H / 2) != MAGENTA)
     };
-    assert_eq!(drawn(r#","alphaMode":"MASK""#), [false, false, true, true]);
+    let mask = r#","alphaMode":"MASK""#;
+    assert_eq!(
+        drawn(mask),
+        [false, false, true, true],
+        "{shading:?}, texture {texture}"
+    );
     assert_eq!(
         drawn(r#","alphaMode":"MASK","alphaCutoff":0.3"#),
-        [false, true, true, true]
+        [false, true, true, true],
+        "{shading:?}, texture {texture}"
     );
-    assert_eq!(drawn(""), [true; 4]);
-    assert_eq!(drawn(r#","alphaMode":"BLEND""#), [false, false, true, true]);
+    assert_eq!(drawn(""), [true; 4], "{shading:?}, texture {texture}");
+    assert_eq!(
+        drawn(r#","alphaMode":"BLEND""#),
+        [false, false, true, true],
+        "{shading:?}, texture {texture}"
+    );
+}
+
+/// The pixel where model point `p` (already fitted) lands, face-on.
+fn screen_of(scene: &Scene, p: Vec3) -> Vec2 {
+    let vp = scene.camera.projection(W as f32 / H as f32) * scene.camera.view();
+    let c = vp * p.extend(1.0);
+    Vec2::new(
+        (c.x / c.w + 1.0) * 0.5 * W as f32,
+        (1.0 - c.y / c.w) * 0.5 * H as f32,
+    )
+}
+
+/// A LINES segment from (−1, 0.1, 0) to (1, 0.1, 0), POINTS at
+/// (−0.5, 0.5, 0) and (0.5, 0.5, 0), and an opaque quad at z = 1 over
+/// x in 0..1 (nearer the camera): the line shows left of the quad's edge
+/// and not behind it, one point shows and the other is hidden. Their
+/// colour is the base colour factor (1, 0.5, 1) × COLOR_0 (0.5, 1, 0).
+#[test]
+fn points_and_lines_are_drawn_and_hidden_behind_nearer_faces() {
+    let mut front = quad(0.0, 1.0, -1.0, 1.0, 0.0, 1.0);
+    for p in &mut front.pos {
+        p[2] = 1.0;
+    }
+    let colour = [0.5, 1.0, 0.0];
+    let line = Prim {
+        pos: vec![[-1.0, 0.1, 0.0], [1.0, 0.1, 0.0]],
+        col: vec![colour; 2],
+        idx: vec![0, 1],
+        material: Some(0),
+        mode: Some(1),
+        ..Default::default()
+    };
+    let points = Prim {
+        pos: vec![[-0.5, 0.5, 0.0], [0.5, 0.5, 0.0]],
+        col: vec![colour; 2],
+        idx: vec![0, 1],
+        material: Some(0),
+        mode: Some(0),
+        ..Default::default()
+    };
+    let mut doc = Doc::new(vec![front, line, points]);
+    doc.materials = r#"[{"pbrMetallicRoughness":{"baseColorFactor":[1,0.5,1,1]}}]"#.into();
+    let model = load_ok(&write("strokes", "strokes.glb", &encode(&doc)));
+    assert_eq!(model.strokes.points.len(), 2);
+    assert_eq!(model.strokes.lines.len(), 1);
+    let scene = scene_of(model);
+    let fb = render(&scene, &face_on());
+    // The fit: the box x −1..1, y −1..1, z 0..1 centred at (0, 0, 0.5),
+    // its farthest points (the quad's corners) at √2.25 = 1.5: scale 1.
+    let fitted = |x: f32, y: f32, z: f32| Vec3::new(x, y, z - 0.5);
+    let ink = [128, 128, 0];
+    let (a, b) = (
+        screen_of(&scene, fitted(-1.0, 0.1, 0.0)),
+        screen_of(&scene, fitted(1.0, 0.1, 0.0)),
+    );
+    let row = a.y.floor() as usize;
+    assert_eq!(row, b.y.floor() as usize);
+    // The quad's left edge (x = 0) is the middle of the picture.
+    let edge = W / 2;
+    for x in a.x.floor() as usize..=b.x.floor() as usize {
+        assert_eq!(px(&fb, x, row) == ink, x < edge, "column {x}");
+    }
+    let kept = screen_of(&scene, fitted(-0.5, 0.5, 0.0));
+    let hidden = screen_of(&scene, fitted(0.5, 0.5, 0.0));
+    assert_eq!(px(&fb, kept.x as usize, kept.y as usize), ink);
+    assert_ne!(px(&fb, hidden.x as usize, hidden.y as usize), ink);
+    // Nothing else has the strokes' colour: the line's visible columns
+    // and the one point.
+    let inked = fb.pixels().iter().filter(|&&p| p == ink).count();
+    assert_eq!(inked, edge - a.x.floor() as usize + 1);
+    // Colours off: white strokes.
+    let plain = render(
+        &scene,
+        &Settings {
+            colors: false,
+            ..face_on()
+        },
+    );
+    assert_eq!(px(&plain, kept.x as usize, kept.y as usize), [255; 3]);
+}
+
+/// A square outline drawn as LINE_LOOP (4 corners), LINE_STRIP (5, the
+/// last the first again) and LINES (4 pairs) is the same picture; a file
+/// of lines only opens.
+#[test]
+fn every_line_mode_draws_the_same_outline() {
+    let corners = vec![
+        [-1.0, -1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [-1.0, 1.0, 0.0],
+    ];
+    let picture = |mode: u32, idx: Vec<u16>| {
+        let prim = Prim {
+            pos: corners.clone(),
+            idx,
+            mode: Some(mode),
+            ..Default::default()
+        };
+        let path = write(
+            "line-modes",
+            &format!("m{mode}.glb"),
+            &encode(&Doc::new(vec![prim])),
+        );
+        render(&scene_of(load_ok(&path)), &face_on())
+    };
+    let lines = picture(1, vec![0, 1, 1, 2, 2, 3, 3, 0]);
+    assert_eq!(lines.pixels(), picture(2, vec![0, 1, 2, 3]).pixels());
+    assert_eq!(lines.pixels(), picture(3, vec![0, 1, 2, 3, 0]).pixels());
+    // Four sides of a square of side 1.5·√2 = 2.12 units seen from 5
+    // units, 120 rows over 2·5·tan 30° = 5.77 units: 44.1 pixels a side,
+    // so 4 × 44 or 45 pixels in all (corners shared), none missing.
+    let white = lines.pixels().iter().filter(|&&p| p == [255; 3]).count();
+    assert!((174..=184).contains(&white), "{white}");
 }

@@ -93,11 +93,13 @@ fn the_floor_under_the_cube_is_in_shadow_and_far_out_is_lit() {
             );
         }
         // Just behind the cube as seen from the light: a point of the floor
-        // there is in shadow, but the cube (convex) is never shaded by its
-        // own texels.
+        // there is in shadow; the cube (convex) is never shaded by its own
+        // texels, but a point of it whose normal turns away from the light
+        // is in shadow by that alone.
         let back = -2.0 * light.normalize();
-        assert_eq!(map.visibility(back, -light.normalize(), CUBE), 1.0);
-        assert_eq!(map.visibility(back, -light.normalize(), FLOOR), 0.0);
+        assert_eq!(map.visibility(back, light.normalize(), CUBE), 1.0);
+        assert_eq!(map.visibility(back, -light.normalize(), CUBE), 0.0);
+        assert_eq!(map.visibility(back, light.normalize(), FLOOR), 0.0);
     }
 }
 
@@ -483,4 +485,76 @@ fn the_shadowed_light_is_the_one_emboss_follows_even_on_a_tie() {
         relief::plan::strongest_light(&plan.lights)
     );
     assert_eq!(plan.shadow_light, Some(0));
+}
+
+/// The shadow scene with its cube replaced by a horizontal square of side
+/// 2 at y = 0 (u = (x + 1)/2), cut out over x > 0 when `masked`: an alpha
+/// map of four texels 1, 1, 0, 0 read bilinearly with wrapping is ≥ 0.5
+/// exactly for u in [0, 0.5].
+fn masked_square_over_the_floor(masked: bool) -> Scene {
+    use relief::scene::terms::{Cutout, MaterialTerms};
+    use relief::texture::Level;
+    let mut scene = shadow_scene();
+    scene.objects[0] = relief::scene::Object {
+        mesh: relief::scene::plane::plane(),
+        transform: glam::Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2),
+        rotates: false,
+    };
+    if masked {
+        let alpha = |a: f32| [a, a, a, 1.0];
+        let map = Level::from_texels(4, 1, vec![alpha(1.0), alpha(1.0), alpha(0.0), alpha(0.0)]);
+        let terms = MaterialTerms {
+            cutout: Some(Cutout {
+                factor: 1.0,
+                map: Some(Arc::new(map)),
+                cutoff: 0.5,
+            }),
+            ..Default::default()
+        };
+        scene.object_terms = vec![Some(Arc::new(terms)), None];
+    }
+    scene
+}
+
+#[test]
+fn a_masked_caster_lets_the_light_through_where_the_mask_cuts() {
+    let (w, h) = (320, 240);
+    let settings = Settings::default();
+    let light = shadow_scene().lights[0].position;
+    // Under the kept half (x = −0.5) and under the cut half (x = 0.5).
+    let kept = on_floor(light, Vec3::new(-0.5, 0.0, 0.0));
+    let cut = on_floor(light, Vec3::new(0.5, 0.0, 0.0));
+    let mut floor_only = shadow_scene();
+    floor_only.objects.remove(0);
+    let (alone, _) = render_frame(&floor_only, &settings, w, h);
+    for masked in [false, true] {
+        let scene = masked_square_over_the_floor(masked);
+        let plan = Plan::new(&scene, &settings);
+        assert_eq!(plan.shadow_light, Some(0));
+        let mut map = ShadowMap::new();
+        map.render(&scene, plan.rotation, light, &plan.shadow_casters, w, h);
+        assert_eq!(map.visibility(kept, Vec3::Y, FLOOR), 0.0, "masked {masked}");
+        let expected = if masked { 1.0 } else { 0.0 };
+        assert_eq!(
+            map.visibility(cut, Vec3::Y, FLOOR),
+            expected,
+            "masked {masked}"
+        );
+        // In the picture: where the light comes through, the floor is as
+        // it is with no caster at all.
+        let (fb, _) = render_frame(&scene, &settings, w, h);
+        let (kx, ky) = pixel_of(&scene, kept, w, h);
+        let (cx, cy) = pixel_of(&scene, cut, w, h);
+        assert!(
+            fb.get(kx, ky)[0] + 40 < alone.get(kx, ky)[0],
+            "masked {masked}"
+        );
+        assert_eq!(
+            fb.get(cx, cy) == alone.get(cx, cy),
+            masked,
+            "masked {masked}: {:?} {:?}",
+            fb.get(cx, cy),
+            alone.get(cx, cy)
+        );
+    }
 }

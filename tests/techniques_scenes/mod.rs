@@ -67,6 +67,7 @@ pub fn scene_of(
         },
         object_materials: Vec::new(),
         object_terms: Vec::new(),
+        strokes: Default::default(),
         lights,
         ambient,
         camera: Camera::default(),

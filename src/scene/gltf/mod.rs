@@ -5,7 +5,8 @@
 //! checked, and the memory budget asked, before it is used. Then:
 //! - the default scene (else the first) is walked from its root nodes, each
 //!   node's matrix or TRS applied after its parent's; every triangle
-//!   primitive of every mesh instance becomes one object, in world space;
+//!   primitive of every mesh instance becomes one object, in world space,
+//!   and the points and lines primitives the scene's strokes;
 //! - the whole model is centred on its bounding box and scaled so its
 //!   farthest point is `FIT_RADIUS` from the centre, as OBJ models are;
 //! - each glTF material becomes one relief material (`material`), shared
@@ -25,6 +26,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use super::mesh::{Mesh, Triangle, Vertex};
 use super::obj::{MODEL_BYTES_PER_TRIANGLE, ObjError, fit_of, fitted};
+use super::strokes::{StrokeMode, StrokeVertex, Strokes};
 use super::tangents::{accumulate, face_frame};
 use super::{Material, Object, Scene};
 use crate::sanitize::display_path;
@@ -58,8 +60,8 @@ pub struct Part {
 /// A loaded model: its parts in world space, fitted to the unit view.
 pub struct Model {
     pub parts: Vec<Part>,
-    /// Primitives that are points or lines (not drawn).
-    pub skipped_primitives: usize,
+    /// Its points and lines primitives, fitted with the parts.
+    pub strokes: Strokes,
 }
 
 impl Scene {
@@ -78,6 +80,7 @@ impl Scene {
             scene.object_materials.push(Some(part.material));
             scene.object_terms.push(part.terms);
         }
+        scene.strokes = model.strokes;
         scene
     }
 }
@@ -136,22 +139,37 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
 
     let mut materials = Materials::new(name, &document, &buffers, dir);
     let mut prims = Vec::new();
-    let mut skipped = 0;
     for (mesh, world) in &instances {
         for prim in mesh.primitives() {
             let place = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
-            match read_primitive(&prim, *world, &buffers, &place)? {
-                Some(p) => prims.push(p),
-                None => skipped += 1,
-            }
+            prims.push(read_primitive(&prim, *world, &buffers, &place)?);
         }
     }
-    if prims.iter().all(|p| p.tris.is_empty()) {
-        return Err("it has no triangles to draw".into());
+    if prims
+        .iter()
+        .all(|p| p.tris.is_empty() && p.strokes.is_none())
+    {
+        return Err("it has no triangles, lines or points to draw".into());
     }
     fit(&mut prims)?;
     let mut parts = Vec::with_capacity(prims.len());
+    let mut strokes = Strokes::default();
     for prim in prims {
+        if let Some(s) = &prim.strokes {
+            let colors = prim.colors.as_deref();
+            let vertices: Vec<StrokeVertex> = prim
+                .positions
+                .iter()
+                .enumerate()
+                .map(|(i, &position)| StrokeVertex {
+                    position,
+                    color: (colors.map_or(Vec3::ONE, |c| c[i]) * s.factor)
+                        .clamp(Vec3::ZERO, Vec3::ONE),
+                })
+                .collect();
+            strokes.add(&vertices, &s.corners, s.mode);
+            continue;
+        }
         let look = materials.get(prim.material)?;
         let mesh = build_mesh(prim, &look);
         if !mesh.triangles.is_empty() {
@@ -162,13 +180,10 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
             });
         }
     }
-    if parts.is_empty() {
+    if parts.is_empty() && strokes.is_empty() {
         return Err("it has no triangle with an area".into());
     }
-    Ok(Model {
-        parts,
-        skipped_primitives: skipped,
-    })
+    Ok(Model { parts, strokes })
 }
 
 /// The parser's complaint, without its internals: the JSON line and
@@ -250,6 +265,16 @@ struct Prim {
     colors: Option<Vec<Vec3>>,
     tris: Vec<[u32; 3]>,
     material: Option<usize>,
+    /// A points or lines primitive (no triangles).
+    strokes: Option<PrimStrokes>,
+}
+
+/// What a points or lines primitive draws.
+struct PrimStrokes {
+    mode: StrokeMode,
+    corners: Vec<u32>,
+    /// The material's base colour factor (RGB), times the vertex colours.
+    factor: Vec3,
 }
 
 /// Checks that an accessor's elements lie inside its view and the view
@@ -296,14 +321,15 @@ fn read_primitive(
     world: Mat4,
     buffers: &[Vec<u8>],
     place: &str,
-) -> Result<Option<Prim>, Problem> {
+) -> Result<Prim, Problem> {
     let mode = prim.mode();
-    if matches!(
-        mode,
-        Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip
-    ) {
-        return Ok(None);
-    }
+    let stroke = match mode {
+        Mode::Points => Some(StrokeMode::Points),
+        Mode::Lines => Some(StrokeMode::Lines),
+        Mode::LineLoop => Some(StrokeMode::LineLoop),
+        Mode::LineStrip => Some(StrokeMode::LineStrip),
+        _ => None,
+    };
     for (semantic, acc) in prim.attributes() {
         check_accessor(&acc, buffers, &format!("{semantic:?} of {place}"))?;
     }
@@ -357,6 +383,26 @@ fn read_primitive(
     if let Some((k, i)) = corners.iter().enumerate().find(|(_, i)| **i as usize >= n) {
         return Err(format!("{place}: index {k} is {i}, past the {n} vertices"));
     }
+    if let Some(mode) = stroke {
+        let [r, g, b, _] = material.pbr_metallic_roughness().base_color_factor();
+        return Ok(Prim {
+            positions: positions
+                .iter()
+                .map(|p| world.transform_point3(*p))
+                .collect(),
+            normals: None,
+            axes: None,
+            uvs: None,
+            colors,
+            tris: Vec::new(),
+            material: material.index(),
+            strokes: Some(PrimStrokes {
+                mode,
+                corners,
+                factor: Vec3::new(r, g, b),
+            }),
+        });
+    }
     let mut tris = triangles(mode, &corners);
     // A mirroring transform turns counter-clockwise faces clockwise.
     let linear = Mat3::from_mat4(world);
@@ -378,7 +424,7 @@ fn read_primitive(
         ),
         _ => None,
     };
-    Ok(Some(Prim {
+    Ok(Prim {
         positions: positions
             .iter()
             .map(|p| world.transform_point3(*p))
@@ -393,7 +439,8 @@ fn read_primitive(
         colors,
         tris,
         material: material.index(),
-    }))
+        strokes: None,
+    })
 }
 
 /// The triangles of a list, strip or fan of corner indices.
@@ -418,12 +465,14 @@ fn triangles(mode: Mode, c: &[u32]) -> Vec<[u32; 3]> {
 /// Centres the model and scales it so its farthest point is `FIT_RADIUS`
 /// away (in f64, as OBJ models are fitted).
 fn fit(prims: &mut [Prim]) -> Result<(), Problem> {
-    // Only the points the triangles use count.
+    // Only the points the triangles and strokes use count.
     let fit = fit_of(|| {
         prims.iter().flat_map(|p| {
+            let strokes = p.strokes.iter().flat_map(|s| &s.corners);
             p.tris
                 .iter()
                 .flatten()
+                .chain(strokes)
                 .map(move |&i| p.positions[i as usize])
         })
     })
@@ -534,5 +583,6 @@ fn split_corners(prim: Prim) -> Prim {
             .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
             .collect(),
         material: prim.material,
+        strokes: None,
     }
 }
