@@ -22,8 +22,10 @@
 //! asserted. Needs root, iproute2 (`ip netns`, `tc`), OpenSSH (client and server) and
 //! tmux (GNU screen for its case); skipped with a notice otherwise.
 //!
-//! `cargo test --release --test ssh_link` runs one plain session at 8 Mbit/s and one
-//! inside tmux and one inside screen at 1 Mbit/s (~45 s). Plain SSH against tmux and
+//! `cargo test --release --test ssh_link` runs one plain session at 8 Mbit/s, one
+//! inside tmux and one inside screen at 1 Mbit/s, and one each with `--format kitty`
+//! and `--format sixels` at 1 Mbit/s (~100 s). Pixel pictures are not in the pane's
+//! text: their final picture is when the link goes quiet (`Session::link_sampler`). Plain SSH against tmux and
 //! screen at 1 and 50 Mbit/s, 3 sessions each, interleaved:
 //!
 //! ```sh
@@ -54,7 +56,7 @@ use std::path::PathBuf;
 use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use ssh::{EXITED, Mux, Options, QueueSampler, Session};
+use ssh::{EXITED, LinkSampler, Mux, Options, QueueSampler, Session};
 
 /// How long the picture must stay unchanged to be the final one.
 const SETTLE: Duration = Duration::from_millis(1500);
@@ -558,6 +560,124 @@ fn inside_tmux_on_the_server_frames_are_paced_by_the_ssh_connection() {
 #[test]
 fn inside_screen_on_the_server_frames_are_paced_by_the_ssh_connection() {
     inside_a_multiplexer(Mux::Screen);
+}
+
+/// Waits until bytes crossed the link towards the client after `input` and then
+/// none for `SETTLE`; returns when the last one crossed, after `input`, and the
+/// link's total then.
+fn link_quiet(link: &LinkSampler, input: Instant, what: &str) -> (Duration, u64) {
+    loop {
+        if let Some((at, total)) = link.quiet_since(SETTLE)
+            && at > input
+        {
+            return (at - input, total);
+        }
+        assert!(
+            input.elapsed() < TIMEOUT,
+            "the link never went quiet after {what}"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+/// One session at 1 Mbit/s with relief sending real pixels (`--format kitty` or
+/// `sixels`, forced: the client's tmux draws neither, so the pane shows only the
+/// text around the image). The picture is an image, so the final one is when the
+/// link goes quiet: the last byte of the last frame crossed it. Then one arrow key
+/// (an exact frame's bytes), the drag and an idle second, and `q`.
+fn pixels_over_a_slow_link(format: &str) -> Option<Vec<Figure>> {
+    let mut opts = options(1000, None);
+    opts.relief_args
+        .splice(0..0, ["--format".to_string(), format.to_string()]);
+    let s = session(&opts)?;
+    let link = s.link_sampler();
+    let q = s.queue_sampler();
+    let start = Instant::now();
+    final_picture_where(&s, start, "the first frame", |p| p.contains("Phong"));
+    let (lag, _) = link_quiet(&link, start, "the first frame");
+    let mut figures = vec![Figure {
+        input: "connect, first frame",
+        bytes: Some(s.bytes_since_pane_start()),
+        lag,
+        queued: None,
+        after: None,
+    }];
+    let [x, y, z] = START;
+
+    let b0 = s.bytes_to_client();
+    s.keys(&["Right"]);
+    let input = last_input(&s);
+    let (lag, end) = link_quiet(&link, input.at, "one arrow key");
+    let screen = s.screen();
+    assert_eq!(orientation(&screen), Some([x, y + 5, z]), "{screen}");
+    let frame = end - b0;
+    figures.push(Figure {
+        input: "one arrow key",
+        bytes: Some(frame),
+        lag,
+        queued: peak(&q, input.at),
+        after: Some(end - input.bytes),
+    });
+
+    let b0 = s.bytes_to_client();
+    drag(&s);
+    let input = last_input(&s);
+    let (lag, end) = link_quiet(&link, input.at, "the drag");
+    let screen = s.screen();
+    // Angles show within 0°–360°.
+    assert_eq!(
+        orientation(&screen),
+        Some([x + 40, (y + 5 - 80).rem_euclid(360), z]),
+        "{screen}"
+    );
+    // The exact picture, not a preview: the status line shows its time.
+    assert!(!status(&screen).contains("preview"), "{screen}");
+    figures.push(Figure {
+        input: "40-step mouse drag in 0.8 s",
+        bytes: Some(end - b0),
+        lag,
+        queued: peak(&q, input.at),
+        after: Some(end - input.bytes),
+    });
+    // Idle: nothing more is written (the link quiet for another second).
+    std::thread::sleep(Duration::from_secs(1));
+    assert_eq!(s.bytes_to_client(), end, "bytes written while idle");
+    assert_no_backlog(&figures);
+
+    s.keys(&["q"]);
+    let input = Instant::now();
+    while !(s.screen().contains(EXITED) && s.format("#{alternate_on}") == "0") {
+        assert!(
+            input.elapsed() < TIMEOUT,
+            "q did not end relief:\n{}",
+            s.screen()
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    drop((q, link));
+    assert_restored(&s);
+    Some(figures)
+}
+
+/// A drag over a 1 Mbit/s link in kitty graphics: from the last input on at most
+/// three exact frames cross the link, and idle writes nothing.
+#[test]
+fn kitty_images_over_a_slow_link_are_paced() {
+    let _one = one_at_a_time();
+    if let Some(figures) = pixels_over_a_slow_link("kitty") {
+        println!("--format kitty");
+        report(&[(1000, figures)], None);
+    }
+}
+
+/// The same in sixels.
+#[test]
+fn sixel_images_over_a_slow_link_are_paced() {
+    let _one = one_at_a_time();
+    if let Some(figures) = pixels_over_a_slow_link("sixels") {
+        println!("--format sixels");
+        report(&[(1000, figures)], None);
+    }
 }
 
 /// Plain SSH, inside tmux and inside screen, sessions interleaved, at each rate of

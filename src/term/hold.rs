@@ -6,10 +6,12 @@
 //! - **The send queue** of the SSH connection ([`crate::term::backlog`]):
 //!   after a frame, the next waits until the queue is down to what the link
 //!   delivers within [`ACK_DELAY`] (at least [`QUEUE_THRESHOLD`], at most
-//!   the frame), i.e. until the client has about acknowledged the frame,
-//!   which is what the reply means over plain SSH. While it drains, the fall
-//!   of the queue measures the link's rate (acknowledgements arrive at the
-//!   rate the link delivers), which decides previews and that allowance.
+//!   one frame as the queue holds it), i.e. until the client has about
+//!   acknowledged the frame before, which is what the reply means over
+//!   plain SSH. The falls of the queue bound the link's rate from below
+//!   (acknowledgements arrive no faster than the link delivers); the
+//!   fastest recent one decides previews and that allowance, in relief's
+//!   bytes (the multiplexer may send fewer: see [`Hold::wire`]).
 //!   Why the allowance: inside a multiplexer the client sends nothing back
 //!   (over plain SSH the terminal's reply carries the acknowledgement), so
 //!   its TCP delays the acknowledgement of a frame's last segments; waiting
@@ -50,11 +52,18 @@ pub const ACK_DELAY: Duration = Duration::from_millis(40);
 /// rounded up so a stated rate is not overrun.
 pub const FRAMING: f64 = 1.1;
 
-/// Weight of a new drain-rate sample in the smoothed rate.
-const SMOOTHING: f64 = 0.25;
+/// Writes smaller than this say little about what the multiplexer makes
+/// of a frame (a status line's refresh).
+const WIRE_MIN_BYTES: u64 = 4096;
+
+/// Weight of a new sample of the wire factor.
+const WIRE_SMOOTHING: f64 = 0.25;
+
+/// Drain samples kept: the rate is the fastest of them.
+const RATE_WINDOW: usize = 8;
 
 /// Drain intervals shorter than this say little (timer noise).
-const MIN_INTERVAL: Duration = Duration::from_millis(2);
+const MIN_INTERVAL: Duration = Duration::from_millis(5);
 
 /// What holds frames, besides the replies.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -80,8 +89,18 @@ pub struct Hold {
     last: Option<(Instant, Option<u64>)>,
     /// The largest write since the queue was last seen drained.
     frame: u64,
-    /// Smoothed bytes per second the queue drained at.
-    drained: Option<f64>,
+    /// The last reading ever (writes do not clear it): the queue a new
+    /// frame joins.
+    seen: Option<(Instant, u64)>,
+    /// The queue when the first write since the last reading went, and
+    /// the bytes written since (`None`: that queue is not known).
+    joined: Option<(u64, u64)>,
+    /// Smoothed bytes queued per byte written: what the multiplexer sends
+    /// for relief's frame (GNU screen turns 24-bit colours into its
+    /// palette: a third), in SSH packets.
+    wire: Option<f64>,
+    /// The latest drain samples, bytes per second (see [`Hold::reading`]).
+    drained: std::collections::VecDeque<f64>,
 }
 
 impl Hold {
@@ -92,7 +111,10 @@ impl Hold {
             busy_until: None,
             last: None,
             frame: 0,
-            drained: None,
+            drained: std::collections::VecDeque::new(),
+            seen: None,
+            joined: None,
+            wire: None,
         }
     }
 
@@ -102,6 +124,20 @@ impl Hold {
 
     /// A frame of `bytes` was written at `at`.
     pub fn wrote(&mut self, at: Instant, bytes: u64) {
+        if self.last.is_some() || self.wrote.is_none() {
+            // The first write since a reading: the queue it joins is that
+            // reading if it is recent or near empty (an older one may have
+            // drained since by an unknown amount), nothing before any write.
+            self.joined = match self.seen {
+                None => Some(0),
+                Some((t, q)) if q <= QUEUE_THRESHOLD || at <= t + 2 * POLL => Some(q),
+                Some(_) => None,
+            }
+            .map(|q| (q, 0));
+        }
+        if let Some((_, written)) = &mut self.joined {
+            *written += bytes;
+        }
         self.wrote = Some(at);
         self.last = None;
         self.frame = self.frame.max(bytes);
@@ -124,19 +160,38 @@ impl Hold {
     pub fn reading(&mut self, at: Instant, queued: Option<u64>) {
         if let (Some((t, Some(before))), Some(now)) = (self.last, queued) {
             let dt = at.saturating_duration_since(t);
-            // A falling queue drains at the link's rate; a flat one waits
-            // for acknowledgements (the round trip), which says nothing of
-            // it, and one that emptied between two readings may have done
-            // so at any time between them.
-            if now < before && now > QUEUE_THRESHOLD && dt >= MIN_INTERVAL {
+            // Acknowledgements arrive no faster than the link delivers, so
+            // a fall of the queue between two readings is at most the
+            // link's rate: the whole of it on a slow link, which drains a
+            // frame over many readings; far less on a fast one, where a
+            // frame's acknowledgements come in one burst a round trip after
+            // it (or in a few, one per congestion window) and the readings
+            // around the burst see a flat queue for most of their interval.
+            // So each fall is a lower bound of the rate, and the rate is the
+            // fastest recent one; a flat or rising queue says nothing.
+            if now < before && dt >= MIN_INTERVAL {
                 let sample = (before - now) as f64 / dt.as_secs_f64();
-                self.drained = Some(match self.drained {
-                    Some(r) => r + SMOOTHING * (sample - r),
-                    None => sample,
-                });
+                if self.drained.len() == RATE_WINDOW {
+                    self.drained.pop_front();
+                }
+                self.drained.push_back(sample);
             }
         }
+        if let (None, Some(q), Some((base, written))) = (self.last, queued, self.joined)
+            && written >= WIRE_MIN_BYTES
+        {
+            // The first reading after the grace: the frame is in the queue,
+            // none of it acknowledged yet on a fast link (a round trip is
+            // longer than the grace) and little on a slow one.
+            let sample = (q.saturating_sub(base) as f64 / written as f64).clamp(0.05, 2.0);
+            self.wire = Some(match self.wire {
+                Some(w) => w + WIRE_SMOOTHING * (sample - w),
+                None => sample,
+            });
+        }
+        self.joined = None;
         self.last = Some((at, queued));
+        self.seen = queued.map(|q| (at, q));
         if queued.is_none_or(|q| q <= QUEUE_THRESHOLD) {
             self.frame = 0;
         }
@@ -144,13 +199,26 @@ impl Hold {
 
     /// The queue at or below which the next frame may go: what the link
     /// delivers within [`ACK_DELAY`] at the measured rate, at least
-    /// [`QUEUE_THRESHOLD`] and at most the frame (an unknown rate is a link
-    /// that drained whole frames between two readings: the frame).
+    /// [`QUEUE_THRESHOLD`] and at most the frame as it sits in the queue
+    /// (the wire factor, or [`FRAMING`] before it is known, with a tenth
+    /// to spare), so one frame may stay unacknowledged (an unknown rate:
+    /// the frame).
     pub fn release_at(&self) -> u64 {
         let within = self
-            .drained
+            .measured()
             .map_or(u64::MAX, |r| (r * ACK_DELAY.as_secs_f64()) as u64);
-        within.min(self.frame).max(QUEUE_THRESHOLD)
+        let frame = (self.frame as f64 * self.wire.unwrap_or(1.0) * FRAMING) as u64;
+        within.min(frame).max(QUEUE_THRESHOLD)
+    }
+
+    /// Bytes queued per byte written, as measured (`None`: not yet).
+    pub fn wire(&self) -> Option<f64> {
+        self.wire
+    }
+
+    /// The fastest recent drain (`None`: none seen).
+    fn measured(&self) -> Option<f64> {
+        self.drained.iter().copied().reduce(f64::max)
     }
 
     /// Whether the next frame may go at `now` (the readings so far).
@@ -184,7 +252,8 @@ impl Hold {
     pub fn rate(&self) -> Option<f64> {
         match self.by {
             HoldBy::Nothing => None,
-            HoldBy::Queue => self.drained,
+            // In relief's bytes: the queue holds what the multiplexer sent.
+            HoldBy::Queue => Some(self.measured()? / self.wire.unwrap_or(1.0)),
             HoldBy::Rate(r) => Some(r),
         }
     }
@@ -286,38 +355,52 @@ mod tests {
         assert!(!h.wants_reading(c.at(14)));
         assert!(!poll(&mut h, c.at(14), Some(0)));
         assert_eq!(h.until(c.at(14)), Some(c.at(15)));
-        // After it: 27 kB queued, more than the frame's 27 000 bytes: held
-        // (the rate unknown, the frame may stay in flight); read again a poll later.
-        assert_eq!(h.release_at(), 27_000);
-        assert!(!poll(&mut h, c.at(15), Some(27_100)));
-        assert_eq!(h.until(c.at(16)), Some(c.at(25)));
-        assert!(!h.wants_reading(c.at(24)));
+        // The rate unknown, the frame may stay in flight: it is 27 540 bytes
+        // in the queue (1.02 per byte written, in SSH packets), and one
+        // frame (with a tenth to spare) is 30 294.
+        assert!(poll(&mut h, c.at(15), Some(27_540)));
+        assert!((h.wire().unwrap() - 1.02).abs() < 1e-9);
+        assert!((30_293..=30_294).contains(&h.release_at()));
+        // Not two: held, and read again a poll later.
+        h.wrote(c.at(16), 27_000);
+        assert!(!poll(&mut h, c.at(31), Some(55_080)));
+        assert!((h.wire().unwrap() - 1.02).abs() < 1e-9);
+        assert_eq!(h.until(c.at(32)), Some(c.at(41)));
+        assert!(!h.wants_reading(c.at(40)));
         // Flat for a round trip (no acknowledgement yet): no rate from it.
-        assert!(!poll(&mut h, c.at(25), Some(27_100)));
-        assert!(!poll(&mut h, c.at(55), Some(27_100)));
+        assert!(!poll(&mut h, c.at(41), Some(55_080)));
+        assert!(!poll(&mut h, c.at(71), Some(55_080)));
         assert_eq!(h.rate(), None);
-        // Then it falls 1250 bytes every 10 ms: 125 kB/s (1 Mbit/s), which
-        // delivers 5000 bytes within the acknowledgement delay.
-        assert!(!poll(&mut h, c.at(65), Some(25_850)));
-        assert!((h.rate().unwrap() - 125_000.0).abs() < 1e-6);
+        // Then it falls 1250 bytes every 10 ms: 125 kB/s (1 Mbit/s) in the
+        // queue, which delivers 5000 bytes within the acknowledgement
+        // delay: held until then (3830 bytes left after 41 readings).
+        // In relief's bytes the rate is 125 000 / 1.02.
+        let (mut t, mut q) = (71, 55_080);
+        while q > 5_000 {
+            (t, q) = (t + 10, q - 1250);
+            assert_eq!(poll(&mut h, c.at(t), Some(q)), q <= 5_000, "{t} ms: {q}");
+            assert!((h.rate().unwrap() - 125_000.0 / 1.02).abs() < 1e-6);
+        }
+        assert_eq!((t, q), (481, 3_830));
         assert_eq!(h.release_at(), 5_000);
-        assert!(!poll(&mut h, c.at(75), Some(24_600)));
-        // Still 125 kB/s: 5850 bytes left at 225 ms, 4600 at 235.
-        assert!(!poll(&mut h, c.at(225), Some(5_850)));
-        assert!(poll(&mut h, c.at(235), Some(4_600)));
-        assert!((h.rate().unwrap() - 125_000.0).abs() < 1e-6);
-        assert_eq!(h.until(c.at(235)), None);
-        // The next frame: one of 3 kB, queued behind what is left.
-        h.wrote(c.at(240), 3_000);
-        assert!(!h.clear(c.at(240)));
+        assert_eq!(h.until(c.at(481)), None);
+        // The next frame: one of 3 kB (too small to say what the multiplexer
+        // makes of frames), queued behind what is left.
+        h.wrote(c.at(490), 3_000);
+        assert!(!h.clear(c.at(490)));
         assert_eq!(h.release_at(), 5_000, "the largest since the queue drained");
-        assert!(!poll(&mut h, c.at(255), Some(7_000)));
-        assert!(poll(&mut h, c.at(265), Some(QUEUE_THRESHOLD)));
+        assert!(!poll(&mut h, c.at(505), Some(7_000)));
+        assert!(!poll(&mut h, c.at(515), Some(5_750)));
+        assert!(poll(&mut h, c.at(525), Some(4_500)));
+        assert!(poll(&mut h, c.at(535), Some(3_250)));
+        assert!(poll(&mut h, c.at(545), Some(2_000)));
+        assert!((h.wire().unwrap() - 1.02).abs() < 1e-9);
         // Drained: the allowance starts over from the next frame, never
         // below the threshold.
-        h.wrote(c.at(270), 1_000);
+        h.wrote(c.at(550), 1_000);
         assert_eq!(h.release_at(), QUEUE_THRESHOLD);
-        assert!(poll(&mut h, c.at(285), Some(QUEUE_THRESHOLD)));
+        assert!(!poll(&mut h, c.at(565), Some(QUEUE_THRESHOLD + 1)));
+        assert!(poll(&mut h, c.at(575), Some(QUEUE_THRESHOLD)));
     }
 
     #[test]
@@ -325,17 +408,80 @@ mod tests {
         let c = clock();
         let mut h = Hold::new(HoldBy::Queue);
         // 25 kB written; the next reading finds them all still queued (the
-        // acknowledgement delayed), the one after that none: no rate.
+        // acknowledgement delayed): one frame in flight.
         h.wrote(c.at(0), 25_000);
-        assert!(poll(&mut h, c.at(15), Some(25_000)), "one frame in flight");
+        assert!(poll(&mut h, c.at(15), Some(25_400)), "one frame in flight");
         h.wrote(c.at(16), 25_000);
-        assert!(!poll(&mut h, c.at(31), Some(50_000)), "not two");
+        assert!(!poll(&mut h, c.at(31), Some(50_800)), "not two");
+        // All of it acknowledged within 10 ms: the link carries at least
+        // 5.08 MB/s of the queue's bytes, 5 MB/s of relief's (when within
+        // them is not known).
         assert!(poll(&mut h, c.at(41), Some(0)));
-        assert_eq!(h.rate(), None, "the drop may have come at any time");
+        assert!((h.rate().unwrap() - 5e6).abs() < 1e-3);
     }
 
     #[test]
-    fn the_drain_rate_is_smoothed_and_ignores_rises() {
+    fn what_the_multiplexer_sends_is_measured_against_what_was_written() {
+        // GNU screen sends a 24-bit frame of 27 000 bytes as 8 100 (its
+        // 256-colour palette): the queue's rate is a third of relief's,
+        // and one frame in flight is 8 100 bytes of it.
+        let c = clock();
+        let mut h = Hold::new(HoldBy::Queue);
+        h.wrote(c.at(0), 27_000);
+        assert!(poll(&mut h, c.at(15), Some(8_100)));
+        assert!((h.wire().unwrap() - 0.3).abs() < 1e-9);
+        assert!((8_909..=8_910).contains(&h.release_at()));
+        h.wrote(c.at(16), 27_000);
+        assert!(!poll(&mut h, c.at(31), Some(16_200)));
+        assert!(poll(&mut h, c.at(41), Some(0)));
+        // 16 200 bytes of the queue in 10 ms: 5.4 MB/s of relief's.
+        assert!((h.rate().unwrap() - 5.4e6).abs() < 1e-3);
+        // A write long after a reading that was not near empty joins a
+        // queue of unknown size (it may have drained since): no sample.
+        h.reading(c.at(50), Some(20_000));
+        h.wrote(c.at(1000), 27_000);
+        h.reading(c.at(1015), Some(60_000));
+        assert!((h.wire().unwrap() - 0.3).abs() < 1e-9);
+    }
+
+    #[test]
+    fn on_a_fast_link_small_frames_do_not_hide_its_rate() {
+        // As measured inside tmux at 50 Mbit/s, 20 ms each way: an exact
+        // frame (26 kB) is acknowledged in one burst a round trip after
+        // it; then 8 kB previews, each flat for 60-80 ms (the client delays
+        // its acknowledgement) and gone at the next reading.
+        let c = clock();
+        let mut h = Hold::new(HoldBy::Queue);
+        h.wrote(c.at(0), 25_128);
+        assert!(poll(&mut h, c.at(15), Some(26_712)));
+        assert!(poll(&mut h, c.at(26), Some(26_712)));
+        assert!(poll(&mut h, c.at(52), Some(648)));
+        let fast = 26_064.0 / 0.026;
+        let queued = |h: &Hold| h.rate().unwrap() * h.wire().unwrap();
+        assert!((queued(&h) - fast).abs() < 1e-3);
+        for i in 0..(RATE_WINDOW as u64 - 1) {
+            let t = 1000 + 100 * i;
+            h.wrote(c.at(t), 8_374);
+            // The preview in SSH packets is a little more than its bytes:
+            // it may stay in flight.
+            assert!(poll(&mut h, c.at(t + 20), Some(8_476)));
+            assert!(poll(&mut h, c.at(t + 65), Some(8_476)));
+            assert!(poll(&mut h, c.at(t + 81), Some(0)));
+        }
+        // Their falls (8476 bytes in 16 ms: 530 kB/s) would call the exact
+        // frame slow (47 ms); the exact frame's own says it is not.
+        assert!((queued(&h) - fast).abs() < 1e-3);
+        assert!(25_128.0 / h.rate().unwrap() < 0.033);
+        // Once the link is slower for a whole window, so is the rate.
+        h.wrote(c.at(2000), 8_374);
+        assert!(poll(&mut h, c.at(2020), Some(8_476)));
+        assert!(poll(&mut h, c.at(2036), Some(0)));
+        assert!((queued(&h) - 8_476.0 / 0.016).abs() < 1e-3);
+        assert!(25_128.0 / h.rate().unwrap() > 0.033);
+    }
+
+    #[test]
+    fn the_drain_rate_is_the_fastest_recent_fall() {
         let c = clock();
         let mut h = Hold::new(HoldBy::Queue);
         h.wrote(c.at(0), 60_000);
@@ -345,13 +491,18 @@ mod tests {
         h.reading(c.at(40), Some(55_000)); // rose: more came in, no sample
         h.reading(c.at(41), Some(54_000)); // 1 ms: too short to say
         assert!((h.rate().unwrap() - 1e6).abs() < 1e-3);
-        h.reading(c.at(51), Some(52_000)); // 200 kB/s: a quarter of the way there
-        assert!((h.rate().unwrap() - 800_000.0).abs() < 1e-3);
-        // Emptied between two readings: no sample.
+        h.reading(c.at(51), Some(52_000)); // 200 kB/s: a slower fall
+        assert!((h.rate().unwrap() - 1e6).abs() < 1e-3);
+        // Emptied between two readings: at least that fast.
         h.reading(c.at(61), Some(0));
-        h.reading(c.at(62), Some(4000));
-        h.reading(c.at(72), Some(QUEUE_THRESHOLD));
-        assert!((h.rate().unwrap() - 800_000.0).abs() < 1e-3);
+        assert!((h.rate().unwrap() - 5.2e6).abs() < 1e-3);
+        // The link slows down: the fast fall leaves after eight slower ones.
+        h.reading(c.at(100), Some(80_000));
+        for i in 1..=RATE_WINDOW as u64 {
+            assert!((h.rate().unwrap() - 5.2e6).abs() < 1e-3, "{i}");
+            h.reading(c.at(100 + 10 * i), Some(80_000 - 1000 * i));
+        }
+        assert!((h.rate().unwrap() - 1e5).abs() < 1e-3);
     }
 
     #[test]

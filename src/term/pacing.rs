@@ -619,22 +619,30 @@ mod tests {
         assert!(p.ready(c.at(20)), "the probe put nothing on the link");
         p.sent(c.at(100), 25_000, true);
         p.reply(c.at(102));
-        // The frame and what the multiplexer adds to it.
-        *queue.lock().unwrap() = Some(26_000);
-        assert!(!p.ready(c.at(102)) && !p.ready(c.at(115)));
-        assert_eq!(p.deadline(), Some(c.at(115) + POLL));
+        assert!(!p.ready(c.at(102)), "within the grace");
+        // The frame in the queue, as the multiplexer sent it: 28 000 bytes.
+        // One frame may stay in flight (unacknowledged).
+        *queue.lock().unwrap() = Some(28_000);
+        assert!(p.ready(c.at(115)));
+        p.sent(c.at(116), 25_000, true);
+        p.reply(c.at(117));
+        // Not two.
+        *queue.lock().unwrap() = Some(56_000);
+        assert!(!p.ready(c.at(131)));
+        assert_eq!(p.deadline(), Some(c.at(131) + POLL));
         // Read once a poll, not at every look.
         let n = *reads.lock().unwrap();
-        assert!(!p.ready(c.at(120)));
+        assert!(!p.ready(c.at(136)));
         assert_eq!(*reads.lock().unwrap(), n);
-        // Draining at 125 kB/s (1 Mbit/s): that is the link's rate now.
-        *queue.lock().unwrap() = Some(24_750);
-        assert!(!p.ready(c.at(125)));
+        // Draining at 140 kB/s of the multiplexer's bytes, 125 kB/s of
+        // relief's (each of its bytes took 1.12 in the queue): 1 Mbit/s.
+        *queue.lock().unwrap() = Some(54_600);
+        assert!(!p.ready(c.at(141)));
         assert!((p.throughput().unwrap() - 125_000.0).abs() < 1e-6);
         assert_eq!(p.info().throughput, p.throughput());
         assert!(p.preview(true, Some(25_000), frame));
         *queue.lock().unwrap() = Some(0);
-        assert!(p.ready(c.at(135)));
+        assert!(p.ready(c.at(151)));
         assert_eq!(p.deadline(), None);
         // The socket gone (the session detached): the replies alone pace.
         p.sent(c.at(200), 25_000, true);

@@ -423,6 +423,41 @@ impl Session {
         }
     }
 
+    /// Starts reading, every 5 ms, the bytes that crossed the link towards the
+    /// client (the link namespace's `/proc/net/dev`, read from a thread that
+    /// joined it: cheaper than [`Session::bytes_to_client`], which runs a program).
+    pub fn link_sampler(&self) -> LinkSampler {
+        let samples = Arc::new(Mutex::new(Vec::new()));
+        let stop = Arc::new(AtomicBool::new(false));
+        let path = format!("/run/netns/{}", self.ns('m'));
+        let (out, halt) = (samples.clone(), stop.clone());
+        let thread = std::thread::spawn(move || {
+            let ns = std::fs::File::open(path).expect("the link namespace");
+            // SAFETY: setns on a valid descriptor affects only this thread.
+            if unsafe { libc::setns(ns.as_raw_fd(), libc::CLONE_NEWNET) } != 0 {
+                panic!("setns: {}", std::io::Error::last_os_error());
+            }
+            while !halt.load(Ordering::Relaxed) {
+                let table =
+                    std::fs::read_to_string("/proc/thread-self/net/dev").unwrap_or_default();
+                // `  mc: rx_bytes rx_packets … (8 fields) tx_bytes …`
+                let sent = table.lines().find_map(|l| {
+                    let (name, rest) = l.split_once(':')?;
+                    (name.trim() == "mc").then(|| rest.split_whitespace().nth(8)?.parse().ok())?
+                });
+                if let Some(sent) = sent {
+                    out.lock().unwrap().push((Instant::now(), sent));
+                }
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        });
+        LinkSampler {
+            samples,
+            stop,
+            thread: Some(thread),
+        }
+    }
+
     /// Bytes that crossed the link towards the client since the pane started.
     pub fn bytes_since_pane_start(&self) -> u64 {
         self.bytes_to_client() - self.bytes_before_pane
@@ -504,6 +539,34 @@ impl QueueSampler {
 }
 
 impl Drop for QueueSampler {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+/// Readings of the bytes that crossed the link towards the client: (when, total).
+pub struct LinkSampler {
+    samples: Arc<Mutex<Vec<(Instant, u64)>>>,
+    stop: Arc<AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl LinkSampler {
+    /// When bytes last crossed the link, if the link has then been quiet for
+    /// `quiet` (and the latest total); `None` while bytes still flow.
+    pub fn quiet_since(&self, quiet: Duration) -> Option<(Instant, u64)> {
+        let all = self.samples.lock().unwrap();
+        let &(now, total) = all.last()?;
+        // The first reading with today's total: the bytes came just before it.
+        let first = all.iter().rev().take_while(|(_, b)| *b == total).last()?;
+        (now - first.0 >= quiet).then_some((first.0, total))
+    }
+}
+
+impl Drop for LinkSampler {
     fn drop(&mut self) {
         self.stop.store(true, Ordering::Relaxed);
         if let Some(t) = self.thread.take() {
