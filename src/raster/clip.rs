@@ -41,6 +41,37 @@ pub enum Clipped {
     Polygon,
 }
 
+/// The outcode bit of a vertex that is not finite.
+const NOT_FINITE: u8 = 1 << 6;
+
+/// A vertex's outcode: bit k set when it is outside plane k of
+/// [`distances`], and [`NOT_FINITE`]. Computed once per vertex and frame,
+/// it decides most triangles without [`clip_triangle`].
+#[inline]
+pub fn outcode(p: Vec4) -> u8 {
+    if !p.is_finite() {
+        return NOT_FINITE;
+    }
+    distances(p)
+        .iter()
+        .enumerate()
+        .fold(0, |code, (k, d)| code | (u8::from(*d < 0.0) << k))
+}
+
+/// What [`clip_triangle`] makes of a triangle whose vertices have
+/// `codes`, when the codes alone decide it: `None` when it must be cut.
+#[inline]
+pub fn clip_by_codes(codes: [u8; 3]) -> Option<Clipped> {
+    let any = codes[0] | codes[1] | codes[2];
+    if any & NOT_FINITE != 0 || codes[0] & codes[1] & codes[2] != 0 {
+        Some(Clipped::Outside)
+    } else if any == 0 {
+        Some(Clipped::Inside)
+    } else {
+        None
+    }
+}
+
 /// Clips a triangle against the near and far planes and the guard band.
 /// On `Clipped::Polygon`, `out` holds the polygon (3 to 9 vertices).
 pub fn clip_triangle(v: [Vec4; 3], out: &mut Vec<ClipVertex>) -> Clipped {
@@ -145,6 +176,39 @@ mod tests {
             assert!((cv.bary.element_sum() - 1.0).abs() < 1e-6);
             assert!(cv.bary.min_element() >= -1e-6);
         }
+    }
+
+    /// Whenever the outcodes decide, they decide as `clip_triangle` does;
+    /// when they do not, it cuts the triangle.
+    #[test]
+    fn outcodes_agree_with_clipping() {
+        let mut seed = 0x9e37_79b9_u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % 2001) as f32 / 100.0 - 10.0
+        };
+        let mut out = Vec::new();
+        let (mut decided, mut cut) = (0, 0);
+        for n in 0..20_000 {
+            let mut v = [0; 3].map(|_| Vec4::new(next(), next(), next(), next().abs() * 0.4));
+            if n % 97 == 0 {
+                v[n % 3].y = f32::NAN;
+            }
+            let codes = v.map(outcode);
+            match clip_by_codes(codes) {
+                Some(c) => {
+                    decided += 1;
+                    assert_eq!(clip_triangle(v, &mut out), c, "{v:?}");
+                }
+                None => {
+                    cut += 1;
+                    assert_ne!(clip_triangle(v, &mut out), Clipped::Inside, "{v:?}");
+                }
+            }
+        }
+        assert!(decided > 1000 && cut > 1000, "{decided} {cut}");
     }
 
     #[test]

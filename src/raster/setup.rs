@@ -1,7 +1,7 @@
 //! Triangle setup: projection to fixed-point screen coordinates, edge
 //! functions with the top-left fill rule, and the constants the pixel loop needs.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 use super::clip::ClipVertex;
 
@@ -110,12 +110,26 @@ pub fn setup_reaching(
     shader: u32,
     reach: i64,
 ) -> Option<ScreenTri> {
-    let mut x = [0i64; 3];
-    let mut y = [0i64; 3];
-    let mut q = [0f32; 3];
-    let mut z = [0f32; 3];
-    for i in 0..3 {
-        let p = v[i].pos;
+    let p = [0, 1, 2].map(|i| Projected::of(v[i].pos, width, height));
+    let bary = [v[0].bary, v[1].bary, v[2].bary];
+    setup_projected([p[0]?, p[1]?, p[2]?], bary, width, height, shader, reach)
+}
+
+/// A clip-space vertex projected to the viewport as setup needs it: fixed-
+/// point position, 1/w and NDC depth. Computed once per vertex and frame
+/// for the triangles clipping leaves whole.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Projected {
+    pub x: i64,
+    pub y: i64,
+    pub q: f32,
+    pub z: f32,
+}
+
+impl Projected {
+    /// `p` on a `width × height` viewport, or `None` when not finite.
+    #[inline]
+    pub fn of(p: Vec4, width: usize, height: usize) -> Option<Projected> {
         // Clipping guarantees w ≥ near > 0 and coordinates within the guard band.
         let inv_w = 1.0 / p.w as f64;
         let sx = (p.x as f64 * inv_w + 1.0) * 0.5 * width as f64;
@@ -123,16 +137,45 @@ pub fn setup_reaching(
         if !sx.is_finite() || !sy.is_finite() {
             return None;
         }
-        x[i] = (sx * ONE as f64).round() as i64;
-        y[i] = (sy * ONE as f64).round() as i64;
-        q[i] = inv_w as f32;
-        z[i] = (p.z as f64 * inv_w) as f32;
+        Some(Projected {
+            x: (sx * ONE as f64).round() as i64,
+            y: (sy * ONE as f64).round() as i64,
+            q: inv_w as f32,
+            z: (p.z as f64 * inv_w) as f32,
+        })
     }
-    let mut bary = [v[0].bary, v[1].bary, v[2].bary];
+}
+
+/// [`setup_reaching`] from vertices already projected, with their
+/// barycentrics in the source triangle. A triangle that holds no pixel
+/// centre (a sub-pixel one) is refused before anything else is set up.
+pub fn setup_projected(
+    v: [Projected; 3],
+    mut bary: [Vec3; 3],
+    width: usize,
+    height: usize,
+    shader: u32,
+    reach: i64,
+) -> Option<ScreenTri> {
+    let mut x = v.map(|p| p.x);
+    let mut y = v.map(|p| p.y);
+    // Pixel px is covered only if its centre px·ONE + HALF lies within the bounds
+    // With samples off the centre, within `reach` of it.
+    let lo = |m: i64| (m - reach - HALF + ONE - 1).div_euclid(ONE);
+    let hi = |m: i64| (m + reach - HALF).div_euclid(ONE);
+    let x0 = lo(x[0].min(x[1]).min(x[2])).max(0);
+    let x1 = hi(x[0].max(x[1]).max(x[2])).min(width as i64 - 1);
+    let y0 = lo(y[0].min(y[1]).min(y[2])).max(0);
+    let y1 = hi(y[0].max(y[1]).max(y[2])).min(height as i64 - 1);
+    if x0 > x1 || y0 > y1 {
+        return None;
+    }
     let mut area = (y[1] - y[0]) * (x[2] - x[0]) - (x[1] - x[0]) * (y[2] - y[0]);
     if area == 0 {
         return None;
     }
+    let mut q = v.map(|p| p.q);
+    let mut z = v.map(|p| p.z);
     if area < 0 {
         // Make the area positive by swapping two vertices.
         x.swap(1, 2);
@@ -141,17 +184,6 @@ pub fn setup_reaching(
         z.swap(1, 2);
         bary.swap(1, 2);
         area = -area;
-    }
-    // Pixel px is covered only if its centre px·ONE + HALF lies within the bounds
-    // With samples off the centre, within `reach` of it.
-    let lo = |m: i64| (m - reach - HALF + ONE - 1).div_euclid(ONE);
-    let hi = |m: i64| (m + reach - HALF).div_euclid(ONE);
-    let x0 = lo(*x.iter().min()?).max(0);
-    let x1 = hi(*x.iter().max()?).min(width as i64 - 1);
-    let y0 = lo(*y.iter().min()?).max(0);
-    let y1 = hi(*y.iter().max()?).min(height as i64 - 1);
-    if x0 > x1 || y0 > y1 {
-        return None;
     }
     let mut bias = [0i64; 3];
     for (i, b) in bias.iter_mut().enumerate() {

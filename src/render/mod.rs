@@ -28,8 +28,10 @@ use crate::plan::Plan;
 use crate::raster::aa::{
     MSAA_REACH, MSAA_SAMPLES, MsaaBand, resolve_box, resolve_msaa, ssaa_factor,
 };
+use crate::raster::clip::{clip_by_codes, outcode};
 use crate::raster::frames::{DepthView, draw_tangent_frames};
 use crate::raster::scan::OwnedBand;
+use crate::raster::setup::{Projected, setup_projected};
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
 use crate::scene::Scene;
@@ -47,6 +49,10 @@ pub struct Renderer {
     /// The scene placed for the frame, read by every pass.
     world: World,
     clip: Vec<Vec4>,
+    /// Per vertex of the object being prepared: its clip outcode, and its
+    /// screen position when inside every plane.
+    codes: Vec<u8>,
+    projected: Vec<Option<Projected>>,
     shaders: Vec<TriShader>,
     /// The material group (index in the frame's plans) of each shader,
     /// filled only when objects have materials of their own.
@@ -235,9 +241,20 @@ impl Renderer {
             let group = plans.of_object[object_index];
             let plan = &plans.plans[group];
             let placed = self.world.object(object_index);
+            // The view's projection, once per vertex: clip position,
+            // outcode, and the screen position setup reads.
             self.clip.clear();
             self.clip
                 .extend(placed.positions.iter().map(|p| view_proj * p.extend(1.0)));
+            self.codes.clear();
+            self.codes.extend(self.clip.iter().map(|&p| outcode(p)));
+            self.projected.clear();
+            self.projected
+                .extend(self.clip.iter().zip(&self.codes).map(|(&p, &code)| {
+                    (code == 0)
+                        .then(|| Projected::of(p, width, height))
+                        .flatten()
+                }));
             // Behind a depth buffer a repeated triangle changes nothing.
             let skips_repeats = plan.display == Display::Fill && plan.depth;
             let mut repeats = RepeatSkipper::new(if skips_repeats {
@@ -271,15 +288,24 @@ impl Renderer {
                 let shader_index = self.shaders.len() as u32;
                 let first_tri = self.tris.len();
                 let clip = idx.map(|i| self.clip[i]);
-                match clip_triangle(clip, &mut self.polygon) {
+                let clipped = clip_by_codes(idx.map(|i| self.codes[i]))
+                    .unwrap_or_else(|| clip_triangle(clip, &mut self.polygon));
+                match clipped {
                     Clipped::Outside => {}
                     Clipped::Inside => {
-                        let v = [0, 1, 2].map(|k| ClipVertex {
-                            pos: clip[k],
-                            bary: Vec3::AXES[k],
-                        });
-                        self.tris
-                            .extend(setup_reaching(v, width, height, shader_index, reach));
+                        // Projected once per vertex; a sub-pixel triangle
+                        // stops at its bounds.
+                        let [a, b, c] = idx.map(|i| self.projected[i]);
+                        if let (Some(a), Some(b), Some(c)) = (a, b, c) {
+                            self.tris.extend(setup_projected(
+                                [a, b, c],
+                                Vec3::AXES,
+                                width,
+                                height,
+                                shader_index,
+                                reach,
+                            ));
+                        }
                     }
                     Clipped::Polygon => {
                         counters.triangles_clipped += 1;

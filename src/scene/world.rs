@@ -6,6 +6,8 @@
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
 
+use rayon::prelude::*;
+
 use super::{Object, Scene, normal_matrix};
 
 /// A vertex after the model transform, in world space.
@@ -83,46 +85,55 @@ impl Placed {
         self.model = model;
         self.linear = linear;
         self.normals = normals;
-        let mesh = &object.mesh;
-        self.positions.clear();
-        self.positions.extend(
-            mesh.vertices
-                .iter()
-                .map(|v| model.transform_point3(v.position)),
-        );
-        self.attributes.clear();
-        self.attributes
-            .extend(mesh.vertices.iter().map(|v| Attributes {
+        let (vertices, triangles) = (&object.mesh.vertices, &object.mesh.triangles);
+        fill(&mut self.positions, vertices.len(), |i| {
+            model.transform_point3(vertices[i].position)
+        });
+        fill(&mut self.attributes, vertices.len(), |i| {
+            let v = &vertices[i];
+            Attributes {
                 normal: (normals * v.normal).normalize_or_zero(),
                 uv: v.uv,
                 color: v.color,
                 tangent_u: linear * v.tangent_u,
                 tangent_v: linear * v.tangent_v,
-            }));
-        self.facets.clear();
-        self.sides.clear();
-        for tri in &mesh.triangles {
-            let facet = normals * tri.face_normal;
-            self.facets.push(facet);
-            let first = tri.indices[0] as usize;
-            let valid = tri
-                .indices
-                .iter()
-                .all(|&i| (i as usize) < self.positions.len());
-            let side = if valid {
-                let facing = facet.normalize_or_zero().dot(eye - self.positions[first]);
-                if !facing.is_finite() || facing == 0.0 || (facing < 0.0 && mesh.closed) {
-                    0
-                } else if facing < 0.0 {
-                    -1
-                } else {
-                    1
-                }
-            } else {
+            }
+        });
+        fill(&mut self.facets, triangles.len(), |t| {
+            normals * triangles[t].face_normal
+        });
+        let (positions, facets) = (&self.positions, &self.facets);
+        let closed = object.mesh.closed;
+        fill(&mut self.sides, triangles.len(), |t| {
+            let indices = triangles[t].indices;
+            if !indices.iter().all(|&i| (i as usize) < positions.len()) {
+                return 0;
+            }
+            let facing = facets[t]
+                .normalize_or_zero()
+                .dot(eye - positions[indices[0] as usize]);
+            if !facing.is_finite() || facing == 0.0 || (facing < 0.0 && closed) {
                 0
-            };
-            self.sides.push(side);
-        }
+            } else if facing < 0.0 {
+                -1
+            } else {
+                1
+            }
+        });
+    }
+}
+
+/// Below this many elements a buffer is filled on one thread.
+const PARALLEL_MIN: usize = 16_384;
+
+/// `out` = `f(0)`, `f(1)`, … `f(len − 1)`, in parallel for long buffers
+/// (each element is computed alone: the result is the same).
+fn fill<U: Send>(out: &mut Vec<U>, len: usize, f: impl Fn(usize) -> U + Sync + Send) {
+    out.clear();
+    if len < PARALLEL_MIN {
+        out.extend((0..len).map(f));
+    } else {
+        out.par_extend((0..len).into_par_iter().map(f));
     }
 }
 

@@ -44,14 +44,13 @@ pub(super) fn draw_mesh(
         if i % 4096 == 4095 && stop() {
             break;
         }
-        let Some(v) = tri
+        let [a, b, c] = tri
             .indices
-            .iter()
-            .map(|&i| projected.get(i as usize).copied().flatten())
-            .collect::<Option<Vec<_>>>()
-        else {
+            .map(|i| projected.get(i as usize).copied().flatten());
+        let (Some(a), Some(b), Some(c)) = (a, b, c) else {
             continue;
         };
+        let v = [a, b, c];
         if mesh.closed {
             // Second depth: keep the faces turned away from the light.
             let n = placed.facets[i];
