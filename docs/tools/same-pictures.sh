@@ -2,7 +2,7 @@
 # Renders every bench row (src/bench/config.rs, in `relief render` flags)
 # on several scenes and orientations with two relief binaries and compares
 # the pictures byte for byte: a change that must not alter any picture is
-# checked by `scripts/same-pictures.sh OLD_RELIEF NEW_RELIEF`.
+# checked by `docs/tools/same-pictures.sh OLD_RELIEF NEW_RELIEF`.
 #
 # The scenes go beyond the bench's cube so that every geometry path runs:
 # the shadow scene (shadow pass), the sphere and the plane (depth buffer,
@@ -13,7 +13,7 @@
 set -u
 old=${1:?usage: same-pictures.sh OLD_RELIEF NEW_RELIEF}
 new=${2:?usage: same-pictures.sh OLD_RELIEF NEW_RELIEF}
-root=$(cd "$(dirname "$0")/.." && pwd)
+root=$(cd "$(dirname "$0")/../.." && pwd)
 models="$root/tests/data/models"
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
