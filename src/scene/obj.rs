@@ -55,6 +55,8 @@ pub const FIT_RADIUS: f32 = 1.5;
 pub const CREASE_DEGREES: f32 = 60.0;
 /// Beyond this many faces around one position, computed normals ignore the crease angle.
 const MAX_VALENCE: usize = 256;
+/// Beyond this many vertices at one point, a hash table finds them (not a walk).
+const CROWDED: usize = 32;
 
 /// Why a model (of any format) could not be loaded: one line, already safe to print.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -838,59 +840,115 @@ fn build(
         })
         .collect();
     drop(face_normals);
-    // Vertices: one per distinct key, in order of first use.
+    // Vertices: one per distinct key, in order of first use. Only corners
+    // at the same point can share a vertex, so each point keeps the list of
+    // its vertices (most have one or two); a point with many (a fan's
+    // centre with a UV per face) moves to a hash table.
     let mut vertices: Vec<Vertex> = Vec::new();
+    // Per vertex: the next vertex at the same point, and its part and mirroring.
+    let (mut next, mut tags): (Vec<u32>, Vec<u32>) = (Vec::new(), Vec::new());
+    let lists = bytes_of::<u32>(ids as u64) + bytes_of::<bool>(ids as u64);
+    hold(held, name, "the vertex lists", lists)?;
+    let mut head = vec![u32::MAX; ids];
+    let mut crowded = vec![false; ids];
     let mut index_of: HashMap<VertexKey, u32> = HashMap::new();
     let mut table = 0;
+    let key_of = |v: &Vertex, id: u32, tag: u32| -> VertexKey {
+        let [u, w] = v.uv.to_array().map(f32::to_bits);
+        let [x, y, z] = v.normal.to_array().map(f32::to_bits);
+        [id, u, w, x, y, z, tag]
+    };
     for (t, tri) in triangles.iter_mut().enumerate() {
         let mirrored = tri
             .face_tangent_u
             .cross(tri.face_tangent_v)
             .dot(tri.face_normal)
             < 0.0;
+        let tag = c.part_of[t] << 1 | mirrored as u32;
         let uvs = uvs_of(&c, t, tri.face_normal);
         for (k, uv) in uvs.into_iter().enumerate() {
             let corner = c.corners[3 * t + k];
+            let id = position_id[corner[0] as usize];
             let normal = c.normals[corner[2] as usize];
-            let [u, v] = uv.to_array().map(f32::to_bits);
-            let [x, y, z] = normal.to_array().map(f32::to_bits);
-            let key = [
-                position_id[corner[0] as usize],
-                u,
-                v,
-                x,
-                y,
-                z,
-                c.part_of[t] << 1 | mirrored as u32,
-            ];
-            if vertices.len() == vertices.capacity() {
-                let more = vertices.len().max(1024);
-                grow_vec(&mut vertices, more, held, name, "the vertices")?;
-            }
-            if index_of.len() == index_of.capacity() {
-                let more = index_of.len().max(1024);
-                let bigger = table_bytes::<(VertexKey, u32)>((index_of.len() + more) as u64);
-                hold(held, name, "the vertex map", bigger)?;
-                index_of.reserve(more);
-                held.shrink(table);
-                table = bigger;
-            }
-            let next = vertices.len() as u32;
-            tri.indices[k] = *index_of.entry(key).or_insert_with(|| {
-                vertices.push(Vertex {
-                    position: c.positions[corner[0] as usize],
-                    normal,
-                    uv,
-                    color: color_of(&c, part_colors, t, k),
-                    tangent_u: Vec3::ZERO,
-                    tangent_v: Vec3::ZERO,
-                });
-                next
-            });
+            let same = |v: &Vertex| {
+                v.uv.to_array().map(f32::to_bits) == uv.to_array().map(f32::to_bits)
+                    && v.normal.to_array().map(f32::to_bits) == normal.to_array().map(f32::to_bits)
+            };
+            let candidate = Vertex {
+                position: c.positions[corner[0] as usize],
+                normal,
+                uv,
+                color: Vec3::ZERO,
+                tangent_u: Vec3::ZERO,
+                tangent_v: Vec3::ZERO,
+            };
+            let found = if crowded[id as usize] {
+                index_of.get(&key_of(&candidate, id, tag)).copied()
+            } else {
+                let (mut at, mut length) = (head[id as usize], 0);
+                while at != u32::MAX && !(tags[at as usize] == tag && same(&vertices[at as usize]))
+                {
+                    at = next[at as usize];
+                    length += 1;
+                }
+                if at == u32::MAX && length >= CROWDED {
+                    // Too many to walk: this point's vertices go to the table.
+                    let need = index_of.len() + length;
+                    if need > index_of.capacity() {
+                        let more = need.max(2 * index_of.capacity()).max(1024) - index_of.len();
+                        let bigger =
+                            table_bytes::<(VertexKey, u32)>((index_of.len() + more) as u64);
+                        hold(held, name, "the vertex map", bigger)?;
+                        index_of.reserve(more);
+                        held.shrink(table);
+                        table = bigger;
+                    }
+                    let mut v = head[id as usize];
+                    while v != u32::MAX {
+                        index_of.insert(key_of(&vertices[v as usize], id, tags[v as usize]), v);
+                        v = next[v as usize];
+                    }
+                    crowded[id as usize] = true;
+                }
+                (at != u32::MAX).then_some(at)
+            };
+            tri.indices[k] = match found {
+                Some(i) => i,
+                None => {
+                    if vertices.len() == vertices.capacity() {
+                        let more = vertices.len().max(1024);
+                        grow_vec(&mut vertices, more, held, name, "the vertices")?;
+                        grow_vec(&mut next, more, held, name, "the vertices")?;
+                        grow_vec(&mut tags, more, held, name, "the vertices")?;
+                    }
+                    let i = vertices.len() as u32;
+                    if crowded[id as usize] {
+                        if index_of.len() == index_of.capacity() {
+                            let more = index_of.len().max(1024);
+                            let bigger =
+                                table_bytes::<(VertexKey, u32)>((index_of.len() + more) as u64);
+                            hold(held, name, "the vertex map", bigger)?;
+                            index_of.reserve(more);
+                            held.shrink(table);
+                            table = bigger;
+                        }
+                        index_of.insert(key_of(&candidate, id, tag), i);
+                    }
+                    vertices.push(Vertex {
+                        color: color_of(&c, part_colors, t, k),
+                        ..candidate
+                    });
+                    next.push(head[id as usize]);
+                    tags.push(tag);
+                    head[id as usize] = i;
+                    i
+                }
+            };
         }
     }
-    drop(index_of);
-    held.shrink(table);
+    let side = bytes_of::<u32>(next.capacity() as u64 + tags.capacity() as u64);
+    drop((index_of, head, crowded, next, tags));
+    held.shrink(table + lists + side);
     let spare = bytes_of::<Vertex>((vertices.capacity() - vertices.len()) as u64);
     vertices.shrink_to_fit();
     held.shrink(spare);

@@ -6,6 +6,7 @@
 //! and the bump built from Pu and Pv tilts the right way on it.
 
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 
 use super::mesh::{Mesh, any_perpendicular, triangle_tangents};
 
@@ -109,30 +110,34 @@ pub fn accumulate(mesh: &mut Mesh) {
             s.handedness += hand;
         }
     }
-    for (vertex, s) in mesh.vertices.iter_mut().zip(&sums) {
-        let n = vertex.normal.normalize_or(Vec3::Z);
-        let (len_u, len_v) = if s.votes > 0 {
-            (s.len_u / s.votes as f32, s.len_v / s.votes as f32)
-        } else {
-            (1.0, 1.0)
-        };
-        let u = in_plane(s.dir_u, n).map(Vec3::normalize);
-        let v = in_plane(s.dir_v, n).map(Vec3::normalize);
-        // Mirrored faces were counted with −1: the sign of the sum says
-        // which way Pv turns from Pu when one of the two has to be rebuilt.
-        let hand = if s.handedness < 0.0 { -1.0 } else { 1.0 };
-        let (tu, tv) = match (u, v) {
-            (Some(u), Some(v)) if u.cross(v).length_squared() > 1e-6 => (u, v),
-            (Some(u), _) => (u, hand * n.cross(u)),
-            (None, Some(v)) => (hand * v.cross(n), v),
-            (None, None) => {
-                let f = frame_from_normal(n);
-                (f.tangent_u, f.tangent_v)
-            }
-        };
-        vertex.tangent_u = tu * len_u;
-        vertex.tangent_v = tv * len_v;
-    }
+    // Each vertex is finished from its own sums alone: in parallel.
+    mesh.vertices
+        .par_iter_mut()
+        .zip(&sums)
+        .for_each(|(vertex, s)| {
+            let n = vertex.normal.normalize_or(Vec3::Z);
+            let (len_u, len_v) = if s.votes > 0 {
+                (s.len_u / s.votes as f32, s.len_v / s.votes as f32)
+            } else {
+                (1.0, 1.0)
+            };
+            let u = in_plane(s.dir_u, n).map(Vec3::normalize);
+            let v = in_plane(s.dir_v, n).map(Vec3::normalize);
+            // Mirrored faces were counted with −1: the sign of the sum says
+            // which way Pv turns from Pu when one of the two has to be rebuilt.
+            let hand = if s.handedness < 0.0 { -1.0 } else { 1.0 };
+            let (tu, tv) = match (u, v) {
+                (Some(u), Some(v)) if u.cross(v).length_squared() > 1e-6 => (u, v),
+                (Some(u), _) => (u, hand * n.cross(u)),
+                (None, Some(v)) => (hand * v.cross(n), v),
+                (None, None) => {
+                    let f = frame_from_normal(n);
+                    (f.tangent_u, f.tangent_v)
+                }
+            };
+            vertex.tangent_u = tu * len_u;
+            vertex.tangent_v = tv * len_v;
+        });
 }
 
 #[cfg(test)]

@@ -472,6 +472,36 @@ fn computed_normals_are_smooth_on_curved_surfaces() {
 }
 
 #[test]
+fn a_point_with_a_vertex_per_face_keeps_them_apart() {
+    // A flat disc of 100 faces round one centre: the centre has a UV of its
+    // own in each face (100 vertices at one point, past the walk's limit),
+    // the rim corners share one UV and the plane's normal (a vertex each).
+    let n = 100;
+    let mut text = String::from("v 0 0 0\n");
+    for i in 0..n {
+        let a = i as f32 / n as f32 * std::f32::consts::TAU;
+        text += &format!("v {} {} 0\n", a.cos(), a.sin());
+    }
+    for i in 0..n {
+        text += &format!("vt {} 0.5\n", i as f32 / n as f32);
+    }
+    text += "vt 0.5 1\nvn 0 0 1\n";
+    for i in 0..n {
+        let (a, b) = (i + 2, (i + 1) % n + 2);
+        text += &format!("f 1/{}/1 {a}/{}/1 {b}/{}/1\n", i + 1, n + 1, n + 1);
+    }
+    let mesh = obj::parse("disc.obj", &text).unwrap();
+    check_mesh("disc.obj", &mesh);
+    assert_eq!(mesh.triangles.len(), n);
+    assert_eq!(mesh.vertices.len(), 2 * n);
+    // Each face's centre corner is its own vertex, with that face's UV.
+    for (i, t) in mesh.triangles.iter().enumerate() {
+        let centre = mesh.vertices[t.indices[0] as usize];
+        assert_eq!(centre.uv.x, i as f32 / n as f32);
+    }
+}
+
+#[test]
 fn relative_indices_polygons_groups_colours_and_crlf() {
     let mesh = obj::load(&data("pyramid_relative.obj")).unwrap();
     check_mesh("pyramid_relative.obj", &mesh);

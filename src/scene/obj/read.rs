@@ -148,6 +148,13 @@ fn numbers<'a>(
 /// An OBJ index (1-based, or negative relative to the end) into `count`
 /// items, as a 0-based index.
 fn resolve(word: &[u8], count: usize, what: &str) -> Result<usize, String> {
+    // The usual case, a short run of digits in range, without going
+    // through text; anything else takes the general path and its message.
+    if let Some(i) = small_index(word)
+        && (1..=count).contains(&i)
+    {
+        return Ok(i - 1);
+    }
     let index: i64 = std::str::from_utf8(word)
         .ok()
         .and_then(|s| s.parse().ok())
@@ -159,6 +166,15 @@ fn resolve(word: &[u8], count: usize, what: &str) -> Result<usize, String> {
     };
     resolved
         .ok_or_else(|| format!("{what} index {index} is out of range (there are {count} so far)"))
+}
+
+/// A positive whole number of at most 18 ASCII digits, else none.
+fn small_index(word: &[u8]) -> Option<usize> {
+    if word.is_empty() || word.len() > 18 || !word.iter().all(u8::is_ascii_digit) {
+        return None;
+    }
+    let value = word.iter().fold(0u64, |n, &d| n * 10 + u64::from(d - b'0'));
+    usize::try_from(value).ok()
 }
 
 /// Where the first of several alike problems was, and how many there were.
