@@ -411,3 +411,129 @@ fn inside_tmux_the_colour_depth_comes_from_the_client() {
         let _ = std::fs::remove_file(script);
     }
 }
+
+// ---- Inside a real terminal under Xvfb: the pixel format through tmux ----
+
+/// A process killed (and waited for) on drop.
+struct Child(std::process::Child);
+
+impl Drop for Child {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn installed(program: &str, arg: &str) -> bool {
+    Command::new(program)
+        .arg(arg)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .status()
+        .is_ok()
+}
+
+/// tmux started inside `terminal` (on X display `display`), its server on
+/// socket `socket`; waits until its client is attached.
+fn tmux_in_terminal(display: &str, terminal: &[&str], socket: &str) -> (Child, Tmux) {
+    let mut args: Vec<&str> = terminal[1..].to_vec();
+    args.extend(["tmux", "-L", socket, "-f", "/dev/null", "new-session"]);
+    let child = Command::new(terminal[0])
+        .args(&args)
+        .env("DISPLAY", display)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("the terminal starts");
+    let t = Tmux {
+        socket: socket.to_string(),
+    };
+    let start = Instant::now();
+    while t.format("#{client_termname}").is_empty() {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "{} did not start tmux",
+            terminal[0]
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    (Child(child), t)
+}
+
+#[test]
+#[ignore = "needs Xvfb, xterm and kitty (apt-get install xvfb xterm kitty) and takes a minute: cargo test --test e2e_tmux -- --ignored"]
+fn inside_tmux_in_kitty_and_xterm_the_pixel_format_needs_passthrough() {
+    for (program, arg) in [
+        ("Xvfb", "-help"),
+        ("xterm", "-version"),
+        ("kitty", "--version"),
+    ] {
+        assert!(installed(program, arg), "{program} is not installed");
+    }
+    let display = format!(":{}", 300 + std::process::id() % 400);
+    let _x = Child(
+        Command::new("Xvfb")
+            .args([
+                display.as_str(),
+                "-screen",
+                "0",
+                "1280x800x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("Xvfb starts"),
+    );
+    std::thread::sleep(Duration::from_secs(1));
+    let terminals: [(&[&str], &str); 2] = [
+        (
+            &["xterm", "-ti", "vt340", "-geometry", "100x36", "-e"],
+            "sixels",
+        ),
+        (
+            &[
+                "kitty",
+                "-o",
+                "initial_window_width=100c",
+                "-o",
+                "initial_window_height=36c",
+            ],
+            "kitty",
+        ),
+    ];
+    for (terminal, format) in terminals {
+        for passthrough in [true, false] {
+            let socket = format!(
+                "relief-x-{}-{}-{passthrough}",
+                std::process::id(),
+                terminal[0]
+            );
+            let (_term, t) = tmux_in_terminal(&display, terminal, &socket);
+            t.run(&[
+                "set",
+                "-g",
+                "allow-passthrough",
+                if passthrough { "on" } else { "off" },
+            ]);
+            t.literal(&format!("clear; {}", env!("CARGO_BIN_EXE_relief")));
+            t.keys(&["Enter"]);
+            let screen = t.wait_for("relief's status line", |s| s.contains("? help"));
+            let line = status(&screen);
+            let what = format!("{} passthrough {passthrough}:\n{screen}", terminal[0]);
+            if passthrough {
+                assert!(line.contains(&format!("{format} │")), "{what}");
+            } else {
+                assert!(line.contains("24b"), "{what}");
+                // kitty is known by tmux's client name: the hint says how to
+                // turn passthrough on. xterm's sixel cannot be asked without it.
+                let hint = format!(
+                    "{format} images need tmux passthrough: tmux set -g allow-passthrough on"
+                );
+                assert_eq!(screen.contains(&hint), format == "kitty", "{what}");
+            }
+            t.keys(&["q"]);
+        }
+    }
+}

@@ -145,13 +145,23 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             Some(file) => file.as_fd(),
             None => stdin.as_fd(),
         };
-        probe::ask(fd, &mut std::io::stdout(), probe::TIMEOUT).ok()
+        let through_tmux = clues.asks_through_tmux();
+        let in_tmux = clues.tmux.is_some();
+        probe::ask(
+            fd,
+            &mut std::io::stdout(),
+            probe::TIMEOUT,
+            in_tmux,
+            through_tmux,
+        )
+        .ok()
     });
     let mut truecolor_reply = None;
     let mut cell_reply = None;
     if let Some(found) = found.flatten() {
         clues.kitty_reply = found.kitty;
         clues.sixel_da1 = found.sixel;
+        clues.client_sixel = found.client_sixel == Some(true);
         clues.version = found.version;
         truecolor_reply = Some(found.truecolor);
         cell_reply = found.cell_pixels;

@@ -94,6 +94,9 @@ pub struct Clues {
     /// The start-up probe's replies (see [`super::probe`]).
     pub kitty_reply: bool,
     pub sixel_da1: bool,
+    /// Inside tmux with passthrough: the client terminal's device
+    /// attributes, asked through the passthrough, list 4 (it draws sixel).
+    pub client_sixel: bool,
     pub version: Option<String>,
     pub term_program: Option<String>,
     pub lc_terminal: Option<String>,
@@ -141,6 +144,13 @@ impl Clues {
     pub fn wants_probe(&self) -> bool {
         let forced = matches!(self.forced, Some((f, _)) if f != Format::Auto);
         !forced && std::env::var("TERM").ok().as_deref() != Some("linux")
+    }
+
+    /// The start-up probe also asks tmux's client terminal for its device
+    /// attributes, through the passthrough (inside tmux with it on; see
+    /// [`super::probe`]).
+    pub fn asks_through_tmux(&self) -> bool {
+        self.tmux.as_ref().is_some_and(|t| t.passthrough)
     }
 
     /// tmux draws sixel images itself (tmux ≥ 3.4 built with sixel: its
@@ -214,6 +224,12 @@ pub fn detected(c: &Clues) -> (Format, String) {
         }
         if c.tmux_draws_sixel() {
             return (Format::Sixels, "tmux sixel".into());
+        }
+        if c.client_sixel {
+            return (
+                Format::Sixels,
+                format!("tmux client {}: device attributes 4", t.termname),
+            );
         }
         return (Format::Symbols, "tmux client has no pixel format".into());
     }
@@ -377,6 +393,31 @@ mod tests {
         assert_eq!(from_env_value(Some(" sixels ")), Some(Format::Sixels));
         assert_eq!(from_env_value(Some("png")), None);
         assert_eq!(from_env_value(None), None);
+    }
+
+    #[test]
+    fn inside_tmux_the_client_device_attributes_ask_for_sixel_through_passthrough() {
+        // xterm -ti vt340 under tmux 3.3 (no sixel feature): its own
+        // device attributes, asked through the passthrough, say sixel.
+        let on = Clues {
+            tmux: tmux("xterm", "256,RGB,title", true),
+            client_sixel: true,
+            ..Clues::default()
+        };
+        assert!(on.asks_through_tmux());
+        let got = choose(&on);
+        assert_eq!((got.format, got.passthrough), (Format::Sixels, true));
+        assert!(got.source.contains("device attributes 4"), "{}", got.source);
+        // Without passthrough the client cannot be asked: text, no note.
+        let off = Clues {
+            tmux: tmux("xterm", "256,RGB,title", false),
+            ..Clues::default()
+        };
+        assert!(!off.asks_through_tmux());
+        let got = choose(&off);
+        assert_eq!((got.format, got.note), (Format::Symbols, None));
+        // Outside tmux the probe asks the terminal itself.
+        assert!(!Clues::default().asks_through_tmux());
     }
 
     #[test]

@@ -18,6 +18,14 @@
 //!   answer is coming and there is nothing to wait for. A parameter `4` in
 //!   it says the terminal draws sixel images.
 //!
+//! Inside tmux with `allow-passthrough` on, tmux answers these questions
+//! itself; once its answers are in, the device attributes are asked again
+//! of its client terminal through the passthrough ([`CLIENT_DA1`]), whose
+//! reply tmux hands to the pane: a `4` there says the client draws sixel.
+//! Not in the same burst: tmux 3.3 loses a passthrough that arrives in one
+//! read with the switch to the alternate screen, and tmux's answer to the
+//! first burst comes after that switch is done.
+//!
 //! Bytes that are not replies (keys typed meanwhile) are kept for the input
 //! decoder.
 
@@ -28,6 +36,23 @@ use std::time::{Duration, Instant};
 /// The questions, in the order the replies come back.
 pub const QUERY: &[u8] = b"\x1bP+q524742;5463\x1b\\\x1b[48:2::1:2:3m\x1bP$qm\x1b\\\x1b[0m\
 \x1b_Gi=31,s=1,v=1,a=q,t=d,f=24;AAAA\x1b\\\x1b[>q\x1b[16t\x1b[c";
+
+/// The kitty graphics query in [`QUERY`]: left out inside tmux, which has
+/// no answer to it and takes an `APC` string as a new window name.
+pub const KITTY_QUERY: &[u8] = b"\x1b_Gi=31,s=1,v=1,a=q,t=d,f=24;AAAA\x1b\\";
+
+/// [`QUERY`] without [`KITTY_QUERY`] (inside tmux).
+pub fn query_in_tmux() -> Vec<u8> {
+    let at = QUERY
+        .windows(KITTY_QUERY.len())
+        .position(|w| w == KITTY_QUERY)
+        .expect("the query holds the kitty query");
+    [&QUERY[..at], &QUERY[at + KITTY_QUERY.len()..]].concat()
+}
+
+/// The device attributes asked of tmux's client terminal, through tmux's
+/// passthrough (`CSI c` with its `ESC` doubled).
+pub const CLIENT_DA1: &[u8] = b"\x1bPtmux;\x1b\x1b[c\x1b\\";
 
 /// Longest wait for the replies (over SSH the round trip counts).
 pub const TIMEOUT: Duration = Duration::from_millis(250);
@@ -43,6 +68,9 @@ pub struct Outcome {
     pub kitty: bool,
     /// The device attributes list `4`: sixel graphics.
     pub sixel: bool,
+    /// Inside tmux with passthrough: whether the client terminal's device
+    /// attributes list `4` (`None`: not asked, or no reply in time).
+    pub client_sixel: Option<bool>,
     /// The XTVERSION reply (`kitty(0.35.2)`, `XTerm(390)`, `WezTerm 2024…`).
     pub version: Option<String>,
     /// The cell size in pixels (width, height) from the `CSI 16 t` reply.
@@ -189,6 +217,12 @@ impl ReplyScanner {
         self.outcome.answered
     }
 
+    /// The outcome so far, and the bytes not read yet (after the sentinel,
+    /// or an unfinished sequence).
+    pub fn split(self) -> (Outcome, Vec<u8>) {
+        (self.outcome, self.pending)
+    }
+
     /// The outcome; unfinished sequences and anything after the sentinel
     /// go to the other input.
     pub fn finish(mut self) -> Outcome {
@@ -198,12 +232,47 @@ impl ReplyScanner {
 }
 
 /// Asks the terminal on `out` and reads its replies from `input` (in raw
-/// mode) until the sentinel's reply or `timeout`.
-pub fn ask(input: BorrowedFd, out: &mut impl Write, timeout: Duration) -> io::Result<Outcome> {
-    out.write_all(QUERY)?;
-    out.flush()?;
+/// mode) until the sentinel's reply or `timeout`; then, when
+/// `through_tmux`, tmux's client's device attributes ([`CLIENT_DA1`])
+/// within what is left of `timeout`. `in_tmux`: [`query_in_tmux`].
+pub fn ask(
+    input: BorrowedFd,
+    out: &mut impl Write,
+    timeout: Duration,
+    in_tmux: bool,
+    through_tmux: bool,
+) -> io::Result<Outcome> {
     let deadline = Instant::now() + timeout;
-    let mut scanner = ReplyScanner::new();
+    let questions = if in_tmux {
+        query_in_tmux()
+    } else {
+        QUERY.to_vec()
+    };
+    let first = ask_until(input, out, &questions, deadline, ReplyScanner::new())?;
+    if !(through_tmux && first.done()) {
+        return Ok(first.finish());
+    }
+    // What came after tmux's answers is read as the client's.
+    let (mut outcome, rest) = first.split();
+    let mut second = ReplyScanner::new();
+    second.feed(&rest);
+    let client = ask_until(input, out, CLIENT_DA1, deadline, second)?.finish();
+    outcome.client_sixel = client.answered.then_some(client.sixel);
+    outcome.other.extend(client.other);
+    Ok(outcome)
+}
+
+/// Writes `questions` and reads until the device attributes' reply or
+/// `deadline`.
+fn ask_until(
+    input: BorrowedFd,
+    out: &mut impl Write,
+    questions: &[u8],
+    deadline: Instant,
+    mut scanner: ReplyScanner,
+) -> io::Result<ReplyScanner> {
+    out.write_all(questions)?;
+    out.flush()?;
     let mut buf = [0u8; 1024];
     while !scanner.done() {
         let left = deadline.saturating_duration_since(Instant::now());
@@ -229,7 +298,7 @@ pub fn ask(input: BorrowedFd, out: &mut impl Write, timeout: Duration) -> io::Re
         }
         scanner.feed(&buf[..n as usize]);
     }
-    Ok(scanner.finish())
+    Ok(scanner)
 }
 
 #[cfg(test)]
@@ -327,6 +396,51 @@ mod tests {
     }
 
     #[test]
+    fn through_tmux_the_client_is_asked_after_tmux_answered() {
+        // A pipe that already holds tmux's answers (no 4) and the client's
+        // device attributes (with 4), and a key typed in between.
+        let mut fds = [0; 2];
+        // SAFETY: fds has room for the two descriptors.
+        assert_eq!(unsafe { libc::pipe(fds.as_mut_ptr()) }, 0);
+        use std::os::fd::{FromRawFd, OwnedFd};
+        // SAFETY: both descriptors were just opened and are owned here only.
+        let (read, write) = unsafe { (OwnedFd::from_raw_fd(fds[0]), OwnedFd::from_raw_fd(fds[1])) };
+        let replies = b"\x1bP>|tmux 3.3a\x1b\\\x1b[?1;2cq\x1b[?63;1;2;4;6;9c";
+        let mut w = std::fs::File::from(write);
+        w.write_all(replies).unwrap();
+        let mut out = Vec::new();
+        let o = ask(
+            std::os::fd::AsFd::as_fd(&read),
+            &mut out,
+            Duration::from_secs(5),
+            true,
+            true,
+        )
+        .unwrap();
+        // No kitty query inside tmux (it would rename the window).
+        let plain = query_in_tmux();
+        assert_eq!(plain.len(), QUERY.len() - KITTY_QUERY.len());
+        assert!(!String::from_utf8_lossy(&plain).contains("\x1b_"));
+        assert_eq!(out, [plain.as_slice(), CLIENT_DA1].concat());
+        assert!(!o.sixel, "tmux itself draws no sixel");
+        assert_eq!(o.client_sixel, Some(true));
+        assert_eq!(o.version.as_deref(), Some("tmux 3.3a"));
+        assert_eq!(o.other, b"q");
+        // Outside tmux the client is not asked.
+        w.write_all(b"\x1b[?1;2c").unwrap();
+        out.clear();
+        let o = ask(
+            std::os::fd::AsFd::as_fd(&read),
+            &mut out,
+            Duration::from_secs(5),
+            false,
+            false,
+        )
+        .unwrap();
+        assert_eq!((out.as_slice(), o.client_sixel), (QUERY, None));
+    }
+
+    #[test]
     fn replies_split_anywhere_are_read_whole() {
         let all: Vec<u8> = [
             &b"\x1bP1+r5463\x1b\\"[..],
@@ -385,6 +499,8 @@ mod tests {
             std::os::fd::AsFd::as_fd(&read),
             &mut out,
             Duration::from_millis(20),
+            false,
+            false,
         )
         .unwrap();
         assert_eq!(out, QUERY);
