@@ -136,35 +136,95 @@ pub fn shade<V: Vector, H: Hook, const TEX: bool, const SPEC: bool>(
     }
     let set = LightSet::of(plan);
     counters.light_evals += count * set.lights.len() as u64;
-    let shadow = ctx.shadow;
-    // Each lane the shadowed light reaches asks the map once.
-    let visibility = |i, reached, counters: &mut Counters| match shadow {
-        Some(sh) if i == sh.light => {
-            let lanes = V::L::bits(reached) & live;
-            let [seen] = V::L::gather(lanes, 1.0, |lane| {
-                [sh.factor(i, s.p.lane(lane), tri.face_normal, tri.object, counters)]
-            });
-            seen
-        }
-        _ => V::L::ONE,
-    };
-    let cosine = |i, d, counters: &mut Counters| hook.cosine(ctx, &px, &own, at.n, i, d, counters);
-    let uv = (at.u, at.v);
     if SPEC {
         counters.specular_evals += count * set.lights.len() as u64;
-        let view = view_dir(plan.eye, s.p);
-        let (light, mut highlight) =
-            light_lanes::<V, true>(&set, s.p, at.n, view, cosine, visibility, counters);
-        if let Some(map) = gloss_map(ctx, tri.glossy) {
-            highlight = highlight * gloss(map, at.u, at.v);
-        }
-        return compose::<V, true>(
-            plan, s.p, at.n, uv, albedo, light, highlight, live, counters,
-        );
     }
-    let zero = V::uniform(Vec3::ZERO);
-    let (light, _) = light_lanes::<V, false>(&set, s.p, at.n, zero, cosine, visibility, counters);
-    compose::<V, false>(plan, s.p, at.n, uv, albedo, light, zero, live, counters)
+    let cosine = |i, d, counters: &mut Counters| hook.cosine(ctx, &px, &own, at.n, i, d, counters);
+    let lit = Lit {
+        tri,
+        ctx,
+        p: s.p,
+        n: at.n,
+        uv: (at.u, at.v),
+        albedo,
+        live,
+    };
+    match ctx.shadow {
+        // A frame without a shadow map multiplies by no factor.
+        None => lit.light::<SPEC>(cosine, |_, _, _| V::L::ONE, counters),
+        Some(sh) => {
+            // Each lane the shadowed light reaches asks the map once.
+            let visibility = |i, reached, counters: &mut Counters| {
+                if i != sh.light {
+                    return V::L::ONE;
+                }
+                let lanes = V::L::bits(reached) & live;
+                let [seen] = V::L::gather(lanes, 1.0, |lane| {
+                    [sh.factor(i, s.p.lane(lane), tri.face_normal, tri.object, counters)]
+                });
+                seen
+            };
+            lit.light::<SPEC>(cosine, visibility, counters)
+        }
+    }
+}
+
+/// What the light loop and the composition read at the pixels.
+struct Lit<'a, V: Vector> {
+    tri: &'a PhongTri,
+    ctx: &'a ShadeCtx<'a>,
+    p: V,
+    n: V,
+    uv: (V::L, V::L),
+    albedo: V,
+    live: u32,
+}
+
+impl<V: Vector> Lit<'_, V> {
+    /// The light loop with the technique's `cosine` and the shadow's
+    /// `visibility`, then the composition.
+    #[inline(always)]
+    fn light<const SPEC: bool>(
+        &self,
+        cosine: impl FnMut(usize, V, &mut Counters) -> Option<V::L>,
+        visibility: impl FnMut(usize, <V::L as Lanes>::Mask, &mut Counters) -> V::L,
+        counters: &mut Counters,
+    ) -> V {
+        let (plan, p, n, live) = (self.ctx.plan, self.p, self.n, self.live);
+        let set = LightSet::of(plan);
+        if SPEC {
+            let view = view_dir(plan.eye, p);
+            let (light, mut highlight) =
+                light_lanes::<V, true>(&set, p, n, view, cosine, visibility, counters);
+            if let Some(map) = gloss_map(self.ctx, self.tri.glossy) {
+                highlight = highlight * gloss(map, self.uv.0, self.uv.1);
+            }
+            return compose::<V, true>(
+                plan,
+                p,
+                n,
+                self.uv,
+                self.albedo,
+                light,
+                highlight,
+                live,
+                counters,
+            );
+        }
+        let zero = V::uniform(Vec3::ZERO);
+        let (light, _) = light_lanes::<V, false>(&set, p, n, zero, cosine, visibility, counters);
+        compose::<V, false>(
+            plan,
+            p,
+            n,
+            self.uv,
+            self.albedo,
+            light,
+            zero,
+            live,
+            counters,
+        )
+    }
 }
 
 /// The colour texels (RGB) at (u, v): for eight bilinear pixels the packet
