@@ -361,18 +361,19 @@ mod tests {
             };
             assert_eq!(reason(s), None, "{s:?}");
         }
-        for s in [
-            Settings {
-                aa: AntiAlias::Msaa4,
+        // Every technique shades eight pixels at a time.
+        for &technique in Technique::value_variants() {
+            let s = Settings {
+                technique,
                 ..Settings::default()
-            },
-            Settings {
-                technique: Technique::Pom,
-                ..Settings::default()
-            },
-        ] {
-            assert!(reason(s).is_some(), "{s:?}");
+            };
+            assert_eq!(reason(s), None, "{s:?}");
         }
+        let msaa = Settings {
+            aa: AntiAlias::Msaa4,
+            ..Settings::default()
+        };
+        assert!(reason(msaa).is_some());
         assert_eq!(
             reason(Settings {
                 aa: AntiAlias::Ssaa2,

@@ -53,8 +53,8 @@ pub fn draw_into<T: RasterTarget>(
     }
 }
 
-/// Plain Phong (`BUMP` false) or Blinn's bump: the eight-pixel kernel, with
-/// or without its colour texture and highlights.
+/// Plain Phong (`BUMP` false) or Blinn's bump, with or without its colour
+/// texture and highlights.
 fn phong<T: RasterTarget, const BUMP: bool>(
     tri: &ScreenTri,
     s: &PhongTri,
@@ -70,9 +70,9 @@ fn phong<T: RasterTarget, const BUMP: bool>(
     }
 }
 
-/// A bumped Phong triangle, drawn with the plan's technique: Blinn's has
-/// its eight-pixel kernel, every technique the shading core's
-/// (`shade::core`) with the technique's hook. A new technique is one arm.
+/// A bumped Phong triangle, drawn with the plan's technique: the shading
+/// core (`shade::core`) with the technique's hook, eight pixels at a time
+/// where the rasterizer can. A new technique is one arm.
 fn draw_bumped<T: RasterTarget>(
     tri: &ScreenTri,
     s: &PhongTri,

@@ -1,51 +1,48 @@
 //! Blinn's perturbed normal (docs/bump-blinn.md), and Blinn's technique
 //! for the shading core: the height gradient tilts the normal.
 
-use glam::Vec3;
-
-use super::core::{Hook, HookAt};
+use super::core::{Hook, HookAt, Pixels, gradient};
 use super::kernels::ShadeCtx;
 use super::lanes::{Lanes, Vector};
-use super::tangent::Surface;
 use crate::settings::{Filter, HeightDerivative};
 use crate::stats::Counters;
-use crate::texture::filter::{Footprint, height_gradient};
 
 /// Blinn bump mapping when `BUMP`, plain Phong otherwise (the surface's own
 /// normal and texture coordinate).
 pub struct Blinn<const BUMP: bool>;
 
 impl<const BUMP: bool> Hook for Blinn<BUMP> {
-    type Pixel = ();
+    type Pixel<V: Vector> = ();
     #[inline(always)]
-    fn at(
+    fn at<V: Vector>(
         &self,
         ctx: &ShadeCtx,
-        s: &Surface,
-        _b: Vec3,
-        fp: Footprint,
+        px: &Pixels<V>,
         colour: bool,
         counters: &mut Counters,
-    ) -> (HookAt, ()) {
+    ) -> (HookAt<V>, ()) {
+        let s = &px.s;
         let mut at = HookAt {
-            uv: s.uv,
+            u: s.u,
+            v: s.v,
             n: s.n,
             texel: None,
         };
         if BUMP {
             let plan = ctx.plan;
-            counters.bump_evals += 1;
+            counters.bump_evals += px.count();
             // Bilinear colour and filtered heights read the same texels: one
             // neighbourhood serves both (the default, and the common case).
             let fused = colour
                 && plan.filter == Filter::Bilinear
                 && plan.height_derivative == HeightDerivative::Filtered;
             let (fu, fv) = if fused {
-                let (t, g) = ctx.texture.base().bilinear_with_gradient(s.uv.x, s.uv.y);
-                at.texel = Some(Vec3::new(t[0], t[1], t[2]));
-                g
+                let ([r, g, b], fu, fv) =
+                    V::L::bilinear_with_gradient(ctx.texture.base(), s.u, s.v);
+                at.texel = Some(V::new(r, g, b));
+                (fu, fv)
             } else {
-                height_gradient(ctx.texture, plan.height_derivative, plan.filter, s.uv, fp)
+                gradient(ctx, s.u, s.v, px.fp, px.live)
             };
             at.n = blinn(s.n, s.pu, s.pv, fu, fv, plan.bump_strength);
         }
@@ -74,6 +71,7 @@ pub fn blinn<V: Vector>(n: V, pu: V, pv: V, fu: V::L, fv: V::L, k: f32) -> V {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     // +Z face of the reference cube: U = +X, V = +Y, Pu = 2U, Pv = 2V.
     const PU: Vec3 = Vec3::new(2.0, 0.0, 0.0);

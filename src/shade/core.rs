@@ -2,6 +2,10 @@
 //! per-pixel kernel is the surface at the pixel, a technique's hook, and the
 //! one light loop.
 //!
+//! The core and every hook are written once over the lane type
+//! (`shade::lanes`): one pixel (`Vec3`) for the one-pixel loop, eight
+//! (`packet::V3`) for the packet loop, bit for bit the same.
+//!
 //! A technique (Blinn, emboss, dot3, parallax, POM) is a `Hook`: it may move
 //! the texture coordinate, perturb the normal, or give its own N·L per light.
 //! Everything else, the interpolation, the colour read, the light loop with
@@ -10,108 +14,258 @@
 //! hook, plus its enum variant and the arm that picks it.
 
 use glam::{Vec2, Vec3};
+use wide::f32x8;
 
 use super::PhongTri;
 use super::kernels::{PixelShader, ShadeCtx};
-use super::lighting::{LightSet, finish, lambert, light_with};
+use super::lanes::{Lanes, Vector};
+use super::lighting::{LightSet, facing_cosine, finish, light_lanes};
 use super::material::compose;
+use super::packet::{self, LANES, V3};
 use super::specular::{gloss, view_dir};
 use super::tangent::Surface;
 use crate::framebuffer::Rgb;
+use crate::settings::{Filter, HeightDerivative};
 use crate::stats::Counters;
-use crate::texture::filter::{Footprint, sample};
+use crate::texture::filter::{Footprint, height_gradient, sample};
 
-/// What a technique decided at one pixel.
+/// What a technique decided at one pixel (or eight).
 #[derive(Clone, Copy, Debug)]
-pub struct HookAt {
+pub struct HookAt<V: Vector> {
     /// Where the colour (and the specular map) is read.
-    pub uv: Vec2,
+    pub u: V::L,
+    pub v: V::L,
     /// The shading normal: the one the highlights use, and Lambert's.
-    pub n: Vec3,
-    /// The colour texel at `uv`, when the technique already read it (a
+    pub n: V,
+    /// The colour texel at (u, v), when the technique already read it (a
     /// fused read): the core then does not read it again.
-    pub texel: Option<Vec3>,
+    pub texel: Option<V>,
 }
 
-/// A technique's part of a Phong-family pixel.
-pub trait Hook {
-    /// What `cosine` needs from `at` (nothing for most techniques).
-    type Pixel;
-    /// The technique's work at the pixel with surface `s` (barycentrics `b`,
-    /// footprint `fp`); `colour` says the core will read the colour texel.
-    /// Counts the technique's own evaluations and reads.
-    fn at(
-        &self,
-        ctx: &ShadeCtx,
-        s: &Surface,
-        b: Vec3,
-        fp: Footprint,
-        colour: bool,
-        counters: &mut Counters,
-    ) -> (HookAt, Self::Pixel);
+/// The pixels a hook works on: the surface at them, their barycentrics,
+/// texture footprints (one per lane) and covered lanes (a bit each; 1 for
+/// one pixel). Lanes not covered are computed and thrown away, and neither
+/// read nor counted where a read is made lane by lane.
+pub struct Pixels<'a, V: Vector> {
+    pub s: Surface<V>,
+    pub b: [V::L; 3],
+    pub fp: &'a [Footprint],
+    pub live: u32,
+}
 
-    /// N·L of light `i`, `d` away, at a pixel whose shading normal is `n`:
-    /// Lambert's unless the technique has its own (≤ 0, or NaN: no light).
+impl<V: Vector> Pixels<'_, V> {
+    /// How many pixels are covered.
     #[inline(always)]
-    fn cosine(
-        &self,
-        _ctx: &ShadeCtx,
-        _px: &Self::Pixel,
-        n: Vec3,
-        _i: usize,
-        d: Vec3,
-        _counters: &mut Counters,
-    ) -> f32 {
-        lambert(n, d)
+    pub fn count(&self) -> u64 {
+        self.live.count_ones() as u64
+    }
+
+    /// The texture coordinate of lane `i`.
+    #[inline(always)]
+    pub fn uv(&self, i: usize) -> Vec2 {
+        Vec2::new(self.s.u.lane(i), self.s.v.lane(i))
     }
 }
 
-/// One Phong-family pixel: the surface, the technique, the colour read, the
-/// light loop, the composition `albedo × light + highlight`, and the
-/// environment's reflection in the technique's normal when the plan has one.
+/// A technique's part of a Phong-family pixel, written once for one pixel
+/// or eight (`shade::lanes`).
+pub trait Hook {
+    /// What `cosine` needs from `at` (nothing for most techniques).
+    type Pixel<V: Vector>;
+    /// The technique's work at the pixels `px`; `colour` says the core will
+    /// read the colour texel. Counts the technique's own evaluations and reads.
+    fn at<V: Vector>(
+        &self,
+        ctx: &ShadeCtx,
+        px: &Pixels<V>,
+        colour: bool,
+        counters: &mut Counters,
+    ) -> (HookAt<V>, Self::Pixel<V>);
+
+    /// N·L of light `i`, `d` away, at pixels whose shading normal is `n`:
+    /// Lambert's unless the technique has its own. `None` where the light
+    /// is behind every lane; a lane ≤ 0 (or NaN) gets no light.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn cosine<V: Vector>(
+        &self,
+        _ctx: &ShadeCtx,
+        _px: &Pixels<V>,
+        _own: &Self::Pixel<V>,
+        n: V,
+        _i: usize,
+        d: V,
+        _counters: &mut Counters,
+    ) -> Option<V::L> {
+        facing_cosine(n, d)
+    }
+}
+
+/// Phong-family pixels (one or eight): the surface, the technique, the
+/// colour read, the light loop, the composition `albedo × light +
+/// highlight` with the material's terms, and the environment's reflection
+/// in the technique's normal when the plan has one. The colour before
+/// quantising.
 #[inline(always)]
-pub fn shade_pixel<H: Hook, const TEX: bool, const SPEC: bool>(
+pub fn shade<V: Vector, H: Hook, const TEX: bool, const SPEC: bool>(
     hook: &H,
     tri: &PhongTri,
     ctx: &ShadeCtx,
-    b: Vec3,
-    fp: Footprint,
+    b: [V::L; 3],
+    fp: &[Footprint],
+    live: u32,
     counters: &mut Counters,
-) -> Rgb {
+) -> V {
     let plan = ctx.plan;
-    counters.pixels_shaded += 1;
-    let s = Surface::at(tri, b);
-    let (at, px) = hook.at(ctx, &s, b, fp, TEX, counters);
+    let px = Pixels {
+        s: Surface::<V>::at(tri, &b),
+        b,
+        fp,
+        live,
+    };
+    let count = px.count();
+    counters.pixels_shaded += count;
+    let (at, own) = hook.at(ctx, &px, TEX, counters);
+    let s = &px.s;
     let mut albedo = s.albedo;
     if TEX {
-        counters.texture_samples += 1;
-        albedo *= at.texel.unwrap_or_else(|| {
-            let t = sample(ctx.texture, plan.filter, at.uv, fp);
-            Vec3::new(t[0], t[1], t[2])
-        });
+        counters.texture_samples += count;
+        albedo = albedo
+            * at.texel
+                .unwrap_or_else(|| colour(ctx, at.u, at.v, fp, live));
     }
     let set = LightSet::of(plan);
-    let shadow = ctx.shadow;
-    let visibility = |i, counters: &mut Counters| {
-        shadow.map_or(1.0, |sh| {
-            sh.factor(i, s.p, tri.face_normal, tri.object, counters)
-        })
-    };
-    let cosine = |i, d, counters: &mut Counters| hook.cosine(ctx, &px, at.n, i, d, counters);
-    let uv = (at.uv.x, at.uv.y);
+    counters.light_evals += count * set.lights.len() as u64;
     if SPEC {
-        let view = view_dir(plan.eye, s.p);
-        let (light, mut highlight) =
-            light_with::<true>(&set, s.p, at.n, view, cosine, visibility, counters);
-        if let Some(map) = gloss_map(ctx, tri.glossy) {
-            highlight *= gloss(map, at.uv.x, at.uv.y);
-        }
-        let c = compose::<Vec3, true>(plan, s.p, at.n, uv, albedo, light, highlight, 1, counters);
-        return finish(c, counters);
+        counters.specular_evals += count * set.lights.len() as u64;
     }
-    let (light, _) = light_with::<false>(&set, s.p, at.n, Vec3::ZERO, cosine, visibility, counters);
-    let c = compose::<Vec3, false>(plan, s.p, at.n, uv, albedo, light, Vec3::ZERO, 1, counters);
-    finish(c, counters)
+    let cosine = |i, d, counters: &mut Counters| hook.cosine(ctx, &px, &own, at.n, i, d, counters);
+    let lit = Lit {
+        tri,
+        ctx,
+        p: s.p,
+        n: at.n,
+        uv: (at.u, at.v),
+        albedo,
+        live,
+    };
+    match ctx.shadow {
+        // A frame without a shadow map multiplies by no factor.
+        None => lit.light::<SPEC>(cosine, |_, _, _| V::L::ONE, counters),
+        Some(sh) => {
+            // Each lane the shadowed light reaches asks the map once.
+            let visibility = |i, reached, counters: &mut Counters| {
+                if i != sh.light {
+                    return V::L::ONE;
+                }
+                let lanes = V::L::bits(reached) & live;
+                let [seen] = V::L::gather(lanes, 1.0, |lane| {
+                    [sh.factor(i, s.p.lane(lane), tri.face_normal, tri.object, counters)]
+                });
+                seen
+            };
+            lit.light::<SPEC>(cosine, visibility, counters)
+        }
+    }
+}
+
+/// What the light loop and the composition read at the pixels.
+struct Lit<'a, V: Vector> {
+    tri: &'a PhongTri,
+    ctx: &'a ShadeCtx<'a>,
+    p: V,
+    n: V,
+    uv: (V::L, V::L),
+    albedo: V,
+    live: u32,
+}
+
+impl<V: Vector> Lit<'_, V> {
+    /// The light loop with the technique's `cosine` and the shadow's
+    /// `visibility`, then the composition.
+    #[inline(always)]
+    fn light<const SPEC: bool>(
+        &self,
+        cosine: impl FnMut(usize, V, &mut Counters) -> Option<V::L>,
+        visibility: impl FnMut(usize, <V::L as Lanes>::Mask, &mut Counters) -> V::L,
+        counters: &mut Counters,
+    ) -> V {
+        let (plan, p, n, live) = (self.ctx.plan, self.p, self.n, self.live);
+        let set = LightSet::of(plan);
+        if SPEC {
+            let view = view_dir(plan.eye, p);
+            let (light, mut highlight) =
+                light_lanes::<V, true>(&set, p, n, view, cosine, visibility, counters);
+            if let Some(map) = gloss_map(self.ctx, self.tri.glossy) {
+                highlight = highlight * gloss(map, self.uv.0, self.uv.1);
+            }
+            return compose::<V, true>(
+                plan,
+                p,
+                n,
+                self.uv,
+                self.albedo,
+                light,
+                highlight,
+                live,
+                counters,
+            );
+        }
+        let zero = V::uniform(Vec3::ZERO);
+        let (light, _) = light_lanes::<V, false>(&set, p, n, zero, cosine, visibility, counters);
+        compose::<V, false>(
+            plan,
+            p,
+            n,
+            self.uv,
+            self.albedo,
+            light,
+            zero,
+            live,
+            counters,
+        )
+    }
+}
+
+/// The colour texels (RGB) at (u, v): for eight bilinear pixels the packet
+/// read, else each covered lane's own read (mip level and footprint per
+/// pixel), exactly as one pixel reads it.
+#[inline(always)]
+pub fn colour<V: Vector>(ctx: &ShadeCtx, u: V::L, v: V::L, fp: &[Footprint], live: u32) -> V {
+    let plan = ctx.plan;
+    if V::WIDTH > 1 && plan.filter == Filter::Bilinear {
+        let [r, g, b] = V::L::bilinear(ctx.texture.base(), u, v);
+        return V::new(r, g, b);
+    }
+    V::gather(live, |i| {
+        let t = sample(
+            ctx.texture,
+            plan.filter,
+            Vec2::new(u.lane(i), v.lane(i)),
+            fp[i],
+        );
+        Vec3::new(t[0], t[1], t[2])
+    })
+}
+
+/// The height gradient (∂F/∂u, ∂F/∂v) at (u, v) as the plan reads it: for
+/// eight pixels whose filter reads the base level (nearest, bilinear) with
+/// the filtered derivative, the packet read; else each covered lane's own.
+#[inline(always)]
+pub fn gradient<L: Lanes>(ctx: &ShadeCtx, u: L, v: L, fp: &[Footprint], live: u32) -> (L, L) {
+    let plan = ctx.plan;
+    if L::WIDTH > 1
+        && matches!(plan.filter, Filter::Bilinear | Filter::Nearest)
+        && plan.height_derivative == HeightDerivative::Filtered
+    {
+        return L::gradient(ctx.texture.base(), u, v);
+    }
+    let [fu, fv] = L::gather(live, 0.0, |i| {
+        let uv = Vec2::new(u.lane(i), v.lane(i));
+        let (fu, fv) = height_gradient(ctx.texture, plan.height_derivative, plan.filter, uv, fp[i]);
+        [fu, fv]
+    });
+    (fu, fv)
 }
 
 /// The specular map of the plan, when `glossy` triangles read one.
@@ -123,8 +277,8 @@ pub fn gloss_map<'a>(ctx: &ShadeCtx<'a>, glossy: bool) -> Option<&'a crate::text
     ctx.plan.specular.as_ref()?.map.as_deref()
 }
 
-/// A bumped triangle drawn one pixel at a time with the technique `H`, with
-/// or without its colour texture and highlights.
+/// A Phong-family triangle drawn with the technique `H`, with or without
+/// its colour texture and highlights: one pixel at a time, or eight.
 pub struct HookKernel<'a, H, const TEX: bool, const SPEC: bool> {
     pub tri: &'a PhongTri,
     pub hook: H,
@@ -135,10 +289,15 @@ impl<H: Hook, const TEX: bool, const SPEC: bool> PixelShader for HookKernel<'_, 
     const SAMPLES_TEXTURE: bool = true;
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
-        shade_pixel::<H, TEX, SPEC>(&self.hook, self.tri, ctx, b, fp, counters)
+        let b = [b.x, b.y, b.z];
+        let c = shade::<Vec3, H, TEX, SPEC>(&self.hook, self.tri, ctx, b, &[fp], 1, counters);
+        finish(c, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.tri.uv)
+    }
+    fn packets(&self, _: &ShadeCtx) -> bool {
+        true
     }
     fn cutout(&self, ctx: &ShadeCtx) -> bool {
         super::kernels::cuts(ctx)
@@ -146,5 +305,17 @@ impl<H: Hook, const TEX: bool, const SPEC: bool> PixelShader for HookKernel<'_, 
     fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
         let uv = self.tri.uv[0] * b.x + self.tri.uv[1] * b.y + self.tri.uv[2] * b.z;
         super::kernels::opaque_at(ctx, uv)
+    }
+    #[inline]
+    fn shade8(
+        &self,
+        ctx: &ShadeCtx,
+        b: [f32x8; 3],
+        fp: &[Footprint; LANES],
+        live: u32,
+        counters: &mut Counters,
+    ) -> [Rgb; LANES] {
+        let c = shade::<V3, H, TEX, SPEC>(&self.hook, self.tri, ctx, b, fp, live, counters);
+        packet::finish(c, live, counters)
     }
 }

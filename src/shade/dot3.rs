@@ -27,13 +27,14 @@
 use glam::Vec3;
 
 use super::PhongTri;
-use super::core::{Hook, HookAt};
+use super::core::{Hook, HookAt, Pixels};
 use super::kernels::ShadeCtx;
-use super::tangent::{Frame, Surface};
+use super::lanes::{Lanes, Vector};
+use super::tangent::{Frame, lerp3};
 use crate::plan::ActiveLight;
 use crate::stats::Counters;
 use crate::texture::NormalMap;
-use crate::texture::filter::{Footprint, read_normal};
+use crate::texture::filter::read_normal;
 
 /// Lights whose per-vertex vectors are kept inline (more spill to the heap).
 const INLINE_LIGHTS: usize = 8;
@@ -108,77 +109,72 @@ impl<'a, const PER_PIXEL: bool> Dot3<'a, PER_PIXEL> {
     }
 }
 
-/// A dot3 pixel: the map's normal, in tangent space, and where the light
-/// vectors come from.
-pub struct Dot3Pixel {
-    normal: Vec3,
-    /// The pixel's frame (per-pixel mode).
-    frame: Option<Frame>,
-    /// The pixel's barycentrics (per-vertex mode interpolates with them).
-    b: Vec3,
+/// A dot3 pixel (or eight): the map's normal, in tangent space, and the
+/// pixel's frame (per-pixel mode, or when the world normal is read).
+pub struct Dot3Pixel<V: Vector> {
+    normal: V,
+    frame: Option<Frame<V>>,
 }
 
 impl<const PER_PIXEL: bool> Hook for Dot3<'_, PER_PIXEL> {
-    type Pixel = Dot3Pixel;
+    type Pixel<V: Vector> = Dot3Pixel<V>;
     #[inline(always)]
-    fn at(
+    fn at<V: Vector>(
         &self,
         ctx: &ShadeCtx,
-        s: &Surface,
-        b: Vec3,
-        fp: Footprint,
+        px: &Pixels<V>,
         _colour: bool,
         counters: &mut Counters,
-    ) -> (HookAt, Dot3Pixel) {
+    ) -> (HookAt<V>, Dot3Pixel<V>) {
         let plan = ctx.plan;
-        counters.bump_evals += 1;
-        counters.texture_samples += 1;
-        let normal = Vec3::from(read_normal(
-            self.map,
-            plan.height_derivative,
-            plan.filter,
-            s.uv,
-            fp,
-        ));
+        let s = &px.s;
+        counters.bump_evals += px.count();
+        counters.texture_samples += px.count();
+        let (d, f) = (plan.height_derivative, plan.filter);
+        let normal = V::gather(px.live, |i| {
+            Vec3::from(read_normal(self.map, d, f, px.uv(i), px.fp[i]))
+        });
         // The world normal serves the highlights and the reflection; per
         // vertex, the frame is built only when something reads it.
         let world_normal = plan.specular.is_some() || plan.environment.is_some();
         let frame = (PER_PIXEL || world_normal).then(|| s.frame());
-        let n = frame.map_or(s.n, |f| f.t * normal.x + f.b * normal.y + f.n * normal.z);
+        let n = frame.map_or(s.n, |f| {
+            f.t * normal.x() + f.b * normal.y() + f.n * normal.z()
+        });
         // The diffuse cosine keeps the filtered normal's length (the mean
         // N·L); the highlight and the mirror take its direction alone: a
         // minified map's short normal would dim (N·H)^s by about |N|^s,
         // further from the supersampled picture (docs/bump-dot3.md).
         let n = n.normalize_or(s.n);
         let at = HookAt {
-            uv: s.uv,
+            u: s.u,
+            v: s.v,
             n,
             texel: None,
         };
-        (at, Dot3Pixel { normal, frame, b })
+        (at, Dot3Pixel { normal, frame })
     }
 
     #[inline(always)]
-    fn cosine(
+    fn cosine<V: Vector>(
         &self,
         _ctx: &ShadeCtx,
-        px: &Dot3Pixel,
-        _n: Vec3,
+        px: &Pixels<V>,
+        own: &Dot3Pixel<V>,
+        _n: V,
         i: usize,
-        d: Vec3,
+        d: V,
         _counters: &mut Counters,
-    ) -> f32 {
+    ) -> Option<V::L> {
         let l = if PER_PIXEL {
-            let Some(frame) = &px.frame else { return 0.0 };
-            frame.to_tangent(d) / d.length_squared().sqrt()
+            let frame = own.frame.as_ref()?;
+            frame.to_tangent(d) / d.dot(d).sqrt()
         } else {
-            let Some(vertex) = &self.vertex_lights else {
-                return 0.0;
-            };
+            let vertex = self.vertex_lights.as_ref()?;
             let v = vertex.light(i);
-            v[0] * px.b.x + v[1] * px.b.y + v[2] * px.b.z
+            lerp3(&px.b, &[v[0], v[1], v[2]])
         };
-        px.normal.dot(l)
+        Some(own.normal.dot(l))
     }
 }
 

@@ -20,15 +20,15 @@
 //! base-level texels. Magnified, or with nearest/bilinear or the `texel`
 //! derivative, it is the base level and one base texel, as documented.
 
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 
-use super::core::{Hook, HookAt};
+use super::core::{Hook, HookAt, Pixels};
 use super::kernels::ShadeCtx;
-use super::tangent::Surface;
+use super::lanes::{Lanes, Vector};
 use crate::plan::strongest_light;
 use crate::stats::Counters;
 use crate::texture::Level;
-use crate::texture::filter::{Footprint, read_heights};
+use crate::texture::filter::read_heights;
 
 /// Emboss for the shading core: the strongest light's N·L gets the term.
 pub struct Emboss {
@@ -56,80 +56,90 @@ fn level_difference(level: &Level, uv: Vec2, toward: Vec2, m: f32, k: f32) -> f3
     (here - there) * (k * m / texel)
 }
 
-/// The emboss term for unit light direction `l`: F(uv) − F(uv + Δ), scaled
-/// so that on a gentle slope it equals the change of N·L Blinn's formula
-/// gives to first order, −k·(|Pv|·F_u·L_T + |Pu|·F_v·L_B). Two height reads
-/// per level and tap the filter reads (see `filter::read_heights`).
-#[inline]
-pub fn emboss_term(
+/// The emboss term for unit light direction `l` at the `lanes` of `px`
+/// (0 in the others): F(uv) − F(uv + Δ), scaled so that on a gentle slope
+/// it equals the change of N·L Blinn's formula gives to first order,
+/// −k·(|Pv|·F_u·L_T + |Pu|·F_v·L_B). Two height reads per level and tap
+/// the filter reads (see `filter::read_heights`), lane by lane.
+#[inline(always)]
+pub fn emboss_term<V: Vector>(
     ctx: &ShadeCtx,
-    s: &Surface,
-    l: Vec3,
-    fp: Footprint,
+    px: &Pixels<V>,
+    l: V,
+    lanes: u32,
     counters: &mut Counters,
-) -> f32 {
-    let frame = s.frame();
+) -> V::L {
+    let frame = px.s.frame();
     let (lt, lb) = (l.dot(frame.t), l.dot(frame.b));
-    let m = frame.len_u.max(frame.len_v);
+    // f32::max of two lengths (finite and positive).
+    let m = V::L::select(frame.len_u.lt(frame.len_v), frame.len_v, frame.len_u);
     // Shift toward the light, weighted like Blinn's cross products.
-    let toward = Vec2::new(frame.len_v * lt, frame.len_u * lb);
+    let toward = (frame.len_v * lt, frame.len_u * lb);
     let plan = ctx.plan;
     let k = plan.bump_strength;
-    counters.texture_samples += 2;
-    read_heights(
-        ctx.texture,
-        plan.height_derivative,
-        plan.filter,
-        s.uv,
-        fp,
-        |level, uv| level_difference(level, uv, toward, m, k),
-    )
+    counters.texture_samples += 2 * lanes.count_ones() as u64;
+    let [term] = V::L::gather(lanes, 0.0, |i| {
+        let toward = Vec2::new(toward.0.lane(i), toward.1.lane(i));
+        let m = m.lane(i);
+        [read_heights(
+            ctx.texture,
+            plan.height_derivative,
+            plan.filter,
+            px.uv(i),
+            px.fp[i],
+            |level, uv| level_difference(level, uv, toward, m, k),
+        )]
+    });
+    term
 }
 
 impl Hook for Emboss {
-    /// The surface and footprint the term is read with.
-    type Pixel = (Surface, Footprint);
+    type Pixel<V: Vector> = ();
     #[inline(always)]
-    fn at(
+    fn at<V: Vector>(
         &self,
         _ctx: &ShadeCtx,
-        s: &Surface,
-        _b: Vec3,
-        fp: Footprint,
+        px: &Pixels<V>,
         _colour: bool,
         counters: &mut Counters,
-    ) -> (HookAt, Self::Pixel) {
-        counters.bump_evals += 1;
+    ) -> (HookAt<V>, ()) {
+        counters.bump_evals += px.count();
+        let s = &px.s;
         let at = HookAt {
-            uv: s.uv,
+            u: s.u,
+            v: s.v,
             n: s.n,
             texel: None,
         };
-        (at, (*s, fp))
+        (at, ())
     }
 
     /// The smooth surface's N·L, plus the term for the embossed light where
     /// that light faces the surface (clamped at 0 like any cosine).
     #[inline(always)]
-    fn cosine(
+    fn cosine<V: Vector>(
         &self,
         ctx: &ShadeCtx,
-        (s, fp): &Self::Pixel,
-        n: Vec3,
+        px: &Pixels<V>,
+        _own: &(),
+        n: V,
         i: usize,
-        d: Vec3,
+        d: V,
         counters: &mut Counters,
-    ) -> f32 {
+    ) -> Option<V::L> {
         let ndl = n.dot(d);
-        if ndl <= 0.0 {
-            return 0.0;
+        // Not behind (NaN included, whose term is read and then clamped away).
+        let facing = !ndl.le(V::L::ZERO);
+        if V::L::none(facing) {
+            return None;
         }
-        let len = d.length();
+        let len = d.dot(d).sqrt();
         let k = ndl / len;
-        if i == self.strong {
-            (k + emboss_term(ctx, s, d / len, *fp, counters)).max(0.0)
-        } else {
-            k
+        if i != self.strong {
+            return Some(k);
         }
+        let lanes = V::L::bits(facing) & px.live;
+        let e = k + emboss_term(ctx, px, d / len, lanes, counters);
+        Some(V::L::select(e.gt(V::L::ZERO), e, V::L::ZERO))
     }
 }

@@ -4,20 +4,16 @@ use glam::{Vec2, Vec3};
 use wide::f32x8;
 
 use super::bump::Blinn;
-use super::bump::blinn;
-use super::core::{gloss_map, shade_pixel};
-use super::lanes::Vector;
-use super::lighting::{LightSet, facing_cosine, finish, light_lanes};
-use super::material::compose;
+use super::core::{colour, gloss_map, shade};
+use super::lighting::finish;
 use super::packet::{self, LANES, V3};
-use super::specular::{gloss, view_dir};
+use super::specular::gloss;
 use crate::framebuffer::Rgb;
 use crate::plan::Plan;
-use crate::settings::{Filter, HeightDerivative};
 use crate::shadow::Shadow;
 use crate::stats::Counters;
 use crate::texture::Texture;
-use crate::texture::filter::{Footprint, height_gradient, sample};
+use crate::texture::filter::{Footprint, sample};
 
 /// What every kernel reads besides its triangle.
 pub struct ShadeCtx<'a> {
@@ -78,98 +74,14 @@ pub trait PixelShader {
 /// near plane, which keep their own barycentric mapping). Mirrors the
 /// kernels' `packets` and the rasterizer's conditions.
 pub fn one_pixel_reason(plan: &Plan) -> Option<&'static str> {
-    use crate::settings::{AntiAlias, Display, Shading, Technique};
-    let bumped = plan.bump && plan.shading == Shading::Phong;
+    use crate::settings::{AntiAlias, Display};
     if plan.display != Display::Fill {
         return Some("points and lines are drawn, not shaded");
     }
     if plan.aa == AntiAlias::Msaa4 {
         return Some("MSAA: coverage and depth per sample");
     }
-    if bumped && plan.technique != Technique::Blinn {
-        return Some("emboss, dot3, parallax and POM have no packet kernel yet");
-    }
     None
-}
-
-/// The colour texels of eight pixels (RGB): the bilinear packet read, or
-/// for the other filters each live lane's own read (mip level and
-/// footprint per pixel), exactly as the one-pixel kernels read them.
-#[inline(always)]
-fn colour8(ctx: &ShadeCtx, u: f32x8, v: f32x8, fp: &[Footprint; LANES], live: u32) -> V3 {
-    if bilinear_colour(ctx.plan) {
-        return packet::bilinear::<true, false>(ctx.texture.base(), u, v).color;
-    }
-    let mut c = [[0.0f32; LANES]; 3];
-    let (ua, va) = (u.to_array(), v.to_array());
-    for lane in (0..LANES).filter(|l| live & (1 << l) != 0) {
-        let t = sample(
-            ctx.texture,
-            ctx.plan.filter,
-            Vec2::new(ua[lane], va[lane]),
-            fp[lane],
-        );
-        (c[0][lane], c[1][lane], c[2][lane]) = (t[0], t[1], t[2]);
-    }
-    let [x, y, z] = c.map(f32x8::from);
-    V3 { x, y, z }
-}
-
-/// A bilinear read that a packet can make: the plan's filter is bilinear.
-#[inline]
-fn bilinear_colour(plan: &Plan) -> bool {
-    plan.filter == Filter::Bilinear
-}
-
-/// The filtered height gradient on the base level, as packets read it.
-#[inline]
-fn bilinear_gradient(plan: &Plan) -> bool {
-    matches!(plan.filter, Filter::Bilinear | Filter::Nearest)
-        && plan.height_derivative == HeightDerivative::Filtered
-}
-
-/// The light loop at eight points of `tri` (`light_lanes`), with each
-/// covered lane's shadow when the frame has a shadow map (a loop of its
-/// own, so a frame without one multiplies by no factor).
-#[inline(always)]
-fn light8<const SPEC: bool>(
-    ctx: &ShadeCtx,
-    tri: &PhongTri,
-    p: V3,
-    n: V3,
-    view: V3,
-    live: u32,
-    counters: &mut Counters,
-) -> (V3, V3) {
-    let set = LightSet::of(ctx.plan);
-    let cosine = |_, d, _: &mut Counters| facing_cosine(n, d);
-    match ctx.shadow {
-        None => light_lanes::<V3, SPEC>(&set, p, n, view, cosine, |_, _, _| f32x8::ONE, counters),
-        Some(sh) => {
-            let visibility = |i, reached: f32x8, counters: &mut Counters| {
-                if i == sh.light {
-                    shadow8(sh, p, tri, reached.to_bitmask() & live, counters)
-                } else {
-                    f32x8::ONE
-                }
-            };
-            light_lanes::<V3, SPEC>(&set, p, n, view, cosine, visibility, counters)
-        }
-    }
-}
-
-/// The shadow factor of the shadowed light at the `lanes` of `p` (a bit
-/// per lane it reaches among the covered ones; 1 in the others): each
-/// lane's one lookup, as the one-pixel kernel makes it.
-#[inline(always)]
-fn shadow8(sh: Shadow, p: V3, tri: &PhongTri, lanes: u32, counters: &mut Counters) -> f32x8 {
-    let (x, y, z) = (p.x.to_array(), p.y.to_array(), p.z.to_array());
-    let mut seen = [1.0f32; LANES];
-    for lane in (0..LANES).filter(|l| lanes & (1 << l) != 0) {
-        let p = Vec3::new(x[lane], y[lane], z[lane]);
-        seen[lane] = sh.factor(sh.light, p, tri.face_normal, tri.object, counters);
-    }
-    f32x8::from(seen)
 }
 
 /// Whether the plan's material has an alpha mask.
@@ -292,7 +204,7 @@ impl<const SPEC: bool> PixelShader for FlatTexturedKernel<'_, SPEC> {
         counters.pixels_shaded += n;
         counters.texture_samples += n;
         let (u, v) = packet::lerp2(&b, &tri.uv);
-        let t = colour8(ctx, u, v, fp, live);
+        let t = colour::<V3>(ctx, u, v, fp, live);
         let lit = V3::splat(tri.lit).times(t);
         if SPEC {
             return packet::finish(lit.plus(V3::splat(tri.highlight)), live, counters);
@@ -368,7 +280,7 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
         if TEX {
             counters.texture_samples += n;
             let (u, v) = packet::lerp2(&b, &tri.uv);
-            albedo = albedo.times(colour8(ctx, u, v, fp, live));
+            albedo = albedo.times(colour::<V3>(ctx, u, v, fp, live));
         }
         let lit = albedo.times(packet::lerp3(&b, &tri.light));
         if SPEC {
@@ -408,7 +320,8 @@ pub struct PhongTri {
     pub object: u32,
 }
 
-/// The Phong kernel, with or without texture, Blinn bump and highlights.
+/// The Phong kernel, with or without texture, Blinn bump and highlights:
+/// the shading core with Blinn's hook, one pixel or eight at a time.
 pub struct PhongKernel<'a, const TEX: bool, const BUMP: bool, const SPEC: bool>(pub &'a PhongTri);
 
 impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
@@ -417,7 +330,9 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     const SAMPLES_TEXTURE: bool = TEX || BUMP;
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
-        shade_pixel::<Blinn<BUMP>, TEX, SPEC>(&Blinn, self.0, ctx, b, fp, counters)
+        let b = [b.x, b.y, b.z];
+        let c = shade::<Vec3, Blinn<BUMP>, TEX, SPEC>(&Blinn, self.0, ctx, b, &[fp], 1, counters);
+        finish(c, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
@@ -440,78 +355,7 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
-        let tri = self.0;
-        let plan = ctx.plan;
-        let count = live.count_ones() as u64;
-        counters.pixels_shaded += count;
-        let p = packet::lerp3(&b, &tri.position);
-        let mut n = if tri.smooth {
-            packet::lerp3(&b, &tri.normal).normalize_or(tri.face_normal)
-        } else {
-            V3::splat(tri.face_normal)
-        };
-        let mut albedo = packet::lerp3(&b, &tri.color);
-        if TEX || BUMP {
-            let (u, v) = packet::lerp2(&b, &tri.uv);
-            let t = if (!TEX || bilinear_colour(plan)) && (!BUMP || bilinear_gradient(plan)) {
-                packet::bilinear::<TEX, BUMP>(ctx.texture.base(), u, v)
-            } else {
-                // Mip levels, footprints and per-texel differences: each
-                // lane reads as the one-pixel kernel does, except the
-                // filtered derivative on the base level, which is a packet read.
-                let color = if TEX {
-                    colour8(ctx, u, v, fp, live)
-                } else {
-                    V3::splat(Vec3::ZERO)
-                };
-                let (mut fu, mut fv) = (f32x8::ZERO, f32x8::ZERO);
-                if BUMP && bilinear_gradient(plan) {
-                    let g = packet::bilinear::<false, true>(ctx.texture.base(), u, v);
-                    (fu, fv) = (g.fu, g.fv);
-                } else if BUMP {
-                    let mut g = [[0.0f32; LANES]; 2];
-                    let (ua, va) = (u.to_array(), v.to_array());
-                    let (d, f) = (plan.height_derivative, plan.filter);
-                    for lane in (0..LANES).filter(|l| live & (1 << l) != 0) {
-                        let uv = Vec2::new(ua[lane], va[lane]);
-                        (g[0][lane], g[1][lane]) = height_gradient(ctx.texture, d, f, uv, fp[lane]);
-                    }
-                    (fu, fv) = (f32x8::from(g[0]), f32x8::from(g[1]));
-                }
-                packet::TexelPacket { color, fu, fv }
-            };
-            if TEX {
-                counters.texture_samples += count;
-                albedo = albedo.times(t.color);
-            }
-            if BUMP {
-                counters.bump_evals += count;
-                let (pu, pv) = if tri.uniform_tangents {
-                    (V3::splat(tri.tangent_u[0]), V3::splat(tri.tangent_v[0]))
-                } else {
-                    (
-                        packet::lerp3(&b, &tri.tangent_u),
-                        packet::lerp3(&b, &tri.tangent_v),
-                    )
-                };
-                n = blinn(n, pu, pv, t.fu, t.fv, plan.bump_strength);
-            }
-        }
-        counters.light_evals += count * plan.lights.len() as u64;
-        let uv = packet::lerp2(&b, &tri.uv);
-        if SPEC && plan.specular.is_some() {
-            counters.specular_evals += count * plan.lights.len() as u64;
-            let view = view_dir(plan.eye, p);
-            let (light, mut highlight) = light8::<true>(ctx, tri, p, n, view, live, counters);
-            if let Some(map) = gloss_map(ctx, tri.glossy) {
-                highlight = highlight.scale(gloss(map, uv.0, uv.1));
-            }
-            let c = compose::<V3, true>(plan, p, n, uv, albedo, light, highlight, live, counters);
-            return packet::finish(c, live, counters);
-        }
-        let zero = V3::splat(Vec3::ZERO);
-        let (light, _) = light8::<false>(ctx, tri, p, n, zero, live, counters);
-        let c = compose::<V3, false>(plan, p, n, uv, albedo, light, zero, live, counters);
+        let c = shade::<V3, Blinn<BUMP>, TEX, SPEC>(&Blinn, self.0, ctx, b, fp, live, counters);
         packet::finish(c, live, counters)
     }
 }

@@ -11,26 +11,45 @@
 //! never fuses a multiply and an add behind our back), and the power is
 //! `f32::powf` lane by lane, so a packet gives the very bits of eight pixels.
 
-use std::ops::{Add, BitAnd, Div, Mul, Sub};
+use std::fmt::Debug;
+use std::ops::{Add, BitAnd, Div, Mul, Neg, Not, Sub};
 
 use glam::Vec3;
 use wide::f32x8;
 
+use crate::shade::packet::{self, LANES};
 use crate::texture::Level;
 
 /// One value per lane: `f32` (one pixel) or `f32x8` (eight).
 pub trait Lanes:
-    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
+    Copy
+    + Debug
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
 {
     /// A condition per lane.
-    type Mask: Copy + BitAnd<Output = Self::Mask>;
+    type Mask: Copy + BitAnd<Output = Self::Mask> + Not<Output = Self::Mask>;
+    /// Pixels per value.
+    const WIDTH: usize;
     const ZERO: Self;
     const ONE: Self;
     fn splat(v: f32) -> Self;
+    /// The value of lane `i`.
+    fn lane(self, i: usize) -> f32;
+    /// `f(i)` in each lane i whose bit is set in `lanes`, `or` in the
+    /// others: a step made lane by lane (a texel read, a shadow lookup),
+    /// giving N values per lane.
+    fn gather<const N: usize>(lanes: u32, or: f32, f: impl FnMut(usize) -> [f32; N]) -> [Self; N];
+    /// A bit per lane set in `mask`.
+    fn bits(mask: Self::Mask) -> u32;
     fn sqrt(self) -> Self;
     fn abs(self) -> Self;
     fn gt(self, o: Self) -> Self::Mask;
     fn lt(self, o: Self) -> Self::Mask;
+    fn le(self, o: Self) -> Self::Mask;
     /// The smaller of the two where neither is NaN (a NaN lane is
     /// unspecified: the formulas select such lanes away).
     fn min(self, o: Self) -> Self;
@@ -49,15 +68,37 @@ pub trait Lanes:
     /// `level`'s bilinear colour (R, G, B) at (u, v): `Level::bilinear`, or
     /// the packet read that gives its bits lane by lane.
     fn bilinear(level: &Level, u: Self, v: Self) -> [Self; 3];
+    /// `Level::bilinear_with_gradient`: the bilinear colour (R, G, B) and
+    /// the filtered height gradient, from one neighbourhood.
+    fn bilinear_with_gradient(level: &Level, u: Self, v: Self) -> ([Self; 3], Self, Self);
+    /// `Level::height_gradient_filtered`: the filtered height gradient.
+    fn gradient(level: &Level, u: Self, v: Self) -> (Self, Self);
 }
 
 impl Lanes for f32 {
     type Mask = bool;
+    const WIDTH: usize = 1;
     const ZERO: f32 = 0.0;
     const ONE: f32 = 1.0;
     #[inline(always)]
     fn splat(v: f32) -> f32 {
         v
+    }
+    #[inline(always)]
+    fn lane(self, _i: usize) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn gather<const N: usize>(
+        lanes: u32,
+        or: f32,
+        mut f: impl FnMut(usize) -> [f32; N],
+    ) -> [f32; N] {
+        if lanes & 1 != 0 { f(0) } else { [or; N] }
+    }
+    #[inline(always)]
+    fn bits(mask: bool) -> u32 {
+        mask as u32
     }
     #[inline(always)]
     fn sqrt(self) -> f32 {
@@ -74,6 +115,10 @@ impl Lanes for f32 {
     #[inline(always)]
     fn lt(self, o: f32) -> bool {
         self < o
+    }
+    #[inline(always)]
+    fn le(self, o: f32) -> bool {
+        self <= o
     }
     #[inline(always)]
     fn min(self, o: f32) -> f32 {
@@ -104,15 +149,47 @@ impl Lanes for f32 {
         let t = level.bilinear(u, v);
         [t[0], t[1], t[2]]
     }
+    #[inline(always)]
+    fn bilinear_with_gradient(level: &Level, u: f32, v: f32) -> ([f32; 3], f32, f32) {
+        let (t, (fu, fv)) = level.bilinear_with_gradient(u, v);
+        ([t[0], t[1], t[2]], fu, fv)
+    }
+    #[inline(always)]
+    fn gradient(level: &Level, u: f32, v: f32) -> (f32, f32) {
+        level.height_gradient_filtered(u, v)
+    }
 }
 
 impl Lanes for f32x8 {
     type Mask = f32x8;
+    const WIDTH: usize = LANES;
     const ZERO: f32x8 = f32x8::ZERO;
     const ONE: f32x8 = f32x8::ONE;
     #[inline(always)]
     fn splat(v: f32) -> f32x8 {
         f32x8::splat(v)
+    }
+    #[inline(always)]
+    fn lane(self, i: usize) -> f32 {
+        self.as_array()[i]
+    }
+    #[inline(always)]
+    fn gather<const N: usize>(
+        lanes: u32,
+        or: f32,
+        mut f: impl FnMut(usize) -> [f32; N],
+    ) -> [f32x8; N] {
+        let mut out = [[or; LANES]; N];
+        for lane in (0..LANES).filter(|l| lanes & (1 << l) != 0) {
+            for (o, v) in out.iter_mut().zip(f(lane)) {
+                o[lane] = v;
+            }
+        }
+        out.map(f32x8::from)
+    }
+    #[inline(always)]
+    fn bits(mask: f32x8) -> u32 {
+        mask.to_bitmask()
     }
     #[inline(always)]
     fn sqrt(self) -> f32x8 {
@@ -129,6 +206,10 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn lt(self, o: f32x8) -> f32x8 {
         self.simd_lt(o)
+    }
+    #[inline(always)]
+    fn le(self, o: f32x8) -> f32x8 {
+        self.simd_le(o)
     }
     #[inline(always)]
     fn min(self, o: f32x8) -> f32x8 {
@@ -156,8 +237,18 @@ impl Lanes for f32x8 {
     }
     #[inline(always)]
     fn bilinear(level: &Level, u: f32x8, v: f32x8) -> [f32x8; 3] {
-        let c = crate::shade::packet::bilinear::<true, false>(level, u, v).color;
+        let c = packet::bilinear::<true, false>(level, u, v).color;
         [c.x, c.y, c.z]
+    }
+    #[inline(always)]
+    fn bilinear_with_gradient(level: &Level, u: f32x8, v: f32x8) -> ([f32x8; 3], f32x8, f32x8) {
+        let t = packet::bilinear::<true, true>(level, u, v);
+        ([t.color.x, t.color.y, t.color.z], t.fu, t.fv)
+    }
+    #[inline(always)]
+    fn gradient(level: &Level, u: f32x8, v: f32x8) -> (f32x8, f32x8) {
+        let t = packet::bilinear::<false, true>(level, u, v);
+        (t.fu, t.fv)
     }
 }
 
@@ -166,6 +257,8 @@ impl Lanes for f32x8 {
 /// component), as glam's are.
 pub trait Vector:
     Copy
+    + Debug
+    + Neg<Output = Self>
     + Add<Output = Self>
     + Sub<Output = Self>
     + Mul<Output = Self>
@@ -179,6 +272,20 @@ pub trait Vector:
     fn uniform(v: Vec3) -> Self;
     /// The vector of components `x`, `y`, `z`.
     fn new(x: Self::L, y: Self::L, z: Self::L) -> Self;
+    fn x(self) -> Self::L;
+    fn y(self) -> Self::L;
+    fn z(self) -> Self::L;
+    /// The vector of lane `i`.
+    #[inline(always)]
+    fn lane(self, i: usize) -> Vec3 {
+        Vec3::new(self.x().lane(i), self.y().lane(i), self.z().lane(i))
+    }
+    /// `f(i)` in each lane i whose bit is set in `lanes`, zero in the others.
+    #[inline(always)]
+    fn gather(lanes: u32, mut f: impl FnMut(usize) -> Vec3) -> Self {
+        let [x, y, z] = Self::L::gather(lanes, 0.0, |i| f(i).to_array());
+        Self::new(x, y, z)
+    }
     /// glam's `dot`: (x·x') + (y·y') + (z·z').
     fn dot(self, o: Self) -> Self::L;
     /// glam's `cross`, term for term.
@@ -186,17 +293,26 @@ pub trait Vector:
     /// `a` in the lanes of `mask`, `b` in the others.
     fn select(mask: <Self::L as Lanes>::Mask, a: Self, b: Self) -> Self;
     /// `f` of each lane whose bit is set in `live` (0 in the others): a
-    /// lookup made lane by lane. One pixel is always live.
-    fn each_live(self, live: u32, f: impl FnMut(Vec3) -> Vec3) -> Self;
+    /// lookup made lane by lane.
+    #[inline(always)]
+    fn each_live(self, live: u32, mut f: impl FnMut(Vec3) -> Vec3) -> Self {
+        Self::gather(live, |i| f(self.lane(i)))
+    }
+    /// Each component's `abs() < ∞` (glam's `is_finite`).
+    #[inline(always)]
+    fn finite(self) -> <Self::L as Lanes>::Mask {
+        let inf = <Self::L as Lanes>::splat(f32::INFINITY);
+        self.x().abs().lt(inf) & self.y().abs().lt(inf) & self.z().abs().lt(inf)
+    }
 
     /// glam's `normalize_or`: `self` over its length, or `fallback` where
     /// that is not a finite positive scale (zero or non-finite vectors).
     #[inline(always)]
-    fn normalize_or(self, fallback: Vec3) -> Self {
+    fn normalize_or(self, fallback: Self) -> Self {
         let rcp = <Self::L as Lanes>::ONE / self.dot(self).sqrt();
         let inf = <Self::L as Lanes>::splat(f32::INFINITY);
         let ok = rcp.abs().lt(inf) & rcp.gt(<Self::L as Lanes>::ZERO);
-        Self::select(ok, self * rcp, Self::uniform(fallback))
+        Self::select(ok, self * rcp, fallback)
     }
 }
 
@@ -212,6 +328,18 @@ impl Vector for Vec3 {
         Vec3::new(x, y, z)
     }
     #[inline(always)]
+    fn x(self) -> f32 {
+        self.x
+    }
+    #[inline(always)]
+    fn y(self) -> f32 {
+        self.y
+    }
+    #[inline(always)]
+    fn z(self) -> f32 {
+        self.z
+    }
+    #[inline(always)]
     fn dot(self, o: Vec3) -> f32 {
         Vec3::dot(self, o)
     }
@@ -222,10 +350,6 @@ impl Vector for Vec3 {
     #[inline(always)]
     fn select(mask: bool, a: Vec3, b: Vec3) -> Vec3 {
         if mask { a } else { b }
-    }
-    #[inline(always)]
-    fn each_live(self, _live: u32, mut f: impl FnMut(Vec3) -> Vec3) -> Vec3 {
-        f(self)
     }
 }
 
@@ -283,7 +407,7 @@ mod tests {
             z: f32x8::from(vs.map(|v| v.z)),
         };
         let fallback = Vec3::new(0.0, 1.0, 0.0);
-        let got = Vector::normalize_or(v, fallback);
+        let got = Vector::normalize_or(v, V3::splat(fallback));
         let (x, y, z) = (got.x.to_array(), got.y.to_array(), got.z.to_array());
         for (i, v) in vs.iter().enumerate() {
             let want = v.normalize_or(fallback);

@@ -6,7 +6,7 @@
 //! never fuses a multiply and an add behind our back), so a packet gives the
 //! very bits the one-pixel path gives. Only texel fetches are per lane.
 
-use std::ops::{Add, Div, Mul, Sub};
+use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use glam::{Vec2, Vec3};
 use wide::{f32x4, f32x8, i32x8};
@@ -22,7 +22,7 @@ use crate::texture::texels::{Fetch, with_fetch};
 pub const LANES: usize = 8;
 
 /// Eight 3-vectors, one component per register.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 pub struct V3 {
     pub x: f32x8,
     pub y: f32x8,
@@ -102,6 +102,18 @@ impl V3 {
     }
 }
 
+impl Neg for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn neg(self) -> V3 {
+        V3 {
+            x: -self.x,
+            y: -self.y,
+            z: -self.z,
+        }
+    }
+}
+
 impl Add for V3 {
     type Output = V3;
     #[inline(always)]
@@ -171,15 +183,16 @@ impl Vector for V3 {
         V3::select(mask, a, b)
     }
     #[inline(always)]
-    fn each_live(self, live: u32, mut f: impl FnMut(Vec3) -> Vec3) -> V3 {
-        let (x, y, z) = (self.x.to_array(), self.y.to_array(), self.z.to_array());
-        let mut out = [[0.0f32; LANES]; 3];
-        for lane in (0..LANES).filter(|l| live & (1 << l) != 0) {
-            let c = f(Vec3::new(x[lane], y[lane], z[lane]));
-            (out[0][lane], out[1][lane], out[2][lane]) = (c.x, c.y, c.z);
-        }
-        let [x, y, z] = out.map(f32x8::from);
-        V3 { x, y, z }
+    fn x(self) -> f32x8 {
+        self.x
+    }
+    #[inline(always)]
+    fn y(self) -> f32x8 {
+        self.y
+    }
+    #[inline(always)]
+    fn z(self) -> f32x8 {
+        self.z
     }
 }
 

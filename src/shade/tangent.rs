@@ -10,48 +10,67 @@
 use glam::{Vec2, Vec3};
 
 use super::PhongTri;
+use super::lanes::{Lanes, Vector};
 use crate::scene::mesh::any_perpendicular;
 
 /// An orthonormal tangent frame, plus the lengths of ∂P/∂u and ∂P/∂v
 /// (world units per unit of texture coordinate) for converting tangent
-/// offsets into texture-coordinate offsets.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Frame {
-    pub t: Vec3,
-    pub b: Vec3,
-    pub n: Vec3,
-    pub len_u: f32,
-    pub len_v: f32,
+/// offsets into texture-coordinate offsets; at one point or eight
+/// (`shade::lanes`).
+#[derive(Clone, Copy, Debug)]
+pub struct Frame<V: Vector = Vec3> {
+    pub t: V,
+    pub b: V,
+    pub n: V,
+    pub len_u: V::L,
+    pub len_v: V::L,
 }
 
 /// Smallest tangent length trusted; below it the UVs give no direction.
 const MIN_TANGENT: f32 = 1e-12;
 
-impl Frame {
+/// An axis the UVs give a direction with: long enough and finite.
+#[inline(always)]
+fn usable<V: Vector>(a: V) -> <V::L as Lanes>::Mask {
+    V::L::both(a.dot(a).gt(V::L::splat(MIN_TANGENT)), || a.finite())
+}
+
+/// T where ∂P/∂u gives no direction: a quarter turn from the v axis, or
+/// any tangent when that gives none either (made lane by lane: rare).
+#[inline(never)]
+fn tangent_without_u(n: Vec3, along_v: Vec3) -> Vec3 {
+    if usable(along_v) {
+        along_v
+            .normalize()
+            .cross(n)
+            .normalize_or(any_perpendicular(n))
+    } else {
+        any_perpendicular(n)
+    }
+}
+
+impl<V: Vector> Frame<V> {
     /// From a unit normal `n` and the texture axes `pu` = ∂P/∂u, `pv` = ∂P/∂v.
     /// Degenerate or non-finite axes fall back to any frame around `n`.
-    #[inline]
-    pub fn new(n: Vec3, pu: Vec3, pv: Vec3) -> Frame {
+    #[inline(always)]
+    pub fn new(n: V, pu: V, pv: V) -> Frame<V> {
         let along_u = pu - n * n.dot(pu);
         let along_v = pv - n * n.dot(pv);
-        let t = if along_u.length_squared() > MIN_TANGENT && along_u.is_finite() {
-            along_u.normalize()
-        } else if along_v.length_squared() > MIN_TANGENT && along_v.is_finite() {
-            // No usable u axis: T is a quarter turn from the v axis.
-            along_v
-                .normalize()
-                .cross(n)
-                .normalize_or(any_perpendicular(n))
-        } else {
-            any_perpendicular(n)
-        };
-        let mut b = n.cross(t);
-        if b.dot(pv) < 0.0 {
-            b = -b;
+        let has_u = usable(along_u);
+        // glam's `normalize`: times the reciprocal of the length.
+        let mut t = along_u * (V::L::ONE / along_u.dot(along_u).sqrt());
+        if !V::L::none(!has_u) {
+            let others = V::gather(V::L::bits(!has_u), |i| {
+                tangent_without_u(n.lane(i), along_v.lane(i))
+            });
+            t = V::select(has_u, t, others);
         }
-        let len = |a: Vec3| {
-            let l = a.length();
-            if l.is_finite() && l > 1e-6 { l } else { 1.0 }
+        let b = n.cross(t);
+        let b = V::select(b.dot(pv).lt(V::L::ZERO), -b, b);
+        let len = |a: V| {
+            let l = a.dot(a).sqrt();
+            let finite = l.abs().lt(V::L::splat(f32::INFINITY));
+            V::L::select(V::L::both(finite, || l.gt(V::L::splat(1e-6))), l, V::L::ONE)
         };
         Frame {
             t,
@@ -63,62 +82,72 @@ impl Frame {
     }
 
     /// A world vector in tangent coordinates (x along T, y along B, z along N).
-    #[inline]
-    pub fn to_tangent(&self, d: Vec3) -> Vec3 {
-        Vec3::new(d.dot(self.t), d.dot(self.b), d.dot(self.n))
+    #[inline(always)]
+    pub fn to_tangent(&self, d: V) -> V {
+        V::new(d.dot(self.t), d.dot(self.b), d.dot(self.n))
     }
 }
 
-/// What every bump technique interpolates at a pixel, computed exactly as the
-/// Phong kernel does (so a technique with nothing to perturb gives the same bits).
+/// What every bump technique interpolates at a pixel (or eight), computed
+/// exactly as the Phong kernel does (so a technique with nothing to perturb
+/// gives the same bits).
 #[derive(Clone, Copy, Debug)]
-pub struct Surface {
-    pub p: Vec3,
-    pub n: Vec3,
+pub struct Surface<V: Vector = Vec3> {
+    pub p: V,
+    pub n: V,
     /// The triangle's facet normal (its plane).
     pub face_n: Vec3,
-    pub albedo: Vec3,
-    pub uv: Vec2,
-    pub pu: Vec3,
-    pub pv: Vec3,
+    pub albedo: V,
+    /// The texture coordinate.
+    pub u: V::L,
+    pub v: V::L,
+    pub pu: V,
+    pub pv: V,
 }
 
-#[inline]
-pub(crate) fn lerp3(b: Vec3, v: &[Vec3; 3]) -> Vec3 {
-    v[0] * b.x + v[1] * b.y + v[2] * b.z
+/// glam's `v0·b.x + v1·b.y + v2·b.z` over lanes.
+#[inline(always)]
+pub(crate) fn lerp3<V: Vector>(b: &[V::L; 3], v: &[Vec3; 3]) -> V {
+    V::uniform(v[0]) * b[0] + V::uniform(v[1]) * b[1] + V::uniform(v[2]) * b[2]
 }
 
-#[inline]
-pub(crate) fn lerp2(b: Vec3, v: &[Vec2; 3]) -> Vec2 {
-    v[0] * b.x + v[1] * b.y + v[2] * b.z
+/// The texture coordinate at barycentrics `b`, as glam's `lerp2` on `Vec2`.
+#[inline(always)]
+pub(crate) fn lerp2<L: Lanes>(b: &[L; 3], v: &[Vec2; 3]) -> (L, L) {
+    let c =
+        |k: usize| L::splat(v[0][k]) * b[0] + L::splat(v[1][k]) * b[1] + L::splat(v[2][k]) * b[2];
+    (c(0), c(1))
 }
 
-impl Surface {
-    #[inline]
-    pub fn at(tri: &PhongTri, b: Vec3) -> Surface {
+impl<V: Vector> Surface<V> {
+    #[inline(always)]
+    pub fn at(tri: &PhongTri, b: &[V::L; 3]) -> Surface<V> {
+        let face = V::uniform(tri.face_normal);
         let n = if tri.smooth {
-            lerp3(b, &tri.normal).normalize_or(tri.face_normal)
+            lerp3::<V>(b, &tri.normal).normalize_or(face)
         } else {
-            tri.face_normal
+            face
         };
         let (pu, pv) = if tri.uniform_tangents {
-            (tri.tangent_u[0], tri.tangent_v[0])
+            (V::uniform(tri.tangent_u[0]), V::uniform(tri.tangent_v[0]))
         } else {
             (lerp3(b, &tri.tangent_u), lerp3(b, &tri.tangent_v))
         };
+        let (u, v) = lerp2(b, &tri.uv);
         Surface {
             p: lerp3(b, &tri.position),
             n,
             face_n: tri.face_normal,
             albedo: lerp3(b, &tri.color),
-            uv: lerp2(b, &tri.uv),
+            u,
+            v,
             pu,
             pv,
         }
     }
 
-    #[inline]
-    pub fn frame(&self) -> Frame {
+    #[inline(always)]
+    pub fn frame(&self) -> Frame<V> {
         Frame::new(self.n, self.pu, self.pv)
     }
 }

@@ -14,8 +14,12 @@ use relief::plan::Plan;
 use relief::raster::{Band, raster_triangle};
 use relief::render::Renderer;
 use relief::scene::{Built, ModelChoice, SceneKind, build_scene};
-use relief::settings::{Filter, HeightDerivative, Normals, Shading, Technique};
+use relief::settings::{Filter, HeightDerivative, LightVector, Normals, Shading, Technique};
+use relief::shade::core::HookKernel;
+use relief::shade::dot3::Dot3;
+use relief::shade::emboss::Emboss;
 use relief::shade::kernels::{FlatTexturedKernel, GouraudKernel, PhongKernel};
+use relief::shade::parallax::Parallax;
 use relief::shade::{PixelShader, ShadeCtx, TriShader};
 use relief::shadow::{Shadow, ShadowMap};
 use relief::stats::Counters;
@@ -113,6 +117,36 @@ fn both_planned(
                 (false, true) => draw!(GouraudKernel::<false, true>(s)),
                 (false, false) => draw!(GouraudKernel::<false, false>(s)),
             },
+            // The other techniques, as the dispatch picks them.
+            TriShader::Phong(s) if s.bumped && hooked(&plan) => {
+                macro_rules! hook {
+                    ($h:expr) => {
+                        match (s.textured, spec) {
+                            (true, true) => draw!(HookKernel::<_, true, true> { tri: s, hook: $h }),
+                            (true, false) => {
+                                draw!(HookKernel::<_, true, false> { tri: s, hook: $h })
+                            }
+                            (false, true) => {
+                                draw!(HookKernel::<_, false, true> { tri: s, hook: $h })
+                            }
+                            (false, false) => {
+                                draw!(HookKernel::<_, false, false> { tri: s, hook: $h })
+                            }
+                        }
+                    };
+                }
+                let eye = plan.eye;
+                match (plan.technique, plan.normal_map.as_deref()) {
+                    (Technique::Emboss, _) => hook!(Emboss::new(&ctx)),
+                    (Technique::Dot3, Some(map)) if plan.light_vector == LightVector::Pixel => {
+                        hook!(Dot3::<true>::new(s, map, &ctx))
+                    }
+                    (Technique::Dot3, Some(map)) => hook!(Dot3::<false>::new(s, map, &ctx)),
+                    (Technique::Parallax, _) => hook!(Parallax::<false> { eye }),
+                    (Technique::Pom, _) => hook!(Parallax::<true> { eye }),
+                    _ => unreachable!(),
+                }
+            }
             TriShader::Phong(s) => match (s.textured, s.bumped, spec) {
                 (true, true, true) => draw!(PhongKernel::<true, true, true>(s)),
                 (true, false, true) => draw!(PhongKernel::<true, false, true>(s)),
@@ -126,6 +160,16 @@ fn both_planned(
         }
     }
     (a, b, ca, cb, packed)
+}
+
+/// Whether a bumped triangle of `plan` is drawn with a technique's hook
+/// (emboss, dot3 with its map, parallax, POM) rather than Blinn's kernel.
+fn hooked(plan: &Plan) -> bool {
+    match plan.technique {
+        Technique::Blinn => false,
+        Technique::Dot3 => plan.normal_map.is_some(),
+        _ => true,
+    }
 }
 
 fn check(settings: Settings, w: usize, h: usize) {
@@ -428,5 +472,113 @@ fn material_terms_match_the_one_pixel_loop() {
                 }
             }
         }
+    }
+}
+
+/// Emboss, dot3 (light vector per pixel and per vertex), parallax and POM
+/// on eight lanes give the one-pixel loop's bits and counts: with and
+/// without texture and highlights, face and vertex normals, every filter
+/// and height derivative (minified, so the mip chains are read), under a
+/// shadow map and with the environment.
+#[test]
+fn technique_kernels_match_the_one_pixel_loop() {
+    let techniques = [
+        (Technique::Emboss, LightVector::Pixel),
+        (Technique::Dot3, LightVector::Pixel),
+        (Technique::Dot3, LightVector::Vertex),
+        (Technique::Parallax, LightVector::Pixel),
+        (Technique::Pom, LightVector::Pixel),
+    ];
+    let cube = common::reference_scene(true);
+    for (technique, light_vector) in techniques {
+        for normals in [Normals::Face, Normals::Vertex] {
+            for texture in [true, false] {
+                for (specular, attenuation, environment) in [
+                    (false, false, false),
+                    (true, true, false),
+                    (true, false, true),
+                ] {
+                    let s = Settings {
+                        technique,
+                        light_vector,
+                        normals,
+                        texture,
+                        specular,
+                        attenuation,
+                        environment,
+                        rotation: Vec3::new(25.0, 35.0, 0.0),
+                        ..Settings::default()
+                    };
+                    assert!(hooked(&Plan::new(&cube, &s)), "{s:?}");
+                    check_in(&cube, s, 96, 72);
+                    let (_, stats) = relief::render::render_frame(&cube, &s, 96, 72);
+                    assert!(stats.counters.bump_evals > 0, "{s:?}");
+                }
+            }
+        }
+        for &filter in Filter::value_variants() {
+            for height_derivative in [HeightDerivative::Texel, HeightDerivative::Filtered] {
+                let s = Settings {
+                    technique,
+                    light_vector,
+                    filter,
+                    height_derivative,
+                    rotation: Vec3::new(70.0, 35.0, 10.0),
+                    ..Settings::default()
+                };
+                check_in(&cube, s, 64, 48);
+            }
+        }
+    }
+    // Under the shadow scene's map.
+    let texture = Arc::new(relief::texture::procedural::brick());
+    let Built::Scene(shadowed) =
+        build_scene(SceneKind::Shadow, &ModelChoice::Cube, texture, false).unwrap()
+    else {
+        panic!("a 3D scene")
+    };
+    for (technique, light_vector) in techniques {
+        for specular in [false, true] {
+            let s = Settings {
+                technique,
+                light_vector,
+                specular,
+                rotation: Vec3::new(20.0, 30.0, 0.0),
+                ..Settings::default()
+            };
+            assert!(Plan::new(&shadowed, &s).shadow_light.is_some(), "{s:?}");
+            check_in(&shadowed, s, 96, 72);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(16))]
+    #[test]
+    fn any_technique_orientation_and_strength_matches(
+        rx in -720.0f32..720.0, ry in -720.0f32..720.0, rz in -720.0f32..720.0,
+        w in 1usize..160, h in 1usize..120, k in 0.0f32..0.2, vertex in any::<bool>(),
+        specular in any::<bool>(), t in 0usize..5,
+    ) {
+        let (technique, light_vector) = [
+            (Technique::Emboss, LightVector::Pixel),
+            (Technique::Dot3, LightVector::Pixel),
+            (Technique::Dot3, LightVector::Vertex),
+            (Technique::Parallax, LightVector::Pixel),
+            (Technique::Pom, LightVector::Pixel),
+        ][t];
+        let settings = Settings {
+            technique,
+            light_vector,
+            specular,
+            rotation: Vec3::new(rx, ry, rz),
+            bump_strength: k,
+            normals: if vertex { Normals::Face } else { Normals::Vertex },
+            ..Settings::default()
+        };
+        let scene = common::reference_scene(true);
+        let (a, b, ca, cb, _) = both(&scene, &settings, w, h);
+        prop_assert!(a == b);
+        prop_assert_eq!(ca, cb);
     }
 }
