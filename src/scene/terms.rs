@@ -87,66 +87,11 @@ impl MaterialTerms {
                 .is_some_and(|(_, s)| *s != 0.0 && ambient.max_element() > 0.0)
             || (specular && self.specular_color != Vec3::ONE)
     }
-
-    /// The diffuse light at `uv` with the ambient part occluded: `light`
-    /// holds the plan's `ambient` once (the light loop starts from it).
-    #[inline]
-    pub fn occlude(&self, ambient: Vec3, uv: Vec2, light: Vec3) -> Vec3 {
-        match &self.occlusion {
-            Some((map, strength)) => {
-                let occ = map.bilinear(uv.x, uv.y)[0];
-                light - ambient * (strength * (1.0 - occ))
-            }
-            None => light,
-        }
-    }
-
-    /// The light given off at `uv`.
-    #[inline]
-    pub fn emission(&self, uv: Vec2) -> Vec3 {
-        match &self.emissive_map {
-            Some(map) => {
-                let t = map.bilinear(uv.x, uv.y);
-                self.emissive * Vec3::new(t[0], t[1], t[2])
-            }
-            None => self.emissive,
-        }
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn occlusion_strength_scales_the_ambient_part_only() {
-        // A map of red 0.25: strength 1 keeps a quarter of the ambient,
-        // strength 0.5 keeps 1 + 0.5·(0.25 − 1) = 0.625 of it.
-        let map = Arc::new(Level::solid(1, 1, [0.25, 0.0, 0.0, 0.0]));
-        let ambient = Vec3::splat(0.2);
-        let light = Vec3::splat(0.2 + 0.5);
-        let full = MaterialTerms {
-            occlusion: Some((map.clone(), 1.0)),
-            ..Default::default()
-        };
-        let half = MaterialTerms {
-            occlusion: Some((map, 0.5)),
-            ..Default::default()
-        };
-        let at = Vec2::new(0.3, 0.7);
-        assert!(
-            (full.occlude(ambient, at, light) - Vec3::splat(0.05 + 0.5))
-                .abs()
-                .max_element()
-                < 1e-6
-        );
-        assert!(
-            (half.occlude(ambient, at, light) - Vec3::splat(0.125 + 0.5))
-                .abs()
-                .max_element()
-                < 1e-6
-        );
-    }
 
     #[test]
     fn terms_that_change_nothing_are_left_out() {

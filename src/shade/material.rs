@@ -75,3 +75,39 @@ pub fn compose<V: Vector, const SPEC: bool>(
     };
     mirror(plan, p, n, lit, live, counters) + emission(terms, u, v)
 }
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::texture::Level;
+
+    #[test]
+    fn occlusion_strength_scales_the_ambient_part_only() {
+        // A map of red 0.25: strength 1 keeps a quarter of the ambient,
+        // strength 0.5 keeps 1 + 0.5·(0.25 − 1) = 0.625 of it.
+        let map = Arc::new(Level::solid(1, 1, [0.25, 0.0, 0.0, 0.0]));
+        let ambient = Vec3::splat(0.2);
+        let light = Vec3::splat(0.2 + 0.5);
+        for (strength, kept) in [(1.0, 0.05), (0.5, 0.125)] {
+            let terms = MaterialTerms {
+                occlusion: Some((map.clone(), strength)),
+                ..Default::default()
+            };
+            let lit = occlude(&terms, ambient, 0.3f32, 0.7f32, light);
+            assert!((lit - Vec3::splat(kept + 0.5)).abs().max_element() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn emission_is_the_factor_times_the_map() {
+        let terms = MaterialTerms {
+            emissive: Vec3::new(0.5, 1.0, 2.0),
+            emissive_map: Some(Arc::new(Level::solid(1, 1, [0.5, 0.25, 0.125, 1.0]))),
+            ..Default::default()
+        };
+        let e: Vec3 = emission(&terms, 0.3f32, 0.7f32);
+        assert!((e - Vec3::new(0.25, 0.25, 0.25)).abs().max_element() < 1e-6);
+    }
+}
