@@ -406,31 +406,6 @@ fn cycles(graph: &BTreeMap<String, BTreeSet<String>>) -> BTreeSet<Vec<String>> {
 /// go; none may grow or appear).
 const KNOWN: &[(&str, &[&str], &str)] = &[
     (
-        "app",
-        &["action", "feedback", "keys", "state"],
-        "the Elm layers are not apart yet: action.rs re-exports the key table's \
-         action_for_key and carries the State and FrameDone, the key table reads the \
-         State, update calls feedback, which reads the State and the actions",
-    ),
-    (
-        "bench",
-        &["report", "runner", "terminal"],
-        "the runner formats dB with report::db, the terminal rows use report's \
-         formatting, and report reads the runner's Row",
-    ),
-    (
-        "options",
-        &["[options]", "flags", "table"],
-        "the table's field! macro calls options/mod.rs helpers (index_of, variant) \
-         that sit beside the flags made from the table",
-    ),
-    (
-        "render",
-        &["[render]", "shaders"],
-        "the shaders read WorldVertex, defined in render/mod.rs beside the Renderer \
-         that calls them",
-    ),
-    (
         "scene",
         &["[scene]", "build", "gltf"],
         "scene/mod.rs defines Scene and Material and re-exports build, which builds \
