@@ -407,12 +407,6 @@ fn cycles(graph: &BTreeMap<String, BTreeSet<String>>) -> BTreeSet<Vec<String>> {
 const KNOWN: &[(&str, &[&str], &str)] = &[
     (
         "scene",
-        &["[scene]", "build", "gltf"],
-        "scene/mod.rs defines Scene and Material and re-exports build, which builds \
-         glTF scenes that read Material",
-    ),
-    (
-        "scene",
         &["model_file", "obj", "ply", "stl"],
         "model_file dispatches to each format's reader, and the readers use its \
          LoadedModel, reservations and path resolution",
@@ -433,16 +427,6 @@ const KNOWN: &[(&str, &[&str], &str)] = &[
         &["lanes", "packet"],
         "the lane trait's eight-lane texel read is packet::bilinear, and the packet \
          kernels are written over the lane trait's Vector",
-    ),
-    (
-        "shadow",
-        &["[shadow]", "depth"],
-        "the depth pass fills ShadowMap, defined in shadow/mod.rs which runs the pass",
-    ),
-    (
-        "term",
-        &["hold", "pacing"],
-        "the pacer (pacing) holds frames by the send-queue hold, and hold makes the pacer",
     ),
 ];
 

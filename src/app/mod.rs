@@ -225,7 +225,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         rx: &rx,
         textures: Some(&textures),
         stage: Some(&stage),
-        pacer: crate::term::hold::pacer_here(cli.link),
+        pacer: crate::term::pacing::pacer_here(cli.link),
     };
     let exit = looper.run(&mut state);
     // The screen first (quitting never waits for the terminal), then the
