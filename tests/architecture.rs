@@ -416,18 +416,6 @@ const KNOWN: &[(&str, &[&str], &str)] = &[
         &["[obj]", "read"],
         "obj.rs defines ObjError and the corner limits that read.rs uses, and calls read",
     ),
-    (
-        "shade",
-        &["bump", "core", "kernels", "tangent"],
-        "the technique hooks (bump, tangent) and the core name the kernels that \
-         instantiate them",
-    ),
-    (
-        "shade",
-        &["lanes", "packet"],
-        "the lane trait's eight-lane texel read is packet::bilinear, and the packet \
-         kernels are written over the lane trait's Vector",
-    ),
 ];
 
 #[test]
