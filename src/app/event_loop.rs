@@ -23,12 +23,14 @@ use std::time::{Duration, Instant};
 use crossterm::event::Event;
 use ratatui::Terminal;
 
-use super::action::{Action, action_for_event};
+use super::action::{Action, FrameDone};
+use super::events::action_for_event;
 use super::frame_cost::FrameCost;
 use super::schedule::Schedule;
 use super::stage::Stage;
-use super::state::{Command, FrameDone, Look, State, update};
+use super::state::{Look, State};
 use super::textures;
+use super::update::{Command, update};
 use super::view;
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::scene::SceneKind;

@@ -101,7 +101,7 @@ pub enum Does {
     /// An action made from the character typed.
     Char(fn(char) -> Action),
     /// A mouse gesture or a paste: listed in the help, turned into actions
-    /// by [`super::action::action_for_event`].
+    /// by [`super::events::action_for_event`].
     Gesture,
 }
 

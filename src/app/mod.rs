@@ -3,6 +3,7 @@
 
 pub mod action;
 pub mod event_loop;
+pub mod events;
 pub mod feedback;
 pub mod frame_cost;
 pub mod keys;
@@ -15,10 +16,14 @@ pub mod suspend;
 pub mod texture_list;
 pub mod textures;
 pub mod thumbnail;
+pub mod update;
 pub mod view;
 
-pub use action::{Action, DragButton, action_for_event, action_for_key};
-pub use state::{Command, State, update};
+pub use action::{Action, DragButton};
+pub use events::action_for_event;
+pub use keys::action_for_key;
+pub use state::State;
+pub use update::{Command, update};
 pub use view::view;
 
 use std::io::{IsTerminal, Read};
@@ -220,7 +225,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         rx: &rx,
         textures: Some(&textures),
         stage: Some(&stage),
-        pacer: crate::term::hold::pacer_here(cli.link),
+        pacer: crate::term::pacing::pacer_here(cli.link),
     };
     let exit = looper.run(&mut state);
     // The screen first (quitting never waits for the terminal), then the

@@ -8,6 +8,7 @@
 
 pub mod anchors;
 pub mod config;
+pub mod figures;
 pub mod font;
 pub mod metrics;
 pub mod pareto;

@@ -230,7 +230,7 @@ pub fn measure(
             "[{}/{total}] {}: {} dB",
             i + 1,
             config.name,
-            super::report::db(measuring.row.psnr)
+            super::figures::db(measuring.row.psnr)
         ));
         rows.push(measuring);
     }

@@ -314,8 +314,8 @@ pub fn modes_table(rows: &[ModeRow], markdown: bool) -> String {
                 format!("{}x{}", r.size.0, r.size.1),
                 r.first_bytes.to_string(),
                 r.change_bytes.to_string(),
-                crate::bench::report::ms(r.encode),
-                crate::bench::report::db(r.psnr),
+                crate::bench::figures::ms(r.encode),
+                crate::bench::figures::db(r.psnr),
                 format!("{:.4}", r.ssim),
             ]
         })

@@ -654,3 +654,8 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::None,
     },
 ];
+
+/// The option named `name` (its [`Settings`] field).
+pub fn find(name: &str) -> Option<&'static Opt> {
+    OPTIONS.iter().find(|o| o.name == name)
+}

@@ -302,6 +302,11 @@ impl Scene {
         scene
     }
 
+    /// The documented cube scene with the given texture.
+    pub fn cube(texture: Arc<Texture>, all_faces: bool) -> Self {
+        Scene::model(cube::cube(all_faces), texture)
+    }
+
     /// One model at the origin, turning, in the reference lighting and camera.
     pub fn model(mesh: Mesh, texture: Arc<Texture>) -> Self {
         Scene {

@@ -19,10 +19,13 @@
 
 use glam::{Vec2, Vec3};
 
+use super::corners::{
+    CORNER_BYTES_PER_TRIANGLE, Corner, MAX_FACE_CORNERS, build_parts, fit_of, fitted,
+};
+use super::loaded_model::{LoadedModel, ModelMaps, ModelPart};
 use super::mesh::{Mesh, Triangle, Vertex};
-use super::model_file::{LoadedModel, ModelMaps, ModelPart, reserve};
-use super::obj::build_parts;
-use super::obj::{CORNER_BYTES_PER_TRIANGLE, Corner, MAX_FACE_CORNERS, ObjError, fit_of, fitted};
+use super::model_error::ObjError;
+use super::model_io::reserve;
 
 /// Bytes kept per vertex while reading (position, normal, UV, colour, flags).
 const BYTES_PER_VERTEX: u64 = 12 + 12 + 8 + 12 + 4;

@@ -17,8 +17,10 @@
 
 use glam::Vec3;
 
-use super::model_file::{LoadedModel, ModelMaps, ModelPart, reserve};
-use super::obj::{CORNER_BYTES_PER_TRIANGLE, Corner, ObjError, build_parts};
+use super::corners::{CORNER_BYTES_PER_TRIANGLE, Corner, build_parts};
+use super::loaded_model::{LoadedModel, ModelMaps, ModelPart};
+use super::model_error::ObjError;
+use super::model_io::reserve;
 
 const HEADER: usize = 80;
 const FACET: u64 = 50;
@@ -194,7 +196,7 @@ fn ascii(name: &str, bytes: &[u8]) -> Result<Vec<Corner>, ObjError> {
             }
             "vertex" => {
                 let p = three(&mut words, "vertex")?;
-                if polygon.len() >= super::obj::MAX_FACE_CORNERS {
+                if polygon.len() >= super::corners::MAX_FACE_CORNERS {
                     return Err(at("too many vertices in one facet".into()));
                 }
                 polygon.push(p);

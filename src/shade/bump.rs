@@ -2,8 +2,8 @@
 //! for the shading core: the height gradient tilts the normal.
 
 use super::core::{Hook, HookAt, Pixels, gradient};
-use super::kernels::ShadeCtx;
 use super::lanes::{Lanes, Vector};
+use super::shader::ShadeCtx;
 use crate::settings::{Filter, HeightDerivative};
 use crate::stats::Counters;
 

@@ -17,11 +17,11 @@ use glam::{Vec2, Vec3};
 use wide::f32x8;
 
 use super::PhongTri;
-use super::kernels::{PixelShader, ShadeCtx};
 use super::lanes::{Lanes, Vector};
 use super::lighting::{LightSet, facing_cosine, finish, light_lanes};
 use super::material::compose;
 use super::packet::{self, LANES, V3};
+use super::shader::{PixelShader, ShadeCtx};
 use super::specular::{gloss, view_dir};
 use super::tangent::Surface;
 use crate::framebuffer::Rgb;
@@ -300,11 +300,11 @@ impl<H: Hook, const TEX: bool, const SPEC: bool> PixelShader for HookKernel<'_, 
         true
     }
     fn cutout(&self, ctx: &ShadeCtx) -> bool {
-        super::kernels::cuts(ctx)
+        super::shader::cuts(ctx)
     }
     fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
         let uv = self.tri.uv[0] * b.x + self.tri.uv[1] * b.y + self.tri.uv[2] * b.z;
-        super::kernels::opaque_at(ctx, uv)
+        super::shader::opaque_at(ctx, uv)
     }
     #[inline]
     fn shade8(

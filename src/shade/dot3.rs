@@ -28,8 +28,8 @@ use glam::Vec3;
 
 use super::PhongTri;
 use super::core::{Hook, HookAt, Pixels};
-use super::kernels::ShadeCtx;
 use super::lanes::{Lanes, Vector};
+use super::shader::ShadeCtx;
 use super::tangent::{Frame, lerp3};
 use crate::plan::ActiveLight;
 use crate::stats::Counters;

@@ -23,8 +23,8 @@
 use glam::Vec2;
 
 use super::core::{Hook, HookAt, Pixels};
-use super::kernels::ShadeCtx;
 use super::lanes::{Lanes, Vector};
+use super::shader::ShadeCtx;
 use crate::plan::strongest_light;
 use crate::stats::Counters;
 use crate::texture::Level;

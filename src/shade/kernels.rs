@@ -1,4 +1,5 @@
-//! The pixel kernels and the per-triangle data they read.
+//! The pixel kernels: each kernel family's shading of one pixel or eight,
+//! over the per-triangle data of `shade::shader`.
 
 use glam::{Vec2, Vec3};
 use wide::f32x8;
@@ -7,67 +8,14 @@ use super::bump::Blinn;
 use super::core::{colour, gloss_map, shade};
 use super::lighting::finish;
 use super::packet::{self, LANES, V3};
+use super::shader::{
+    GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, cuts, opaque_at,
+};
 use super::specular::gloss;
 use crate::framebuffer::Rgb;
 use crate::plan::Plan;
-use crate::shadow::Shadow;
 use crate::stats::Counters;
-use crate::texture::Texture;
 use crate::texture::filter::{Footprint, sample};
-
-/// What every kernel reads besides its triangle.
-pub struct ShadeCtx<'a> {
-    pub plan: &'a Plan,
-    pub texture: &'a Texture,
-    /// The shadow map of `plan.shadow_light`, when the plan asked for one.
-    pub shadow: Option<Shadow<'a>>,
-}
-
-/// One pixel's colour from the barycentric coordinates `b` of the pixel
-/// centre in the *source* triangle (perspective-correct, summing to 1).
-pub trait PixelShader {
-    /// Whether the kernel reads the texture (and so may want a footprint).
-    const SAMPLES_TEXTURE: bool;
-    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb;
-    /// Texture coordinates at the source triangle's vertices, for footprints.
-    fn uvs(&self) -> Option<&[Vec2; 3]> {
-        None
-    }
-    /// Whether `shade8` shades this triangle under this plan (bit for bit
-    /// as `shade` would).
-    fn packets(&self, _ctx: &ShadeCtx) -> bool {
-        false
-    }
-    /// Whether this triangle's pixels may be cut out by an alpha mask
-    /// (asked once per triangle; then `opaque` once per covered pixel,
-    /// before its depth test).
-    fn cutout(&self, _ctx: &ShadeCtx) -> bool {
-        false
-    }
-    /// Whether the pixel at barycentrics `b` of the source triangle is drawn.
-    fn opaque(&self, _ctx: &ShadeCtx, _b: Vec3) -> bool {
-        true
-    }
-    /// The one colour of every pixel, for a kernel that has one: its rows
-    /// are filled, not shaded.
-    fn solid(&self) -> Option<Rgb> {
-        None
-    }
-    /// Eight pixels of a row at once, from their perspective-correct
-    /// barycentrics and (when the plan wants them) texture footprints;
-    /// `live` has a bit per covered lane (the others are computed and
-    /// thrown away, and not counted).
-    fn shade8(
-        &self,
-        _ctx: &ShadeCtx,
-        _b: [f32x8; 3],
-        _fp: &[Footprint; LANES],
-        _live: u32,
-        _counters: &mut Counters,
-    ) -> [Rgb; LANES] {
-        unreachable!("shade8 runs only where packets() said yes")
-    }
-}
 
 /// Why a frame of `plan` shades one pixel at a time, or `None` when its
 /// triangles go through the eight-pixel packets (all but those cut by the
@@ -84,21 +32,6 @@ pub fn one_pixel_reason(plan: &Plan) -> Option<&'static str> {
     None
 }
 
-/// Whether the plan's material has an alpha mask.
-#[inline]
-pub(crate) fn cuts(ctx: &ShadeCtx) -> bool {
-    ctx.plan.terms.as_ref().is_some_and(|t| t.cutout.is_some())
-}
-
-/// Whether the plan's alpha mask draws the pixel at `uv`.
-#[inline]
-pub(crate) fn opaque_at(ctx: &ShadeCtx, uv: Vec2) -> bool {
-    match ctx.plan.terms.as_ref().and_then(|t| t.cutout.as_ref()) {
-        Some(c) => c.opaque(uv),
-        None => true,
-    }
-}
-
 #[inline]
 fn lerp3(b: Vec3, v: &[Vec3; 3]) -> Vec3 {
     v[0] * b.x + v[1] * b.y + v[2] * b.z
@@ -112,16 +45,6 @@ fn lerp2(b: Vec3, v: &[Vec2; 3]) -> Vec2 {
 #[inline]
 fn rgb(t: [f32; 4]) -> Vec3 {
     Vec3::new(t[0], t[1], t[2])
-}
-
-/// Per-triangle shading data, one variant per kernel family.
-#[derive(Clone, Debug)]
-pub enum TriShader {
-    /// Flat without texture: the whole triangle is one colour.
-    Solid(Rgb),
-    FlatTextured(TexturedFlatTri),
-    Gouraud(GouraudTri),
-    Phong(PhongTri),
 }
 
 impl PixelShader for Rgb {
@@ -149,15 +72,6 @@ impl PixelShader for Rgb {
         counters.pixels_shaded += live.count_ones() as u64;
         [*self; LANES]
     }
-}
-
-/// Flat lighting, textured: the facet's lit colour times the texel.
-#[derive(Clone, Debug)]
-pub struct TexturedFlatTri {
-    pub lit: Vec3,
-    pub uv: [Vec2; 3],
-    /// The facet's highlight (zero when specular is off), added after the texel.
-    pub highlight: Vec3,
 }
 
 /// The textured flat kernel, with its facet's highlight added when `SPEC`
@@ -211,20 +125,6 @@ impl<const SPEC: bool> PixelShader for FlatTexturedKernel<'_, SPEC> {
         }
         packet::finish(lit, live, counters)
     }
-}
-
-/// Gouraud: light computed at the vertices, interpolated with the albedo.
-#[derive(Clone, Debug)]
-pub struct GouraudTri {
-    pub light: [Vec3; 3],
-    /// The highlights at the vertices (zero when specular is off), added
-    /// after the albedo.
-    pub highlight: [Vec3; 3],
-    pub color: [Vec3; 3],
-    pub uv: [Vec2; 3],
-    pub textured: bool,
-    /// The plan's specular map scales the highlight (the triangle has UVs).
-    pub glossy: bool,
 }
 
 /// The Gouraud kernel, with or without texture and highlights.
@@ -293,31 +193,6 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
         }
         packet::finish(lit, live, counters)
     }
-}
-
-/// Phong: normal, position and albedo interpolated; lighting per pixel.
-#[derive(Clone, Debug)]
-pub struct PhongTri {
-    pub position: [Vec3; 3],
-    /// Vertex normals, or three copies of the facet normal.
-    pub normal: [Vec3; 3],
-    /// The facet normal: used as is for face normals, and as the fallback
-    /// when interpolated normals cancel out.
-    pub face_normal: Vec3,
-    pub smooth: bool,
-    pub color: [Vec3; 3],
-    pub uv: [Vec2; 3],
-    /// ∂P/∂u and ∂P/∂v at the vertices (equal on a flat cube face).
-    pub tangent_u: [Vec3; 3],
-    pub tangent_v: [Vec3; 3],
-    /// The three vertex tangents are the same: skip interpolating them.
-    pub uniform_tangents: bool,
-    pub textured: bool,
-    pub bumped: bool,
-    /// The plan's specular map scales the highlight (the triangle has UVs).
-    pub glossy: bool,
-    /// Index of the object in the scene (whose own shadow a convex one ignores).
-    pub object: u32,
 }
 
 /// The Phong kernel, with or without texture, Blinn bump and highlights:

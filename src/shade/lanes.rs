@@ -17,7 +17,7 @@ use std::ops::{Add, BitAnd, Div, Mul, Neg, Not, Sub};
 use glam::Vec3;
 use wide::f32x8;
 
-use crate::shade::packet::{self, LANES};
+use crate::shade::packet::{self, LANES, V3};
 use crate::texture::Level;
 
 /// One value per lane: `f32` (one pixel) or `f32x8` (eight).
@@ -350,6 +350,44 @@ impl Vector for Vec3 {
     #[inline(always)]
     fn select(mask: bool, a: Vec3, b: Vec3) -> Vec3 {
         if mask { a } else { b }
+    }
+}
+
+/// Eight pixels: one register per component.
+impl Vector for V3 {
+    type L = f32x8;
+    const WIDTH: usize = LANES;
+    #[inline(always)]
+    fn uniform(v: Vec3) -> V3 {
+        V3::splat(v)
+    }
+    #[inline(always)]
+    fn new(x: f32x8, y: f32x8, z: f32x8) -> V3 {
+        V3 { x, y, z }
+    }
+    #[inline(always)]
+    fn dot(self, o: V3) -> f32x8 {
+        V3::dot(self, o)
+    }
+    #[inline(always)]
+    fn cross(self, o: V3) -> V3 {
+        V3::cross(self, o)
+    }
+    #[inline(always)]
+    fn select(mask: f32x8, a: V3, b: V3) -> V3 {
+        V3::select(mask, a, b)
+    }
+    #[inline(always)]
+    fn x(self) -> f32x8 {
+        self.x
+    }
+    #[inline(always)]
+    fn y(self) -> f32x8 {
+        self.y
+    }
+    #[inline(always)]
+    fn z(self) -> f32x8 {
+        self.z
     }
 }
 

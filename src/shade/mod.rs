@@ -15,7 +15,8 @@ pub mod lighting;
 pub mod material;
 pub mod packet;
 pub mod parallax;
+pub mod shader;
 pub mod specular;
 pub mod tangent;
 
-pub use kernels::{GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, TriShader};
+pub use shader::{GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, TriShader};

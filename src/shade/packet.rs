@@ -12,7 +12,6 @@ use glam::{Vec2, Vec3};
 use wide::{f32x4, f32x8, i32x8};
 
 use crate::framebuffer::Rgb;
-use crate::shade::lanes::Vector;
 use crate::stats::Counters;
 use crate::texture::Level;
 use crate::texture::level::around;
@@ -155,44 +154,6 @@ impl Div<f32x8> for V3 {
             y: self.y / s,
             z: self.z / s,
         }
-    }
-}
-
-/// Eight lanes for the shading formulas (`shade::lanes`).
-impl Vector for V3 {
-    type L = f32x8;
-    const WIDTH: usize = LANES;
-    #[inline(always)]
-    fn uniform(v: Vec3) -> V3 {
-        V3::splat(v)
-    }
-    #[inline(always)]
-    fn new(x: f32x8, y: f32x8, z: f32x8) -> V3 {
-        V3 { x, y, z }
-    }
-    #[inline(always)]
-    fn dot(self, o: V3) -> f32x8 {
-        V3::dot(self, o)
-    }
-    #[inline(always)]
-    fn cross(self, o: V3) -> V3 {
-        V3::cross(self, o)
-    }
-    #[inline(always)]
-    fn select(mask: f32x8, a: V3, b: V3) -> V3 {
-        V3::select(mask, a, b)
-    }
-    #[inline(always)]
-    fn x(self) -> f32x8 {
-        self.x
-    }
-    #[inline(always)]
-    fn y(self) -> f32x8 {
-        self.y
-    }
-    #[inline(always)]
-    fn z(self) -> f32x8 {
-        self.z
     }
 }
 

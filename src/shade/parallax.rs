@@ -14,8 +14,8 @@ use glam::{Vec2, Vec3};
 
 use super::bump::blinn;
 use super::core::{Hook, HookAt, Pixels, gradient};
-use super::kernels::ShadeCtx;
 use super::lanes::{Lanes, Vector};
+use super::shader::ShadeCtx;
 use super::tangent::Surface;
 use crate::stats::Counters;
 use crate::texture::filter::height_sampler;

@@ -1,19 +1,31 @@
 //! The depth-only rasterizer of the shadow pass: no colour, no attributes,
 //! just the nearest distance along the light's axis per texel.
 
-use glam::{Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 
-use super::ShadowMap;
 use crate::scene::Mesh;
 use crate::scene::repeats::RepeatSkipper;
 use crate::scene::terms::Cutout;
 use crate::scene::world::Placed;
 
+/// What the pass draws into: the map's texels (`size × size`, row 0 at the
+/// top) and the light's view (the map keeps them; the pass needs no more).
+pub(super) struct Target<'a> {
+    pub size: usize,
+    /// Distance along the light's axis of the nearest caster, per texel.
+    pub depth: &'a mut [f32],
+    /// Which object that nearest caster is, per texel.
+    pub owner: &'a mut [u32],
+    pub view_proj: Mat4,
+    pub light: Vec3,
+    pub near: f32,
+}
+
 /// Draws `mesh` (object `object`) placed as `placed` into the map, but for
 /// the triangles `repeats` skips and the points `cutout` drops, until
 /// `stop` says so; returns the texels written.
 pub(super) fn draw_mesh(
-    map: &mut ShadowMap,
+    map: &mut Target,
     mesh: &Mesh,
     placed: &Placed,
     object: u32,
@@ -75,7 +87,7 @@ pub(super) fn draw_mesh(
 /// point it cuts out is left as it is; its UV is perspective-correct
 /// (uv·q is linear too), as the main pass reads it.
 fn fill(
-    map: &mut ShadowMap,
+    map: &mut Target,
     v: [(f32, f32, f32); 3],
     object: u32,
     mask: Option<(&Cutout, [Vec2; 3])>,

@@ -169,14 +169,29 @@ impl ShadowMap {
         self.view_proj = proj * Mat4::look_at_rh(light, centre, up);
         self.texel_per_depth = 2.0 * half_angle.tan() / size as f32;
 
+        let mut target = depth::Target {
+            size,
+            depth: &mut self.depth,
+            owner: &mut self.owner,
+            view_proj: self.view_proj,
+            light: self.light,
+            near: self.near,
+        };
         for caster in casters {
             let i = caster.object;
             let mesh = &scene.objects[i].mesh;
             let skipper = RepeatSkipper::new(repeats.get(i).copied().unwrap_or(&[]));
             // A texel its alpha mask cuts out casts nothing.
             let cutout = scene.own_terms(i).and_then(|t| t.cutout.as_ref());
-            counters.shadow_texels +=
-                depth::draw_mesh(self, mesh, world.object(i), i as u32, cutout, skipper, stop);
+            counters.shadow_texels += depth::draw_mesh(
+                &mut target,
+                mesh,
+                world.object(i),
+                i as u32,
+                cutout,
+                skipper,
+                stop,
+            );
         }
         counters
     }

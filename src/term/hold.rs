@@ -298,24 +298,6 @@ pub fn parse_link(text: &str) -> Result<LinkRate, String> {
     Ok(LinkRate::Stated(bits / 8.0))
 }
 
-/// The pacer for this process: a stated rate holds by that rate; `auto`
-/// holds by the SSH connection's send queue inside tmux or screen when one
-/// is found (see [`crate::term::backlog::SendQueue::here`]), else the
-/// replies alone pace.
-pub fn pacer_here(link: LinkRate) -> super::pacing::Pacer {
-    use super::pacing::Pacer;
-    match link {
-        LinkRate::Stated(rate) => Pacer::default().with_hold(Hold::new(HoldBy::Rate(rate)), None),
-        LinkRate::Auto => match super::backlog::SendQueue::here() {
-            Some(mut queue) => Pacer::default().with_hold(
-                Hold::new(HoldBy::Queue),
-                Some(Box::new(move || queue.queued())),
-            ),
-            None => Pacer::default(),
-        },
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -26,7 +26,7 @@
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
-use super::hold::{Hold, HoldBy};
+use super::hold::{Hold, HoldBy, LinkRate};
 
 /// Reads the SSH connection's send queue (see [`crate::term::backlog`]):
 /// bytes queued, `None` when the socket is not found.
@@ -415,6 +415,23 @@ impl Pacer {
             late_replies: self.late_replies,
             held_by: self.held_by(),
         }
+    }
+}
+
+/// The pacer for this process: a stated rate holds by that rate; `auto`
+/// holds by the SSH connection's send queue inside tmux or screen when one
+/// is found (see [`crate::term::backlog::SendQueue::here`]), else the
+/// replies alone pace.
+pub fn pacer_here(link: LinkRate) -> Pacer {
+    match link {
+        LinkRate::Stated(rate) => Pacer::default().with_hold(Hold::new(HoldBy::Rate(rate)), None),
+        LinkRate::Auto => match super::backlog::SendQueue::here() {
+            Some(mut queue) => Pacer::default().with_hold(
+                Hold::new(HoldBy::Queue),
+                Some(Box::new(move || queue.queued())),
+            ),
+            None => Pacer::default(),
+        },
     }
 }
 

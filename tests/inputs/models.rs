@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
+use relief::scene::corners;
 use relief::scene::obj::{self, FIT_RADIUS, ObjError};
 use relief::scene::{
     Built, Mesh, ModelChoice, SceneKind, build_scene, cube, plane, sphere, tangents, triangle,
@@ -670,7 +671,7 @@ fn huge_and_binary_files_are_refused() {
 fn models_beyond_the_memory_budget_are_refused() {
     // A polygon is bounded on its own line, before anything is built from it.
     let mut text: String = "v 0 0 0\nv 1 0 0\nv 0 1 0\n# a huge polygon\nf".into();
-    text += &" 1 2 3".repeat(obj::MAX_FACE_CORNERS / 3 + 1);
+    text += &" 1 2 3".repeat(corners::MAX_FACE_CORNERS / 3 + 1);
     let e = failure(obj::parse("big.obj", &text));
     assert!(matches!(e, ObjError::Line { line: 5, .. }), "{e:?}");
     assert!(one_clean_line(&e).contains("limit 65536"), "{e}");
@@ -678,7 +679,7 @@ fn models_beyond_the_memory_budget_are_refused() {
     // (fans of the same three corners, two bytes a triangle): refused by
     // the counting pass, before any corner is stored.
     let triangles = (relief::budget::BUDGET_BYTES / obj::READ_BYTES_PER_TRIANGLE) as usize + 1;
-    let fan = obj::MAX_FACE_CORNERS / 3 * 3;
+    let fan = corners::MAX_FACE_CORNERS / 3 * 3;
     let face = format!("f{}\n", " 1 2 3".repeat(fan / 3));
     text = "v 0 0 0\nv 1 0 0\nv 0 1 0\n".into();
     text += &face.repeat(triangles.div_ceil(fan - 2));

@@ -290,8 +290,10 @@ mod tests {
 
     #[test]
     fn key_k_toggles_the_panel_in_the_view() {
-        use crate::app::action::{Action, action_for_key};
-        use crate::app::state::{State, update};
+        use crate::app::action::Action;
+        use crate::app::keys::action_for_key;
+        use crate::app::state::State;
+        use crate::app::update::update;
         use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
         let mut state = State::new(
             crate::Settings::default(),

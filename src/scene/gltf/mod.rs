@@ -24,8 +24,9 @@ use ::gltf::accessor::Accessor;
 use ::gltf::mesh::Mode;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
+use super::corners::{MODEL_BYTES_PER_TRIANGLE, fit_of, fitted};
 use super::mesh::{Mesh, Triangle, Vertex};
-use super::obj::{MODEL_BYTES_PER_TRIANGLE, ObjError, fit_of, fitted};
+use super::model_error::ObjError;
 use super::strokes::{StrokeMode, StrokeVertex, Strokes};
 use super::tangents::{accumulate, face_frame};
 use super::{Material, Object, Scene};

@@ -13,63 +13,14 @@
 //! `illum`, `Ni`, PBR extensions, …) is skipped. A line that cannot be read
 //! is a warning naming the file and line; the rest of the library is kept.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::Vec3;
 
 use crate::sanitize::clean;
-use crate::scene::model_file::resolve_beside;
+use crate::scene::model_io::resolve_beside;
 
-/// One material as an MTL file describes it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MaterialDesc {
-    pub name: String,
-    /// `Kd`: diffuse colour.
-    pub diffuse: Option<Vec3>,
-    /// `Ks`: specular colour.
-    pub specular: Option<Vec3>,
-    /// `Ns`: specular exponent.
-    pub shininess: Option<f32>,
-    /// `d`, or 1 − `Tr`: opacity.
-    pub opacity: Option<f32>,
-    /// `map_Kd`: diffuse colour texture.
-    pub diffuse_map: Option<TexturePath>,
-    /// `map_Ks`: specular colour (or level) texture.
-    pub specular_map: Option<TexturePath>,
-    /// `map_d`: opacity texture.
-    pub opacity_map: Option<TexturePath>,
-    /// `bump`, `map_Bump`, `map_bump`: height map.
-    pub bump_map: Option<TexturePath>,
-    /// `-bm` of the bump map: the heights are multiplied by it (1 when absent).
-    pub bump_multiplier: f32,
-    /// `norm`: tangent-space normal map.
-    pub normal_map: Option<TexturePath>,
-}
-
-impl MaterialDesc {
-    fn named(name: String) -> Self {
-        MaterialDesc {
-            name,
-            diffuse: None,
-            specular: None,
-            shininess: None,
-            opacity: None,
-            diffuse_map: None,
-            specular_map: None,
-            opacity_map: None,
-            bump_map: None,
-            bump_multiplier: 1.0,
-            normal_map: None,
-        }
-    }
-}
-
-/// A texture as the MTL names it, and the file it was found at (none: not found).
-#[derive(Clone, Debug, PartialEq)]
-pub struct TexturePath {
-    pub written: String,
-    pub file: Option<PathBuf>,
-}
+pub use crate::scene::loaded_model::{MaterialDesc, TexturePath};
 
 /// Map options and how many numbers (or words) follow each.
 const OPTIONS: &[(&str, usize, usize)] = &[

@@ -27,8 +27,9 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use super::{IndexedCorners, MAX_FACE_CORNERS, NO_INDEX, ObjError, bytes_of, quote};
 use crate::budget::Reservation;
+use crate::scene::corners::{IndexedCorners, MAX_FACE_CORNERS, NO_INDEX, bytes_of};
+use crate::scene::model_error::{ObjError, quote};
 
 /// Bytes the reading holds per triangle: its corners' three indices and
 /// its part (besides the `v`, `vt`, `vn` arrays).
@@ -548,7 +549,7 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
     // No fixed limit: the memory budget decides, before anything is
     // allocated. The text itself is held by whoever read it.
     let need = read_bytes(&counts);
-    let reservation = crate::scene::model_file::reserve(name, "the triangles", need)?;
+    let reservation = crate::scene::model_io::reserve(name, "the triangles", need)?;
     if counts.positions.max(counts.texcoords).max(counts.normals) >= NO_INDEX as usize {
         return Err(ObjError::Unsupported {
             name: name.to_string(),

@@ -1,0 +1,70 @@
+//! Everything the renderer draws: the objects, their materials, the
+//! lights and the camera.
+
+use std::sync::Arc;
+
+use glam::Vec3;
+
+use super::camera::Camera;
+use super::light::Light;
+use super::material::Material;
+use super::object::Object;
+use super::strokes;
+use crate::framebuffer::Rgb;
+
+/// Everything the renderer draws.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub objects: Vec<Object>,
+    /// The material of every object without its own.
+    pub material: Material,
+    /// Objects' own materials (a loaded model's), by object index: object
+    /// i uses `object_materials[i]` when it is there and set, else
+    /// `material`. Materials shared by objects are shared `Arc`s.
+    pub object_materials: Vec<Option<Arc<Material>>>,
+    /// Objects' extra material terms (a loaded model's emission,
+    /// occlusion, specular colour…), by object index like `object_materials`.
+    pub object_terms: Vec<Option<Arc<crate::scene::terms::MaterialTerms>>>,
+    /// A model's points and lines, drawn over the objects (following the
+    /// user's rotation as they do).
+    pub strokes: strokes::Strokes,
+    pub lights: Vec<Light>,
+    pub ambient: Vec3,
+    pub camera: Camera,
+    pub background: Rgb,
+}
+
+impl Scene {
+    /// Object `index`'s own material, if it has one.
+    pub fn own_material(&self, index: usize) -> Option<&Arc<Material>> {
+        self.object_materials.get(index).and_then(Option::as_ref)
+    }
+
+    /// Object `index`'s extra material terms, if it has any.
+    pub fn own_terms(&self, index: usize) -> Option<&Arc<crate::scene::terms::MaterialTerms>> {
+        self.object_terms.get(index).and_then(Option::as_ref)
+    }
+
+    /// The distinct own materials of the objects, in order of first use,
+    /// and for each object the index in that list plus one (0: the
+    /// scene's material).
+    pub fn material_groups(&self) -> (Vec<&Arc<Material>>, Vec<usize>) {
+        let mut distinct: Vec<&Arc<Material>> = Vec::new();
+        let groups = (0..self.objects.len())
+            .map(|i| match self.own_material(i) {
+                None => 0,
+                Some(m) => match distinct.iter().position(|d| Arc::ptr_eq(d, m)) {
+                    Some(k) => k + 1,
+                    None => {
+                        distinct.push(m);
+                        distinct.len()
+                    }
+                },
+            })
+            .collect();
+        (distinct, groups)
+    }
+}
+
+/// Background of the reference scene.
+pub const BACKGROUND: Rgb = [16, 24, 32];
