@@ -1063,3 +1063,66 @@ fn a_resize_with_a_panel_open_sends_the_new_picture_around_the_panel() {
         let _ = pixel_view::take_cleanup();
     }
 }
+
+/// An iTerm2 image: the cell it is placed at, its width and height in
+/// cells, its pixels.
+type ItermImage = ((usize, usize), (usize, usize), image::RgbImage);
+
+/// The iTerm2 images in `bytes` (each placed by the cursor move before it).
+fn iterm_images(bytes: &[u8]) -> Vec<ItermImage> {
+    let text = String::from_utf8_lossy(bytes);
+    let mut out = Vec::new();
+    let mut rest = &text[..];
+    while let Some(at) = rest.find("\x1b]1337;File=") {
+        let before = &rest[..at];
+        let mv = &before[before.rfind("\x1b[").unwrap() + 2..before.len() - 1];
+        let (row, col) = mv.split_once(';').unwrap_or((mv, "1"));
+        let cell = (
+            col.parse::<usize>().unwrap() - 1,
+            row.parse::<usize>().unwrap() - 1,
+        );
+        let body = &rest[at..];
+        let end = body.find('\x07').unwrap();
+        let (keys, data) = body[..end].split_once(':').unwrap();
+        let number = |name: &str| -> usize {
+            keys.split(';')
+                .find_map(|k| k.strip_prefix(&format!("{name}=")))
+                .unwrap()
+                .parse()
+                .unwrap()
+        };
+        let png = base64::engine::general_purpose::STANDARD
+            .decode(data)
+            .unwrap();
+        let img = image::load_from_memory(&png).unwrap().to_rgb8();
+        out.push((cell, (number("width"), number("height")), img));
+        rest = &body[end..];
+    }
+    out
+}
+
+/// iTerm2 under the cost panel: opening it sends no image; closing it
+/// sends one, of the panel's cells only, stretched over them, holding the
+/// picture's pixels there.
+#[test]
+fn under_a_panel_iterm_sends_the_panels_cells_when_it_closes() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
+    let (bytes, last) = run_panels(Format::Iterm, vec![key('k'), key('k')]);
+    let (w, h) = (last.width(), last.height());
+    let (cw, ch) = (w / 80, h / 28);
+    let per_frame: Vec<_> = frames(&bytes).iter().map(|f| iterm_images(f)).collect();
+    let sent: Vec<usize> = per_frame.iter().map(Vec::len).collect();
+    // The whole picture, then (panel open) nothing, then the panel's part.
+    let first = sent.iter().position(|&n| n > 0).unwrap();
+    assert_eq!(per_frame[first][0].1, (80, 28));
+    let next = first + 1 + sent[first + 1..].iter().position(|&n| n > 0).unwrap();
+    assert!(next > first + 1, "the panel opened with no image: {sent:?}");
+    assert_eq!(sent.iter().sum::<usize>(), 2, "{sent:?}");
+    let (cell, cells, img) = &per_frame[next][0];
+    assert_eq!(*cell, (36, 0));
+    assert_eq!(*cells, (44, 18));
+    assert_eq!(img.dimensions(), (44 * cw as u32, 18 * ch as u32));
+    for (x, y, p) in img.enumerate_pixels() {
+        assert_eq!(p.0, last.get(36 * cw + x as usize, y as usize), "{x},{y}");
+    }
+}
