@@ -302,6 +302,49 @@ fn forced_palette_shows_in_the_status_line() {
     assert_restored(&t);
 }
 
+/// The cells of the picture (everything above the two text lines) left of
+/// column `from` show no half block: the picture there is not text.
+fn no_text_picture(screen: &str, from: usize) -> bool {
+    viewport(screen)
+        .lines()
+        .all(|l| !l.chars().take(from).any(|c| c == '▀' || c == '▄'))
+}
+
+/// kitty forced inside tmux with passthrough on (the images go to no
+/// terminal; tmux shows the text relief writes): the cost panel is text
+/// in its corner and the picture around it stays an image (no half
+/// blocks), also after a resize with the panel open; quitting with the
+/// panel open leaves the alternate screen and the mouse modes.
+#[test]
+fn a_panel_over_a_kitty_picture_and_a_resize_then_quit_restore_the_terminal() {
+    let cmd = format!(
+        "tmux set -g allow-passthrough on; {}",
+        command("panel", "RELIEF_FORMAT=kitty", "")
+    );
+    let Some(t) = Tmux::start("panel", 100, 30, &cmd) else {
+        return;
+    };
+    let s = t.wait_for("a kitty frame", |s| status(s).contains("kitty │"));
+    assert!(no_text_picture(&s, 100), "{s}");
+    t.keys(&["k"]);
+    let s = t.wait_for("the cost panel", |s| s.contains(" cost (k) "));
+    let title = s.lines().find(|l| l.contains(" cost (k) ")).unwrap();
+    // The panel is 44 columns wide at the right edge.
+    assert_eq!(title.chars().count(), 100, "{s}");
+    assert!(no_text_picture(&s, 100 - 44), "{s}");
+    t.run(&["resize-window", "-x", "80", "-y", "26"]);
+    let s = t.wait_for("the panel after the resize", |s| {
+        s.lines().count() >= 26
+            && s.lines()
+                .find(|l| l.contains(" cost (k) "))
+                .is_some_and(|l| l.chars().count() == 80)
+    });
+    assert!(no_text_picture(&s, 80 - 44), "{s}");
+    t.keys(&["q"]);
+    assert_eq!(t.wait_exit(), "0");
+    assert_restored(&t);
+}
+
 /// The child half of `a_panic_restores_the_terminal`: run by it inside tmux
 /// (ignored in a normal run, where it would take over the test's terminal).
 #[test]

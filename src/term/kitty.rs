@@ -25,6 +25,52 @@ pub fn write_image(
     cells: Option<(u16, u16)>,
     out: &mut impl Write,
 ) -> io::Result<()> {
+    let mut keys = format!(
+        "a=T,f=24,o=z,s={},v={},i={IMAGE_ID},p=1,q=2,C=1",
+        fb.width(),
+        fb.height()
+    );
+    if let Some((c, r)) = cells {
+        keys.push_str(&format!(",c={c},r={r}"));
+    }
+    write_chunks(fb, &keys, out)
+}
+
+/// Sends `fb` under relief's image id without showing it (`a=t`): the
+/// placements written after it ([`write_placement`]) show parts of it.
+/// A new image under the id replaces the old one and its placements.
+pub fn write_data(fb: &Framebuffer, out: &mut impl Write) -> io::Result<()> {
+    let keys = format!(
+        "a=t,f=24,o=z,s={},v={},i={IMAGE_ID},q=2",
+        fb.width(),
+        fb.height()
+    );
+    write_chunks(fb, &keys, out)
+}
+
+/// A rectangle of the image's pixels: left, top, width, height.
+pub type Source = [usize; 4];
+
+/// Shows `source` of the image already sent, at the cursor, scaled to
+/// `cells` (columns × rows), as placement `placement` (the same id again
+/// replaces it); the cursor stays (`C=1`). No pixels are sent.
+pub fn write_placement(
+    placement: u32,
+    source: Source,
+    cells: (u16, u16),
+    out: &mut impl Write,
+) -> io::Result<()> {
+    let [x, y, w, h] = source;
+    write!(
+        out,
+        "\x1b_Ga=p,i={IMAGE_ID},p={placement},x={x},y={y},w={w},h={h},c={},r={},C=1,q=2\x1b\\",
+        cells.0, cells.1
+    )
+}
+
+/// The frame as 24-bit RGB, zlib-compressed, base64 in chunks; `keys`
+/// go with the first chunk.
+fn write_chunks(fb: &Framebuffer, keys: &str, out: &mut impl Write) -> io::Result<()> {
     // RGB rows, top first: the framebuffer's own bytes.
     let raw = fb.pixels().as_flattened();
     // Fast compression: the link is what is slow, but a frame must still
@@ -38,16 +84,7 @@ pub fn write_image(
     for (i, chunk) in chunks.iter().enumerate() {
         let more = u8::from(i < last);
         if i == 0 {
-            write!(
-                out,
-                "\x1b_Ga=T,f=24,o=z,s={},v={},i={IMAGE_ID},p=1,q=2,C=1",
-                fb.width(),
-                fb.height()
-            )?;
-            if let Some((c, r)) = cells {
-                write!(out, ",c={c},r={r}")?;
-            }
-            write!(out, ",m={more};")?;
+            write!(out, "\x1b_G{keys},m={more};")?;
         } else {
             write!(out, "\x1b_Gm={more};")?;
         }
@@ -60,11 +97,17 @@ pub fn write_image(
 /// Deletes relief's image and frees its data (leaving the mode, exit).
 pub const DELETE: &[u8] = b"\x1b_Ga=d,d=I,i=7498854,q=2\x1b\\";
 
+/// Deletes every placement of relief's image and keeps its data (lower
+/// case `d=i`): the image can be placed again without being sent again.
+pub const DELETE_PLACEMENTS: &[u8] = b"\x1b_Ga=d,d=i,i=7498854,q=2\x1b\\";
+
 #[cfg(test)]
 mod tests {
     #[test]
     fn delete_names_the_image_id() {
         let text = std::str::from_utf8(super::DELETE).unwrap();
         assert!(text.contains(&format!("i={},", super::IMAGE_ID)));
+        let text = std::str::from_utf8(super::DELETE_PLACEMENTS).unwrap();
+        assert!(text.contains(&format!("d=i,i={},", super::IMAGE_ID)));
     }
 }

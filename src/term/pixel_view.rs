@@ -4,17 +4,20 @@
 //!
 //! ratatui's diff must not write over the image: the picture area's cells
 //! are marked `skip` in its buffer, so the diff leaves them alone (and a
-//! frame whose picture did not change sends nothing there). When something
-//! is drawn over the picture (a panel, the help, a message), the picture
-//! is drawn as text for as long as it stays, the image deleted, and sent
-//! again once the picture is uncovered.
+//! frame whose picture did not change sends nothing there). Cells something
+//! is drawn over (a panel, the help, a message) are not skipped: the text
+//! goes there and the image stays around it. kitty shows the uncovered
+//! cells as placements of the image already sent (a source rectangle each,
+//! no pixels sent again), replaced when the panel moves or closes. Sixel
+//! and iTerm2 images are cells the text overwrites; when a panel closes,
+//! only the cells it covered are sent again.
 //!
 //! The image goes to the picture area's top-left cell with an absolute
 //! cursor move. It never scrolls the screen: the picture area ends two
 //! rows above the bottom, and a screen too small for that gets text.
 //! Inside tmux the sequences go through tmux's passthrough (`DCS tmux;`
-//! with every `ESC` doubled). The image is deleted (kitty `a=d`, sixel and
-//! iTerm2 cells cleared) on exit, on Ctrl-Z and when leaving pixels; the
+//! with every `ESC` doubled). The image is deleted (kitty `a=d,d=I`, sixel
+//! and iTerm2 cells cleared) on exit, on Ctrl-Z and when leaving pixels; the
 //! terminal guard calls [`take_cleanup`] for the first two.
 
 use std::io::{self, Write};
@@ -263,18 +266,27 @@ pub fn image_bytes(
     if !passthrough {
         out.extend_from_slice(&seq);
     } else if format == Format::Kitty {
-        // One passthrough per chunk: tmux bounds the size of one sequence.
-        let mut start = 0;
-        for end in 1..seq.len() {
-            if &seq[end - 1..=end] == b"\x1b\\" {
-                wrap_tmux(&seq[start..=end], &mut out);
-                start = end + 1;
-            }
-        }
+        push_kitty(&seq, true, &mut out);
     } else {
         wrap_tmux(&seq, &mut out);
     }
     Ok(out)
+}
+
+/// kitty sequences `seq` onto `out`, through tmux when `passthrough`: one
+/// passthrough per sequence (per chunk), as tmux bounds the size of one.
+fn push_kitty(seq: &[u8], passthrough: bool, out: &mut Vec<u8>) {
+    if !passthrough {
+        out.extend_from_slice(seq);
+        return;
+    }
+    let mut start = 0;
+    for end in 1..seq.len() {
+        if &seq[end - 1..=end] == b"\x1b\\" {
+            wrap_tmux(&seq[start..=end], out);
+            start = end + 1;
+        }
+    }
 }
 
 /// Average of `src` over each pixel of `dst` (box filter): the picture at
@@ -309,7 +321,7 @@ pub fn downscale(src: &Framebuffer, dst: &mut Framebuffer) {
     }
 }
 
-/// How the picture looks as text (while covered, or in symbols).
+/// How the picture looks as text (under a panel, or in symbols).
 #[derive(Clone, Copy, Debug)]
 pub struct TextLook {
     pub symbols: Symbols,
@@ -318,12 +330,25 @@ pub struct TextLook {
     pub pad: Rgb,
 }
 
+/// The image on screen.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Shown {
+    /// The picture area it fills.
+    area: Rect,
+    format: Format,
+    /// The pixel size of the image the terminal holds (kitty: what the
+    /// placements cut from; a preview is smaller than the frame).
+    image: (usize, usize),
+    /// The area's cells drawn as text over the image (a panel), row by row.
+    covered: Vec<bool>,
+}
+
 /// The pixel side of the view between frames: what is on screen.
 pub struct PixelView {
     /// The picture at the text's resolution.
     small: Framebuffer,
-    /// An image is on screen over this area, in this format.
-    shown: Option<(Rect, Format)>,
+    /// The image on screen, if any.
+    shown: Option<Shown>,
     /// The format of the last frame.
     last_format: Option<Format>,
 }
@@ -383,8 +408,9 @@ impl PixelView {
 
     /// Draws one frame: `view` draws the whole screen from a picture at the
     /// text's resolution into ratatui's buffer; in a pixel format the
-    /// picture's cells are then skipped by the diff and the image sent
-    /// (when new, moved or uncovered), all inside the open frame.
+    /// picture's cells nothing is drawn over are then skipped by the diff,
+    /// and the image sent or shown again where it is needed (see
+    /// [`PixelView::image_update`]), all inside the open frame.
     pub fn draw<W: Write>(
         &mut self,
         terminal: &mut Terminal<SgrBackend<W>>,
@@ -407,63 +433,180 @@ impl PixelView {
         } else {
             fb
         };
+        let passthrough = frame.output.choice.passthrough;
         if self.last_format.is_some_and(|f| f != format) {
             // A new format: the whole screen is drawn again, so nothing a
             // terminal made of the last one's sequences (a format it
             // ignores may print its bytes, even scroll) stays.
-            if let Some((_, Format::Kitty)) = self.shown.take() {
+            if self.shown.take().is_some_and(|s| s.format == Format::Kitty) {
                 terminal
                     .backend_mut()
-                    .write_raw(&kitty_delete(frame.output.choice.passthrough))?;
+                    .write_raw(&kitty_delete(passthrough))?;
                 set_cleanup(&[]);
             }
             terminal.clear()?;
         }
         self.last_format = Some(format);
-        let mut covered = false;
+        let mut covered = None;
         terminal.draw(|f| {
             view(f, text_fb);
             if pixels {
-                covered = !skip_picture(f.buffer_mut(), viewport, text_fb, frame.look);
+                covered = Some(skip_picture(f.buffer_mut(), viewport, text_fb, frame.look));
             }
         })?;
-        let show = pixels && !covered;
-        let mut bytes = Vec::new();
-        if let Some((_, was)) = self.shown
-            && (!show || was != format)
-        {
-            // Leaving the image: kitty's is deleted; sixel and iTerm2
-            // pixels are covered by the text cells drawn meanwhile.
-            if was == Format::Kitty {
-                bytes.extend(kitty_delete(frame.output.choice.passthrough));
+        let bytes = match covered {
+            Some(covered) => self.image_update(&frame, viewport, covered)?,
+            None => {
+                // Text only: kitty's image is deleted; sixel and iTerm2
+                // pixels are covered by the text cells drawn meanwhile.
+                match self.shown.take() {
+                    Some(s) => {
+                        set_cleanup(&[]);
+                        if s.format == Format::Kitty {
+                            kitty_delete(passthrough)
+                        } else {
+                            Vec::new()
+                        }
+                    }
+                    None => Vec::new(),
+                }
             }
-            self.shown = None;
-            set_cleanup(&[]);
+        };
+        if !bytes.is_empty() {
+            terminal.backend_mut().write_raw(&bytes)?;
         }
-        if show && (frame.new_picture || self.shown != Some((viewport, format))) {
+        Ok(())
+    }
+
+    /// The image bytes of a pixel frame whose picture area has `covered`
+    /// cells under text (a panel, the help, a message):
+    ///
+    /// - a new picture, area or format: the image is sent; kitty shows the
+    ///   uncovered cells as placements of it, sixel and iTerm2 are sent
+    ///   only over the uncovered cells (the panel's text stays);
+    /// - the same picture under other cells: kitty's placements are
+    ///   replaced (no pixels sent); sixel and iTerm2 send the cells a panel
+    ///   left, the cells a panel now covers being text drawn over the image;
+    /// - nothing changed: nothing.
+    fn image_update(
+        &mut self,
+        frame: &PixelFrame,
+        area: Rect,
+        covered: Vec<bool>,
+    ) -> io::Result<Vec<u8>> {
+        let format = frame.output.format();
+        let passthrough = frame.output.choice.passthrough;
+        let same_place = self
+            .shown
+            .as_ref()
+            .is_some_and(|s| s.area == area && s.format == format);
+        let mut out = Vec::new();
+        let open = rectangles(&covered, area, false);
+        if frame.new_picture || !same_place {
             let send = match (format, frame.preview) {
                 (Format::Kitty | Format::Iterm, Some(p)) => p,
-                _ => fb,
+                _ => frame.fb,
             };
-            let passthrough = frame.output.choice.passthrough;
-            bytes.extend(image_bytes(
-                send,
-                format,
-                viewport,
-                frame.look.dither,
-                passthrough,
-            )?);
-            self.shown = Some((viewport, format));
+            let image = (send.width(), send.height());
+            let had_parts = self
+                .shown
+                .as_ref()
+                .is_some_and(|s| s.format == Format::Kitty && s.covered.contains(&true));
+            if format == Format::Kitty && (had_parts || covered.contains(&true)) {
+                // The placements of the last image go first (kitty drops
+                // them with the image it replaces; said for any terminal).
+                push_kitty(kitty::DELETE_PLACEMENTS, passthrough, &mut out);
+            }
+            if !covered.contains(&true) {
+                out.extend(image_bytes(
+                    send,
+                    format,
+                    area,
+                    frame.look.dither,
+                    passthrough,
+                )?);
+            } else if format == Format::Kitty {
+                let mut seq = Vec::new();
+                kitty::write_data(send, &mut seq)?;
+                push_kitty(&seq, passthrough, &mut out);
+                kitty_placements(&open, area, image, passthrough, &mut out)?;
+            } else {
+                let cell = self.image_cell(frame, area, image);
+                for r in &open {
+                    part_bytes(
+                        send,
+                        format,
+                        area,
+                        cell,
+                        *r,
+                        frame.look.dither,
+                        passthrough,
+                        &mut out,
+                    )?;
+                }
+            }
             set_cleanup(&if format == Format::Kitty {
                 kitty_delete(passthrough)
             } else {
                 Vec::new()
             });
+            self.shown = Some(Shown {
+                area,
+                format,
+                image,
+                covered,
+            });
+            return Ok(out);
         }
-        if !bytes.is_empty() {
-            terminal.backend_mut().write_raw(&bytes)?;
+        let Some(shown) = self.shown.as_mut() else {
+            return Ok(out);
+        };
+        if shown.covered == covered {
+            return Ok(out);
         }
-        Ok(())
+        if format == Format::Kitty {
+            push_kitty(kitty::DELETE_PLACEMENTS, passthrough, &mut out);
+            kitty_placements(&open, area, shown.image, passthrough, &mut out)?;
+        } else {
+            // Cells a panel left: the picture again over them.
+            let left: Vec<bool> = shown
+                .covered
+                .iter()
+                .zip(&covered)
+                .map(|(&was, &now)| was && !now)
+                .collect();
+            let image = shown.image;
+            let cell = self.image_cell(frame, area, image);
+            for r in rectangles(&left, area, true) {
+                part_bytes(
+                    frame.fb,
+                    format,
+                    area,
+                    cell,
+                    r,
+                    frame.look.dither,
+                    passthrough,
+                    &mut out,
+                )?;
+            }
+        }
+        if let Some(shown) = self.shown.as_mut() {
+            shown.covered = covered;
+        }
+        Ok(out)
+    }
+
+    /// The pixels of one cell of a sixel image over `area`: the image's own
+    /// when it fills the area's cells exactly (the usual case), else (a
+    /// frame scaled down within [`MAX_PIXELS`]) the terminal's cell size.
+    fn image_cell(&self, frame: &PixelFrame, area: Rect, image: (usize, usize)) -> (usize, usize) {
+        let (cols, rows) = (usize::from(area.width), usize::from(area.height));
+        if image.0.is_multiple_of(cols) && image.1.is_multiple_of(rows) {
+            (image.0 / cols, image.1 / rows)
+        } else {
+            let (c, _) = cell_pixels(window_size(), frame.output.cell_reply);
+            (usize::from(c.0.max(1)), usize::from(c.1.max(1)))
+        }
     }
 
     /// The screen is new (after Ctrl-Z): nothing of ours is on it.
@@ -474,14 +617,133 @@ impl PixelView {
 
     /// Where an image is shown, if one is.
     pub fn shown(&self) -> Option<(Rect, Format)> {
-        self.shown
+        self.shown.as_ref().map(|s| (s.area, s.format))
     }
 }
 
-/// Marks the picture's cells in `buf` as skipped by the diff when they
-/// all still hold the picture's text (nothing drawn over them); false
-/// (and nothing marked) when something covers them.
-fn skip_picture(buf: &mut Buffer, viewport: Rect, fb: &Framebuffer, look: TextLook) -> bool {
+/// Exact tiling of the cells of `area` whose flag in `cells` (row by row)
+/// is `which`, by rectangles: each row's runs, a run extending the
+/// rectangle above it when it spans the same columns. A panel over the
+/// picture leaves at most four.
+pub fn rectangles(cells: &[bool], area: Rect, which: bool) -> Vec<Rect> {
+    let (w, h) = (usize::from(area.width), usize::from(area.height));
+    let mut done = Vec::new();
+    // Rectangles reaching the row above.
+    let mut open: Vec<Rect> = Vec::new();
+    for y in 0..h {
+        let row = &cells[y * w..(y + 1) * w];
+        let mut next = Vec::new();
+        let mut x = 0;
+        while x < w {
+            if row[x] != which {
+                x += 1;
+                continue;
+            }
+            let start = x;
+            while x < w && row[x] == which {
+                x += 1;
+            }
+            let (left, width) = (area.x + start as u16, (x - start) as u16);
+            match open.iter().position(|r| r.x == left && r.width == width) {
+                Some(i) => {
+                    let mut r = open.swap_remove(i);
+                    r.height += 1;
+                    next.push(r);
+                }
+                None => next.push(Rect::new(left, area.y + y as u16, width, 1)),
+            }
+        }
+        done.append(&mut open);
+        open = next;
+    }
+    done.append(&mut open);
+    done.sort_by_key(|r| (r.y, r.x));
+    done
+}
+
+/// The pixels of an `image` stretched over `area` under the cells `r`:
+/// left, top, width, height (at least one pixel each way, within the
+/// image; neighbouring cells share their edges, so a tiling of cells is a
+/// tiling of pixels).
+pub fn source_rect(image: (usize, usize), area: Rect, r: Rect) -> kitty::Source {
+    let (w, h) = (image.0.max(1), image.1.max(1));
+    let (cols, rows) = (
+        usize::from(area.width.max(1)),
+        usize::from(area.height.max(1)),
+    );
+    let edge = |cell: u16, origin: u16, cells: usize, size: usize| {
+        (usize::from(cell - origin) * size / cells).min(size - 1)
+    };
+    let x0 = edge(r.x, area.x, cols, w);
+    let y0 = edge(r.y, area.y, rows, h);
+    let x1 = (usize::from(r.right() - area.x) * w / cols).max(x0 + 1);
+    let y1 = (usize::from(r.bottom() - area.y) * h / rows).max(y0 + 1);
+    [x0, y0, x1 - x0, y1 - y0]
+}
+
+/// kitty placements of the image (of `image` pixels, stretched over
+/// `area`) over the cells `open`, numbered from 1: the whole image as one
+/// placement when nothing is covered.
+fn kitty_placements(
+    open: &[Rect],
+    area: Rect,
+    image: (usize, usize),
+    passthrough: bool,
+    out: &mut Vec<u8>,
+) -> io::Result<()> {
+    for (i, r) in open.iter().enumerate() {
+        let mut seq = Vec::new();
+        kitty::write_placement(
+            i as u32 + 1,
+            source_rect(image, area, *r),
+            (r.width, r.height),
+            &mut seq,
+        )?;
+        place(*r, out);
+        push_kitty(&seq, passthrough, out);
+    }
+    Ok(())
+}
+
+/// The part of `fb` under the cells `r` as its own sixel or iTerm2 image
+/// placed at `r`'s top-left cell: sixel at its own pixels (`cell` pixels a
+/// cell, clipped to the image), iTerm2 stretched over `r`'s cells.
+#[allow(clippy::too_many_arguments)]
+fn part_bytes(
+    fb: &Framebuffer,
+    format: Format,
+    area: Rect,
+    cell: (usize, usize),
+    r: Rect,
+    dither: bool,
+    passthrough: bool,
+    out: &mut Vec<u8>,
+) -> io::Result<()> {
+    let [x, y, w, h] = match format {
+        Format::Sixels => {
+            let x0 = (usize::from(r.x - area.x) * cell.0).min(fb.width());
+            let y0 = (usize::from(r.y - area.y) * cell.1).min(fb.height());
+            let x1 = (usize::from(r.right() - area.x) * cell.0).min(fb.width());
+            let y1 = (usize::from(r.bottom() - area.y) * cell.1).min(fb.height());
+            [x0, y0, x1 - x0, y1 - y0]
+        }
+        _ => source_rect((fb.width(), fb.height()), area, r),
+    };
+    if w == 0 || h == 0 {
+        return Ok(());
+    }
+    let mut part = Framebuffer::new(w, h);
+    for row in 0..h {
+        part.pixels_mut()[row * w..(row + 1) * w].copy_from_slice(&fb.row(y + row)[x..x + w]);
+    }
+    out.extend(image_bytes(&part, format, r, dither, passthrough)?);
+    Ok(())
+}
+
+/// Marks the picture's cells in `buf` that still hold the picture's text
+/// (nothing drawn over them) as skipped by the diff, so the image there
+/// stays; returns the others, drawn over (true), row by row.
+fn skip_picture(buf: &mut Buffer, viewport: Rect, fb: &Framebuffer, look: TextLook) -> Vec<bool> {
     let mut text = Buffer::empty(viewport);
     SymbolCells {
         fb,
@@ -491,19 +753,17 @@ fn skip_picture(buf: &mut Buffer, viewport: Rect, fb: &Framebuffer, look: TextLo
         pad: look.pad,
     }
     .render(viewport, &mut text);
+    let mut covered = Vec::with_capacity(viewport.area() as usize);
     for y in viewport.top()..viewport.bottom() {
         for x in viewport.left()..viewport.right() {
-            if buf[(x, y)] != text[(x, y)] {
-                return false;
+            let over = buf[(x, y)] != text[(x, y)];
+            if !over {
+                buf[(x, y)].set_diff_option(ratatui::buffer::CellDiffOption::Skip);
             }
+            covered.push(over);
         }
     }
-    for y in viewport.top()..viewport.bottom() {
-        for x in viewport.left()..viewport.right() {
-            buf[(x, y)].set_diff_option(ratatui::buffer::CellDiffOption::Skip);
-        }
-    }
-    true
+    covered
 }
 
 #[cfg(test)]
@@ -543,6 +803,78 @@ mod tests {
         // Never below an eighth, never above half.
         assert_eq!(preview_size(800, 600, u64::MAX, 1.0), (100, 75));
         assert_eq!(preview_size(800, 600, 10, 1e9), (400, 300));
+    }
+
+    /// The cells of `area` (row by row) inside any of `panels`.
+    fn mask(area: Rect, panels: &[Rect]) -> Vec<bool> {
+        let mut m = Vec::new();
+        for y in area.top()..area.bottom() {
+            for x in area.left()..area.right() {
+                m.push(panels.iter().any(|p| p.contains((x, y).into())));
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn rectangles_tile_exactly_the_cells_asked_for() {
+        let area = Rect::new(2, 1, 20, 10);
+        // A centred panel: the band above, left, right and the band below.
+        let help = Rect::new(7, 4, 8, 3);
+        let m = mask(area, &[help]);
+        let open = rectangles(&m, area, false);
+        assert_eq!(
+            open,
+            vec![
+                Rect::new(2, 1, 20, 3),
+                Rect::new(2, 4, 5, 3),
+                Rect::new(15, 4, 7, 3),
+                Rect::new(2, 7, 20, 4),
+            ]
+        );
+        assert_eq!(rectangles(&m, area, true), vec![help]);
+        // Two panels, one at a corner and one overlapping it: every cell
+        // of the area once, in a rectangle of its own kind.
+        let panels = [Rect::new(10, 1, 12, 5), Rect::new(4, 3, 9, 6)];
+        let m = mask(area, &panels);
+        let mut seen = vec![0; m.len()];
+        for which in [false, true] {
+            for r in rectangles(&m, area, which) {
+                for y in r.top()..r.bottom() {
+                    for x in r.left()..r.right() {
+                        let i = usize::from(y - area.y) * 20 + usize::from(x - area.x);
+                        assert_eq!(m[i], which, "{r:?}");
+                        seen[i] += 1;
+                    }
+                }
+            }
+        }
+        assert!(seen.iter().all(|&n| n == 1));
+        assert!(rectangles(&[false; 200], area, true).is_empty());
+        assert_eq!(rectangles(&[false; 200], area, false), vec![area]);
+    }
+
+    #[test]
+    fn source_rectangles_follow_the_cells_and_share_their_edges() {
+        let area = Rect::new(0, 0, 60, 12);
+        // 8×16 pixels a cell: whole cells of pixels.
+        assert_eq!(
+            source_rect((480, 192), area, Rect::new(16, 2, 44, 10)),
+            [128, 32, 352, 160]
+        );
+        // A preview of 100 × 30 pixels stretched over the cells: edges at
+        // ⌊cell · 100 / 60⌋ and ⌊cell · 30 / 12⌋; neighbours meet.
+        let left = source_rect((100, 30), area, Rect::new(0, 0, 16, 12));
+        let right = source_rect((100, 30), area, Rect::new(16, 0, 44, 5));
+        let below = source_rect((100, 30), area, Rect::new(16, 5, 44, 7));
+        assert_eq!(left, [0, 0, 26, 30]);
+        assert_eq!(right, [26, 0, 74, 12]);
+        assert_eq!(below, [26, 12, 74, 18]);
+        // Never empty (kitty reads a width of 0 as the whole image).
+        assert_eq!(
+            source_rect((30, 6), area, Rect::new(1, 1, 1, 1)),
+            [0, 0, 1, 1]
+        );
     }
 
     #[test]

@@ -157,10 +157,9 @@ fn key_value(keys: &str, name: &str) -> usize {
 
 /// The kitty frame decodes to the rendered picture, is placed at the
 /// picture's top-left over its 60×12 cells, is sent once (the status
-/// refresh after it does not resend it), a panel over the picture deletes
-/// it and closing the panel sends it again; the guard's clean-up then
+/// refresh after it does not resend it); the guard's clean-up then
 /// deletes it; switching to sixel deletes it at once and draws a sixel
-/// image that decodes to the picture.
+/// image that decodes to the picture. (Panels over it: below.)
 #[test]
 fn the_view_sends_kitty_frames_that_decode_to_the_picture_and_deletes_them() {
     let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
@@ -191,20 +190,6 @@ fn the_view_sends_kitty_frames_that_decode_to_the_picture_and_deletes_them() {
     assert_eq!(count(&bytes, kitty::DELETE), 0);
     assert_eq!(pixel_view::take_cleanup(), kitty::DELETE, "deleted on exit");
     assert!(pixel_view::take_cleanup().is_empty(), "once");
-
-    // The cost panel (44 columns) over the picture: text, the image
-    // deleted; closed: sent again.
-    let (bytes, _, _) = run(output(Format::Kitty), vec![key('k'), key('k')]);
-    let del = find(&bytes, kitty::DELETE).expect("deleted under the panel");
-    let images: Vec<usize> = bytes
-        .windows(6)
-        .enumerate()
-        .filter(|(_, w)| *w == b"\x1b_Ga=T")
-        .map(|(i, _)| i)
-        .collect();
-    assert!(images.iter().any(|&i| i > del), "{images:?} {del}");
-    assert!(count(&bytes, "▀".as_bytes()) + count(&bytes, "▄".as_bytes()) > 0);
-    let _ = pixel_view::take_cleanup();
 
     // U: kitty → sixels; the kitty image goes, a sixel image comes.
     let (bytes, sizes, state) = run(output(Format::Kitty), vec![key('U')]);
@@ -492,4 +477,652 @@ fn pixel_previews_shrink_over_a_slow_link_and_the_exact_frame_follows() {
         "the exact frame last: {widths:?}"
     );
     let _ = pixel_view::take_cleanup();
+}
+
+/// A placement of the kitty image: the cells it covers and the image's
+/// pixels it shows there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Placement {
+    cells: Rect,
+    source: [usize; 4],
+}
+
+/// What a terminal shows of the loop's output, replayed: the cursor, which
+/// cells last got text, the sixel pixels (last writer wins per cell: text
+/// written into a cell hides its pixels, pixels drawn hide its text), and
+/// kitty's image data and placements (drawn over the text).
+struct Replay {
+    cols: usize,
+    rows: usize,
+    cell: (usize, usize),
+    x: usize,
+    y: usize,
+    /// The cell shows text (not sixel pixels).
+    text: Vec<bool>,
+    /// Sixel pixels of the whole screen.
+    canvas: Vec<Option<[u8; 3]>>,
+    /// kitty's image: width, height, RGB bytes.
+    image: Option<(usize, usize, Vec<u8>)>,
+    placements: std::collections::BTreeMap<usize, Placement>,
+    /// Images sent (kitty data, sixel or iTerm2 images), in pixels.
+    sent_pixels: usize,
+    /// A kitty transmission spread over chunks: its keys and payload.
+    chunks: Option<(String, String)>,
+}
+
+impl Replay {
+    fn new(cols: usize, rows: usize, cell: (usize, usize)) -> Self {
+        Replay {
+            cols,
+            rows,
+            cell,
+            x: 0,
+            y: 0,
+            text: vec![true; cols * rows],
+            canvas: vec![None; cols * rows * cell.0 * cell.1],
+            image: None,
+            placements: Default::default(),
+            sent_pixels: 0,
+            chunks: None,
+        }
+    }
+
+    /// The end of the sequence starting at `i` (after its `ESC \` or BEL).
+    fn string_end(bytes: &[u8], i: usize) -> usize {
+        let mut j = i + 2;
+        while j < bytes.len() {
+            if bytes[j] == 0x07 {
+                return j + 1;
+            }
+            if bytes[j] == 0x1b && bytes.get(j + 1) == Some(&b'\\') {
+                return j + 2;
+            }
+            j += 1;
+        }
+        panic!("unterminated string sequence at {i}");
+    }
+
+    fn feed(&mut self, bytes: &[u8]) {
+        let mut i = 0;
+        while i < bytes.len() {
+            match bytes[i] {
+                0x1b => match bytes[i + 1] {
+                    b'[' => {
+                        let mut j = i + 2;
+                        while !(0x40..=0x7e).contains(&bytes[j]) {
+                            j += 1;
+                        }
+                        let params = std::str::from_utf8(&bytes[i + 2..j]).unwrap();
+                        let p: Vec<usize> =
+                            params.split(';').map(|n| n.parse().unwrap_or(0)).collect();
+                        match bytes[j] {
+                            b'H' => {
+                                self.y = p[0].max(1) - 1;
+                                self.x = p.get(1).copied().unwrap_or(1).max(1) - 1;
+                            }
+                            b'C' => self.x += p[0].max(1),
+                            b'J' if params == "2" => {
+                                self.text.fill(true);
+                                self.canvas.fill(None);
+                            }
+                            _ => {}
+                        }
+                        i = j + 1;
+                    }
+                    b'_' => {
+                        let end = Self::string_end(bytes, i);
+                        self.kitty(std::str::from_utf8(&bytes[i + 3..end - 2]).unwrap());
+                        i = end;
+                    }
+                    b'P' => {
+                        let end = Self::string_end(bytes, i);
+                        let (w, h, pixels) = decode_sixel(&bytes[i..end]);
+                        self.sent_pixels += w * h;
+                        let (x0, y0) = (self.x * self.cell.0, self.y * self.cell.1);
+                        let width = self.cols * self.cell.0;
+                        for y in 0..h {
+                            for x in 0..w {
+                                if let Some(p) = pixels[y * w + x] {
+                                    self.canvas[(y0 + y) * width + x0 + x] = Some(p);
+                                    let c =
+                                        (y0 + y) / self.cell.1 * self.cols + (x0 + x) / self.cell.0;
+                                    self.text[c] = false;
+                                }
+                            }
+                        }
+                        i = end;
+                    }
+                    b']' => {
+                        let end = Self::string_end(bytes, i);
+                        self.sent_pixels += 1;
+                        i = end;
+                    }
+                    other => panic!("unexpected ESC {}", other as char),
+                },
+                b'\r' => {
+                    self.x = 0;
+                    i += 1;
+                }
+                b'\n' => {
+                    self.y += 1;
+                    i += 1;
+                }
+                b => {
+                    // One character: the cell gets text.
+                    let len = match b {
+                        0..=0x7f => 1,
+                        0xc0..=0xdf => 2,
+                        0xe0..=0xef => 3,
+                        _ => 4,
+                    };
+                    assert!(
+                        self.x < self.cols && self.y < self.rows,
+                        "text off the screen"
+                    );
+                    self.text[self.y * self.cols + self.x] = true;
+                    self.x += 1;
+                    i += len;
+                }
+            }
+        }
+    }
+
+    /// One kitty command (between `ESC _G` and `ESC \`).
+    fn kitty(&mut self, body: &str) {
+        let (keys, data) = body.split_once(';').unwrap_or((body, ""));
+        let value = |name: &str| -> Option<String> {
+            keys.split(',')
+                .find_map(|k| k.strip_prefix(&format!("{name}=")))
+                .map(str::to_string)
+        };
+        let number = |name: &str| value(name).map_or(0, |v| v.parse::<usize>().unwrap());
+        if let Some((first, payload)) = self.chunks.as_mut() {
+            payload.push_str(data);
+            if number("m") == 0 {
+                let (first, payload) = (first.clone(), payload.clone());
+                self.chunks = None;
+                self.transmitted(&first, &payload);
+            }
+            return;
+        }
+        match value("a").as_deref() {
+            Some("T") | Some("t") => {
+                if number("m") == 1 {
+                    self.chunks = Some((keys.to_string(), data.to_string()));
+                } else {
+                    self.transmitted(keys, data);
+                }
+            }
+            Some("p") => {
+                assert_eq!(number("i"), kitty::IMAGE_ID as usize);
+                self.place(
+                    number("p"),
+                    [number("x"), number("y"), number("w"), number("h")],
+                    (number("c"), number("r")),
+                );
+            }
+            Some("d") => {
+                assert_eq!(number("i"), kitty::IMAGE_ID as usize);
+                self.placements.clear();
+                if value("d").as_deref() == Some("I") {
+                    self.image = None;
+                }
+            }
+            other => panic!("unexpected kitty action {other:?}"),
+        }
+    }
+
+    /// A whole kitty transmission: the image replaces the last one and its
+    /// placements (kitty's rule); `a=T` also places it.
+    fn transmitted(&mut self, keys: &str, payload: &str) {
+        let value = |name: &str| key_value(keys, name);
+        let packed = base64::engine::general_purpose::STANDARD
+            .decode(payload)
+            .unwrap();
+        let mut raw = Vec::new();
+        flate2::read::ZlibDecoder::new(&packed[..])
+            .read_to_end(&mut raw)
+            .unwrap();
+        let (w, h) = (value("s"), value("v"));
+        assert_eq!(raw.len(), w * h * 3);
+        self.sent_pixels += w * h;
+        self.image = Some((w, h, raw));
+        self.placements.clear();
+        if keys.starts_with("a=T") {
+            self.place(value("p"), [0, 0, 0, 0], (value("c"), value("r")));
+        }
+    }
+
+    fn place(&mut self, id: usize, source: [usize; 4], cells: (usize, usize)) {
+        let (iw, ih, _) = self.image.as_ref().expect("placing an image sent before");
+        // kitty's defaults: no width or height is the rest of the image.
+        let [x, y, w, h] = source;
+        let w = if w == 0 { iw - x } else { w };
+        let h = if h == 0 { ih - y } else { h };
+        assert!(x + w <= *iw && y + h <= *ih, "source within the image");
+        let cells = Rect::new(self.x as u16, self.y as u16, cells.0 as u16, cells.1 as u16);
+        self.placements.insert(
+            id,
+            Placement {
+                cells,
+                source: [x, y, w, h],
+            },
+        );
+    }
+
+    /// What the kitty placements show at pixel (x, y) of the screen, when
+    /// one covers it (each placement scaled from its source to its cells).
+    fn kitty_pixel(&self, x: usize, y: usize) -> Option<[u8; 3]> {
+        let (iw, _, data) = self.image.as_ref()?;
+        let (cx, cy) = (x / self.cell.0, y / self.cell.1);
+        let p = self
+            .placements
+            .values()
+            .find(|p| p.cells.contains((cx as u16, cy as u16).into()))?;
+        let [sx, sy, sw, sh] = p.source;
+        let (px, py) = (
+            x - usize::from(p.cells.x) * self.cell.0,
+            y - usize::from(p.cells.y) * self.cell.1,
+        );
+        let u = sx + px * sw / (usize::from(p.cells.width) * self.cell.0);
+        let v = sy + py * sh / (usize::from(p.cells.height) * self.cell.1);
+        let i = (v * iw + u) * 3;
+        Some([data[i], data[i + 1], data[i + 2]])
+    }
+
+    /// The cells the kitty placements cover, each counted once per
+    /// placement.
+    fn placed_cells(&self) -> Vec<usize> {
+        let mut n = vec![0; self.cols * self.rows];
+        for p in self.placements.values() {
+            for y in p.cells.top()..p.cells.bottom() {
+                for x in p.cells.left()..p.cells.right() {
+                    n[usize::from(y) * self.cols + usize::from(x)] += 1;
+                }
+            }
+        }
+        n
+    }
+}
+
+/// The bytes of each frame (from one start of a synchronized update to the
+/// next).
+fn frames(bytes: &[u8]) -> Vec<&[u8]> {
+    let mark = relief::term::backend::BEGIN_SYNC;
+    let starts: Vec<usize> = bytes
+        .windows(mark.len())
+        .enumerate()
+        .filter(|(_, w)| *w == mark)
+        .map(|(i, _)| i)
+        .collect();
+    let mut out = vec![&bytes[..starts[0]]];
+    for (k, &s) in starts.iter().enumerate() {
+        out.push(&bytes[s..starts.get(k + 1).copied().unwrap_or(bytes.len())]);
+    }
+    out
+}
+
+/// A picture of few colours (sixel shows each exactly, up to its 1 %
+/// steps) that changes with the rotation.
+fn few_colours(s: &State, fb: &mut Framebuffer) {
+    let turn = (s.settings.rotation.y.to_bits() % 7) as usize;
+    for y in 0..fb.height() {
+        for x in 0..fb.width() {
+            fb.set(
+                x,
+                y,
+                [
+                    (x / 8 % 8 * 32) as u8,
+                    (y / 16 % 8 * 32) as u8,
+                    (turn * 36) as u8,
+                ],
+            );
+        }
+    }
+}
+
+/// Runs the loop on an 80×30 screen with `format`, `msgs` one after each
+/// frame; returns the bytes and the last exact picture.
+fn run_panels(format: Format, msgs: Vec<Msg>) -> (Vec<u8>, Framebuffer) {
+    let (tx, rx) = mpsc::channel();
+    let feeder = Feeder {
+        out: Vec::new(),
+        tx,
+        next: msgs.into(),
+    };
+    let mut term = Terminal::new(SgrBackend::with_size(feeder, 80, 30)).unwrap();
+    let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
+    state.output = output(format);
+    let mut last = Framebuffer::new(0, 0);
+    Looper {
+        terminal: &mut term,
+        render: |s: &State, fb: &mut Framebuffer| {
+            few_colours(s, fb);
+            // The exact picture, not a smaller preview.
+            if fb.width() >= last.width() {
+                last = fb.clone();
+            }
+            relief::FrameStats::default()
+        },
+        background: [0, 0, 0],
+        rx: &rx,
+        textures: None,
+        stage: None,
+        pacer: relief::term::pacing::Pacer::by_writes(),
+    }
+    .run(&mut state)
+    .unwrap();
+    (term.backend().writer().out.clone(), last)
+}
+
+/// The cost panel's cells on an 80×30 screen: 44 × 18 at the top right of
+/// the 80 × 28 picture.
+const COST_PANEL: Rect = Rect::new(36, 0, 44, 18);
+const PICTURE: Rect = Rect::new(0, 0, 80, 28);
+
+fn right() -> Msg {
+    Msg::Input(Event::Key(KeyEvent::new(
+        KeyCode::Right,
+        KeyModifiers::NONE,
+    )))
+}
+
+/// kitty under the cost panel: the image stays as placements of the image
+/// already sent, tiling exactly the cells around the panel (each showing
+/// its own pixels); opening and closing the panel sends no pixels; a new
+/// picture under the panel is sent once and placed around it; closing
+/// leaves one placement showing the whole picture.
+#[test]
+fn under_a_panel_kitty_shows_the_picture_around_it_without_sending_it_again() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
+    let _ = pixel_view::take_cleanup();
+    let keys = vec![key('k'), key('k'), key('k'), right(), key('k')];
+    let (bytes, last) = run_panels(Format::Kitty, keys);
+    let (w, h) = (last.width(), last.height());
+    let mut screen = Replay::new(80, 30, (w / 80, h / 28));
+    // Per frame: pixels sent, and whether the panel was open.
+    let mut seen = Vec::new();
+    for frame in frames(&bytes) {
+        let before = screen.sent_pixels;
+        screen.feed(frame);
+        if screen.image.is_none() {
+            continue;
+        }
+        let panel = screen.placements.len() > 1;
+        seen.push((screen.sent_pixels - before, panel));
+        let placed = screen.placed_cells();
+        for y in 0..28u16 {
+            for x in 0..80u16 {
+                let i = usize::from(y) * 80 + usize::from(x);
+                let under = panel && COST_PANEL.contains((x, y).into());
+                // Every picture cell once: under the panel text, else the image.
+                assert_eq!(placed[i], usize::from(!under), "cell {x},{y}");
+                assert!(!under || screen.text[i]);
+            }
+        }
+        if panel {
+            assert_eq!(screen.placements.len(), 2, "left of the panel and below it");
+        }
+        // Each placement shows its own cells' pixels: its source is its
+        // cells' rectangle at the image's pixels per cell.
+        let (iw, ih, _) = screen.image.as_ref().unwrap();
+        let (sx, sy) = (iw / 80, ih / 28);
+        for p in screen.placements.values() {
+            let c = p.cells;
+            assert_eq!(
+                p.source,
+                [
+                    usize::from(c.x) * sx,
+                    usize::from(c.y) * sy,
+                    usize::from(c.width) * sx,
+                    usize::from(c.height) * sy
+                ]
+            );
+        }
+    }
+    // Opening or closing the panel sends no pixels.
+    for pair in seen.windows(2) {
+        if pair[0].1 != pair[1].1 {
+            assert_eq!(pair[1].0, 0, "{seen:?}");
+        }
+    }
+    let toggles = seen.windows(2).filter(|p| p[0].1 != p[1].1).count();
+    assert_eq!(toggles, 4, "{seen:?}");
+    // Pixels went only with new pictures: the first, then the turned one
+    // (after its half-size preview) under the panel.
+    let sent: Vec<(usize, bool)> = seen.iter().copied().filter(|s| s.0 > 0).collect();
+    assert!(
+        sent == [(w * h, false), (w * h, true)]
+            || sent == [(w * h, false), (w * h / 4, true), (w * h, true)],
+        "{seen:?}"
+    );
+    // After the last key the screen is the last picture, whole.
+    assert_eq!(screen.placements.len(), 1);
+    for y in 0..h {
+        for x in 0..w {
+            assert_eq!(screen.kitty_pixel(x, y), Some(last.get(x, y)), "{x},{y}");
+        }
+    }
+    assert_eq!(pixel_view::take_cleanup(), kitty::DELETE, "deleted on exit");
+}
+
+/// Sixel under the cost panel: the panel's cells are text drawn over the
+/// image, nothing else is sent; closing it sends the panel's rectangle of
+/// the picture only; a new picture under the panel is sent around it; at
+/// the end the screen is the whole last picture again, each pixel as the
+/// terminal shows its colour.
+#[test]
+fn under_a_panel_sixel_sends_only_the_cells_the_panel_leaves() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
+    let keys = vec![key('k'), key('k'), key('k'), right(), key('k')];
+    let (bytes, last) = run_panels(Format::Sixels, keys);
+    let (w, h) = (last.width(), last.height());
+    let cell = (w / 80, h / 28);
+    let panel_pixels =
+        usize::from(COST_PANEL.width) * cell.0 * usize::from(COST_PANEL.height) * cell.1;
+    let mut screen = Replay::new(80, 30, cell);
+    let mut seen = Vec::new();
+    let mut shown_once = false;
+    for frame in frames(&bytes) {
+        let before = screen.sent_pixels;
+        screen.feed(frame);
+        shown_once |= screen.sent_pixels > 0;
+        if !shown_once {
+            continue;
+        }
+        // The panel is open when any picture cell shows text: then exactly
+        // the panel's cells do.
+        let text: Vec<(u16, u16)> = (0..28u16)
+            .flat_map(|y| (0..80u16).map(move |x| (x, y)))
+            .filter(|&(x, y)| screen.text[usize::from(y) * 80 + usize::from(x)])
+            .collect();
+        let panel = !text.is_empty();
+        if panel {
+            assert_eq!(
+                text.len(),
+                usize::from(COST_PANEL.width * COST_PANEL.height)
+            );
+            assert!(
+                text.iter()
+                    .all(|&(x, y)| COST_PANEL.contains((x, y).into()))
+            );
+        }
+        seen.push((screen.sent_pixels - before, panel));
+    }
+    let picture = w * h;
+    for pair in seen.windows(2) {
+        match (pair[0].1, pair[1].1) {
+            // Opened: text over the image, no pixels.
+            (false, true) => assert_eq!(pair[1].0, 0, "{seen:?}"),
+            // Closed: the panel's rectangle of the picture, nothing more.
+            (true, false) => assert_eq!(pair[1].0, panel_pixels, "{seen:?}"),
+            _ => {}
+        }
+    }
+    let toggles = seen.windows(2).filter(|p| p[0].1 != p[1].1).count();
+    assert_eq!(toggles, 4, "{seen:?}");
+    let sent: Vec<(usize, bool)> = seen.iter().copied().filter(|s| s.0 > 0).collect();
+    // The first picture whole; the turned one (its preview enlarged, then
+    // exact) around the panel; twice the panel's rectangle when it closed.
+    let around = (picture - panel_pixels, true);
+    let closed = (panel_pixels, false);
+    assert!(
+        sent == [(picture, false), closed, around, closed]
+            || sent == [(picture, false), closed, around, around, closed],
+        "{seen:?}"
+    );
+    // The screen is the whole last picture.
+    let width = 80 * cell.0;
+    for y in 0..h {
+        for x in 0..w {
+            let want = relief::term::sixel::shown(relief::term::sixel::percent(last.get(x, y)));
+            assert_eq!(screen.canvas[y * width + x], Some(want), "{x},{y}");
+        }
+    }
+    assert!(
+        (0..PICTURE.height).all(|y| (0..PICTURE.width)
+            .all(|x| !screen.text[usize::from(y) * 80 + usize::from(x)]))
+    );
+}
+
+/// The terminal resized while the cost panel is open, drawn by the view
+/// and [`PixelView`] on the real backend: the new picture is sent at the
+/// new size around the panel at its new place (kitty: placements tiling
+/// the cells around it; sixel: pixels everywhere but the panel's text).
+#[test]
+fn a_resize_with_a_panel_open_sends_the_new_picture_around_the_panel() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
+    for format in [Format::Kitty, Format::Sixels] {
+        let mut term = Terminal::new(SgrBackend::with_size(Vec::new(), 80, 30)).unwrap();
+        let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
+        state.output = output(format);
+        state.cost_panel = true;
+        let mut view = PixelView::new();
+        // 8 × 16 pixels a cell.
+        let mut draw = |term: &mut Terminal<SgrBackend<Vec<u8>>>, cols: u16, rows: u16| {
+            let area = relief::app::view::areas(Rect::new(0, 0, cols, rows)).viewport;
+            let mut fb =
+                Framebuffer::new(usize::from(area.width) * 8, usize::from(area.height) * 16);
+            let (w, h) = (fb.width(), fb.height());
+            for y in 0..h {
+                for x in 0..w {
+                    fb.set(x, y, pattern(x, y, w, h));
+                }
+            }
+            let frame = pixel_view::PixelFrame {
+                output: &state.output,
+                fb: &fb,
+                preview: None,
+                new_picture: true,
+                look: pixel_view::TextLook {
+                    symbols: state.symbols,
+                    depth: state.depth,
+                    dither: false,
+                    pad: [0, 0, 0],
+                },
+            };
+            term.backend_mut().begin_frame().unwrap();
+            view.draw(term, frame, area, |f, pic| {
+                relief::app::view(f, &state, pic, [0, 0, 0])
+            })
+            .unwrap();
+            term.backend_mut().end_frame().unwrap();
+            (area, fb)
+        };
+        draw(&mut term, 80, 30);
+        let first = term.backend().writer().len();
+        term.backend_mut().set_fixed_size(70, 26);
+        let (area, fb) = draw(&mut term, 70, 26);
+        assert_eq!(area, Rect::new(0, 0, 70, 24));
+        let panel = Rect::new(26, 0, 44, 18);
+        let bytes = term.backend().writer().clone();
+        let resized = &bytes[first..];
+        assert!(
+            find(resized, b"\x1b[2J").is_some(),
+            "{format:?}: the screen cleared"
+        );
+        let mut screen = Replay::new(80, 30, (8, 16));
+        screen.feed(&bytes);
+        for y in 0..24u16 {
+            for x in 0..70u16 {
+                let i = usize::from(y) * 80 + usize::from(x);
+                let under = panel.contains((x, y).into());
+                if format == Format::Kitty {
+                    assert_eq!(screen.placed_cells()[i], usize::from(!under), "{x},{y}");
+                    let px = (usize::from(x) * 8 + 3, usize::from(y) * 16 + 5);
+                    let want = (!under).then(|| fb.get(px.0, px.1));
+                    assert_eq!(screen.kitty_pixel(px.0, px.1), want, "{x},{y}");
+                } else {
+                    assert_eq!(screen.text[i], under, "{x},{y}");
+                }
+            }
+        }
+        if format == Format::Kitty {
+            assert_eq!(screen.image.as_ref().map(|i| (i.0, i.1)), Some((560, 384)));
+        }
+        let _ = pixel_view::take_cleanup();
+    }
+}
+
+/// An iTerm2 image: the cell it is placed at, its width and height in
+/// cells, its pixels.
+type ItermImage = ((usize, usize), (usize, usize), image::RgbImage);
+
+/// The iTerm2 images in `bytes` (each placed by the cursor move before it).
+fn iterm_images(bytes: &[u8]) -> Vec<ItermImage> {
+    let text = String::from_utf8_lossy(bytes);
+    let mut out = Vec::new();
+    let mut rest = &text[..];
+    while let Some(at) = rest.find("\x1b]1337;File=") {
+        let before = &rest[..at];
+        let mv = &before[before.rfind("\x1b[").unwrap() + 2..before.len() - 1];
+        let (row, col) = mv.split_once(';').unwrap_or((mv, "1"));
+        let cell = (
+            col.parse::<usize>().unwrap() - 1,
+            row.parse::<usize>().unwrap() - 1,
+        );
+        let body = &rest[at..];
+        let end = body.find('\x07').unwrap();
+        let (keys, data) = body[..end].split_once(':').unwrap();
+        let number = |name: &str| -> usize {
+            keys.split(';')
+                .find_map(|k| k.strip_prefix(&format!("{name}=")))
+                .unwrap()
+                .parse()
+                .unwrap()
+        };
+        let png = base64::engine::general_purpose::STANDARD
+            .decode(data)
+            .unwrap();
+        let img = image::load_from_memory(&png).unwrap().to_rgb8();
+        out.push((cell, (number("width"), number("height")), img));
+        rest = &body[end..];
+    }
+    out
+}
+
+/// iTerm2 under the cost panel: opening it sends no image; closing it
+/// sends one, of the panel's cells only, stretched over them, holding the
+/// picture's pixels there.
+#[test]
+fn under_a_panel_iterm_sends_the_panels_cells_when_it_closes() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
+    let (bytes, last) = run_panels(Format::Iterm, vec![key('k'), key('k')]);
+    let (w, h) = (last.width(), last.height());
+    let (cw, ch) = (w / 80, h / 28);
+    let per_frame: Vec<_> = frames(&bytes).iter().map(|f| iterm_images(f)).collect();
+    let sent: Vec<usize> = per_frame.iter().map(Vec::len).collect();
+    // The whole picture, then (panel open) nothing, then the panel's part.
+    let first = sent.iter().position(|&n| n > 0).unwrap();
+    assert_eq!(per_frame[first][0].1, (80, 28));
+    let next = first + 1 + sent[first + 1..].iter().position(|&n| n > 0).unwrap();
+    assert!(next > first + 1, "the panel opened with no image: {sent:?}");
+    assert_eq!(sent.iter().sum::<usize>(), 2, "{sent:?}");
+    let (cell, cells, img) = &per_frame[next][0];
+    assert_eq!(*cell, (36, 0));
+    assert_eq!(*cells, (44, 18));
+    assert_eq!(img.dimensions(), (44 * cw as u32, 18 * ch as u32));
+    for (x, y, p) in img.enumerate_pixels() {
+        assert_eq!(p.0, last.get(36 * cw + x as usize, y as usize), "{x},{y}");
+    }
 }
