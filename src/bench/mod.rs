@@ -10,6 +10,7 @@ pub mod anchors;
 pub mod config;
 pub mod figures;
 pub mod font;
+pub mod mesh_anchor;
 pub mod metrics;
 pub mod pareto;
 pub mod plot;
@@ -56,6 +57,15 @@ pub struct BenchArgs {
     /// flat / Gouraud / Phong, 320x240 and 640x480, 1 thread and all).
     #[arg(long)]
     pub anchors: bool,
+    /// With --anchors: time this model file instead, in the view
+    /// docs/tools/llvmpipe_mesh.py draws with llvmpipe (Phong, vertex normals
+    /// and colours, no texture; 320x192 and 640x480, or --size).
+    #[arg(long, value_name = "FILE", requires = "anchors")]
+    pub model: Option<PathBuf>,
+    /// With --model: also write the view at 320x240 (no shadows) as a PNG, to
+    /// compare with llvmpipe's (docs/tools/llvmpipe_mesh.py compare).
+    #[arg(long, value_name = "FILE.png", requires = "model")]
+    pub picture: Option<PathBuf>,
     /// Compare the output modes instead (half, quad, sextant, octant, kitty,
     /// sixels, iterm): bytes of a first frame and of a 2° turn, encode time,
     /// and PSNR / SSIM of what the terminal shows against the full-resolution
@@ -226,6 +236,13 @@ fn output_modes(
 /// the CSV and plot to their files. Returns the report.
 pub fn run(args: &BenchArgs, out: &mut dyn Write, log: &mut dyn Write) -> anyhow::Result<Report> {
     let plan = plan(args);
+    if args.model.is_some() {
+        mesh_anchor::run(args, plan.threads, out, log)?;
+        return Ok(Report {
+            header: Vec::new(),
+            rows: Vec::new(),
+        });
+    }
     if args.anchors {
         anchors::run(args.quick, args.markdown, plan.threads, out, log)?;
         return Ok(Report {

@@ -80,6 +80,8 @@ pub struct Renderer {
     repeats: RepeatCache,
     /// Asked during each frame whether to abandon it.
     cancel: Option<CancelHook>,
+    /// No shadow pass even where the plan asks for one (`set_shadows`).
+    no_shadows: bool,
 }
 
 impl Renderer {
@@ -97,6 +99,14 @@ impl Renderer {
     /// so (`FrameStats::abandoned`); `None`: frames always finish.
     pub fn set_cancel(&mut self, hook: Option<CancelHook>) {
         self.cancel = hook;
+    }
+
+    /// `false`: frames draw no shadow map and light every point as if
+    /// nothing stood between it and the lights, as a renderer without
+    /// shadows does (`relief bench --anchors --model`, to draw what Mesa
+    /// llvmpipe draws). On by default.
+    pub fn set_shadows(&mut self, on: bool) {
+        self.no_shadows = !on;
     }
 
     /// Draws `scene` into `fb` and says what it cost. Output is identical
@@ -135,7 +145,7 @@ impl Renderer {
         self.repeats.update(scene);
         self.world.place(scene, plan.rotation);
         let (shadow, mut counters) = shadow_pass(
-            &mut shadow_map,
+            (!self.no_shadows).then_some(&mut shadow_map),
             scene,
             &self.world,
             plan,
@@ -197,7 +207,7 @@ impl Renderer {
         self.repeats.update(scene);
         self.world.place(scene, plans.plans[0].rotation);
         let (shadow, _) = shadow_pass(
-            &mut shadow_map,
+            (!self.no_shadows).then_some(&mut shadow_map),
             scene,
             &self.world,
             &plans.plans[0],
@@ -573,7 +583,7 @@ impl<'s> FramePlans<'s> {
 /// shadow light, and what drawing it cost.
 #[allow(clippy::too_many_arguments)]
 fn shadow_pass<'a>(
-    map: &'a mut ShadowMap,
+    map: Option<&'a mut ShadowMap>,
     scene: &Scene,
     world: &World,
     plan: &Plan,
@@ -582,7 +592,7 @@ fn shadow_pass<'a>(
     width: usize,
     height: usize,
 ) -> (Option<Shadow<'a>>, Counters) {
-    let Some(light) = plan.shadow_light else {
+    let (Some(light), Some(map)) = (plan.shadow_light, map) else {
         return (None, Counters::default());
     };
     let counters = map.render_placed(

@@ -17,6 +17,8 @@ fn quick_bench_writes_table_csv_and_plot() {
         plot: Some(plot.clone()),
         threads: Some(2),
         anchors: false,
+        model: None,
+        picture: None,
         modes: false,
     };
     let (mut out, mut log) = (Vec::new(), Vec::new());
@@ -106,4 +108,48 @@ fn quick_anchors_bench_prints_every_variant_and_thread_count() {
             assert!(out.contains(&key), "{key} missing in\n{out}");
         }
     }
+}
+
+#[test]
+fn quick_model_anchors_bench_times_the_file_on_each_thread_count() {
+    let dir = std::env::temp_dir().join(format!("relief-bench-model-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("sphere.ply");
+    let ply = bench::mesh_anchor::uv_sphere_ply(8, 16, 1.0, glam::Vec3::ZERO);
+    std::fs::write(&path, ply).unwrap();
+    let args = BenchArgs {
+        quick: true,
+        anchors: true,
+        model: Some(path.clone()),
+        picture: Some(dir.join("view.png")),
+        threads: Some(2),
+        ..Default::default()
+    };
+    let (mut out, mut log) = (Vec::new(), Vec::new());
+    bench::run(&args, &mut out, &mut log).unwrap();
+    let picture = image::open(dir.join("view.png")).unwrap();
+    assert_eq!((picture.width(), picture.height()), (320, 240));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = String::from_utf8(out).unwrap();
+    // 2 · 16 · 7 triangles, a closed surface.
+    assert!(out.contains("224 triangles, closed"), "{out}");
+    for threads in [1, 2] {
+        let key = format!("variant=mesh    size=64x48 threads={threads} ");
+        let line = out
+            .lines()
+            .find(|l| l.starts_with(&key))
+            .unwrap_or_else(|| panic!("{key} missing in\n{out}"));
+        assert!(!line.contains("covered_px=0 "), "{line}");
+    }
+}
+
+#[test]
+fn model_needs_anchors() {
+    use clap::Parser;
+    let parsed = relief::cli::Cli::try_parse_from(["relief", "bench", "--model", "x.ply"]);
+    assert!(parsed.is_err());
+    assert!(
+        relief::cli::Cli::try_parse_from(["relief", "bench", "--anchors", "--model", "x.ply"])
+            .is_ok()
+    );
 }

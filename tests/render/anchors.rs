@@ -99,3 +99,115 @@ fn the_three_way_comparison_finds_every_variant() {
     // The same pair as `phong_agrees_with_llvmpipe_within_3_levels`.
     assert!(rows[2].relief_llvmpipe.max <= 3);
 }
+
+// --- The model-file view (`relief bench --anchors --model`), which
+// docs/tools/llvmpipe_mesh.py draws with llvmpipe: the same fit, camera,
+// lights, vertex colours and Lambert terms, checked here against the
+// analytic sphere they describe.
+
+use relief::Renderer;
+use relief::bench::mesh_anchor;
+use relief::framebuffer::Framebuffer;
+
+/// A UV sphere of radius 3 away from the origin (the fit must move and
+/// scale it to radius 1.5 at the origin), written as the harness writes it,
+/// rendered in the anchor view at 320×240 without shadows.
+fn sphere_frame(name: &str) -> (Framebuffer, relief::Scene) {
+    let dir = std::env::temp_dir().join(format!("relief-mesh-anchor-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.ply"));
+    let centre = glam::Vec3::new(1.0, -2.0, 0.5);
+    std::fs::write(&path, mesh_anchor::uv_sphere_ply(64, 128, 3.0, centre)).unwrap();
+    let scene = mesh_anchor::scene(&path).expect("the sphere loads");
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(scene.objects.len(), 1);
+    assert_eq!(scene.objects[0].mesh.triangles.len(), 2 * 128 * 63);
+    assert!(scene.objects[0].mesh.closed, "back faces are culled");
+    let (w, h) = mesh_anchor::COMPARE_SIZE;
+    let mut fb = Framebuffer::new(w, h);
+    let mut renderer = Renderer::new();
+    renderer.set_shadows(false);
+    let stats = renderer.render(&scene, &mesh_anchor::settings(), &mut fb);
+    assert_eq!(stats.counters.shadow_texels, 0);
+    (fb, scene)
+}
+
+/// The silhouette of a sphere of radius r seen from distance d is a circle
+/// of angular radius asin(r/d); with a vertical field of view of 60° its
+/// radius on the picture is tan(asin(r/d)) / tan(30°) half-heights.
+#[test]
+fn the_model_view_covers_the_analytic_silhouette() {
+    let (fb, scene) = sphere_frame("silhouette");
+    let (w, h) = mesh_anchor::COMPARE_SIZE;
+    let alpha = (1.5f64 / 5.0).asin();
+    let radius_px = alpha.tan() / 30f64.to_radians().tan() * h as f64 / 2.0;
+    let expected = std::f64::consts::PI * radius_px * radius_px; // 13,424 pixels
+    let covered = mesh_anchor::covered(&fb, scene.background) as f64;
+    // The polygon (128 segments, 64 rings) is inscribed: at most 0.1 % smaller.
+    assert!(
+        (covered / expected - 1.0).abs() < 0.005,
+        "covered {covered}, analytic {expected:.0}"
+    );
+    // Centred: the covered pixels' centroid is the picture's centre.
+    let (mut sx, mut sy) = (0.0, 0.0);
+    for (i, p) in fb.pixels().iter().enumerate() {
+        if *p != scene.background {
+            sx += (i % w) as f64 + 0.5;
+            sy += (i / w) as f64 + 0.5;
+        }
+    }
+    assert!((sx / covered - w as f64 / 2.0).abs() < 0.25);
+    assert!((sy / covered - h as f64 / 2.0).abs() < 0.25);
+}
+
+/// The colour the harness computes, by hand: the ray through a pixel
+/// centre meets the sphere of radius 1.5 at P (world); the model point is
+/// P turned back by the rotation 25°, 35°, 0° (X, then Y, then Z); its
+/// colour 0.4 + 0.3·(q/1.5 + 1); the light ambient 0.1 + Σ c·max(0, N·L)
+/// over the four reference lights, N = P/1.5.
+#[test]
+fn the_model_view_shades_as_the_harness_computes() {
+    let (fb, _) = sphere_frame("shading");
+    let (w, h) = mesh_anchor::COMPARE_SIZE;
+    let rotation = relief::scene::rotation_matrix(glam::Vec3::new(25.0, 35.0, 0.0)).as_dmat4();
+    let lights = [
+        ([3.0, 4.0, 6.0], [1.0, 1.0, 1.0]),
+        ([-8.0, 1.0, 3.0], [0.3, 0.0, 0.0]),
+        ([8.0, -2.0, 3.0], [0.0, 0.3, 0.0]),
+        ([0.0, -8.0, 2.0], [0.0, 0.0, 0.3]),
+    ];
+    let tan = 30f64.to_radians().tan();
+    let aspect = w as f64 / h as f64;
+    let mut checked = 0;
+    for (px, py) in [(160, 120), (130, 90), (200, 150), (110, 140), (175, 70)] {
+        let x = ((px as f64 + 0.5) / w as f64 * 2.0 - 1.0) * tan * aspect;
+        let y = (1.0 - (py as f64 + 0.5) / h as f64 * 2.0) * tan;
+        let eye = glam::DVec3::new(0.0, 0.0, 5.0);
+        let dir = glam::DVec3::new(x, y, -1.0).normalize();
+        // |eye + t·dir| = 1.5, nearest t.
+        let b = eye.dot(dir);
+        let t = -b - (b * b - (eye.length_squared() - 2.25)).sqrt();
+        let p = eye + t * dir;
+        let n = p / 1.5;
+        let q = rotation.inverse().transform_point3(p);
+        let mut expected = [0u8; 3];
+        for c in 0..3 {
+            let mut light = 0.1;
+            for (pos, col) in lights {
+                let l = (glam::DVec3::from(pos) - p).normalize();
+                light += col[c] * n.dot(l).max(0.0);
+            }
+            let colour = 0.4 + 0.3 * (q[c] / 1.5 + 1.0);
+            expected[c] = ((colour * light).clamp(0.0, 1.0) * 255.0).round() as u8;
+        }
+        let got = fb.pixels()[py * w + px];
+        for c in 0..3 {
+            assert!(
+                got[c].abs_diff(expected[c]) <= 2,
+                "pixel ({px}, {py}): {got:?}, by hand {expected:?}"
+            );
+        }
+        checked += 1;
+    }
+    assert_eq!(checked, 5);
+}
