@@ -11,6 +11,7 @@ run one after the other and compare as ratios. Not part of relief's build or CI.
     $PY docs/tools/llvmpipe_mesh.py bench /tmp/s1m.ply --threads 1,2
     $PY docs/tools/llvmpipe_mesh.py bench /tmp/s1m.ply --sizes 320x240 --png /tmp/llvmpipe.png
     $PY docs/tools/llvmpipe_mesh.py compare /tmp/relief.png /tmp/llvmpipe.png
+    $PY docs/tools/llvmpipe_mesh.py table relief_1m.txt llvmpipe_1m.txt [more pairs...]
 
 The view (relief's, see src/bench/mesh_anchor.rs):
 - the model is centred on its bounding box and scaled so its farthest vertex is 1.5
@@ -467,6 +468,36 @@ def cmd_compare(args):
           f"{int(np.any(np.abs(a.astype(int) - b.astype(int)) > 2, axis=2)[both].sum())}")
 
 
+def read_rows(path):
+    """The triangle count of the header line and the `key=value` rows of a bench output."""
+    triangles, rows = None, []
+    for line in open(path):
+        if line.startswith(("relief bench", "llvmpipe_mesh.py bench")) and " triangles" in line:
+            triangles = int(line.split(" triangles")[0].rsplit(" ", 1)[1])
+        elif line.startswith("variant="):
+            rows.append(dict(kv.split("=", 1) for kv in line.split()))
+    return triangles, rows
+
+
+def cmd_table(args):
+    """Markdown rows of relief's and llvmpipe's outputs side by side (median, min in parentheses)."""
+    print("| triangles | size | threads | relief | relief + shadow pass | llvmpipe | relief / llvmpipe |")
+    print("|--:|:--|--:|--:|--:|--:|--:|")
+    for relief_path, llvmpipe_path in zip(args.files[::2], args.files[1::2]):
+        triangles, ours = read_rows(relief_path)
+        their_triangles, theirs = read_rows(llvmpipe_path)
+        triangles = triangles or their_triangles  # relief may have refused the file
+        for t in theirs:
+            key = (t["size"], t["threads"])
+            cell = lambda r: f"{float(r['median_ms']):.1f} ({float(r['min_ms']):.1f})"  # noqa: E731
+            mine = {r["variant"]: r for r in ours if (r["size"], r["threads"]) == key}
+            mesh, shadows = mine.get("mesh"), mine.get("mesh+shadows")
+            ratio = f"{float(mesh['median_ms']) / float(t['median_ms']):.2f}" if mesh else "—"
+            print(f"| {triangles:,} | {t['size'].replace('x', '×')} | {t['threads']} | "
+                  f"{cell(mesh) if mesh else 'refused'} | {cell(shadows) if shadows else '—'} | "
+                  f"{cell(t)} | {ratio} |")
+
+
 def parse_sizes(text):
     return [tuple(int(v) for v in s.split("x")) for s in text.split(",")]
 
@@ -490,8 +521,11 @@ def main():
     c = sub.add_parser("compare", help="coverage and colour of two pictures of the view")
     c.add_argument("relief")
     c.add_argument("llvmpipe")
+    t = sub.add_parser("table", help="a Markdown table of relief's and this harness' outputs side by side")
+    t.add_argument("files", nargs="+", help="RELIEF.txt LLVMPIPE.txt pairs, one pair per mesh")
     args = ap.parse_args()
-    return {"sphere": cmd_sphere, "bench": cmd_bench, "child": child, "compare": cmd_compare}[args.command](args)
+    commands = {"sphere": cmd_sphere, "bench": cmd_bench, "child": child, "compare": cmd_compare, "table": cmd_table}
+    return commands[args.command](args)
 
 
 if __name__ == "__main__":
