@@ -19,8 +19,6 @@ use std::io::Write;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use anyhow::Context;
-
 use super::anchors::AnchorRow;
 use crate::Renderer;
 use crate::framebuffer::Framebuffer;
@@ -173,24 +171,35 @@ pub fn measure(
         .collect())
 }
 
-/// Runs `relief bench --anchors --model FILE` (`args.model`, which must be
-/// set): `args.picture` receives the view at [`COMPARE_SIZE`] without
-/// shadows; `args.size` replaces the two sizes of the table; `args.quick`
-/// is a smoke run (64×48, one round).
+/// What `relief bench --anchors --model` asks for.
+#[derive(Clone, Copy, Debug)]
+pub struct Request<'a> {
+    pub model: &'a Path,
+    /// Receives the view at [`COMPARE_SIZE`] without shadows.
+    pub picture: Option<&'a Path>,
+    /// Replaces the two sizes of the table.
+    pub size: Option<(usize, usize)>,
+    /// A smoke run: 64×48, one round.
+    pub quick: bool,
+    pub markdown: bool,
+    /// The thread count of the "all threads" rows.
+    pub threads: usize,
+}
+
+/// Runs `relief bench --anchors --model FILE`.
 pub fn run(
-    args: &super::BenchArgs,
-    threads: usize,
+    request: Request,
     out: &mut dyn Write,
     log: &mut dyn Write,
 ) -> anyhow::Result<Vec<AnchorRow>> {
-    let (path, picture, size, quick) = (
-        args.model
-            .as_deref()
-            .context("--anchors --model needs a file")?,
-        args.picture.as_deref(),
-        args.size,
-        args.quick,
-    );
+    let Request {
+        model: path,
+        picture,
+        size,
+        quick,
+        markdown,
+        threads,
+    } = request;
     let start = Instant::now();
     let scene = scene(path)?;
     let triangles: usize = scene.objects.iter().map(|o| o.mesh.triangles.len()).sum();
@@ -237,7 +246,7 @@ pub fn run(
     let rows = measure(&scene, &sizes, &counts, rounds, |line| {
         let _ = writeln!(log, "{line}");
     })?;
-    if args.markdown {
+    if markdown {
         write!(out, "{}", super::anchors::markdown(&rows))?;
     } else {
         write!(out, "{}", super::anchors::key_values(&rows))?;

@@ -236,8 +236,16 @@ fn output_modes(
 /// the CSV and plot to their files. Returns the report.
 pub fn run(args: &BenchArgs, out: &mut dyn Write, log: &mut dyn Write) -> anyhow::Result<Report> {
     let plan = plan(args);
-    if args.model.is_some() {
-        mesh_anchor::run(args, plan.threads, out, log)?;
+    if let Some(model) = &args.model {
+        let request = mesh_anchor::Request {
+            model,
+            picture: args.picture.as_deref(),
+            size: args.size,
+            quick: args.quick,
+            markdown: args.markdown,
+            threads: plan.threads,
+        };
+        mesh_anchor::run(request, out, log)?;
         return Ok(Report {
             header: Vec::new(),
             rows: Vec::new(),
