@@ -248,12 +248,23 @@ fn load_counted(path: &Path) -> (usize, usize, usize, usize) {
     MOST.store(live, Ordering::SeqCst);
     budget::reset_peak();
     let reserved = budget::in_use();
-    let model = relief::scene::model_file::load(path).expect("the model loads");
-    let allocated = MOST.load(Ordering::SeqCst) - live;
-    let most_reserved = (budget::peak() - reserved) as usize;
-    let held = LIVE.load(Ordering::SeqCst).saturating_sub(live);
-    let triangles = model.parts.iter().map(|p| p.mesh.triangles.len()).sum();
-    drop(model);
+    let triangles_of = |meshes: &mut dyn Iterator<Item = &relief::scene::mesh::Mesh>| {
+        meshes.map(|m| m.triangles.len()).sum::<usize>()
+    };
+    let (triangles, allocated, most_reserved, held);
+    if relief::scene::gltf::is_gltf(path) {
+        let model = relief::scene::gltf::load(path).expect("the model loads");
+        allocated = MOST.load(Ordering::SeqCst) - live;
+        most_reserved = (budget::peak() - reserved) as usize;
+        held = LIVE.load(Ordering::SeqCst).saturating_sub(live);
+        triangles = triangles_of(&mut model.parts.iter().map(|p| &p.mesh));
+    } else {
+        let model = relief::scene::model_file::load(path).expect("the model loads");
+        allocated = MOST.load(Ordering::SeqCst) - live;
+        most_reserved = (budget::peak() - reserved) as usize;
+        held = LIVE.load(Ordering::SeqCst).saturating_sub(live);
+        triangles = triangles_of(&mut model.parts.iter().map(|p| &p.mesh));
+    }
     (triangles, allocated, most_reserved, held)
 }
 
@@ -291,6 +302,67 @@ fn write_grid(path: &Path, n: usize) {
         }
     }
     out.flush().unwrap();
+}
+
+/// An `n × n` grid as a GLB: positions, normals, UVs and `u32` indices in
+/// its binary chunk, two triangles a cell.
+fn write_glb_grid(path: &Path, n: usize) {
+    let (mut positions, mut normals, mut uvs, mut indices) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for y in 0..n {
+        for x in 0..n {
+            let (u, v) = (x as f32 / (n - 1) as f32, y as f32 / (n - 1) as f32);
+            for c in [u * 2.0 - 1.0, v * 2.0 - 1.0, 0.05 * (u * 40.0).sin()] {
+                positions.extend(c.to_le_bytes());
+            }
+            for c in [0.0f32, 0.0, 1.0] {
+                normals.extend(c.to_le_bytes());
+            }
+            for c in [u, v] {
+                uvs.extend(c.to_le_bytes());
+            }
+        }
+    }
+    let at = |x: usize, y: usize| (y * n + x) as u32;
+    for y in 0..n - 1 {
+        for x in 0..n - 1 {
+            let (a, b, c, d) = (at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1));
+            for i in [a, b, c, a, c, d] {
+                indices.extend(i.to_le_bytes());
+            }
+        }
+    }
+    let mut bin = Vec::new();
+    let mut views = Vec::new();
+    for part in [&positions, &normals, &uvs, &indices] {
+        views.push(format!(
+            r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
+            bin.len(),
+            part.len()
+        ));
+        bin.extend_from_slice(part);
+    }
+    let (vertices, corners) = (n * n, indices.len() / 4);
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1,"TEXCOORD_0":2}},"indices":3}}]}}],"buffers":[{{"byteLength":{}}}],"bufferViews":[{}],"accessors":[{{"bufferView":0,"componentType":5126,"count":{vertices},"type":"VEC3","min":[-1,-1,-1],"max":[1,1,1]}},{{"bufferView":1,"componentType":5126,"count":{vertices},"type":"VEC3"}},{{"bufferView":2,"componentType":5126,"count":{vertices},"type":"VEC2"}},{{"bufferView":3,"componentType":5125,"count":{corners},"type":"SCALAR"}}]}}"#,
+        bin.len(),
+        views.join(",")
+    );
+    let mut json = json.into_bytes();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let mut glb = Vec::new();
+    glb.extend(b"glTF");
+    glb.extend(2u32.to_le_bytes());
+    glb.extend(((12 + 8 + json.len() + 8 + bin.len()) as u32).to_le_bytes());
+    glb.extend((json.len() as u32).to_le_bytes());
+    glb.extend(b"JSON");
+    glb.extend(&json);
+    glb.extend((bin.len() as u32).to_le_bytes());
+    glb.extend(b"BIN\0");
+    glb.extend(&bin);
+    std::fs::write(path, glb).unwrap();
 }
 
 #[test]
@@ -367,6 +439,10 @@ fn loading_a_model_allocates_no_more_than_it_reserved() {
     }
     std::fs::write(dir.join("facets.stl"), stl).unwrap();
     cases.push(("binary STL", dir.join("facets.stl")));
+
+    // A GLB: its accessors read straight into the mesh.
+    write_glb_grid(&dir.join("grid.glb"), 150);
+    cases.push(("GLB grid", dir.join("grid.glb")));
 
     for (what, path) in cases {
         let (triangles, allocated, reserved, held) = load_counted(&path);

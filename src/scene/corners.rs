@@ -16,6 +16,8 @@
 //!   hard;
 //! - tangents are accumulated per vertex (see `tangents`).
 
+use std::sync::atomic::{AtomicU32, Ordering};
+
 // Maps of vertex keys, only looked up (never iterated): a fast hash.
 use foldhash::{HashMap, HashMapExt};
 use glam::{DVec3, Vec2, Vec3};
@@ -25,15 +27,12 @@ use super::cube::{FACES, corner_color};
 use super::mesh::{Mesh, Triangle, Vertex};
 use super::model_error::ObjError;
 use super::model_io::reserve;
-use super::tangents::{accumulate, face_frame};
+use super::tangents::{accumulate, face_frame, sum_bytes};
 use crate::budget::Reservation;
 
 /// Most corners one face may have: a polygon is split into a fan, and a
 /// fan of a million corners is a million thin triangles.
 pub const MAX_FACE_CORNERS: usize = 65_536;
-/// Bytes per triangle a glTF model reserves for building its meshes (an
-/// upper bound measured on its worst cases).
-pub const MODEL_BYTES_PER_TRIANGLE: u64 = 920;
 /// Distance from the model's centre to its farthest point once loaded.
 pub const FIT_RADIUS: f32 = 1.5;
 /// Faces meeting at a larger angle keep separate normals when normals are computed.
@@ -156,7 +155,7 @@ pub(crate) fn fitted(p: Vec3, (center, scale): (DVec3, f64)) -> Vec3 {
 /// What makes two corners one vertex: position id, UV bits, normal bits,
 /// and the part (whose material may colour it) times two plus whether the
 /// face's texture axes are mirrored.
-type VertexKey = [u32; 7];
+type VertexKey = [u32; 6];
 
 /// Angle of a triangle at corner `k`.
 fn corner_angle(p: [Vec3; 3], k: usize) -> f32 {
@@ -189,27 +188,6 @@ fn hold(held: &mut Reservation, name: &str, what: &str, bytes: u64) -> Result<()
             name: name.to_string(),
             reason: e.to_string(),
         })
-}
-
-/// Makes room for `more` items in `v`, reserving first what the move
-/// allocates (old and new blocks together) and giving back the old block.
-fn grow_vec<T>(
-    v: &mut Vec<T>,
-    more: usize,
-    held: &mut Reservation,
-    name: &str,
-    what: &str,
-) -> Result<(), ObjError> {
-    let old = bytes_of::<T>(v.capacity() as u64);
-    hold(
-        held,
-        name,
-        what,
-        old + bytes_of::<T>((v.capacity() + more) as u64),
-    )?;
-    v.reserve_exact(more);
-    held.shrink(old);
-    Ok(())
 }
 
 /// Builds the model from its triangle corners (three per triangle, in any
@@ -442,118 +420,15 @@ fn build(
         })
         .collect();
     drop(face_normals);
-    // Vertices: one per distinct key, in order of first use. Only corners
-    // at the same point can share a vertex, so each point keeps the list of
-    // its vertices (most have one or two); a point with many (a fan's
-    // centre with a UV per face) moves to a hash table.
-    let mut vertices: Vec<Vertex> = Vec::new();
-    // Per vertex: the next vertex at the same point, and its part and mirroring.
-    let (mut next, mut tags): (Vec<u32>, Vec<u32>) = (Vec::new(), Vec::new());
-    let lists = bytes_of::<u32>(ids as u64) + bytes_of::<bool>(ids as u64);
-    hold(held, name, "the vertex lists", lists)?;
-    let mut head = vec![u32::MAX; ids];
-    let mut crowded = vec![false; ids];
-    let mut index_of: HashMap<VertexKey, u32> = HashMap::new();
-    let mut table = 0;
-    let key_of = |v: &Vertex, id: u32, tag: u32| -> VertexKey {
-        let [u, w] = v.uv.to_array().map(f32::to_bits);
-        let [x, y, z] = v.normal.to_array().map(f32::to_bits);
-        [id, u, w, x, y, z, tag]
-    };
-    for (t, tri) in triangles.iter_mut().enumerate() {
-        let mirrored = tri
-            .face_tangent_u
-            .cross(tri.face_tangent_v)
-            .dot(tri.face_normal)
-            < 0.0;
-        let tag = c.part_of[t] << 1 | mirrored as u32;
-        let uvs = uvs_of(&c, t, tri.face_normal);
-        for (k, uv) in uvs.into_iter().enumerate() {
-            let corner = c.corners[3 * t + k];
-            let id = position_id[corner[0] as usize];
-            let normal = c.normals[corner[2] as usize];
-            let same = |v: &Vertex| {
-                v.uv.to_array().map(f32::to_bits) == uv.to_array().map(f32::to_bits)
-                    && v.normal.to_array().map(f32::to_bits) == normal.to_array().map(f32::to_bits)
-            };
-            let candidate = Vertex {
-                position: c.positions[corner[0] as usize],
-                normal,
-                uv,
-                color: Vec3::ZERO,
-                tangent_u: Vec3::ZERO,
-                tangent_v: Vec3::ZERO,
-            };
-            let found = if crowded[id as usize] {
-                index_of.get(&key_of(&candidate, id, tag)).copied()
-            } else {
-                let (mut at, mut length) = (head[id as usize], 0);
-                while at != u32::MAX && !(tags[at as usize] == tag && same(&vertices[at as usize]))
-                {
-                    at = next[at as usize];
-                    length += 1;
-                }
-                if at == u32::MAX && length >= CROWDED {
-                    // Too many to walk: this point's vertices go to the table.
-                    let need = index_of.len() + length;
-                    if need > index_of.capacity() {
-                        let more = need.max(2 * index_of.capacity()).max(1024) - index_of.len();
-                        let bigger =
-                            table_bytes::<(VertexKey, u32)>((index_of.len() + more) as u64);
-                        hold(held, name, "the vertex map", bigger)?;
-                        index_of.reserve(more);
-                        held.shrink(table);
-                        table = bigger;
-                    }
-                    let mut v = head[id as usize];
-                    while v != u32::MAX {
-                        index_of.insert(key_of(&vertices[v as usize], id, tags[v as usize]), v);
-                        v = next[v as usize];
-                    }
-                    crowded[id as usize] = true;
-                }
-                (at != u32::MAX).then_some(at)
-            };
-            tri.indices[k] = match found {
-                Some(i) => i,
-                None => {
-                    if vertices.len() == vertices.capacity() {
-                        let more = vertices.len().max(1024);
-                        grow_vec(&mut vertices, more, held, name, "the vertices")?;
-                        grow_vec(&mut next, more, held, name, "the vertices")?;
-                        grow_vec(&mut tags, more, held, name, "the vertices")?;
-                    }
-                    let i = vertices.len() as u32;
-                    if crowded[id as usize] {
-                        if index_of.len() == index_of.capacity() {
-                            let more = index_of.len().max(1024);
-                            let bigger =
-                                table_bytes::<(VertexKey, u32)>((index_of.len() + more) as u64);
-                            hold(held, name, "the vertex map", bigger)?;
-                            index_of.reserve(more);
-                            held.shrink(table);
-                            table = bigger;
-                        }
-                        index_of.insert(key_of(&candidate, id, tag), i);
-                    }
-                    vertices.push(Vertex {
-                        color: color_of(&c, part_colors, t, k),
-                        ..candidate
-                    });
-                    next.push(head[id as usize]);
-                    tags.push(tag);
-                    head[id as usize] = i;
-                    i
-                }
-            };
-        }
-    }
-    let side = bytes_of::<u32>(next.capacity() as u64 + tags.capacity() as u64);
-    drop((index_of, head, crowded, next, tags));
-    held.shrink(table + lists + side);
-    let spare = bytes_of::<Vertex>((vertices.capacity() - vertices.len()) as u64);
-    vertices.shrink_to_fit();
-    held.shrink(spare);
+    // Vertices: one per distinct key, in order of first use.
+    let (vertices, vertex_of) =
+        split_vertices(name, &c, &triangles, part_colors, (&position_id, ids), held)?;
+    triangles
+        .par_iter_mut()
+        .zip(vertex_of.par_chunks_exact(3))
+        .for_each(|(tri, v)| tri.indices = [v[0], v[1], v[2]]);
+    drop(vertex_of);
+    held.shrink(bytes_of::<u32>(c.corners.len() as u64));
     let closed = is_closed(name, &c.corners, &position_id, held)?;
     let tri_parts = std::mem::take(&mut c.part_of);
     drop(c);
@@ -568,10 +443,151 @@ fn build(
         held,
         name,
         "the tangent sums",
-        bytes_of::<[f32; 10]>(mesh.vertices.len() as u64),
+        sum_bytes(mesh.vertices.len() as u64, mesh.triangles.len() as u64),
     )?;
     accumulate(&mut mesh);
     Ok((mesh, tri_parts))
+}
+
+/// The vertices of the model, one per distinct key (position id, UV bits,
+/// normal bits, part and mirroring), in order of first use, each made from
+/// its first corner; and each corner's vertex. `held` grows by what is
+/// allocated, and keeps the corners' vertices (a `u32` each) when done.
+///
+/// Only corners at the same point can share a vertex, so the corners are
+/// listed per point (a counting sort, in corner order) and each point's
+/// corners are matched in parallel; numbering the first corner of each key
+/// in corner order then gives the vertices the order one pass over the
+/// triangles would.
+fn split_vertices(
+    name: &str,
+    c: &IndexedCorners,
+    triangles: &[Triangle],
+    part_colors: &[Option<Vec3>],
+    (position_id, ids): (&[u32], usize),
+    held: &mut Reservation,
+) -> Result<(Vec<Vertex>, Vec<u32>), ObjError> {
+    let corners = c.corners.len();
+    let lists =
+        bytes_of::<u32>(2 * (ids as u64 + 1)).saturating_add(bytes_of::<u32>(corners as u64));
+    hold(
+        held,
+        name,
+        "the vertex lists",
+        lists.saturating_add(bytes_of::<u32>(corners as u64)),
+    )?;
+    let id = |i: usize| position_id[c.corners[i][0] as usize] as usize;
+    let mut start = vec![0u32; ids + 1];
+    for i in 0..corners {
+        start[id(i) + 1] += 1;
+    }
+    for i in 0..ids {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut around = vec![0u32; corners];
+    for i in 0..corners {
+        let p = id(i);
+        around[fill[p] as usize] = i as u32;
+        fill[p] += 1;
+    }
+    drop(fill);
+    // What makes corner `i` a vertex of its own, besides its point.
+    let key = |i: usize| -> VertexKey {
+        let t = i / 3;
+        let tri = &triangles[t];
+        let mirrored = tri
+            .face_tangent_u
+            .cross(tri.face_tangent_v)
+            .dot(tri.face_normal)
+            < 0.0;
+        let tag = c.part_of[t] << 1 | mirrored as u32;
+        let [u, w] = uvs_of(c, t, tri.face_normal)[i % 3]
+            .to_array()
+            .map(f32::to_bits);
+        let [x, y, z] = c.normals[c.corners[i][2] as usize]
+            .to_array()
+            .map(f32::to_bits);
+        [u, w, x, y, z, tag]
+    };
+    // Each corner's first corner of the same key (itself when it is the
+    // first), point by point, the points cut into runs matched in parallel.
+    let first: Vec<AtomicU32> = (0..corners).map(|_| AtomicU32::new(0)).collect();
+    let runs = (4 * rayon::current_num_threads()).min(ids.max(1));
+    (0..runs)
+        .into_par_iter()
+        .for_each_init(Vec::new, |keys, r| {
+            let (from, to) = (r * ids / runs, (r + 1) * ids / runs);
+            for p in from..to {
+                let list = &around[start[p] as usize..start[p + 1] as usize];
+                keys.clear();
+                keys.extend(list.iter().map(|&i| (key(i as usize), i)));
+                if keys.len() <= CROWDED {
+                    for (e, &(k, i)) in keys.iter().enumerate() {
+                        let at = keys[..e].iter().find(|(k2, _)| *k2 == k).map_or(i, |f| f.1);
+                        first[i as usize].store(at, Ordering::Relaxed);
+                    }
+                } else {
+                    // Too many to compare pairwise: sorted, the first of each run.
+                    keys.sort_unstable();
+                    let mut at = 0;
+                    for e in 0..keys.len() {
+                        if keys[e].0 != keys[at].0 {
+                            at = e;
+                        }
+                        first[keys[e].1 as usize].store(keys[at].1, Ordering::Relaxed);
+                    }
+                }
+            }
+        });
+    drop(around);
+    drop(start);
+    // Each corner's vertex: first corners numbered in corner order.
+    let mut vertex_of: Vec<u32> = first.into_iter().map(AtomicU32::into_inner).collect();
+    let mut count = 0u32;
+    for i in 0..corners {
+        let f = vertex_of[i] as usize;
+        vertex_of[i] = if f == i {
+            count += 1;
+            count - 1
+        } else {
+            vertex_of[f]
+        };
+    }
+    held.shrink(lists);
+    hold(
+        held,
+        name,
+        "the vertices",
+        bytes_of::<Vertex>(count as u64).saturating_add(bytes_of::<u32>(count as u64)),
+    )?;
+    let mut firsts = Vec::with_capacity(count as usize);
+    let mut next = 0;
+    for (i, &v) in vertex_of.iter().enumerate() {
+        if v == next {
+            firsts.push(i as u32);
+            next += 1;
+        }
+    }
+    let vertices: Vec<Vertex> = firsts
+        .par_iter()
+        .map(|&i| {
+            let (i, t, k) = (i as usize, i as usize / 3, i as usize % 3);
+            let corner = c.corners[i];
+            let normal = c.normals[corner[2] as usize];
+            Vertex {
+                position: c.positions[corner[0] as usize],
+                normal,
+                uv: uvs_of(c, t, triangles[t].face_normal)[k],
+                color: color_of(c, part_colors, t, k),
+                tangent_u: Vec3::ZERO,
+                tangent_v: Vec3::ZERO,
+            }
+        })
+        .collect();
+    drop(firsts);
+    held.shrink(bytes_of::<u32>(count as u64));
+    Ok((vertices, vertex_of))
 }
 
 /// Computes every corner's normal into a new normal array (the file's,

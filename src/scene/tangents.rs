@@ -66,6 +66,17 @@ fn in_plane(v: Vec3, n: Vec3) -> Option<Vec3> {
     (t.length_squared() > 1e-8 * v.length_squared().max(1e-30) && t.is_finite()).then_some(t)
 }
 
+/// One vertex's votes.
+#[derive(Clone, Copy, Default)]
+struct Sum {
+    dir_u: Vec3,
+    dir_v: Vec3,
+    len_u: f32,
+    len_v: f32,
+    votes: u32,
+    handedness: f32,
+}
+
 /// Per-vertex tangents from the triangles that use each vertex.
 ///
 /// As in [004] (docs/sources.md): each face's Pu and Pv are normalised and summed at its
@@ -77,39 +88,82 @@ fn in_plane(v: Vec3, n: Vec3) -> Option<Vec3> {
 /// (no votes, or votes that cancel) gets a frame from its normal, at the
 /// mean length of its faces' axes, or 1.
 pub fn accumulate(mesh: &mut Mesh) {
-    #[derive(Clone, Copy, Default)]
-    struct Sum {
-        dir_u: Vec3,
-        dir_v: Vec3,
-        len_u: f32,
-        len_v: f32,
-        votes: u32,
-        handedness: f32,
+    accumulate_with(mesh, false);
+}
+
+/// [`accumulate`], but a vertex that already holds both texture axes (a
+/// file's tangents) keeps their directions and takes only the lengths.
+pub fn accumulate_keeping_directions(mesh: &mut Mesh) {
+    accumulate_with(mesh, true);
+}
+
+/// What [`accumulate`] allocates for `vertices` and `triangles`: each
+/// vertex's sums and its place in the list of corners, and that list.
+pub fn sum_bytes(vertices: u64, triangles: u64) -> u64 {
+    let word = std::mem::size_of::<u32>() as u64;
+    let bytes = |n: u64, size: u64| n.saturating_mul(size);
+    bytes(vertices, std::mem::size_of::<Sum>() as u64)
+        .saturating_add(vertices.saturating_add(1).saturating_mul(2 * word))
+        .saturating_add(triangles.saturating_mul(3 * word))
+}
+
+fn accumulate_with(mesh: &mut Mesh, keep_directions: bool) {
+    let vertex_count = mesh.vertices.len();
+    // The corners at each vertex, in triangle order (a counting sort): each
+    // vertex then sums its faces' votes on its own, in parallel, in the
+    // order one pass over the triangles would add them, so the sums do not
+    // depend on how the work is split.
+    let mut start = vec![0u32; vertex_count + 1];
+    let valid = |indices: &[u32; 3]| indices.iter().all(|&i| (i as usize) < vertex_count);
+    for tri in mesh.triangles.iter().filter(|t| valid(&t.indices)) {
+        for &i in &tri.indices {
+            start[i as usize + 1] += 1;
+        }
     }
-    let mut sums = vec![Sum::default(); mesh.vertices.len()];
-    for tri in &mesh.triangles {
+    for i in 0..vertex_count {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut around = vec![0u32; start[vertex_count] as usize];
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        if valid(&tri.indices) {
+            for &i in &tri.indices {
+                around[fill[i as usize] as usize] = t as u32;
+                fill[i as usize] += 1;
+            }
+        }
+    }
+    drop(fill);
+    let (vertices, triangles) = (&mesh.vertices, &mesh.triangles);
+    let frame_of = |t: u32| {
+        let tri = &triangles[t as usize];
         let idx = tri.indices.map(|i| i as usize);
-        if idx.iter().any(|&i| i >= mesh.vertices.len()) {
-            continue;
-        }
-        let p = idx.map(|i| mesh.vertices[i].position);
-        let uv = idx.map(|i| mesh.vertices[i].uv);
-        let frame = face_frame(p, uv, tri.face_normal);
-        if !frame.from_uv {
-            continue;
-        }
-        let (lu, lv) = (frame.tangent_u.length(), frame.tangent_v.length());
-        let hand = frame.handedness(tri.face_normal);
-        for i in idx {
-            let s = &mut sums[i];
-            s.dir_u += frame.tangent_u / lu;
-            s.dir_v += frame.tangent_v / lv;
-            s.len_u += lu;
-            s.len_v += lv;
-            s.votes += 1;
-            s.handedness += hand;
-        }
-    }
+        let p = idx.map(|i| vertices[i].position);
+        let uv = idx.map(|i| vertices[i].uv);
+        (face_frame(p, uv, tri.face_normal), tri.face_normal)
+    };
+    let sums: Vec<Sum> = (0..vertex_count)
+        .into_par_iter()
+        .map(|v| {
+            let mut s = Sum::default();
+            for &t in &around[start[v] as usize..start[v + 1] as usize] {
+                let (frame, normal) = frame_of(t);
+                if !frame.from_uv {
+                    continue;
+                }
+                let (lu, lv) = (frame.tangent_u.length(), frame.tangent_v.length());
+                s.dir_u += frame.tangent_u / lu;
+                s.dir_v += frame.tangent_v / lv;
+                s.len_u += lu;
+                s.len_v += lv;
+                s.votes += 1;
+                s.handedness += frame.handedness(normal);
+            }
+            s
+        })
+        .collect();
+    drop(around);
+    drop(start);
     // Each vertex is finished from its own sums alone: in parallel.
     mesh.vertices
         .par_iter_mut()
@@ -135,8 +189,15 @@ pub fn accumulate(mesh: &mut Mesh) {
                     (f.tangent_u, f.tangent_v)
                 }
             };
-            vertex.tangent_u = tu * len_u;
-            vertex.tangent_v = tv * len_v;
+            let (tu, tv) = (tu * len_u, tv * len_v);
+            let kept = (
+                vertex.tangent_u.try_normalize(),
+                vertex.tangent_v.try_normalize(),
+            );
+            (vertex.tangent_u, vertex.tangent_v) = match kept {
+                (Some(u), Some(w)) if keep_directions => (u * tu.length(), w * tv.length()),
+                _ => (tu, tv),
+            };
         });
 }
 

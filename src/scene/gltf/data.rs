@@ -33,7 +33,8 @@ pub(super) fn read_file(path: &Path, what: &str) -> Result<(Vec<u8>, Reservation
         return Err("not a regular file".into());
     }
     let held = budget::reserve(what, meta.len()).map_err(|e| e.to_string())?;
-    let mut bytes = Vec::new();
+    // Exactly the reserved size (a growing buffer would take up to twice).
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
     std::fs::File::open(path)
         .and_then(|f| f.take(meta.len()).read_to_end(&mut bytes))
         .map_err(|e| crate::sanitize::clean(&e.to_string()))?;

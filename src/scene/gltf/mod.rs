@@ -24,12 +24,13 @@ use ::gltf::accessor::Accessor;
 use ::gltf::mesh::Mode;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
-use super::corners::{MODEL_BYTES_PER_TRIANGLE, fit_of, fitted};
+use super::corners::{fit_of, fitted};
 use super::mesh::{Mesh, Triangle, Vertex};
 use super::model_error::ObjError;
 use super::strokes::{StrokeMode, StrokeVertex, Strokes};
-use super::tangents::{accumulate, face_frame};
+use super::tangents::{accumulate_keeping_directions, face_frame, sum_bytes};
 use super::{Material, Object, Scene};
+use crate::budget::Reservation;
 use crate::sanitize::display_path;
 use crate::texture::Texture;
 
@@ -124,26 +125,21 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
         held.extend(h);
     }
     let instances = instances(&document)?;
-    // The budget for what is built, before building it.
-    let mut triangles = 0u64;
-    for (mesh, _) in &instances {
-        for prim in mesh.primitives() {
-            let corners = prim
-                .indices()
-                .or_else(|| prim.get(&::gltf::Semantic::Positions))
-                .map_or(0, |a| a.count() as u64);
-            triangles += corners;
-        }
-    }
-    let need = triangles.saturating_mul(MODEL_BYTES_PER_TRIANGLE);
-    held.push(crate::budget::reserve(&format!("model {name}"), need).map_err(|e| e.to_string())?);
-
+    // What is built is reserved step by step, before it is allocated.
+    let mut model =
+        crate::budget::reserve(&format!("model {name}"), 0).map_err(|e| e.to_string())?;
     let mut materials = Materials::new(name, &document, &buffers, dir);
     let mut prims = Vec::new();
     for (mesh, world) in &instances {
         for prim in mesh.primitives() {
             let place = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
-            prims.push(read_primitive(&prim, *world, &buffers, &place)?);
+            prims.push(read_primitive(
+                &prim,
+                *world,
+                &buffers,
+                &place,
+                (name, &mut model),
+            )?);
         }
     }
     if prims
@@ -157,22 +153,19 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
     let mut strokes = Strokes::default();
     for prim in prims {
         if let Some(s) = &prim.strokes {
-            let colors = prim.colors.as_deref();
             let vertices: Vec<StrokeVertex> = prim
-                .positions
+                .vertices
                 .iter()
-                .enumerate()
-                .map(|(i, &position)| StrokeVertex {
-                    position,
-                    color: (colors.map_or(Vec3::ONE, |c| c[i]) * s.factor)
-                        .clamp(Vec3::ZERO, Vec3::ONE),
+                .map(|v| StrokeVertex {
+                    position: v.position,
+                    color: (v.color * s.factor).clamp(Vec3::ZERO, Vec3::ONE),
                 })
                 .collect();
             strokes.add(&vertices, &s.corners, s.mode);
             continue;
         }
         let look = materials.get(prim.material)?;
-        let mesh = build_mesh(prim, &look);
+        let mesh = build_mesh(prim, &look, (name, &mut model))?;
         if !mesh.triangles.is_empty() {
             parts.push(Part {
                 mesh,
@@ -256,18 +249,44 @@ fn instances(document: &::gltf::Document) -> Result<Vec<(::gltf::Mesh<'_>, Mat4)
     Ok(out)
 }
 
-/// One primitive in world space, as triangles.
+/// One primitive in world space, read straight into its mesh's arrays.
 struct Prim {
-    positions: Vec<Vec3>,
-    normals: Option<Vec<Vec3>>,
-    /// ∂P/∂u and ∂P/∂v directions from the file's TANGENT.
-    axes: Option<Vec<(Vec3, Vec3)>>,
-    uvs: Option<Vec<Vec2>>,
-    colors: Option<Vec<Vec3>>,
-    tris: Vec<[u32; 3]>,
+    /// Until the mesh is built: the file's colour (white without one), its
+    /// normal in world space as read (zero without one), and in the tangent
+    /// fields the file's ∂P/∂u and ∂P/∂v directions (zero without them).
+    vertices: Vec<Vertex>,
+    has_normals: bool,
+    has_uvs: bool,
+    /// The file's TANGENT is in the vertices' tangent fields.
+    has_axes: bool,
+    /// Triangles with their indices only (the facet data comes with the mesh).
+    tris: Vec<Triangle>,
     material: Option<usize>,
     /// A points or lines primitive (no triangles).
     strokes: Option<PrimStrokes>,
+}
+
+/// A vertex before anything is read into it.
+const BLANK: Vertex = Vertex {
+    position: Vec3::ZERO,
+    normal: Vec3::ZERO,
+    uv: Vec2::ZERO,
+    color: Vec3::ONE,
+    tangent_u: Vec3::ZERO,
+    tangent_v: Vec3::ZERO,
+};
+
+/// A triangle with its corners only.
+fn corners_only(indices: [u32; 3]) -> Triangle {
+    Triangle {
+        indices,
+        face_normal: Vec3::ZERO,
+        face_tangent_u: Vec3::ZERO,
+        face_tangent_v: Vec3::ZERO,
+        facet_center: Vec3::ZERO,
+        facet_color: Vec3::ZERO,
+        textured: false,
+    }
 }
 
 /// What a points or lines primitive draws.
@@ -276,6 +295,18 @@ struct PrimStrokes {
     corners: Vec<u32>,
     /// The material's base colour factor (RGB), times the vertex colours.
     factor: Vec3,
+}
+
+/// Bytes of `n` values of `T`.
+fn bytes_of<T>(n: u64) -> u64 {
+    n.saturating_mul(std::mem::size_of::<T>() as u64)
+}
+
+/// Reserves `bytes` more in `held` for `what` of model `name`, before it
+/// is allocated.
+fn hold(held: &mut Reservation, name: &str, what: &str, bytes: u64) -> Result<(), Problem> {
+    held.grow(&format!("{what} of model {name}"), bytes)
+        .map_err(|e| e.to_string())
 }
 
 /// Checks that an accessor's elements lie inside its view and the view
@@ -322,7 +353,9 @@ fn read_primitive(
     world: Mat4,
     buffers: &[Vec<u8>],
     place: &str,
+    (name, held): (&str, &mut Reservation),
 ) -> Result<Prim, Problem> {
+    use ::gltf::Semantic;
     let mode = prim.mode();
     let stroke = match mode {
         Mode::Points => Some(StrokeMode::Points),
@@ -339,62 +372,96 @@ fn read_primitive(
     }
     let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
     let unreadable = |what: &str| format!("{place}: its {what} cannot be read");
-    let positions: Vec<Vec3> = reader
+    let positions = reader
         .read_positions()
-        .ok_or_else(|| unreadable("POSITION"))?
-        .map(Vec3::from)
-        .collect();
-    if let Some(k) = positions.iter().position(|p| !p.is_finite()) {
-        return Err(format!("{place}: POSITION {k} is not a finite number"));
-    }
+        .ok_or_else(|| unreadable("POSITION"))?;
     let n = positions.len();
-    let same_count = |what: &str, len: usize| {
-        if len == n {
-            Ok(())
-        } else {
-            Err(format!("{place}: {len} {what} for {n} positions"))
-        }
-    };
-    let normals: Option<Vec<Vec3>> = reader.read_normals().map(|r| r.map(Vec3::from).collect());
-    if let Some(v) = &normals {
-        same_count("NORMAL", v.len())?;
-    }
     let material = prim.material();
     let reading = sampling::Reading::of(&material);
-    let uvs: Option<Vec<Vec2>> = reader
-        .read_tex_coords(reading.set)
-        .map(|r| r.into_f32().map(|uv| reading.uv(Vec2::from(uv))).collect());
-    if let Some(v) = &uvs {
-        same_count("TEXCOORD", v.len())?;
+    hold(held, name, "the vertices", bytes_of::<Vertex>(n as u64))?;
+    let mut vertices = vec![BLANK; n];
+    for (k, (v, p)) in vertices.iter_mut().zip(positions).enumerate() {
+        let p = Vec3::from(p);
+        if !p.is_finite() {
+            return Err(format!("{place}: POSITION {k} is not a finite number"));
+        }
+        v.position = world.transform_point3(p);
     }
-    let colors: Option<Vec<Vec3>> = reader
-        .read_colors(0)
-        .map(|r| r.into_rgb_f32().map(Vec3::from).collect());
-    if let Some(v) = &colors {
-        same_count("COLOR_0", v.len())?;
+    // Every attribute has one element per position (checked before reading).
+    let count = |semantic: Semantic| prim.get(&semantic).map(|a| a.count());
+    for (semantic, what) in [
+        (Semantic::Normals, "NORMAL"),
+        (Semantic::TexCoords(reading.set), "TEXCOORD"),
+        (Semantic::Colors(0), "COLOR_0"),
+        (Semantic::Tangents, "TANGENT"),
+    ] {
+        if let Some(len) = count(semantic)
+            && len != n
+        {
+            return Err(format!("{place}: {len} {what} for {n} positions"));
+        }
     }
-    let tangents: Option<Vec<Vec4>> = reader.read_tangents().map(|r| r.map(Vec4::from).collect());
-    if let Some(v) = &tangents {
-        same_count("TANGENT", v.len())?;
+    let normals = reader.read_normals();
+    let has_normals = normals.is_some();
+    for (v, nrm) in vertices.iter_mut().zip(normals.into_iter().flatten()) {
+        v.normal = Vec3::from(nrm);
     }
-    let corners: Vec<u32> = match reader.read_indices() {
-        Some(r) => r.into_u32().collect(),
-        None => (0..n as u32).collect(),
+    let uvs = reader.read_tex_coords(reading.set);
+    let has_uvs = uvs.is_some();
+    for (v, uv) in vertices
+        .iter_mut()
+        .zip(uvs.into_iter().flat_map(|r| r.into_f32()))
+    {
+        v.uv = reading.uv(Vec2::from(uv));
+    }
+    if let Some(colors) = reader.read_colors(0) {
+        for (v, c) in vertices.iter_mut().zip(colors.into_rgb_f32()) {
+            v.color = Vec3::from(c);
+        }
+    }
+    let linear = Mat3::from_mat4(world);
+    // The file's tangents, with its own normals, as texture axes.
+    let tangents = reader.read_tangents().filter(|_| has_normals);
+    let has_axes = tangents.is_some() && stroke.is_none();
+    if has_axes {
+        for (v, t) in vertices.iter_mut().zip(tangents.into_iter().flatten()) {
+            let t = Vec4::from(t);
+            let (tu, tv) = tangent::axes(t.truncate(), t.w, v.normal);
+            (v.tangent_u, v.tangent_v) = (linear * tu, linear * tv);
+        }
+    }
+    let normal_matrix = super::normal_matrix(world);
+    if has_normals {
+        for v in &mut vertices {
+            v.normal = (normal_matrix * v.normal).normalize_or_zero();
+        }
+    }
+    let index_count = prim.indices().map_or(n, |a| a.count());
+    let check = |(k, i): (usize, u32)| {
+        if (i as usize) < n {
+            Ok(i)
+        } else {
+            Err(format!("{place}: index {k} is {i}, past the {n} vertices"))
+        }
     };
-    if let Some((k, i)) = corners.iter().enumerate().find(|(_, i)| **i as usize >= n) {
-        return Err(format!("{place}: index {k} is {i}, past the {n} vertices"));
-    }
+    let corners: Box<dyn Iterator<Item = (usize, u32)>> = match reader.read_indices() {
+        Some(r) => Box::new(r.into_u32().enumerate()),
+        None => Box::new((0..n as u32).enumerate()),
+    };
     if let Some(mode) = stroke {
+        hold(
+            held,
+            name,
+            "the strokes",
+            bytes_of::<u32>(index_count as u64),
+        )?;
+        let corners = corners.map(check).collect::<Result<Vec<u32>, _>>()?;
         let [r, g, b, _] = material.pbr_metallic_roughness().base_color_factor();
         return Ok(Prim {
-            positions: positions
-                .iter()
-                .map(|p| world.transform_point3(*p))
-                .collect(),
-            normals: None,
-            axes: None,
-            uvs: None,
-            colors,
+            vertices,
+            has_normals: false,
+            has_uvs: false,
+            has_axes: false,
             tris: Vec::new(),
             material: material.index(),
             strokes: Some(PrimStrokes {
@@ -404,63 +471,67 @@ fn read_primitive(
             }),
         });
     }
-    let mut tris = triangles(mode, &corners);
-    // A mirroring transform turns counter-clockwise faces clockwise.
-    let linear = Mat3::from_mat4(world);
-    if linear.determinant() < 0.0 {
-        for t in &mut tris {
-            t.swap(1, 2);
+    let count = match mode {
+        Mode::TriangleStrip | Mode::TriangleFan => index_count.saturating_sub(2),
+        _ => index_count / 3,
+    };
+    hold(
+        held,
+        name,
+        "the triangles",
+        bytes_of::<Triangle>(count as u64),
+    )?;
+    let mut tris = Vec::with_capacity(count);
+    // The corners of a list, strip or fan, taken as they come.
+    let (mut first, mut previous) = (None, None);
+    let mut last = [0u32; 2];
+    let mirrored = linear.determinant() < 0.0;
+    for (at, i) in corners {
+        let i = check((at, i))?;
+        let indices = match mode {
+            Mode::TriangleStrip => {
+                let t = (at >= 2).then(|| {
+                    if at % 2 == 0 {
+                        [last[0], last[1], i]
+                    } else {
+                        [last[1], last[0], i]
+                    }
+                });
+                last = [last[1], i];
+                t
+            }
+            Mode::TriangleFan => {
+                let t = match (first, previous) {
+                    (Some(f), Some(p)) => Some([f, p, i]),
+                    _ => None,
+                };
+                first = first.or(Some(i));
+                previous = (at >= 1).then_some(i);
+                t
+            }
+            _ => {
+                let t = (at % 3 == 2).then_some([last[0], last[1], i]);
+                last = [last[1], i];
+                t
+            }
+        };
+        if let Some(mut t) = indices {
+            // A mirroring transform turns counter-clockwise faces clockwise.
+            if mirrored {
+                t.swap(1, 2);
+            }
+            tris.push(corners_only(t));
         }
     }
-    let normal_matrix = super::normal_matrix(world);
-    let axes = match (&tangents, &normals) {
-        (Some(t), Some(nrm)) => Some(
-            t.iter()
-                .zip(nrm)
-                .map(|(t, n)| {
-                    let (tu, tv) = tangent::axes(t.truncate(), t.w, *n);
-                    (linear * tu, linear * tv)
-                })
-                .collect(),
-        ),
-        _ => None,
-    };
     Ok(Prim {
-        positions: positions
-            .iter()
-            .map(|p| world.transform_point3(*p))
-            .collect(),
-        normals: normals.map(|v| {
-            v.iter()
-                .map(|n| (normal_matrix * *n).normalize_or_zero())
-                .collect()
-        }),
-        axes,
-        uvs,
-        colors,
+        vertices,
+        has_normals,
+        has_uvs,
+        has_axes,
         tris,
         material: material.index(),
         strokes: None,
     })
-}
-
-/// The triangles of a list, strip or fan of corner indices.
-fn triangles(mode: Mode, c: &[u32]) -> Vec<[u32; 3]> {
-    match mode {
-        Mode::TriangleStrip => (0..c.len().saturating_sub(2))
-            .map(|i| {
-                if i % 2 == 0 {
-                    [c[i], c[i + 1], c[i + 2]]
-                } else {
-                    [c[i + 1], c[i], c[i + 2]]
-                }
-            })
-            .collect(),
-        Mode::TriangleFan => (1..c.len().saturating_sub(1))
-            .map(|i| [c[0], c[i], c[i + 1]])
-            .collect(),
-        _ => c.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
-    }
 }
 
 /// Centres the model and scales it so its farthest point is `FIT_RADIUS`
@@ -472,15 +543,15 @@ fn fit(prims: &mut [Prim]) -> Result<(), Problem> {
             let strokes = p.strokes.iter().flat_map(|s| &s.corners);
             p.tris
                 .iter()
-                .flatten()
+                .flat_map(|t| &t.indices)
                 .chain(strokes)
-                .map(move |&i| p.positions[i as usize])
+                .map(move |&i| p.vertices[i as usize].position)
         })
     })
     .ok_or("all its points coincide")?;
     for p in prims.iter_mut() {
-        for q in &mut p.positions {
-            *q = fitted(*q, fit);
+        for v in &mut p.vertices {
+            v.position = fitted(v.position, fit);
         }
     }
     Ok(())
@@ -489,101 +560,101 @@ fn fit(prims: &mut [Prim]) -> Result<(), Problem> {
 /// A primitive as a relief mesh: vertices as the file has them (split per
 /// corner where normals or tangents must be made per face), triangles with
 /// an area, tangent frames from the file, MikkTSpace or relief's own.
-fn build_mesh(mut prim: Prim, look: &material::Look) -> Mesh {
+/// `held` grows by what is allocated, before it is.
+fn build_mesh(
+    mut prim: Prim,
+    look: &material::Look,
+    (name, held): (&str, &mut Reservation),
+) -> Result<Mesh, Problem> {
     // No normals: flat ones, so each corner is its own vertex (glTF 2.0 §3.7.2.1).
-    let flat = prim.normals.is_none();
-    let mikk = look.normal_mapped && prim.axes.is_none() && prim.uvs.is_some();
+    let flat = !prim.has_normals;
+    let mikk = look.normal_mapped && !prim.has_axes && prim.has_uvs;
     if flat || mikk {
-        prim = split_corners(prim);
+        split_corners(&mut prim, (name, held))?;
     }
     if flat {
-        let mut normals = vec![Vec3::Z; prim.positions.len()];
         for t in &prim.tris {
-            let p = t.map(|i| prim.positions[i as usize]);
+            let p = t.indices.map(|i| prim.vertices[i as usize].position);
             let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-            for &i in t {
-                normals[i as usize] = n;
+            for &i in &t.indices {
+                prim.vertices[i as usize].normal = n;
             }
         }
-        prim.normals = Some(normals);
     }
-    let normals = prim.normals.take().unwrap_or_default();
-    if mikk && let Some(uvs) = &prim.uvs {
-        prim.axes = tangent::mikktspace(&prim.positions, &normals, uvs);
+    let mut has_axes = prim.has_axes;
+    if mikk {
+        // What MikkTSpace allocates, per corner, at most.
+        let work = bytes_of::<[f32; 40]>(prim.vertices.len() as u64);
+        hold(held, name, "the tangents", work)?;
+        has_axes = tangent::mikktspace(&mut prim.vertices);
+        held.shrink(work);
     }
     let factor = look.base_color;
-    let vertices: Vec<Vertex> = (0..prim.positions.len())
-        .map(|i| {
-            let color = prim.colors.as_ref().map_or(Vec3::ONE, |c| c[i]);
-            Vertex {
-                position: prim.positions[i],
-                normal: normals[i].try_normalize().unwrap_or(Vec3::Z),
-                uv: prim.uvs.as_ref().map_or(Vec2::ZERO, |u| u[i]),
-                color: (color * factor).clamp(Vec3::ZERO, Vec3::ONE),
-                tangent_u: Vec3::ZERO,
-                tangent_v: Vec3::ZERO,
-            }
-        })
-        .collect();
-    let textured = prim.uvs.is_some();
-    let triangles = prim
-        .tris
-        .iter()
-        .filter_map(|&indices| {
-            let v = indices.map(|i| vertices[i as usize]);
-            let p = v.map(|v| v.position);
-            let face_normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-            if face_normal == Vec3::ZERO {
-                return None;
-            }
-            let frame = face_frame(p, v.map(|v| v.uv), face_normal);
-            Some(Triangle {
-                indices,
-                face_normal,
-                face_tangent_u: frame.tangent_u,
-                face_tangent_v: frame.tangent_v,
-                facet_center: p.iter().sum::<Vec3>() / 3.0,
-                facet_color: v.iter().map(|v| v.color).sum::<Vec3>() / 3.0,
-                textured,
-            })
-        })
-        .collect();
+    for v in &mut prim.vertices {
+        v.normal = v.normal.try_normalize().unwrap_or(Vec3::Z);
+        v.color = (v.color * factor).clamp(Vec3::ZERO, Vec3::ONE);
+    }
+    let textured = prim.has_uvs;
+    let vertices = &prim.vertices;
+    prim.tris.retain_mut(|tri| {
+        let v = tri.indices.map(|i| vertices[i as usize]);
+        let p = v.map(|v| v.position);
+        let face_normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        if face_normal == Vec3::ZERO {
+            return false;
+        }
+        let frame = face_frame(p, v.map(|v| v.uv), face_normal);
+        *tri = Triangle {
+            indices: tri.indices,
+            face_normal,
+            face_tangent_u: frame.tangent_u,
+            face_tangent_v: frame.tangent_v,
+            facet_center: p.iter().sum::<Vec3>() / 3.0,
+            facet_color: v.iter().map(|v| v.color).sum::<Vec3>() / 3.0,
+            textured,
+        };
+        true
+    });
+    if !has_axes {
+        for v in &mut prim.vertices {
+            (v.tangent_u, v.tangent_v) = (Vec3::ZERO, Vec3::ZERO);
+        }
+    }
     let mut mesh = Mesh {
-        vertices,
-        triangles,
+        vertices: prim.vertices,
+        triangles: prim.tris,
         convex: false,
         closed: !look.double_sided,
     };
-    accumulate(&mut mesh);
-    if let Some(axes) = &prim.axes {
-        // The file's (or MikkTSpace's) directions, relief's lengths.
-        for (v, (pu, pv)) in mesh.vertices.iter_mut().zip(axes) {
-            let (lu, lv) = (v.tangent_u.length(), v.tangent_v.length());
-            if let (Some(u), Some(w)) = (pu.try_normalize(), pv.try_normalize()) {
-                v.tangent_u = u * lu;
-                v.tangent_v = w * lv;
-            }
-        }
-    }
-    mesh
+    let sums = sum_bytes(mesh.vertices.len() as u64, mesh.triangles.len() as u64);
+    hold(held, name, "the tangent sums", sums)?;
+    // The file's (or MikkTSpace's) directions where there are, relief's lengths.
+    accumulate_keeping_directions(&mut mesh);
+    held.shrink(sums);
+    Ok(mesh)
 }
 
 /// The primitive with one vertex per triangle corner.
-fn split_corners(prim: Prim) -> Prim {
-    let order: Vec<usize> = prim.tris.iter().flatten().map(|&i| i as usize).collect();
-    fn pick<T: Copy>(v: &Option<Vec<T>>, order: &[usize]) -> Option<Vec<T>> {
-        v.as_ref().map(|v| order.iter().map(|&i| v[i]).collect())
+fn split_corners(prim: &mut Prim, (name, held): (&str, &mut Reservation)) -> Result<(), Problem> {
+    let corners = 3 * prim.tris.len();
+    hold(
+        held,
+        name,
+        "the corners",
+        bytes_of::<Vertex>(corners as u64),
+    )?;
+    let vertices: Vec<Vertex> = prim
+        .tris
+        .iter()
+        .flat_map(|t| t.indices)
+        .map(|i| prim.vertices[i as usize])
+        .collect();
+    let old = bytes_of::<Vertex>(prim.vertices.capacity() as u64);
+    prim.vertices = vertices;
+    held.shrink(old);
+    for (t, tri) in prim.tris.iter_mut().enumerate() {
+        let t = 3 * t as u32;
+        tri.indices = [t, t + 1, t + 2];
     }
-    Prim {
-        positions: order.iter().map(|&i| prim.positions[i]).collect(),
-        normals: pick(&prim.normals, &order),
-        axes: pick(&prim.axes, &order),
-        uvs: pick(&prim.uvs, &order),
-        colors: pick(&prim.colors, &order),
-        tris: (0..prim.tris.len() as u32)
-            .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
-            .collect(),
-        material: prim.material,
-        strokes: None,
-    }
+    Ok(())
 }

@@ -2,64 +2,46 @@
 //! glTF 2.0 specification asks (§3.7.2.1), and turned into relief's
 //! texture axes.
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
+
+use crate::scene::mesh::Vertex;
 
 /// Triangles given one vertex per corner (corners 3f, 3f + 1, 3f + 2).
 struct Corners<'a> {
-    positions: &'a [Vec3],
-    normals: &'a [Vec3],
-    uvs: &'a [Vec2],
-    tangents: Vec<[f32; 4]>,
+    vertices: &'a mut [Vertex],
 }
 
 impl mikktspace::Geometry for Corners<'_> {
     fn num_faces(&self) -> usize {
-        self.positions.len() / 3
+        self.vertices.len() / 3
     }
     fn num_vertices_of_face(&self, _face: usize) -> usize {
         3
     }
     fn position(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.positions[3 * face + vert].to_array()
+        self.vertices[3 * face + vert].position.to_array()
     }
     fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.normals[3 * face + vert].to_array()
+        self.vertices[3 * face + vert].normal.to_array()
     }
     fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
         // glTF's v grows down the picture; MikkTSpace's bitangent is to
         // follow the picture's up, the way glTF's normal maps are drawn.
-        let uv = self.uvs[3 * face + vert];
+        let uv = self.vertices[3 * face + vert].uv;
         [uv.x, 1.0 - uv.y]
     }
-    fn set_tangent_encoded(&mut self, tangent: [f32; 4], face: usize, vert: usize) {
-        self.tangents[3 * face + vert] = tangent;
+    fn set_tangent_encoded(&mut self, t: [f32; 4], face: usize, vert: usize) {
+        let v = &mut self.vertices[3 * face + vert];
+        (v.tangent_u, v.tangent_v) = axes(Vec3::new(t[0], t[1], t[2]), t[3], v.normal);
     }
 }
 
-/// ∂P/∂u and ∂P/∂v directions per corner (unit length) from MikkTSpace, or
-/// `None` when it cannot make them.
-pub(super) fn mikktspace(
-    positions: &[Vec3],
-    normals: &[Vec3],
-    uvs: &[Vec2],
-) -> Option<Vec<(Vec3, Vec3)>> {
-    let mut corners = Corners {
-        positions,
-        normals,
-        uvs,
-        tangents: vec![[0.0; 4]; positions.len()],
-    };
-    if !mikktspace::generate_tangents(&mut corners) {
-        return None;
-    }
-    Some(
-        corners
-            .tangents
-            .iter()
-            .zip(normals)
-            .map(|(t, n)| axes(Vec3::new(t[0], t[1], t[2]), t[3], *n))
-            .collect(),
-    )
+/// ∂P/∂u and ∂P/∂v directions per corner (unit length) from MikkTSpace,
+/// into each vertex's tangent fields (one vertex per corner); false when
+/// it cannot make them (the fields are then left as they are or partly
+/// written).
+pub(super) fn mikktspace(vertices: &mut [Vertex]) -> bool {
+    mikktspace::generate_tangents(&mut Corners { vertices })
 }
 
 /// relief's ∂P/∂u and ∂P/∂v directions from a glTF tangent (xyz, w) and
@@ -73,6 +55,28 @@ pub(super) fn axes(t: Vec3, w: f32, n: Vec3) -> (Vec3, Vec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec2;
+
+    /// MikkTSpace's axes for one vertex per corner at `p` with `uv`, facing +Z.
+    fn axes_of(p: &[Vec3], uv: &[Vec2]) -> Vec<(Vec3, Vec3)> {
+        let mut vertices: Vec<Vertex> = p
+            .iter()
+            .zip(uv)
+            .map(|(&position, &uv)| Vertex {
+                position,
+                normal: Vec3::Z,
+                uv,
+                color: Vec3::ONE,
+                tangent_u: Vec3::ZERO,
+                tangent_v: Vec3::ZERO,
+            })
+            .collect();
+        assert!(mikktspace(&mut vertices));
+        vertices
+            .iter()
+            .map(|v| (v.tangent_u, v.tangent_v))
+            .collect()
+    }
 
     /// Two triangles of a unit quad in z = 0, facing +Z.
     const QUAD: [Vec3; 6] = [
@@ -97,7 +101,7 @@ mod tests {
     /// (along −y): T must be +x, and ∂P/∂v −y (w = +1).
     #[test]
     fn a_quad_gets_its_texture_axes() {
-        let axes = mikktspace(&QUAD, &[Vec3::Z; 6], &QUAD_UV).unwrap();
+        let axes = axes_of(&QUAD, &QUAD_UV);
         for (pu, pv) in axes {
             assert!(pu.abs_diff_eq(Vec3::X, 1e-5), "{pu}");
             assert!(pv.abs_diff_eq(-Vec3::Y, 1e-5), "{pv}");
@@ -108,7 +112,7 @@ mod tests {
     #[test]
     fn a_mirrored_quad_keeps_its_v_axis() {
         let uv = QUAD_UV.map(|uv| Vec2::new(1.0 - uv.x, uv.y));
-        let axes = mikktspace(&QUAD, &[Vec3::Z; 6], &uv).unwrap();
+        let axes = axes_of(&QUAD, &uv);
         for (pu, pv) in axes {
             assert!(pu.abs_diff_eq(-Vec3::X, 1e-5), "{pu}");
             assert!(pv.abs_diff_eq(-Vec3::Y, 1e-5), "{pv}");

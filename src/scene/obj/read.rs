@@ -43,10 +43,7 @@ fn lines(bytes: &[u8]) -> impl Iterator<Item = &[u8]> {
         if rest.is_empty() {
             return None;
         }
-        let end = rest
-            .iter()
-            .position(|&b| b == b'\n' || b == b'\r')
-            .unwrap_or(rest.len());
+        let end = memchr::memchr2(b'\n', b'\r', rest).unwrap_or(rest.len());
         let line = &rest[..end];
         let skip = match rest.get(end..end + 2) {
             Some(b"\r\n") => 2,
@@ -116,34 +113,39 @@ fn number(word: &[u8], what: &str) -> Result<(f32, bool), String> {
         .ok_or_else(|| format!("{what}: {} is not a finite number", quote_bytes(word)))
 }
 
-/// At least `min` and at most `max` numbers from `words`; `cut` is set when
-/// a word had text after its number.
+/// Most numbers a line gives (a position with its colour).
+const MAX_NUMBERS: usize = 6;
+
+/// At least `min` and at most `max` (at most [`MAX_NUMBERS`]) numbers from
+/// `words`, and how many; `cut` is set when a word had text after its number.
 fn numbers<'a>(
     words: impl Iterator<Item = &'a [u8]>,
     min: usize,
     max: usize,
     what: &str,
     cut: &mut bool,
-) -> Result<Vec<f32>, String> {
-    let mut out = Vec::with_capacity(max);
+) -> Result<([f32; MAX_NUMBERS], usize), String> {
+    let mut out = [0.0; MAX_NUMBERS];
+    let mut len = 0;
     for word in words {
-        if out.len() == max {
+        if len == max {
             return Err(format!("{what} has more than {max} numbers"));
         }
         // A vertex's numbers after the third are its colour (or w).
-        let what = if what == "position" && out.len() >= 3 {
+        let what = if what == "position" && len >= 3 {
             "vertex colour"
         } else {
             what
         };
         let (x, trailing) = number(word, what)?;
         *cut |= trailing;
-        out.push(x);
+        out[len] = x;
+        len += 1;
     }
-    if out.len() < min {
-        return Err(format!("{what} needs {min} numbers, found {}", out.len()));
+    if len < min {
+        return Err(format!("{what} needs {min} numbers, found {len}"));
     }
-    Ok(out)
+    Ok((out, len))
 }
 
 /// An OBJ index (1-based, or negative relative to the end) into `count`
@@ -322,8 +324,8 @@ fn read_attributes(chunk: &[u8], out: Attributes) -> (Option<LineProblem>, Tally
         let mut cut = false;
         let problem = match w.next() {
             Some(b"v") => match numbers(w, 3, 6, "position", &mut cut) {
-                Ok(x) => {
-                    let color = match x.len() {
+                Ok((x, len)) => {
+                    let color = match len {
                         3 => Ok(None),
                         4 if x[3] != 0.0 => Ok(None),
                         4 => Err("bad w '0'".to_string()),
@@ -338,11 +340,12 @@ fn read_attributes(chunk: &[u8], out: Attributes) -> (Option<LineProblem>, Tally
                 }
                 Err(e) => Err(e),
             },
-            Some(b"vt") => numbers(w, 1, 3, "texture coordinate", &mut cut).map(|x| {
-                out.texcoords[t] = Vec2::new(x[0], x.get(1).copied().unwrap_or(0.0));
+            Some(b"vt") => numbers(w, 1, 3, "texture coordinate", &mut cut).map(|(x, _)| {
+                // A missing v is 0.
+                out.texcoords[t] = Vec2::new(x[0], x[1]);
                 t += 1;
             }),
-            Some(b"vn") => numbers(w, 3, 3, "normal", &mut cut).map(|x| {
+            Some(b"vn") => numbers(w, 3, 3, "normal", &mut cut).map(|(x, _)| {
                 out.normals[n] = Vec3::new(x[0], x[1], x[2]);
                 n += 1;
             }),
