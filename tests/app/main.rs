@@ -3,6 +3,10 @@
 //! One test crate per area (each file a module) so the suite links a few
 //! binaries instead of one per file.
 
+#[path = "../hostile/mod.rs"]
+mod hostile;
+
+mod contained_panics;
 mod event_loop;
 mod huge_terminal;
 mod keys;

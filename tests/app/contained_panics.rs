@@ -2,8 +2,6 @@
 //! user gets the usual one-line error, the view keeps its texture, and the
 //! panic hook (which restores the terminal and prints) stays silent.
 
-mod hostile;
-
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, mpsc};
@@ -17,9 +15,12 @@ use relief::settings::Settings;
 use relief::term::{ColorDepth, SgrBackend};
 use relief::texture::load::load_texture_from_bytes;
 
+use crate::hostile;
+
 static HOOK_CALLS: AtomicUsize = AtomicUsize::new(0);
 
-/// One test (not several) so that the counting hook is the first one set.
+/// One test (not several) so that the counting hook is the first one set;
+/// no other test of this crate sets a hook.
 #[test]
 fn decoder_panics_become_errors_and_leave_the_hook_silent() {
     // Stands for the terminal guard's hook: it would restore the terminal.
