@@ -323,7 +323,8 @@ impl Renderer {
                 let shader = build_shader(
                     plan,
                     &verts,
-                    tri,
+                    &object.mesh,
+                    tri_index,
                     face_normal * side,
                     side,
                     &placed.model,

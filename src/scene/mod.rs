@@ -3,6 +3,7 @@
 pub mod build;
 pub mod camera;
 pub mod casters;
+pub mod convex;
 pub mod cube;
 pub mod flag_maps;
 pub mod gltf;
@@ -25,7 +26,7 @@ pub mod world;
 pub use build::{Built, LoadedNotes, ModelChoice, SceneKind, build_scene, build_scene_noting};
 pub use camera::Camera;
 pub use light::{AMBIENT, Light};
-pub use mesh::{Mesh, Triangle, Vertex};
+pub use mesh::{Face, Facet, Mesh, Triangle, Vertex};
 
 use std::sync::Arc;
 

@@ -19,7 +19,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::mesh::{Mesh, Triangle, Vertex};
+use super::mesh::{Face, Mesh, Vertex};
 use super::model_file::{LoadedModel, ModelMaps, ModelPart, reserve};
 use super::obj::build_parts;
 use super::obj::{CORNER_BYTES_PER_TRIANGLE, Corner, MAX_FACE_CORNERS, ObjError, fit_of, fitted};
@@ -582,10 +582,10 @@ fn point_cloud(name: &str, vertices: &[PlyVertex]) -> Result<Mesh, ObjError> {
             }
         })
         .collect();
-    let triangles = mesh_vertices
+    let faces: Vec<Face> = mesh_vertices
         .iter()
         .enumerate()
-        .map(|(i, v)| Triangle {
+        .map(|(i, v)| Face {
             indices: [i as u32; 3],
             face_normal: v.normal,
             face_tangent_u: Vec3::ZERO,
@@ -595,10 +595,5 @@ fn point_cloud(name: &str, vertices: &[PlyVertex]) -> Result<Mesh, ObjError> {
             textured: false,
         })
         .collect();
-    Ok(Mesh {
-        vertices: mesh_vertices,
-        triangles,
-        convex: false,
-        closed: false,
-    })
+    Ok(Mesh::new(mesh_vertices, &faces, false, false))
 }

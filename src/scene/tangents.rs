@@ -87,19 +87,20 @@ pub fn accumulate(mesh: &mut Mesh) {
         handedness: f32,
     }
     let mut sums = vec![Sum::default(); mesh.vertices.len()];
-    for tri in &mesh.triangles {
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let face_normal = mesh.face_normal(t);
         let idx = tri.indices.map(|i| i as usize);
         if idx.iter().any(|&i| i >= mesh.vertices.len()) {
             continue;
         }
         let p = idx.map(|i| mesh.vertices[i].position);
         let uv = idx.map(|i| mesh.vertices[i].uv);
-        let frame = face_frame(p, uv, tri.face_normal);
+        let frame = face_frame(p, uv, face_normal);
         if !frame.from_uv {
             continue;
         }
         let (lu, lv) = (frame.tangent_u.length(), frame.tangent_v.length());
-        let hand = frame.handedness(tri.face_normal);
+        let hand = frame.handedness(face_normal);
         for i in idx {
             let s = &mut sums[i];
             s.dir_u += frame.tangent_u / lu;

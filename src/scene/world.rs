@@ -99,8 +99,9 @@ impl Placed {
                 tangent_v: linear * v.tangent_v,
             }
         });
+        let mesh = &object.mesh;
         fill(&mut self.facets, triangles.len(), |t| {
-            normals * triangles[t].face_normal
+            normals * mesh.face_normal(t)
         });
         let (positions, facets) = (&self.positions, &self.facets);
         let closed = object.mesh.closed;

@@ -24,7 +24,7 @@ use ::gltf::accessor::Accessor;
 use ::gltf::mesh::Mode;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
-use super::mesh::{Mesh, Triangle, Vertex};
+use super::mesh::{Face, Mesh, Vertex};
 use super::obj::{MODEL_BYTES_PER_TRIANGLE, ObjError, fit_of, fitted};
 use super::strokes::{StrokeMode, StrokeVertex, Strokes};
 use super::tangents::{accumulate, face_frame};
@@ -525,7 +525,7 @@ fn build_mesh(mut prim: Prim, look: &material::Look) -> Mesh {
         })
         .collect();
     let textured = prim.uvs.is_some();
-    let triangles = prim
+    let faces: Vec<Face> = prim
         .tris
         .iter()
         .filter_map(|&indices| {
@@ -536,7 +536,7 @@ fn build_mesh(mut prim: Prim, look: &material::Look) -> Mesh {
                 return None;
             }
             let frame = face_frame(p, v.map(|v| v.uv), face_normal);
-            Some(Triangle {
+            Some(Face {
                 indices,
                 face_normal,
                 face_tangent_u: frame.tangent_u,
@@ -547,12 +547,8 @@ fn build_mesh(mut prim: Prim, look: &material::Look) -> Mesh {
             })
         })
         .collect();
-    let mut mesh = Mesh {
-        vertices,
-        triangles,
-        convex: false,
-        closed: !look.double_sided,
-    };
+    let mut mesh = Mesh::new(vertices, &faces, false, !look.double_sided);
+    drop(faces);
     accumulate(&mut mesh);
     if let Some(axes) = &prim.axes {
         // The file's (or MikkTSpace's) directions, relief's lengths.
