@@ -336,18 +336,28 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(300))]
-        /// Spheres with a radius per point (star-shaped, convex or dented)
-        /// are judged as the brute-force test judges them.
+        /// Spheres with a radius per point (star-shaped: round, with one
+        /// point moved in or out, or dented all over) are judged as the
+        /// brute-force test judges them.
         #[test]
         fn agrees_with_the_brute_force_test(
             rings in 2usize..7,
             segments in 3usize..9,
-            dents in proptest::collection::vec(0.0f32..0.3, 64),
+            mode in 0u8..3,
+            moved in 0usize..64,
+            dents in proptest::collection::vec(-0.3f32..0.3, 64),
             dented in proptest::collection::vec(any::<bool>(), 64),
             scale in 0.01f32..100.0,
         ) {
             let radius = |i: usize| {
-                scale * if dented[i % 64] { 1.0 - dents[i % 64] } else { 1.0 }
+                let dent = match mode {
+                    0 => 0.0,
+                    1 if i == moved % (2 + (rings - 1) * segments) => dents[0],
+                    1 => 0.0,
+                    _ if dented[i % 64] => dents[i % 64].abs(),
+                    _ => 0.0,
+                };
+                scale * (1.0 - dent)
             };
             let (points, triangles) = sphere(rings, segments, &radius);
             if let Some(expected) = brute_force(&points, &triangles) {
