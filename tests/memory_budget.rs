@@ -468,6 +468,71 @@ fn loading_a_model_allocates_no_more_than_it_reserved() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// A UV sphere of `rings × segments` cells (two triangles each, one at
+/// the poles), positions only, vertices shared.
+fn write_sphere(path: &Path, rings: usize, segments: usize) {
+    let mut out = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+    for i in 1..rings {
+        let theta = std::f64::consts::PI * i as f64 / rings as f64;
+        for j in 0..segments {
+            let phi = std::f64::consts::TAU * j as f64 / segments as f64;
+            let (x, y, z) = (
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
+            writeln!(out, "v {x:.6} {y:.6} {z:.6}").unwrap();
+        }
+    }
+    writeln!(out, "v 0 1 0\nv 0 -1 0").unwrap();
+    let (top, bottom) = ((rings - 1) * segments + 1, (rings - 1) * segments + 2);
+    let at = |i: usize, j: usize| (i - 1) * segments + j % segments + 1;
+    for j in 0..segments {
+        writeln!(out, "f {top} {} {}", at(1, j + 1), at(1, j)).unwrap();
+        writeln!(
+            out,
+            "f {bottom} {} {}",
+            at(rings - 1, j),
+            at(rings - 1, j + 1)
+        )
+        .unwrap();
+    }
+    for i in 1..rings - 1 {
+        for j in 0..segments {
+            let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+            writeln!(out, "f {a} {b} {c}\nf {a} {c} {d}").unwrap();
+        }
+    }
+    out.flush().unwrap();
+}
+
+/// An indexed mesh of 100 k triangles holds at most 64 bytes a triangle
+/// once loaded (docs/models.md: a 68-byte vertex per two triangles and a
+/// 20-byte triangle, its facet data computed from its corners), counted
+/// by the allocator; the sphere is found convex on the way.
+#[test]
+fn an_indexed_mesh_holds_at_most_64_bytes_a_triangle() {
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = hostile::scratch("bytes-per-triangle");
+    let sphere = dir.join("sphere.obj");
+    write_sphere(&sphere, 159, 316);
+    let grid = dir.join("grid.obj");
+    write_grid(&grid, 224);
+    for (what, path, triangles) in [
+        ("sphere, positions only", &sphere, 2 * 316 * 158),
+        ("grid v/vt/vn", &grid, 2 * 223 * 223),
+    ] {
+        let (counted, _, _, held) = load_counted(path);
+        assert_eq!(counted, triangles, "{what}");
+        let per = held as f64 / triangles as f64;
+        println!("{what}: {triangles} triangles, {per:.1} bytes a triangle held");
+        assert!(per <= 64.0, "{what}: {per:.1} bytes a triangle");
+    }
+    let model = relief::scene::model_file::load(&sphere).expect("loads");
+    assert!(model.parts[0].mesh.convex && model.parts[0].mesh.closed);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 #[test]
 fn a_100_mb_obj_of_a_million_triangles_opens_within_the_budget() {
     let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());

@@ -118,10 +118,11 @@ pub fn vertex_frames(scene: &Scene, world: &World, plan: &Plan) -> Vec<VertexFra
             for i in tri.indices.map(|i| i as usize) {
                 let v = placed.vertex(i);
                 let (n, pu, pv) = if facets {
+                    let facet = object.mesh.facet(t);
                     (
                         placed.facet_normal(t),
-                        placed.linear * tri.face_tangent_u,
-                        placed.linear * tri.face_tangent_v,
+                        placed.linear * facet.tangent_u,
+                        placed.linear * facet.tangent_v,
                     )
                 } else {
                     (v.normal, v.tangent_u, v.tangent_v)

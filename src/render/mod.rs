@@ -37,7 +37,7 @@ use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_r
 use crate::scene::Scene;
 use crate::scene::repeats::RepeatSkipper;
 use crate::scene::terms::MaterialTerms;
-use crate::scene::world::World;
+use crate::scene::world::{World, fill};
 use crate::settings::{AntiAlias, Display, Settings};
 use crate::shade::{ShadeCtx, TriShader};
 use crate::shadow::{Shadow, ShadowMap};
@@ -253,18 +253,18 @@ impl Renderer {
             let placed = self.world.object(object_index);
             // The view's projection, once per vertex: clip position,
             // outcode, and the screen position setup reads.
-            self.clip.clear();
-            self.clip
-                .extend(placed.positions.iter().map(|p| view_proj * p.extend(1.0)));
-            self.codes.clear();
-            self.codes.extend(self.clip.iter().map(|&p| outcode(p)));
-            self.projected.clear();
-            self.projected
-                .extend(self.clip.iter().zip(&self.codes).map(|(&p, &code)| {
-                    (code == 0)
-                        .then(|| Projected::of(p, width, height))
-                        .flatten()
-                }));
+            // Each vertex alone: in parallel for big meshes, the same values.
+            fill(&mut self.clip, placed.positions.len(), |i| {
+                view_proj * placed.positions[i].extend(1.0)
+            });
+            let clip = &self.clip;
+            fill(&mut self.codes, clip.len(), |i| outcode(clip[i]));
+            let codes = &self.codes;
+            fill(&mut self.projected, clip.len(), |i| {
+                (codes[i] == 0)
+                    .then(|| Projected::of(clip[i], width, height))
+                    .flatten()
+            });
             // Behind a depth buffer a repeated triangle changes nothing.
             let skips_repeats = plan.display == Display::Fill && plan.depth;
             let mut repeats = RepeatSkipper::new(if skips_repeats {
@@ -283,8 +283,8 @@ impl Renderer {
                     s => f32::from(s),
                 };
                 let idx = tri.indices.map(|i| i as usize);
-                let face_normal = placed.facet_normal(tri_index);
                 if plan.display != Display::Fill {
+                    let face_normal = placed.facet_normal(tri_index);
                     counters.light_evals += 3 * plan.lights.len() as u64;
                     self.wire.push(wire_triangle(
                         plan,
@@ -330,10 +330,12 @@ impl Renderer {
                     continue;
                 }
                 let verts = idx.map(|i| placed.vertex(i));
+                let face_normal = placed.facet_normal(tri_index);
                 let shader = build_shader(
                     plan,
                     &verts,
-                    tri,
+                    &object.mesh,
+                    tri_index,
                     face_normal * side,
                     side,
                     &placed.model,

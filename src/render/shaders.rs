@@ -39,7 +39,8 @@ pub(super) fn wire_triangle(
 pub(super) fn build_shader(
     plan: &Plan,
     verts: &[WorldVertex; 3],
-    tri: &crate::scene::Triangle,
+    mesh: &crate::scene::Mesh,
+    t: usize,
     face_normal: Vec3,
     side: f32,
     model: &Mat4,
@@ -48,6 +49,7 @@ pub(super) fn build_shader(
     object: u32,
     counters: &mut Counters,
 ) -> TriShader {
+    let tri = &mesh.triangles[t];
     let textured = tri.textured && plan.texture;
     let bumped = tri.textured && plan.bump;
     let glossy = tri.textured && plan.specular.as_ref().is_some_and(|s| s.map.is_some());
@@ -60,8 +62,9 @@ pub(super) fn build_shader(
     };
     match plan.shading {
         Shading::Flat => {
-            let center = model.transform_point3(tri.facet_center);
-            let albedo = if plan.colors { tri.facet_color } else { white };
+            let facet = mesh.facet(t);
+            let center = model.transform_point3(facet.center);
+            let albedo = if plan.colors { facet.color } else { white };
             let (light, highlight) = lights_at(
                 plan,
                 center,
@@ -129,8 +132,9 @@ pub(super) fn build_shader(
                 [face_normal; 3]
             };
             let (tangent_u, tangent_v, uniform_tangents) = if plan.face_normals {
-                let tu = *linear * tri.face_tangent_u;
-                let tv = *linear * tri.face_tangent_v;
+                let facet = mesh.facet(t);
+                let tu = *linear * facet.tangent_u;
+                let tv = *linear * facet.tangent_v;
                 ([tu; 3], [tv; 3], true)
             } else {
                 let tu = verts.map(|v| v.tangent_u);

@@ -41,12 +41,11 @@ fn bounding_sphere(mesh: &Mesh, model: Mat4) -> Option<(Vec3, f32)> {
 /// The plane of a flat mesh (all facets share one normal and one plane),
 /// in model space.
 fn plane_of(mesh: &Mesh) -> Option<(Vec3, Vec3)> {
-    let n = mesh.triangles.first()?.face_normal;
+    mesh.triangles.first()?;
+    let n = mesh.face_normal(0);
     let p0 = mesh.vertices.first()?.position;
-    let flat = mesh
-        .triangles
-        .iter()
-        .all(|t| (t.face_normal - n).length_squared() < 1e-10)
+    let flat = (0..mesh.triangles.len())
+        .all(|t| (mesh.face_normal(t) - n).length_squared() < 1e-10)
         && mesh
             .vertices
             .iter()

@@ -23,8 +23,9 @@ use foldhash::{HashMap, HashMapExt};
 use glam::{DVec3, Vec2, Vec3};
 use rayon::prelude::*;
 
+use super::convex;
 use super::cube::{FACES, corner_color};
-use super::mesh::{Mesh, Triangle, Vertex};
+use super::mesh::{Face, Facet, Mesh, Triangle, Vertex};
 use super::model_error::ObjError;
 use super::model_io::reserve;
 use super::tangents::{accumulate, face_frame, sum_bytes};
@@ -230,50 +231,36 @@ pub(crate) fn build_indexed(
         "the parts",
         bytes_of::<Vertex>(mesh.vertices.len() as u64)
             .saturating_add(bytes_of::<Triangle>(mesh.triangles.len() as u64))
+            .saturating_add(mesh.side_bytes() as u64)
             .saturating_add(bytes_of::<u32>(mesh.vertices.len() as u64) * 2),
     )?;
     let mut out = Vec::new();
     let mut new_index = vec![u32::MAX; mesh.vertices.len()];
     for part in 0..count as u32 {
-        let mut vertices = Vec::new();
+        // A part of a closed model shows only its front faces too.
+        let mut piece = Mesh::new(Vec::new(), &[], false, mesh.closed);
         let mut used: Vec<u32> = Vec::new();
-        let mut triangles = Vec::new();
-        for (t, _) in mesh
-            .triangles
-            .iter()
-            .zip(&tri_parts)
-            .filter(|(_, p)| **p == part)
-        {
-            let mut t = *t;
-            for i in t.indices.iter_mut() {
-                let slot = &mut new_index[*i as usize];
+        for (t, _) in tri_parts.iter().enumerate().filter(|(_, p)| **p == part) {
+            let indices = mesh.triangles[t].indices.map(|i| {
+                let slot = &mut new_index[i as usize];
                 if *slot == u32::MAX {
-                    *slot = vertices.len() as u32;
-                    vertices.push(mesh.vertices[*i as usize]);
-                    used.push(*i);
+                    *slot = piece.vertices.len() as u32;
+                    piece.vertices.push(mesh.vertices[i as usize]);
+                    used.push(i);
                 }
-                *i = *slot;
-            }
-            triangles.push(t);
+                *slot
+            });
+            piece.push_from(&mesh, t, indices);
         }
         for &i in &used {
             new_index[i as usize] = u32::MAX;
         }
-        if triangles.is_empty() {
+        if piece.triangles.is_empty() {
             continue;
         }
-        vertices.shrink_to_fit();
-        triangles.shrink_to_fit();
-        out.push((
-            part as usize,
-            Mesh {
-                vertices,
-                triangles,
-                convex: false,
-                // A part of a closed model shows only its front faces too.
-                closed: mesh.closed,
-            },
-        ));
+        piece.vertices.shrink_to_fit();
+        piece.triangles.shrink_to_fit();
+        out.push((part as usize, piece));
     }
     Ok(out)
 }
@@ -394,13 +381,8 @@ fn build(
         fill_normals(name, &mut c, &face_normals, &position_id, ids, held)?;
     }
     // The triangles' facet data, in parallel.
-    hold(
-        held,
-        name,
-        "the triangles",
-        bytes_of::<Triangle>(kept as u64),
-    )?;
-    let mut triangles: Vec<Triangle> = (0..kept)
+    hold(held, name, "the faces", bytes_of::<Face>(kept as u64))?;
+    let mut triangles: Vec<Face> = (0..kept)
         .into_par_iter()
         .map(|t| {
             let normal = face_normals[t];
@@ -408,7 +390,7 @@ fn build(
             let uvs = uvs_of(&c, t, normal);
             let colors = [0, 1, 2].map(|k| color_of(&c, part_colors, t, k));
             let frame = face_frame(positions, uvs, normal);
-            Triangle {
+            Face {
                 indices: [0; 3],
                 face_normal: normal,
                 face_tangent_u: frame.tangent_u,
@@ -430,15 +412,28 @@ fn build(
     drop(vertex_of);
     held.shrink(bytes_of::<u32>(c.corners.len() as u64));
     let closed = is_closed(name, &c.corners, &position_id, held)?;
+    let convex = closed && {
+        let bytes = convex::scratch_bytes(kept, ids);
+        hold(held, name, "the convexity test", bytes)?;
+        let convex = convex::is_convex(
+            kept,
+            ids,
+            &|t| [0, 1, 2].map(|k| position_id[c.corners[3 * t + k][0] as usize]),
+            &|t| [0, 1, 2].map(|k| c.positions[c.corners[3 * t + k][0] as usize]),
+        );
+        held.shrink(bytes);
+        convex
+    };
     let tri_parts = std::mem::take(&mut c.part_of);
     drop(c);
     drop(position_id);
-    let mut mesh = Mesh {
-        vertices,
-        triangles,
-        convex: false,
-        closed,
-    };
+    // Facet data that the corners give again is not kept.
+    let side = Mesh::side_facets(&vertices, &triangles);
+    let compact = bytes_of::<Triangle>(kept as u64) + bytes_of::<Facet>(side as u64);
+    hold(held, name, "the triangles", compact)?;
+    let mut mesh = Mesh::new(vertices, &triangles, convex, closed);
+    drop(triangles);
+    held.shrink(bytes_of::<Face>(kept as u64));
     hold(
         held,
         name,
@@ -462,7 +457,7 @@ fn build(
 fn split_vertices(
     name: &str,
     c: &IndexedCorners,
-    triangles: &[Triangle],
+    triangles: &[Face],
     part_colors: &[Option<Vec3>],
     (position_id, ids): (&[u32], usize),
     held: &mut Reservation,

@@ -2,7 +2,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::mesh::{Mesh, Triangle, Vertex};
+use super::mesh::{Face, Mesh, Vertex};
 
 /// The six faces: normal N and texture axes U, V with U × V = N.
 pub const FACES: [(Vec3, Vec3, Vec3); 6] = [
@@ -44,7 +44,7 @@ pub fn cube(all_faces: bool) -> Mesh {
             });
         }
         let textured = all_faces || n.z != 0.0;
-        let facet = Triangle {
+        let facet = Face {
             indices: [0; 3],
             face_normal: n,
             face_tangent_u: 2.0 * u,
@@ -54,21 +54,16 @@ pub fn cube(all_faces: bool) -> Mesh {
             textured,
         };
         // Split along the (0,0)–(1,1) diagonal.
-        triangles.push(Triangle {
+        triangles.push(Face {
             indices: [base, base + 1, base + 2],
             ..facet
         });
-        triangles.push(Triangle {
+        triangles.push(Face {
             indices: [base, base + 2, base + 3],
             ..facet
         });
     }
-    Mesh {
-        vertices,
-        triangles,
-        convex: true,
-        closed: true,
-    }
+    Mesh::new(vertices, &triangles, true, true)
 }
 
 #[cfg(test)]
@@ -83,20 +78,19 @@ mod tests {
         for (n, u, v) in FACES {
             assert_eq!(u.cross(v), n);
         }
-        for tri in &mesh.triangles {
+        for (t, tri) in mesh.triangles.iter().enumerate() {
             let [a, b, c] = tri.indices.map(|i| mesh.vertices[i as usize].position);
             let geometric = (b - a).cross(c - a).normalize();
-            assert!((geometric - tri.face_normal).length() < 1e-6);
+            assert!((geometric - mesh.face_normal(t)).length() < 1e-6);
         }
     }
 
     #[test]
     fn only_front_and_back_are_textured_by_default() {
-        let textured: Vec<Vec3> = cube(false)
-            .triangles
-            .iter()
-            .filter(|t| t.textured)
-            .map(|t| t.face_normal)
+        let mesh = cube(false);
+        let textured: Vec<Vec3> = (0..mesh.triangles.len())
+            .filter(|&t| mesh.triangles[t].textured)
+            .map(|t| mesh.face_normal(t))
             .collect();
         assert_eq!(textured.len(), 4);
         assert!(textured.iter().all(|n| n.z.abs() == 1.0));

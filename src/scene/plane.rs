@@ -4,7 +4,7 @@
 use glam::{Vec2, Vec3};
 
 use super::cube::corner_color;
-use super::mesh::{Mesh, Triangle, Vertex};
+use super::mesh::{Face, Mesh, Vertex};
 
 /// A square of side 2 in the z = 0 plane facing +Z, texture axes U = X,
 /// V = Y as on the cube's front face, split along its (0,0)–(1,1) diagonal
@@ -48,7 +48,7 @@ pub fn grid(half: f32, repeats: f32, cells: u32, color: fn(Vec3) -> Vec3) -> Mes
                 index(i, j + 1),
             ];
             let at = |k: usize| vertices[corners[k] as usize];
-            let facet = Triangle {
+            let facet = Face {
                 indices: [corners[0], corners[1], corners[2]],
                 face_normal: Vec3::Z,
                 face_tangent_u: tangent_u,
@@ -58,17 +58,12 @@ pub fn grid(half: f32, repeats: f32, cells: u32, color: fn(Vec3) -> Vec3) -> Mes
                 textured: true,
             };
             triangles.push(facet);
-            triangles.push(Triangle {
+            triangles.push(Face {
                 indices: [corners[0], corners[2], corners[3]],
                 ..facet
             });
         }
     }
-    Mesh {
-        vertices,
-        triangles,
-        // Coplanar triangles never overlap: no depth buffer needed.
-        convex: true,
-        closed: false,
-    }
+    // Coplanar triangles never overlap: no depth buffer needed.
+    Mesh::new(vertices, &triangles, true, false)
 }

@@ -23,7 +23,7 @@ use super::corners::{
     CORNER_BYTES_PER_TRIANGLE, Corner, MAX_FACE_CORNERS, build_parts, fit_of, fitted,
 };
 use super::loaded_model::{LoadedModel, ModelMaps, ModelPart};
-use super::mesh::{Mesh, Triangle, Vertex};
+use super::mesh::{Face, Mesh, Vertex};
 use super::model_error::ObjError;
 use super::model_io::reserve;
 
@@ -585,10 +585,10 @@ fn point_cloud(name: &str, vertices: &[PlyVertex]) -> Result<Mesh, ObjError> {
             }
         })
         .collect();
-    let triangles = mesh_vertices
+    let faces: Vec<Face> = mesh_vertices
         .iter()
         .enumerate()
-        .map(|(i, v)| Triangle {
+        .map(|(i, v)| Face {
             indices: [i as u32; 3],
             face_normal: v.normal,
             face_tangent_u: Vec3::ZERO,
@@ -598,10 +598,5 @@ fn point_cloud(name: &str, vertices: &[PlyVertex]) -> Result<Mesh, ObjError> {
             textured: false,
         })
         .collect();
-    Ok(Mesh {
-        vertices: mesh_vertices,
-        triangles,
-        convex: false,
-        closed: false,
-    })
+    Ok(Mesh::new(mesh_vertices, &faces, false, false))
 }

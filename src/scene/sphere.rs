@@ -18,7 +18,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::cube::corner_color;
-use super::mesh::{Mesh, Triangle, Vertex};
+use super::mesh::{Face, Mesh, Vertex};
 use super::tangents::face_frame;
 
 /// Columns around (longitude).
@@ -74,7 +74,7 @@ pub fn sphere() -> Mesh {
         }
     }
     let mut triangles = Vec::new();
-    let push_facet = |triangles: &mut Vec<Triangle>, vertices: &[Vertex], tris: &[[u32; 3]]| {
+    let push_facet = |triangles: &mut Vec<Face>, vertices: &[Vertex], tris: &[[u32; 3]]| {
         let corners: Vec<u32> = {
             let mut c: Vec<u32> = tris.iter().flatten().copied().collect();
             c.sort_unstable();
@@ -104,7 +104,7 @@ pub fn sphere() -> Mesh {
         let normal = normal.normalize_or(center.normalize_or(Vec3::Y));
         let k = tris.len() as f32;
         for &indices in tris {
-            triangles.push(Triangle {
+            triangles.push(Face {
                 indices,
                 face_normal: normal,
                 face_tangent_u: tu / k,
@@ -147,12 +147,7 @@ pub fn sphere() -> Mesh {
             &[[ring_index(i, rings - 1), ring_index(i + 1, rings - 1), n]],
         );
     }
-    Mesh {
-        vertices,
-        triangles,
-        convex: true,
-        closed: true,
-    }
+    Mesh::new(vertices, &triangles, true, true)
 }
 
 /// The pole vertex of the cell whose middle is at `u`: `side` −1 south, +1 north.

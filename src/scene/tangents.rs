@@ -134,13 +134,14 @@ fn accumulate_with(mesh: &mut Mesh, keep_directions: bool) {
         }
     }
     drop(fill);
-    let (vertices, triangles) = (&mesh.vertices, &mesh.triangles);
+    let shared: &Mesh = mesh;
     let frame_of = |t: u32| {
-        let tri = &triangles[t as usize];
+        let tri = &shared.triangles[t as usize];
+        let normal = shared.face_normal(t as usize);
         let idx = tri.indices.map(|i| i as usize);
-        let p = idx.map(|i| vertices[i].position);
-        let uv = idx.map(|i| vertices[i].uv);
-        (face_frame(p, uv, tri.face_normal), tri.face_normal)
+        let p = idx.map(|i| shared.vertices[i].position);
+        let uv = idx.map(|i| shared.vertices[i].uv);
+        (face_frame(p, uv, normal), normal)
     };
     let sums: Vec<Sum> = (0..vertex_count)
         .into_par_iter()

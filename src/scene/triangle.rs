@@ -3,7 +3,7 @@
 use glam::{Vec2, Vec3};
 
 use super::cube::corner_color;
-use super::mesh::{Mesh, Triangle, Vertex};
+use super::mesh::{Face, Mesh, Vertex};
 
 /// One triangle in the z = 0 plane facing +Z, fitting the cube's front face:
 /// corners (−1, −1), (1, −1), (0, 1) with UVs (0, 0), (1, 0), (½, 1), so
@@ -28,19 +28,15 @@ pub fn triangle() -> Mesh {
         .collect();
     let facet_color = vertices.iter().map(|v| v.color).sum::<Vec3>() / 3.0;
     let facet_center = vertices.iter().map(|v| v.position).sum::<Vec3>() / 3.0;
-    Mesh {
-        vertices,
-        triangles: vec![Triangle {
-            indices: [0, 1, 2],
-            face_normal: Vec3::Z,
-            face_tangent_u: tangent_u,
-            face_tangent_v: tangent_v,
-            facet_center,
-            facet_color,
-            textured: true,
-        }],
-        // One flat triangle never overlaps itself: no depth buffer needed.
-        convex: true,
-        closed: false,
-    }
+    let faces = [Face {
+        indices: [0, 1, 2],
+        face_normal: Vec3::Z,
+        face_tangent_u: tangent_u,
+        face_tangent_v: tangent_v,
+        facet_center,
+        facet_color,
+        textured: true,
+    }];
+    // One flat triangle never overlaps itself: no depth buffer needed.
+    Mesh::new(vertices, &faces, true, false)
 }

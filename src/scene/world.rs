@@ -99,8 +99,9 @@ impl Placed {
                 tangent_v: linear * v.tangent_v,
             }
         });
+        let mesh = &object.mesh;
         fill(&mut self.facets, triangles.len(), |t| {
-            normals * triangles[t].face_normal
+            normals * mesh.face_normal(t)
         });
         let (positions, facets) = (&self.positions, &self.facets);
         let closed = object.mesh.closed;
@@ -128,7 +129,7 @@ const PARALLEL_MIN: usize = 16_384;
 
 /// `out` = `f(0)`, `f(1)`, … `f(len − 1)`, in parallel for long buffers
 /// (each element is computed alone: the result is the same).
-fn fill<U: Send>(out: &mut Vec<U>, len: usize, f: impl Fn(usize) -> U + Sync + Send) {
+pub fn fill<U: Send>(out: &mut Vec<U>, len: usize, f: impl Fn(usize) -> U + Sync + Send) {
     out.clear();
     if len < PARALLEL_MIN {
         out.extend((0..len).map(f));

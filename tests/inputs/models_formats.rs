@@ -160,7 +160,7 @@ fn stl_facet_normals_make_hard_edges() {
     assert_eq!(mesh.triangles.len(), 12);
     // Every corner keeps its facet's normal: 4 vertices per side.
     assert_eq!(mesh.vertices.len(), 24);
-    for t in &mesh.triangles {
+    for t in &mesh.faces() {
         for &i in &t.indices {
             let n = mesh.vertices[i as usize].normal;
             assert!(
@@ -170,7 +170,7 @@ fn stl_facet_normals_make_hard_edges() {
             );
         }
     }
-    let axes: Vec<Vec3> = mesh.triangles.iter().map(|t| t.face_normal).collect();
+    let axes: Vec<Vec3> = mesh.faces().iter().map(|t| t.face_normal).collect();
     for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
         assert_eq!(
             axes.iter().filter(|n| (**n - axis).length() < 1e-6).count(),
@@ -207,7 +207,7 @@ fn stl_colours_follow_the_viscam_convention() {
     let attribute: u16 = 0x8000 | (31 << 10);
     bytes[84 + 48..84 + 50].copy_from_slice(&attribute.to_le_bytes());
     let mesh = load(&write(&dir, "c.stl", bytes)).merged();
-    let colours: Vec<Vec3> = mesh.triangles.iter().map(|t| t.facet_color).collect();
+    let colours: Vec<Vec3> = mesh.faces().iter().map(|t| t.facet_color).collect();
     assert!(colours.contains(&Vec3::X), "{colours:?}");
     // The others are white.
     assert_eq!(colours.iter().filter(|c| **c == Vec3::ONE).count(), 11);

@@ -117,7 +117,7 @@ fn check(text: &str) -> Result<(), TestCaseError> {
                 prop_assert!((v.normal.length() - 1.0).abs() < 1e-3);
                 prop_assert!(v.tangent_u.length() > 0.0 && v.tangent_v.length() > 0.0);
             }
-            for t in &mesh.triangles {
+            for t in &mesh.faces() {
                 prop_assert!(
                     t.indices
                         .iter()

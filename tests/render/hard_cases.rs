@@ -8,7 +8,7 @@ use std::sync::Arc;
 use common::*;
 use glam::{Mat4, Vec2, Vec3};
 use proptest::prelude::*;
-use relief::scene::{Camera, Light, Mesh, Object, Triangle, Vertex};
+use relief::scene::{Camera, Face, Light, Mesh, Object, Vertex};
 use relief::settings::{AntiAlias, Filter, HeightDerivative, Normals, Settings, Shading};
 use relief::texture::{Level, Texture};
 use relief::{Framebuffer, Renderer, Scene};
@@ -32,12 +32,12 @@ fn with_camera(mut scene: Scene, eye: Vec3, target: Vec3) -> Scene {
 /// A scene holding one object made of the given triangles.
 fn mesh_scene(vertices: Vec<Vertex>, triangles: Vec<[u32; 3]>) -> Scene {
     let mut scene = reference_scene(true);
-    let triangles = triangles
+    let faces: Vec<Face> = triangles
         .into_iter()
         .map(|indices| {
             let p = indices.map(|i| vertices[i as usize].position);
             let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or(Vec3::Z);
-            Triangle {
+            Face {
                 indices,
                 face_normal: n,
                 face_tangent_u: Vec3::X,
@@ -49,12 +49,7 @@ fn mesh_scene(vertices: Vec<Vertex>, triangles: Vec<[u32; 3]>) -> Scene {
         })
         .collect();
     scene.objects = vec![Object {
-        mesh: Mesh {
-            vertices,
-            triangles,
-            convex: true,
-            closed: false,
-        },
+        mesh: Mesh::new(vertices, &faces, true, false),
         transform: Mat4::IDENTITY,
         rotates: true,
     }];

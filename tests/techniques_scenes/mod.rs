@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
-use relief::scene::{Camera, Light, Material, Mesh, Object, Triangle, Vertex};
+use relief::scene::{Camera, Face, Light, Material, Mesh, Object, Vertex};
 use relief::texture::{Level, Texture};
 use relief::{Framebuffer, Scene};
 
@@ -27,7 +27,7 @@ pub fn quad_mesh(half: f32, z: f32, uv0: Vec2, uv1: Vec2, color: Vec3) -> Mesh {
             tangent_v: tv,
         })
         .collect();
-    let facet = Triangle {
+    let facet = Face {
         indices: [0, 1, 2],
         face_normal: Vec3::Z,
         face_tangent_u: tu,
@@ -36,18 +36,14 @@ pub fn quad_mesh(half: f32, z: f32, uv0: Vec2, uv1: Vec2, color: Vec3) -> Mesh {
         facet_color: color,
         textured: true,
     };
-    Mesh {
-        vertices,
-        triangles: vec![
-            facet,
-            Triangle {
-                indices: [0, 2, 3],
-                ..facet
-            },
-        ],
-        convex: true,
-        closed: false,
-    }
+    let faces = [
+        facet,
+        Face {
+            indices: [0, 2, 3],
+            ..facet
+        },
+    ];
+    Mesh::new(vertices, &faces, true, false)
 }
 
 /// A scene of the given objects, texture and lights, reference camera.

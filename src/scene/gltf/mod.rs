@@ -25,10 +25,10 @@ use ::gltf::mesh::Mode;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use super::corners::{fit_of, fitted};
-use super::mesh::{Mesh, Triangle, Vertex};
+use super::mesh::{Mesh, Triangle, Vertex, triangle_normal};
 use super::model_error::ObjError;
 use super::strokes::{StrokeMode, StrokeVertex, Strokes};
-use super::tangents::{accumulate_keeping_directions, face_frame, sum_bytes};
+use super::tangents::{accumulate_keeping_directions, sum_bytes};
 use super::{Material, Object, Scene};
 use crate::budget::Reservation;
 use crate::sanitize::display_path;
@@ -278,15 +278,7 @@ const BLANK: Vertex = Vertex {
 
 /// A triangle with its corners only.
 fn corners_only(indices: [u32; 3]) -> Triangle {
-    Triangle {
-        indices,
-        face_normal: Vec3::ZERO,
-        face_tangent_u: Vec3::ZERO,
-        face_tangent_v: Vec3::ZERO,
-        facet_center: Vec3::ZERO,
-        facet_color: Vec3::ZERO,
-        textured: false,
-    }
+    Triangle::new(indices, false)
 }
 
 /// What a points or lines primitive draws.
@@ -596,36 +588,19 @@ fn build_mesh(
     }
     let textured = prim.has_uvs;
     let vertices = &prim.vertices;
+    // Each triangle is its own facet, computed from its corners when drawn
+    // (`Facet::of_triangle`): only those with an area stay.
     prim.tris.retain_mut(|tri| {
-        let v = tri.indices.map(|i| vertices[i as usize]);
-        let p = v.map(|v| v.position);
-        let face_normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-        if face_normal == Vec3::ZERO {
-            return false;
-        }
-        let frame = face_frame(p, v.map(|v| v.uv), face_normal);
-        *tri = Triangle {
-            indices: tri.indices,
-            face_normal,
-            face_tangent_u: frame.tangent_u,
-            face_tangent_v: frame.tangent_v,
-            facet_center: p.iter().sum::<Vec3>() / 3.0,
-            facet_color: v.iter().map(|v| v.color).sum::<Vec3>() / 3.0,
-            textured,
-        };
-        true
+        let p = tri.indices.map(|i| vertices[i as usize].position);
+        tri.textured = textured;
+        triangle_normal(p) != Vec3::ZERO
     });
     if !has_axes {
         for v in &mut prim.vertices {
             (v.tangent_u, v.tangent_v) = (Vec3::ZERO, Vec3::ZERO);
         }
     }
-    let mut mesh = Mesh {
-        vertices: prim.vertices,
-        triangles: prim.tris,
-        convex: false,
-        closed: !look.double_sided,
-    };
+    let mut mesh = Mesh::of_triangles(prim.vertices, prim.tris, false, !look.double_sided);
     let sums = sum_bytes(mesh.vertices.len() as u64, mesh.triangles.len() as u64);
     hold(held, name, "the tangent sums", sums)?;
     // The file's (or MikkTSpace's) directions where there are, relief's lengths.
