@@ -2,7 +2,8 @@
 
 use glam::{Vec2, Vec3};
 
-use super::tangents::face_frame;
+use super::face_frame::face_frame;
+pub use super::face_frame::{any_perpendicular, triangle_tangents};
 
 /// One vertex. Vertices are split wherever a face needs its own UVs or
 /// tangents (a cube has 24), so hard edges stay hard.
@@ -313,30 +314,4 @@ fn mesh_facet_of(vertices: &[Vertex], indices: [u32; 3]) -> Option<Facet> {
         [Some(a), Some(b), Some(c)] => Some(Facet::of_triangle([a, b, c])),
         _ => None,
     }
-}
-
-/// ∂P/∂u and ∂P/∂v of a triangle from its positions and UVs, or `None`
-/// when the UVs are degenerate (zero determinant).
-pub fn triangle_tangents(p: [Vec3; 3], uv: [Vec2; 3]) -> Option<(Vec3, Vec3)> {
-    let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
-    let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
-    let det = d1.x * d2.y - d2.x * d1.y;
-    // Relative threshold: UV spans of any scale are judged alike.
-    let scale = (d1.length_squared() * d2.length_squared()).sqrt();
-    if !det.is_finite() || det.abs() <= 1e-7 * scale || scale == 0.0 {
-        return None;
-    }
-    let inv = 1.0 / det;
-    let tu = (e1 * d2.y - e2 * d1.y) * inv;
-    let tv = (e2 * d1.x - e1 * d2.x) * inv;
-    if !tu.is_finite() || !tv.is_finite() {
-        return None;
-    }
-    Some((tu, tv))
-}
-
-/// Any unit vector perpendicular to `n` (for a tangent frame when UVs give none).
-pub fn any_perpendicular(n: Vec3) -> Vec3 {
-    let helper = if n.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
-    n.cross(helper).normalize_or(Vec3::X)
 }

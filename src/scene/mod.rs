@@ -7,6 +7,7 @@ pub mod contents;
 pub mod convex;
 pub mod corners;
 pub mod cube;
+pub mod face_frame;
 pub mod flag_maps;
 pub mod gltf;
 pub mod light;

@@ -5,59 +5,11 @@
 //! handedness: a face whose texture is flipped gets Pu × Pv pointing inward,
 //! and the bump built from Pu and Pv tilts the right way on it.
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
 
-use super::mesh::{Mesh, any_perpendicular, triangle_tangents};
-
-/// The texture axes of one face.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FaceFrame {
-    /// ∂P/∂u, in model units per unit of u.
-    pub tangent_u: Vec3,
-    /// ∂P/∂v.
-    pub tangent_v: Vec3,
-    /// False when the UVs were degenerate (zero determinant) and the frame
-    /// was made up from the normal alone.
-    pub from_uv: bool,
-}
-
-impl FaceFrame {
-    /// +1 for a right-handed frame (Pu × Pv along the normal), −1 for mirrored UVs.
-    pub fn handedness(&self, normal: Vec3) -> f32 {
-        if self.tangent_u.cross(self.tangent_v).dot(normal) < 0.0 {
-            -1.0
-        } else {
-            1.0
-        }
-    }
-}
-
-/// A unit frame in the plane perpendicular to `normal`, right-handed
-/// (tangent_u × tangent_v = normal): what a face or vertex gets when its UVs
-/// say nothing.
-pub fn frame_from_normal(normal: Vec3) -> FaceFrame {
-    let n = normal.normalize_or(Vec3::Z);
-    let tangent_u = any_perpendicular(n);
-    FaceFrame {
-        tangent_u,
-        tangent_v: n.cross(tangent_u),
-        from_uv: false,
-    }
-}
-
-/// The frame of one triangle: ∂P/∂u, ∂P/∂v from its UVs, or, when the UV
-/// determinant is zero, a unit frame built from the face normal.
-pub fn face_frame(p: [Vec3; 3], uv: [Vec2; 3], normal: Vec3) -> FaceFrame {
-    match triangle_tangents(p, uv) {
-        Some((tangent_u, tangent_v)) => FaceFrame {
-            tangent_u,
-            tangent_v,
-            from_uv: true,
-        },
-        None => frame_from_normal(normal),
-    }
-}
+pub use super::face_frame::{FaceFrame, face_frame, frame_from_normal};
+use super::mesh::Mesh;
 
 /// `v` with its component along unit `n` removed, or `None` when nothing is left.
 fn in_plane(v: Vec3, n: Vec3) -> Option<Vec3> {
