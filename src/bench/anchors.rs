@@ -69,6 +69,20 @@ impl AnchorRow {
     }
 }
 
+impl AnchorRow {
+    /// This row with the median, the fastest and the count of `times`
+    /// (at least one frame).
+    pub(crate) fn timed(self, mut times: Vec<Duration>) -> AnchorRow {
+        times.sort_unstable();
+        AnchorRow {
+            median: times[times.len() / 2],
+            min: times[0],
+            frames: times.len(),
+            ..self
+        }
+    }
+}
+
 struct Cell {
     row: AnchorRow,
     settings: Settings,
@@ -144,18 +158,7 @@ pub fn measure(
             rounds.max(1)
         ));
     }
-    Ok(cells
-        .into_iter()
-        .map(|mut c| {
-            c.times.sort_unstable();
-            AnchorRow {
-                median: c.times[c.times.len() / 2],
-                min: c.times[0],
-                frames: c.times.len(),
-                ..c.row
-            }
-        })
-        .collect())
+    Ok(cells.into_iter().map(|c| c.row.timed(c.times)).collect())
 }
 
 /// The rows as `key=value` lines, the format of the other harnesses.

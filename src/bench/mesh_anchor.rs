@@ -157,18 +157,7 @@ pub fn measure(
             rounds.max(1)
         ));
     }
-    Ok(cells
-        .into_iter()
-        .map(|mut c| {
-            c.times.sort_unstable();
-            AnchorRow {
-                median: c.times[c.times.len() / 2],
-                min: c.times[0],
-                frames: c.times.len(),
-                ..c.row
-            }
-        })
-        .collect())
+    Ok(cells.into_iter().map(|c| c.row.timed(c.times)).collect())
 }
 
 /// What `relief bench --anchors --model` asks for.
