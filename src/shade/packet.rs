@@ -309,22 +309,25 @@ fn lane_reads<const COLOR: bool, const GRADIENT: bool, F: Fetch>(
         assert!(w >= 4 && h >= 4 && t.len() == w * h);
         for lane in 0..LANES {
             let centre = yi[lane] as usize * w + xi[lane] as usize;
-            let at = |r: usize, c: usize| {
+            let index = |r: usize, c: usize| {
                 let k = centre + r * w + c - w - 1;
                 debug_assert!(centre > w && k < t.len());
-                // SAFETY: 1 ≤ x0 ≤ w − 3 and 1 ≤ y0 ≤ h − 3 (checked by
-                // `axis` for every lane), so for r, c in 0..4 the index
-                // (y0 + r − 1)·w + x0 + c − 1 lies in 0..w·h = t.len().
-                unsafe { t.at_unchecked(k) }
+                k
             };
-            (color[lane], heights[lane]) = blend::<COLOR, GRADIENT>(at, fx[lane], fy[lane]);
+            // SAFETY (both): 1 ≤ x0 ≤ w − 3 and 1 ≤ y0 ≤ h − 3 (checked by
+            // `axis` for every lane), so for r, c in 0..4 the index
+            // (y0 + r − 1)·w + x0 + c − 1 lies in 0..w·h = t.len().
+            let at = |r: usize, c: usize| unsafe { t.at_unchecked(index(r, c)) };
+            let height = |r: usize, c: usize| unsafe { t.height_unchecked(index(r, c)) };
+            (color[lane], heights[lane]) = blend::<COLOR, GRADIENT>(at, height, fx[lane], fy[lane]);
         }
     } else {
         for lane in 0..LANES {
             let cols = around(xi[lane] as i64, w);
             let rows = around(yi[lane] as i64, h).map(|r| r * w);
             let at = |r: usize, c: usize| t.at(rows[r] + cols[c]);
-            (color[lane], heights[lane]) = blend::<COLOR, GRADIENT>(at, fx[lane], fy[lane]);
+            let height = |r: usize, c: usize| t.height(rows[r] + cols[c]);
+            (color[lane], heights[lane]) = blend::<COLOR, GRADIENT>(at, height, fx[lane], fy[lane]);
         }
     }
     (color, heights)
@@ -332,26 +335,28 @@ fn lane_reads<const COLOR: bool, const GRADIENT: bool, F: Fetch>(
 
 /// One lane's bilinear colour (RGBA) and its east, west, north and south
 /// bilinear heights, from its 4×4 neighbourhood `at(row, column)` (the
-/// point between rows 1, 2 and columns 1, 2) and fractions.
+/// point between rows 1, 2 and columns 1, 2) and fractions. `height` reads
+/// channel 3 alone, which compact storage converts without the others.
 #[inline(always)]
 fn blend<const COLOR: bool, const GRADIENT: bool>(
     at: impl Fn(usize, usize) -> [f32; 4],
+    height: impl Fn(usize, usize) -> f32,
     fx: f32,
     fy: f32,
 ) -> (f32x4, f32x4) {
     let lerp = |a: f32x4, b: f32x4, f: f32x4| a + (b - a) * f;
     let (fx, fy) = (f32x4::splat(fx), f32x4::splat(fy));
-    let (t00, t10, t01, t11) = (at(1, 1), at(1, 2), at(2, 1), at(2, 2));
     let mut color = f32x4::ZERO;
     let mut heights = f32x4::ZERO;
     if COLOR {
+        let (t00, t10, t01, t11) = (at(1, 1), at(1, 2), at(2, 1), at(2, 2));
         let top = lerp(f32x4::from(t00), f32x4::from(t10), fx);
         let bottom = lerp(f32x4::from(t01), f32x4::from(t11), fx);
         color = lerp(top, bottom, fy);
     }
     if GRADIENT {
-        let hh = |r: usize, c: usize| at(r, c)[3];
-        let (h00, h10, h01, h11) = (t00[3], t10[3], t01[3], t11[3]);
+        let hh = height;
+        let (h00, h10, h01, h11) = (hh(1, 1), hh(1, 2), hh(2, 1), hh(2, 2));
         // Corner k of the east, west, north and south quads.
         let c00 = f32x4::new([h10, hh(1, 0), h01, hh(0, 1)]);
         let c10 = f32x4::new([hh(1, 3), h00, h11, hh(0, 2)]);

@@ -153,6 +153,15 @@ pub trait Fetch: Copy {
     /// # Safety
     /// `i < self.len()`.
     unsafe fn at_unchecked(self, i: usize) -> Texel;
+    /// [`Fetch::height`] without the bounds check.
+    ///
+    /// # Safety
+    /// `i < self.len()`.
+    #[inline(always)]
+    unsafe fn height_unchecked(self, i: usize) -> f32 {
+        // SAFETY: the caller keeps i < len.
+        unsafe { self.at_unchecked(i)[3] }
+    }
 }
 
 #[derive(Clone, Copy)]
@@ -174,7 +183,7 @@ pub struct Grey16s<'a>(pub &'a [u16]);
 pub struct Xyz32s<'a>(pub &'a [[f32; 3]]);
 
 macro_rules! fetch_impl {
-    ($view:ident, $t:ident => $conv:expr) => {
+    ($view:ident, $t:ident => $conv:expr $(, height $h:ident => $height:expr)?) => {
         impl Fetch for $view<'_> {
             #[inline(always)]
             fn at(self, i: usize) -> Texel {
@@ -191,12 +200,26 @@ macro_rules! fetch_impl {
                 let $t = unsafe { *self.0.get_unchecked(i) };
                 $conv
             }
+            $(
+            #[inline(always)]
+            fn height(self, i: usize) -> f32 {
+                let $h = self.0[i];
+                $height
+            }
+            #[inline(always)]
+            unsafe fn height_unchecked(self, i: usize) -> f32 {
+                // SAFETY: the caller keeps i < len.
+                let $h = unsafe { *self.0.get_unchecked(i) };
+                $height
+            }
+            )?
         }
     };
 }
 
 fetch_impl!(F32s, t => t);
-fetch_impl!(Rgba8s, t => unorm8x4(t));
+// A height is the alpha byte alone, not a whole texel's conversion.
+fetch_impl!(Rgba8s, t => unorm8x4(t), height t => unorm8(t[3]));
 fetch_impl!(Rgb8s, t => rgb8_texel(t));
 fetch_impl!(Rgba16s, t => unorm16x4(t));
 fetch_impl!(Xyz16s, t => [snorm16(t[0]), snorm16(t[1]), snorm16(t[2]), 0.0]);
@@ -205,9 +228,34 @@ fetch_impl!(Grey16s, t => [unorm16(t); 4]);
 fetch_impl!(Xyz32s, t => [t[0], t[1], t[2], 0.0]);
 
 /// Four 8-bit channels as floats, k / 255 each (see [`unorm8`]).
+#[cfg(not(target_arch = "x86_64"))]
 #[inline(always)]
 fn unorm8x4(t: [u8; 4]) -> Texel {
     t.map(unorm8)
+}
+
+/// Four 8-bit channels as floats, k / 255 each, four at a time: with
+/// x = k / 256 (exact), x + x·fl(1/255) is within 2^-9 of an ulp of k / 255,
+/// whose binary digits repeat k's eight bits, so they never come that close
+/// to a rounding midpoint (the ninth digit past any point equals the first):
+/// the sum rounds to the division's result, as the test over every byte
+/// checks, without a division or four table reads.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn unorm8x4(t: [u8; 4]) -> Texel {
+    use std::arch::x86_64::{
+        __m128, _mm_add_ps, _mm_cvtepi32_ps, _mm_cvtsi32_si128, _mm_mul_ps, _mm_set1_ps,
+        _mm_setzero_si128, _mm_unpacklo_epi8, _mm_unpacklo_epi16,
+    };
+    // SAFETY: SSE2, the only extension used, is part of every x86_64 CPU.
+    unsafe {
+        let zero = _mm_setzero_si128();
+        let bytes = _mm_cvtsi32_si128(i32::from_le_bytes(t));
+        let ints = _mm_unpacklo_epi16(_mm_unpacklo_epi8(bytes, zero), zero);
+        let x = _mm_mul_ps(_mm_cvtepi32_ps(ints), _mm_set1_ps(1.0 / 256.0));
+        let q = _mm_add_ps(x, _mm_mul_ps(x, _mm_set1_ps(1.0 / 255.0)));
+        std::mem::transmute::<__m128, [f32; 4]>(q)
+    }
 }
 
 /// Four 16-bit channels as floats, k / 65535 each (see [`unorm16`]).
@@ -439,6 +487,15 @@ mod tests {
                     assert_eq!(grey.to_bits(), grey8(r, g, b).to_bits(), "{r} {g} {b}");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn eight_bit_channels_read_as_their_division_by_255() {
+        for k in 0..=255u8 {
+            let t = unorm8x4([k, 255 - k, k / 3, k.wrapping_mul(7)]);
+            let want = [k, 255 - k, k / 3, k.wrapping_mul(7)].map(|c| c as f32 / 255.0);
+            assert_eq!(t.map(f32::to_bits), want.map(f32::to_bits), "byte {k}");
         }
     }
 
