@@ -331,6 +331,10 @@ impl Renderer {
                 }
                 let verts = idx.map(|i| placed.vertex(i));
                 let face_normal = placed.facet_normal(tri_index);
+                let uv2 = match object.mesh.uv2() {
+                    [] => [glam::Vec2::ZERO; 3],
+                    set => idx.map(|i| set.get(i).copied().unwrap_or_default()),
+                };
                 let shader = build_shader(
                     plan,
                     &verts,
@@ -342,6 +346,7 @@ impl Renderer {
                     &placed.linear,
                     shadow,
                     object_index as u32,
+                    uv2,
                     &mut counters,
                 );
                 self.shaders.push(shader);
