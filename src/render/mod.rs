@@ -532,7 +532,9 @@ impl Renderer {
             (Display::Fill, true, _) => DepthView::Pixels(&self.depth),
             _ => DepthView::None,
         };
-        draw_tangent_frames(scene, &self.world, plan, depth, fb, brush)
+        // The surfaces' projection: the pixels' shape widens the view.
+        let aspect = fb.width() as f32 / fb.height() as f32 * self.pixel_aspect.unwrap_or(1.0);
+        draw_tangent_frames(scene, &self.world, plan, depth, fb, (brush, aspect))
     }
 }
 
