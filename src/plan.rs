@@ -302,11 +302,15 @@ impl Plan {
         {
             spec.shininess = s;
         }
-        // Flat and Gouraud read only the alpha mask of the terms.
+        // Flat and Gouraud read only the alpha mask of the terms, and where
+        // the specular map is read.
         let shades = plan.display == Display::Fill
             && match plan.shading {
                 Shading::Phong => terms.shade(plan.ambient, plan.specular.is_some()),
-                Shading::Flat | Shading::Gouraud => terms.cutout.is_some(),
+                Shading::Flat | Shading::Gouraud => {
+                    terms.cutout.is_some()
+                        || (plan.specular.is_some() && !terms.uvs.specular.is_vertex_uv())
+                }
             };
         plan.terms = shades.then(|| terms.clone());
         plan

@@ -305,10 +305,15 @@ fn write_grid(path: &Path, n: usize) {
 }
 
 /// An `n × n` grid as a GLB: positions, normals, UVs and `u32` indices in
-/// its binary chunk, two triangles a cell.
-fn write_glb_grid(path: &Path, n: usize) {
-    let (mut positions, mut normals, mut uvs, mut indices) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+/// its binary chunk, two triangles a cell. With `normal_map`, the name of
+/// an image beside it: a second UV set (u mirrored) and a material whose
+/// base colour reads the first set and whose normal map, that image, reads
+/// the second, turned by a texture transform (so the loader stores the
+/// second set, splits the corners for MikkTSpace on the normal map's own
+/// coordinates and keeps the facets' axes of those).
+fn write_glb_grid(path: &Path, n: usize, normal_map: Option<&str>) {
+    let (mut positions, mut normals, mut uvs, mut uvs2, mut indices) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for y in 0..n {
         for x in 0..n {
             let (u, v) = (x as f32 / (n - 1) as f32, y as f32 / (n - 1) as f32);
@@ -320,6 +325,9 @@ fn write_glb_grid(path: &Path, n: usize) {
             }
             for c in [u, v] {
                 uvs.extend(c.to_le_bytes());
+            }
+            for c in [1.0 - u, v] {
+                uvs2.extend(c.to_le_bytes());
             }
         }
     }
@@ -334,7 +342,11 @@ fn write_glb_grid(path: &Path, n: usize) {
     }
     let mut bin = Vec::new();
     let mut views = Vec::new();
-    for part in [&positions, &normals, &uvs, &indices] {
+    let mut parts = vec![&positions, &normals, &uvs, &indices];
+    if normal_map.is_some() {
+        parts.push(&uvs2);
+    }
+    for part in parts {
         views.push(format!(
             r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
             bin.len(),
@@ -343,8 +355,23 @@ fn write_glb_grid(path: &Path, n: usize) {
         bin.extend_from_slice(part);
     }
     let (vertices, corners) = (n * n, indices.len() / 4);
+    let (second, material, materials) = match normal_map {
+        Some(image) => (
+            format!(r#",{{"bufferView":4,"componentType":5126,"count":{vertices},"type":"VEC2"}}"#),
+            r#","material":0"#,
+            format!(
+                r#""materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}},"normalTexture":{{"index":0,"texCoord":1,"extensions":{{"KHR_texture_transform":{{"rotation":0.5}}}}}}}}],"textures":[{{"source":0}}],"images":[{{"uri":"{image}"}}],"#
+            ),
+        ),
+        None => (String::new(), "", String::new()),
+    };
+    let attributes = if normal_map.is_some() {
+        r#""POSITION":0,"NORMAL":1,"TEXCOORD_0":2,"TEXCOORD_1":4"#
+    } else {
+        r#""POSITION":0,"NORMAL":1,"TEXCOORD_0":2"#
+    };
     let json = format!(
-        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1,"TEXCOORD_0":2}},"indices":3}}]}}],"buffers":[{{"byteLength":{}}}],"bufferViews":[{}],"accessors":[{{"bufferView":0,"componentType":5126,"count":{vertices},"type":"VEC3","min":[-1,-1,-1],"max":[1,1,1]}},{{"bufferView":1,"componentType":5126,"count":{vertices},"type":"VEC3"}},{{"bufferView":2,"componentType":5126,"count":{vertices},"type":"VEC2"}},{{"bufferView":3,"componentType":5125,"count":{corners},"type":"SCALAR"}}]}}"#,
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{{attributes}}},"indices":3{material}}}]}}],{materials}"buffers":[{{"byteLength":{}}}],"bufferViews":[{}],"accessors":[{{"bufferView":0,"componentType":5126,"count":{vertices},"type":"VEC3","min":[-1,-1,-1],"max":[1,1,1]}},{{"bufferView":1,"componentType":5126,"count":{vertices},"type":"VEC3"}},{{"bufferView":2,"componentType":5126,"count":{vertices},"type":"VEC2"}},{{"bufferView":3,"componentType":5125,"count":{corners},"type":"SCALAR"}}{second}]}}"#,
         bin.len(),
         views.join(",")
     );
@@ -441,8 +468,15 @@ fn loading_a_model_allocates_no_more_than_it_reserved() {
     cases.push(("binary STL", dir.join("facets.stl")));
 
     // A GLB: its accessors read straight into the mesh.
-    write_glb_grid(&dir.join("grid.glb"), 150);
+    write_glb_grid(&dir.join("grid.glb"), 150, None);
     cases.push(("GLB grid", dir.join("grid.glb")));
+    // A GLB whose normal map reads a second set through its own transform.
+    write_png(&dir.join("normals.png"), 8, 8);
+    write_glb_grid(&dir.join("two-sets.glb"), 150, Some("normals.png"));
+    cases.push((
+        "GLB grid, normal map on TEXCOORD_1",
+        dir.join("two-sets.glb"),
+    ));
 
     for (what, path) in cases {
         let (triangles, allocated, reserved, held) = load_counted(&path);
@@ -465,6 +499,15 @@ fn loading_a_model_allocates_no_more_than_it_reserved() {
             "{what}: {allocated} bytes allocated, {reserved} reserved"
         );
     }
+    // Only the mesh whose normal map reads the second set keeps it.
+    let sets = |file: &str| {
+        let model = relief::scene::gltf::load(&dir.join(file)).expect("the model loads");
+        let mesh = &model.parts[0].mesh;
+        (mesh.uv2().len(), mesh.vertices.len())
+    };
+    assert_eq!(sets("grid.glb").0, 0);
+    let (uv2, vertices) = sets("two-sets.glb");
+    assert_eq!(uv2, vertices);
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -190,15 +190,18 @@ fn bounding_radius(points: &[Vec3]) -> Option<f32> {
 
 /// Draws the plan's tangent frames of `scene` placed as `world` over `fb`
 /// (already drawn), segments `brush` pixels thick, the origins tested
-/// against `depth` (the frame's own depth buffer, of `fb`'s size). Counts
-/// the segments drawn.
+/// against `depth` (the frame's own depth buffer, of `fb`'s size). The
+/// view's `aspect` (width over height, with the pixels' own shape: sub-cell
+/// symbols draw pixels that are not square) is the one the surfaces were
+/// projected with, so each frame starts on its vertex. Counts the segments
+/// drawn.
 pub fn draw_tangent_frames(
     scene: &Scene,
     world: &World,
     plan: &Plan,
     depth: DepthView,
     fb: &mut Framebuffer,
-    brush: usize,
+    (brush, aspect): (usize, f32),
 ) -> Counters {
     let mut counters = Counters::default();
     if !plan.tangent_frames {
@@ -208,7 +211,7 @@ pub fn draw_tangent_frames(
     if width == 0 || height == 0 {
         return counters;
     }
-    let view_proj = scene.camera.projection(width as f32 / height as f32) * scene.camera.view();
+    let view_proj = scene.camera.projection(aspect) * scene.camera.view();
     let clip = |p: Vec3| -> Vec4 { view_proj * p.extend(1.0) };
     let mut canvas = Canvas::new(width, height, fb.pixels_mut());
     for f in vertex_frames(scene, world, plan) {

@@ -331,6 +331,10 @@ impl Renderer {
                 }
                 let verts = idx.map(|i| placed.vertex(i));
                 let face_normal = placed.facet_normal(tri_index);
+                let uv2 = match object.mesh.uv2() {
+                    [] => [glam::Vec2::ZERO; 3],
+                    set => idx.map(|i| set.get(i).copied().unwrap_or_default()),
+                };
                 let shader = build_shader(
                     plan,
                     &verts,
@@ -342,6 +346,7 @@ impl Renderer {
                     &placed.linear,
                     shadow,
                     object_index as u32,
+                    uv2,
                     &mut counters,
                 );
                 self.shaders.push(shader);
@@ -527,7 +532,9 @@ impl Renderer {
             (Display::Fill, true, _) => DepthView::Pixels(&self.depth),
             _ => DepthView::None,
         };
-        draw_tangent_frames(scene, &self.world, plan, depth, fb, brush)
+        // The surfaces' projection: the pixels' shape widens the view.
+        let aspect = fb.width() as f32 / fb.height() as f32 * self.pixel_aspect.unwrap_or(1.0);
+        draw_tangent_frames(scene, &self.world, plan, depth, fb, (brush, aspect))
     }
 }
 

@@ -47,6 +47,7 @@ pub(super) fn build_shader(
     linear: &Mat3,
     shadow: Option<Shadow>,
     object: u32,
+    uv2: [Vec2; 3],
     counters: &mut Counters,
 ) -> TriShader {
     let tri = &mesh.triangles[t];
@@ -54,6 +55,11 @@ pub(super) fn build_shader(
     let bumped = tri.textured && plan.bump;
     let glossy = tri.textured && plan.specular.as_ref().is_some_and(|s| s.map.is_some());
     let uv = verts.map(|v| v.uv);
+    // The specular map's coordinates, when a model's map reads its own.
+    let gloss_uv = match plan.terms.as_deref().map(|t| t.uvs.specular) {
+        Some(m) if !m.is_vertex_uv() => [0, 1, 2].map(|k| m.at(uv[k], uv2[k])),
+        _ => uv,
+    };
     let white = Vec3::ONE;
     let color = if plan.colors {
         verts.map(|v| v.color)
@@ -75,7 +81,7 @@ pub(super) fn build_shader(
                 counters,
             );
             // One highlight per facet, the specular map read at its centre.
-            let gloss_uv = (uv[0] + uv[1] + uv[2]) / 3.0;
+            let gloss_uv = (gloss_uv[0] + gloss_uv[1] + gloss_uv[2]) / 3.0;
             let highlight = highlight * glossiness(plan, glossy, gloss_uv);
             let lit = albedo * light;
             let cut = plan.terms.as_ref().is_some_and(|t| t.cutout.is_some());
@@ -89,6 +95,7 @@ pub(super) fn build_shader(
                     highlight: [highlight; 3],
                     color: [white; 3],
                     uv,
+                    gloss_uv: uv,
                     textured: false,
                     glossy: false,
                 })
@@ -120,6 +127,7 @@ pub(super) fn build_shader(
                 highlight: lit.map(|l| l.1),
                 color,
                 uv,
+                gloss_uv,
                 textured,
                 glossy,
             })
@@ -149,6 +157,7 @@ pub(super) fn build_shader(
                 smooth,
                 color,
                 uv,
+                uv2,
                 tangent_u,
                 tangent_v,
                 uniform_tangents,

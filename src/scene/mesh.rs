@@ -152,6 +152,11 @@ pub struct Mesh {
     pub convex: bool,
     /// A closed surface: back faces can never be seen from outside, so they are culled.
     pub closed: bool,
+    /// A second texture coordinate per vertex, for a material whose maps
+    /// read two sets (a glTF normal or emissive map on TEXCOORD_1 while
+    /// the colour is on TEXCOORD_0; `scene::map_uv`); empty otherwise, so
+    /// other meshes pay nothing for it ([`Mesh::with_uv2`]).
+    uv2: Vec<Vec2>,
 }
 
 /// Below this many faces a mesh is built on one thread.
@@ -168,6 +173,7 @@ impl Mesh {
             facets: Vec::new(),
             convex,
             closed,
+            uv2: Vec::new(),
         };
         let kept = |f: &Face| {
             Some(Facet::of_face(f).bits())
@@ -215,7 +221,24 @@ impl Mesh {
             facets: Vec::new(),
             convex,
             closed,
+            uv2: Vec::new(),
         }
+    }
+
+    /// The mesh with `uv2` as its second texture coordinate set, one per
+    /// vertex (or none).
+    pub fn with_uv2(mut self, uv2: Vec<Vec2>) -> Mesh {
+        assert!(
+            uv2.is_empty() || uv2.len() == self.vertices.len(),
+            "a second texture coordinate set has one per vertex"
+        );
+        self.uv2 = uv2;
+        self
+    }
+
+    /// The second texture coordinate set: one per vertex, or empty.
+    pub fn uv2(&self) -> &[Vec2] {
+        &self.uv2
     }
 
     /// How many side-table entries [`Mesh::new`] would make at most (to

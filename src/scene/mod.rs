@@ -12,6 +12,7 @@ pub mod flag_maps;
 pub mod gltf;
 pub mod light;
 pub mod loaded_model;
+pub mod map_uv;
 pub mod material;
 pub mod mesh;
 pub mod model_error;

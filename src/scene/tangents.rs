@@ -5,7 +5,7 @@
 //! handedness: a face whose texture is flipped gets Pu × Pv pointing inward,
 //! and the bump built from Pu and Pv tilts the right way on it.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 pub use super::face_frame::{FaceFrame, face_frame, frame_from_normal};
@@ -40,13 +40,16 @@ struct Sum {
 /// (no votes, or votes that cancel) gets a frame from its normal, at the
 /// mean length of its faces' axes, or 1.
 pub fn accumulate(mesh: &mut Mesh) {
-    accumulate_with(mesh, false);
+    accumulate_with(mesh, false, None);
 }
 
 /// [`accumulate`], but a vertex that already holds both texture axes (a
-/// file's tangents) keeps their directions and takes only the lengths.
-pub fn accumulate_keeping_directions(mesh: &mut Mesh) {
-    accumulate_with(mesh, true);
+/// file's tangents) keeps their directions and takes only the lengths;
+/// the faces' axes come from `uvs` (one per vertex) when given instead of
+/// the vertices' own: those of a normal map that reads another set or
+/// transform (glTF, `scene::map_uv`).
+pub fn accumulate_keeping_directions(mesh: &mut Mesh, uvs: Option<&[Vec2]>) {
+    accumulate_with(mesh, true, uvs);
 }
 
 /// What [`accumulate`] allocates for `vertices` and `triangles`: each
@@ -59,7 +62,7 @@ pub fn sum_bytes(vertices: u64, triangles: u64) -> u64 {
         .saturating_add(triangles.saturating_mul(3 * word))
 }
 
-fn accumulate_with(mesh: &mut Mesh, keep_directions: bool) {
+fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>) {
     let vertex_count = mesh.vertices.len();
     // The corners at each vertex, in triangle order (a counting sort): each
     // vertex then sums its faces' votes on its own, in parallel, in the
@@ -92,7 +95,7 @@ fn accumulate_with(mesh: &mut Mesh, keep_directions: bool) {
         let normal = shared.face_normal(t as usize);
         let idx = tri.indices.map(|i| i as usize);
         let p = idx.map(|i| shared.vertices[i].position);
-        let uv = idx.map(|i| shared.vertices[i].uv);
+        let uv = idx.map(|i| uvs.map_or(shared.vertices[i].uv, |u| u[i]));
         (face_frame(p, uv, normal), normal)
     };
     let sums: Vec<Sum> = (0..vertex_count)

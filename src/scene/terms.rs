@@ -9,6 +9,7 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
+use super::map_uv::MapUvs;
 use crate::settings::Filter;
 use crate::texture::Level;
 
@@ -33,6 +34,10 @@ pub struct MaterialTerms {
     pub map_names: Vec<(&'static str, String)>,
     /// An alpha mask: pixels whose opacity is below the cutoff are not drawn.
     pub cutout: Option<Cutout>,
+    /// Where the normal, specular, occlusion and emissive maps read their
+    /// texture coordinates (glTF `texCoord` and `KHR_texture_transform`
+    /// per map; all the vertices' `uv` for every other material).
+    pub uvs: MapUvs,
 }
 
 /// An alpha mask (glTF `alphaMode` MASK, and BLEND drawn as MASK at 0.5;
@@ -71,6 +76,7 @@ impl Default for MaterialTerms {
             filter: None,
             map_names: Vec::new(),
             cutout: None,
+            uvs: MapUvs::default(),
         }
     }
 }
@@ -86,6 +92,8 @@ impl MaterialTerms {
                 .as_ref()
                 .is_some_and(|(_, s)| *s != 0.0 && ambient.max_element() > 0.0)
             || (specular && self.specular_color != Vec3::ONE)
+            || !self.uvs.normal.is_vertex_uv()
+            || (specular && !self.uvs.specular.is_vertex_uv())
     }
 }
 

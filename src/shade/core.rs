@@ -19,6 +19,7 @@ use wide::f32x8;
 use super::PhongTri;
 use super::lanes::{Lanes, Vector};
 use super::lighting::{LightSet, facing_cosine, finish, light_lanes};
+use super::map_uv::{Coords, map_coords};
 use super::material::compose;
 use super::packet::{self, LANES, V3};
 use super::shader::{PixelShader, ShadeCtx};
@@ -47,6 +48,9 @@ pub struct HookAt<V: Vector> {
 /// one pixel). Lanes not covered are computed and thrown away, and neither
 /// read nor counted where a read is made lane by lane.
 pub struct Pixels<'a, V: Vector> {
+    /// The triangle (its second texture coordinate set, for the maps that
+    /// read it).
+    pub tri: &'a PhongTri,
     pub s: Surface<V>,
     pub b: [V::L; 3],
     pub fp: &'a [Footprint],
@@ -118,6 +122,7 @@ pub fn shade<V: Vector, H: Hook, const TEX: bool, const SPEC: bool>(
 ) -> V {
     let plan = ctx.plan;
     let px = Pixels {
+        tri,
         s: Surface::<V>::at(tri, &b),
         b,
         fp,
@@ -146,6 +151,7 @@ pub fn shade<V: Vector, H: Hook, const TEX: bool, const SPEC: bool>(
         p: s.p,
         n: at.n,
         uv: (at.u, at.v),
+        b: &px.b,
         albedo,
         live,
     };
@@ -176,6 +182,7 @@ struct Lit<'a, V: Vector> {
     p: V,
     n: V,
     uv: (V::L, V::L),
+    b: &'a [V::L; 3],
     albedo: V,
     live: u32,
 }
@@ -197,13 +204,21 @@ impl<V: Vector> Lit<'_, V> {
             let (light, mut highlight) =
                 light_lanes::<V, true>(&set, p, n, view, cosine, visibility, counters);
             if let Some(map) = gloss_map(self.ctx, self.tri.glossy) {
-                highlight = highlight * gloss(map, self.uv.0, self.uv.1);
+                let (u, v) = match plan.terms.as_deref() {
+                    Some(t) => map_coords(&t.uvs.specular, &self.tri.uv2, self.b, self.uv),
+                    None => self.uv,
+                };
+                highlight = highlight * gloss(map, u, v);
             }
             return compose::<V, true>(
                 plan,
                 p,
                 n,
-                self.uv,
+                Coords {
+                    uv: self.uv,
+                    b: self.b,
+                    uv2: &self.tri.uv2,
+                },
                 self.albedo,
                 light,
                 highlight,
@@ -217,7 +232,11 @@ impl<V: Vector> Lit<'_, V> {
             plan,
             p,
             n,
-            self.uv,
+            Coords {
+                uv: self.uv,
+                b: self.b,
+                uv2: &self.tri.uv2,
+            },
             self.albedo,
             light,
             zero,

@@ -24,11 +24,12 @@
 //! Like every kernel, each light is scaled by what the shadow map (when the
 //! plan drew one) says reaches the point.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::PhongTri;
 use super::core::{Hook, HookAt, Pixels};
 use super::lanes::{Lanes, Vector};
+use super::map_uv::{carry, footprint_map, map_coords};
 use super::shader::ShadeCtx;
 use super::tangent::{Frame, lerp3};
 use crate::plan::ActiveLight;
@@ -131,9 +132,20 @@ impl<const PER_PIXEL: bool> Hook for Dot3<'_, PER_PIXEL> {
         counters.bump_evals += px.count();
         counters.texture_samples += px.count();
         let (d, f) = (plan.height_derivative, plan.filter);
-        let normal = V::gather(px.live, |i| {
-            Vec3::from(read_normal(self.map, d, f, px.uv(i), px.fp[i]))
-        });
+        let normal = match plan.terms.as_deref().map(|t| &t.uvs.normal) {
+            // A model's normal map on its own set or transform.
+            Some(m) if !m.is_vertex_uv() => {
+                let (u, v) = map_coords(m, &px.tri.uv2, &px.b, (s.u, s.v));
+                let to = footprint_map(m, &px.tri.uv, &px.tri.uv2);
+                V::gather(px.live, |i| {
+                    let uv = Vec2::new(u.lane(i), v.lane(i));
+                    Vec3::from(read_normal(self.map, d, f, uv, carry(px.fp[i], to)))
+                })
+            }
+            _ => V::gather(px.live, |i| {
+                Vec3::from(read_normal(self.map, d, f, px.uv(i), px.fp[i]))
+            }),
+        };
         // The world normal serves the highlights and the reflection; per
         // vertex, the frame is built only when something reads it.
         let world_normal = plan.specular.is_some() || plan.environment.is_some();
@@ -195,6 +207,7 @@ mod tests {
             smooth: false,
             color: [Vec3::ONE; 3],
             uv: [Vec2::ZERO, Vec2::X, Vec2::ONE],
+            uv2: [Vec2::ZERO; 3],
             tangent_u: [2.0 * Vec3::X; 3],
             tangent_v: [2.0 * Vec3::Y; 3],
             uniform_tangents: true,

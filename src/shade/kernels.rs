@@ -144,7 +144,7 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
         if SPEC {
             let mut highlight = lerp3(b, &tri.highlight);
             if let Some(map) = gloss_map(ctx, tri.glossy) {
-                let uv = lerp2(b, &tri.uv);
+                let uv = lerp2(b, &tri.gloss_uv);
                 highlight *= gloss(map, uv.x, uv.y);
             }
             return finish(albedo * lerp3(b, &tri.light) + highlight, counters);
@@ -186,7 +186,7 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
         if SPEC {
             let mut highlight = packet::lerp3(&b, &tri.highlight);
             if let Some(map) = gloss_map(ctx, tri.glossy) {
-                let (u, v) = packet::lerp2(&b, &tri.uv);
+                let (u, v) = packet::lerp2(&b, &tri.gloss_uv);
                 highlight = highlight.scale(gloss(map, u, v));
             }
             return packet::finish(lit.plus(highlight), live, counters);

@@ -11,6 +11,7 @@ use glam::Vec3;
 
 use super::environment::mirror;
 use super::lanes::{Lanes, Vector};
+use super::map_uv::Coords;
 use crate::plan::Plan;
 use crate::scene::terms::MaterialTerms;
 use crate::stats::Counters;
@@ -42,8 +43,8 @@ pub fn emission<V: Vector>(terms: &MaterialTerms, u: V::L, v: V::L) -> V {
     }
 }
 
-/// The colour of the point(s) `p` of shading normal `n` and texture
-/// coordinate (u, v), before quantising: `albedo × light` plus, when
+/// The colour of the point(s) `p` of shading normal `n`, where the maps
+/// read `at` (each its own coordinate, `shade::map_uv`), before quantising: `albedo × light` plus, when
 /// `SPEC`, the `highlight`; with the plan's material terms and environment.
 /// `live` has a bit per covered lane (1 for one pixel).
 #[allow(clippy::too_many_arguments)]
@@ -52,7 +53,7 @@ pub fn compose<V: Vector, const SPEC: bool>(
     plan: &Plan,
     p: V,
     n: V,
-    (u, v): (V::L, V::L),
+    at: Coords<V::L>,
     albedo: V,
     light: V,
     highlight: V,
@@ -67,12 +68,14 @@ pub fn compose<V: Vector, const SPEC: bool>(
         };
         return mirror(plan, p, n, lit, live, counters);
     };
+    let (u, v) = at.of(&terms.uvs.occlusion);
     let light = occlude(terms, plan.ambient, u, v, light);
     let lit = if SPEC {
         albedo * light + highlight * V::uniform(terms.specular_color)
     } else {
         albedo * light
     };
+    let (u, v) = at.of(&terms.uvs.emissive);
     mirror(plan, p, n, lit, live, counters) + emission(terms, u, v)
 }
 

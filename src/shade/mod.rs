@@ -12,6 +12,7 @@ pub mod environment;
 pub mod kernels;
 pub mod lanes;
 pub mod lighting;
+pub mod map_uv;
 pub mod material;
 pub mod packet;
 pub mod parallax;

@@ -110,6 +110,10 @@ pub struct GouraudTri {
     pub highlight: [Vec3; 3],
     pub color: [Vec3; 3],
     pub uv: [Vec2; 3],
+    /// Where the specular map is read at the vertices: `uv`, unless a
+    /// model's map reads its own set or transform (`scene::map_uv`; both
+    /// are affine, so interpolating them is exact).
+    pub gloss_uv: [Vec2; 3],
     pub textured: bool,
     /// The plan's specular map scales the highlight (the triangle has UVs).
     pub glossy: bool,
@@ -127,6 +131,9 @@ pub struct PhongTri {
     pub smooth: bool,
     pub color: [Vec3; 3],
     pub uv: [Vec2; 3],
+    /// The mesh's second texture coordinate set at the vertices (zero when
+    /// it has none), for the maps that read it (`scene::map_uv`).
+    pub uv2: [Vec2; 3],
     /// ∂P/∂u and ∂P/∂v at the vertices (equal on a flat cube face).
     pub tangent_u: [Vec3; 3],
     pub tangent_v: [Vec3; 3],

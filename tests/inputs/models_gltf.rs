@@ -1007,3 +1007,215 @@ fn every_line_mode_draws_the_same_outline() {
     let white = lines.pixels().iter().filter(|&&p| p == [255; 3]).count();
     assert!((174..=184).contains(&white), "{white}");
 }
+
+/// The u of the 2 × 1 quad's corners in `quad` order: 0 on the left, 1 on
+/// the right; v 0 at the top, 1 at the bottom.
+const QUAD_UV: [[f32; 2]; 4] = [[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]];
+
+/// `QUAD_UV` mirrored: u 1 on the left, 0 on the right.
+const QUAD_UV_MIRRORED: [[f32; 2]; 4] = [[1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]];
+
+fn data_uri(mime: &str, bytes: &[u8]) -> String {
+    use base64::Engine;
+    let b64 = base64::engine::general_purpose::STANDARD.encode(bytes);
+    format!("data:{mime};base64,{b64}")
+}
+
+/// A .gltf file (JSON, its buffer and images as data URIs) of the 2 × 1
+/// quad of `quad(-1, 1, -0.5, 0.5, …)` with texture coordinate sets
+/// `sets` (TEXCOORD_0, TEXCOORD_1…), this material and these images, each
+/// texture read with the nearest texel.
+fn two_set_gltf(test: &str, sets: &[[[f32; 2]; 4]], material: &str, images: &[Vec<u8>]) -> PathBuf {
+    let q = quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0);
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views = Vec::new();
+    let mut accessors = Vec::new();
+    let mut add = |bytes: Vec<u8>, count: usize, ty: &str, ct: u32, extra: &str| {
+        views.push(format!(
+            r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
+            bin.len(),
+            bytes.len()
+        ));
+        bin.extend_from_slice(&bytes);
+        accessors.push(format!(
+            r#"{{"bufferView":{},"componentType":{ct},"count":{count},"type":"{ty}"{extra}}}"#,
+            views.len() - 1
+        ));
+    };
+    let floats = |v: &[f32]| v.iter().flat_map(|f| f.to_le_bytes()).collect::<Vec<u8>>();
+    add(
+        floats(&q.pos.concat()),
+        4,
+        "VEC3",
+        5126,
+        r#","min":[-1,-0.5,0],"max":[1,0.5,0]"#,
+    );
+    add(floats(&q.nrm.concat()), 4, "VEC3", 5126, "");
+    let mut attributes = r#""POSITION":0,"NORMAL":1"#.to_string();
+    for (k, set) in sets.iter().enumerate() {
+        add(floats(&set.concat()), 4, "VEC2", 5126, "");
+        attributes += &format!(r#","TEXCOORD_{k}":{}"#, k + 2);
+    }
+    let indices: Vec<u8> = q.idx.iter().flat_map(|i| i.to_le_bytes()).collect();
+    add(indices, q.idx.len(), "SCALAR", 5123, "");
+    let images_json: Vec<String> = images
+        .iter()
+        .map(|png| format!(r#"{{"uri":"{}"}}"#, data_uri("image/png", png)))
+        .collect();
+    let textures: Vec<String> = (0..images.len())
+        .map(|i| format!(r#"{{"source":{i},"sampler":0}}"#))
+        .collect();
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"extensionsUsed":["KHR_texture_transform"],"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{{attributes}}},"indices":{},"material":0}}]}}],"accessors":[{}],"bufferViews":[{}],"buffers":[{{"byteLength":{},"uri":"{}"}}],"materials":[{material}],"samplers":[{{"magFilter":9728,"minFilter":9728}}],"images":[{}],"textures":[{}]}}"#,
+        accessors.len() - 1,
+        accessors.join(","),
+        views.join(","),
+        bin.len(),
+        data_uri("application/octet-stream", &bin),
+        images_json.join(","),
+        textures.join(","),
+    );
+    write(test, "quad.gltf", json.as_bytes())
+}
+
+/// A 4 × 1 image: red on the left half, green on the right, no blue.
+fn red_green() -> Vec<u8> {
+    png(4, 1, |x, _| {
+        if x < 2 {
+            [255, 0, 0, 255]
+        } else {
+            [0, 255, 0, 255]
+        }
+    })
+}
+
+/// The quad of `two_set_gltf` face-on, lit from in front of its centre,
+/// and its pixels at u = 1/8, 3/8, 5/8, 7/8 along its middle row.
+fn quarter_pixels(path: &Path) -> [[u8; 3]; 4] {
+    let mut scene = scene_of(load_ok(path));
+    light_on_seam(&mut scene);
+    let fb = render(&scene, &face_on());
+    let half = projected_half_width(&scene);
+    let left = W as f32 / 2.0 - half;
+    [0.125f32, 0.375, 0.625, 0.875].map(|u| px(&fb, (left + u * 2.0 * half) as usize, H / 2))
+}
+
+/// The base colour reads TEXCOORD_0 and the emissive map TEXCOORD_1,
+/// which runs the other way (u₁ = 1 − u₀), moved by an offset of ¼:
+/// the emissive map is read at frac(1 − u₀ + ¼). Its texels give off blue
+/// only (0, 85, 170, 255 in its four quarters, emissiveFactor 1) and the
+/// base colour has none, so each pixel's blue is its emission exactly:
+/// u₀ = ⅛ reads ⅛ (quarter 0: 0), ⅜ reads ⅞ (quarter 3: 255), ⅝ reads ⅝
+/// (quarter 2: 170), ⅞ reads ⅜ (quarter 1: 85). (The emissive map is
+/// read bilinearly: its 8 texels hold each quarter's value twice, so the
+/// reads at the quarters' middles, between two equal texels, are exact.)
+/// The base colour still reads TEXCOORD_0 unmoved: red on the left half,
+/// green on the right.
+#[test]
+fn an_emissive_map_on_the_second_set_reads_it_with_its_own_offset() {
+    let quarters = || png(8, 1, |x, _| [0, 0, 85 * (x / 2) as u8, 255]);
+    let blue = quarters();
+    let material = r#"{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},"emissiveFactor":[1,1,1],"emissiveTexture":{"index":1,"texCoord":1,"extensions":{"KHR_texture_transform":{"offset":[0.25,0]}}}}"#;
+    let path = two_set_gltf(
+        "emit-set1",
+        &[QUAD_UV, QUAD_UV_MIRRORED],
+        material,
+        &[red_green(), blue],
+    );
+    let p = quarter_pixels(&path);
+    assert_eq!(p.map(|c| c[2]), [0, 255, 170, 85], "{p:?}");
+    for (k, c) in p.iter().enumerate() {
+        let (base, other) = if k < 2 { (c[0], c[1]) } else { (c[1], c[0]) };
+        assert!(base > 0 && other == 0, "quarter {k}: {c:?}");
+    }
+    // The model keeps the second set, one per vertex; a model whose maps
+    // all read one set keeps none.
+    let model = load_ok(&path);
+    assert_eq!(
+        model.parts[0].mesh.uv2().len(),
+        model.parts[0].mesh.vertices.len()
+    );
+    let one = two_set_gltf(
+        "emit-set0",
+        &[QUAD_UV],
+        r#"{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},"emissiveFactor":[1,1,1],"emissiveTexture":{"index":1}}"#,
+        &[red_green(), quarters()],
+    );
+    let model = load_ok(&one);
+    assert!(model.parts[0].mesh.uv2().is_empty());
+    assert_eq!(quarter_pixels(&one).map(|c| c[2]), [0, 85, 170, 255]);
+}
+
+/// KHR_texture_transform scale 2 on the emissive map alone repeats that
+/// map twice across the quad and nothing else: its blue (255 in its left
+/// half, 0 in its right; 8 texels, so the bilinear reads below fall
+/// between two equal ones) reads u' = 2u, so 255, 0, 255, 0 at u = ⅛, ⅜,
+/// ⅝, ⅞, while the base colour, on the same set, stays red then green once.
+#[test]
+fn a_texture_transform_on_one_map_repeats_that_map_only() {
+    let halves = || png(8, 1, |x, _| [0, 0, if x < 4 { 255 } else { 0 }, 255]);
+    let blue = halves();
+    let material = r#"{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},"emissiveFactor":[1,1,1],"emissiveTexture":{"index":1,"extensions":{"KHR_texture_transform":{"scale":[2,1]}}}}"#;
+    let path = two_set_gltf("scale-one", &[QUAD_UV], material, &[red_green(), blue]);
+    let p = quarter_pixels(&path);
+    assert_eq!(p.map(|c| c[2]), [255, 0, 255, 0], "{p:?}");
+    for (k, c) in p.iter().enumerate() {
+        let (base, other) = if k < 2 { (c[0], c[1]) } else { (c[1], c[0]) };
+        assert!(base > 0 && other == 0, "quarter {k}: {c:?}");
+    }
+    // The transform on the base colour instead repeats the base colour,
+    // and the emission stays once across.
+    let material = r#"{"pbrMetallicRoughness":{"baseColorTexture":{"index":0,"extensions":{"KHR_texture_transform":{"scale":[2,1]}}}},"emissiveFactor":[1,1,1],"emissiveTexture":{"index":1}}"#;
+    let blue = halves();
+    let path = two_set_gltf("scale-base", &[QUAD_UV], material, &[red_green(), blue]);
+    let p = quarter_pixels(&path);
+    assert_eq!(p.map(|c| c[2]), [255, 255, 0, 0], "{p:?}");
+    for (k, c) in p.iter().enumerate() {
+        let (base, other) = if k % 2 == 0 {
+            (c[0], c[1])
+        } else {
+            (c[1], c[0])
+        };
+        assert!(base > 0 && other == 0, "quarter {k}: {c:?}");
+    }
+}
+
+/// A normal map on TEXCOORD_1, which runs the other way (u₁ = 1 − u₀),
+/// takes its tangents from that set: its tilt towards +u₁ leans every
+/// normal towards −x, so lit from in front of the centre the right half
+/// (leaning towards the light) is brighter than the left. The picture is
+/// the one of the same quad whose TEXCOORD_0 is the mirrored set and whose
+/// maps all read it (the base colour is white, so only the normals differ).
+#[test]
+fn a_normal_map_on_the_second_set_takes_its_tangents_from_it() {
+    let white = png(1, 1, |_, _| [255, 255, 255, 255]);
+    let picture = |test: &str, sets: &[[[f32; 2]; 4]], set: u32| {
+        let material = format!(
+            r#"{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}},"normalTexture":{{"index":1,"texCoord":{set}}}}}"#
+        );
+        let path = two_set_gltf(test, sets, &material, &[white.clone(), tilted_map()]);
+        let mut scene = scene_of(load_ok(&path));
+        light_on_seam(&mut scene);
+        render(&scene, &dot3())
+    };
+    let second = picture("normal-set1", &[QUAD_UV, QUAD_UV_MIRRORED], 1);
+    let mirrored = picture("normal-mirrored", &[QUAD_UV_MIRRORED], 0);
+    let plain = picture("normal-plain", &[QUAD_UV], 0);
+    let sum = |p: [u8; 3]| p.iter().map(|&c| c as i32).sum::<i32>();
+    let (l, r) = (W / 2 - W / 10, W / 2 + W / 10);
+    let (left, right) = (px(&second, l, H / 2), px(&second, r, H / 2));
+    assert!(
+        sum(left) + 20 < sum(right),
+        "{left:?} left, {right:?} right"
+    );
+    let (left, right) = (px(&plain, l, H / 2), px(&plain, r, H / 2));
+    assert!(
+        sum(right) + 20 < sum(left),
+        "unmirrored: {left:?} left, {right:?} right"
+    );
+    for (a, b) in second.pixels().iter().zip(mirrored.pixels()) {
+        for k in 0..3 {
+            assert!((a[k] as i32 - b[k] as i32).abs() <= 1, "{a:?} {b:?}");
+        }
+    }
+}

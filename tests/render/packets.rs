@@ -475,6 +475,98 @@ fn material_terms_match_the_one_pixel_loop() {
     }
 }
 
+/// Maps on their own texture coordinates (`scene::map_uv`): the emissive
+/// and normal maps on a second set, moved and turned, the occlusion and
+/// specular maps on the first set scaled, all under trilinear filtering
+/// (so the carried footprints choose levels), on the Phong and dot3
+/// kernels, as the one-pixel loop draws them.
+#[test]
+fn map_coordinates_match_the_one_pixel_loop() {
+    use glam::Affine2;
+    use relief::scene::map_uv::{MapUv, MapUvs};
+    use relief::scene::terms::MaterialTerms;
+    let mut scene = common::reference_scene(true);
+    // A second set that is no affine image of the first: every face's
+    // Jacobian differs.
+    for object in &mut scene.objects {
+        let mesh = std::mem::take(&mut object.mesh);
+        let uv2 = (mesh.vertices.iter().enumerate())
+            .map(|(i, v)| Vec2::new(1.7 * v.uv.y + 0.1 * i as f32, 0.6 * v.uv.x - 0.3))
+            .collect();
+        object.mesh = mesh.with_uv2(uv2);
+    }
+    let map = |w: usize, h: usize, k: usize| {
+        let rgba: Vec<u8> = (0..w * h * 4).map(|i| (i * k % 253) as u8).collect();
+        Arc::new(Texture::from_rgba8("terms", w, h, &rgba).base().clone())
+    };
+    // A specular map, so the highlight reads one.
+    scene.material.specular_map = Some(map(9, 5, 29));
+    let turned = |angle: f32, scale: f32, x: f32| {
+        Some(Affine2::from_scale_angle_translation(
+            Vec2::new(scale, 2.0 - scale),
+            angle,
+            Vec2::new(x, -x),
+        ))
+    };
+    let terms = Arc::new(MaterialTerms {
+        emissive: Vec3::new(0.3, 0.1, 0.05),
+        emissive_map: Some(map(5, 3, 71)),
+        occlusion: Some((map(7, 9, 43), 0.8)),
+        filter: Some(Filter::Trilinear),
+        uvs: MapUvs {
+            normal: MapUv {
+                second: true,
+                transform: turned(0.7, 1.3, 0.2),
+            },
+            specular: MapUv {
+                second: false,
+                transform: turned(0.0, 3.0, 0.0),
+            },
+            occlusion: MapUv {
+                second: false,
+                transform: turned(-0.4, 0.5, 0.1),
+            },
+            emissive: MapUv {
+                second: true,
+                transform: None,
+            },
+        },
+        ..Default::default()
+    });
+    let unmoved = MaterialTerms {
+        uvs: MapUvs::default(),
+        ..(*terms).clone()
+    };
+    for (technique, light_vector) in [
+        (Technique::Blinn, LightVector::Pixel),
+        (Technique::Dot3, LightVector::Pixel),
+        (Technique::Dot3, LightVector::Vertex),
+    ] {
+        for normals in [Normals::Face, Normals::Vertex] {
+            for specular in [false, true] {
+                let s = Settings {
+                    technique,
+                    light_vector,
+                    normals,
+                    specular,
+                    rotation: Vec3::new(60.0, 35.0, 0.0),
+                    ..Settings::default()
+                };
+                let plan = Plan::new(&scene, &s).with_terms(&terms);
+                let (a, b, ca, cb, packed) = both_planned(&scene, &plan, &s, 80, 60);
+                assert!(packed > 0, "no triangle used packets: {s:?}");
+                assert!(a == b, "{s:?}");
+                assert_eq!(ca, cb, "{s:?}");
+                // The coordinates show: the picture is not the one of the
+                // same maps on the vertices' UVs.
+                let plain = Plan::new(&scene, &s).with_terms(&Arc::new(unmoved.clone()));
+                let (c, ..) = both_planned(&scene, &plain, &s, 80, 60);
+                assert!(a != c, "{s:?}");
+            }
+        }
+    }
+}
+
 /// Emboss, dot3 (light vector per pixel and per vertex), parallax and POM
 /// on eight lanes give the one-pixel loop's bits and counts: with and
 /// without texture and highlights, face and vertex normals, every filter

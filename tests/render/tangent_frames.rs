@@ -9,7 +9,7 @@ use glam::{Mat4, Vec3};
 use relief::app::view::status_line;
 use relief::app::{Action, State, update};
 use relief::raster::frames::LENGTH_FRACTION;
-use relief::render::render_frame;
+use relief::render::{Renderer, render_frame};
 use relief::scene::plane::grid;
 use relief::scene::{Mesh, Object};
 use relief::settings::{AntiAlias, Display};
@@ -94,6 +94,55 @@ fn head_on_t_runs_along_plus_x_b_up_and_n_is_seen_end_on() {
     }
     // Nine vertices, three segments each.
     assert_eq!(stats.counters.frame_lines, 27);
+}
+
+/// Under sub-cell symbols a pixel is `a` times as wide as tall (sextant
+/// ¾, quad ½) and the view is widened by that: a length along x covers 1/a
+/// times the pixels it does on square pixels, one along y the same. The
+/// frames are projected as the surfaces are: the centre's T runs
+/// projected(len)/a pixels while B keeps projected(len), and the T of the
+/// right-hand vertex (1, 0, 0) starts projected(1)/a pixels right of the
+/// centre. (Projected with square pixels, T would stop at projected(len)
+/// and that vertex's frame would sit projected(1) from the centre.)
+#[test]
+fn frames_follow_the_pixel_aspect_of_sub_cell_symbols() {
+    let (scene, settings) = head_on();
+    for a in [0.75f32, 0.5] {
+        let mut fb = Framebuffer::new(W, H);
+        let mut renderer = Renderer::new();
+        renderer.set_pixel_aspect(a);
+        renderer.render(&scene, &settings, &mut fb);
+        let (cx, cy) = (W / 2, H / 2);
+        let len = projected(LENGTH_FRACTION * 2f32.sqrt());
+        let end = cx as f32 + len / a;
+        for x in cx + 1..end.floor() as usize {
+            assert_eq!(at(&fb, x, cy), RED, "aspect {a}: T at x = {x}");
+        }
+        for x in (end + 1.5) as usize..(end + 4.0) as usize {
+            assert_ne!(at(&fb, x, cy), RED, "aspect {a}: past T's end at x = {x}");
+        }
+        let top = cy as f32 - len;
+        for y in top.ceil() as usize + 1..cy {
+            assert_eq!(at(&fb, cx, y), GREEN, "aspect {a}: B at y = {y}");
+        }
+        for y in (top - 4.0) as usize..(top - 1.5) as usize {
+            assert_ne!(at(&fb, cx, y), GREEN, "aspect {a}: past B's end at y = {y}");
+        }
+        // The right-hand vertex: its T starts on it and runs right, past
+        // its N, which comes towards the eye (distance 5 − l instead of 5)
+        // and so lands l/(5 − l) further out than the vertex, drawn last.
+        let x = (cx as f32 + projected(1.0) / a).round() as usize;
+        let l = LENGTH_FRACTION * 2f32.sqrt();
+        let n_reach = projected(1.0) / a * l / (5.0 - l);
+        for k in n_reach.ceil() as usize + 2..(len / a) as usize - 1 {
+            assert_eq!(
+                at(&fb, x + k, cy),
+                RED,
+                "aspect {a}: its T at x = {}",
+                x + k
+            );
+        }
+    }
 }
 
 #[test]

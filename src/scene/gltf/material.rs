@@ -16,7 +16,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::data::{self, Problem, Uri};
-use super::sampling::Reading;
+use super::sampling::{Kind, Reading, Sets, maps_of};
 use crate::scene::Material;
 use crate::scene::terms::{Cutout, MaterialTerms};
 use crate::texture::load::load_texture_from_bytes;
@@ -36,6 +36,8 @@ pub(super) struct Look {
     pub normal_mapped: bool,
     /// Emission, occlusion and the sampler's filter, when it has any.
     pub terms: Option<Arc<MaterialTerms>>,
+    /// Where its maps read their texture coordinates.
+    pub sets: Sets,
 }
 
 /// The model's materials, each built once when first used.
@@ -83,6 +85,7 @@ impl<'a> Materials<'a> {
                 double_sided: false,
                 normal_mapped: false,
                 terms: None,
+                sets: Sets::default(),
             },
         };
         self.looks.insert(index, look.clone());
@@ -92,6 +95,14 @@ impl<'a> Materials<'a> {
     fn build(&self, m: &::gltf::Material) -> Result<Look, Problem> {
         let pbr = m.pbr_metallic_roughness();
         let reading = Reading::of(m);
+        // Each map laid out for its own sampler's wrap modes.
+        let maps = maps_of(m);
+        let read = |kind: Kind| {
+            maps.iter()
+                .find(|r| r.kind == kind)
+                .map_or(reading, Reading::of_map)
+        };
+        let sets = Sets::of(m);
         // MASK draws the pixels whose alpha reaches the cutoff; BLEND is
         // drawn as MASK at 0.5 (relief draws no translucency).
         let cutoff = match m.alpha_mode() {
@@ -102,7 +113,7 @@ impl<'a> Materials<'a> {
         let mut alpha_map = None;
         let texture = match pbr.base_color_texture() {
             Some(info) => {
-                let decoded = self.decode(&info.texture(), &reading)?;
+                let decoded = self.decode(&info.texture(), &read(Kind::BaseColor))?;
                 if cutoff.is_some() && decoded.has_alpha {
                     alpha_map = Some(Arc::new(alpha_of(decoded.texture.base())));
                 }
@@ -114,6 +125,7 @@ impl<'a> Materials<'a> {
             Some(info) if info.scale() != 0.0 && info.scale().is_finite() => {
                 let image = info.texture().source();
                 let name = self.image_name(&image);
+                let reading = read(Kind::Normal);
                 let map = if reading.lays_out() {
                     let t = self.decode(&info.texture(), &reading)?.texture;
                     FileNormalMap::new(name.clone(), decode_level(t.base()))
@@ -132,7 +144,9 @@ impl<'a> Materials<'a> {
         let roughness = pbr.roughness_factor().clamp(0.0, 1.0);
         let specular_map = match pbr.metallic_roughness_texture() {
             Some(info) => {
-                let t = self.decode(&info.texture(), &reading)?.texture;
+                let t = self
+                    .decode(&info.texture(), &read(Kind::MetallicRoughness))?
+                    .texture;
                 let base = t.base();
                 Level {
                     width: base.width,
@@ -149,7 +163,9 @@ impl<'a> Materials<'a> {
         let mut map_names = Vec::new();
         let occlusion = match m.occlusion_texture() {
             Some(info) if info.strength().is_finite() && info.strength() != 0.0 => {
-                let t = self.decode(&info.texture(), &reading)?.texture;
+                let t = self
+                    .decode(&info.texture(), &read(Kind::Occlusion))?
+                    .texture;
                 map_names.push(("occlusion", t.name.clone()));
                 Some((Arc::new(t.base().clone()), info.strength().clamp(0.0, 1.0)))
             }
@@ -168,7 +184,7 @@ impl<'a> Materials<'a> {
         };
         let emissive_map = match m.emissive_texture() {
             Some(info) if emissive.max_element() > 0.0 => {
-                let t = self.decode(&info.texture(), &reading)?.texture;
+                let t = self.decode(&info.texture(), &read(Kind::Emissive))?.texture;
                 map_names.push(("emissive", t.name.clone()));
                 Some(Arc::new(t.base().clone()))
             }
@@ -189,6 +205,7 @@ impl<'a> Materials<'a> {
             occlusion,
             filter: reading.filter,
             map_names,
+            uvs: sets.uvs,
             ..MaterialTerms::default()
         };
         let [r, g, b, _] = pbr.base_color_factor();
@@ -202,6 +219,7 @@ impl<'a> Materials<'a> {
             }),
             base_color: Vec3::new(r, g, b),
             double_sided: m.double_sided(),
+            sets,
             terms: (terms != MaterialTerms::default()).then(|| Arc::new(terms)),
         })
     }

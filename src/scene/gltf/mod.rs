@@ -25,7 +25,8 @@ use ::gltf::mesh::Mode;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use super::corners::{fit_of, fitted};
-use super::mesh::{Mesh, Triangle, Vertex, triangle_normal};
+use super::face_frame::face_frame;
+use super::mesh::{Face, Facet, Mesh, Triangle, Vertex, triangle_normal};
 use super::model_error::ObjError;
 use super::strokes::{StrokeMode, StrokeVertex, Strokes};
 use super::tangents::{accumulate_keeping_directions, sum_bytes};
@@ -257,6 +258,9 @@ struct Prim {
     vertices: Vec<Vertex>,
     has_normals: bool,
     has_uvs: bool,
+    /// The second texture coordinate set (`Mesh::uv2`), one per vertex,
+    /// when a map of the material reads one; empty otherwise.
+    uv2: Vec<Vec2>,
     /// The file's TANGENT is in the vertices' tangent fields.
     has_axes: bool,
     /// Triangles with their indices only (the facet data comes with the mesh).
@@ -369,7 +373,8 @@ fn read_primitive(
         .ok_or_else(|| unreadable("POSITION"))?;
     let n = positions.len();
     let material = prim.material();
-    let reading = sampling::Reading::of(&material);
+    let sets = sampling::Sets::of(&material);
+    let reading = sets.first;
     hold(held, name, "the vertices", bytes_of::<Vertex>(n as u64))?;
     let mut vertices = vec![BLANK; n];
     for (k, (v, p)) in vertices.iter_mut().zip(positions).enumerate() {
@@ -381,12 +386,18 @@ fn read_primitive(
     }
     // Every attribute has one element per position (checked before reading).
     let count = |semantic: Semantic| prim.get(&semantic).map(|a| a.count());
+    let second_set = sets
+        .second
+        .map(|r| (Semantic::TexCoords(r.set), "TEXCOORD"));
     for (semantic, what) in [
         (Semantic::Normals, "NORMAL"),
         (Semantic::TexCoords(reading.set), "TEXCOORD"),
         (Semantic::Colors(0), "COLOR_0"),
         (Semantic::Tangents, "TANGENT"),
-    ] {
+    ]
+    .into_iter()
+    .chain(second_set)
+    {
         if let Some(len) = count(semantic)
             && len != n
         {
@@ -406,6 +417,26 @@ fn read_primitive(
     {
         v.uv = reading.uv(Vec2::from(uv));
     }
+    // The second set, read only when a map reads it (and the primitive
+    // draws triangles): one array of exactly one per vertex.
+    let second = sets
+        .second
+        .filter(|_| stroke.is_none())
+        .and_then(|r| Some((r, reader.read_tex_coords(r.set)?)));
+    let uv2 = match second {
+        Some((r, coords)) => {
+            hold(
+                held,
+                name,
+                "the second texture coordinates",
+                bytes_of::<Vec2>(n as u64),
+            )?;
+            let mut uv2 = Vec::with_capacity(n);
+            uv2.extend(coords.into_f32().map(|uv| r.uv(Vec2::from(uv))));
+            uv2
+        }
+        None => Vec::new(),
+    };
     if let Some(colors) = reader.read_colors(0) {
         for (v, c) in vertices.iter_mut().zip(colors.into_rgb_f32()) {
             v.color = Vec3::from(c);
@@ -453,6 +484,7 @@ fn read_primitive(
             vertices,
             has_normals: false,
             has_uvs: false,
+            uv2: Vec::new(),
             has_axes: false,
             tris: Vec::new(),
             material: material.index(),
@@ -519,6 +551,7 @@ fn read_primitive(
         vertices,
         has_normals,
         has_uvs,
+        uv2,
         has_axes,
         tris,
         material: material.index(),
@@ -560,10 +593,33 @@ fn build_mesh(
 ) -> Result<Mesh, Problem> {
     // No normals: flat ones, so each corner is its own vertex (glTF 2.0 §3.7.2.1).
     let flat = !prim.has_normals;
-    let mikk = look.normal_mapped && !prim.has_axes && prim.has_uvs;
+    // The normal map's tangents are those of its own coordinates (glTF 2.0
+    // §3.7.2.1), which may be another set or transform than the colour's.
+    let normal_uv = look.sets.uvs.normal;
+    let has_normal_set = if normal_uv.second {
+        !prim.uv2.is_empty()
+    } else {
+        prim.has_uvs
+    };
+    let mikk = look.normal_mapped && !prim.has_axes && has_normal_set;
     if flat || mikk {
         split_corners(&mut prim, (name, held))?;
     }
+    // Those coordinates, one per vertex, when they are not the vertices' UVs.
+    let tangent_uvs = if look.normal_mapped && has_normal_set && !normal_uv.is_vertex_uv() {
+        hold(
+            held,
+            name,
+            "the normal map's coordinates",
+            bytes_of::<Vec2>(prim.vertices.len() as u64),
+        )?;
+        let uv2 = |i: usize| prim.uv2.get(i).copied().unwrap_or_default();
+        let mut uvs = Vec::with_capacity(prim.vertices.len());
+        uvs.extend((prim.vertices.iter().enumerate()).map(|(i, v)| normal_uv.at(v.uv, uv2(i))));
+        Some(uvs)
+    } else {
+        None
+    };
     if flat {
         for t in &prim.tris {
             let p = t.indices.map(|i| prim.vertices[i as usize].position);
@@ -578,7 +634,7 @@ fn build_mesh(
         // What MikkTSpace allocates, per corner, at most.
         let work = bytes_of::<[f32; 40]>(prim.vertices.len() as u64);
         hold(held, name, "the tangents", work)?;
-        has_axes = tangent::mikktspace(&mut prim.vertices);
+        has_axes = tangent::mikktspace(&mut prim.vertices, tangent_uvs.as_deref());
         held.shrink(work);
     }
     let factor = look.base_color;
@@ -600,12 +656,54 @@ fn build_mesh(
             (v.tangent_u, v.tangent_v) = (Vec3::ZERO, Vec3::ZERO);
         }
     }
-    let mut mesh = Mesh::of_triangles(prim.vertices, prim.tris, false, !look.double_sided);
+    let closed = !look.double_sided;
+    let mut mesh = match &tangent_uvs {
+        Some(uvs) => facets_on(prim.vertices, &prim.tris, uvs, closed, (name, held))?,
+        None => Mesh::of_triangles(prim.vertices, prim.tris, false, closed),
+    }
+    .with_uv2(prim.uv2);
     let sums = sum_bytes(mesh.vertices.len() as u64, mesh.triangles.len() as u64);
     hold(held, name, "the tangent sums", sums)?;
     // The file's (or MikkTSpace's) directions where there are, relief's lengths.
-    accumulate_keeping_directions(&mut mesh);
+    accumulate_keeping_directions(&mut mesh, tangent_uvs.as_deref());
     held.shrink(sums);
+    if let Some(uvs) = tangent_uvs {
+        held.shrink(bytes_of::<Vec2>(uvs.capacity() as u64));
+    }
+    Ok(mesh)
+}
+
+/// The mesh of `tris` over `vertices` whose facets' texture axes are those
+/// of the normal map's coordinates `uvs` (one per vertex): the facets that
+/// differ from their corners' own go to the mesh's side table.
+fn facets_on(
+    vertices: Vec<Vertex>,
+    tris: &[Triangle],
+    uvs: &[Vec2],
+    closed: bool,
+    (name, held): (&str, &mut Reservation),
+) -> Result<Mesh, Problem> {
+    let count = tris.len() as u64;
+    let faces_bytes = bytes_of::<Face>(count);
+    let side = bytes_of::<Facet>(count);
+    hold(held, name, "the facets", faces_bytes.saturating_add(side))?;
+    let mut faces = Vec::with_capacity(tris.len());
+    faces.extend(tris.iter().map(|t| {
+        let facet = Facet::of_triangle(t.indices.map(|i| &vertices[i as usize]));
+        let p = t.indices.map(|i| vertices[i as usize].position);
+        let frame = face_frame(p, t.indices.map(|i| uvs[i as usize]), facet.normal);
+        Face {
+            indices: t.indices,
+            face_normal: facet.normal,
+            face_tangent_u: frame.tangent_u,
+            face_tangent_v: frame.tangent_v,
+            facet_center: facet.center,
+            facet_color: facet.color,
+            textured: t.textured,
+        }
+    }));
+    let mesh = Mesh::new(vertices, &faces, false, closed);
+    held.shrink(faces_bytes.saturating_add(side) - mesh.side_bytes() as u64);
     Ok(mesh)
 }
 
@@ -627,6 +725,14 @@ fn split_corners(prim: &mut Prim, (name, held): (&str, &mut Reservation)) -> Res
     let old = bytes_of::<Vertex>(prim.vertices.capacity() as u64);
     prim.vertices = vertices;
     held.shrink(old);
+    if !prim.uv2.is_empty() {
+        hold(held, name, "the corners", bytes_of::<Vec2>(corners as u64))?;
+        let mut uv2 = Vec::with_capacity(corners);
+        uv2.extend((prim.tris.iter().flat_map(|t| t.indices)).map(|i| prim.uv2[i as usize]));
+        let old = bytes_of::<Vec2>(prim.uv2.capacity() as u64);
+        prim.uv2 = uv2;
+        held.shrink(old);
+    }
     for (t, tri) in prim.tris.iter_mut().enumerate() {
         let t = 3 * t as u32;
         tri.indices = [t, t + 1, t + 2];

@@ -1,12 +1,19 @@
 //! How a glTF material's textures are read (docs/models.md): the UV set,
 //! `KHR_texture_transform` and the sampler's wrap modes and filters.
 //!
-//! relief's textures always repeat and a primitive has one UV set, so the
-//! material's first texture (base colour, else normal, occlusion, emissive,
-//! metallic-roughness) decides for all its maps, and everything is done
-//! once when loading, at no cost per pixel:
-//! - the texture transform is affine, so it is applied to the vertices'
-//!   UVs (interpolating transformed UVs is transforming interpolated ones);
+//! relief's textures always repeat, so each map is laid out for its own
+//! wrap modes when loading; its coordinate is its set through its texture
+//! transform and the layout's halving, one affine matrix (`Reading::matrix`):
+//! - the material's first texture (base colour, else normal, occlusion,
+//!   emissive, metallic-roughness) decides the set stored in the vertices'
+//!   UVs, and its matrix is applied to them when loading (interpolating
+//!   transformed UVs is transforming interpolated ones), at no cost per
+//!   pixel;
+//! - a map on another set reads the mesh's second set, stored only for such
+//!   a material, through the matrix of the first map on that set;
+//! - a map whose matrix differs from its stored set's applies the rest
+//!   (its matrix after the inverse of the set's) where it is sampled
+//!   (`scene::map_uv`); a third set is not stored: its maps read the first;
 //! - MIRRORED_REPEAT on an axis doubles the image there with its mirror
 //!   image and halves that coordinate: repeating the doubled image is the
 //!   mirrored repeat of the original, texel for texel;
@@ -15,8 +22,9 @@
 //!   within half the texture of its edges, repeating further out;
 //! - the filters become the material's filter (`MaterialTerms::filter`).
 
-use glam::{Mat3, Vec2};
+use glam::{Affine2, Mat3, Vec2};
 
+use crate::scene::map_uv::{MapUv, MapUvs};
 use crate::settings::Filter;
 use ::gltf::texture::{MagFilter, MinFilter, WrappingMode};
 
@@ -44,8 +52,19 @@ impl Default for Reading {
     }
 }
 
+/// Which map of a material a texture reference is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    BaseColor,
+    Normal,
+    Occlusion,
+    Emissive,
+    MetallicRoughness,
+}
+
 /// One texture reference of a material, whatever its kind.
 pub struct MapRef<'a> {
+    pub kind: Kind,
     pub texture: ::gltf::Texture<'a>,
     pub tex_coord: u32,
     /// The `KHR_texture_transform` object, if any.
@@ -56,48 +75,67 @@ pub struct MapRef<'a> {
 pub fn maps_of<'a>(m: &::gltf::Material<'a>) -> Vec<MapRef<'a>> {
     let ext = "KHR_texture_transform";
     let pbr = m.pbr_metallic_roughness();
-    let info = |i: ::gltf::texture::Info<'a>| MapRef {
+    let info = |kind: Kind, i: ::gltf::texture::Info<'a>| MapRef {
+        kind,
         texture: i.texture(),
         tex_coord: i.tex_coord(),
         transform: i.extension_value(ext).cloned(),
     };
     let mut out = Vec::new();
-    out.extend(pbr.base_color_texture().map(info));
+    out.extend(pbr.base_color_texture().map(|i| info(Kind::BaseColor, i)));
     out.extend(m.normal_texture().map(|n| MapRef {
+        kind: Kind::Normal,
         texture: n.texture(),
         tex_coord: n.tex_coord(),
         transform: n.extension_value(ext).cloned(),
     }));
     out.extend(m.occlusion_texture().map(|o| MapRef {
+        kind: Kind::Occlusion,
         texture: o.texture(),
         tex_coord: o.tex_coord(),
         transform: o.extension_value(ext).cloned(),
     }));
-    out.extend(m.emissive_texture().map(info));
-    out.extend(pbr.metallic_roughness_texture().map(info));
+    out.extend(m.emissive_texture().map(|i| info(Kind::Emissive, i)));
+    out.extend(
+        pbr.metallic_roughness_texture()
+            .map(|i| info(Kind::MetallicRoughness, i)),
+    );
     out
 }
 
 impl Reading {
-    /// How material `m`'s textures are read: its first texture's way.
+    /// How material `m`'s first texture is read (its filter is the
+    /// material's).
     pub fn of(m: &::gltf::Material) -> Reading {
-        let Some(first) = maps_of(m).into_iter().next() else {
-            return Reading::default();
-        };
-        let sampler = first.texture.sampler();
-        let (transform, set) = first
+        maps_of(m)
+            .first()
+            .map_or_else(Reading::default, Reading::of_map)
+    }
+
+    /// How one map is read: its set, transform, wrap modes and filter.
+    pub fn of_map(map: &MapRef) -> Reading {
+        let sampler = map.texture.sampler();
+        let (transform, set) = map
             .transform
             .as_ref()
             .map_or((Mat3::IDENTITY, None), transform_of);
         Reading {
-            set: set.unwrap_or(first.tex_coord),
+            set: set.unwrap_or(map.tex_coord),
             transform,
             wrap: [sampler.wrap_s(), sampler.wrap_t()],
             filter: filter_of(sampler.mag_filter(), sampler.min_filter()),
         }
     }
 
-    /// A vertex's texture coordinate as relief reads the laid-out maps.
+    /// The matrix from a coordinate of the set to the laid-out map's: the
+    /// texture transform, then the layout's halving on each axis that
+    /// does not repeat.
+    pub fn matrix(&self) -> Mat3 {
+        let half = |w: WrappingMode| if w == WrappingMode::Repeat { 1.0 } else { 0.5 };
+        Mat3::from_scale(Vec2::new(half(self.wrap[0]), half(self.wrap[1]))) * self.transform
+    }
+
+    /// A vertex's texture coordinate as relief reads the laid-out map.
     pub fn uv(&self, uv: Vec2) -> Vec2 {
         let t = self.transform.transform_point2(uv);
         let half = |w: WrappingMode| if w == WrappingMode::Repeat { 1.0 } else { 0.5 };
@@ -136,6 +174,67 @@ impl Reading {
         }
         (w2, h2, out)
     }
+}
+
+/// Where a material's maps read their texture coordinates from a primitive.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Sets {
+    /// The first texture's reading: its set is stored in the vertices' UVs
+    /// through its `Reading::uv`.
+    pub first: Reading,
+    /// The first reading on another set, when a map reads one: that set is
+    /// stored as the mesh's second set through its `Reading::uv`.
+    pub second: Option<Reading>,
+    /// Each map's coordinate from the stored ones.
+    pub uvs: MapUvs,
+}
+
+impl Sets {
+    pub fn of(m: &::gltf::Material) -> Sets {
+        let readings: Vec<(Kind, Reading)> = maps_of(m)
+            .iter()
+            .map(|r| (r.kind, Reading::of_map(r)))
+            .collect();
+        let Some(&(_, first)) = readings.first() else {
+            return Sets::default();
+        };
+        let second = readings
+            .iter()
+            .map(|(_, r)| *r)
+            .find(|r| r.set != first.set);
+        let mut uvs = MapUvs::default();
+        for (kind, r) in &readings {
+            let (stored, on_second) = match second {
+                Some(s) if r.set == s.set => (s, true),
+                _ => (first, false),
+            };
+            let map = MapUv {
+                second: on_second,
+                transform: relative(r, &stored),
+            };
+            match kind {
+                Kind::BaseColor => {}
+                Kind::Normal => uvs.normal = map,
+                Kind::Occlusion => uvs.occlusion = map,
+                Kind::Emissive => uvs.emissive = map,
+                Kind::MetallicRoughness => uvs.specular = map,
+            }
+        }
+        Sets { first, second, uvs }
+    }
+}
+
+/// Reading `r`'s matrix after the inverse of the one its set was stored
+/// with: none when the two are the same (or the stored one cannot be
+/// undone, a texture transform of scale 0).
+fn relative(r: &Reading, stored: &Reading) -> Option<Affine2> {
+    let (m, s) = (r.matrix(), stored.matrix());
+    let det = s.determinant();
+    if m == s || det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    let rest = m * s.inverse();
+    rest.is_finite().then(|| Affine2::from_mat3(rest))
 }
 
 /// The source index of item `i` of an axis laid out for `wrap` (`n` items

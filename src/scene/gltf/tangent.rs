@@ -2,13 +2,15 @@
 //! glTF 2.0 specification asks (§3.7.2.1), and turned into relief's
 //! texture axes.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use crate::scene::mesh::Vertex;
 
 /// Triangles given one vertex per corner (corners 3f, 3f + 1, 3f + 2).
 struct Corners<'a> {
     vertices: &'a mut [Vertex],
+    /// The normal map's coordinates per corner, when not the vertices' own.
+    uvs: Option<&'a [Vec2]>,
 }
 
 impl mikktspace::Geometry for Corners<'_> {
@@ -27,7 +29,8 @@ impl mikktspace::Geometry for Corners<'_> {
     fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
         // glTF's v grows down the picture; MikkTSpace's bitangent is to
         // follow the picture's up, the way glTF's normal maps are drawn.
-        let uv = self.vertices[3 * face + vert].uv;
+        let k = 3 * face + vert;
+        let uv = self.uvs.map_or(self.vertices[k].uv, |u| u[k]);
         [uv.x, 1.0 - uv.y]
     }
     fn set_tangent_encoded(&mut self, t: [f32; 4], face: usize, vert: usize) {
@@ -37,11 +40,12 @@ impl mikktspace::Geometry for Corners<'_> {
 }
 
 /// ∂P/∂u and ∂P/∂v directions per corner (unit length) from MikkTSpace,
-/// into each vertex's tangent fields (one vertex per corner); false when
-/// it cannot make them (the fields are then left as they are or partly
-/// written).
-pub(super) fn mikktspace(vertices: &mut [Vertex]) -> bool {
-    mikktspace::generate_tangents(&mut Corners { vertices })
+/// into each vertex's tangent fields (one vertex per corner), of the
+/// texture coordinates `uvs` (one per corner) when given, else of the
+/// vertices' own; false when it cannot make them (the fields are then left
+/// as they are or partly written).
+pub(super) fn mikktspace(vertices: &mut [Vertex], uvs: Option<&[Vec2]>) -> bool {
+    mikktspace::generate_tangents(&mut Corners { vertices, uvs })
 }
 
 /// relief's ∂P/∂u and ∂P/∂v directions from a glTF tangent (xyz, w) and
@@ -55,7 +59,6 @@ pub(super) fn axes(t: Vec3, w: f32, n: Vec3) -> (Vec3, Vec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec2;
 
     /// MikkTSpace's axes for one vertex per corner at `p` with `uv`, facing +Z.
     fn axes_of(p: &[Vec3], uv: &[Vec2]) -> Vec<(Vec3, Vec3)> {
@@ -71,7 +74,7 @@ mod tests {
                 tangent_v: Vec3::ZERO,
             })
             .collect();
-        assert!(mikktspace(&mut vertices));
+        assert!(mikktspace(&mut vertices, None));
         vertices
             .iter()
             .map(|v| (v.tangent_u, v.tangent_v))
