@@ -162,6 +162,9 @@ pub enum Action {
     NextScene,
     /// Outcome of a scene build: what is now shown, or the error (the old scene stays).
     SceneBuilt(Result<(SceneKind, ModelChoice), String>),
+    /// How far the model file loading on its worker is (the loop reads it
+    /// when the load starts and a few times a second until it ends).
+    Loading(super::load_status::LoadStatus),
     /// What loading the shown model had to say: its warnings go to the
     /// message line, and a point cloud switches the display to points.
     ModelNotes(crate::scene::LoadedNotes),

@@ -26,6 +26,7 @@ use ratatui::Terminal;
 use super::action::{Action, FrameDone};
 use super::events::action_for_event;
 use super::frame_cost::FrameCost;
+use super::loading::Loader;
 use super::schedule::Schedule;
 use super::stage::Stage;
 use super::state::{Look, State};
@@ -67,6 +68,8 @@ pub enum Msg {
     /// The terminal answered a pacing query at this time: what was written
     /// before the query is on screen.
     Shown(Instant),
+    /// The model load of this number ended on its worker (see [`Loader`]).
+    Loaded(u64),
 }
 
 /// How the loop ended.
@@ -152,6 +155,9 @@ pub struct Looper<'a, W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats
     pub stage: Option<&'a RefCell<Stage>>,
     /// Frames in flight and the link's figures.
     pub pacer: Pacer,
+    /// Loads model files on a worker while the stage keeps drawing (`None`:
+    /// every scene is built on the loop's thread, as it is asked for).
+    pub loader: Option<Loader>,
 }
 
 /// Frames written during the last second, for the fps figure.
@@ -177,6 +183,43 @@ impl FrameClock {
 }
 
 impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R> {
+    /// Asks for a scene: a model file starts loading on the worker (unless
+    /// it is loading already), anything else is built at once. Either way
+    /// a load under way for something else stops.
+    fn ask_scene(&mut self, state: &mut State, kind: SceneKind, model: crate::scene::ModelChoice) {
+        let shown = (kind, &model) == (state.scene, &state.model);
+        if let (Some(loader), Some(stage)) = (&mut self.loader, self.stage) {
+            if loader.loading() == Some((kind, &model)) {
+                return;
+            }
+            if Loader::wants(kind, &model) && !shown {
+                let order = stage.borrow().order(kind, &model);
+                let status = loader.start(order, Instant::now());
+                update(state, Action::Loading(status));
+                return;
+            }
+            loader.cancel();
+        }
+        self.build_and_note(state, kind, model);
+    }
+
+    /// A load's worker ended: its scene is shown, or its error said (the
+    /// scene shown stays). A load cancelled or replaced since is ignored.
+    fn load_finished(&mut self, state: &mut State, id: u64) {
+        let Some(done) = self.loader.as_mut().and_then(|l| l.finished(id)) else {
+            return;
+        };
+        let built = match (done.result, self.stage) {
+            (Ok(ready), Some(stage)) => {
+                stage.borrow_mut().install(ready);
+                Ok((done.kind, done.model))
+            }
+            (Ok(_), None) => Err("no stage to show the model on".to_string()),
+            (Err(e), _) => Err(e),
+        };
+        self.note_built(state, Action::SceneBuilt(built));
+    }
+
     /// Runs a scene build on the stage: what is shown now, or the error
     /// (the old scene stays). Without a stage there is nothing to build.
     /// The state says what is shown: asking for it again builds nothing.
@@ -198,6 +241,12 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
     /// Builds a scene and tells the state, with what loading the model said.
     fn build_and_note(&self, state: &mut State, kind: SceneKind, model: crate::scene::ModelChoice) {
         let built = self.build_scene(state, kind, model);
+        self.note_built(state, built);
+    }
+
+    /// Tells the state what a build gave (`Action::SceneBuilt`), with what
+    /// loading the model said.
+    fn note_built(&self, state: &mut State, built: Action) {
         let ok = matches!(built, Action::SceneBuilt(Ok(_)));
         update(state, built);
         if let Some(stage) = self.stage
@@ -246,6 +295,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             | Command::SavePng
             | Command::BuildScene(..)
             | Command::CompletePath(_)
+            | Command::CancelLoad
             | Command::Suspend => return None,
         };
         Some(match errors.first() {
@@ -286,6 +336,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         self.report_textures(state);
         loop {
             let now = Instant::now();
+            schedule.loading(state.loading.is_some(), now);
             // Wait: for the frame in flight to be shown (input is applied
             // meanwhile and folded into the next frame), not at all when a
             // frame is due, until the exact picture or the next
@@ -334,13 +385,18 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                                     update(state, Action::PromptCompleted(found));
                                 }
                                 Some(Command::BuildScene(kind, model)) => {
-                                    self.build_and_note(state, kind, model);
+                                    self.ask_scene(state, kind, model);
+                                }
+                                Some(Command::CancelLoad) => {
+                                    if let Some(loader) = &mut self.loader {
+                                        loader.cancel();
+                                    }
                                 }
                                 Some(Command::AddPaths(text)) => {
                                     // Model files open as the model, images join the list.
                                     let (models, images) = split_models(&text);
                                     if let Some(model) = models {
-                                        self.build_and_note(state, SceneKind::Cube, model);
+                                        self.ask_scene(state, SceneKind::Cube, model);
                                     }
                                     if let Some(images) = images
                                         && let Some(result) =
@@ -361,6 +417,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                         }
                     }
                     Msg::Shown(at) => self.pacer.reply(at),
+                    Msg::Loaded(id) => {
+                        self.load_finished(state, id);
+                        schedule.redraw();
+                    }
                     Msg::Resized => schedule.redraw(),
                     Msg::InputClosed(why) => return Ok(Exit::InputClosed(why)),
                     Msg::Signal(sig) => return Ok(Exit::Signal(sig)),
@@ -376,6 +436,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             };
             if let Some(seconds) = next.tick {
                 update(state, Action::AutoRotateTick { seconds });
+            }
+            // A load's progress as of this frame.
+            if let Some(status) = self.loader.as_ref().and_then(|l| l.status(Instant::now())) {
+                update(state, Action::Loading(status));
             }
             let status_only = next.status_only;
             let cheaper = next.preview;

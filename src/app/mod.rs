@@ -8,6 +8,8 @@ pub mod feedback;
 pub mod frame_cost;
 pub mod keys;
 pub mod line_edit;
+pub mod load_status;
+pub mod loading;
 pub mod schedule;
 pub mod screenshot;
 pub mod stage;
@@ -37,6 +39,7 @@ use crate::cli::{Cli, ColorDepthArg};
 use crate::term::guard::{GuardedStdout, TerminalGuard};
 use crate::term::{ColorDepth, SgrBackend, depth, probe};
 use event_loop::{Exit, Looper, Msg, spawn_terminal_reader};
+use loading::Loader;
 use stage::Stage;
 
 /// The colour depth to use: `--color` when given, else what the environment
@@ -74,10 +77,20 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         state.message = Some(crate::sanitize::clean(&text.join("; ")));
     }
     state.scene = cli.view.scene;
-    state.model = cli.view.model.clone();
+    // A model file loads on the worker once the view runs (with its
+    // progress on the status line); the cube is shown meanwhile, and
+    // stays if the file cannot be loaded. One that cannot even be opened
+    // stops here, before the terminal is touched.
+    let mut first_load = None;
     if let crate::scene::ModelChoice::File(path) = &cli.view.model {
         state.obj = Some(path.clone());
+        if Loader::wants(cli.view.scene, &cli.view.model) {
+            crate::scene::model_io::check_openable(path)?;
+            first_load = Some(cli.view.model.clone());
+            cli.view.model = crate::scene::ModelChoice::Cube;
+        }
     }
+    state.model = cli.view.model.clone();
     state.plasma_normal = cli.view.plasma_normal;
     // The flags' maps, read as `relief render` reads them. A normal map
     // file that cannot be read is a message; the view goes on with the
@@ -133,6 +146,15 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let textures = std::cell::RefCell::new(textures);
 
     let (tx, rx) = mpsc::channel();
+    let wake = tx.clone();
+    let mut loader = Loader::new(move |id| {
+        let _ = wake.send(Msg::Loaded(id));
+    });
+    if let Some(model) = first_load {
+        let order = stage.borrow().order(cli.view.scene, &model);
+        let status = loader.start(order, std::time::Instant::now());
+        update(&mut state, Action::Loading(status));
+    }
     let signals = spawn_signal_thread(tx.clone())?;
     // tmux and infocmp are asked before the terminal is set up.
     let settled = cli.color.is_none().then(depth::settled_here).flatten();
@@ -226,6 +248,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         textures: Some(&textures),
         stage: Some(&stage),
         pacer: crate::term::pacing::pacer_here(cli.link),
+        loader: Some(loader),
     };
     let exit = looper.run(&mut state);
     // The screen first (quitting never waits for the terminal), then the

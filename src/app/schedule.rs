@@ -16,6 +16,10 @@ use crate::term::pacing::{Activity, Pacer};
 /// Auto-rotation frame pacing.
 pub const FRAME_INTERVAL: Duration = Duration::from_millis(33);
 
+/// While a model loads, its progress is shown this often (a status line
+/// of a few hundred bytes: four a second cost nothing over SSH).
+pub const PROGRESS_INTERVAL: Duration = Duration::from_millis(250);
+
 /// What the loop waits for before it looks again.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Wait {
@@ -34,6 +38,8 @@ pub enum Wait {
     Refine(Instant),
     /// The next auto-rotation step.
     Rotate(Instant),
+    /// The next refresh of a load's progress on the status line.
+    Progress(Instant),
     /// Nothing to draw until input comes.
     Idle,
 }
@@ -44,7 +50,7 @@ impl Wait {
         match self {
             Wait::Refresh | Wait::Due => Some(now),
             Wait::Reply(at) => at,
-            Wait::Held(at) | Wait::Refine(at) | Wait::Rotate(at) => Some(at),
+            Wait::Held(at) | Wait::Refine(at) | Wait::Rotate(at) | Wait::Progress(at) => Some(at),
             Wait::Idle => None,
         }
     }
@@ -84,6 +90,8 @@ pub struct Schedule {
     exact_bytes: Option<u64>,
     /// The first query (the probe) went out.
     probed: bool,
+    /// While a model loads: when the status line next shows its progress.
+    progress_at: Option<Instant>,
 }
 
 impl Schedule {
@@ -98,11 +106,33 @@ impl Schedule {
             previewing: false,
             exact_bytes: None,
             probed: false,
+            progress_at: None,
+        }
+    }
+
+    /// Whether a model is loading at `now`: its progress is then shown
+    /// every [`PROGRESS_INTERVAL`] while nothing else is drawn.
+    pub fn loading(&mut self, under_way: bool, now: Instant) {
+        match (under_way, self.progress_at) {
+            (true, None) => self.progress_at = Some(now + PROGRESS_INTERVAL),
+            (false, Some(_)) => self.progress_at = None,
+            _ => {}
         }
     }
 
     /// What to wait for at `now` (the pacer applies its time-outs).
     pub fn wait(&mut self, pacer: &mut Pacer, auto_rotate: bool, now: Instant) -> Wait {
+        let wait = self.wait_for_frames(pacer, auto_rotate, now);
+        // A load's progress comes before a later frame, or instead of none.
+        match (wait, self.progress_at) {
+            (Wait::Idle, Some(at)) => Wait::Progress(at),
+            (Wait::Refine(then) | Wait::Rotate(then), Some(at)) if at < then => Wait::Progress(at),
+            _ => wait,
+        }
+    }
+
+    /// [`Schedule::wait`] for the pictures and their figures alone.
+    fn wait_for_frames(&mut self, pacer: &mut Pacer, auto_rotate: bool, now: Instant) -> Wait {
         let ready = pacer.ready(now);
         self.quiet = pacer.quiet();
         if self.refresh_status && !self.dirty {
@@ -155,7 +185,11 @@ impl Schedule {
             // Input stopped: the exact picture replaces the preview.
             self.dirty = true;
         }
-        let status_only = self.refresh_status && !self.dirty;
+        let progress_due = self.progress_at.is_some_and(|at| now >= at);
+        if progress_due {
+            self.progress_at = Some(now + PROGRESS_INTERVAL);
+        }
+        let status_only = (self.refresh_status || progress_due) && !self.dirty;
         self.refresh_status = false;
         if !self.dirty && !status_only {
             return None;
@@ -397,5 +431,39 @@ mod tests {
         let f = s.next(&mut p, true, c.at(40)).unwrap();
         assert!((f.tick.unwrap() - 0.040).abs() < 1e-6);
         assert_eq!(s.wait(&mut p, true, c.at(41)), Wait::Rotate(c.at(73)));
+    }
+
+    #[test]
+    fn a_load_shows_its_progress_every_interval_until_it_ends() {
+        let c = clock();
+        let mut p = Pacer::by_writes();
+        let mut s = Schedule::new(c.at(0));
+        s.loading(true, c.at(0));
+        assert_eq!(s.wait(&mut p, false, c.at(0)), Wait::Due);
+        let f = s.next(&mut p, false, c.at(0)).unwrap();
+        draw(&mut s, &mut p, f, false, 25_000, c.at(0));
+        assert_eq!(s.wait(&mut p, false, c.at(1)), Wait::Refresh);
+        let r = s.next(&mut p, false, c.at(1)).unwrap();
+        draw(&mut s, &mut p, r, true, 300, c.at(1));
+        // Nothing else to draw: the progress, every interval.
+        let first = c.at(0) + PROGRESS_INTERVAL;
+        assert_eq!(s.wait(&mut p, false, c.at(2)), Wait::Progress(first));
+        assert_eq!(Wait::Progress(first).until(c.at(2)), Some(first));
+        assert_eq!(s.next(&mut p, false, c.at(100)), None);
+        let at = c.at(260);
+        let f = s.next(&mut p, false, at).unwrap();
+        assert!(f.status_only && !f.preview && f.tick.is_none());
+        draw(&mut s, &mut p, f, true, 300, at);
+        assert_eq!(
+            s.wait(&mut p, false, at),
+            Wait::Progress(at + PROGRESS_INTERVAL)
+        );
+        // Auto-rotation's frames, sooner, come first (each shows the
+        // progress too).
+        assert_eq!(s.wait(&mut p, true, at), Wait::Rotate(at + FRAME_INTERVAL));
+        // The load ended: nothing more to draw.
+        s.loading(false, c.at(300));
+        assert_eq!(s.wait(&mut p, false, c.at(300)), Wait::Idle);
+        assert_eq!(s.next(&mut p, false, c.at(900)), None);
     }
 }

@@ -21,6 +21,44 @@ use crate::texture::Texture;
 
 use super::state::{State, plasma_light};
 
+/// Everything a scene build needs, apart from the stage: built on any
+/// thread, then shown with [`Stage::install`].
+#[derive(Clone, Debug)]
+pub struct BuildOrder {
+    pub kind: SceneKind,
+    pub model: ModelChoice,
+    texture: Arc<Texture>,
+    all_faces: bool,
+}
+
+impl BuildOrder {
+    /// Builds the scene, or the error in one sanitised line.
+    pub fn build(self) -> Result<Ready, String> {
+        let (built, notes) =
+            build_scene_noting(self.kind, &self.model, self.texture.clone(), self.all_faces)
+                .map_err(|e| clean(&e.to_string()))?;
+        Ok(Ready {
+            built,
+            notes,
+            texture: self.texture,
+        })
+    }
+}
+
+/// A scene built from a [`BuildOrder`], for [`Stage::install`].
+pub struct Ready {
+    built: Built,
+    notes: LoadedNotes,
+    /// The texture it was built with.
+    texture: Arc<Texture>,
+}
+
+impl std::fmt::Debug for Ready {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Ready").field("notes", &self.notes).finish()
+    }
+}
+
 /// The shown scene, with the pictures it was built with.
 pub struct Stage {
     built: Built,
@@ -91,17 +129,40 @@ impl Stage {
     /// On error the scene built before stays and the error comes back one
     /// line long, sanitised.
     pub fn build(&mut self, kind: SceneKind, model: &ModelChoice) -> Result<(), String> {
-        let (mut built, notes) =
-            build_scene_noting(kind, model, self.texture.clone(), self.all_faces)
-                .map_err(|e| clean(&e.to_string()))?;
+        let ready = self.order(kind, model).build()?;
+        self.install(ready);
+        Ok(())
+    }
+
+    /// What building `kind` with `model` needs, to build it on another
+    /// thread (the view keeps drawing this stage meanwhile).
+    pub fn order(&self, kind: SceneKind, model: &ModelChoice) -> BuildOrder {
+        BuildOrder {
+            kind,
+            model: model.clone(),
+            texture: self.texture.clone(),
+            all_faces: self.all_faces,
+        }
+    }
+
+    /// Shows a scene built from [`Stage::order`], with the flags' maps; a
+    /// texture applied while it was built is applied to it too.
+    pub fn install(&mut self, ready: Ready) {
+        let Ready {
+            mut built,
+            notes,
+            texture,
+        } = ready;
         if let Built::Scene(scene) = &mut built {
+            if !Arc::ptr_eq(&texture, &self.texture) {
+                scene.material.texture = self.texture.clone();
+            }
             self.maps.dress(scene);
         }
         self.notes = notes;
         self.camera = camera_of(&built);
         self.light_positions = lights_of(&built);
         self.built = built;
-        Ok(())
     }
 
     /// The own textures of `model` (the state's, which this stage was

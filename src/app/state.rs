@@ -7,6 +7,7 @@ use glam::{Vec2, Vec3};
 
 use super::action::DragButton;
 use super::frame_cost::CostHistory;
+use super::load_status::LoadStatus;
 use super::textures::TexturePanel;
 use crate::plasma::PlasmaNormal;
 use crate::scene::camera::{MAX_DISTANCE, MIN_DISTANCE, REFERENCE_DISTANCE};
@@ -147,6 +148,9 @@ pub struct State {
     /// The normal map file loaded with `--normal-map` (its name, sanitised):
     /// key `N` switches dot3 between it and the height-derived map.
     pub normal_map_file: Option<String>,
+    /// A model file loading on its worker: the status line shows how far
+    /// it is, and Esc cancels it (the model shown stays meanwhile).
+    pub loading: Option<LoadStatus>,
 }
 
 /// Lines a help page scrolls before the loop reports the screen's.
@@ -208,6 +212,7 @@ impl State {
             light_turn: Vec2::ZERO,
             light_drag: false,
             normal_map_file: None,
+            loading: None,
         }
     }
 
@@ -254,6 +259,15 @@ impl State {
         self.distance = d;
         self.start_distance = d;
         self
+    }
+
+    /// The message line: how far a load is, then the last message.
+    pub fn message_line(&self) -> Option<String> {
+        match (&self.loading, &self.message) {
+            (Some(load), Some(message)) => Some(format!("{}  {message}", load.text())),
+            (Some(load), None) => Some(load.text()),
+            (None, message) => message.clone(),
+        }
     }
 
     /// Text shown in orientation field `axis`: the edit, or the live angle.

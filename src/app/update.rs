@@ -48,6 +48,8 @@ pub enum Command {
     CompletePath(String),
     /// Ctrl-Z: give the terminal back and stop until resumed.
     Suspend,
+    /// Esc while a model loads: stop the load, keep the scene shown.
+    CancelLoad,
 }
 
 /// Whether `action` comes from the user (a key, a click, a paste), not
@@ -59,6 +61,7 @@ fn from_user(action: &Action) -> bool {
         Action::Saved(_)
             | Action::TextureResult(_)
             | Action::SceneBuilt(_)
+            | Action::Loading(_)
             | Action::TexturesListed(_)
             | Action::TexturesFit(_)
             | Action::HelpFits(_)
@@ -274,7 +277,9 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
         Action::NextScene => {
             return Some(Command::BuildScene(state.scene.next(), state.model.clone()));
         }
+        Action::Loading(status) => state.loading = Some(status),
         Action::SceneBuilt(Ok((scene, model))) => {
+            state.loading = None;
             if scene != state.scene {
                 // A new scene starts with its light in the middle and no drag.
                 state.pointer = None;
@@ -308,7 +313,10 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
                 state.message = Some("a point cloud: drawn as points (d)".into());
             }
         }
-        Action::SceneBuilt(Err(e)) => state.message = Some(clean(&e)),
+        Action::SceneBuilt(Err(e)) => {
+            state.loading = None;
+            state.message = Some(clean(&e));
+        }
         Action::Pointer { col, row } => {
             if state.scene == SceneKind::Plasma {
                 state.pointer = Some((col, row));
@@ -336,9 +344,16 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
             state.esc_closed = true;
         }
         Action::Escape => {
-            // Esc closes the top overlay; it quits only when none is open
-            // and the Esc before it did not just close one.
-            if state.cost_panel {
+            // Esc stops a load, else closes the top overlay; it quits only
+            // when none is open and the Esc before it did not just close one.
+            if let Some(load) = state.loading.take() {
+                state.esc_closed = true;
+                state.message = Some(format!(
+                    "stopped loading {}: the model shown stays",
+                    load.name
+                ));
+                return Some(Command::CancelLoad);
+            } else if state.cost_panel {
                 state.cost_panel = false;
                 state.esc_closed = true;
             } else if state.esc_closed {

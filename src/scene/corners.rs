@@ -25,6 +25,7 @@ use rayon::prelude::*;
 
 use super::convex;
 use super::cube::{FACES, corner_color};
+use super::load_progress::{self, LoadStep};
 use super::mesh::{Face, Facet, Mesh, Triangle, Vertex};
 use super::model_error::ObjError;
 use super::model_io::reserve;
@@ -297,6 +298,11 @@ fn color_of(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize, k: usize
         .unwrap_or_else(|| corner_color(c.positions[p] / FIT_RADIUS).min(Vec3::ONE))
 }
 
+/// The steps of [`build`] the progress line counts: the face normals, the
+/// vertex normals, the facet data, the vertices, the closed and convex
+/// tests, the mesh; the tangent sums come after the last.
+const BUILD_STEPS: u64 = 6;
+
 fn build(
     name: &str,
     mut c: IndexedCorners,
@@ -306,6 +312,16 @@ fn build(
 ) -> Result<(Mesh, Vec<u32>), ObjError> {
     let degenerate = || ObjError::Degenerate {
         name: name.to_string(),
+    };
+    // The view's progress line counts the steps below; a cancel stops
+    // the build between them.
+    load_progress::check(name)?;
+    load_progress::begin(LoadStep::Building, BUILD_STEPS);
+    let step_done = || {
+        if let Some(p) = load_progress::current() {
+            p.advance(1);
+        }
+        load_progress::check(name)
     };
     let fit = {
         let (positions, corners) = (&c.positions, &c.corners);
@@ -342,6 +358,7 @@ fn build(
             kept += 1;
         }
     }
+    step_done()?;
     if kept == 0 {
         return Err(degenerate());
     }
@@ -380,6 +397,7 @@ fn build(
     if missing {
         fill_normals(name, &mut c, &face_normals, &position_id, ids, held)?;
     }
+    step_done()?;
     // The triangles' facet data, in parallel.
     hold(held, name, "the faces", bytes_of::<Face>(kept as u64))?;
     let mut triangles: Vec<Face> = (0..kept)
@@ -402,6 +420,7 @@ fn build(
         })
         .collect();
     drop(face_normals);
+    step_done()?;
     // Vertices: one per distinct key, in order of first use.
     let (vertices, vertex_of) =
         split_vertices(name, &c, &triangles, part_colors, (&position_id, ids), held)?;
@@ -411,6 +430,7 @@ fn build(
         .for_each(|(tri, v)| tri.indices = [v[0], v[1], v[2]]);
     drop(vertex_of);
     held.shrink(bytes_of::<u32>(c.corners.len() as u64));
+    step_done()?;
     let closed = is_closed(name, &c.corners, &position_id, held)?;
     let convex = closed && {
         let bytes = convex::scratch_bytes(kept, ids);
@@ -424,6 +444,7 @@ fn build(
         held.shrink(bytes);
         convex
     };
+    step_done()?;
     let tri_parts = std::mem::take(&mut c.part_of);
     drop(c);
     drop(position_id);
@@ -440,6 +461,7 @@ fn build(
         "the tangent sums",
         sum_bytes(mesh.vertices.len() as u64, mesh.triangles.len() as u64),
     )?;
+    step_done()?;
     accumulate(&mut mesh);
     Ok((mesh, tri_parts))
 }

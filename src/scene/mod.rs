@@ -11,6 +11,7 @@ pub mod face_frame;
 pub mod flag_maps;
 pub mod gltf;
 pub mod light;
+pub mod load_progress;
 pub mod loaded_model;
 pub mod map_uv;
 pub mod material;

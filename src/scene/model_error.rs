@@ -37,6 +37,9 @@ pub enum ObjError {
     /// `reason` names the model and the limit.
     #[error("{reason}")]
     Budget { name: String, reason: String },
+    /// The view asked the load to stop (Esc, or another model asked for).
+    #[error("loading model {name} was cancelled")]
+    Cancelled { name: String },
 }
 
 /// A short, printable quote of a token from the file.

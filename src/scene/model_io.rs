@@ -4,6 +4,7 @@
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
+use super::load_progress::{self, LoadStep, cancelled};
 use super::model_error::ObjError;
 use crate::budget::{self, Reservation};
 use crate::sanitize::{clean, display_path};
@@ -21,11 +22,63 @@ pub(crate) fn read_model_file(path: &Path) -> Result<(Vec<u8>, Reservation), Obj
         return Err(ObjError::NotAFile { name });
     }
     let held = reserve(&name, "the file", meta.len())?;
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    std::fs::File::open(path)
-        .and_then(|f| f.take(meta.len()).read_to_end(&mut bytes))
-        .map_err(read_error)?;
+    let file = std::fs::File::open(path).map_err(read_error)?;
+    let bytes = read_reporting(file, meta.len())
+        .map_err(|e| e.map_or_else(|| cancelled(&name), read_error))?;
     Ok((bytes, held))
+}
+
+/// Bytes read between two progress reports and cancel checks: a few
+/// milliseconds from a disk, well under one from the page cache.
+const READ_CHUNK: usize = 4 << 20;
+
+/// Reads at most `len` bytes of `file` into a buffer of exactly that
+/// capacity (a growing one would take up to twice), chunk by chunk,
+/// reporting to the current load ([`load_progress`]) and stopping when it
+/// is cancelled (`Err(None)`); the load's next step is then the parse.
+pub(crate) fn read_reporting(file: impl Read, len: u64) -> Result<Vec<u8>, Option<std::io::Error>> {
+    let progress = load_progress::current();
+    if let Some(p) = &progress {
+        p.begin(LoadStep::Reading, len);
+    }
+    let mut bytes = Vec::with_capacity(len as usize);
+    let mut file = file.take(len);
+    loop {
+        if progress.as_ref().is_some_and(|p| p.cancelled()) {
+            return Err(None);
+        }
+        let before = bytes.len();
+        let got = (&mut file)
+            .take(READ_CHUNK as u64)
+            .read_to_end(&mut bytes)
+            .map_err(Some)?;
+        if let Some(p) = &progress {
+            p.advance((bytes.len() - before) as u64);
+        }
+        if got == 0 {
+            // What follows a read is the parse (an OBJ reader counts it).
+            if let Some(p) = &progress {
+                p.begin(LoadStep::Parsing, 0);
+            }
+            return Ok(bytes);
+        }
+    }
+}
+
+/// The error reading `path` would start with, if any: a missing file, one
+/// that is not a regular file or cannot be opened (the view says so before
+/// it starts, and loads the file on its worker afterwards).
+pub fn check_openable(path: &Path) -> Result<(), ObjError> {
+    let name = display_path(path);
+    let read_error = |e: std::io::Error| ObjError::Read {
+        name: name.clone(),
+        reason: clean(&e.to_string()),
+    };
+    if !std::fs::metadata(path).map_err(read_error)?.is_file() {
+        return Err(ObjError::NotAFile { name });
+    }
+    std::fs::File::open(path).map_err(read_error)?;
+    Ok(())
 }
 
 /// Reserves `bytes` for `what` of model `name`, or the budget's error.
@@ -73,4 +126,66 @@ pub fn resolve_beside(dir: &Path, written: &str) -> Option<PathBuf> {
         at.push(found.file_name());
     }
     at.is_file().then_some(at)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::io::Cursor;
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::scene::load_progress::{LoadProgress, ProgressNow, run_with};
+
+    /// Gives `data`, and cancels the load once it has given anything.
+    struct CancelOnFirstRead {
+        data: Cursor<Vec<u8>>,
+        progress: Arc<LoadProgress>,
+    }
+
+    impl Read for CancelOnFirstRead {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            self.progress.cancel();
+            self.data.read(buf)
+        }
+    }
+
+    #[test]
+    fn a_read_reports_every_byte_then_the_parse_begins() {
+        let data: Vec<u8> = (0..READ_CHUNK * 2 + 1000).map(|i| i as u8).collect();
+        let p = LoadProgress::new();
+        let got = run_with(&p, || {
+            read_reporting(Cursor::new(data.clone()), data.len() as u64)
+        });
+        assert_eq!(got.unwrap(), data);
+        // The read's last report was all of it; the parse follows, size unknown.
+        assert_eq!(
+            p.now(),
+            ProgressNow {
+                step: LoadStep::Parsing,
+                done: 0,
+                total: 0
+            }
+        );
+    }
+
+    #[test]
+    fn a_cancelled_read_stops_after_the_chunk_under_way() {
+        let len = READ_CHUNK * 3;
+        let p = LoadProgress::new();
+        let file = CancelOnFirstRead {
+            data: Cursor::new(vec![7; len]),
+            progress: p.clone(),
+        };
+        let got = run_with(&p, || read_reporting(file, len as u64));
+        assert!(matches!(got, Err(None)), "stopped, not an I/O error");
+        assert_eq!(
+            p.now(),
+            ProgressNow {
+                step: LoadStep::Reading,
+                done: READ_CHUNK as u64,
+                total: len as u64
+            },
+            "one chunk read, then the check"
+        );
+    }
 }

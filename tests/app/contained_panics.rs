@@ -77,6 +77,7 @@ fn decoder_panics_become_errors_and_leave_the_hook_silent() {
         textures: Some(&list),
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
+        loader: None,
     }
     .run(&mut state)
     .unwrap();

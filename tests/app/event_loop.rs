@@ -45,6 +45,7 @@ fn run(msgs: Vec<Msg>, close: bool) -> (Exit, usize, usize, State) {
         textures: None,
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
+        loader: None,
     }
     .run(&mut state)
     .unwrap();
@@ -319,6 +320,7 @@ fn paced(
             textures: None,
             stage: None,
             pacer: Pacer::new(config),
+            loader: None,
         };
         let exit = looper.run(&mut state).unwrap();
         (exit, looper.pacer.outstanding())

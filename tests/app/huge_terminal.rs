@@ -34,6 +34,7 @@ fn a_huge_terminal_gets_a_capped_view() {
         textures: None,
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
+        loader: None,
     }
     .run(&mut state)
     .unwrap();

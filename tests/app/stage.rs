@@ -159,6 +159,7 @@ fn run(stage: &RefCell<Stage>, mut state: State, batches: Vec<Vec<char>>) -> (St
         textures: None,
         stage: Some(stage),
         pacer: relief::term::pacing::Pacer::by_writes(),
+        loader: None,
     }
     .run(&mut state)
     .unwrap();
@@ -311,4 +312,272 @@ fn the_field_of_view_scales_the_cube_as_the_projection_says() {
         (ratio / want - 1.0).abs() < 0.05,
         "{at60} → {at90}: {ratio} vs {want}"
     );
+}
+
+// ---- Model files load on a worker while the stage keeps drawing ----
+
+use relief::app::loading::Loader;
+
+/// A grid of `n × n` quads (2n² triangles, shared vertices) written as an
+/// OBJ file in the temporary directory.
+fn grid_obj(name: &str, n: usize) -> std::path::PathBuf {
+    use std::fmt::Write as _;
+    let mut text = String::with_capacity(40 * n * n);
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (i as f32 / n as f32, j as f32 / n as f32);
+            let z = (x * 7.0).sin() * (y * 5.0).cos() * 0.1;
+            writeln!(text, "v {x} {y} {z}").unwrap();
+        }
+    }
+    let at = |i: usize, j: usize| j * (n + 1) + i + 1;
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            writeln!(text, "f {a} {b} {c}\nf {a} {c} {d}").unwrap();
+        }
+    }
+    let path = std::env::temp_dir().join(format!("relief-load-{}-{name}", std::process::id()));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// What the state said when a picture was drawn.
+#[derive(Clone, Debug)]
+struct Seen {
+    model: ModelChoice,
+    /// The load's line on the status line, if one was under way.
+    loading: Option<String>,
+}
+
+/// The test's side of a loop that loads on a worker: it sends input, hears
+/// each picture drawn, and holds each load's wake-up until it passes it on,
+/// so the order of events is the test's to choose (no timing involved).
+struct Driver {
+    tx: mpsc::Sender<Msg>,
+    rendered: mpsc::Receiver<Seen>,
+    woken: mpsc::Receiver<u64>,
+}
+
+impl Driver {
+    fn send(&self, msgs: Vec<Msg>) {
+        for m in msgs {
+            self.tx.send(m).unwrap();
+        }
+    }
+    /// The next picture the loop draws.
+    fn picture(&self) -> Seen {
+        self.rendered.recv().expect("the loop draws")
+    }
+    /// Waits for a load's worker to end; returns its number.
+    fn worker_done(&self) -> u64 {
+        self.woken.recv().expect("the worker ends")
+    }
+}
+
+fn arrow() -> Msg {
+    Msg::Input(Event::Key(KeyEvent::new(
+        KeyCode::Right,
+        KeyModifiers::NONE,
+    )))
+}
+
+fn esc() -> Msg {
+    Msg::Input(Event::Key(KeyEvent::new(KeyCode::Esc, KeyModifiers::NONE)))
+}
+
+/// Runs the loop on this thread with a loader and `drive` on another;
+/// the loop ends when the driver returns (its sender dropped) or quits.
+fn run_loading<T: Send + 'static>(
+    stage: &RefCell<Stage>,
+    mut state: State,
+    drive: impl FnOnce(&Driver) -> T + Send + 'static,
+) -> (Exit, State, T) {
+    let (tx, rx) = mpsc::channel();
+    let (rendered_tx, rendered) = mpsc::channel();
+    let (woken_tx, woken) = mpsc::channel();
+    let driver = std::thread::spawn(move || {
+        let d = Driver {
+            tx,
+            rendered,
+            woken,
+        };
+        // The first picture, before any input.
+        d.picture();
+        drive(&d)
+    });
+    let mut term = Terminal::new(SgrBackend::with_size(Vec::new(), 40, 12)).unwrap();
+    let mut renderer = Renderer::new();
+    let exit = Looper {
+        terminal: &mut term,
+        render: |s: &State, fb: &mut Framebuffer| {
+            let stats = stage.borrow_mut().render(&mut renderer, s, fb);
+            let _ = rendered_tx.send(Seen {
+                model: s.model.clone(),
+                loading: s.loading.as_ref().map(|l| l.text()),
+            });
+            stats
+        },
+        background: [0, 0, 0],
+        rx: &rx,
+        textures: None,
+        stage: Some(stage),
+        pacer: relief::term::pacing::Pacer::by_writes(),
+        loader: Some(Loader::new(move |id| {
+            let _ = woken_tx.send(id);
+        })),
+    }
+    .run(&mut state)
+    .unwrap();
+    // A driver still waiting for a picture hears that none will come.
+    drop(rendered_tx);
+    let out = driver.join().unwrap();
+    (exit, state, out)
+}
+
+/// The sphere shown, with `path` next in the `o` cycle.
+fn sphere_then(path: &std::path::Path) -> (RefCell<Stage>, State) {
+    let st = RefCell::new(stage());
+    st.borrow_mut()
+        .build(SceneKind::Cube, &ModelChoice::Sphere)
+        .unwrap();
+    let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
+    state.model = ModelChoice::Sphere;
+    state.obj = Some(path.to_path_buf());
+    (st, state)
+}
+
+#[test]
+fn a_big_model_loads_on_a_worker_while_the_old_one_is_drawn() {
+    // 2 × 300² = 180,000 triangles.
+    let path = grid_obj("big.obj", 300);
+    let (st, state) = sphere_then(&path);
+    let file = ModelChoice::File(path.clone());
+    let (exit, state, seen) = run_loading(&st, state, |d| {
+        // `o` starts the load; the arrow turns the sphere meanwhile.
+        d.send(vec![key('o'), arrow()]);
+        let during = d.picture();
+        let id = d.worker_done();
+        // The worker is done but the loop has not heard: a picture now
+        // shows the load's last step complete.
+        d.send(vec![arrow()]);
+        let done = d.picture();
+        d.send(vec![Msg::Loaded(id)]);
+        let after = d.picture();
+        (during, done, after)
+    });
+    assert!(matches!(exit, Exit::InputClosed(_)));
+    let (during, done, after) = seen;
+    assert_eq!(during.model, ModelChoice::Sphere, "the old model is drawn");
+    let line = during.loading.expect("the status line shows the load");
+    assert!(
+        line.starts_with("loading ") && line.contains("big.obj"),
+        "{line}"
+    );
+    assert!(line.ends_with("(Esc cancels)"), "{line}");
+    let line = done
+        .loading
+        .expect("still loading as far as the loop knows");
+    assert!(line.contains(": building 100% · "), "{line}");
+    assert_eq!(after.model, file, "the new model once it is built");
+    assert_eq!(after.loading, None);
+    assert_eq!(state.model, file);
+    assert_eq!(state.loading, None);
+    // The stage draws what a synchronous build of the file draws.
+    let still = State::new(Settings::default(), ColorDepth::Truecolor);
+    let mut want = stage();
+    want.build(SceneKind::Cube, &file).unwrap();
+    assert_eq!(
+        picture(&mut st.borrow_mut(), &still),
+        picture(&mut want, &still)
+    );
+    std::fs::remove_file(path).unwrap();
+}
+
+#[test]
+fn esc_stops_a_load_and_keeps_the_model_shown() {
+    let path = grid_obj("esc.obj", 200);
+    let (st, state) = sphere_then(&path);
+    let (exit, state, during) = run_loading(&st, state, |d| {
+        d.send(vec![key('o'), arrow()]);
+        let during = d.picture();
+        d.send(vec![esc()]);
+        during
+    });
+    assert!(matches!(exit, Exit::InputClosed(_)), "Esc did not quit");
+    assert!(during.loading.is_some());
+    assert_eq!(state.loading, None);
+    assert_eq!(state.model, ModelChoice::Sphere);
+    let message = state.message.unwrap();
+    assert!(
+        message.starts_with("stopped loading") && message.contains("esc.obj"),
+        "{message}"
+    );
+    std::fs::remove_file(path).unwrap();
+}
+
+#[test]
+fn q_quits_during_a_load_without_waiting_for_it() {
+    let path = grid_obj("quit.obj", 200);
+    let (st, state) = sphere_then(&path);
+    let (exit, state, during) = run_loading(&st, state, |d| {
+        d.send(vec![key('o'), arrow()]);
+        let during = d.picture();
+        // The worker's wake-up is never passed on: the loop cannot be
+        // waiting for it.
+        d.send(vec![key('q')]);
+        during
+    });
+    assert_eq!(exit, Exit::Quit);
+    assert!(during.loading.is_some());
+    assert!(state.loading.is_some(), "quit with the load under way");
+    assert_eq!(state.model, ModelChoice::Sphere);
+    std::fs::remove_file(path).unwrap();
+}
+
+#[test]
+fn a_load_that_fails_says_why_in_one_line_and_keeps_the_model() {
+    let path = bad_obj("worker.obj");
+    let (st, state) = sphere_then(&path);
+    let (exit, state, ()) = run_loading(&st, state, |d| {
+        d.send(vec![key('o'), arrow()]);
+        d.picture();
+        let id = d.worker_done();
+        d.send(vec![Msg::Loaded(id)]);
+    });
+    assert!(matches!(exit, Exit::InputClosed(_)));
+    assert_eq!(state.model, ModelChoice::Sphere);
+    assert_eq!(state.loading, None);
+    let message = state.message.unwrap();
+    assert!(
+        message.contains("worker.obj") && message.contains("line 3"),
+        "{message}"
+    );
+    assert!(!message.contains('\n'));
+    std::fs::remove_file(path).unwrap();
+}
+
+#[test]
+fn another_model_asked_for_during_a_load_replaces_it() {
+    let path = grid_obj("replaced.obj", 200);
+    let (st, state) = sphere_then(&path);
+    let (exit, state, seen) = run_loading(&st, state, |d| {
+        d.send(vec![key('o'), arrow()]);
+        let during = d.picture();
+        // `o` again from the sphere (still shown) asks for the same file:
+        // the load goes on. `p` asks for the shadow scene: built at once,
+        // the load stopped.
+        d.send(vec![key('o'), arrow()]);
+        let again = d.picture();
+        d.send(vec![key('p')]);
+        let shadow = d.picture();
+        (during, again, shadow)
+    });
+    assert!(matches!(exit, Exit::InputClosed(_)));
+    let (during, again, shadow) = seen;
+    assert!(during.loading.is_some() && again.loading.is_some());
+    assert_eq!(shadow.loading, None);
+    assert_eq!(state.scene, SceneKind::Shadow);
+    assert_eq!(state.model, ModelChoice::Sphere);
+    std::fs::remove_file(path).unwrap();
 }

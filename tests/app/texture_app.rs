@@ -85,6 +85,7 @@ fn run(list: &RefCell<TextureList>, msgs: Vec<Msg>) -> State {
         textures: Some(list),
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
+        loader: None,
     }
     .run(&mut state)
     .unwrap();

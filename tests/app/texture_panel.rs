@@ -327,6 +327,7 @@ fn run(list: &RefCell<TextureList>, state: State, msgs: Vec<Msg>) -> State {
         textures: Some(list),
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
+        loader: None,
     }
     .run(&mut state)
     .unwrap();

@@ -756,3 +756,55 @@ fn w_and_w_widen_and_narrow_the_field_of_view_within_its_range() {
             .starts_with("w W (field of view): not in the plasma")
     );
 }
+
+#[test]
+fn esc_stops_a_load_first_and_the_status_line_shows_it_until_then() {
+    use relief::app::load_status::LoadStatus;
+    use relief::scene::load_progress::{LoadStep, ProgressNow};
+    use relief::scene::{ModelChoice, SceneKind};
+    let mut s = state();
+    let status = |done| LoadStatus {
+        name: "scan.ply".into(),
+        progress: ProgressNow {
+            step: LoadStep::Reading,
+            done,
+            total: 4_000_000,
+        },
+        elapsed: std::time::Duration::from_millis(700),
+    };
+    assert_eq!(update(&mut s, Action::Loading(status(1_000_000))), None);
+    assert_eq!(
+        s.message_line().as_deref(),
+        Some("loading scan.ply: reading 25% of 4.0 MB · 0.7 s (Esc cancels)")
+    );
+    // A user's key clears the last message, not the load's line.
+    ch(&mut s, 'm');
+    update(&mut s, Action::Loading(status(3_000_000)));
+    assert!(s.message_line().unwrap().contains("reading 75%"));
+    // Esc stops the load, and does not quit; the next Esc would.
+    assert_eq!(press(&mut s, KeyCode::Esc), Some(Command::CancelLoad));
+    assert!(!s.quit);
+    assert_eq!(s.loading, None);
+    assert_eq!(
+        s.message_line().as_deref(),
+        Some("stopped loading scan.ply: the model shown stays")
+    );
+    assert_eq!(press(&mut s, KeyCode::Esc), None);
+    assert!(!s.quit, "the Esc after a stop says how to quit");
+    assert_eq!(press(&mut s, KeyCode::Esc), None);
+    assert!(s.quit);
+    // A build's outcome ends a load's line, whichever it is.
+    let mut s = state();
+    update(&mut s, Action::Loading(status(0)));
+    update(
+        &mut s,
+        Action::SceneBuilt(Err("model scan.ply, byte 12: bad".into())),
+    );
+    assert_eq!(s.loading, None);
+    update(&mut s, Action::Loading(status(0)));
+    update(
+        &mut s,
+        Action::SceneBuilt(Ok((SceneKind::Cube, ModelChoice::Sphere))),
+    );
+    assert_eq!(s.loading, None);
+}

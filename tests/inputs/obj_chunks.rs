@@ -113,3 +113,65 @@ fn cuts_inside_parts_and_line_endings_read_the_same() {
         assert_eq!(one, cut, "{chunks} chunks");
     }
 }
+
+/// A grid of `n × n` quads as OBJ text.
+fn grid(n: usize) -> String {
+    let mut s = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            s += &format!("v {i} {j} {}\n", (i * j % 7) as f32 / 10.0);
+        }
+    }
+    let at = |i: usize, j: usize| j * (n + 1) + i + 1;
+    for j in 0..n {
+        for i in 0..n {
+            s += &format!(
+                "f {} {} {} {}\n",
+                at(i, j),
+                at(i + 1, j),
+                at(i + 1, j + 1),
+                at(i, j + 1)
+            );
+        }
+    }
+    s
+}
+
+#[test]
+fn a_load_reports_each_pass_over_each_chunk_then_each_build_step() {
+    use relief::scene::load_progress::{LoadProgress, LoadStep, run_with};
+    let text = grid(40);
+    let p = LoadProgress::new();
+    let model = run_with(&p, || {
+        parse_in_chunks("grid.obj", text.as_bytes(), None, Some(5))
+    });
+    assert!(model.is_ok());
+    // The reading's passes are over (a cancelled load below shows their
+    // count); the build ran its six steps.
+    let now = p.now();
+    assert_eq!((now.step, now.done, now.total), (LoadStep::Building, 6, 6));
+}
+
+#[test]
+fn a_cancelled_load_stops_with_an_error_naming_the_model() {
+    use relief::scene::load_progress::{LoadProgress, LoadStep, run_with};
+    let text = grid(40);
+    let p = LoadProgress::new();
+    p.cancel();
+    let got = run_with(&p, || {
+        parse_in_chunks("grid.obj", text.as_bytes(), None, Some(5))
+    });
+    assert_eq!(
+        got.err(),
+        Some(ObjError::Cancelled {
+            name: "grid.obj".into()
+        })
+    );
+    // It stopped after the first pass: the counting.
+    let now = p.now();
+    assert_eq!(now.step, LoadStep::Parsing);
+    assert_eq!(
+        (now.done, now.total),
+        (text.len() as u64, 3 * text.len() as u64)
+    );
+}

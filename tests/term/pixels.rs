@@ -93,6 +93,7 @@ fn run(output: Output, msgs: Vec<Msg>) -> (Vec<u8>, Vec<(usize, usize)>, State) 
         textures: None,
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
+        loader: None,
     }
     .run(&mut state)
     .unwrap();
@@ -361,6 +362,7 @@ fn an_image_never_reaches_the_last_row() {
         textures: None,
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
+        loader: None,
     }
     .run(&mut state)
     .unwrap();
@@ -455,6 +457,7 @@ fn pixel_previews_shrink_over_a_slow_link_and_the_exact_frame_follows() {
         textures: None,
         stage: None,
         pacer: relief::term::pacing::Pacer::default(),
+        loader: None,
     }
     .run(&mut state)
     .unwrap();
@@ -809,6 +812,7 @@ fn run_panels(format: Format, msgs: Vec<Msg>) -> (Vec<u8>, Framebuffer) {
         textures: None,
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
+        loader: None,
     }
     .run(&mut state)
     .unwrap();

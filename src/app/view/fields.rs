@@ -86,7 +86,7 @@ pub(super) fn panel_line(state: &State, compact: bool, cost: bool) -> Line<'stat
 
 /// The panel line with the message after it.
 pub(super) fn with_message(mut line: Line<'static>, state: &State) -> Line<'static> {
-    if let Some(msg) = &state.message {
+    if let Some(msg) = state.message_line() {
         line.spans.push(Span::raw(format!("  {msg}")));
     }
     line

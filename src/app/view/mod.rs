@@ -119,15 +119,14 @@ pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf:
     } else if let Some(panel) = a.panel {
         let line = panel_line(state, compact, cost_above);
         let long = state
-            .message
-            .as_deref()
+            .message_line()
             .filter(|m| line.width() + 2 + m.chars().count() > panel.width as usize);
         match long {
             // Too long for the rest of the line: the whole message, wrapped,
             // on the rows just above it.
             Some(msg) => {
                 line.render(panel, buf);
-                message_above(msg, panel, a.viewport, buf);
+                message_above(&msg, panel, a.viewport, buf);
             }
             None => with_message(line, state).render(panel, buf),
         }

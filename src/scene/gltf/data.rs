@@ -4,7 +4,6 @@
 //! what is there, and the memory budget is asked, before anything of that
 //! length is allocated.
 
-use std::io::Read;
 use std::path::Path;
 
 use base64::Engine;
@@ -33,11 +32,12 @@ pub(super) fn read_file(path: &Path, what: &str) -> Result<(Vec<u8>, Reservation
         return Err("not a regular file".into());
     }
     let held = budget::reserve(what, meta.len()).map_err(|e| e.to_string())?;
-    // Exactly the reserved size (a growing buffer would take up to twice).
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    std::fs::File::open(path)
-        .and_then(|f| f.take(meta.len()).read_to_end(&mut bytes))
-        .map_err(|e| crate::sanitize::clean(&e.to_string()))?;
+    // Exactly the reserved size, reported to the view's progress line.
+    let file = std::fs::File::open(path).map_err(|e| crate::sanitize::clean(&e.to_string()))?;
+    let bytes = crate::scene::model_io::read_reporting(file, meta.len()).map_err(|e| match e {
+        Some(e) => crate::sanitize::clean(&e.to_string()),
+        None => "the load was cancelled".to_string(),
+    })?;
     Ok((bytes, held))
 }
 

@@ -29,6 +29,7 @@ use rayon::prelude::*;
 
 use crate::budget::Reservation;
 use crate::scene::corners::{IndexedCorners, MAX_FACE_CORNERS, NO_INDEX, bytes_of};
+use crate::scene::load_progress::{self, LoadStep};
 use crate::scene::model_error::{ObjError, quote};
 
 /// Bytes the reading holds per triangle: its corners' three indices and
@@ -536,7 +537,27 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         problem,
     };
 
-    let counted: Vec<Result<Counts, LineProblem>> = chunks.par_iter().map(|c| count(c)).collect();
+    // Three passes over the text: the view's progress line counts each
+    // chunk's bytes as each pass finishes it, and a cancel stops the
+    // reading between passes.
+    let progress = load_progress::current();
+    if let Some(p) = &progress {
+        p.begin(LoadStep::Parsing, 3 * bytes.len() as u64);
+    }
+    let passed = |chunk: &[u8]| {
+        if let Some(p) = &progress {
+            p.advance(chunk.len() as u64);
+        }
+    };
+    let counted: Vec<Result<Counts, LineProblem>> = chunks
+        .par_iter()
+        .map(|c| {
+            let counts = count(c);
+            passed(c);
+            counts
+        })
+        .collect();
+    load_progress::check(name)?;
     // What comes before each chunk, and the whole file's counts.
     let mut before = Vec::with_capacity(chunks.len());
     let mut counts = Counts::default();
@@ -590,8 +611,13 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
     let attributes: Vec<(Option<LineProblem>, Tally)> = outs
         .into_par_iter()
         .zip(chunks.par_iter())
-        .map(|(out, chunk)| read_attributes(chunk, out))
+        .map(|(out, chunk)| {
+            let read = read_attributes(chunk, out);
+            passed(chunk);
+            read
+        })
         .collect();
+    load_progress::check(name)?;
     // Each chunk's triangles go to its own slices (at most what it counted),
     // closed up afterwards: no copy of the whole.
     let mut corners = vec![[0u32; 3]; counts.triangles * 3];
@@ -615,8 +641,13 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         .par_iter()
         .zip(before.par_iter())
         .zip(slots.into_par_iter())
-        .map(|((chunk, b), slots)| read_faces(chunk, *b, slots))
+        .map(|((chunk, b), slots)| {
+            let read = read_faces(chunk, *b, slots);
+            passed(chunk);
+            read
+        })
         .collect();
+    load_progress::check(name)?;
 
     // The first bad line of the file, of either pass.
     let first_problem = attributes
