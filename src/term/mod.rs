@@ -25,6 +25,7 @@ pub mod palette;
 pub mod pixel_view;
 pub mod probe;
 pub mod sixel;
+pub mod strips;
 pub mod symbols;
 pub mod wait;
 

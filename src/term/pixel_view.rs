@@ -17,6 +17,7 @@
 //! iTerm2 cells cleared) on exit, on Ctrl-Z and when leaving pixels; the
 //! terminal guard calls [`take_cleanup`] for the first two.
 
+use std::collections::VecDeque;
 use std::io::{self, Write};
 use std::sync::Mutex;
 
@@ -30,7 +31,7 @@ use super::cells::SymbolCells;
 use super::color::ColorDepth;
 use super::format::{Format, FormatChoice, TmuxPixels};
 use super::symbols::Symbols;
-use super::{iterm, kitty, sixel};
+use super::{iterm, kitty, median_cut, sixel, strips};
 use crate::framebuffer::{Framebuffer, Rgb};
 
 /// Cell size in pixels when neither the kernel (`TIOCGWINSZ`) nor the
@@ -174,6 +175,28 @@ pub fn preview_size(w: usize, h: usize, exact_bytes: u64, budget_bytes: f64) -> 
 /// Frames per second a pixel preview is sized for.
 pub const PREVIEW_RATE: f64 = 15.0;
 
+/// Seconds of the link the first picture may take once input stops, when
+/// the exact frame takes longer: the exact frame scaled down to what the
+/// link carries in that time (the final orientation at the link's
+/// resolution), so that with the round trip, the render and the quiet
+/// time before it, it shows within half a second of the last input. The
+/// exact frame follows in strips ([`strips`]).
+pub const LINK_SECONDS: f64 = 0.25;
+
+/// The size of the link-sized picture of a `w × h` frame whose exact image
+/// takes `exact_bytes`, for `budget_bytes`: scaled by the square root of
+/// their ratio (bytes taken as proportional to pixels), at least
+/// [`MIN_PREVIEW_SCALE`], below full size.
+pub fn link_size(w: usize, h: usize, exact_bytes: f64, budget_bytes: f64) -> (usize, usize) {
+    let s = (budget_bytes / exact_bytes.max(1.0))
+        .sqrt()
+        .clamp(MIN_PREVIEW_SCALE, 1.0);
+    (
+        ((w as f64 * s).round() as usize).clamp(1, w.max(1)),
+        ((h as f64 * s).round() as usize).clamp(1, h.max(1)),
+    )
+}
+
 /// The size of a preview of a `size` frame in `format`: half each way for
 /// text; for pixels what the link's `throughput` (bytes per second)
 /// carries at [`PREVIEW_RATE`], judged by the last exact frame's bytes.
@@ -258,10 +281,16 @@ pub fn image_bytes(
         Format::Iterm => iterm::write_image(fb, cells, &mut seq)?,
         Format::Auto | Format::Symbols => return Ok(Vec::new()),
     }
+    Ok(placed(&seq, format, area, passthrough))
+}
+
+/// `seq` (an image in `format`) placed at `area`'s top-left, wrapped for
+/// tmux when `passthrough`.
+pub fn placed(seq: &[u8], format: Format, area: Rect, passthrough: bool) -> Vec<u8> {
     let mut out = Vec::with_capacity(seq.len() + 16);
     place(area, &mut out);
     if !passthrough {
-        out.extend_from_slice(&seq);
+        out.extend_from_slice(seq);
     } else if format == Format::Kitty {
         // One passthrough per chunk: tmux bounds the size of one sequence.
         let mut start = 0;
@@ -272,9 +301,81 @@ pub fn image_bytes(
             }
         }
     } else {
-        wrap_tmux(&seq, &mut out);
+        wrap_tmux(seq, &mut out);
+    }
+    out
+}
+
+/// The exact frame `fb` over a link that carries `budget` bytes in
+/// [`LINK_SECONDS`], when its image (`exact_bytes` bytes) takes longer:
+/// the frame scaled down to fit, filling the same cells. kitty scales it;
+/// sixel has no scaling, so it goes enlarged (nearest neighbour), where
+/// its bytes follow its colour runs more than its pixels: should it not
+/// fit, it is tried again smaller and with fewer colours (at most twice).
+pub fn link_sized(
+    fb: &Framebuffer,
+    format: Format,
+    area: Rect,
+    exact_bytes: usize,
+    budget: f64,
+    dither: bool,
+    passthrough: bool,
+) -> io::Result<Vec<u8>> {
+    let (w, h) = (fb.width(), fb.height());
+    let mut from = exact_bytes as f64;
+    let (mut sw, mut sh) = (w, h);
+    let mut out = Vec::new();
+    for colours in SIXEL_LINK_COLOURS {
+        (sw, sh) = link_size(sw, sh, from, budget);
+        // Never below an eighth of the frame each way.
+        let least = |n: usize| ((n as f64 * MIN_PREVIEW_SCALE).round() as usize).max(1);
+        (sw, sh) = (sw.max(least(w)), sh.max(least(h)));
+        let mut small = Framebuffer::new(sw, sh);
+        downscale(fb, &mut small);
+        out = if format == Format::Sixels {
+            if colours < 256 {
+                let q = median_cut::quantize(small.pixels(), colours, |_| 0);
+                for (p, &i) in small.pixels_mut().iter_mut().zip(&q.index) {
+                    *p = q.palette[usize::from(i)];
+                }
+            }
+            let mut big = Framebuffer::new(w, h);
+            enlarge(&small, &mut big);
+            image_bytes(&big, format, area, dither, passthrough)?
+        } else {
+            image_bytes(&small, format, area, dither, passthrough)?
+        };
+        if out.len() as f64 <= budget {
+            break;
+        }
+        // A fifth more than it took: bytes fall slower than pixels.
+        from = out.len() as f64 * 1.2;
     }
     Ok(out)
+}
+
+/// The colours of a link-sized sixel picture, try by try (256: the
+/// frame's own palette).
+const SIXEL_LINK_COLOURS: [usize; 3] = [256, 32, 8];
+
+/// Nearest-neighbour enlargement of `small` to fill `big` (a preview: each
+/// pixel of the half-resolution picture becomes a 2×2 block, so a cell is
+/// one colour and its neighbour the same: fewer bytes to send).
+pub fn enlarge(small: &Framebuffer, big: &mut Framebuffer) {
+    let (sw, sh) = (small.width(), small.height());
+    if sw == 0 || sh == 0 {
+        big.fill([0, 0, 0]);
+        return;
+    }
+    let (bw, bh) = (big.width(), big.height());
+    for y in 0..bh {
+        let sy = (y * sh / bh).min(sh - 1);
+        let src = small.row(sy);
+        for x in 0..bw {
+            let sx = (x * sw / bw).min(sw - 1);
+            big.set(x, y, src[sx]);
+        }
+    }
 }
 
 /// Average of `src` over each pixel of `dst` (box filter): the picture at
@@ -326,6 +427,31 @@ pub struct PixelView {
     shown: Option<(Rect, Format)>,
     /// The format of the last frame.
     last_format: Option<Format>,
+    /// The exact frame's strips.
+    strips: Strips,
+    /// Bytes of the last exact frame sent in strips, all of them.
+    split_bytes: Option<u64>,
+}
+
+/// The strips of the exact frame on their way.
+#[derive(Default)]
+struct Strips {
+    /// Still to send, each placed and wrapped.
+    pending: VecDeque<Vec<u8>>,
+    /// kitty strips sent since the last picture (images of their own:
+    /// deleted with it).
+    kitty_sent: usize,
+    /// They go through tmux's passthrough.
+    passthrough: bool,
+}
+
+impl Strips {
+    /// Drops the strips not yet sent; the bytes that delete the kitty
+    /// strips that were.
+    fn drop(&mut self) -> Vec<u8> {
+        self.pending.clear();
+        strip_deletes(std::mem::take(&mut self.kitty_sent), self.passthrough)
+    }
 }
 
 /// What a frame is: the format in use and its pictures.
@@ -338,6 +464,10 @@ pub struct PixelFrame<'a> {
     /// The picture changed since the last frame.
     pub new_picture: bool,
     pub look: TextLook,
+    /// The link's measured (or stated) throughput, bytes a second: an
+    /// exact frame it cannot carry in [`LINK_SECONDS`] goes link-sized,
+    /// then in strips.
+    pub throughput: Option<f64>,
 }
 
 impl Default for PixelView {
@@ -352,6 +482,8 @@ impl PixelView {
             small: Framebuffer::new(0, 0),
             shown: None,
             last_format: None,
+            strips: Strips::default(),
+            split_bytes: None,
         }
     }
 
@@ -412,11 +544,12 @@ impl PixelView {
             // terminal made of the last one's sequences (a format it
             // ignores may print its bytes, even scroll) stays.
             if let Some((_, Format::Kitty)) = self.shown.take() {
-                terminal
-                    .backend_mut()
-                    .write_raw(&kitty_delete(frame.output.choice.passthrough))?;
+                let mut delete = kitty_delete(frame.output.choice.passthrough);
+                delete.extend(self.strips.drop());
+                terminal.backend_mut().write_raw(&delete)?;
                 set_cleanup(&[]);
             }
+            self.strips.drop();
             terminal.clear()?;
         }
         self.last_format = Some(format);
@@ -437,6 +570,7 @@ impl PixelView {
             if was == Format::Kitty {
                 bytes.extend(kitty_delete(frame.output.choice.passthrough));
             }
+            bytes.extend(self.strips.drop());
             self.shown = None;
             set_cleanup(&[]);
         }
@@ -446,19 +580,50 @@ impl PixelView {
                 _ => fb,
             };
             let passthrough = frame.output.choice.passthrough;
-            bytes.extend(image_bytes(
-                send,
-                format,
-                viewport,
-                frame.look.dither,
-                passthrough,
-            )?);
-            self.shown = Some((viewport, format));
-            set_cleanup(&if format == Format::Kitty {
-                kitty_delete(passthrough)
+            // Strips of the last picture go with it.
+            bytes.extend(self.strips.drop());
+            let dither = frame.look.dither;
+            let image = image_bytes(send, format, viewport, dither, passthrough)?;
+            let budget = frame.throughput.map(|t| t * LINK_SECONDS);
+            let split = match budget {
+                Some(budget) if frame.preview.is_none() && image.len() as f64 > budget => {
+                    let strip_budget = budget / LINK_SECONDS / PREVIEW_RATE;
+                    let size = (viewport.width, viewport.height);
+                    strips::strips(fb, format, size, image.len(), strip_budget, dither)?
+                        .filter(|s| s.len() > 1)
+                        .map(|s| (budget, s))
+                }
+                _ => None,
+            };
+            if let Some((budget, list)) = split {
+                let first = link_sized(
+                    fb,
+                    format,
+                    viewport,
+                    image.len(),
+                    budget,
+                    dither,
+                    passthrough,
+                )?;
+                bytes.extend(first);
+                for strip in list {
+                    let at = Rect {
+                        y: viewport.y + strip.rows.start,
+                        height: strip.rows.end - strip.rows.start,
+                        ..viewport
+                    };
+                    self.strips
+                        .pending
+                        .push_back(placed(&strip.seq, format, at, passthrough));
+                }
+                self.strips.passthrough = passthrough;
+                let pending = &self.strips.pending;
+                self.split_bytes = Some(pending.iter().map(|s| s.len() as u64).sum());
             } else {
-                Vec::new()
-            });
+                bytes.extend(image);
+            }
+            self.shown = Some((viewport, format));
+            set_cleanup(&self.kitty_cleanup(format, passthrough));
         }
         if !bytes.is_empty() {
             terminal.backend_mut().write_raw(&bytes)?;
@@ -469,13 +634,56 @@ impl PixelView {
     /// The screen is new (after Ctrl-Z): nothing of ours is on it.
     pub fn forget(&mut self) {
         self.shown = None;
+        self.strips = Strips::default();
         set_cleanup(&[]);
     }
 
-    /// Where an image is shown, if one is.
-    pub fn shown(&self) -> Option<(Rect, Format)> {
-        self.shown
+    /// Strips of the exact frame are still to be sent.
+    pub fn pending(&self) -> bool {
+        !self.strips.pending.is_empty()
     }
+
+    /// The next strip of the exact frame, placed (one write of its own).
+    pub fn next_strip(&mut self) -> Option<Vec<u8>> {
+        let strip = self.strips.pending.pop_front()?;
+        if let Some((_, Format::Kitty)) = self.shown {
+            self.strips.kitty_sent += 1;
+            set_cleanup(&self.kitty_cleanup(Format::Kitty, self.strips.passthrough));
+        }
+        Some(strip)
+    }
+
+    /// Bytes of the exact frame just sent in strips (all of them), once:
+    /// what an exact frame costs the link, though its first write was the
+    /// link-sized picture.
+    pub fn take_split_bytes(&mut self) -> Option<u64> {
+        self.split_bytes.take()
+    }
+
+    /// What removes relief's kitty image and the strips sent over it.
+    fn kitty_cleanup(&self, format: Format, passthrough: bool) -> Vec<u8> {
+        if format != Format::Kitty {
+            return Vec::new();
+        }
+        let mut out = kitty_delete(passthrough);
+        out.extend(strip_deletes(self.strips.kitty_sent, passthrough));
+        out
+    }
+}
+
+/// The bytes that delete the first `count` kitty strips.
+fn strip_deletes(count: usize, passthrough: bool) -> Vec<u8> {
+    let mut out = Vec::new();
+    for k in 0..count {
+        let mut one = Vec::new();
+        kitty::delete(kitty::strip_id(k), &mut one);
+        if passthrough {
+            wrap_tmux(&one, &mut out);
+        } else {
+            out.extend(one);
+        }
+    }
+    out
 }
 
 /// Marks the picture's cells in `buf` as skipped by the diff when they

@@ -12,6 +12,7 @@
 
 use std::collections::HashMap;
 use std::io::{self, Write};
+use std::ops::Range;
 
 use super::median_cut;
 use crate::framebuffer::{Framebuffer, Rgb};
@@ -161,13 +162,66 @@ pub fn write_image_with(
     dither: bool,
     out: &mut impl Write,
 ) -> io::Result<()> {
-    let (w, h) = (fb.width(), fb.height());
-    let Indexed { palette, index } = index_frame(fb, palette, dither);
+    let indexed = index_frame(fb, palette, dither);
+    write_rows(&indexed, fb.width(), 0..fb.height(), false, out)
+}
+
+/// A frame mapped to its palette once, so that strips of it drawn one by
+/// one ([`write_strip`]) show exactly what the whole image would.
+pub struct Quantized {
+    indexed: Indexed,
+    width: usize,
+    height: usize,
+}
+
+impl Quantized {
+    /// `fb` mapped as [`write_image`] maps it.
+    pub fn new(fb: &Framebuffer, dither: bool) -> Self {
+        Quantized {
+            indexed: index_frame(fb, Palette::CHOSEN, dither),
+            width: fb.width(),
+            height: fb.height(),
+        }
+    }
+
+    pub fn height(&self) -> usize {
+        self.height
+    }
+}
+
+/// Writes the pixel rows `rows` of `q` as one sixel image at the cursor,
+/// with only the palette entries those rows use (same numbers, same
+/// colours as the whole image's).
+pub fn write_strip(q: &Quantized, rows: Range<usize>, out: &mut impl Write) -> io::Result<()> {
+    let rows = rows.start.min(q.height)..rows.end.min(q.height);
+    write_rows(&q.indexed, q.width, rows, true, out)
+}
+
+/// Writes rows `rows` of an indexed `w`-pixel-wide frame as one sixel
+/// image: all palette entries, or only those the rows use.
+fn write_rows(
+    indexed: &Indexed,
+    w: usize,
+    rows: Range<usize>,
+    only_used: bool,
+    out: &mut impl Write,
+) -> io::Result<()> {
+    let Indexed { palette, index } = indexed;
+    let index = &index[rows.start * w..rows.end * w];
+    let h = rows.len();
     // P2 = 1: pixels the image does not set keep their colour.
     write!(out, "\x1bP0;1;0q\"1;1;{w};{h}")?;
+    let mut used = [!only_used; 256];
+    if only_used {
+        for &i in index {
+            used[usize::from(i)] = true;
+        }
+    }
     for (i, c) in palette.iter().enumerate() {
-        let [r, g, b] = percent(*c);
-        write!(out, "#{i};2;{r};{g};{b}")?;
+        if used[i] {
+            let [r, g, b] = percent(*c);
+            write!(out, "#{i};2;{r};{g};{b}")?;
+        }
     }
     // Per band: each colour's slot, in order of first appearance (row by
     // row), and the slots' rows of six-pixel columns, filled in one pass.
@@ -175,8 +229,8 @@ pub fn write_image_with(
     let mut colours: Vec<u8> = Vec::with_capacity(256);
     let mut bits: Vec<u8> = Vec::new();
     for y0 in (0..h).step_by(6) {
-        let rows = (h - y0).min(6);
-        let band = &index[y0 * w..(y0 + rows) * w];
+        let band_rows = (h - y0).min(6);
+        let band = &index[y0 * w..(y0 + band_rows) * w];
         for &c in &colours {
             slot[usize::from(c)] = u16::MAX;
         }

@@ -15,7 +15,7 @@ use relief::app::event_loop::{Exit, Looper, Msg};
 use relief::settings::Settings;
 use relief::term::format::{Clues, Format, TmuxPixels};
 use relief::term::pixel_view::{self, Output, PixelView};
-use relief::term::{ColorDepth, SgrBackend, kitty};
+use relief::term::{ColorDepth, SgrBackend, kitty, sixel};
 
 use super::encoder::decode_sixel;
 
@@ -385,13 +385,15 @@ fn an_image_never_reaches_the_last_row() {
 /// A terminal over a slow link: it answers each query (`CSI c`) as a link
 /// of [`LINK_RATE`] bytes a second would (the reply's time stamp is when
 /// the frame would have arrived), sends an arrow key after each write
-/// while `keys` last, and ends the input once the exact picture (a kitty
-/// image as wide as the first) has come after them.
+/// while `keys` last, and ends the input once the exact picture has come
+/// after them: a kitty image as wide as the first, or strips of it over
+/// all 12 rows of the picture.
 struct SlowLink {
     out: Vec<u8>,
     tx: mpsc::Sender<Msg>,
     keys: usize,
     full_width: Option<usize>,
+    strip_rows: usize,
 }
 
 const LINK_RATE: f64 = 20_000.0;
@@ -422,11 +424,20 @@ impl std::io::Write for SlowLink {
                 KeyCode::Right,
                 KeyModifiers::NONE,
             ))));
-        } else if images
-            .iter()
-            .any(|(keys, _)| Some(key_value(keys, "s")) == self.full_width)
-        {
-            let _ = self.tx.send(Msg::InputClosed("end of input".into()));
+        } else {
+            for (keys, _) in &images {
+                if key_value(keys, "i") == kitty::IMAGE_ID as usize {
+                    self.strip_rows = 0;
+                    if Some(key_value(keys, "s")) == self.full_width {
+                        self.strip_rows = 12;
+                    }
+                } else {
+                    self.strip_rows += key_value(keys, "r");
+                }
+            }
+            if self.strip_rows >= 12 {
+                let _ = self.tx.send(Msg::InputClosed("end of input".into()));
+            }
         }
         Ok(data.len())
     }
@@ -448,6 +459,7 @@ fn pixel_previews_shrink_over_a_slow_link_and_the_exact_frame_follows() {
         tx,
         keys: 8,
         full_width: None,
+        strip_rows: 0,
     };
     let mut term = Terminal::new(SgrBackend::with_size(link, 60, 14)).unwrap();
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
@@ -474,22 +486,272 @@ fn pixel_previews_shrink_over_a_slow_link_and_the_exact_frame_follows() {
     .run(&mut state)
     .unwrap();
     assert!(matches!(exit, Exit::InputClosed(_)));
-    let images = kitty_images(&term.backend().writer().out);
+    let all = kitty_images(&term.backend().writer().out);
+    // The pictures (relief's image), then the strips of the last one.
+    let split = all
+        .iter()
+        .rposition(|(k, _)| key_value(k, "i") == kitty::IMAGE_ID as usize)
+        .unwrap();
+    let (images, strips) = all.split_at(split + 1);
     let widths: Vec<usize> = images.iter().map(|(k, _)| key_value(k, "s")).collect();
     let full = widths[0];
     assert!(
         widths.iter().any(|&w| w < full),
         "a smaller preview while the keys came: {widths:?}"
     );
-    for (keys, raw) in &images {
+    for (keys, raw) in images {
         // Every image covers the picture's cells, whatever its pixels.
         assert_eq!((key_value(keys, "c"), key_value(keys, "r")), (60, 12));
         assert_eq!(raw.len(), key_value(keys, "s") * key_value(keys, "v") * 3);
     }
-    assert_eq!(
-        *widths.last().unwrap(),
-        full,
-        "the exact frame last: {widths:?}"
+    // The exact frame last: whole, or in strips at full width over all rows.
+    let rows: usize = strips.iter().map(|(k, _)| key_value(k, "r")).sum();
+    assert!(
+        *widths.last().unwrap() == full || rows == 12,
+        "the exact frame last: {widths:?}, strips over {rows} rows"
     );
+    for (keys, _) in strips {
+        assert_eq!((key_value(keys, "s"), key_value(keys, "c")), (full, 60));
+    }
     let _ = pixel_view::take_cleanup();
+}
+
+/// One image of a write: the cell row it is placed at (0-based, from the
+/// `CSI row;col H` before it) and its sequence.
+fn placed_images(bytes: &[u8]) -> Vec<(usize, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while let Some(at) = find(&bytes[i..], b"\x1b[") {
+        let start = i + at + 2;
+        let digits = bytes[start..]
+            .iter()
+            .take_while(|b| b.is_ascii_digit() || **b == b';')
+            .count();
+        let end = start + digits;
+        i = end;
+        if bytes.get(end) != Some(&b'H') {
+            continue;
+        }
+        let rest = &bytes[end + 1..];
+        if !(rest.starts_with(b"\x1b_Ga=T") || rest.starts_with(b"\x1bP0;1;0q")) {
+            continue;
+        }
+        let row: usize = std::str::from_utf8(&bytes[start..end])
+            .unwrap()
+            .split(';')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        // The image runs to the next placement or the end of the write.
+        // (A kitty image's chunks hold no `ESC [`; a sixel's neither.)
+        let len = find(&rest[1..], b"\x1b[").map_or(rest.len(), |n| n + 1);
+        out.push((row - 1, rest[..len].to_vec()));
+    }
+    out
+}
+
+/// A picture of many colours, smooth like a rendered one (gradients and
+/// a wave), `seed` moving the wave: its exact image is far larger than its
+/// scaled-down one.
+fn busy_frame(w: usize, h: usize, seed: usize) -> Framebuffer {
+    let mut fb = Framebuffer::new(w, h);
+    for y in 0..h {
+        for x in 0..w {
+            let wave = ((x + seed * 13) as f32 / 9.0).sin() * ((y as f32) / 7.0).cos();
+            fb.set(
+                x,
+                y,
+                [
+                    (x * 255 / w) as u8,
+                    (y * 255 / h) as u8,
+                    (128.0 + 100.0 * wave) as u8,
+                ],
+            );
+        }
+    }
+    fb
+}
+
+/// Draws `fb` into `view` as the loop does (inside one synchronized
+/// frame) and returns the bytes written.
+fn draw_pixels(
+    view: &mut PixelView,
+    term: &mut Terminal<SgrBackend<Vec<u8>>>,
+    output: &Output,
+    fb: &Framebuffer,
+    preview: Option<&Framebuffer>,
+    throughput: f64,
+) -> Vec<u8> {
+    let viewport = Rect::new(0, 0, 60, 12);
+    let look = pixel_view::TextLook {
+        symbols: relief::term::Symbols::Half,
+        depth: ColorDepth::Truecolor,
+        dither: false,
+        pad: [0, 0, 0],
+    };
+    let frame = pixel_view::PixelFrame {
+        output,
+        fb,
+        preview,
+        new_picture: true,
+        look,
+        throughput: Some(throughput),
+    };
+    term.backend_mut().begin_frame().unwrap();
+    view.draw(term, frame, viewport, |f, pic| {
+        f.render_widget(
+            relief::term::SymbolCells {
+                fb: pic,
+                symbols: look.symbols,
+                depth: look.depth,
+                dither: look.dither,
+                pad: look.pad,
+            },
+            viewport,
+        );
+    })
+    .unwrap();
+    term.backend_mut().end_frame().unwrap();
+    std::mem::take(term.backend_mut().writer_mut())
+}
+
+/// Over a link too slow for the exact frame, the first write after input
+/// stops is the exact frame scaled down to what the link carries in
+/// `LINK_SECONDS`, over the whole picture; then one strip per write, top
+/// to bottom, whose images composed over it decode to the exact frame;
+/// a new picture drops the strips not sent (and deletes kitty's that
+/// were). A link fast enough gets the exact image at once.
+#[test]
+fn the_exact_frame_follows_a_link_sized_picture_in_strips_that_compose_to_it() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
+    let _ = pixel_view::take_cleanup();
+    // 60 × 12 cells of 8 × 16 pixels.
+    let (w, h, cell_h) = (480, 192, 16);
+    let fb = busy_frame(w, h, 0);
+    // 40 kB/s: the link-sized picture may take 10 kB, a strip about 2.7 kB.
+    let rate = 40_000.0;
+    let budget = rate * pixel_view::LINK_SECONDS;
+    for format in [Format::Kitty, Format::Sixels] {
+        let out = output(format);
+        let mut term = Terminal::new(SgrBackend::with_size(Vec::new(), 60, 14)).unwrap();
+        let mut view = PixelView::new();
+        let first = draw_pixels(&mut view, &mut term, &out, &fb, None, rate);
+        let images = placed_images(&first);
+        assert_eq!(images.len(), 1, "{format:?}: one picture first");
+        let (row, image) = &images[0];
+        assert_eq!(*row, 0);
+        assert!(
+            image.len() as f64 <= budget,
+            "{format:?}: the first picture takes {} bytes, more than {budget}",
+            image.len()
+        );
+        // The exact picture, composed: what sixel shows of it (its
+        // palette), kitty's exactly.
+        let want = match format {
+            Format::Sixels => sixel::shown_frame(&fb, sixel::Palette::CHOSEN, false),
+            _ => fb.clone(),
+        };
+        let mut canvas = Framebuffer::new(w, h);
+        let mut covered = vec![false; h];
+        if format == Format::Kitty {
+            let (keys, raw) = &kitty_images(image)[0];
+            // Scaled over the picture's 60 × 12 cells, from fewer pixels.
+            assert_eq!((key_value(keys, "c"), key_value(keys, "r")), (60, 12));
+            let (sw, sh) = (key_value(keys, "s"), key_value(keys, "v"));
+            assert!(sw < w && sh < h, "{sw}×{sh}");
+            let mut small = Framebuffer::new(sw, sh);
+            pixel_view::downscale(&fb, &mut small);
+            assert!(raw == &small.pixels().concat(), "the frame scaled down");
+        } else {
+            let (sw, sh, px) = decode_sixel(image);
+            assert_eq!((sw, sh), (w, h), "sixel fills the cells at full size");
+            for (p, got) in canvas.pixels_mut().iter_mut().zip(&px) {
+                *p = got.expect("every pixel drawn");
+            }
+        }
+        // Then one strip per write.
+        let mut writes = 0;
+        let mut next_row = 0;
+        while let Some(strip) = view.next_strip() {
+            writes += 1;
+            let images = placed_images(&strip);
+            assert_eq!(images.len(), 1, "{format:?}: one strip a write");
+            let (row, image) = &images[0];
+            assert_eq!(*row, next_row, "{format:?}: strips top to bottom");
+            let y0 = row * cell_h;
+            let (sw, sh, px): (usize, usize, Vec<[u8; 3]>) = if format == Format::Kitty {
+                let (keys, raw) = &kitty_images(image)[0];
+                assert_eq!(key_value(keys, "i"), kitty::strip_id(writes - 1) as usize);
+                assert_eq!(key_value(keys, "c"), 60);
+                assert_eq!(key_value(keys, "v"), key_value(keys, "r") * cell_h);
+                let px = raw.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+                (key_value(keys, "s"), key_value(keys, "v"), px)
+            } else {
+                let (sw, sh, px) = decode_sixel(image);
+                (sw, sh, px.into_iter().map(|p| p.unwrap()).collect())
+            };
+            assert_eq!(sw, w);
+            for y in 0..sh {
+                covered[y0 + y] = true;
+                for x in 0..w {
+                    canvas.set(x, y0 + y, px[y * w + x]);
+                }
+            }
+            next_row = row + sh / cell_h;
+        }
+        assert!(writes > 1, "{format:?}: {writes} strips");
+        assert!(covered.iter().all(|&c| c), "{format:?}: every row");
+        assert!(
+            canvas.pixels() == want.pixels(),
+            "{format:?}: the strips compose to the exact frame"
+        );
+        assert!(!view.pending());
+        if format == Format::Kitty {
+            let cleanup = pixel_view::take_cleanup();
+            assert!(cleanup.starts_with(kitty::DELETE));
+            assert_eq!(
+                count(&cleanup, b"a=d"),
+                1 + writes,
+                "the strips deleted on exit"
+            );
+        }
+
+        // Preempted: two strips, then a new picture (a preview of a new
+        // orientation) drops the rest.
+        let mut view = PixelView::new();
+        draw_pixels(&mut view, &mut term, &out, &fb, None, rate);
+        view.next_strip().unwrap();
+        view.next_strip().unwrap();
+        assert!(view.pending());
+        let next = busy_frame(w, h, 1);
+        let coarse = busy_frame(w / 4, h / 4, 1);
+        let bytes = draw_pixels(&mut view, &mut term, &out, &next, Some(&coarse), rate);
+        assert!(!view.pending(), "{format:?}: the unsent strips dropped");
+        assert_eq!(view.next_strip(), None);
+        assert_eq!(placed_images(&bytes).len(), 1, "the new picture alone");
+        if format == Format::Kitty {
+            let mut gone = Vec::new();
+            for k in 0..3 {
+                let mut one = Vec::new();
+                kitty::delete(kitty::strip_id(k), &mut one);
+                gone.push(count(&bytes, &one));
+            }
+            assert_eq!(gone, [1, 1, 0], "the strips sent are deleted");
+            let (keys, _) = &kitty_images(&bytes)[0];
+            assert_eq!(key_value(keys, "s"), w / 4, "the preview");
+        }
+        let _ = pixel_view::take_cleanup();
+
+        // A link that carries the exact frame in time: it goes whole.
+        let mut view = PixelView::new();
+        let bytes = draw_pixels(&mut view, &mut term, &out, &fb, None, 1e9);
+        assert!(!view.pending());
+        let images = placed_images(&bytes);
+        assert_eq!(images.len(), 1);
+        if format == Format::Kitty {
+            assert_eq!(key_value(&kitty_images(&images[0].1)[0].0, "s"), w);
+        }
+        let _ = pixel_view::take_cleanup();
+    }
 }
