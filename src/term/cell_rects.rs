@@ -135,20 +135,27 @@ pub enum Kept {
     Rgb(Framebuffer),
     /// sixel: the frame mapped to its palette.
     Indexed(sixel::Quantized),
+    /// sixel: the frame not mapped yet (`dither` or not): an exact frame
+    /// that goes in strips is mapped for the first one, after the picture
+    /// sized to the link has gone.
+    Unmapped(Framebuffer, bool),
 }
 
 impl Kept {
-    /// `fb` kept for `format` (sixel: mapped to its palette, `dither` or
-    /// not), reusing the last one's memory.
+    /// `fb` kept for `format` (sixel: to be mapped to its palette, `dither`
+    /// or not, when first needed), as a copy.
     pub fn keep(&mut self, fb: &Framebuffer, format: Format, dither: bool) {
-        match (format, &mut *self) {
-            (Format::Sixels, _) => *self = Kept::Indexed(sixel::Quantized::new(fb, dither)),
-            (Format::Kitty | Format::Iterm, Kept::Rgb(k)) => {
-                k.resize(fb.width(), fb.height());
-                k.pixels_mut().copy_from_slice(fb.pixels());
-            }
-            (Format::Kitty | Format::Iterm, _) => *self = Kept::Rgb(fb.clone()),
-            _ => *self = Kept::None,
+        *self = match format {
+            Format::Sixels => Kept::Unmapped(fb.clone(), dither),
+            Format::Kitty | Format::Iterm => Kept::Rgb(fb.clone()),
+            Format::Auto | Format::Symbols => Kept::None,
+        };
+    }
+
+    /// A sixel frame mapped to its palette, if it was not yet.
+    pub fn map(&mut self) {
+        if let Kept::Unmapped(fb, dither) = self {
+            *self = Kept::Indexed(sixel::Quantized::new(fb, *dither));
         }
     }
 
@@ -156,7 +163,7 @@ impl Kept {
     pub fn size(&self) -> (usize, usize) {
         match self {
             Kept::None => (0, 0),
-            Kept::Rgb(fb) => (fb.width(), fb.height()),
+            Kept::Rgb(fb) | Kept::Unmapped(fb, _) => (fb.width(), fb.height()),
             Kept::Indexed(q) => q.size(),
         }
     }
@@ -165,7 +172,8 @@ impl Kept {
     /// own pixels, `cell` pixels a cell; iTerm2 stretched over `r`'s
     /// cells), to draw at `r`'s top-left; empty when `r` holds no pixel
     /// of it. kitty's rectangles are placements ([`kitty_layer`]).
-    pub fn part(&self, area: Rect, cell: (usize, usize), r: Rect) -> io::Result<Vec<u8>> {
+    pub fn part(&mut self, area: Rect, cell: (usize, usize), r: Rect) -> io::Result<Vec<u8>> {
+        self.map();
         let mut seq = Vec::new();
         match self {
             Kept::Indexed(q) => {
@@ -178,7 +186,7 @@ impl Kept {
                 let part = crop(fb, source_rect((fb.width(), fb.height()), area, r));
                 iterm::write_image(&part, Some((r.width, r.height)), &mut seq)?;
             }
-            Kept::None => {}
+            Kept::None | Kept::Unmapped(..) => {}
         }
         Ok(seq)
     }

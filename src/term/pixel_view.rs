@@ -55,9 +55,16 @@ pub const DEFAULT_CELL: (u16, u16) = (8, 16);
 pub const MAX_PIXELS: usize =
     (crate::budget::BUDGET_BYTES / 10 / (crate::budget::FRAME_BYTES_PER_PIXEL + 3)) as usize;
 
-/// Smallest preview scale while input keeps coming: one pixel in eight
-/// each way.
-pub const MIN_PREVIEW_SCALE: f64 = 0.125;
+/// Smallest preview scale while input keeps coming: one pixel in sixteen
+/// each way. A kitty preview of a 1280×736 frame at an eighth took about
+/// 25 kB, three times what 1 Mbit/s carries in a frame interval at
+/// [`PREVIEW_RATE`]: the one in flight when input stopped held the final
+/// picture back by 0.2 s.
+pub const MIN_PREVIEW_SCALE: f64 = 0.0625;
+
+/// Smallest scale of the picture sized to the link once input stops
+/// ([`link_size`]): one pixel in eight each way.
+pub const MIN_LINK_SCALE: f64 = 0.125;
 
 /// What the view sends, chosen at start and changed by the format key.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -192,16 +199,16 @@ pub const PREVIEW_RATE: f64 = 15.0;
 /// resolution), so that with the round trip, the render and the quiet
 /// time before it, it shows within half a second of the last input. The
 /// exact frame follows in strips ([`PixelView::next_strip`]).
-pub const LINK_SECONDS: f64 = 0.25;
+pub const LINK_SECONDS: f64 = 0.2;
 
 /// The size of the link-sized picture of a `w × h` frame whose exact image
 /// takes `exact_bytes`, for `budget_bytes`: scaled by the square root of
 /// their ratio (bytes taken as proportional to pixels), at least
-/// [`MIN_PREVIEW_SCALE`], below full size.
+/// [`MIN_LINK_SCALE`], below full size.
 pub fn link_size(w: usize, h: usize, exact_bytes: f64, budget_bytes: f64) -> (usize, usize) {
     let s = (budget_bytes / exact_bytes.max(1.0))
         .sqrt()
-        .clamp(MIN_PREVIEW_SCALE, 1.0);
+        .clamp(MIN_LINK_SCALE, 1.0);
     (
         ((w as f64 * s).round() as usize).clamp(1, w.max(1)),
         ((h as f64 * s).round() as usize).clamp(1, h.max(1)),
@@ -311,16 +318,22 @@ pub fn placed(seq: &[u8], format: Format, area: Rect, passthrough: bool) -> Vec<
 }
 
 /// The image of `pic` (kept for `format`) over all of `area`, placed and
-/// wrapped as [`image_bytes`] does (sixel from its palette mapping as it
-/// stands, not mapped again).
-fn whole_bytes(pic: &Kept, format: Format, area: Rect, passthrough: bool) -> io::Result<Vec<u8>> {
+/// wrapped as [`image_bytes`] does (sixel from its palette mapping, made
+/// once).
+fn whole_bytes(
+    pic: &mut Kept,
+    format: Format,
+    area: Rect,
+    passthrough: bool,
+) -> io::Result<Vec<u8>> {
+    pic.map();
     let mut seq = Vec::new();
     let cells = Some((area.width, area.height));
-    match (pic, format) {
+    match (&*pic, format) {
         (Kept::Indexed(q), _) => sixel::write_quantized(q, &mut seq)?,
         (Kept::Rgb(fb), Format::Kitty) => kitty::write_image(fb, cells, &mut seq)?,
         (Kept::Rgb(fb), _) => iterm::write_image(fb, cells, &mut seq)?,
-        (Kept::None, _) => return Ok(Vec::new()),
+        (Kept::None | Kept::Unmapped(..), _) => return Ok(Vec::new()),
     }
     Ok(placed(&seq, format, area, passthrough))
 }
@@ -329,8 +342,8 @@ fn whole_bytes(pic: &Kept, format: Format, area: Rect, passthrough: bool) -> io:
 /// [`LINK_SECONDS`], when its image (`exact_bytes` bytes) takes longer:
 /// the frame scaled down to fit, filling the same cells, and its image
 /// over the whole area. kitty and iTerm2 scale it; sixel has no scaling,
-/// so it goes enlarged (nearest neighbour), where its bytes follow its
-/// colour runs more than its pixels. Should it not fit, it is tried again
+/// so it goes enlarged (nearest neighbour, mapped to its palette before),
+/// where its bytes follow its colour runs more than its pixels. Should it not fit, it is tried again
 /// smaller (sixel: with fewer colours), at most twice.
 fn link_picture(
     fb: &Framebuffer,
@@ -349,7 +362,7 @@ fn link_picture(
     for colours in SIXEL_LINK_COLOURS {
         (sw, sh) = link_size(sw, sh, from, budget);
         // Never below an eighth of the frame each way.
-        let least = |n: usize| ((n as f64 * MIN_PREVIEW_SCALE).round() as usize).max(1);
+        let least = |n: usize| ((n as f64 * MIN_LINK_SCALE).round() as usize).max(1);
         (sw, sh) = (sw.max(least(w)), sh.max(least(h)));
         let mut small = Framebuffer::new(sw, sh);
         downscale(fb, &mut small);
@@ -360,13 +373,11 @@ fn link_picture(
                     *p = q.palette[usize::from(i)];
                 }
             }
-            let mut big = Framebuffer::new(w, h);
-            enlarge(&small, &mut big);
-            pic.keep(&big, format, dither);
+            pic = Kept::Indexed(sixel::Quantized::enlarged(&small, dither, (w, h)));
         } else {
             pic = Kept::Rgb(small);
         }
-        bytes = whole_bytes(&pic, format, area, passthrough)?;
+        bytes = whole_bytes(&mut pic, format, area, passthrough)?;
         if bytes.len() as f64 <= budget {
             break;
         }
@@ -476,6 +487,8 @@ struct Shown {
     pending: VecDeque<Rect>,
     /// kitty: the strips sent, images of their own over relief's.
     strips: Vec<Layer>,
+    /// Bytes of the strips sent.
+    strip_bytes: usize,
     /// Its sequences go through tmux's passthrough.
     passthrough: bool,
 }
@@ -526,6 +539,11 @@ pub struct PixelView {
     last_format: Option<Format>,
     /// Bytes of the whole exact image of the last frame sent in strips.
     split_bytes: Option<u64>,
+    /// The last exact image's bytes (encoded, or its strips' all sent) and
+    /// where it went: an exact frame that clearly takes more than the link
+    /// carries in [`LINK_SECONDS`] is then not encoded whole only to be
+    /// weighed.
+    last_whole: Option<(Rect, Format, usize)>,
 }
 
 /// What a frame is: the format in use and its pictures.
@@ -558,6 +576,7 @@ impl PixelView {
             kept: Kept::None,
             last_format: None,
             split_bytes: None,
+            last_whole: None,
         }
     }
 
@@ -683,7 +702,14 @@ impl PixelView {
                 _ => frame.fb,
             };
             let dither = frame.look.dither;
-            self.kept.keep(send, format, dither);
+            match (format, frame.preview) {
+                // sixel's preview: the small picture mapped, then enlarged.
+                (Format::Sixels, Some(p)) => {
+                    let size = (frame.fb.width(), frame.fb.height());
+                    self.kept = Kept::Indexed(sixel::Quantized::enlarged(p, dither, size));
+                }
+                _ => self.kept.keep(send, format, dither),
+            }
             let last = self.shown.take();
             if let Some(last) = &last
                 && last.format == Format::Kitty
@@ -700,17 +726,10 @@ impl PixelView {
                 push_kitty(kitty::DELETE_PLACEMENTS, passthrough, &mut out);
             }
             let cell = self.image_cell(frame, area, self.kept.size());
-            // The whole image: what goes when nothing covers it, and what
-            // an exact frame costs the link.
             let budget = frame
                 .throughput
                 .filter(|_| frame.preview.is_none())
                 .map(|t| t * LINK_SECONDS);
-            let whole = if !any_covered || budget.is_some() {
-                whole_bytes(&self.kept, format, area, passthrough)?
-            } else {
-                Vec::new()
-            };
             let mut shown = Shown {
                 area,
                 format,
@@ -719,34 +738,56 @@ impl PixelView {
                 covered,
                 pending: VecDeque::new(),
                 strips: Vec::new(),
+                strip_bytes: 0,
                 passthrough,
             };
+            // The whole image: what goes when nothing covers it, and what
+            // an exact frame costs the link; not encoded when the last
+            // exact one here took clearly more than the link carries.
+            let estimate = self
+                .last_whole
+                .filter(|&(a, f, _)| a == area && f == format)
+                .map(|(_, _, bytes)| bytes);
+            let clearly_over = matches!((budget, estimate),
+                (Some(b), Some(e)) if e as f64 > 2.0 * b && strips_fit(&shown));
+            let whole = if (!any_covered || budget.is_some()) && !clearly_over {
+                let whole = whole_bytes(&mut self.kept, format, area, passthrough)?;
+                if frame.preview.is_none() {
+                    self.last_whole = Some((area, format, whole.len()));
+                }
+                Some(whole)
+            } else {
+                None
+            };
+            let exact_len = whole.as_ref().map(Vec::len).or(estimate).unwrap_or(0);
             match budget {
-                Some(budget) if whole.len() as f64 > budget && strips_fit(&shown) => {
-                    let (first, bytes) = link_picture(
+                Some(budget) if exact_len as f64 > budget && strips_fit(&shown) => {
+                    let (mut first, bytes) = link_picture(
                         frame.fb,
                         format,
                         area,
-                        whole.len(),
+                        exact_len,
                         budget,
                         dither,
                         passthrough,
                     )?;
                     shown.image = first.size();
                     if any_covered {
-                        out.extend(over_cells(&first, &shown, &open)?);
+                        out.extend(over_cells(&mut first, &shown, &open)?);
                     } else {
                         out.extend(bytes);
                     }
                     // Strips of about what the link carries in a
                     // preview's frame interval.
                     let strip_budget = budget / LINK_SECONDS / PREVIEW_RATE;
-                    let n = (whole.len() as f64 / strip_budget.max(1.0)).ceil() as usize;
+                    let n = (exact_len as f64 / strip_budget.max(1.0)).ceil() as usize;
                     shown.pending = super::cell_rects::strips(area, n).into();
-                    self.split_bytes = Some(whole.len() as u64);
+                    self.split_bytes = Some(exact_len as u64);
                 }
-                _ if any_covered => out.extend(over_cells(&self.kept, &shown, &open)?),
-                _ => out.extend(whole),
+                _ => match whole {
+                    Some(whole) if !any_covered => out.extend(whole),
+                    _ => out.extend(over_cells(&mut self.kept, &shown, &open)?),
+                },
             }
             set_cleanup(&shown.kitty_cleanup());
             self.shown = Some(shown);
@@ -812,7 +853,7 @@ impl PixelView {
         };
         let open = within(&rectangles(&shown.covered, shown.area, false), strip);
         let mut out = Vec::new();
-        match &self.kept {
+        match &mut self.kept {
             Kept::Rgb(fb) if shown.format == Format::Kitty => {
                 let size = (fb.width(), fb.height());
                 let pixels = crop(fb, source_rect(size, shown.area, strip));
@@ -837,6 +878,11 @@ impl PixelView {
                     }
                 }
             }
+        }
+        // Once all are sent without a panel, what the exact image took.
+        shown.strip_bytes += out.len();
+        if shown.pending.is_empty() && !shown.covered.contains(&true) {
+            self.last_whole = Some((shown.area, shown.format, shown.strip_bytes));
         }
         Ok(Some(out))
     }
@@ -879,9 +925,9 @@ fn strips_fit(shown: &Shown) -> bool {
 /// The bytes that show `pic` (kept for `shown`'s format) over the cells
 /// `open` of `shown`'s area only: kitty sends it once, without showing it,
 /// and places it over each; sixel and iTerm2 send each rectangle of it.
-fn over_cells(pic: &Kept, shown: &Shown, open: &[Rect]) -> io::Result<Vec<u8>> {
+fn over_cells(pic: &mut Kept, shown: &Shown, open: &[Rect]) -> io::Result<Vec<u8>> {
     let mut out = Vec::new();
-    match (pic, shown.format) {
+    match (&*pic, shown.format) {
         (Kept::Rgb(fb), Format::Kitty) => {
             let mut seq = Vec::new();
             kitty::write_data(fb, kitty::IMAGE_ID, &mut seq)?;
@@ -977,8 +1023,8 @@ mod tests {
         assert_eq!(preview_size(800, 600, 400_000, 100_000.0), (400, 300));
         // Sixteen times: a quarter.
         assert_eq!(preview_size(800, 600, 1_600_000, 100_000.0), (200, 150));
-        // Never below an eighth, never above half.
-        assert_eq!(preview_size(800, 600, u64::MAX, 1.0), (100, 75));
+        // Never below a sixteenth, never above half.
+        assert_eq!(preview_size(800, 600, u64::MAX, 1.0), (50, 38));
         assert_eq!(preview_size(800, 600, 10, 1e9), (400, 300));
     }
 

@@ -185,6 +185,32 @@ impl Quantized {
         }
     }
 
+    /// `small` mapped as [`Quantized::new`] maps it, each pixel then
+    /// repeated to fill `size` as a nearest-neighbour enlargement does
+    /// (`pixel_view::enlarge`): the enlarged picture's image for the cost of
+    /// mapping the small one (a preview, a picture sized to the link).
+    pub fn enlarged(small: &Framebuffer, dither: bool, size: (usize, usize)) -> Self {
+        let q = Quantized::new(small, dither);
+        let (sw, sh) = (small.width(), small.height());
+        let (w, h) = size;
+        if sw == 0 || sh == 0 {
+            return Quantized::new(&Framebuffer::new(w, h), false);
+        }
+        let mut index = Vec::with_capacity(w * h);
+        for y in 0..h {
+            let row = &q.indexed.index[(y * sh / h).min(sh - 1) * sw..][..sw];
+            index.extend((0..w).map(|x| row[(x * sw / w).min(sw - 1)]));
+        }
+        Quantized {
+            indexed: Indexed {
+                palette: q.indexed.palette,
+                index,
+            },
+            width: w,
+            height: h,
+        }
+    }
+
     /// Its pixel size.
     pub fn size(&self) -> (usize, usize) {
         (self.width, self.height)
@@ -304,4 +330,26 @@ fn write_runs(row: &[u8], out: &mut impl Write) -> io::Result<()> {
         i += run;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_enlarged_mapping_repeats_the_small_pictures_pixels() {
+        // Six colours: the palette is exact.
+        let mut small = Framebuffer::new(3, 2);
+        for (i, p) in small.pixels_mut().iter_mut().enumerate() {
+            *p = [i as u8 * 40, 255 - i as u8 * 40, 7];
+        }
+        let q = Quantized::enlarged(&small, false, (7, 5));
+        assert_eq!(q.size(), (7, 5));
+        for y in 0..5 {
+            for x in 0..7 {
+                let want = shown(percent(small.get(x * 3 / 7, y * 2 / 5)));
+                assert_eq!(q.shown_at(x, y), want, "{x},{y}");
+            }
+        }
+    }
 }
