@@ -367,12 +367,7 @@ fn link_picture(
         let mut small = Framebuffer::new(sw, sh);
         downscale(fb, &mut small);
         if format == Format::Sixels {
-            if colours < 256 {
-                let q = median_cut::quantize(small.pixels(), colours, |_| 0);
-                for (p, &i) in small.pixels_mut().iter_mut().zip(&q.index) {
-                    *p = q.palette[usize::from(i)];
-                }
-            }
+            fewer_colours(&mut small, colours);
             pic = Kept::Indexed(sixel::Quantized::enlarged(&small, dither, (w, h)));
         } else {
             pic = Kept::Rgb(small);
@@ -390,6 +385,22 @@ fn link_picture(
 /// The colours of a link-sized sixel picture, try by try (256: the
 /// frame's own palette).
 const SIXEL_LINK_COLOURS: [usize; 3] = [256, 32, 8];
+
+/// The colours of a sixel preview while input keeps coming: an enlarged
+/// picture's bytes follow its colours' runs in each band more than its
+/// pixels, and at 256 colours a preview sized for 1 Mbit/s at
+/// [`PREVIEW_RATE`] took several times its share.
+pub const SIXEL_PREVIEW_COLOURS: usize = 32;
+
+/// `fb` reduced to at most `colours` colours (median cut; 256: as it is).
+fn fewer_colours(fb: &mut Framebuffer, colours: usize) {
+    if colours < 256 {
+        let q = median_cut::quantize(fb.pixels(), colours, |_| 0);
+        for (p, &i) in fb.pixels_mut().iter_mut().zip(&q.index) {
+            *p = q.palette[usize::from(i)];
+        }
+    }
+}
 
 /// Nearest-neighbour enlargement of `small` to fill `big` (a preview: each
 /// pixel of the half-resolution picture becomes a 2×2 block, so a cell is
@@ -703,10 +714,13 @@ impl PixelView {
             };
             let dither = frame.look.dither;
             match (format, frame.preview) {
-                // sixel's preview: the small picture mapped, then enlarged.
+                // sixel's preview: the small picture in fewer colours,
+                // mapped, then enlarged.
                 (Format::Sixels, Some(p)) => {
                     let size = (frame.fb.width(), frame.fb.height());
-                    self.kept = Kept::Indexed(sixel::Quantized::enlarged(p, dither, size));
+                    let mut few = p.clone();
+                    fewer_colours(&mut few, SIXEL_PREVIEW_COLOURS);
+                    self.kept = Kept::Indexed(sixel::Quantized::enlarged(&few, dither, size));
                 }
                 _ => self.kept.keep(send, format, dither),
             }
