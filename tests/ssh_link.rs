@@ -25,7 +25,9 @@
 //! `cargo test --release --test ssh_link` runs one plain session at 8 Mbit/s, one
 //! inside tmux and one inside screen at 1 Mbit/s, and one each with `--format kitty`
 //! and `--format sixels` at 1 Mbit/s (~100 s). Pixel pictures are not in the pane's
-//! text: their final picture is when the link goes quiet (`Session::link_sampler`). Plain SSH against tmux and
+//! text: the exact picture is complete when the link goes quiet (`Session::link_sampler`);
+//! what the pane received is recorded (`tmux pipe-pane`), and the final picture after the
+//! drag is checked by its bytes and order (`final_picture_in_time`). Plain SSH against tmux and
 //! screen at 1 and 50 Mbit/s, 3 sessions each, interleaved:
 //!
 //! ```sh
@@ -56,7 +58,7 @@ use std::path::PathBuf;
 use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use ssh::{EXITED, LinkSampler, Mux, Options, QueueSampler, Session};
+use ssh::{EXITED, LinkSampler, Mux, Options, PaneRecorder, QueueSampler, Session};
 
 /// How long the picture must stay unchanged to be the final one.
 const SETTLE: Duration = Duration::from_millis(1500);
@@ -593,7 +595,8 @@ fn link_quiet(link: &LinkSampler, input: Instant, what: &str) -> (Duration, u64)
 /// `sixels`, forced: the client's tmux draws neither, so the pane shows only the
 /// text around the image). The picture is an image, so the final one is when the
 /// link goes quiet: the last byte of the last frame crossed it. Then one arrow key
-/// (an exact frame's bytes), the drag and an idle second, and `q`.
+/// (an exact frame's bytes), the drag (and when its final picture was shown, by
+/// bytes, [`final_picture_in_time`]) and an idle second, and `q`.
 fn pixels_over_a_slow_link(format: &str) -> Option<Vec<Figure>> {
     let mut opts = options(1000, None);
     opts.relief_args
@@ -601,6 +604,7 @@ fn pixels_over_a_slow_link(format: &str) -> Option<Vec<Figure>> {
     let s = session(&opts)?;
     let link = s.link_sampler();
     let q = s.queue_sampler();
+    let pane = s.record_pane();
     let start = Instant::now();
     final_picture_where(&s, start, "the first frame", |p| p.contains("Phong"));
     let (lag, _) = link_quiet(&link, start, "the first frame");
@@ -629,8 +633,10 @@ fn pixels_over_a_slow_link(format: &str) -> Option<Vec<Figure>> {
     });
 
     let b0 = s.bytes_to_client();
+    let p0 = pane.received();
     drag(&s);
     let input = last_input(&s);
+    let received_then = pane.received();
     let (lag, end) = link_quiet(&link, input.at, "the drag");
     let screen = s.screen();
     // Angles show within 0°–360°.
@@ -641,6 +647,16 @@ fn pixels_over_a_slow_link(format: &str) -> Option<Vec<Figure>> {
     );
     // The exact picture, not a preview: the status line shows its time.
     assert!(!status(&screen).contains("preview"), "{screen}");
+    let shown = final_picture_in_time(&pane, received_then, (end - b0, pane.received() - p0));
+    figures.push(Figure {
+        input: "40-step drag: final picture (link-sized)",
+        bytes: Some(shown.bytes),
+        lag: shown
+            .at
+            .map_or(Duration::ZERO, |t| t.saturating_duration_since(input.at)),
+        queued: None,
+        after: None,
+    });
     figures.push(Figure {
         input: "40-step mouse drag in 0.8 s",
         bytes: Some(end - b0),
@@ -668,8 +684,162 @@ fn pixels_over_a_slow_link(format: &str) -> Option<Vec<Figure>> {
     Some(figures)
 }
 
-/// A drag over a 1 Mbit/s link in kitty graphics: from the last input on at most
-/// three exact frames cross the link, and idle writes nothing.
+/// An image in what the pane received.
+#[derive(Debug)]
+struct ImageSent {
+    /// Where its last byte is in the record.
+    end: usize,
+    /// kitty: relief's image (the picture, link-sized or exact), not a strip.
+    /// sixel: filled in by [`images_sent`] for images as tall as the tallest.
+    whole: bool,
+    /// Its height: kitty in cell rows (`r=`), sixel in pixel rows.
+    height: usize,
+}
+
+/// The images in `bytes`, in order: kitty's pictures (`a=T` of relief's image)
+/// and strips (the placement, `a=p`, of a strip's image sent just before it),
+/// sixel's images.
+fn images_sent(bytes: &[u8]) -> Vec<ImageSent> {
+    let find = |from: usize, needle: &[u8]| {
+        bytes[from..]
+            .windows(needle.len())
+            .position(|w| w == needle)
+            .map(|p| p + from)
+    };
+    let mut out = Vec::new();
+    let mut i = 0;
+    while let Some(at) = find(i, b"\x1b") {
+        i = at + 1;
+        let rest = &bytes[at..];
+        if rest.starts_with(b"\x1b_Ga=T") {
+            let keys_end = find(at, b";").unwrap_or(bytes.len());
+            let keys = String::from_utf8_lossy(&bytes[at + 3..keys_end]).into_owned();
+            let key = |name: &str| {
+                keys.split(',')
+                    .find_map(|k| k.strip_prefix(&format!("{name}=")))
+                    .and_then(|v| v.parse::<u64>().ok())
+            };
+            // The chunks run to the one with `m=0`.
+            let mut chunk = at;
+            let mut end = bytes.len();
+            while let Some(st) = find(chunk, b"\x1b\\") {
+                let head =
+                    String::from_utf8_lossy(&bytes[chunk..(chunk + 80).min(st)]).into_owned();
+                if head.contains("m=0") {
+                    end = st + 2;
+                    break;
+                }
+                match find(st, b"\x1b_G") {
+                    Some(next) => chunk = next,
+                    None => break,
+                }
+            }
+            out.push(ImageSent {
+                end,
+                whole: key("i") == Some(u64::from(relief::term::kitty::IMAGE_ID)),
+                height: key("r").unwrap_or(0) as usize,
+            });
+            i = end;
+        } else if rest.starts_with(b"\x1b_Ga=p") {
+            let end = find(at, b"\x1b\\").map_or(bytes.len(), |st| st + 2);
+            let keys = String::from_utf8_lossy(&bytes[at + 3..end.saturating_sub(2)]);
+            let key = |name: &str| {
+                keys.split(',')
+                    .find_map(|k| k.strip_prefix(&format!("{name}=")))
+                    .and_then(|v| v.parse::<u64>().ok())
+            };
+            if key("i") != Some(u64::from(relief::term::kitty::IMAGE_ID)) {
+                out.push(ImageSent {
+                    end,
+                    whole: false,
+                    height: key("r").unwrap_or(0) as usize,
+                });
+            }
+            i = end;
+        } else if rest.starts_with(b"\x1bP0;1;0q\"1;1;") {
+            let raster = String::from_utf8_lossy(&rest[9..rest.len().min(40)]).into_owned();
+            let height = raster
+                .split(|c: char| !c.is_ascii_digit())
+                .filter(|v| !v.is_empty())
+                .nth(3)
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(0);
+            let end = find(at, b"\x1b\\").map_or(bytes.len(), |st| st + 2);
+            out.push(ImageSent {
+                end,
+                whole: false,
+                height,
+            });
+            i = end;
+        }
+    }
+    if !bytes.windows(6).any(|w| w == b"\x1b_Ga=T") {
+        let tallest = out.iter().map(|s| s.height).max().unwrap_or(0);
+        for s in &mut out {
+            s.whole = s.height == tallest;
+        }
+    }
+    out
+}
+
+/// When the picture of the final orientation was shown after the drag.
+struct FinalShown {
+    /// Bytes the pane received from the last input until it was complete.
+    bytes: u64,
+    /// When the pane had received them.
+    at: Option<Instant>,
+}
+
+/// What "the final picture within 0.5 s of the last input" means here, checked by
+/// bytes: the last image over the whole picture area (the exact frame scaled down
+/// to what the link carries, relief's `pixel_view::LINK_SECONDS`) is complete after
+/// at most what the link carries in 0.5 s has crossed it from the last input on
+/// (the pane's bytes, scaled by the link's overhead over the whole drag, `link`
+/// bytes for `pane` bytes); after it come only strips of the exact frame, top to
+/// bottom, that cover the picture once.
+fn final_picture_in_time(
+    pane: &PaneRecorder,
+    from: u64,
+    (link, received): (u64, u64),
+) -> FinalShown {
+    let bytes = pane.bytes();
+    let images = images_sent(&bytes);
+    let last_whole = images
+        .iter()
+        .rposition(|i| i.whole)
+        .expect("a picture over the whole area");
+    let whole = &images[last_whole];
+    let strips = &images[last_whole + 1..];
+    let shown = (whole.end as u64).saturating_sub(from);
+    let at = pane.reached(whole.end as u64);
+    if std::env::var_os("RELIEF_SSH_BIN").is_some() {
+        // Another build: its figures only.
+        return FinalShown { bytes: shown, at };
+    }
+    assert!(
+        whole.end as u64 > from,
+        "the final picture came after the last input"
+    );
+    let overhead = link as f64 / received.max(1) as f64;
+    let half_second = 1_000_000.0 / 8.0 * 0.5;
+    assert!(
+        shown as f64 * overhead <= half_second,
+        "{shown} bytes (×{overhead:.3} on the link) before the final picture: more than \
+         the link carries in 0.5 s ({half_second})"
+    );
+    // The strips cover the picture (kitty: its cell rows; sixel: its pixel rows).
+    let covered: usize = strips.iter().map(|s| s.height).sum();
+    assert!(!strips.is_empty(), "the exact frame follows in strips");
+    assert_eq!(
+        covered, whole.height,
+        "the strips cover the picture once: {strips:?}"
+    );
+    FinalShown { bytes: shown, at }
+}
+
+/// A drag over a 1 Mbit/s link in kitty graphics: the final picture within what the
+/// link carries in 0.5 s, then the exact one in strips; from the last input on at
+/// most three exact frames cross the link, and idle writes nothing.
 #[test]
 fn kitty_images_over_a_slow_link_are_paced() {
     let _one = one_at_a_time();

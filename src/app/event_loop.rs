@@ -434,6 +434,29 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             else {
                 continue;
             };
+            if next.strip {
+                // The exact picture's next strip: one write, paced like a
+                // frame, nothing rendered or drawn again.
+                if let Some(strip) = pixels.next_strip()? {
+                    let asks = self.pacer.asks();
+                    let backend = self.terminal.backend_mut();
+                    backend.begin_frame()?;
+                    backend.write_raw(&strip)?;
+                    let write_start = Instant::now();
+                    let trailer: &[u8] = if asks { QUERY } else { &[] };
+                    let bytes = backend.end_frame_then(trailer)?;
+                    self.pacer.sent(write_start, bytes, asks);
+                    update(
+                        state,
+                        Action::FrameEnd {
+                            link: self.pacer.info(),
+                            frame: None,
+                        },
+                    );
+                }
+                schedule.set_strips(pixels.pending());
+                continue;
+            }
             if let Some(seconds) = next.tick {
                 update(state, Action::AutoRotateTick { seconds });
             }
@@ -543,6 +566,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 preview: schedule.previewing().then_some(&coarse),
                 new_picture,
                 look,
+                throughput: self.pacer.throughput(),
             };
             pixels.draw(self.terminal, frame, areas.viewport, |f, pic| {
                 view::view(f, state, pic, self.background)
@@ -577,7 +601,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                     frame,
                 },
             );
-            schedule.written(&next, new_picture, bytes, state.auto_rotate);
+            // An exact picture sent in strips costs all of them.
+            let picture_bytes = pixels.take_split_bytes().unwrap_or(bytes);
+            schedule.written(&next, new_picture, picture_bytes, state.auto_rotate);
+            schedule.set_strips(pixels.pending());
         }
     }
 
@@ -605,25 +632,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
     }
 }
 
-/// Nearest-neighbour enlargement of `small` to fill `big` (a preview: each
-/// pixel of the half-resolution picture becomes a 2×2 block, so a cell is
-/// one colour and its neighbour the same: fewer bytes to send).
-pub fn enlarge(small: &Framebuffer, big: &mut Framebuffer) {
-    let (sw, sh) = (small.width(), small.height());
-    if sw == 0 || sh == 0 {
-        big.fill([0, 0, 0]);
-        return;
-    }
-    let (bw, bh) = (big.width(), big.height());
-    for y in 0..bh {
-        let sy = (y * sh / bh).min(sh - 1);
-        let src = small.row(sy);
-        for x in 0..bw {
-            let sx = (x * sw / bw).min(sw - 1);
-            big.set(x, y, src[sx]);
-        }
-    }
-}
+pub use crate::term::pixel_view::enlarge;
 
 /// A paste or typed line split into the first model file it names (by
 /// extension) and the rest, given back as text for the texture list (paths

@@ -66,6 +66,9 @@ pub struct Frame {
     /// A half-resolution preview instead of the exact picture (input keeps
     /// coming over a link too slow for the exact one).
     pub preview: bool,
+    /// The next strip of the exact picture (nothing is rendered or drawn
+    /// again: the strip is the write).
+    pub strip: bool,
 }
 
 /// The scheduling state (see the module notes).
@@ -92,6 +95,9 @@ pub struct Schedule {
     probed: bool,
     /// While a model loads: when the status line next shows its progress.
     progress_at: Option<Instant>,
+    /// Strips of the exact picture wait to be sent, one per frame while
+    /// nothing newer is due.
+    strips: bool,
 }
 
 impl Schedule {
@@ -107,6 +113,7 @@ impl Schedule {
             exact_bytes: None,
             probed: false,
             progress_at: None,
+            strips: false,
         }
     }
 
@@ -142,7 +149,7 @@ impl Schedule {
                 (true, Some(at)) => Wait::Held(at),
                 (_, at) => Wait::Reply(at),
             }
-        } else if self.dirty {
+        } else if self.dirty || self.strips {
             Wait::Due
         } else if self.previewing && !auto_rotate {
             Wait::Refine(self.activity.settled_at(self.quiet).unwrap_or(now))
@@ -192,7 +199,13 @@ impl Schedule {
         let status_only = (self.refresh_status || progress_due) && !self.dirty;
         self.refresh_status = false;
         if !self.dirty && !status_only {
-            return None;
+            // Nothing newer: the exact picture's next strip, if any.
+            return self.strips.then_some(Frame {
+                tick: None,
+                status_only: false,
+                preview: false,
+                strip: true,
+            });
         }
         self.dirty = false;
         // While input keeps coming over a link too slow for the exact
@@ -203,7 +216,14 @@ impl Schedule {
             tick,
             status_only,
             preview,
+            strip: false,
         })
+    }
+
+    /// Whether strips of the exact picture wait to be sent (after each
+    /// write: a new picture drops those of the last).
+    pub fn set_strips(&mut self, pending: bool) {
+        self.strips = pending;
     }
 
     /// Whether `frame` makes a new picture: what it shows changed (`!same`),
@@ -237,7 +257,7 @@ impl Schedule {
 
     /// `frame` was written: `bytes`, a new picture or not.
     pub fn written(&mut self, frame: &Frame, new_picture: bool, bytes: u64, auto_rotate: bool) {
-        if frame.status_only {
+        if frame.status_only || frame.strip {
             return;
         }
         if new_picture && !self.previewing {
@@ -280,6 +300,7 @@ mod tests {
         tick: None,
         status_only: false,
         preview: false,
+        strip: false,
     };
 
     #[test]
@@ -414,6 +435,48 @@ mod tests {
         let f = s.next(&mut p, false, c.at(223)).unwrap();
         assert!(f.preview && !f.status_only);
         assert_eq!(s.next(&mut p, false, c.at(224)), None);
+    }
+
+    #[test]
+    fn strips_go_one_per_reply_while_nothing_newer_is_due_and_input_preempts_them() {
+        let c = clock();
+        let mut p = slow(&c);
+        let mut s = Schedule::new(c.at(300));
+        s.probe(true);
+        s.wait(&mut p, false, c.at(300));
+        let f = s.next(&mut p, false, c.at(300)).unwrap();
+        // The exact picture went link-sized; its strips wait.
+        draw(&mut s, &mut p, f, false, 25_000, c.at(300));
+        s.set_strips(true);
+        // The status refresh first, at once.
+        let r = s.next(&mut p, false, c.at(301)).unwrap();
+        assert!(r.status_only && !r.strip);
+        draw(&mut s, &mut p, r, true, 300, c.at(301));
+        // A strip once the link is free again, not before.
+        assert!(matches!(s.wait(&mut p, false, c.at(302)), Wait::Reply(_)));
+        assert_eq!(s.next(&mut p, false, c.at(302)), None);
+        p.reply(c.at(500));
+        p.reply(c.at(501));
+        assert_eq!(s.wait(&mut p, false, c.at(501)), Wait::Due);
+        let strip = s.next(&mut p, false, c.at(501)).unwrap();
+        assert!(strip.strip && !strip.preview && !strip.status_only);
+        // A strip is no new picture: no status refresh, the exact bytes kept.
+        draw(&mut s, &mut p, strip, true, 2_000, c.at(501));
+        assert_eq!(s.exact_bytes(), Some(25_000));
+        p.reply(c.at(560));
+        // A key: the next frame is its picture, not a strip.
+        s.input(c.at(570));
+        let f = s.next(&mut p, false, c.at(570)).unwrap();
+        assert!(!f.strip);
+        // The new picture dropped the strips: then nothing.
+        s.set_strips(false);
+        let new = s.new_picture(&f, false);
+        p.sent(c.at(570), 8_000, true);
+        s.written(&f, new, 8_000, false);
+        p.reply(c.at(700));
+        s.wait(&mut p, false, c.at(700));
+        let r = s.next(&mut p, false, c.at(700));
+        assert!(r.is_none_or(|r| !r.strip), "{r:?}");
     }
 
     #[test]

@@ -5,6 +5,7 @@
 pub mod ansi;
 pub mod backend;
 pub mod backlog;
+pub mod cell_rects;
 pub mod cells;
 pub mod color;
 pub mod counting;

@@ -12,6 +12,13 @@
 //! and iTerm2 images are cells the text overwrites; when a panel closes,
 //! only the cells it covered are sent again.
 //!
+//! Over a link too slow for the exact frame (it would take longer than
+//! [`LINK_SECONDS`]), the exact frame goes first scaled down to what the
+//! link carries in that time, then in strips of whole cell rows, one per
+//! paced write ([`PixelView::next_strip`]), until a new picture drops the
+//! rest. A strip, like the cells a panel leaves, is a cell rectangle of
+//! the picture sent again ([`super::cell_rects`]).
+//!
 //! The image goes to the picture area's top-left cell with an absolute
 //! cursor move. It never scrolls the screen: the picture area ends two
 //! rows above the bottom, and a screen too small for that gets text.
@@ -20,6 +27,7 @@
 //! and iTerm2 cells cleared) on exit, on Ctrl-Z and when leaving pixels; the
 //! terminal guard calls [`take_cleanup`] for the first two.
 
+use std::collections::VecDeque;
 use std::io::{self, Write};
 use std::sync::Mutex;
 
@@ -29,11 +37,12 @@ use ratatui::layout::Rect;
 use ratatui::widgets::Widget;
 
 use super::backend::SgrBackend;
+use super::cell_rects::{Kept, Layer, crop, rectangles, source_rect, within};
 use super::cells::SymbolCells;
 use super::color::ColorDepth;
 use super::format::{Format, FormatChoice, TmuxPixels};
 use super::symbols::Symbols;
-use super::{iterm, kitty, sixel};
+use super::{iterm, kitty, median_cut, sixel};
 use crate::framebuffer::{Framebuffer, Rgb};
 
 /// Cell size in pixels when neither the kernel (`TIOCGWINSZ`) nor the
@@ -46,9 +55,16 @@ pub const DEFAULT_CELL: (u16, u16) = (8, 16);
 pub const MAX_PIXELS: usize =
     (crate::budget::BUDGET_BYTES / 10 / (crate::budget::FRAME_BYTES_PER_PIXEL + 3)) as usize;
 
-/// Smallest preview scale while input keeps coming: one pixel in eight
-/// each way.
-pub const MIN_PREVIEW_SCALE: f64 = 0.125;
+/// Smallest preview scale while input keeps coming: one pixel in sixteen
+/// each way. A kitty preview of a 1280×736 frame at an eighth took about
+/// 25 kB, three times what 1 Mbit/s carries in a frame interval at
+/// [`PREVIEW_RATE`]: the one in flight when input stopped held the final
+/// picture back by 0.2 s.
+pub const MIN_PREVIEW_SCALE: f64 = 0.0625;
+
+/// Smallest scale of the picture sized to the link once input stops
+/// ([`link_size`]): one pixel in eight each way.
+pub const MIN_LINK_SCALE: f64 = 0.125;
 
 /// What the view sends, chosen at start and changed by the format key.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -177,6 +193,28 @@ pub fn preview_size(w: usize, h: usize, exact_bytes: u64, budget_bytes: f64) -> 
 /// Frames per second a pixel preview is sized for.
 pub const PREVIEW_RATE: f64 = 15.0;
 
+/// Seconds of the link the first picture may take once input stops, when
+/// the exact frame takes longer: the exact frame scaled down to what the
+/// link carries in that time (the final orientation at the link's
+/// resolution), so that with the round trip, the render and the quiet
+/// time before it, it shows within half a second of the last input. The
+/// exact frame follows in strips ([`PixelView::next_strip`]).
+pub const LINK_SECONDS: f64 = 0.2;
+
+/// The size of the link-sized picture of a `w × h` frame whose exact image
+/// takes `exact_bytes`, for `budget_bytes`: scaled by the square root of
+/// their ratio (bytes taken as proportional to pixels), at least
+/// [`MIN_LINK_SCALE`], below full size.
+pub fn link_size(w: usize, h: usize, exact_bytes: f64, budget_bytes: f64) -> (usize, usize) {
+    let s = (budget_bytes / exact_bytes.max(1.0))
+        .sqrt()
+        .clamp(MIN_LINK_SCALE, 1.0);
+    (
+        ((w as f64 * s).round() as usize).clamp(1, w.max(1)),
+        ((h as f64 * s).round() as usize).clamp(1, h.max(1)),
+    )
+}
+
 /// The size of a preview of a `size` frame in `format`: half each way for
 /// text; for pixels what the link's `throughput` (bytes per second)
 /// carries at [`PREVIEW_RATE`], judged by the last exact frame's bytes.
@@ -261,16 +299,127 @@ pub fn image_bytes(
         Format::Iterm => iterm::write_image(fb, cells, &mut seq)?,
         Format::Auto | Format::Symbols => return Ok(Vec::new()),
     }
+    Ok(placed(&seq, format, area, passthrough))
+}
+
+/// `seq` (an image in `format`) placed at `area`'s top-left, wrapped for
+/// tmux when `passthrough`.
+pub fn placed(seq: &[u8], format: Format, area: Rect, passthrough: bool) -> Vec<u8> {
     let mut out = Vec::with_capacity(seq.len() + 16);
     place(area, &mut out);
     if !passthrough {
-        out.extend_from_slice(&seq);
+        out.extend_from_slice(seq);
     } else if format == Format::Kitty {
-        push_kitty(&seq, true, &mut out);
+        push_kitty(seq, true, &mut out);
     } else {
-        wrap_tmux(&seq, &mut out);
+        wrap_tmux(seq, &mut out);
     }
-    Ok(out)
+    out
+}
+
+/// The image of `pic` (kept for `format`) over all of `area`, placed and
+/// wrapped as [`image_bytes`] does (sixel from its palette mapping, made
+/// once).
+fn whole_bytes(
+    pic: &mut Kept,
+    format: Format,
+    area: Rect,
+    passthrough: bool,
+) -> io::Result<Vec<u8>> {
+    pic.map();
+    let mut seq = Vec::new();
+    let cells = Some((area.width, area.height));
+    match (&*pic, format) {
+        (Kept::Indexed(q), _) => sixel::write_quantized(q, &mut seq)?,
+        (Kept::Rgb(fb), Format::Kitty) => kitty::write_image(fb, cells, &mut seq)?,
+        (Kept::Rgb(fb), _) => iterm::write_image(fb, cells, &mut seq)?,
+        (Kept::None | Kept::Unmapped(..), _) => return Ok(Vec::new()),
+    }
+    Ok(placed(&seq, format, area, passthrough))
+}
+
+/// The exact frame `fb` over a link that carries `budget` bytes in
+/// [`LINK_SECONDS`], when its image (`exact_bytes` bytes) takes longer:
+/// the frame scaled down to fit, filling the same cells, and its image
+/// over the whole area. kitty and iTerm2 scale it; sixel has no scaling,
+/// so it goes enlarged (nearest neighbour, mapped to its palette before),
+/// where its bytes follow its colour runs more than its pixels. Should it not fit, it is tried again
+/// smaller (sixel: with fewer colours), at most twice.
+fn link_picture(
+    fb: &Framebuffer,
+    format: Format,
+    area: Rect,
+    exact_bytes: usize,
+    budget: f64,
+    dither: bool,
+    passthrough: bool,
+) -> io::Result<(Kept, Vec<u8>)> {
+    let (w, h) = (fb.width(), fb.height());
+    let mut from = exact_bytes as f64;
+    let (mut sw, mut sh) = (w, h);
+    let mut pic = Kept::None;
+    let mut bytes = Vec::new();
+    for colours in SIXEL_LINK_COLOURS {
+        (sw, sh) = link_size(sw, sh, from, budget);
+        // Never below an eighth of the frame each way.
+        let least = |n: usize| ((n as f64 * MIN_LINK_SCALE).round() as usize).max(1);
+        (sw, sh) = (sw.max(least(w)), sh.max(least(h)));
+        let mut small = Framebuffer::new(sw, sh);
+        downscale(fb, &mut small);
+        if format == Format::Sixels {
+            fewer_colours(&mut small, colours);
+            pic = Kept::Indexed(sixel::Quantized::enlarged(&small, dither, (w, h)));
+        } else {
+            pic = Kept::Rgb(small);
+        }
+        bytes = whole_bytes(&mut pic, format, area, passthrough)?;
+        if bytes.len() as f64 <= budget {
+            break;
+        }
+        // A fifth more than it took: bytes fall slower than pixels.
+        from = bytes.len() as f64 * 1.2;
+    }
+    Ok((pic, bytes))
+}
+
+/// The colours of a link-sized sixel picture, try by try (256: the
+/// frame's own palette).
+const SIXEL_LINK_COLOURS: [usize; 3] = [256, 32, 8];
+
+/// The colours of a sixel preview while input keeps coming: an enlarged
+/// picture's bytes follow its colours' runs in each band more than its
+/// pixels, and at 256 colours a preview sized for 1 Mbit/s at
+/// [`PREVIEW_RATE`] took several times its share.
+pub const SIXEL_PREVIEW_COLOURS: usize = 32;
+
+/// `fb` reduced to at most `colours` colours (median cut; 256: as it is).
+fn fewer_colours(fb: &mut Framebuffer, colours: usize) {
+    if colours < 256 {
+        let q = median_cut::quantize(fb.pixels(), colours, |_| 0);
+        for (p, &i) in fb.pixels_mut().iter_mut().zip(&q.index) {
+            *p = q.palette[usize::from(i)];
+        }
+    }
+}
+
+/// Nearest-neighbour enlargement of `small` to fill `big` (a preview: each
+/// pixel of the half-resolution picture becomes a 2×2 block, so a cell is
+/// one colour and its neighbour the same: fewer bytes to send).
+pub fn enlarge(small: &Framebuffer, big: &mut Framebuffer) {
+    let (sw, sh) = (small.width(), small.height());
+    if sw == 0 || sh == 0 {
+        big.fill([0, 0, 0]);
+        return;
+    }
+    let (bw, bh) = (big.width(), big.height());
+    for y in 0..bh {
+        let sy = (y * sh / bh).min(sh - 1);
+        let src = small.row(sy);
+        for x in 0..bw {
+            let sx = (x * sw / bw).min(sw - 1);
+            big.set(x, y, src[sx]);
+        }
+    }
 }
 
 /// kitty sequences `seq` onto `out`, through tmux when `passthrough`: one
@@ -337,10 +486,55 @@ struct Shown {
     area: Rect,
     format: Format,
     /// The pixel size of the image the terminal holds (kitty: what the
-    /// placements cut from; a preview is smaller than the frame).
+    /// placements cut from; a preview or a link-sized picture is smaller
+    /// than the frame).
     image: (usize, usize),
+    /// The pixels of one cell of the kept picture shown at its own size
+    /// (sixel).
+    cell: (usize, usize),
     /// The area's cells drawn as text over the image (a panel), row by row.
     covered: Vec<bool>,
+    /// The strips of the exact frame still to send, top first.
+    pending: VecDeque<Rect>,
+    /// kitty: the strips sent, images of their own over relief's.
+    strips: Vec<Layer>,
+    /// Bytes of the strips sent.
+    strip_bytes: usize,
+    /// Its sequences go through tmux's passthrough.
+    passthrough: bool,
+}
+
+impl Shown {
+    /// kitty's images on screen: relief's picture, then the strips over it.
+    fn layers(&self) -> impl Iterator<Item = Layer> + '_ {
+        let picture = Layer {
+            id: kitty::IMAGE_ID,
+            z: 0,
+            cells: self.area,
+            image: self.image,
+        };
+        std::iter::once(picture).chain(self.strips.iter().copied())
+    }
+
+    /// The bytes that delete the kitty strips sent (and free their data).
+    fn strip_deletes(&self) -> Vec<u8> {
+        let mut out = Vec::new();
+        for s in &self.strips {
+            push_kitty(&kitty::delete(s.id), self.passthrough, &mut out);
+        }
+        out
+    }
+
+    /// What removes its kitty images from the screen (nothing for sixel
+    /// and iTerm2: their cells are cleared or drawn over).
+    fn kitty_cleanup(&self) -> Vec<u8> {
+        if self.format != Format::Kitty {
+            return Vec::new();
+        }
+        let mut out = kitty_delete(self.passthrough);
+        out.extend(self.strip_deletes());
+        out
+    }
 }
 
 /// The pixel side of the view between frames: what is on screen.
@@ -349,8 +543,18 @@ pub struct PixelView {
     small: Framebuffer,
     /// The image on screen, if any.
     shown: Option<Shown>,
+    /// The picture its cells show, kept to send a cell rectangle of it
+    /// again (a strip, the cells a panel leaves).
+    kept: Kept,
     /// The format of the last frame.
     last_format: Option<Format>,
+    /// Bytes of the whole exact image of the last frame sent in strips.
+    split_bytes: Option<u64>,
+    /// The last exact image's bytes (encoded, or its strips' all sent) and
+    /// where it went: an exact frame that clearly takes more than the link
+    /// carries in [`LINK_SECONDS`] is then not encoded whole only to be
+    /// weighed.
+    last_whole: Option<(Rect, Format, usize)>,
 }
 
 /// What a frame is: the format in use and its pictures.
@@ -363,6 +567,10 @@ pub struct PixelFrame<'a> {
     /// The picture changed since the last frame.
     pub new_picture: bool,
     pub look: TextLook,
+    /// The link's measured (or stated) throughput, bytes a second: an
+    /// exact frame it cannot carry in [`LINK_SECONDS`] goes link-sized,
+    /// then in strips.
+    pub throughput: Option<f64>,
 }
 
 impl Default for PixelView {
@@ -376,7 +584,10 @@ impl PixelView {
         PixelView {
             small: Framebuffer::new(0, 0),
             shown: None,
+            kept: Kept::None,
             last_format: None,
+            split_bytes: None,
+            last_whole: None,
         }
     }
 
@@ -433,15 +644,12 @@ impl PixelView {
         } else {
             fb
         };
-        let passthrough = frame.output.choice.passthrough;
         if self.last_format.is_some_and(|f| f != format) {
             // A new format: the whole screen is drawn again, so nothing a
             // terminal made of the last one's sequences (a format it
             // ignores may print its bytes, even scroll) stays.
-            if self.shown.take().is_some_and(|s| s.format == Format::Kitty) {
-                terminal
-                    .backend_mut()
-                    .write_raw(&kitty_delete(passthrough))?;
+            if let Some(s) = self.shown.take() {
+                terminal.backend_mut().write_raw(&s.kitty_cleanup())?;
                 set_cleanup(&[]);
             }
             terminal.clear()?;
@@ -457,19 +665,12 @@ impl PixelView {
         let bytes = match covered {
             Some(covered) => self.image_update(&frame, viewport, covered)?,
             None => {
-                // Text only: kitty's image is deleted; sixel and iTerm2
+                // Text only: kitty's images are deleted; sixel and iTerm2
                 // pixels are covered by the text cells drawn meanwhile.
-                match self.shown.take() {
-                    Some(s) => {
-                        set_cleanup(&[]);
-                        if s.format == Format::Kitty {
-                            kitty_delete(passthrough)
-                        } else {
-                            Vec::new()
-                        }
-                    }
-                    None => Vec::new(),
-                }
+                set_cleanup(&[]);
+                self.shown
+                    .take()
+                    .map_or_else(Vec::new, |s| s.kitty_cleanup())
             }
         };
         if !bytes.is_empty() {
@@ -481,9 +682,12 @@ impl PixelView {
     /// The image bytes of a pixel frame whose picture area has `covered`
     /// cells under text (a panel, the help, a message):
     ///
-    /// - a new picture, area or format: the image is sent; kitty shows the
-    ///   uncovered cells as placements of it, sixel and iTerm2 are sent
-    ///   only over the uncovered cells (the panel's text stays);
+    /// - a new picture, area or format: the image is sent (strips of the
+    ///   last one still to come are dropped, kitty's sent deleted); kitty
+    ///   shows the uncovered cells as placements of it, sixel and iTerm2
+    ///   are sent only over the uncovered cells (the panel's text stays).
+    ///   An exact frame the link cannot carry in [`LINK_SECONDS`] goes
+    ///   link-sized, its strips to follow ([`PixelView::next_strip`]);
     /// - the same picture under other cells: kitty's placements are
     ///   replaced (no pixels sent); sixel and iTerm2 send the cells a panel
     ///   left, the cells a panel now covers being text drawn over the image;
@@ -502,60 +706,105 @@ impl PixelView {
             .is_some_and(|s| s.area == area && s.format == format);
         let mut out = Vec::new();
         let open = rectangles(&covered, area, false);
+        let any_covered = covered.contains(&true);
         if frame.new_picture || !same_place {
             let send = match (format, frame.preview) {
                 (Format::Kitty | Format::Iterm, Some(p)) => p,
                 _ => frame.fb,
             };
-            let image = (send.width(), send.height());
-            let had_parts = self
-                .shown
+            let dither = frame.look.dither;
+            match (format, frame.preview) {
+                // sixel's preview: the small picture in fewer colours,
+                // mapped, then enlarged.
+                (Format::Sixels, Some(p)) => {
+                    let size = (frame.fb.width(), frame.fb.height());
+                    let mut few = p.clone();
+                    fewer_colours(&mut few, SIXEL_PREVIEW_COLOURS);
+                    self.kept = Kept::Indexed(sixel::Quantized::enlarged(&few, dither, size));
+                }
+                _ => self.kept.keep(send, format, dither),
+            }
+            let last = self.shown.take();
+            if let Some(last) = &last
+                && last.format == Format::Kitty
+            {
+                // The strips of the last picture go with it.
+                out.extend(last.strip_deletes());
+            }
+            let had_parts = last
                 .as_ref()
                 .is_some_and(|s| s.format == Format::Kitty && s.covered.contains(&true));
-            if format == Format::Kitty && (had_parts || covered.contains(&true)) {
+            if format == Format::Kitty && (had_parts || any_covered) {
                 // The placements of the last image go first (kitty drops
                 // them with the image it replaces; said for any terminal).
                 push_kitty(kitty::DELETE_PLACEMENTS, passthrough, &mut out);
             }
-            if !covered.contains(&true) {
-                out.extend(image_bytes(
-                    send,
-                    format,
-                    area,
-                    frame.look.dither,
-                    passthrough,
-                )?);
-            } else if format == Format::Kitty {
-                let mut seq = Vec::new();
-                kitty::write_data(send, &mut seq)?;
-                push_kitty(&seq, passthrough, &mut out);
-                kitty_placements(&open, area, image, passthrough, &mut out)?;
-            } else {
-                let cell = self.image_cell(frame, area, image);
-                for r in &open {
-                    part_bytes(
-                        send,
-                        format,
-                        area,
-                        cell,
-                        *r,
-                        frame.look.dither,
-                        passthrough,
-                        &mut out,
-                    )?;
-                }
-            }
-            set_cleanup(&if format == Format::Kitty {
-                kitty_delete(passthrough)
-            } else {
-                Vec::new()
-            });
-            self.shown = Some(Shown {
+            let cell = self.image_cell(frame, area, self.kept.size());
+            let budget = frame
+                .throughput
+                .filter(|_| frame.preview.is_none())
+                .map(|t| t * LINK_SECONDS);
+            let mut shown = Shown {
                 area,
                 format,
-                image,
+                image: self.kept.size(),
+                cell,
                 covered,
-            });
+                pending: VecDeque::new(),
+                strips: Vec::new(),
+                strip_bytes: 0,
+                passthrough,
+            };
+            // The whole image: what goes when nothing covers it, and what
+            // an exact frame costs the link; not encoded when the last
+            // exact one here took clearly more than the link carries.
+            let estimate = self
+                .last_whole
+                .filter(|&(a, f, _)| a == area && f == format)
+                .map(|(_, _, bytes)| bytes);
+            let clearly_over = matches!((budget, estimate),
+                (Some(b), Some(e)) if e as f64 > 2.0 * b && strips_fit(&shown));
+            let whole = if (!any_covered || budget.is_some()) && !clearly_over {
+                let whole = whole_bytes(&mut self.kept, format, area, passthrough)?;
+                if frame.preview.is_none() {
+                    self.last_whole = Some((area, format, whole.len()));
+                }
+                Some(whole)
+            } else {
+                None
+            };
+            let exact_len = whole.as_ref().map(Vec::len).or(estimate).unwrap_or(0);
+            match budget {
+                Some(budget) if exact_len as f64 > budget && strips_fit(&shown) => {
+                    let (mut first, bytes) = link_picture(
+                        frame.fb,
+                        format,
+                        area,
+                        exact_len,
+                        budget,
+                        dither,
+                        passthrough,
+                    )?;
+                    shown.image = first.size();
+                    if any_covered {
+                        out.extend(over_cells(&mut first, &shown, &open)?);
+                    } else {
+                        out.extend(bytes);
+                    }
+                    // Strips of about what the link carries in a
+                    // preview's frame interval.
+                    let strip_budget = budget / LINK_SECONDS / PREVIEW_RATE;
+                    let n = (exact_len as f64 / strip_budget.max(1.0)).ceil() as usize;
+                    shown.pending = super::cell_rects::strips(area, n).into();
+                    self.split_bytes = Some(exact_len as u64);
+                }
+                _ => match whole {
+                    Some(whole) if !any_covered => out.extend(whole),
+                    _ => out.extend(over_cells(&mut self.kept, &shown, &open)?),
+                },
+            }
+            set_cleanup(&shown.kitty_cleanup());
+            self.shown = Some(shown);
             return Ok(out);
         }
         let Some(shown) = self.shown.as_mut() else {
@@ -565,8 +814,10 @@ impl PixelView {
             return Ok(out);
         }
         if format == Format::Kitty {
-            push_kitty(kitty::DELETE_PLACEMENTS, passthrough, &mut out);
-            kitty_placements(&open, area, shown.image, passthrough, &mut out)?;
+            for layer in shown.layers() {
+                push_kitty(&kitty::delete_placements(layer.id), passthrough, &mut out);
+                out.extend(kitty_placements(layer, &open, passthrough)?);
+            }
         } else {
             // Cells a panel left: the picture again over them.
             let left: Vec<bool> = shown
@@ -575,24 +826,14 @@ impl PixelView {
                 .zip(&covered)
                 .map(|(&was, &now)| was && !now)
                 .collect();
-            let image = shown.image;
-            let cell = self.image_cell(frame, area, image);
             for r in rectangles(&left, area, true) {
-                part_bytes(
-                    frame.fb,
-                    format,
-                    area,
-                    cell,
-                    r,
-                    frame.look.dither,
-                    passthrough,
-                    &mut out,
-                )?;
+                let seq = self.kept.part(area, shown.cell, r)?;
+                if !seq.is_empty() {
+                    out.extend(placed(&seq, format, r, passthrough));
+                }
             }
         }
-        if let Some(shown) = self.shown.as_mut() {
-            shown.covered = covered;
-        }
+        shown.covered = covered;
         Ok(out)
     }
 
@@ -609,6 +850,64 @@ impl PixelView {
         }
     }
 
+    /// Strips of the exact frame are still to be sent.
+    pub fn pending(&self) -> bool {
+        self.shown.as_ref().is_some_and(|s| !s.pending.is_empty())
+    }
+
+    /// The next strip of the exact frame (one write of its own), over the
+    /// cells of it no panel covers: kitty sends it as an image of its own
+    /// placed over them, sixel and iTerm2 send their rectangles of it.
+    pub fn next_strip(&mut self) -> io::Result<Option<Vec<u8>>> {
+        let Some(shown) = self.shown.as_mut() else {
+            return Ok(None);
+        };
+        let Some(strip) = shown.pending.pop_front() else {
+            return Ok(None);
+        };
+        let open = within(&rectangles(&shown.covered, shown.area, false), strip);
+        let mut out = Vec::new();
+        match &mut self.kept {
+            Kept::Rgb(fb) if shown.format == Format::Kitty => {
+                let size = (fb.width(), fb.height());
+                let pixels = crop(fb, source_rect(size, shown.area, strip));
+                let layer = Layer {
+                    id: kitty::strip_id(shown.strips.len()),
+                    z: kitty::STRIP_Z,
+                    cells: strip,
+                    image: (pixels.width(), pixels.height()),
+                };
+                let mut seq = Vec::new();
+                kitty::write_data(&pixels, layer.id, &mut seq)?;
+                push_kitty(&seq, shown.passthrough, &mut out);
+                out.extend(kitty_placements(layer, &open, shown.passthrough)?);
+                shown.strips.push(layer);
+                set_cleanup(&shown.kitty_cleanup());
+            }
+            kept => {
+                for r in open {
+                    let seq = kept.part(shown.area, shown.cell, r)?;
+                    if !seq.is_empty() {
+                        out.extend(placed(&seq, shown.format, r, shown.passthrough));
+                    }
+                }
+            }
+        }
+        // Once all are sent without a panel, what the exact image took.
+        shown.strip_bytes += out.len();
+        if shown.pending.is_empty() && !shown.covered.contains(&true) {
+            self.last_whole = Some((shown.area, shown.format, shown.strip_bytes));
+        }
+        Ok(Some(out))
+    }
+
+    /// Bytes of the whole exact image just sent in strips, once: what an
+    /// exact frame costs the link, though its first write was the
+    /// link-sized picture.
+    pub fn take_split_bytes(&mut self) -> Option<u64> {
+        self.split_bytes.take()
+    }
+
     /// The screen is new (after Ctrl-Z): nothing of ours is on it.
     pub fn forget(&mut self) {
         self.shown = None;
@@ -621,123 +920,61 @@ impl PixelView {
     }
 }
 
-/// Exact tiling of the cells of `area` whose flag in `cells` (row by row)
-/// is `which`, by rectangles: each row's runs, a run extending the
-/// rectangle above it when it spans the same columns. A panel over the
-/// picture leaves at most four.
-pub fn rectangles(cells: &[bool], area: Rect, which: bool) -> Vec<Rect> {
-    let (w, h) = (usize::from(area.width), usize::from(area.height));
-    let mut done = Vec::new();
-    // Rectangles reaching the row above.
-    let mut open: Vec<Rect> = Vec::new();
-    for y in 0..h {
-        let row = &cells[y * w..(y + 1) * w];
-        let mut next = Vec::new();
-        let mut x = 0;
-        while x < w {
-            if row[x] != which {
-                x += 1;
-                continue;
-            }
-            let start = x;
-            while x < w && row[x] == which {
-                x += 1;
-            }
-            let (left, width) = (area.x + start as u16, (x - start) as u16);
-            match open.iter().position(|r| r.x == left && r.width == width) {
-                Some(i) => {
-                    let mut r = open.swap_remove(i);
-                    r.height += 1;
-                    next.push(r);
-                }
-                None => next.push(Rect::new(left, area.y + y as u16, width, 1)),
-            }
-        }
-        done.append(&mut open);
-        open = next;
-    }
-    done.append(&mut open);
-    done.sort_by_key(|r| (r.y, r.x));
-    done
-}
-
-/// The pixels of an `image` stretched over `area` under the cells `r`:
-/// left, top, width, height (at least one pixel each way, within the
-/// image; neighbouring cells share their edges, so a tiling of cells is a
-/// tiling of pixels).
-pub fn source_rect(image: (usize, usize), area: Rect, r: Rect) -> kitty::Source {
-    let (w, h) = (image.0.max(1), image.1.max(1));
+/// Whether the exact frame can follow `shown` in strips: kitty and iTerm2
+/// stretch a strip over its rows; sixel draws its own pixels, so its cells
+/// must be whole pixels of the image (not a frame scaled down within
+/// [`MAX_PIXELS`]).
+fn strips_fit(shown: &Shown) -> bool {
     let (cols, rows) = (
-        usize::from(area.width.max(1)),
-        usize::from(area.height.max(1)),
+        usize::from(shown.area.width),
+        usize::from(shown.area.height),
     );
-    let edge = |cell: u16, origin: u16, cells: usize, size: usize| {
-        (usize::from(cell - origin) * size / cells).min(size - 1)
-    };
-    let x0 = edge(r.x, area.x, cols, w);
-    let y0 = edge(r.y, area.y, rows, h);
-    let x1 = (usize::from(r.right() - area.x) * w / cols).max(x0 + 1);
-    let y1 = (usize::from(r.bottom() - area.y) * h / rows).max(y0 + 1);
-    [x0, y0, x1 - x0, y1 - y0]
-}
-
-/// kitty placements of the image (of `image` pixels, stretched over
-/// `area`) over the cells `open`, numbered from 1: the whole image as one
-/// placement when nothing is covered.
-fn kitty_placements(
-    open: &[Rect],
-    area: Rect,
-    image: (usize, usize),
-    passthrough: bool,
-    out: &mut Vec<u8>,
-) -> io::Result<()> {
-    for (i, r) in open.iter().enumerate() {
-        let mut seq = Vec::new();
-        kitty::write_placement(
-            i as u32 + 1,
-            source_rect(image, area, *r),
-            (r.width, r.height),
-            &mut seq,
-        )?;
-        place(*r, out);
-        push_kitty(&seq, passthrough, out);
+    match shown.format {
+        Format::Kitty | Format::Iterm => true,
+        Format::Sixels => shown.image == (cols * shown.cell.0, rows * shown.cell.1),
+        Format::Auto | Format::Symbols => false,
     }
-    Ok(())
 }
 
-/// The part of `fb` under the cells `r` as its own sixel or iTerm2 image
-/// placed at `r`'s top-left cell: sixel at its own pixels (`cell` pixels a
-/// cell, clipped to the image), iTerm2 stretched over `r`'s cells.
-#[allow(clippy::too_many_arguments)]
-fn part_bytes(
-    fb: &Framebuffer,
-    format: Format,
-    area: Rect,
-    cell: (usize, usize),
-    r: Rect,
-    dither: bool,
-    passthrough: bool,
-    out: &mut Vec<u8>,
-) -> io::Result<()> {
-    let [x, y, w, h] = match format {
-        Format::Sixels => {
-            let x0 = (usize::from(r.x - area.x) * cell.0).min(fb.width());
-            let y0 = (usize::from(r.y - area.y) * cell.1).min(fb.height());
-            let x1 = (usize::from(r.right() - area.x) * cell.0).min(fb.width());
-            let y1 = (usize::from(r.bottom() - area.y) * cell.1).min(fb.height());
-            [x0, y0, x1 - x0, y1 - y0]
+/// The bytes that show `pic` (kept for `shown`'s format) over the cells
+/// `open` of `shown`'s area only: kitty sends it once, without showing it,
+/// and places it over each; sixel and iTerm2 send each rectangle of it.
+fn over_cells(pic: &mut Kept, shown: &Shown, open: &[Rect]) -> io::Result<Vec<u8>> {
+    let mut out = Vec::new();
+    match (&*pic, shown.format) {
+        (Kept::Rgb(fb), Format::Kitty) => {
+            let mut seq = Vec::new();
+            kitty::write_data(fb, kitty::IMAGE_ID, &mut seq)?;
+            push_kitty(&seq, shown.passthrough, &mut out);
+            let picture = Layer {
+                id: kitty::IMAGE_ID,
+                z: 0,
+                cells: shown.area,
+                image: (fb.width(), fb.height()),
+            };
+            out.extend(kitty_placements(picture, open, shown.passthrough)?);
         }
-        _ => source_rect((fb.width(), fb.height()), area, r),
-    };
-    if w == 0 || h == 0 {
-        return Ok(());
+        _ => {
+            for r in open {
+                let seq = pic.part(shown.area, shown.cell, *r)?;
+                if !seq.is_empty() {
+                    out.extend(placed(&seq, shown.format, *r, shown.passthrough));
+                }
+            }
+        }
     }
-    let mut part = Framebuffer::new(w, h);
-    for row in 0..h {
-        part.pixels_mut()[row * w..(row + 1) * w].copy_from_slice(&fb.row(y + row)[x..x + w]);
+    Ok(out)
+}
+
+/// kitty placements of `layer` over the cells `open` within it, each
+/// placed at its top-left cell.
+fn kitty_placements(layer: Layer, open: &[Rect], passthrough: bool) -> io::Result<Vec<u8>> {
+    let mut out = Vec::new();
+    for (r, seq) in super::cell_rects::kitty_layer(layer, open)? {
+        place(r, &mut out);
+        push_kitty(&seq, passthrough, &mut out);
     }
-    out.extend(image_bytes(&part, format, r, dither, passthrough)?);
-    Ok(())
+    Ok(out)
 }
 
 /// Marks the picture's cells in `buf` that still hold the picture's text
@@ -800,81 +1037,9 @@ mod tests {
         assert_eq!(preview_size(800, 600, 400_000, 100_000.0), (400, 300));
         // Sixteen times: a quarter.
         assert_eq!(preview_size(800, 600, 1_600_000, 100_000.0), (200, 150));
-        // Never below an eighth, never above half.
-        assert_eq!(preview_size(800, 600, u64::MAX, 1.0), (100, 75));
+        // Never below a sixteenth, never above half.
+        assert_eq!(preview_size(800, 600, u64::MAX, 1.0), (50, 38));
         assert_eq!(preview_size(800, 600, 10, 1e9), (400, 300));
-    }
-
-    /// The cells of `area` (row by row) inside any of `panels`.
-    fn mask(area: Rect, panels: &[Rect]) -> Vec<bool> {
-        let mut m = Vec::new();
-        for y in area.top()..area.bottom() {
-            for x in area.left()..area.right() {
-                m.push(panels.iter().any(|p| p.contains((x, y).into())));
-            }
-        }
-        m
-    }
-
-    #[test]
-    fn rectangles_tile_exactly_the_cells_asked_for() {
-        let area = Rect::new(2, 1, 20, 10);
-        // A centred panel: the band above, left, right and the band below.
-        let help = Rect::new(7, 4, 8, 3);
-        let m = mask(area, &[help]);
-        let open = rectangles(&m, area, false);
-        assert_eq!(
-            open,
-            vec![
-                Rect::new(2, 1, 20, 3),
-                Rect::new(2, 4, 5, 3),
-                Rect::new(15, 4, 7, 3),
-                Rect::new(2, 7, 20, 4),
-            ]
-        );
-        assert_eq!(rectangles(&m, area, true), vec![help]);
-        // Two panels, one at a corner and one overlapping it: every cell
-        // of the area once, in a rectangle of its own kind.
-        let panels = [Rect::new(10, 1, 12, 5), Rect::new(4, 3, 9, 6)];
-        let m = mask(area, &panels);
-        let mut seen = vec![0; m.len()];
-        for which in [false, true] {
-            for r in rectangles(&m, area, which) {
-                for y in r.top()..r.bottom() {
-                    for x in r.left()..r.right() {
-                        let i = usize::from(y - area.y) * 20 + usize::from(x - area.x);
-                        assert_eq!(m[i], which, "{r:?}");
-                        seen[i] += 1;
-                    }
-                }
-            }
-        }
-        assert!(seen.iter().all(|&n| n == 1));
-        assert!(rectangles(&[false; 200], area, true).is_empty());
-        assert_eq!(rectangles(&[false; 200], area, false), vec![area]);
-    }
-
-    #[test]
-    fn source_rectangles_follow_the_cells_and_share_their_edges() {
-        let area = Rect::new(0, 0, 60, 12);
-        // 8×16 pixels a cell: whole cells of pixels.
-        assert_eq!(
-            source_rect((480, 192), area, Rect::new(16, 2, 44, 10)),
-            [128, 32, 352, 160]
-        );
-        // A preview of 100 × 30 pixels stretched over the cells: edges at
-        // ⌊cell · 100 / 60⌋ and ⌊cell · 30 / 12⌋; neighbours meet.
-        let left = source_rect((100, 30), area, Rect::new(0, 0, 16, 12));
-        let right = source_rect((100, 30), area, Rect::new(16, 0, 44, 5));
-        let below = source_rect((100, 30), area, Rect::new(16, 5, 44, 7));
-        assert_eq!(left, [0, 0, 26, 30]);
-        assert_eq!(right, [26, 0, 74, 12]);
-        assert_eq!(below, [26, 12, 74, 18]);
-        // Never empty (kitty reads a width of 0 as the whole image).
-        assert_eq!(
-            source_rect((30, 6), area, Rect::new(1, 1, 1, 1)),
-            [0, 0, 1, 1]
-        );
     }
 
     #[test]

@@ -161,36 +161,133 @@ pub fn write_image_with(
     dither: bool,
     out: &mut impl Write,
 ) -> io::Result<()> {
-    let (w, h) = (fb.width(), fb.height());
-    let Indexed { palette, index } = index_frame(fb, palette, dither);
+    let indexed = index_frame(fb, palette, dither);
+    let all = [0, 0, fb.width(), fb.height()];
+    write_pixels(&indexed, fb.width(), all, false, out)
+}
+
+/// A frame mapped to its palette once, so that parts of it drawn one by
+/// one ([`write_part`]) show exactly what the whole image would: the same
+/// palette, the dither pattern in the same phase.
+pub struct Quantized {
+    indexed: Indexed,
+    width: usize,
+    height: usize,
+}
+
+impl Quantized {
+    /// `fb` mapped as [`write_image`] maps it.
+    pub fn new(fb: &Framebuffer, dither: bool) -> Self {
+        Quantized {
+            indexed: index_frame(fb, Palette::CHOSEN, dither),
+            width: fb.width(),
+            height: fb.height(),
+        }
+    }
+
+    /// `small` mapped as [`Quantized::new`] maps it, each pixel then
+    /// repeated to fill `size` as a nearest-neighbour enlargement does
+    /// (`pixel_view::enlarge`): the enlarged picture's image for the cost of
+    /// mapping the small one (a preview, a picture sized to the link).
+    pub fn enlarged(small: &Framebuffer, dither: bool, size: (usize, usize)) -> Self {
+        let q = Quantized::new(small, dither);
+        let (sw, sh) = (small.width(), small.height());
+        let (w, h) = size;
+        if sw == 0 || sh == 0 {
+            return Quantized::new(&Framebuffer::new(w, h), false);
+        }
+        let mut index = Vec::with_capacity(w * h);
+        for y in 0..h {
+            let row = &q.indexed.index[(y * sh / h).min(sh - 1) * sw..][..sw];
+            index.extend((0..w).map(|x| row[(x * sw / w).min(sw - 1)]));
+        }
+        Quantized {
+            indexed: Indexed {
+                palette: q.indexed.palette,
+                index,
+            },
+            width: w,
+            height: h,
+        }
+    }
+
+    /// Its pixel size.
+    pub fn size(&self) -> (usize, usize) {
+        (self.width, self.height)
+    }
+
+    /// The colour a terminal shows at pixel (x, y).
+    pub fn shown_at(&self, x: usize, y: usize) -> Rgb {
+        let i = self.indexed.index[y * self.width + x];
+        shown(percent(self.indexed.palette[usize::from(i)]))
+    }
+}
+
+/// Writes all of `q` as one sixel image at the cursor: the bytes
+/// [`write_image`] writes for the frame it was made from.
+pub fn write_quantized(q: &Quantized, out: &mut impl Write) -> io::Result<()> {
+    let all = [0, 0, q.width, q.height];
+    write_pixels(&q.indexed, q.width, all, false, out)
+}
+
+/// Writes the pixels `source` (left, top, width, height, within `q`) of
+/// `q` as one sixel image at the cursor, with only the palette entries
+/// they use (same numbers, same colours as the whole image's).
+pub fn write_part(q: &Quantized, source: [usize; 4], out: &mut impl Write) -> io::Result<()> {
+    write_pixels(&q.indexed, q.width, source, true, out)
+}
+
+/// Writes the pixels `source` of an indexed `stride`-pixel-wide frame as
+/// one sixel image: all palette entries, or only those they use.
+fn write_pixels(
+    indexed: &Indexed,
+    stride: usize,
+    source: [usize; 4],
+    only_used: bool,
+    out: &mut impl Write,
+) -> io::Result<()> {
+    let Indexed { palette, index } = indexed;
+    let [x0, y0, w, h] = source;
+    let line = |y: usize| &index[(y0 + y) * stride + x0..(y0 + y) * stride + x0 + w];
     // P2 = 1: pixels the image does not set keep their colour.
     write!(out, "\x1bP0;1;0q\"1;1;{w};{h}")?;
+    let mut used = [!only_used; 256];
+    if only_used {
+        for y in 0..h {
+            for &i in line(y) {
+                used[usize::from(i)] = true;
+            }
+        }
+    }
     for (i, c) in palette.iter().enumerate() {
-        let [r, g, b] = percent(*c);
-        write!(out, "#{i};2;{r};{g};{b}")?;
+        if used[i] {
+            let [r, g, b] = percent(*c);
+            write!(out, "#{i};2;{r};{g};{b}")?;
+        }
     }
     // Per band: each colour's slot, in order of first appearance (row by
     // row), and the slots' rows of six-pixel columns, filled in one pass.
     let mut slot = [u16::MAX; 256];
     let mut colours: Vec<u8> = Vec::with_capacity(256);
     let mut bits: Vec<u8> = Vec::new();
-    for y0 in (0..h).step_by(6) {
-        let rows = (h - y0).min(6);
-        let band = &index[y0 * w..(y0 + rows) * w];
+    for top in (0..h).step_by(6) {
+        let band = top..(top + 6).min(h);
         for &c in &colours {
             slot[usize::from(c)] = u16::MAX;
         }
         colours.clear();
-        for &i in band {
-            if slot[usize::from(i)] == u16::MAX {
-                slot[usize::from(i)] = colours.len() as u16;
-                colours.push(i);
+        for y in band.clone() {
+            for &i in line(y) {
+                if slot[usize::from(i)] == u16::MAX {
+                    slot[usize::from(i)] = colours.len() as u16;
+                    colours.push(i);
+                }
             }
         }
         bits.clear();
         bits.resize(colours.len() * w, 0);
-        for (k, line) in band.chunks_exact(w.max(1)).enumerate() {
-            for (x, &i) in line.iter().enumerate() {
+        for (k, y) in band.enumerate() {
+            for (x, &i) in line(y).iter().enumerate() {
                 bits[usize::from(slot[usize::from(i)]) * w + x] |= 1 << k;
             }
         }
@@ -209,12 +306,13 @@ pub fn write_image_with(
             write!(out, "#{c}")?;
             write_runs(row, out)?;
         }
-        if y0 + 6 < h {
+        if top + 6 < h {
             out.write_all(b"-")?;
         }
     }
     out.write_all(b"\x1b\\")
 }
+
 /// Sixel characters with runs of four or more as `!count char`.
 fn write_runs(row: &[u8], out: &mut impl Write) -> io::Result<()> {
     let mut i = 0;
@@ -232,4 +330,26 @@ fn write_runs(row: &[u8], out: &mut impl Write) -> io::Result<()> {
         i += run;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_enlarged_mapping_repeats_the_small_pictures_pixels() {
+        // Six colours: the palette is exact.
+        let mut small = Framebuffer::new(3, 2);
+        for (i, p) in small.pixels_mut().iter_mut().enumerate() {
+            *p = [i as u8 * 40, 255 - i as u8 * 40, 7];
+        }
+        let q = Quantized::enlarged(&small, false, (7, 5));
+        assert_eq!(q.size(), (7, 5));
+        for y in 0..5 {
+            for x in 0..7 {
+                let want = shown(percent(small.get(x * 3 / 7, y * 2 / 5)));
+                assert_eq!(q.shown_at(x, y), want, "{x},{y}");
+            }
+        }
+    }
 }

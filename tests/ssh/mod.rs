@@ -517,6 +517,32 @@ impl Session {
         self.tmux(&["send-keys", "-l", text]);
     }
 
+    /// Starts copying what the pane receives (the ssh client's output: relief's
+    /// bytes as they arrive, before the pane's terminal parses them) to a file,
+    /// its length read every 5 ms.
+    pub fn record_pane(&self) -> PaneRecorder {
+        let path = self.dir.join("pane.out");
+        std::fs::write(&path, b"").expect("the pane's record");
+        self.tmux(&["pipe-pane", "-O", &format!("cat >> {}", path.display())]);
+        let samples = Arc::new(Mutex::new(Vec::new()));
+        let stop = Arc::new(AtomicBool::new(false));
+        let (out, halt, file) = (samples.clone(), stop.clone(), path.clone());
+        let thread = std::thread::spawn(move || {
+            while !halt.load(Ordering::Relaxed) {
+                if let Ok(m) = std::fs::metadata(&file) {
+                    out.lock().unwrap().push((Instant::now(), m.len()));
+                }
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        });
+        PaneRecorder {
+            path,
+            samples,
+            stop,
+            thread: Some(thread),
+        }
+    }
+
     /// The server's log so far (for a failure message).
     pub fn sshd_log(&self) -> String {
         std::fs::read_to_string(self.dir.join("sshd.log")).unwrap_or_default()
@@ -539,6 +565,41 @@ impl QueueSampler {
 }
 
 impl Drop for QueueSampler {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+/// What the pane received, in a file: its bytes, and its length over time.
+pub struct PaneRecorder {
+    path: PathBuf,
+    samples: Arc<Mutex<Vec<(Instant, u64)>>>,
+    stop: Arc<AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl PaneRecorder {
+    /// Everything received so far.
+    pub fn bytes(&self) -> Vec<u8> {
+        std::fs::read(&self.path).unwrap_or_default()
+    }
+
+    /// How many bytes were received so far.
+    pub fn received(&self) -> u64 {
+        std::fs::metadata(&self.path).map_or(0, |m| m.len())
+    }
+
+    /// When the record first reached `len` bytes (the first reading that saw it).
+    pub fn reached(&self, len: u64) -> Option<Instant> {
+        let all = self.samples.lock().unwrap();
+        all.iter().find(|(_, l)| *l >= len).map(|(t, _)| *t)
+    }
+}
+
+impl Drop for PaneRecorder {
     fn drop(&mut self) {
         self.stop.store(true, Ordering::Relaxed);
         if let Some(t) = self.thread.take() {

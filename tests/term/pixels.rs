@@ -15,7 +15,7 @@ use relief::app::event_loop::{Exit, Looper, Msg};
 use relief::settings::Settings;
 use relief::term::format::{Clues, Format, TmuxPixels};
 use relief::term::pixel_view::{self, Output, PixelView};
-use relief::term::{ColorDepth, SgrBackend, kitty};
+use relief::term::{ColorDepth, SgrBackend, kitty, sixel};
 
 use super::encoder::decode_sixel;
 
@@ -372,13 +372,15 @@ fn an_image_never_reaches_the_last_row() {
 /// A terminal over a slow link: it answers each query (`CSI c`) as a link
 /// of [`LINK_RATE`] bytes a second would (the reply's time stamp is when
 /// the frame would have arrived), sends an arrow key after each write
-/// while `keys` last, and ends the input once the exact picture (a kitty
-/// image as wide as the first) has come after them.
+/// while `keys` last, and ends the input once the exact picture has come
+/// after them: a kitty image the size of the first, or strips of it (kitty
+/// images of their own) over all its pixel rows.
 struct SlowLink {
     out: Vec<u8>,
     tx: mpsc::Sender<Msg>,
     keys: usize,
-    full_width: Option<usize>,
+    full: Option<(usize, usize)>,
+    strip_rows: usize,
 }
 
 const LINK_RATE: f64 = 20_000.0;
@@ -401,7 +403,8 @@ impl std::io::Write for SlowLink {
         }
         let images = kitty_images(data);
         if let Some((keys, _)) = images.first() {
-            self.full_width.get_or_insert(key_value(keys, "s"));
+            self.full
+                .get_or_insert((key_value(keys, "s"), key_value(keys, "v")));
         }
         if self.keys > 0 {
             self.keys -= 1;
@@ -409,11 +412,19 @@ impl std::io::Write for SlowLink {
                 KeyCode::Right,
                 KeyModifiers::NONE,
             ))));
-        } else if images
-            .iter()
-            .any(|(keys, _)| Some(key_value(keys, "s")) == self.full_width)
-        {
-            let _ = self.tx.send(Msg::InputClosed("end of input".into()));
+        } else {
+            let full = self.full.unwrap_or_default();
+            for (keys, _) in &images {
+                let size = (key_value(keys, "s"), key_value(keys, "v"));
+                if key_value(keys, "i") == kitty::IMAGE_ID as usize {
+                    self.strip_rows = if size == full { full.1 } else { 0 };
+                } else {
+                    self.strip_rows += size.1;
+                }
+            }
+            if self.strip_rows >= full.1 {
+                let _ = self.tx.send(Msg::InputClosed("end of input".into()));
+            }
         }
         Ok(data.len())
     }
@@ -434,7 +445,8 @@ fn pixel_previews_shrink_over_a_slow_link_and_the_exact_frame_follows() {
         out: Vec::new(),
         tx,
         keys: 8,
-        full_width: None,
+        full: None,
+        strip_rows: 0,
     };
     let mut term = Terminal::new(SgrBackend::with_size(link, 60, 14)).unwrap();
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
@@ -462,38 +474,56 @@ fn pixel_previews_shrink_over_a_slow_link_and_the_exact_frame_follows() {
     .run(&mut state)
     .unwrap();
     assert!(matches!(exit, Exit::InputClosed(_)));
-    let images = kitty_images(&term.backend().writer().out);
+    let all = kitty_images(&term.backend().writer().out);
+    // The pictures (relief's image), then the strips of the last one.
+    let split = all
+        .iter()
+        .rposition(|(k, _)| key_value(k, "i") == kitty::IMAGE_ID as usize)
+        .unwrap();
+    let (images, strips) = all.split_at(split + 1);
     let widths: Vec<usize> = images.iter().map(|(k, _)| key_value(k, "s")).collect();
     let full = widths[0];
     assert!(
         widths.iter().any(|&w| w < full),
         "a smaller preview while the keys came: {widths:?}"
     );
-    for (keys, raw) in &images {
+    for (keys, raw) in images {
         // Every image covers the picture's cells, whatever its pixels.
         assert_eq!((key_value(keys, "c"), key_value(keys, "r")), (60, 12));
         assert_eq!(raw.len(), key_value(keys, "s") * key_value(keys, "v") * 3);
     }
-    assert_eq!(
-        *widths.last().unwrap(),
-        full,
-        "the exact frame last: {widths:?}"
+    // The exact frame last: whole, or in strips at full width over all
+    // its pixel rows.
+    let full_height = key_value(&images[0].0, "v");
+    let rows: usize = strips.iter().map(|(k, _)| key_value(k, "v")).sum();
+    assert!(
+        *widths.last().unwrap() == full || rows == full_height,
+        "the exact frame last: {widths:?}, strips over {rows} pixel rows"
     );
+    for (keys, _) in strips {
+        assert_eq!(key_value(keys, "s"), full);
+    }
     let _ = pixel_view::take_cleanup();
 }
 
-/// A placement of the kitty image: the cells it covers and the image's
-/// pixels it shows there.
+/// A placement of a kitty image: the cells it covers, the image's pixels
+/// it shows there, the image and its z-index.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Placement {
     cells: Rect,
     source: [usize; 4],
+    image: usize,
+    z: i64,
 }
+
+/// A kitty image the terminal holds: width, height, RGB bytes.
+type KittyImage = (usize, usize, Vec<u8>);
 
 /// What a terminal shows of the loop's output, replayed: the cursor, which
 /// cells last got text, the sixel pixels (last writer wins per cell: text
 /// written into a cell hides its pixels, pixels drawn hide its text), and
-/// kitty's image data and placements (drawn over the text).
+/// kitty's images and their placements (drawn over the text, the highest
+/// z-index on top).
 struct Replay {
     cols: usize,
     rows: usize,
@@ -504,9 +534,10 @@ struct Replay {
     text: Vec<bool>,
     /// Sixel pixels of the whole screen.
     canvas: Vec<Option<[u8; 3]>>,
-    /// kitty's image: width, height, RGB bytes.
-    image: Option<(usize, usize, Vec<u8>)>,
-    placements: std::collections::BTreeMap<usize, Placement>,
+    /// kitty's images by id.
+    images: std::collections::BTreeMap<usize, KittyImage>,
+    /// kitty's placements by image and placement id.
+    placements: std::collections::BTreeMap<(usize, usize), Placement>,
     /// Images sent (kitty data, sixel or iTerm2 images), in pixels.
     sent_pixels: usize,
     /// A kitty transmission spread over chunks: its keys and payload.
@@ -523,11 +554,16 @@ impl Replay {
             y: 0,
             text: vec![true; cols * rows],
             canvas: vec![None; cols * rows * cell.0 * cell.1],
-            image: None,
+            images: Default::default(),
             placements: Default::default(),
             sent_pixels: 0,
             chunks: None,
         }
+    }
+
+    /// relief's kitty image (not a strip).
+    fn image(&self) -> Option<&KittyImage> {
+        self.images.get(&(kitty::IMAGE_ID as usize))
     }
 
     /// The end of the sequence starting at `i` (after its `ESC \` or BEL).
@@ -657,18 +693,20 @@ impl Replay {
                 }
             }
             Some("p") => {
-                assert_eq!(number("i"), kitty::IMAGE_ID as usize);
+                let z = value("z").map_or(0, |v| v.parse().unwrap());
                 self.place(
-                    number("p"),
+                    (number("i"), number("p")),
                     [number("x"), number("y"), number("w"), number("h")],
                     (number("c"), number("r")),
+                    z,
                 );
             }
             Some("d") => {
-                assert_eq!(number("i"), kitty::IMAGE_ID as usize);
-                self.placements.clear();
+                let id = number("i");
+                assert!(id >= kitty::IMAGE_ID as usize, "relief's ids only");
+                self.placements.retain(|k, _| k.0 != id);
                 if value("d").as_deref() == Some("I") {
-                    self.image = None;
+                    self.images.remove(&id);
                 }
             }
             other => panic!("unexpected kitty action {other:?}"),
@@ -689,15 +727,24 @@ impl Replay {
         let (w, h) = (value("s"), value("v"));
         assert_eq!(raw.len(), w * h * 3);
         self.sent_pixels += w * h;
-        self.image = Some((w, h, raw));
-        self.placements.clear();
+        let id = value("i");
+        self.images.insert(id, (w, h, raw));
+        self.placements.retain(|k, _| k.0 != id);
         if keys.starts_with("a=T") {
-            self.place(value("p"), [0, 0, 0, 0], (value("c"), value("r")));
+            let z = if keys.contains(",z=") {
+                value("z") as i64
+            } else {
+                0
+            };
+            self.place((id, value("p")), [0, 0, 0, 0], (value("c"), value("r")), z);
         }
     }
 
-    fn place(&mut self, id: usize, source: [usize; 4], cells: (usize, usize)) {
-        let (iw, ih, _) = self.image.as_ref().expect("placing an image sent before");
+    fn place(&mut self, id: (usize, usize), source: [usize; 4], cells: (usize, usize), z: i64) {
+        let (iw, ih, _) = self
+            .images
+            .get(&id.0)
+            .expect("placing an image sent before");
         // kitty's defaults: no width or height is the rest of the image.
         let [x, y, w, h] = source;
         let w = if w == 0 { iw - x } else { w };
@@ -709,19 +756,23 @@ impl Replay {
             Placement {
                 cells,
                 source: [x, y, w, h],
+                image: id.0,
+                z,
             },
         );
     }
 
     /// What the kitty placements show at pixel (x, y) of the screen, when
-    /// one covers it (each placement scaled from its source to its cells).
+    /// one covers it (each placement scaled from its source to its cells;
+    /// the highest z-index on top).
     fn kitty_pixel(&self, x: usize, y: usize) -> Option<[u8; 3]> {
-        let (iw, _, data) = self.image.as_ref()?;
         let (cx, cy) = (x / self.cell.0, y / self.cell.1);
         let p = self
             .placements
             .values()
-            .find(|p| p.cells.contains((cx as u16, cy as u16).into()))?;
+            .filter(|p| p.cells.contains((cx as u16, cy as u16).into()))
+            .max_by_key(|p| p.z)?;
+        let (iw, _, data) = &self.images[&p.image];
         let [sx, sy, sw, sh] = p.source;
         let (px, py) = (
             x - usize::from(p.cells.x) * self.cell.0,
@@ -849,7 +900,7 @@ fn under_a_panel_kitty_shows_the_picture_around_it_without_sending_it_again() {
     for frame in frames(&bytes) {
         let before = screen.sent_pixels;
         screen.feed(frame);
-        if screen.image.is_none() {
+        if screen.image().is_none() {
             continue;
         }
         let panel = screen.placements.len() > 1;
@@ -869,7 +920,7 @@ fn under_a_panel_kitty_shows_the_picture_around_it_without_sending_it_again() {
         }
         // Each placement shows its own cells' pixels: its source is its
         // cells' rectangle at the image's pixels per cell.
-        let (iw, ih, _) = screen.image.as_ref().unwrap();
+        let (iw, ih, _) = screen.image().unwrap();
         let (sx, sy) = (iw / 80, ih / 28);
         for p in screen.placements.values() {
             let c = p.cells;
@@ -1024,6 +1075,7 @@ fn a_resize_with_a_panel_open_sends_the_new_picture_around_the_panel() {
                     dither: false,
                     pad: [0, 0, 0],
                 },
+                throughput: None,
             };
             term.backend_mut().begin_frame().unwrap();
             view.draw(term, frame, area, |f, pic| {
@@ -1062,7 +1114,7 @@ fn a_resize_with_a_panel_open_sends_the_new_picture_around_the_panel() {
             }
         }
         if format == Format::Kitty {
-            assert_eq!(screen.image.as_ref().map(|i| (i.0, i.1)), Some((560, 384)));
+            assert_eq!(screen.image().map(|i| (i.0, i.1)), Some((560, 384)));
         }
         let _ = pixel_view::take_cleanup();
     }
@@ -1129,4 +1181,436 @@ fn under_a_panel_iterm_sends_the_panels_cells_when_it_closes() {
     for (x, y, p) in img.enumerate_pixels() {
         assert_eq!(p.0, last.get(36 * cw + x as usize, y as usize), "{x},{y}");
     }
+}
+
+/// A picture of many colours, smooth like a rendered one (gradients and
+/// a wave), `seed` moving the wave: its exact image is far larger than its
+/// scaled-down one.
+fn busy_frame(w: usize, h: usize, seed: usize) -> Framebuffer {
+    let mut fb = Framebuffer::new(w, h);
+    for y in 0..h {
+        for x in 0..w {
+            let wave = ((x + seed * 13) as f32 / 9.0).sin() * ((y as f32) / 7.0).cos();
+            fb.set(
+                x,
+                y,
+                [
+                    (x * 255 / w) as u8,
+                    (y * 255 / h) as u8,
+                    (128.0 + 100.0 * wave) as u8,
+                ],
+            );
+        }
+    }
+    fb
+}
+
+/// One frame for [`draw_pixels`].
+#[derive(Clone, Copy, Default)]
+struct Draw<'a> {
+    preview: Option<&'a Framebuffer>,
+    /// The link's bytes a second (none: unknown).
+    throughput: Option<f64>,
+    /// Cells of the picture cleared as a panel would be.
+    panel: Option<Rect>,
+    /// The same picture as the last frame's.
+    same: bool,
+    dither: bool,
+}
+
+/// The picture area of [`draw_pixels`]: 60 × 12 cells of a 60 × 14 screen.
+const AREA: Rect = Rect::new(0, 0, 60, 12);
+
+/// Draws `fb` into `view` as the loop does (inside one synchronized
+/// frame) and returns the bytes written.
+fn draw_pixels(
+    view: &mut PixelView,
+    term: &mut Terminal<SgrBackend<Vec<u8>>>,
+    output: &Output,
+    fb: &Framebuffer,
+    d: Draw,
+) -> Vec<u8> {
+    let look = pixel_view::TextLook {
+        symbols: relief::term::Symbols::Half,
+        depth: ColorDepth::Truecolor,
+        dither: d.dither,
+        pad: [0, 0, 0],
+    };
+    let frame = pixel_view::PixelFrame {
+        output,
+        fb,
+        preview: d.preview,
+        new_picture: !d.same,
+        look,
+        throughput: d.throughput,
+    };
+    term.backend_mut().begin_frame().unwrap();
+    view.draw(term, frame, AREA, |f, pic| {
+        f.render_widget(
+            relief::term::SymbolCells {
+                fb: pic,
+                symbols: look.symbols,
+                depth: look.depth,
+                dither: look.dither,
+                pad: look.pad,
+            },
+            AREA,
+        );
+        if let Some(panel) = d.panel {
+            f.render_widget(ratatui::widgets::Clear, panel);
+        }
+    })
+    .unwrap();
+    term.backend_mut().end_frame().unwrap();
+    std::mem::take(term.backend_mut().writer_mut())
+}
+
+/// The images (kitty `a=T`, sixel) in `bytes`, each with the cell row the
+/// cursor move before it names (0-based) and its sequence.
+fn placed_images(bytes: &[u8]) -> Vec<(usize, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while let Some(at) = find(&bytes[i..], b"\x1b[") {
+        let start = i + at + 2;
+        let digits = bytes[start..]
+            .iter()
+            .take_while(|b| b.is_ascii_digit() || **b == b';')
+            .count();
+        let end = start + digits;
+        i = end;
+        if bytes.get(end) != Some(&b'H') {
+            continue;
+        }
+        let rest = &bytes[end + 1..];
+        if !(rest.starts_with(b"\x1b_Ga=T") || rest.starts_with(b"\x1bP0;1;0q")) {
+            continue;
+        }
+        let row: usize = std::str::from_utf8(&bytes[start..end])
+            .unwrap()
+            .split(';')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        // The image runs to the next cursor move or the end of the write
+        // (a kitty image's chunks hold no `ESC [`; a sixel's neither).
+        let len = find(&rest[1..], b"\x1b[").map_or(rest.len(), |n| n + 1);
+        out.push((row - 1, rest[..len].to_vec()));
+    }
+    out
+}
+
+/// The cell row of the first cursor move in `bytes` (0-based).
+fn first_row(bytes: &[u8]) -> usize {
+    let at = find(bytes, b"\x1b[").unwrap() + 2;
+    let digits = bytes[at..]
+        .iter()
+        .take_while(|b| b.is_ascii_digit())
+        .count();
+    std::str::from_utf8(&bytes[at..at + digits])
+        .unwrap()
+        .parse::<usize>()
+        .unwrap()
+        - 1
+}
+
+/// What the replayed screen shows at picture pixel (x, y): kitty's top
+/// placement, or the sixel pixels.
+fn shown_pixel(screen: &Replay, format: Format, x: usize, y: usize) -> Option<[u8; 3]> {
+    match format {
+        Format::Kitty => screen.kitty_pixel(x, y),
+        _ => screen.canvas[y * screen.cols * screen.cell.0 + x],
+    }
+}
+
+/// Over a link too slow for the exact frame, the first write after input
+/// stops is the exact frame scaled down to what the link carries in
+/// `LINK_SECONDS`, over the whole picture; then one strip per write, top
+/// to bottom, which replayed over it on a terminal model give the exact
+/// frame pixel for pixel (kitty: images of their own above relief's;
+/// sixel: the frame in its palette; iTerm2: each strip decodes to its
+/// rows of the frame); a new picture drops the strips not sent (and
+/// deletes kitty's that were). A link fast enough gets the exact image at
+/// once.
+#[test]
+fn the_exact_frame_follows_a_link_sized_picture_in_strips_that_compose_to_it() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
+    let _ = pixel_view::take_cleanup();
+    // 60 × 12 cells of 8 × 16 pixels.
+    let (w, h, cell_h) = (480, 192, 16);
+    let fb = busy_frame(w, h, 0);
+    // 40 kB/s: the link-sized picture may take 10 kB, a strip about 2.7 kB.
+    let rate = 40_000.0;
+    let budget = rate * pixel_view::LINK_SECONDS;
+    let slow = Draw {
+        throughput: Some(rate),
+        ..Draw::default()
+    };
+    for format in [Format::Kitty, Format::Sixels, Format::Iterm] {
+        let out = output(format);
+        let mut term = Terminal::new(SgrBackend::with_size(Vec::new(), 60, 14)).unwrap();
+        let mut view = PixelView::new();
+        let mut screen = Replay::new(60, 14, (8, cell_h));
+        let first = draw_pixels(&mut view, &mut term, &out, &fb, slow);
+        screen.feed(&first);
+        let image_len = match format {
+            Format::Iterm => iterm_images(&first).len(),
+            _ => placed_images(&first).len(),
+        };
+        assert_eq!(image_len, 1, "{format:?}: one picture first");
+        let start = find(&first, b"\x1b[1;1H").unwrap();
+        let image = &first[start..];
+        assert!(
+            image.len() as f64 <= budget,
+            "{format:?}: the first picture takes {} bytes, more than {budget}",
+            image.len()
+        );
+        match format {
+            Format::Kitty => {
+                let (keys, raw) = &kitty_images(image)[0];
+                // Scaled over the picture's 60 × 12 cells, from fewer pixels.
+                assert_eq!((key_value(keys, "c"), key_value(keys, "r")), (60, 12));
+                let (sw, sh) = (key_value(keys, "s"), key_value(keys, "v"));
+                assert!(sw < w && sh < h, "{sw}×{sh}");
+                let mut small = Framebuffer::new(sw, sh);
+                pixel_view::downscale(&fb, &mut small);
+                assert!(raw == &small.pixels().concat(), "the frame scaled down");
+            }
+            Format::Sixels => {
+                let (sw, sh, _) = decode_sixel(image);
+                assert_eq!((sw, sh), (w, h), "sixel fills the cells at full size");
+            }
+            _ => {
+                let (cell, cells, img) = &iterm_images(image)[0];
+                assert_eq!((*cell, *cells), ((0, 0), (60, 12)));
+                assert!(img.width() < w as u32, "iTerm2 scales a smaller picture");
+            }
+        }
+        // Then one strip per write, top to bottom.
+        let mut rows = Vec::new();
+        let mut iterm_rows = 0;
+        while let Some(strip) = view.next_strip().unwrap() {
+            rows.push(first_row(&strip));
+            screen.feed(&strip);
+            if format == Format::Iterm {
+                let images = iterm_images(&strip);
+                assert_eq!(images.len(), 1, "one image a strip");
+                let ((x0, y0), (c, r), img) = &images[0];
+                assert_eq!((*x0, *y0, *c), (0, iterm_rows, 60));
+                assert_eq!(img.dimensions(), (w as u32, (r * cell_h) as u32));
+                for (x, y, p) in img.enumerate_pixels() {
+                    let (x, y) = (x as usize, y as usize + y0 * cell_h);
+                    assert_eq!(p.0, fb.get(x, y), "{x},{y}");
+                }
+                iterm_rows += r;
+            }
+        }
+        assert!(rows.len() > 1, "{format:?}: {rows:?}");
+        assert_eq!(rows[0], 0);
+        assert!(rows.windows(2).all(|p| p[0] < p[1]), "{format:?}: {rows:?}");
+        assert!(!view.pending());
+        match format {
+            Format::Iterm => assert_eq!(iterm_rows, 12, "the strips cover the rows"),
+            _ => {
+                // The exact picture, composed: what sixel shows of it (its
+                // palette), kitty's exactly.
+                let want = match format {
+                    Format::Sixels => sixel::shown_frame(&fb, sixel::Palette::CHOSEN, false),
+                    _ => fb.clone(),
+                };
+                for y in 0..h {
+                    for x in 0..w {
+                        let got = shown_pixel(&screen, format, x, y);
+                        assert_eq!(got, Some(want.get(x, y)), "{format:?}: {x},{y}");
+                    }
+                }
+            }
+        }
+        if format == Format::Kitty {
+            let cleanup = pixel_view::take_cleanup();
+            assert!(cleanup.starts_with(kitty::DELETE));
+            assert_eq!(
+                count(&cleanup, b"a=d"),
+                1 + rows.len(),
+                "the strips deleted on exit"
+            );
+        }
+
+        // Preempted: two strips, then a new picture (a preview of a new
+        // orientation) drops the rest.
+        let mut view = PixelView::new();
+        draw_pixels(&mut view, &mut term, &out, &fb, slow);
+        view.next_strip().unwrap().unwrap();
+        view.next_strip().unwrap().unwrap();
+        assert!(view.pending());
+        let next = busy_frame(w, h, 1);
+        let coarse = busy_frame(w / 4, h / 4, 1);
+        let preview = Draw {
+            preview: Some(&coarse),
+            ..slow
+        };
+        let bytes = draw_pixels(&mut view, &mut term, &out, &next, preview);
+        assert!(!view.pending(), "{format:?}: the unsent strips dropped");
+        assert_eq!(view.next_strip().unwrap(), None);
+        if format == Format::Kitty {
+            let gone: Vec<usize> = (0..3)
+                .map(|k| count(&bytes, &kitty::delete(kitty::strip_id(k))))
+                .collect();
+            assert_eq!(gone, [1, 1, 0], "the strips sent are deleted");
+            let images = kitty_images(&bytes);
+            assert_eq!(images.len(), 1, "the new picture alone");
+            assert_eq!(key_value(&images[0].0, "s"), w / 4, "the preview");
+        }
+        let _ = pixel_view::take_cleanup();
+
+        // A link that carries the exact frame in time: it goes whole.
+        let mut view = PixelView::new();
+        let fast = Draw {
+            throughput: Some(1e9),
+            ..Draw::default()
+        };
+        let bytes = draw_pixels(&mut view, &mut term, &out, &fb, fast);
+        assert!(!view.pending());
+        match format {
+            Format::Kitty => assert_eq!(key_value(&kitty_images(&bytes)[0].0, "s"), w),
+            Format::Sixels => assert_eq!(placed_images(&bytes).len(), 1),
+            _ => assert_eq!(iterm_images(&bytes)[0].2.width(), w as u32),
+        }
+        let _ = pixel_view::take_cleanup();
+    }
+}
+
+/// A panel opens while the exact frame comes in strips: the link-sized
+/// picture and the strips go around it (kitty: placements that never
+/// cover its cells; sixel: its cells stay text); when it closes the
+/// picture comes back over its cells, and once the last strip is in, the
+/// screen is the exact frame everywhere.
+#[test]
+fn strips_go_around_a_panel_and_the_exact_frame_completes_when_it_closes() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
+    let _ = pixel_view::take_cleanup();
+    let (w, h) = (480, 192);
+    let fb = busy_frame(w, h, 2);
+    let panel = Rect::new(20, 2, 30, 6);
+    for format in [Format::Kitty, Format::Sixels] {
+        let out = output(format);
+        let mut term = Terminal::new(SgrBackend::with_size(Vec::new(), 60, 14)).unwrap();
+        let mut view = PixelView::new();
+        let mut screen = Replay::new(60, 14, (8, 16));
+        let open = Draw {
+            throughput: Some(40_000.0),
+            panel: Some(panel),
+            ..Draw::default()
+        };
+        screen.feed(&draw_pixels(&mut view, &mut term, &out, &fb, open));
+        // Strips while the panel is open: through its rows too.
+        for _ in 0..6 {
+            screen.feed(&view.next_strip().unwrap().unwrap());
+        }
+        assert!(view.pending(), "{format:?}: strips still to come");
+        for y in 0..12u16 {
+            for x in 0..60u16 {
+                let i = usize::from(y) * 60 + usize::from(x);
+                let under = panel.contains((x, y).into());
+                match format {
+                    Format::Kitty => {
+                        let px = (usize::from(x) * 8 + 4, usize::from(y) * 16 + 8);
+                        let shown = screen.kitty_pixel(px.0, px.1);
+                        assert_eq!(shown.is_none(), under, "{format:?}: {x},{y}");
+                    }
+                    _ => assert_eq!(screen.text[i], under, "{format:?}: {x},{y}"),
+                }
+            }
+        }
+        // The panel closes (the same picture), then the rest of the strips.
+        let closed = Draw {
+            panel: None,
+            same: true,
+            ..open
+        };
+        screen.feed(&draw_pixels(&mut view, &mut term, &out, &fb, closed));
+        while let Some(strip) = view.next_strip().unwrap() {
+            screen.feed(&strip);
+        }
+        let want = match format {
+            Format::Sixels => sixel::shown_frame(&fb, sixel::Palette::CHOSEN, false),
+            _ => fb.clone(),
+        };
+        for y in 0..h {
+            for x in 0..w {
+                let got = shown_pixel(&screen, format, x, y);
+                assert_eq!(got, Some(want.get(x, y)), "{format:?}: {x},{y}");
+            }
+        }
+        let _ = pixel_view::take_cleanup();
+    }
+}
+
+/// The sixel rectangle sent when a panel closes is cut from the frame as
+/// the whole image mapped it: the same palette entries and the dither
+/// pattern in the same phase, so the screen is then exactly the whole
+/// image's picture (no seam at the rectangle's edges), and the rectangle
+/// defines only palette entries the whole image defined alike.
+#[test]
+fn a_sixel_rectangle_after_a_panel_has_the_frames_palette_and_dither() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
+    let (w, h) = (480, 192);
+    let fb = busy_frame(w, h, 3);
+    // Odd cells: the rectangle's corner is not on the dither's 4×4 grid.
+    let panel = Rect::new(13, 3, 21, 5);
+    let out = output(Format::Sixels);
+    let mut term = Terminal::new(SgrBackend::with_size(Vec::new(), 60, 14)).unwrap();
+    let mut view = PixelView::new();
+    let mut screen = Replay::new(60, 14, (8, 16));
+    let whole = Draw {
+        dither: true,
+        ..Draw::default()
+    };
+    let first = draw_pixels(&mut view, &mut term, &out, &fb, whole);
+    screen.feed(&first);
+    let opened = Draw {
+        panel: Some(panel),
+        same: true,
+        ..whole
+    };
+    screen.feed(&draw_pixels(&mut view, &mut term, &out, &fb, opened));
+    let closed = draw_pixels(
+        &mut view,
+        &mut term,
+        &out,
+        &fb,
+        Draw {
+            same: true,
+            ..whole
+        },
+    );
+    screen.feed(&closed);
+    let images = placed_images(&closed);
+    assert_eq!(images.len(), 1, "the panel's rectangle alone");
+    let (row, part) = &images[0];
+    assert_eq!(*row, 3);
+    let (pw, ph, _) = decode_sixel(part);
+    assert_eq!((pw, ph), (21 * 8, 5 * 16));
+    let want = sixel::shown_frame(&fb, sixel::Palette::CHOSEN, true);
+    for y in 0..h {
+        for x in 0..w {
+            assert_eq!(screen.canvas[y * w + x], Some(want.get(x, y)), "{x},{y}");
+        }
+    }
+    // Its palette entries, each as the whole image defined it.
+    let entries = |seq: &[u8]| -> Vec<String> {
+        let text = String::from_utf8_lossy(seq);
+        text.split('#')
+            .filter(|e| e.contains(";2;"))
+            .map(|e| {
+                e.chars()
+                    .take_while(|c| c.is_ascii_digit() || *c == ';')
+                    .collect()
+            })
+            .collect()
+    };
+    let all = entries(&placed_images(&first)[0].1);
+    let used = entries(part);
+    assert!(!used.is_empty() && used.len() < all.len(), "{}", used.len());
+    assert!(used.iter().all(|e| all.contains(e)));
 }
