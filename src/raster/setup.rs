@@ -138,11 +138,32 @@ impl Projected {
             return None;
         }
         Some(Projected {
-            x: (sx * ONE as f64).round() as i64,
-            y: (sy * ONE as f64).round() as i64,
+            x: round(sx * ONE as f64),
+            y: round(sy * ONE as f64),
             q: inv_w as f32,
             z: (p.z as f64 * inv_w) as f32,
         })
+    }
+}
+
+/// `x.round() as i64` for a finite `x` (halves away from zero), without
+/// the library call `round` is on targets without SSE4.1: once per vertex
+/// of every mesh, every frame.
+#[inline]
+fn round(x: f64) -> i64 {
+    // From 2^52 on every f64 is an integer (and the cast saturates alike).
+    if x.abs() >= 4_503_599_627_370_496.0 {
+        return x as i64;
+    }
+    let whole = x as i64; // towards zero
+    // Exact: below 2^52 the fraction of x is representable.
+    let fraction = x - whole as f64;
+    if fraction >= 0.5 {
+        whole + 1
+    } else if fraction <= -0.5 {
+        whole - 1
+    } else {
+        whole
     }
 }
 
@@ -208,4 +229,41 @@ pub fn setup_projected(
         area,
         bias,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::round;
+
+    #[test]
+    fn round_matches_the_library_round() {
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.5,
+            -1.5,
+            2.5,
+            -2.5,
+            0.49999999999999994,
+            -0.49999999999999994,
+            4503599627370495.5,
+            -4503599627370495.5,
+            4503599627370496.0,
+            1e19,
+            -1e19,
+            1e300,
+        ];
+        // Halves, and the floats either side of them, over a wide range.
+        for k in -5000..5000 {
+            let half = k as f64 + 0.5;
+            values.extend([half, half.next_up(), half.next_down()]);
+            values.push(k as f64 * 256.0 + 0.5);
+            values.push((k as f64 * 0.37).exp2().copysign(k as f64));
+        }
+        for x in values {
+            assert_eq!(round(x), x.round() as i64, "{x:e}");
+        }
+    }
 }
