@@ -9,6 +9,8 @@ use super::clip::ClipVertex;
 pub const SUBPIXEL_BITS: u32 = 8;
 pub const ONE: i64 = 1 << SUBPIXEL_BITS;
 const HALF: i64 = ONE / 2;
+/// Bounds of at most this many pixels are tested centre by centre at setup.
+const SMALL_BOUNDS: i64 = 4;
 
 /// A triangle ready to rasterize, in screen space (y down).
 #[derive(Clone, Debug, PartialEq)]
@@ -213,6 +215,22 @@ pub fn setup_projected(
             *b = -1;
         }
     }
+    // A small triangle (most of a big mesh seen small) whose bounds hold a
+    // few pixel centres and that covers none of them draws nothing: it is
+    // refused here, before its shader is built and its rows are estimated.
+    if reach == 0 && (x1 - x0 + 1) * (y1 - y0 + 1) <= SMALL_BOUNDS {
+        let covers = |px: i64, py: i64| {
+            let (cx, cy) = (px * ONE + HALF, py * ONE + HALF);
+            (0..3).all(|i| {
+                let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+                let e = (y[b] - y[a]) * (cx - x[a]) - (x[b] - x[a]) * (cy - y[a]);
+                e + bias[i] >= 0
+            })
+        };
+        if !(y0..=y1).any(|py| (x0..=x1).any(|px| covers(px, py))) {
+            return None;
+        }
+    }
     let unclipped = bary == [Vec3::X, Vec3::Y, Vec3::Z];
     Some(ScreenTri {
         shader,
@@ -233,7 +251,84 @@ pub fn setup_projected(
 
 #[cfg(test)]
 mod tests {
-    use super::round;
+    use super::{ONE, Projected, round, setup_projected};
+    use glam::Vec3;
+
+    /// The pixel centres a triangle covers, by the edge functions and the
+    /// top-left rule worked here from their definitions.
+    fn centres_covered(x: [i64; 3], y: [i64; 3], width: i64, height: i64) -> usize {
+        // Twice the signed area, positive for the order the edge functions
+        // below take as inside.
+        let area = (y[1] - y[0]) * (x[2] - x[0]) - (x[1] - x[0]) * (y[2] - y[0]);
+        let order = if area > 0 { [0, 1, 2] } else { [0, 2, 1] };
+        let (x, y) = (order.map(|i| x[i]), order.map(|i| y[i]));
+        let mut count = 0;
+        for py in 0..height {
+            for px in 0..width {
+                let (cx, cy) = (px * ONE + ONE / 2, py * ONE + ONE / 2);
+                let inside = (0..3).all(|i| {
+                    let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+                    let e = (y[b] - y[a]) * (cx - x[a]) - (x[b] - x[a]) * (cy - y[a]);
+                    // On the edge: drawn only for a top edge (flat, going
+                    // left) or a left edge (going down).
+                    let top_left = (y[a] == y[b] && x[b] < x[a]) || y[b] > y[a];
+                    e > 0 || (e == 0 && top_left)
+                });
+                count += usize::from(inside);
+            }
+        }
+        count
+    }
+
+    #[test]
+    fn a_small_triangle_is_set_up_only_when_it_covers_a_pixel_centre() {
+        let mut seed = 0x9e37_79b9_u64;
+        let mut next = |range: i64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % range as u64) as i64
+        };
+        let (width, height) = (6, 5);
+        let (mut kept, mut refused, mut covering) = (0, 0, 0);
+        for k in 0..40_000 {
+            // Corners within about two pixels of each other, some on
+            // pixel centres and edges exactly (multiples of 128).
+            let (ox, oy) = (next(4 * ONE), next(3 * ONE));
+            let snap = |v: i64| if k % 3 == 0 { v / 128 * 128 } else { v };
+            let x = [0, 1, 2].map(|_| snap(ox + next(2 * ONE)));
+            let y = [0, 1, 2].map(|_| snap(oy + next(2 * ONE)));
+            let p = [0, 1, 2].map(|i| Projected {
+                x: x[i],
+                y: y[i],
+                q: 1.0,
+                z: 0.5,
+            });
+            let area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+            if area == 0 {
+                continue;
+            }
+            let tri = setup_projected(p, Vec3::AXES, width as usize, height as usize, 0, 0);
+            let covered = centres_covered(x, y, width, height);
+            covering += usize::from(covered > 0);
+            match tri {
+                None => {
+                    assert_eq!(covered, 0, "{x:?} {y:?} refused");
+                    refused += 1;
+                }
+                Some(t) => {
+                    let pixels = (t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1);
+                    assert!(pixels > 4 || covered > 0, "{x:?} {y:?} kept");
+                    kept += 1;
+                }
+            }
+        }
+        // Both cases occur often.
+        assert!(
+            kept > 1000 && refused > 1000 && covering > 1000,
+            "{kept} {refused} {covering}"
+        );
+    }
 
     #[test]
     fn round_matches_the_library_round() {
