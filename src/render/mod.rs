@@ -398,7 +398,7 @@ impl Renderer {
             };
             let count = bands.len();
             let (total, drawn) = draw_bands(
-                &mut bands, parallel, tris, shaders, &ctx, background, abandon,
+                &mut bands, &bounds, parallel, tris, shaders, &ctx, background, abandon,
             );
             drop(bands);
             resolve_msaa(&self.msaa_color, fb.pixels_mut());
@@ -429,7 +429,7 @@ impl Renderer {
                 .collect();
             let count = bands.len();
             let (total, drawn) = draw_bands(
-                &mut bands, parallel, tris, shaders, &ctx, background, abandon,
+                &mut bands, &bounds, parallel, tris, shaders, &ctx, background, abandon,
             );
             return (total, (drawn, count));
         }
@@ -457,7 +457,7 @@ impl Renderer {
         };
         let count = bands.len();
         let (total, drawn) = draw_bands(
-            &mut bands, parallel, tris, shaders, &ctx, background, abandon,
+            &mut bands, &bounds, parallel, tris, shaders, &ctx, background, abandon,
         );
         (total, (drawn, count))
     }
