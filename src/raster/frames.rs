@@ -116,7 +116,7 @@ pub fn vertex_frames(scene: &Scene, world: &World, plan: &Plan) -> Vec<VertexFra
             }
             let side = f32::from(placed.sides[t]);
             for i in tri.indices.map(|i| i as usize) {
-                let v = placed.vertex(i);
+                let v = placed.vertex(&object.mesh, i);
                 let (n, pu, pv) = if facets {
                     let facet = object.mesh.facet(t);
                     (

@@ -9,6 +9,8 @@ use super::clip::ClipVertex;
 pub const SUBPIXEL_BITS: u32 = 8;
 pub const ONE: i64 = 1 << SUBPIXEL_BITS;
 const HALF: i64 = ONE / 2;
+/// Bounds of at most this many pixels are tested centre by centre at setup.
+const SMALL_BOUNDS: i64 = 4;
 
 /// A triangle ready to rasterize, in screen space (y down).
 #[derive(Clone, Debug, PartialEq)]
@@ -138,12 +140,29 @@ impl Projected {
             return None;
         }
         Some(Projected {
-            x: (sx * ONE as f64).round() as i64,
-            y: (sy * ONE as f64).round() as i64,
+            x: round(sx * ONE as f64),
+            y: round(sy * ONE as f64),
             q: inv_w as f32,
             z: (p.z as f64 * inv_w) as f32,
         })
     }
+}
+
+/// `x.round() as i64` for a finite `x` (halves away from zero), without
+/// the library call `round` is on targets without SSE4.1: once per vertex
+/// of every mesh, every frame.
+#[inline]
+fn round(x: f64) -> i64 {
+    // From 2^52 on every f64 is an integer (and the cast saturates alike).
+    if x.abs() >= 4_503_599_627_370_496.0 {
+        return x as i64;
+    }
+    let whole = x as i64; // towards zero
+    // Exact: below 2^52 the fraction of x is representable.
+    let fraction = x - whole as f64;
+    // Without branches: the fraction of a screen position is as good as
+    // random, and a mispredicted branch costs more than the library call.
+    whole + i64::from(fraction >= 0.5) - i64::from(fraction <= -0.5)
 }
 
 /// [`setup_reaching`] from vertices already projected, with their
@@ -192,6 +211,22 @@ pub fn setup_projected(
             *b = -1;
         }
     }
+    // A small triangle (most of a big mesh seen small) whose bounds hold a
+    // few pixel centres and that covers none of them draws nothing: it is
+    // refused here, before its shader is built and its rows are estimated.
+    if reach == 0 && (x1 - x0 + 1) * (y1 - y0 + 1) <= SMALL_BOUNDS {
+        let covers = |px: i64, py: i64| {
+            let (cx, cy) = (px * ONE + HALF, py * ONE + HALF);
+            (0..3).all(|i| {
+                let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+                let e = (y[b] - y[a]) * (cx - x[a]) - (x[b] - x[a]) * (cy - y[a]);
+                e + bias[i] >= 0
+            })
+        };
+        if !(y0..=y1).any(|py| (x0..=x1).any(|px| covers(px, py))) {
+            return None;
+        }
+    }
     let unclipped = bary == [Vec3::X, Vec3::Y, Vec3::Z];
     Some(ScreenTri {
         shader,
@@ -208,4 +243,118 @@ pub fn setup_projected(
         area,
         bias,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{ONE, Projected, round, setup_projected};
+    use glam::Vec3;
+
+    /// The pixel centres a triangle covers, by the edge functions and the
+    /// top-left rule worked here from their definitions.
+    fn centres_covered(x: [i64; 3], y: [i64; 3], width: i64, height: i64) -> usize {
+        // Twice the signed area, positive for the order the edge functions
+        // below take as inside.
+        let area = (y[1] - y[0]) * (x[2] - x[0]) - (x[1] - x[0]) * (y[2] - y[0]);
+        let order = if area > 0 { [0, 1, 2] } else { [0, 2, 1] };
+        let (x, y) = (order.map(|i| x[i]), order.map(|i| y[i]));
+        let mut count = 0;
+        for py in 0..height {
+            for px in 0..width {
+                let (cx, cy) = (px * ONE + ONE / 2, py * ONE + ONE / 2);
+                let inside = (0..3).all(|i| {
+                    let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+                    let e = (y[b] - y[a]) * (cx - x[a]) - (x[b] - x[a]) * (cy - y[a]);
+                    // On the edge: drawn only for a top edge (flat, going
+                    // left) or a left edge (going down).
+                    let top_left = (y[a] == y[b] && x[b] < x[a]) || y[b] > y[a];
+                    e > 0 || (e == 0 && top_left)
+                });
+                count += usize::from(inside);
+            }
+        }
+        count
+    }
+
+    #[test]
+    fn a_small_triangle_is_set_up_only_when_it_covers_a_pixel_centre() {
+        let mut seed = 0x9e37_79b9_u64;
+        let mut next = |range: i64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed % range as u64) as i64
+        };
+        let (width, height) = (6, 5);
+        let (mut kept, mut refused, mut covering) = (0, 0, 0);
+        for k in 0..40_000 {
+            // Corners within about two pixels of each other, some on
+            // pixel centres and edges exactly (multiples of 128).
+            let (ox, oy) = (next(4 * ONE), next(3 * ONE));
+            let snap = |v: i64| if k % 3 == 0 { v / 128 * 128 } else { v };
+            let x = [0, 1, 2].map(|_| snap(ox + next(2 * ONE)));
+            let y = [0, 1, 2].map(|_| snap(oy + next(2 * ONE)));
+            let p = [0, 1, 2].map(|i| Projected {
+                x: x[i],
+                y: y[i],
+                q: 1.0,
+                z: 0.5,
+            });
+            let area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+            if area == 0 {
+                continue;
+            }
+            let tri = setup_projected(p, Vec3::AXES, width as usize, height as usize, 0, 0);
+            let covered = centres_covered(x, y, width, height);
+            covering += usize::from(covered > 0);
+            match tri {
+                None => {
+                    assert_eq!(covered, 0, "{x:?} {y:?} refused");
+                    refused += 1;
+                }
+                Some(t) => {
+                    let pixels = (t.x1 - t.x0 + 1) * (t.y1 - t.y0 + 1);
+                    assert!(pixels > 4 || covered > 0, "{x:?} {y:?} kept");
+                    kept += 1;
+                }
+            }
+        }
+        // Both cases occur often.
+        assert!(
+            kept > 1000 && refused > 1000 && covering > 1000,
+            "{kept} {refused} {covering}"
+        );
+    }
+
+    #[test]
+    fn round_matches_the_library_round() {
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.5,
+            -1.5,
+            2.5,
+            -2.5,
+            0.49999999999999994,
+            -0.49999999999999994,
+            4503599627370495.5,
+            -4503599627370495.5,
+            4503599627370496.0,
+            1e19,
+            -1e19,
+            1e300,
+        ];
+        // Halves, and the floats either side of them, over a wide range.
+        for k in -5000..5000 {
+            let half = k as f64 + 0.5;
+            values.extend([half, half.next_up(), half.next_down()]);
+            values.push(k as f64 * 256.0 + 0.5);
+            values.push((k as f64 * 0.37).exp2().copysign(k as f64));
+        }
+        for x in values {
+            assert_eq!(round(x), x.round() as i64, "{x:e}");
+        }
+    }
 }

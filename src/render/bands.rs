@@ -140,11 +140,15 @@ pub(super) enum MaterialCtxs<'a> {
 }
 
 /// Clears each band and draws every triangle into it, in parallel or not
-/// (the same result either way: bands never share a pixel). Stops when
-/// `abandon` says so (a band then stays as it was); returns the counters
-/// and how many bands were drawn whole.
+/// (the same result either way: bands never share a pixel). Band `i` holds
+/// rows `bounds[i]..bounds[i + 1]`; a triangle whose rows miss a band is
+/// passed over before its shader is looked at. Stops when `abandon` says
+/// so (a band then stays as it was); returns the counters and how many
+/// bands were drawn whole.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn draw_bands<T: RasterTarget + Send>(
     bands: &mut [T],
+    bounds: &[usize],
     parallel: bool,
     tris: &[ScreenTri],
     shaders: &[TriShader],
@@ -152,23 +156,30 @@ pub(super) fn draw_bands<T: RasterTarget + Send>(
     background: Rgb,
     abandon: &Abandon,
 ) -> (Counters, usize) {
-    let draw = |band: &mut T| -> (Counters, bool) {
+    let draw = |(i, band): (usize, &mut T)| -> (Counters, bool) {
         let mut counters = Counters::default();
         if abandon.now() {
             return (counters, false);
         }
         band.clear(background);
+        let (y0, y1) = (bounds[i] as i32, bounds[i + 1] as i32);
+        let misses = |tri: &ScreenTri| tri.y1 < y0 || tri.y0 >= y1;
         if band.depth_first() {
             for (n, tri) in tris.iter().enumerate() {
                 if n % CHECK_EVERY == CHECK_EVERY - 1 && abandon.now() {
                     return (counters, false);
                 }
-                band.prepass(tri, &mut counters);
+                if !misses(tri) {
+                    band.prepass(tri, &mut counters);
+                }
             }
         }
         for (n, tri) in tris.iter().enumerate() {
             if n % CHECK_EVERY == CHECK_EVERY - 1 && abandon.now() {
                 return (counters, false);
+            }
+            if misses(tri) {
+                continue;
             }
             let s = tri.shader as usize;
             let ctx = match ctxs {
@@ -181,9 +192,14 @@ pub(super) fn draw_bands<T: RasterTarget + Send>(
     };
     let per_band: Vec<(Counters, bool)> = if parallel {
         // One band per task, so an idle thread can take any band left.
-        bands.par_iter_mut().with_max_len(1).map(draw).collect()
+        bands
+            .par_iter_mut()
+            .enumerate()
+            .with_max_len(1)
+            .map(draw)
+            .collect()
     } else {
-        bands.iter_mut().map(draw).collect()
+        bands.iter_mut().enumerate().map(draw).collect()
     };
     let mut total = Counters::default();
     let mut drawn = 0;

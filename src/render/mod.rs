@@ -7,6 +7,7 @@ mod dispatch;
 mod repeat_cache;
 mod shaders;
 mod strokes;
+mod triangles;
 
 use abandon::Abandon;
 pub use abandon::CancelHook;
@@ -16,28 +17,27 @@ use bands::{
 };
 pub use dispatch::{draw_into, draw_triangle};
 use repeat_cache::RepeatCache;
-use shaders::{build_shader, wire_triangle};
+use triangles::{ObjectView, TriChunk, run_chunks};
 
 use std::sync::Arc;
 use std::time::Instant;
 
-use glam::{Vec3, Vec4};
+use glam::Vec4;
 
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::plan::Plan;
 use crate::raster::aa::{
     MSAA_REACH, MSAA_SAMPLES, MsaaBand, resolve_box, resolve_msaa, ssaa_factor,
 };
-use crate::raster::clip::{clip_by_codes, outcode};
+use crate::raster::clip::outcode;
 use crate::raster::frames::{DepthView, draw_tangent_frames};
 use crate::raster::scan::OwnedBand;
-use crate::raster::setup::{Projected, setup_projected};
+use crate::raster::setup::Projected;
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
-use crate::raster::{Band, ClipVertex, Clipped, ScreenTri, clip_triangle, setup_reaching};
+use crate::raster::{Band, ScreenTri};
 use crate::scene::Scene;
-use crate::scene::repeats::RepeatSkipper;
 use crate::scene::terms::MaterialTerms;
-use crate::scene::world::{World, fill};
+use crate::scene::world::{World, fill, fill_pair};
 use crate::settings::{AntiAlias, Display, Settings};
 use crate::shade::{ShadeCtx, TriShader};
 use crate::shadow::{Shadow, ShadowMap};
@@ -62,7 +62,8 @@ pub struct Renderer {
     /// Per pixel, the triangle a depth pre-pass found nearest (when the
     /// frame draws depth first).
     owner: Vec<u32>,
-    polygon: Vec<ClipVertex>,
+    /// The triangle stage's buffers, one per chunk of triangles.
+    chunks: Vec<TriChunk>,
     /// Visible triangles of the points and lines displays.
     wire: Vec<WireTri>,
     /// The supersampled frame, kept between frames.
@@ -258,101 +259,49 @@ impl Renderer {
                 view_proj * placed.positions[i].extend(1.0)
             });
             let clip = &self.clip;
-            fill(&mut self.codes, clip.len(), |i| outcode(clip[i]));
-            let codes = &self.codes;
-            fill(&mut self.projected, clip.len(), |i| {
-                (codes[i] == 0)
+            fill_pair(&mut self.codes, &mut self.projected, clip.len(), |i| {
+                let code = outcode(clip[i]);
+                let projected = (code == 0)
                     .then(|| Projected::of(clip[i], width, height))
-                    .flatten()
+                    .flatten();
+                (code, projected)
             });
             // Behind a depth buffer a repeated triangle changes nothing.
             let skips_repeats = plan.display == Display::Fill && plan.depth;
-            let mut repeats = RepeatSkipper::new(if skips_repeats {
-                self.repeats.of(object_index)
-            } else {
-                &[]
-            });
-            let triangles = &object.mesh.triangles;
-            for (tri_index, tri) in triangles.iter().enumerate() {
-                if repeats.skip(tri_index, triangles) {
-                    continue;
-                }
-                // An open surface seen from behind is lit on the side we see.
-                let side = match placed.sides[tri_index] {
-                    0 => continue,
-                    s => f32::from(s),
-                };
-                let idx = tri.indices.map(|i| i as usize);
-                if plan.display != Display::Fill {
-                    let face_normal = placed.facet_normal(tri_index);
-                    counters.light_evals += 3 * plan.lights.len() as u64;
-                    self.wire.push(wire_triangle(
-                        plan,
-                        idx.map(|i| placed.vertex(i)),
-                        idx.map(|i| self.clip[i]),
-                        face_normal * side,
-                        side,
-                    ));
-                    continue;
-                }
-                let shader_index = self.shaders.len() as u32;
-                let first_tri = self.tris.len();
-                let clip = idx.map(|i| self.clip[i]);
-                let clipped = clip_by_codes(idx.map(|i| self.codes[i]))
-                    .unwrap_or_else(|| clip_triangle(clip, &mut self.polygon));
-                match clipped {
-                    Clipped::Outside => {}
-                    Clipped::Inside => {
-                        // Projected once per vertex; a sub-pixel triangle
-                        // stops at its bounds.
-                        let [a, b, c] = idx.map(|i| self.projected[i]);
-                        if let (Some(a), Some(b), Some(c)) = (a, b, c) {
-                            self.tris.extend(setup_projected(
-                                [a, b, c],
-                                Vec3::AXES,
-                                width,
-                                height,
-                                shader_index,
-                                reach,
-                            ));
-                        }
-                    }
-                    Clipped::Polygon => {
-                        counters.triangles_clipped += 1;
-                        for k in 1..self.polygon.len() - 1 {
-                            let v = [self.polygon[0], self.polygon[k], self.polygon[k + 1]];
-                            self.tris
-                                .extend(setup_reaching(v, width, height, shader_index, reach));
-                        }
-                    }
-                }
-                if self.tris.len() == first_tri {
-                    continue;
-                }
-                let verts = idx.map(|i| placed.vertex(i));
-                let face_normal = placed.facet_normal(tri_index);
-                let uv2 = match object.mesh.uv2() {
-                    [] => [glam::Vec2::ZERO; 3],
-                    set => idx.map(|i| set.get(i).copied().unwrap_or_default()),
-                };
-                let shader = build_shader(
-                    plan,
-                    &verts,
-                    &object.mesh,
-                    tri_index,
-                    face_normal * side,
-                    side,
-                    &placed.model,
-                    &placed.linear,
-                    shadow,
-                    object_index as u32,
-                    uv2,
-                    &mut counters,
-                );
-                self.shaders.push(shader);
+            let view = ObjectView {
+                plan,
+                object,
+                object_index: object_index as u32,
+                placed,
+                clip,
+                codes: &self.codes,
+                projected: &self.projected,
+                repeats: if skips_repeats {
+                    self.repeats.of(object_index)
+                } else {
+                    &[]
+                },
+                shadow,
+                width,
+                height,
+                reach,
+            };
+            // Joined in triangle order, each chunk's shader indices moved
+            // past the shaders before it.
+            for chunk in run_chunks(&mut self.chunks, &view) {
+                let offset = self.shaders.len() as u32;
+                self.tris.extend(chunk.tris.drain(..).map(|mut t| {
+                    t.shader += offset;
+                    t
+                }));
                 if plans.plans.len() > 1 {
-                    self.shader_groups.push(group as u32);
+                    let count = chunk.shaders.len();
+                    self.shader_groups
+                        .extend(std::iter::repeat_n(group as u32, count));
                 }
+                self.shaders.append(&mut chunk.shaders);
+                self.wire.append(&mut chunk.wire);
+                counters += chunk.counters;
             }
         }
         counters.triangles_drawn = self.tris.len() as u64;
@@ -449,7 +398,7 @@ impl Renderer {
             };
             let count = bands.len();
             let (total, drawn) = draw_bands(
-                &mut bands, parallel, tris, shaders, &ctx, background, abandon,
+                &mut bands, &bounds, parallel, tris, shaders, &ctx, background, abandon,
             );
             drop(bands);
             resolve_msaa(&self.msaa_color, fb.pixels_mut());
@@ -480,7 +429,7 @@ impl Renderer {
                 .collect();
             let count = bands.len();
             let (total, drawn) = draw_bands(
-                &mut bands, parallel, tris, shaders, &ctx, background, abandon,
+                &mut bands, &bounds, parallel, tris, shaders, &ctx, background, abandon,
             );
             return (total, (drawn, count));
         }
@@ -508,7 +457,7 @@ impl Renderer {
         };
         let count = bands.len();
         let (total, drawn) = draw_bands(
-            &mut bands, parallel, tris, shaders, &ctx, background, abandon,
+            &mut bands, &bounds, parallel, tris, shaders, &ctx, background, abandon,
         );
         (total, (drawn, count))
     }

@@ -8,7 +8,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3};
 
 use rayon::prelude::*;
 
-use super::{Object, Scene, normal_matrix};
+use super::{Mesh, Object, Scene, normal_matrix};
 
 /// A vertex after the model transform, in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,32 +41,24 @@ pub struct Placed {
     /// an open surface) or 0 (culled: a back face of a closed mesh, edge
     /// on, not finite, or with an index past the vertices).
     pub sides: Vec<i8>,
-    /// Normals, texture coordinates, colours and tangents in world space,
-    /// one per mesh vertex (positions are in `positions`).
-    attributes: Vec<Attributes>,
-}
-
-#[derive(Clone, Copy, Debug, Default)]
-struct Attributes {
-    normal: Vec3,
-    uv: Vec2,
-    color: Vec3,
-    tangent_u: Vec3,
-    tangent_v: Vec3,
 }
 
 impl Placed {
-    /// Vertex `i` in world space (`i` below the vertex count).
+    /// Vertex `i` of `mesh` (the mesh this object was placed with) in world
+    /// space, `i` below the vertex count. Its normal, colour, texture
+    /// coordinates and tangents are carried here, on demand: a big mesh
+    /// draws few of its vertices (most of its triangles are culled or cover
+    /// no pixel centre), so they are not carried for every vertex each frame.
     #[inline]
-    pub fn vertex(&self, i: usize) -> WorldVertex {
-        let a = &self.attributes[i];
+    pub fn vertex(&self, mesh: &Mesh, i: usize) -> WorldVertex {
+        let v = &mesh.vertices[i];
         WorldVertex {
             position: self.positions[i],
-            normal: a.normal,
-            uv: a.uv,
-            color: a.color,
-            tangent_u: a.tangent_u,
-            tangent_v: a.tangent_v,
+            normal: (self.normals * v.normal).normalize_or_zero(),
+            uv: v.uv,
+            color: v.color,
+            tangent_u: self.linear * v.tangent_u,
+            tangent_v: self.linear * v.tangent_v,
         }
     }
 
@@ -89,43 +81,36 @@ impl Placed {
         fill(&mut self.positions, vertices.len(), |i| {
             model.transform_point3(vertices[i].position)
         });
-        fill(&mut self.attributes, vertices.len(), |i| {
-            let v = &vertices[i];
-            Attributes {
-                normal: (normals * v.normal).normalize_or_zero(),
-                uv: v.uv,
-                color: v.color,
-                tangent_u: linear * v.tangent_u,
-                tangent_v: linear * v.tangent_v,
-            }
-        });
         let mesh = &object.mesh;
-        fill(&mut self.facets, triangles.len(), |t| {
-            normals * mesh.face_normal(t)
-        });
-        let (positions, facets) = (&self.positions, &self.facets);
-        let closed = object.mesh.closed;
-        fill(&mut self.sides, triangles.len(), |t| {
+        let closed = mesh.closed;
+        let positions = &self.positions;
+        // Each triangle's facet normal and the side the camera sees, in one
+        // pass over the triangles.
+        fill_pair(&mut self.facets, &mut self.sides, triangles.len(), |t| {
+            let facet = normals * mesh.face_normal(t);
             let indices = triangles[t].indices;
             if !indices.iter().all(|&i| (i as usize) < positions.len()) {
-                return 0;
+                return (facet, 0);
             }
-            let facing = facets[t]
+            let facing = facet
                 .normalize_or_zero()
                 .dot(eye - positions[indices[0] as usize]);
-            if !facing.is_finite() || facing == 0.0 || (facing < 0.0 && closed) {
+            let side = if !facing.is_finite() || facing == 0.0 || (facing < 0.0 && closed) {
                 0
             } else if facing < 0.0 {
                 -1
             } else {
                 1
-            }
+            };
+            (facet, side)
         });
     }
 }
 
 /// Below this many elements a buffer is filled on one thread.
 const PARALLEL_MIN: usize = 16_384;
+/// Elements per task of [`fill_pair`].
+const PARALLEL_CHUNK: usize = 4_096;
 
 /// `out` = `f(0)`, `f(1)`, … `f(len − 1)`, in parallel for long buffers
 /// (each element is computed alone: the result is the same).
@@ -135,6 +120,31 @@ pub fn fill<U: Send>(out: &mut Vec<U>, len: usize, f: impl Fn(usize) -> U + Sync
         out.extend((0..len).map(f));
     } else {
         out.par_extend((0..len).into_par_iter().map(f));
+    }
+}
+
+/// [`fill`] of two buffers at once: `a[i]`, `b[i]` = `f(i)`.
+pub fn fill_pair<A: Send + Copy + Default, B: Send + Copy + Default>(
+    a: &mut Vec<A>,
+    b: &mut Vec<B>,
+    len: usize,
+    f: impl Fn(usize) -> (A, B) + Sync + Send,
+) {
+    // Every element is overwritten: only a longer buffer needs filling first.
+    a.resize(len, A::default());
+    b.resize(len, B::default());
+    let run = |start: usize, a: &mut [A], b: &mut [B]| {
+        for (k, (a, b)) in a.iter_mut().zip(b.iter_mut()).enumerate() {
+            (*a, *b) = f(start + k);
+        }
+    };
+    if len < PARALLEL_MIN {
+        run(0, a, b);
+    } else {
+        a.par_chunks_mut(PARALLEL_CHUNK)
+            .zip(b.par_chunks_mut(PARALLEL_CHUNK))
+            .enumerate()
+            .for_each(|(c, (a, b))| run(c * PARALLEL_CHUNK, a, b));
     }
 }
 
