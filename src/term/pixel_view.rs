@@ -198,8 +198,11 @@ pub const PREVIEW_RATE: f64 = 15.0;
 /// link carries in that time (the final orientation at the link's
 /// resolution), so that with the round trip, the render and the quiet
 /// time before it, it shows within half a second of the last input. The
-/// exact frame follows in strips ([`PixelView::next_strip`]).
-pub const LINK_SECONDS: f64 = 0.2;
+/// exact frame follows in strips ([`PixelView::next_strip`]). At 0.2 s, on
+/// an idle machine at 1 Mbit/s, the preview in flight, the one for the last
+/// input and a 28 kB kitty picture came to 51–57 kB of the 62.5 kB that
+/// half a second carries: too close.
+pub const LINK_SECONDS: f64 = 0.15;
 
 /// The size of the link-sized picture of a `w × h` frame whose exact image
 /// takes `exact_bytes`, for `budget_bytes`: scaled by the square root of
@@ -386,11 +389,31 @@ fn link_picture(
 /// frame's own palette).
 const SIXEL_LINK_COLOURS: [usize; 3] = [256, 32, 8];
 
-/// The colours of a sixel preview while input keeps coming: an enlarged
-/// picture's bytes follow its colours' runs in each band more than its
-/// pixels, and at 256 colours a preview sized for 1 Mbit/s at
+/// The most colours of a sixel preview while input keeps coming: an
+/// enlarged picture's bytes follow its colours' runs in each band more than
+/// its pixels, and at 256 colours a preview sized for 1 Mbit/s at
 /// [`PREVIEW_RATE`] took several times its share.
 pub const SIXEL_PREVIEW_COLOURS: usize = 32;
+
+/// The fewest: below, a preview no longer shows the shapes.
+pub const SIXEL_PREVIEW_FEWEST: usize = 4;
+
+/// The colours of the next sixel preview after one of `bytes` for a
+/// preview's share of the link, `share` bytes: halved while a preview takes
+/// over twice its share (at the smallest size, shrinking no further, a
+/// 1 Mbit/s link still took 35 kB previews at 32 colours, and the one sent
+/// after the last input delayed the final picture past half a second),
+/// doubled back when one takes under half.
+pub fn next_preview_colours(colours: usize, bytes: usize, share: f64) -> usize {
+    let bytes = bytes as f64;
+    if bytes > 2.0 * share {
+        (colours / 2).max(SIXEL_PREVIEW_FEWEST)
+    } else if bytes < 0.5 * share {
+        (colours * 2).min(SIXEL_PREVIEW_COLOURS)
+    } else {
+        colours
+    }
+}
 
 /// `fb` reduced to at most `colours` colours (median cut; 256: as it is).
 fn fewer_colours(fb: &mut Framebuffer, colours: usize) {
@@ -555,6 +578,8 @@ pub struct PixelView {
     /// carries in [`LINK_SECONDS`] is then not encoded whole only to be
     /// weighed.
     last_whole: Option<(Rect, Format, usize)>,
+    /// The colours of the next sixel preview ([`next_preview_colours`]).
+    preview_colours: usize,
 }
 
 /// What a frame is: the format in use and its pictures.
@@ -588,6 +613,7 @@ impl PixelView {
             last_format: None,
             split_bytes: None,
             last_whole: None,
+            preview_colours: SIXEL_PREVIEW_COLOURS,
         }
     }
 
@@ -719,7 +745,7 @@ impl PixelView {
                 (Format::Sixels, Some(p)) => {
                     let size = (frame.fb.width(), frame.fb.height());
                     let mut few = p.clone();
-                    fewer_colours(&mut few, SIXEL_PREVIEW_COLOURS);
+                    fewer_colours(&mut few, self.preview_colours);
                     self.kept = Kept::Indexed(sixel::Quantized::enlarged(&few, dither, size));
                 }
                 _ => self.kept.keep(send, format, dither),
@@ -766,8 +792,16 @@ impl PixelView {
                 (Some(b), Some(e)) if e as f64 > 2.0 * b && strips_fit(&shown));
             let whole = if (!any_covered || budget.is_some()) && !clearly_over {
                 let whole = whole_bytes(&mut self.kept, format, area, passthrough)?;
-                if frame.preview.is_none() {
-                    self.last_whole = Some((area, format, whole.len()));
+                match (frame.preview, frame.throughput) {
+                    (None, _) => self.last_whole = Some((area, format, whole.len())),
+                    (Some(_), Some(t)) if format == Format::Sixels => {
+                        self.preview_colours = next_preview_colours(
+                            self.preview_colours,
+                            whole.len(),
+                            t / PREVIEW_RATE,
+                        );
+                    }
+                    _ => {}
                 }
                 Some(whole)
             } else {
@@ -1029,6 +1063,21 @@ mod tests {
         // Square pixels: the aspect of 204800 × 204800 stays 1.
         assert!(w.abs_diff(h) <= 1, "{w}×{h}");
         assert!(w * h > MAX_PIXELS * 99 / 100);
+    }
+
+    #[test]
+    fn sixel_preview_colours_follow_their_share_of_the_link() {
+        // 35 kB previews for an 8.3 kB share: 32 → 16 → 8 → 4, no fewer.
+        let share = 125_000.0 / PREVIEW_RATE;
+        let mut c = SIXEL_PREVIEW_COLOURS;
+        for want in [16, 8, 4, 4] {
+            c = next_preview_colours(c, 35_000, share);
+            assert_eq!(c, want);
+        }
+        // Within half to twice the share: kept; well under: doubled back.
+        assert_eq!(next_preview_colours(8, 10_000, share), 8);
+        assert_eq!(next_preview_colours(8, 3_000, share), 16);
+        assert_eq!(next_preview_colours(32, 1_000, share), 32);
     }
 
     #[test]
