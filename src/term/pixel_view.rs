@@ -198,11 +198,8 @@ pub const PREVIEW_RATE: f64 = 15.0;
 /// link carries in that time (the final orientation at the link's
 /// resolution), so that with the round trip, the render and the quiet
 /// time before it, it shows within half a second of the last input. The
-/// exact frame follows in strips ([`PixelView::next_strip`]). At 0.2 s, on
-/// an idle machine at 1 Mbit/s, the preview in flight, the one for the last
-/// input and a 28 kB kitty picture came to 51–57 kB of the 62.5 kB that
-/// half a second carries: too close.
-pub const LINK_SECONDS: f64 = 0.15;
+/// exact frame follows in strips ([`PixelView::next_strip`]).
+pub const LINK_SECONDS: f64 = 0.2;
 
 /// The size of the link-sized picture of a `w × h` frame whose exact image
 /// takes `exact_bytes`, for `budget_bytes`: scaled by the square root of
