@@ -22,10 +22,12 @@ use std::time::{Duration, Instant};
 
 use crossterm::event::Event;
 use ratatui::Terminal;
+use ratatui::backend::Backend;
 
 use super::action::{Action, FrameDone};
 use super::events::action_for_event;
 use super::frame_cost::FrameCost;
+use super::frame_watch::{FrameWatch, StatusRow};
 use super::loading::Loader;
 use super::schedule::Schedule;
 use super::stage::Stage;
@@ -158,6 +160,9 @@ pub struct Looper<'a, W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats
     /// Loads model files on a worker while the stage keeps drawing (`None`:
     /// every scene is built on the loop's thread, as it is asked for).
     pub loader: Option<Loader>,
+    /// Shows a long frame's progress on the status line (`None`: frames
+    /// show nothing while they run).
+    pub watch: Option<FrameWatch>,
 }
 
 /// Frames written during the last second, for the fps figure.
@@ -329,6 +334,8 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         let mut modes = TermModes::app(MouseReports::Drags);
         let mut clock = FrameClock::default();
         let mut last_counters = Counters::default();
+        // The status row's place and cells as the last frame drew them.
+        let mut status_cells: Option<(ratatui::layout::Rect, Vec<ratatui::buffer::Cell>)> = None;
         // When to draw and what (see `schedule`).
         let mut schedule = Schedule::new(Instant::now());
         // Pixel images on screen (kitty, sixel, iTerm2).
@@ -502,7 +509,26 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             let same = rendered.as_ref() == Some(&key);
             // A preview is replaced by the exact picture even when nothing changed.
             let new_picture = schedule.new_picture(&next, same);
+            // The status row as the last frame left it, should a long
+            // frame write its progress over it.
+            let status_row = areas
+                .status
+                .filter(|r| status_cells.as_ref().is_some_and(|(saved, _)| saved == r));
+            let mut progress_shown = false;
             if new_picture {
+                let status_row = status_row.map(|r| StatusRow {
+                    row: r.y,
+                    width: r.width,
+                });
+                let render = &mut self.render;
+                let mut watched = |fb: &mut Framebuffer| match self.watch.as_mut() {
+                    Some(watch) => {
+                        let (stats, shown) = watch.watch(status_row, || render(state, fb));
+                        progress_shown |= shown;
+                        stats
+                    }
+                    None => render(state, fb),
+                };
                 if cheaper {
                     let (pw, ph) = pixel_view::preview_for(
                         state.output.format(),
@@ -511,12 +537,12 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                         self.pacer.throughput(),
                     );
                     coarse.resize(pw, ph);
-                    stats = (self.render)(state, &mut coarse);
+                    stats = watched(&mut coarse);
                     fb.resize(w, h);
                     enlarge(&coarse, &mut fb);
                 } else {
                     fb.resize(w, h);
-                    stats = (self.render)(state, &mut fb);
+                    stats = watched(&mut fb);
                 }
                 last_counters = stats.counters;
                 // An abandoned frame (a key pressed during a long one) is
@@ -554,6 +580,14 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 backend.write_raw(QUERY)?;
             }
             backend.begin_frame()?;
+            if progress_shown {
+                // The progress line goes: the row is drawn as ratatui
+                // believes it is.
+                if let (Some(row), Some((_, cells))) = (status_row, status_cells.as_ref()) {
+                    let cells = cells.iter().enumerate();
+                    backend.draw(cells.map(|(x, c)| (row.x + x as u16, row.y, c)))?;
+                }
+            }
             let look = TextLook {
                 symbols: state.symbols,
                 depth: state.depth,
@@ -569,7 +603,11 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 throughput: self.pacer.throughput(),
             };
             pixels.draw(self.terminal, frame, areas.viewport, |f, pic| {
-                view::view(f, state, pic, self.background)
+                view::view(f, state, pic, self.background);
+                status_cells = areas.status.map(|r| {
+                    let buf = f.buffer_mut();
+                    (r, (r.x..r.right()).map(|x| buf[(x, r.y)].clone()).collect())
+                });
             })?;
             let write_start = Instant::now();
             let trailer: &[u8] = if asks { QUERY } else { &[] };

@@ -39,7 +39,7 @@ impl LoadStatus {
 }
 
 /// `done` of `total` in whole percent, rounded down (100 only when done).
-fn percent(done: u64, total: u64) -> u64 {
+pub(super) fn percent(done: u64, total: u64) -> u64 {
     (u128::from(done.min(total)) * 100 / u128::from(total.max(1))) as u64
 }
 

@@ -6,6 +6,7 @@ pub mod event_loop;
 pub mod events;
 pub mod feedback;
 pub mod frame_cost;
+pub mod frame_watch;
 pub mod keys;
 pub mod line_edit;
 pub mod load_status;
@@ -39,6 +40,7 @@ use crate::cli::{Cli, ColorDepthArg};
 use crate::term::guard::{GuardedStdout, TerminalGuard};
 use crate::term::{ColorDepth, SgrBackend, depth, probe};
 use event_loop::{Exit, Looper, Msg, spawn_terminal_reader};
+use frame_watch::LONG_FRAME;
 use loading::Loader;
 use stage::Stage;
 
@@ -225,6 +227,13 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     backend.set_tolerance(cli.color_tolerance);
     let mut terminal = Terminal::new(backend)?;
     let mut renderer = crate::Renderer::new();
+    // A long frame's progress: counted by the renderer, shown by the loop.
+    let progress = Arc::new(crate::render::FrameProgress::new());
+    renderer.set_progress(Some(progress.clone()));
+    let watch = frame_watch::FrameWatch {
+        progress,
+        out: Box::new(GuardedStdout::new()?),
+    };
     let mut looper = Looper {
         terminal: &mut terminal,
         render: |s: &State, fb: &mut crate::Framebuffer| {
@@ -249,6 +258,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         stage: Some(&stage),
         pacer: crate::term::pacing::pacer_here(cli.link),
         loader: Some(loader),
+        watch: Some(watch),
     };
     let exit = looper.run(&mut state);
     // The screen first (quitting never waits for the terminal), then the
@@ -267,9 +277,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Exit::Signal(sig) => std::process::exit(128 + sig),
     }
 }
-
-/// A frame running longer than this is abandoned when a key is pressed.
-const LONG_FRAME: std::time::Duration = std::time::Duration::from_millis(500);
 
 /// A sender whose messages reach `tx`, counting the keys among them in `keys`.
 fn count_keys(tx: mpsc::Sender<Msg>, keys: Arc<std::sync::atomic::AtomicU64>) -> mpsc::Sender<Msg> {

@@ -8,6 +8,8 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use super::progress::FrameProgress;
+
 /// Asked during a frame: `true` abandons it. Called from the threads that
 /// draw the bands, so it must be cheap and thread-safe.
 pub type CancelHook = Arc<dyn Fn() -> bool + Send + Sync>;
@@ -15,17 +17,49 @@ pub type CancelHook = Arc<dyn Fn() -> bool + Send + Sync>;
 /// Triangles drawn into a band between two questions to the hook.
 pub(super) const CHECK_EVERY: usize = 1024;
 
-/// One frame's view of the hook: remembers a stop so the hook is not asked again.
+/// One frame's view of the hook: remembers a stop so the hook is not asked
+/// again. It also carries the frame's progress counter, if the view keeps
+/// one: the hook and the counter are met at the same places.
 pub(crate) struct Abandon<'a> {
     hook: Option<&'a (dyn Fn() -> bool + Send + Sync)>,
     stopped: AtomicBool,
+    progress: Option<&'a FrameProgress>,
 }
 
 impl<'a> Abandon<'a> {
-    pub(crate) fn new(hook: Option<&'a (dyn Fn() -> bool + Send + Sync)>) -> Self {
+    pub(crate) fn new(
+        hook: Option<&'a (dyn Fn() -> bool + Send + Sync)>,
+        progress: Option<&'a FrameProgress>,
+    ) -> Self {
+        if let Some(p) = progress {
+            p.start();
+        }
         Abandon {
             hook,
             stopped: AtomicBool::new(false),
+            progress,
+        }
+    }
+
+    /// The shadow map starts, to go through `triangles` triangles.
+    pub(crate) fn shadow(&self, triangles: u64) {
+        if let Some(p) = self.progress {
+            p.shadow(triangles);
+        }
+    }
+
+    /// The bands start, to make `visits` triangle visits in all.
+    pub(crate) fn drawing(&self, visits: u64) {
+        if let Some(p) = self.progress {
+            p.drawing(visits);
+        }
+    }
+
+    /// `visits` more triangle visits made by a band or the shadow map.
+    #[inline]
+    pub(crate) fn advance(&self, visits: usize) {
+        if let Some(p) = self.progress {
+            p.advance(visits as u64);
         }
     }
 

@@ -156,6 +156,9 @@ pub(super) fn draw_bands<T: RasterTarget + Send>(
     background: Rgb,
     abandon: &Abandon,
 ) -> (Counters, usize) {
+    // Each band goes through every triangle, twice when it draws depth first.
+    let passes = 1 + bands.first().map_or(0, |b| u64::from(b.depth_first()));
+    abandon.drawing(bands.len() as u64 * tris.len() as u64 * passes);
     let draw = |(i, band): (usize, &mut T)| -> (Counters, bool) {
         let mut counters = Counters::default();
         if abandon.now() {
@@ -164,18 +167,27 @@ pub(super) fn draw_bands<T: RasterTarget + Send>(
         band.clear(background);
         let (y0, y1) = (bounds[i] as i32, bounds[i + 1] as i32);
         let misses = |tri: &ScreenTri| tri.y1 < y0 || tri.y0 >= y1;
+        // Asked every `CHECK_EVERY` triangles: stop, and count them done.
+        let check = |n: usize| {
+            n % CHECK_EVERY == CHECK_EVERY - 1 && {
+                abandon.advance(CHECK_EVERY);
+                abandon.now()
+            }
+        };
+        let rest = tris.len() % CHECK_EVERY;
         if band.depth_first() {
             for (n, tri) in tris.iter().enumerate() {
-                if n % CHECK_EVERY == CHECK_EVERY - 1 && abandon.now() {
+                if check(n) {
                     return (counters, false);
                 }
                 if !misses(tri) {
                     band.prepass(tri, &mut counters);
                 }
             }
+            abandon.advance(rest);
         }
         for (n, tri) in tris.iter().enumerate() {
-            if n % CHECK_EVERY == CHECK_EVERY - 1 && abandon.now() {
+            if check(n) {
                 return (counters, false);
             }
             if misses(tri) {
@@ -188,6 +200,7 @@ pub(super) fn draw_bands<T: RasterTarget + Send>(
             };
             draw_into(tri, &shaders[s], ctx, band, &mut counters);
         }
+        abandon.advance(rest);
         (counters, true)
     };
     let per_band: Vec<(Counters, bool)> = if parallel {

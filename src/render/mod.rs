@@ -4,6 +4,7 @@
 mod abandon;
 mod bands;
 mod dispatch;
+mod progress;
 mod repeat_cache;
 mod shaders;
 mod strokes;
@@ -16,6 +17,7 @@ use bands::{
     split_rows,
 };
 pub use dispatch::{draw_into, draw_triangle};
+pub use progress::{FrameProgress, FrameStep};
 use repeat_cache::RepeatCache;
 use triangles::{ObjectView, TriChunk, run_chunks};
 
@@ -81,6 +83,8 @@ pub struct Renderer {
     repeats: RepeatCache,
     /// Asked during each frame whether to abandon it.
     cancel: Option<CancelHook>,
+    /// Told how far each frame has come.
+    progress: Option<Arc<FrameProgress>>,
     /// No shadow pass even where the plan asks for one (`set_shadows`).
     no_shadows: bool,
 }
@@ -100,6 +104,12 @@ impl Renderer {
     /// so (`FrameStats::abandoned`); `None`: frames always finish.
     pub fn set_cancel(&mut self, hook: Option<CancelHook>) {
         self.cancel = hook;
+    }
+
+    /// From now on each frame counts its progress in `progress` (read by a
+    /// view on another thread while a long frame runs).
+    pub fn set_progress(&mut self, progress: Option<Arc<FrameProgress>>) {
+        self.progress = progress;
     }
 
     /// `false`: frames draw no shadow map and light every point as if
@@ -131,7 +141,8 @@ impl Renderer {
                 + scene.material.normal_map.as_ref().map_or(0, |m| m.builds())
         };
         let cancel = self.cancel.clone();
-        let abandon = Abandon::new(cancel.as_deref());
+        let progress = self.progress.clone();
+        let abandon = Abandon::new(cancel.as_deref(), progress.as_deref());
         let normal_maps_before = normal_map_builds(scene);
         let plans = FramePlans::new(scene, settings, Plan::new(scene, settings));
         let plan = &plans.plans[0];
@@ -213,7 +224,7 @@ impl Renderer {
             &self.world,
             &plans.plans[0],
             &self.repeats,
-            &Abandon::new(None),
+            &Abandon::new(None, None),
             width,
             height,
         );
@@ -553,15 +564,24 @@ fn shadow_pass<'a>(
     let (Some(light), Some(map)) = (plan.shadow_light, map) else {
         return (None, Counters::default());
     };
+    let casters = &plan.shadow_casters;
+    let triangles = casters
+        .iter()
+        .map(|c| scene.objects[c.object].mesh.triangles.len());
+    abandon.shadow(triangles.sum::<usize>() as u64);
     let counters = map.render_placed(
         scene,
         world,
         plan.lights[light].position,
-        &plan.shadow_casters,
+        casters,
         width,
         height,
         &repeats.all(),
-        &|| abandon.now(),
+        // Asked every `CHECK_EVERY` triangles of a caster (but for repeats).
+        &|| {
+            abandon.advance(crate::shadow::CHECK_EVERY);
+            abandon.now()
+        },
     );
     (Some(Shadow { light, map }), counters)
 }

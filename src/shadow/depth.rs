@@ -21,9 +21,13 @@ pub(super) struct Target<'a> {
     pub near: f32,
 }
 
+/// Triangles drawn into the map between two questions to `stop`.
+pub const CHECK_EVERY: usize = 4096;
+
 /// Draws `mesh` (object `object`) placed as `placed` into the map, but for
 /// the triangles `repeats` skips and the points `cutout` drops, until
-/// `stop` says so; returns the texels written.
+/// `stop` (asked every [`CHECK_EVERY`] triangles) says so; returns the
+/// texels written.
 pub(super) fn draw_mesh(
     map: &mut Target,
     mesh: &Mesh,
@@ -53,7 +57,7 @@ pub(super) fn draw_mesh(
         if repeats.skip(i, &mesh.triangles) {
             continue;
         }
-        if i % 4096 == 4095 && stop() {
+        if i % CHECK_EVERY == CHECK_EVERY - 1 && stop() {
             break;
         }
         let [a, b, c] = tri

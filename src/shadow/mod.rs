@@ -24,6 +24,7 @@
 //!   percentage-closer filter: 9 depth compares, soft one-texel edges.
 
 mod depth;
+pub use depth::CHECK_EVERY;
 
 use glam::{Mat4, Vec3};
 

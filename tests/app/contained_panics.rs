@@ -78,6 +78,7 @@ fn decoder_panics_become_errors_and_leave_the_hook_silent() {
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
         loader: None,
+        watch: None,
     }
     .run(&mut state)
     .unwrap();

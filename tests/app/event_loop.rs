@@ -46,6 +46,7 @@ fn run(msgs: Vec<Msg>, close: bool) -> (Exit, usize, usize, State) {
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
         loader: None,
+        watch: None,
     }
     .run(&mut state)
     .unwrap();
@@ -321,6 +322,7 @@ fn paced(
             stage: None,
             pacer: Pacer::new(config),
             loader: None,
+            watch: None,
         };
         let exit = looper.run(&mut state).unwrap();
         (exit, looper.pacer.outstanding())
@@ -484,4 +486,144 @@ fn a_burst_over_a_slow_link_gets_previews_then_the_exact_picture() {
     );
     assert_eq!(*renders.last().unwrap(), (70.0, full));
     one_picture_in_flight(&seen);
+}
+
+/// Bytes written by the loop's terminal and by the frame watcher, in the
+/// order a terminal would get them, and the terminal's own alone.
+#[derive(Clone, Default)]
+struct Wire {
+    all: std::sync::Arc<std::sync::Mutex<Vec<u8>>>,
+    own: Option<std::sync::Arc<std::sync::Mutex<Vec<u8>>>>,
+}
+
+impl std::io::Write for Wire {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        self.all.lock().unwrap().extend_from_slice(b);
+        if let Some(own) = &self.own {
+            own.lock().unwrap().extend_from_slice(b);
+        }
+        Ok(b.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// The characters on screen after `bytes`: cursor moves (absolute, forward,
+/// CR LF), the cursor saved and restored (ESC 7, ESC 8), text; attributes
+/// and modes are passed over.
+fn screen_text(bytes: &[u8], w: usize, h: usize) -> Vec<String> {
+    let mut cells = vec![vec![' '; w]; h];
+    let (mut x, mut y, mut saved) = (0usize, 0usize, (0usize, 0usize));
+    let text = String::from_utf8_lossy(bytes);
+    let mut chars = text.chars();
+    while let Some(c) = chars.next() {
+        match c {
+            '\x1b' => match chars.next() {
+                Some('7') => saved = (x, y),
+                Some('8') => (x, y) = saved,
+                Some('[') => {
+                    let mut params = String::new();
+                    let fin = loop {
+                        let c = chars.next().expect("a whole sequence");
+                        if ('\x40'..='\x7e').contains(&c) {
+                            break c;
+                        }
+                        params.push(c);
+                    };
+                    let n: Vec<usize> = params.split(';').map(|p| p.parse().unwrap_or(0)).collect();
+                    match fin {
+                        'H' if !params.starts_with('?') => {
+                            y = n.first().copied().unwrap_or(1).max(1) - 1;
+                            x = n.get(1).copied().unwrap_or(1).max(1) - 1;
+                        }
+                        'C' => x += n.first().copied().unwrap_or(1).max(1),
+                        _ => {}
+                    }
+                }
+                other => panic!("unexpected escape {other:?}"),
+            },
+            '\r' => x = 0,
+            '\n' => y += 1,
+            c => {
+                if x < w && y < h {
+                    cells[y][x] = c;
+                }
+                x += 1;
+            }
+        }
+    }
+    cells.into_iter().map(|r| r.into_iter().collect()).collect()
+}
+
+/// A frame that runs long shows its progress over the status line, and the
+/// next frame leaves the screen exactly as it would be had the line never
+/// been written. The slow render waits until it sees the line (no clock).
+#[test]
+fn a_long_frame_shows_its_progress_and_leaves_no_trace() {
+    use relief::app::frame_watch::FrameWatch;
+    let (tx, rx) = mpsc::channel();
+    let own = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+    let wire = Wire::default();
+    let loop_wire = Wire {
+        own: Some(own.clone()),
+        ..wire.clone()
+    };
+    let (w, h) = (60u16, 12u16);
+    let mut term = Terminal::new(SgrBackend::with_size(loop_wire, w, h)).unwrap();
+    let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
+    let mut renders = 0;
+    let seen = wire.all.clone();
+    let exit = Looper {
+        terminal: &mut term,
+        render: |_: &State, fb: &mut relief::Framebuffer| {
+            renders += 1;
+            if renders == 1 {
+                // A key for a second frame, once the first is on screen.
+                tx.send(key('m')).unwrap();
+            }
+            if renders == 2 {
+                // The second frame runs until its progress shows (a minute
+                // at most: then the test fails below).
+                let shown = || {
+                    String::from_utf8_lossy(&seen.lock().unwrap()).contains("preparing the frame")
+                };
+                let give_up = std::time::Instant::now() + std::time::Duration::from_secs(60);
+                while !shown() && std::time::Instant::now() < give_up {
+                    std::thread::sleep(std::time::Duration::from_millis(10));
+                }
+                tx.send(Msg::InputClosed("end of input".into())).unwrap();
+            }
+            fb.fill([renders as u8 * 40, 0, 0]);
+            relief::FrameStats::default()
+        },
+        background: [0, 0, 0],
+        rx: &rx,
+        textures: None,
+        stage: None,
+        pacer: relief::term::pacing::Pacer::by_writes(),
+        loader: None,
+        watch: Some(FrameWatch {
+            progress: std::sync::Arc::new(relief::render::FrameProgress::new()),
+            out: Box::new(wire.clone()),
+        }),
+    }
+    .run(&mut state)
+    .unwrap();
+    assert!(matches!(exit, Exit::InputClosed(_)));
+    assert_eq!(renders, 2);
+    let all = wire.all.lock().unwrap().clone();
+    let text = String::from_utf8_lossy(&all);
+    assert!(
+        text.contains("\x1b7\x1b[12;1H\x1b[0;7mpreparing the frame · "),
+        "the line went over the status row"
+    );
+    let own = own.lock().unwrap().clone();
+    assert!(all.len() > own.len(), "the watcher wrote");
+    let (with, without) = (
+        screen_text(&all, w.into(), h.into()),
+        screen_text(&own, w.into(), h.into()),
+    );
+    assert!(!with[11].contains("the frame"), "{:?}", with[11]);
+    assert_eq!(with, without);
 }

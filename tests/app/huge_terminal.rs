@@ -35,6 +35,7 @@ fn a_huge_terminal_gets_a_capped_view() {
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
         loader: None,
+        watch: None,
     }
     .run(&mut state)
     .unwrap();

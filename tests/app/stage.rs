@@ -160,6 +160,7 @@ fn run(stage: &RefCell<Stage>, mut state: State, batches: Vec<Vec<char>>) -> (St
         stage: Some(stage),
         pacer: relief::term::pacing::Pacer::by_writes(),
         loader: None,
+        watch: None,
     }
     .run(&mut state)
     .unwrap();
@@ -426,6 +427,7 @@ fn run_loading<T: Send + 'static>(
         loader: Some(Loader::new(move |id| {
             let _ = woken_tx.send(id);
         })),
+        watch: None,
     }
     .run(&mut state)
     .unwrap();

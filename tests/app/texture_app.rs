@@ -86,6 +86,7 @@ fn run(list: &RefCell<TextureList>, msgs: Vec<Msg>) -> State {
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
         loader: None,
+        watch: None,
     }
     .run(&mut state)
     .unwrap();

@@ -328,6 +328,7 @@ fn run(list: &RefCell<TextureList>, state: State, msgs: Vec<Msg>) -> State {
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
         loader: None,
+        watch: None,
     }
     .run(&mut state)
     .unwrap();

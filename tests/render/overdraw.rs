@@ -168,6 +168,30 @@ fn copies_on_a_convex_mesh_are_drawn() {
     assert_eq!(both.counters.pixels_shaded, 2 * once.counters.pixels_shaded);
 }
 
+/// An `n` × `n` grid of quads facing the camera, gently waved in depth.
+fn grid(n: usize) -> Mesh {
+    let mut text = String::new();
+    for y in 0..=n {
+        for x in 0..=n {
+            let (u, v) = (x as f32 / n as f32, y as f32 / n as f32);
+            text += &format!(
+                "v {} {} {}\n",
+                u * 2.0 - 1.0,
+                v * 2.0 - 1.0,
+                0.1 * (u * 9.0).sin()
+            );
+        }
+    }
+    let at = |x: usize, y: usize| y * (n + 1) + x + 1;
+    for y in 0..n {
+        for x in 0..n {
+            let (a, b, c, d) = (at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1));
+            text += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+        }
+    }
+    obj::parse("grid.obj", text).expect("a valid OBJ")
+}
+
 /// A frame whose cancel hook says stop after `allowed` questions.
 fn cancelled_after(allowed: usize) -> (relief::render::CancelHook, Arc<AtomicUsize>) {
     let asked = Arc::new(AtomicUsize::new(0));
@@ -208,28 +232,7 @@ fn a_cancelled_frame_draws_no_band_after_the_stop() {
 /// triangles drawn by one thread (one band) stops at the second question.
 #[test]
 fn a_cancelled_band_stops_between_triangles() {
-    // A 40 × 40 grid of quads facing the camera.
-    let n = 40;
-    let mut text = String::new();
-    for y in 0..=n {
-        for x in 0..=n {
-            let (u, v) = (x as f32 / n as f32, y as f32 / n as f32);
-            text += &format!(
-                "v {} {} {}\n",
-                u * 2.0 - 1.0,
-                v * 2.0 - 1.0,
-                0.1 * (u * 9.0).sin()
-            );
-        }
-    }
-    let at = |x: usize, y: usize| y * (n + 1) + x + 1;
-    for y in 0..n {
-        for x in 0..n {
-            let (a, b, c, d) = (at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y + 1));
-            text += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
-        }
-    }
-    let mesh = obj::parse("grid.obj", text).expect("a valid OBJ");
+    let mesh = grid(40);
     assert_eq!(mesh.triangles.len(), 3200);
     let scene = scene_of(mesh);
     let settings = Settings {
@@ -258,6 +261,57 @@ fn a_cancelled_band_stops_between_triangles() {
         assert_eq!(cut.bands_drawn, 0);
         assert!(cut.counters.pixels_shaded > 0);
         assert!(cut.counters.pixels_shaded < whole.counters.pixels_shaded);
+    });
+}
+
+/// The progress a long frame shows counts every triangle a band goes
+/// through: all of them once a frame is whole, the 1,024 before the stop
+/// of a frame abandoned at its second question.
+#[test]
+fn a_frame_counts_its_progress_to_the_end_or_to_its_stop() {
+    use relief::render::{FrameProgress, FrameStep};
+    let scene = scene_of(grid(40));
+    let settings = Settings {
+        rotation: Vec3::ZERO,
+        ..Settings::default()
+    };
+    let progress = Arc::new(FrameProgress::new());
+    assert_eq!(progress.now(), FrameStep::Preparing);
+    let mut fb = Framebuffer::new(320, 200);
+    let mut renderer = Renderer::new();
+    renderer.set_progress(Some(progress.clone()));
+    // Several threads and bands: every band counts all its visits.
+    let whole = renderer.render(&scene, &settings, &mut fb);
+    let FrameStep::Drawing { done, total } = progress.now() else {
+        panic!("the bands ran");
+    };
+    assert_eq!(done, total);
+    assert_eq!(
+        total % whole.bands as u64,
+        0,
+        "each band visits every triangle"
+    );
+    let per_band = total / whole.bands as u64;
+    let tris = whole.counters.triangles_drawn;
+    assert!(
+        per_band == tris || per_band == 2 * tris,
+        "once, or twice depth first: {per_band} for {tris} triangles"
+    );
+    // One thread, one band, stopped at the hook's second question.
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a pool");
+    one.install(|| {
+        let (hook, _) = cancelled_after(1);
+        renderer.set_cancel(Some(hook));
+        let cut = renderer.render(&scene, &settings, &mut fb);
+        assert!(cut.abandoned);
+        let FrameStep::Drawing { done, total } = progress.now() else {
+            panic!("the band started");
+        };
+        assert_eq!(done, 1024);
+        assert!(total > done);
     });
 }
 

@@ -94,6 +94,7 @@ fn run(output: Output, msgs: Vec<Msg>) -> (Vec<u8>, Vec<(usize, usize)>, State) 
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
         loader: None,
+        watch: None,
     }
     .run(&mut state)
     .unwrap();
@@ -363,6 +364,7 @@ fn an_image_never_reaches_the_last_row() {
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
         loader: None,
+        watch: None,
     }
     .run(&mut state)
     .unwrap();
@@ -470,6 +472,7 @@ fn pixel_previews_shrink_over_a_slow_link_and_the_exact_frame_follows() {
         stage: None,
         pacer: relief::term::pacing::Pacer::default(),
         loader: None,
+        watch: None,
     }
     .run(&mut state)
     .unwrap();
@@ -864,6 +867,7 @@ fn run_panels(format: Format, msgs: Vec<Msg>) -> (Vec<u8>, Framebuffer) {
         stage: None,
         pacer: relief::term::pacing::Pacer::by_writes(),
         loader: None,
+        watch: None,
     }
     .run(&mut state)
     .unwrap();
