@@ -268,23 +268,35 @@ pub(crate) fn build_indexed(
     Ok(out)
 }
 
-/// The UVs of triangle `t`: the file's, or (when a corner has none) a box
-/// projection with the cube's texture axes.
-fn uvs_of(c: &IndexedCorners, t: usize) -> [Vec2; 3] {
+/// The cube face a triangle of unit normal `normal` is projected on when
+/// its UVs are made: the one whose normal is closest (the last of equals).
+fn box_side(normal: Vec3) -> u8 {
+    (0..FACES.len())
+        .max_by(|&x, &y| normal.dot(FACES[x].0).total_cmp(&normal.dot(FACES[y].0)))
+        .unwrap_or(4) as u8
+}
+
+/// A triangle's flags: its [`box_side`] and whether its texture axes are
+/// mirrored.
+const SIDE: u8 = 7;
+const MIRRORED: u8 = 8;
+
+/// The UV of corner `k` of triangle `t`: the file's, or (when a corner of
+/// the triangle has none) a box projection on the cube face `side`, with
+/// its texture axes.
+fn uv_of(c: &IndexedCorners, t: usize, k: usize, side: u8) -> Vec2 {
     let corners = &c.corners[3 * t..3 * t + 3];
     if corners.iter().all(|k| k[1] != NO_INDEX) {
-        return [0, 1, 2].map(|k| c.uvs[corners[k][1] as usize]);
+        return c.uvs[corners[k][1] as usize];
     }
-    let normal = normal_of(c, t);
-    let (_, u_axis, v_axis) = FACES
-        .iter()
-        .copied()
-        .max_by(|x, y| normal.dot(x.0).total_cmp(&normal.dot(y.0)))
-        .unwrap_or(FACES[4]);
-    [0, 1, 2].map(|k| {
-        let p = c.positions[corners[k][0] as usize] / FIT_RADIUS;
-        Vec2::new(0.5 + 0.5 * p.dot(u_axis), 0.5 + 0.5 * p.dot(v_axis))
-    })
+    let (_, u_axis, v_axis) = FACES[side as usize];
+    let p = c.positions[corners[k][0] as usize] / FIT_RADIUS;
+    Vec2::new(0.5 + 0.5 * p.dot(u_axis), 0.5 + 0.5 * p.dot(v_axis))
+}
+
+/// The UVs of triangle `t` ([`uv_of`]).
+fn uvs_of(c: &IndexedCorners, t: usize, side: u8) -> [Vec2; 3] {
+    [0, 1, 2].map(|k| uv_of(c, t, k, side))
 }
 
 /// The colour of corner `k` of triangle `t`: the file's, else its part's,
@@ -302,7 +314,7 @@ fn color_of(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize, k: usize
 }
 
 /// The steps of [`build`] the progress line counts: the face normals, the
-/// vertex normals, the mirroring flags, the vertex keys, the closed and
+/// vertex normals, the triangle flags, the vertex keys, the closed and
 /// convex tests, the triangles and their side table, the vertices; the
 /// tangent sums come after the last.
 const BUILD_STEPS: u64 = 7;
@@ -397,28 +409,30 @@ fn build(
         fill_normals(name, &mut c, &face_normals, &position_id, ids, held)?;
     }
     step_done()?;
-    // Whether each triangle's texture axes are mirrored (its corners'
-    // vertices are told apart by it). The face normals then go: what
-    // needs one again computes the same bits from the corners.
+    // Each triangle's box side (for UVs made by projection) and whether
+    // its texture axes are mirrored (its corners' vertices are told apart
+    // by it). The face normals then go: what needs one again computes the
+    // same bits from the corners.
     hold(
         held,
         name,
-        "the mirroring flags",
-        bytes_of::<bool>(kept as u64),
+        "the triangle flags",
+        bytes_of::<u8>(kept as u64),
     )?;
-    let mirrored: Vec<bool> = (0..kept)
+    let flags: Vec<u8> = (0..kept)
         .into_par_iter()
         .map(|t| {
             let normal = face_normals[t];
-            let frame = face_frame(positions_of(&c, t), uvs_of(&c, t), normal);
-            frame.tangent_u.cross(frame.tangent_v).dot(normal) < 0.0
+            let side = box_side(normal);
+            let frame = face_frame(positions_of(&c, t), uvs_of(&c, t, side), normal);
+            let mirrored = frame.tangent_u.cross(frame.tangent_v).dot(normal) < 0.0;
+            side | if mirrored { MIRRORED } else { 0 }
         })
         .collect();
     let_go(held, face_normals);
     step_done()?;
     // Each corner's vertex: one per distinct key, in order of first use.
-    let (vertex_of, firsts) = split_vertices(name, &c, &mirrored, (&position_id, ids), held)?;
-    let_go(held, mirrored);
+    let (vertex_of, firsts) = split_vertices(name, &c, &flags, (&position_id, ids), held)?;
     step_done()?;
     let closed = is_closed(name, &c.corners, &position_id, held)?;
     // The convexity test only saves the depth buffer: a model whose test
@@ -473,7 +487,7 @@ fn build(
             Source {
                 position: corner[0],
                 normal: corner[2],
-                uv: uvs_of(&c, t)[k],
+                uv: uv_of(&c, t, k, flags[t] & SIDE),
                 color: color_of(&c, part_colors, t, k),
             }
         })
@@ -491,7 +505,7 @@ fn build(
     hold(held, name, "the side flags", bytes_of::<bool>(kept as u64))?;
     let differs: Vec<bool> = (0..kept)
         .into_par_iter()
-        .map(|t| read_facet(&c, part_colors, t).bits() != drawn(t).bits())
+        .map(|t| read_facet(&c, part_colors, t, flags[t] & SIDE).bits() != drawn(t).bits())
         .collect();
     let side_count = differs.iter().filter(|&&d| d).count() as u64;
     hold(
@@ -502,9 +516,10 @@ fn build(
     )?;
     let side: Vec<(u32, Facet)> = (0..kept)
         .filter(|&t| differs[t])
-        .map(|t| (t as u32, read_facet(&c, part_colors, t)))
+        .map(|t| (t as u32, read_facet(&c, part_colors, t, flags[t] & SIDE)))
         .collect();
     let_go(held, differs);
+    let_go(held, flags);
     step_done()?;
     // The corners go; the vertices are made from their sources.
     let tri_parts = std::mem::take(&mut c.part_of);
@@ -589,11 +604,11 @@ fn normal_of(c: &IndexedCorners, t: usize) -> Vec3 {
 
 /// Triangle `t`'s facet as its corners give it: its normal, the texture
 /// axes of its UVs, the mean of its corners and of their colours.
-fn read_facet(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize) -> Facet {
+fn read_facet(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize, side: u8) -> Facet {
     let normal = normal_of(c, t);
     let positions = positions_of(c, t);
     let colors = [0, 1, 2].map(|k| color_of(c, part_colors, t, k));
-    let frame = face_frame(positions, uvs_of(c, t), normal);
+    let frame = face_frame(positions, uvs_of(c, t, side), normal);
     Facet {
         normal,
         tangent_u: frame.tangent_u,
@@ -616,7 +631,7 @@ fn read_facet(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize) -> Fac
 fn split_vertices(
     name: &str,
     c: &IndexedCorners,
-    mirrored: &[bool],
+    flags: &[u8],
     (position_id, ids): (&[u32], usize),
     held: &mut Reservation,
 ) -> Result<(Vec<u32>, Vec<u32>), ObjError> {
@@ -648,8 +663,10 @@ fn split_vertices(
     // What makes corner `i` a vertex of its own, besides its point.
     let key = |i: usize| -> VertexKey {
         let t = i / 3;
-        let tag = part(c, t) << 1 | mirrored[t] as u32;
-        let [u, w] = uvs_of(c, t)[i % 3].to_array().map(f32::to_bits);
+        let tag = part(c, t) << 1 | (flags[t] & MIRRORED != 0) as u32;
+        let [u, w] = uv_of(c, t, i % 3, flags[t] & SIDE)
+            .to_array()
+            .map(f32::to_bits);
         let [x, y, z] = c.normals[c.corners[i][2] as usize]
             .to_array()
             .map(f32::to_bits);
