@@ -576,6 +576,62 @@ fn an_indexed_mesh_holds_at_most_64_bytes_a_triangle() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// Loading a sphere of shared vertices peaks at a bounded number of bytes
+/// a triangle, reserved and allocated (the file's bytes included): a
+/// binary PLY with normals, its vertices read into shared arrays and its
+/// bytes freed before the build, and an OBJ of positions only, whose
+/// computed normals are shared by the corners of a point that agree.
+///
+/// The bound, per triangle (half a point a triangle on a closed
+/// surface), at the peak, the convexity test: the three corners' indices
+/// (36), the points' positions and normals (6 + 6), each corner's vertex
+/// (12), each vertex's first corner and each point's id (2 + 2), and the
+/// test's own edges and buckets (60, and 8 a point: 4) — 128 (measured:
+/// 128 reserved for the PLY, 136 for the OBJ), with room: 150. A PLY reader holding a 56-byte corner per corner (168) was
+/// above it before the build began, and a build holding a 76-byte face
+/// per triangle beside the corners was above it while building.
+#[test]
+fn loading_a_sphere_peaks_at_150_bytes_a_triangle() {
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = hostile::scratch("loading-peak");
+    let (rings, segments) = (159, 316);
+    let triangles = 2 * segments * (rings - 1);
+    let ply = dir.join("sphere.ply");
+    std::fs::write(
+        &ply,
+        relief::bench::mesh_anchor::uv_sphere_ply(
+            rings as u32,
+            segments as u32,
+            1.0,
+            glam::Vec3::ZERO,
+        ),
+    )
+    .unwrap();
+    let obj = dir.join("sphere.obj");
+    write_sphere(&obj, rings, segments);
+    for (what, path) in [("binary PLY, normals", &ply), ("OBJ, positions only", &obj)] {
+        let (counted, allocated, reserved, _) = load_counted(path);
+        assert_eq!(counted, triangles, "{what}");
+        let per = |b: usize| b as f64 / triangles as f64;
+        println!(
+            "{what}: {triangles} triangles, at most {:.1} bytes a triangle allocated, {:.1} reserved",
+            per(allocated),
+            per(reserved)
+        );
+        assert!(
+            per(allocated) <= 150.0,
+            "{what}: {:.1} allocated",
+            per(allocated)
+        );
+        assert!(
+            per(reserved) <= 150.0,
+            "{what}: {:.1} reserved",
+            per(reserved)
+        );
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 #[test]
 fn a_100_mb_obj_of_a_million_triangles_opens_within_the_budget() {
     let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());

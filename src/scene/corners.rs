@@ -26,7 +26,7 @@ use rayon::prelude::*;
 use super::convex;
 use super::cube::{FACES, corner_color};
 use super::load_progress::{self, LoadStep};
-use super::mesh::{Face, Facet, Mesh, Triangle, Vertex};
+use super::mesh::{Facet, Mesh, Triangle, Vertex};
 use super::model_error::ObjError;
 use super::model_io::reserve;
 use super::tangents::{accumulate, face_frame, sum_bytes};
@@ -221,8 +221,10 @@ pub(crate) fn build_indexed(
 ) -> Result<Vec<(usize, Mesh)>, ObjError> {
     let (mesh, tri_parts) = build(name, corners, part_colors, textured, held)?;
     let count = textured.len().max(1);
-    if count == 1 || tri_parts.iter().all(|&p| p == tri_parts[0]) {
-        return Ok(vec![(tri_parts[0] as usize, mesh)]);
+    // No part numbers: all in part 0.
+    let first = tri_parts.first().copied().unwrap_or(0);
+    if count == 1 || tri_parts.iter().all(|&p| p == first) {
+        return Ok(vec![(first as usize, mesh)]);
     }
     // Split: each part keeps the vertices its triangles use, renumbered
     // (each vertex belongs to one part: the part is in its key).
@@ -266,29 +268,42 @@ pub(crate) fn build_indexed(
     Ok(out)
 }
 
-/// The UVs of triangle `t`: the file's, or (when a corner has none) a box
-/// projection with the cube's texture axes.
-fn uvs_of(c: &IndexedCorners, t: usize, normal: Vec3) -> [Vec2; 3] {
+/// The cube face a triangle of unit normal `normal` is projected on when
+/// its UVs are made: the one whose normal is closest (the last of equals).
+fn box_side(normal: Vec3) -> u8 {
+    (0..FACES.len())
+        .max_by(|&x, &y| normal.dot(FACES[x].0).total_cmp(&normal.dot(FACES[y].0)))
+        .unwrap_or(4) as u8
+}
+
+/// A triangle's flags: its [`box_side`] and whether its texture axes are
+/// mirrored.
+const SIDE: u8 = 7;
+const MIRRORED: u8 = 8;
+
+/// The UV of corner `k` of triangle `t`: the file's, or (when a corner of
+/// the triangle has none) a box projection on the cube face `side`, with
+/// its texture axes.
+fn uv_of(c: &IndexedCorners, t: usize, k: usize, side: u8) -> Vec2 {
     let corners = &c.corners[3 * t..3 * t + 3];
     if corners.iter().all(|k| k[1] != NO_INDEX) {
-        return [0, 1, 2].map(|k| c.uvs[corners[k][1] as usize]);
+        return c.uvs[corners[k][1] as usize];
     }
-    let (_, u_axis, v_axis) = FACES
-        .iter()
-        .copied()
-        .max_by(|x, y| normal.dot(x.0).total_cmp(&normal.dot(y.0)))
-        .unwrap_or(FACES[4]);
-    [0, 1, 2].map(|k| {
-        let p = c.positions[corners[k][0] as usize] / FIT_RADIUS;
-        Vec2::new(0.5 + 0.5 * p.dot(u_axis), 0.5 + 0.5 * p.dot(v_axis))
-    })
+    let (_, u_axis, v_axis) = FACES[side as usize];
+    let p = c.positions[corners[k][0] as usize] / FIT_RADIUS;
+    Vec2::new(0.5 + 0.5 * p.dot(u_axis), 0.5 + 0.5 * p.dot(v_axis))
+}
+
+/// The UVs of triangle `t` ([`uv_of`]).
+fn uvs_of(c: &IndexedCorners, t: usize, side: u8) -> [Vec2; 3] {
+    [0, 1, 2].map(|k| uv_of(c, t, k, side))
 }
 
 /// The colour of corner `k` of triangle `t`: the file's, else its part's,
 /// else one computed from the position.
 fn color_of(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize, k: usize) -> Vec3 {
     let p = c.corners[3 * t + k][0] as usize;
-    let part = c.part_of.get(t).copied().unwrap_or(0) as usize;
+    let part = part(c, t) as usize;
     c.colors
         .get(p)
         .copied()
@@ -299,9 +314,10 @@ fn color_of(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize, k: usize
 }
 
 /// The steps of [`build`] the progress line counts: the face normals, the
-/// vertex normals, the facet data, the vertices, the closed and convex
-/// tests, the mesh; the tangent sums come after the last.
-const BUILD_STEPS: u64 = 6;
+/// vertex normals, the triangle flags, the vertex keys, the closed and
+/// convex tests, the triangles and their side table, the vertices; the
+/// tangent sums come after the last.
+const BUILD_STEPS: u64 = 7;
 
 fn build(
     name: &str,
@@ -323,6 +339,10 @@ fn build(
         }
         load_progress::check(name)
     };
+    // Colours no point has are not kept.
+    if c.colors.iter().all(Option::is_none) {
+        let_go(held, std::mem::take(&mut c.colors));
+    }
     let fit = {
         let (positions, corners) = (&c.positions, &c.corners);
         fit_of(|| corners.iter().map(|k| positions[k[0] as usize])).ok_or_else(degenerate)?
@@ -332,29 +352,20 @@ fn build(
         .for_each(|p| *p = fitted(*p, fit));
     // Keep the triangles that have an area (and so a normal).
     let all = c.corners.len() / 3;
-    hold(
-        held,
-        name,
-        "the face normals",
-        bytes_of::<Vec3>(all as u64) + bytes_of::<u32>(all as u64),
-    )?;
-    let mut face_normals: Vec<Vec3> = c
-        .corners
-        .par_chunks_exact(3)
-        .map(|k| {
-            let [a, b, d] = [0, 1, 2].map(|i| c.positions[k[i][0] as usize]);
-            (b - a).cross(d - a).normalize_or_zero()
-        })
-        .collect();
-    if c.part_of.len() != all {
-        c.part_of = vec![0; all];
+    hold(held, name, "the face normals", bytes_of::<Vec3>(all as u64))?;
+    let mut face_normals: Vec<Vec3> = (0..all).into_par_iter().map(|t| normal_of(&c, t)).collect();
+    // A model of one part keeps no part numbers.
+    if c.part_of.len() != all || c.part_of.iter().all(|&p| p == 0) {
+        let_go(held, std::mem::take(&mut c.part_of));
     }
     let mut kept = 0;
     for t in 0..all {
         if face_normals[t] != Vec3::ZERO {
             c.corners.copy_within(3 * t..3 * t + 3, 3 * kept);
             face_normals[kept] = face_normals[t];
-            c.part_of[kept] = c.part_of[t];
+            if !c.part_of.is_empty() {
+                c.part_of[kept] = c.part_of[t];
+            }
             kept += 1;
         }
     }
@@ -398,63 +409,142 @@ fn build(
         fill_normals(name, &mut c, &face_normals, &position_id, ids, held)?;
     }
     step_done()?;
-    // The triangles' facet data, in parallel.
-    hold(held, name, "the faces", bytes_of::<Face>(kept as u64))?;
-    let mut triangles: Vec<Face> = (0..kept)
+    // Each triangle's box side (for UVs made by projection) and whether
+    // its texture axes are mirrored (its corners' vertices are told apart
+    // by it). The face normals then go: what needs one again computes the
+    // same bits from the corners.
+    hold(
+        held,
+        name,
+        "the triangle flags",
+        bytes_of::<u8>(kept as u64),
+    )?;
+    let flags: Vec<u8> = (0..kept)
         .into_par_iter()
         .map(|t| {
             let normal = face_normals[t];
-            let positions = [0, 1, 2].map(|k| c.positions[c.corners[3 * t + k][0] as usize]);
-            let uvs = uvs_of(&c, t, normal);
-            let colors = [0, 1, 2].map(|k| color_of(&c, part_colors, t, k));
-            let frame = face_frame(positions, uvs, normal);
-            Face {
-                indices: [0; 3],
-                face_normal: normal,
-                face_tangent_u: frame.tangent_u,
-                face_tangent_v: frame.tangent_v,
-                facet_center: positions.iter().sum::<Vec3>() / 3.0,
-                facet_color: colors.iter().sum::<Vec3>() / 3.0,
-                textured: textured.get(c.part_of[t] as usize).copied().unwrap_or(true),
+            let side = box_side(normal);
+            let frame = face_frame(positions_of(&c, t), uvs_of(&c, t, side), normal);
+            let mirrored = frame.tangent_u.cross(frame.tangent_v).dot(normal) < 0.0;
+            side | if mirrored { MIRRORED } else { 0 }
+        })
+        .collect();
+    let_go(held, face_normals);
+    step_done()?;
+    // Each corner's vertex: one per distinct key, in order of first use.
+    let (vertex_of, firsts) = split_vertices(name, &c, &flags, (&position_id, ids), held)?;
+    step_done()?;
+    let closed = is_closed(name, &c.corners, &position_id, held)?;
+    // The convexity test only saves the depth buffer: a model whose test
+    // would not fit the budget is drawn with one.
+    let convex = closed && {
+        let bytes = convex::scratch_bytes(kept, ids);
+        held.grow(&format!("the convexity test of model {name}"), bytes)
+            .is_ok()
+            && {
+                let convex = convex::is_convex(
+                    kept,
+                    ids,
+                    &|t| [0, 1, 2].map(|k| position_id[c.corners[3 * t + k][0] as usize]),
+                    &|t| positions_of(&c, t),
+                );
+                held.shrink(bytes);
+                convex
+            }
+    };
+    let_go(held, position_id);
+    step_done()?;
+    // The triangles, from each corner's vertex.
+    hold(
+        held,
+        name,
+        "the triangles",
+        bytes_of::<Triangle>(kept as u64),
+    )?;
+    let triangles: Vec<Triangle> = vertex_of
+        .par_chunks_exact(3)
+        .enumerate()
+        .map(|(t, v)| {
+            let textured = textured.get(part(&c, t) as usize).copied().unwrap_or(true);
+            Triangle::new([v[0], v[1], v[2]], textured)
+        })
+        .collect();
+    let_go(held, vertex_of);
+    // What each vertex takes from its first corner, so the corners can go
+    // before the vertices are made.
+    let count = firsts.len() as u64;
+    hold(
+        held,
+        name,
+        "the vertices' sources",
+        bytes_of::<Source>(count),
+    )?;
+    let sources: Vec<Source> = firsts
+        .par_iter()
+        .map(|&i| {
+            let (i, t, k) = (i as usize, i as usize / 3, i as usize % 3);
+            let corner = c.corners[i];
+            Source {
+                position: corner[0],
+                normal: corner[2],
+                uv: uv_of(&c, t, k, flags[t] & SIDE),
+                color: color_of(&c, part_colors, t, k),
             }
         })
         .collect();
-    drop(face_normals);
-    step_done()?;
-    // Vertices: one per distinct key, in order of first use.
-    let (vertices, vertex_of) =
-        split_vertices(name, &c, &triangles, part_colors, (&position_id, ids), held)?;
-    triangles
-        .par_iter_mut()
-        .zip(vertex_of.par_chunks_exact(3))
-        .for_each(|(tri, v)| tri.indices = [v[0], v[1], v[2]]);
-    drop(vertex_of);
-    held.shrink(bytes_of::<u32>(c.corners.len() as u64));
-    step_done()?;
-    let closed = is_closed(name, &c.corners, &position_id, held)?;
-    let convex = closed && {
-        let bytes = convex::scratch_bytes(kept, ids);
-        hold(held, name, "the convexity test", bytes)?;
-        let convex = convex::is_convex(
-            kept,
-            ids,
-            &|t| [0, 1, 2].map(|k| position_id[c.corners[3 * t + k][0] as usize]),
-            &|t| [0, 1, 2].map(|k| c.positions[c.corners[3 * t + k][0] as usize]),
-        );
-        held.shrink(bytes);
-        convex
+    let_go(held, firsts);
+    // The facets the vertices would not give again bit for bit (a point
+    // at −0 and +0, a colour its vertex does not keep) are kept beside
+    // the triangles; there are usually none.
+    let drawn = |t: usize| {
+        let v = triangles[t]
+            .indices
+            .map(|i| sources[i as usize].facet_vertex(&c.positions));
+        Facet::of_triangle([&v[0], &v[1], &v[2]])
     };
+    hold(held, name, "the side flags", bytes_of::<bool>(kept as u64))?;
+    let differs: Vec<bool> = (0..kept)
+        .into_par_iter()
+        .map(|t| read_facet(&c, part_colors, t, flags[t] & SIDE).bits() != drawn(t).bits())
+        .collect();
+    let side_count = differs.iter().filter(|&&d| d).count() as u64;
+    hold(
+        held,
+        name,
+        "the side table",
+        bytes_of::<(u32, Facet)>(side_count).saturating_add(bytes_of::<Facet>(side_count)),
+    )?;
+    let side: Vec<(u32, Facet)> = (0..kept)
+        .filter(|&t| differs[t])
+        .map(|t| (t as u32, read_facet(&c, part_colors, t, flags[t] & SIDE)))
+        .collect();
+    let_go(held, differs);
+    let_go(held, flags);
     step_done()?;
+    // The corners go; the vertices are made from their sources.
     let tri_parts = std::mem::take(&mut c.part_of);
-    drop(c);
-    drop(position_id);
-    // Facet data that the corners give again is not kept.
-    let side = Mesh::side_facets(&vertices, &triangles);
-    let compact = bytes_of::<Triangle>(kept as u64) + bytes_of::<Facet>(side as u64);
-    hold(held, name, "the triangles", compact)?;
-    let mut mesh = Mesh::new(vertices, &triangles, convex, closed);
-    drop(triangles);
-    held.shrink(bytes_of::<Face>(kept as u64));
+    let positions = std::mem::take(&mut c.positions);
+    let normals = std::mem::take(&mut c.normals);
+    let_go(held, std::mem::take(&mut c.corners));
+    let_go(held, std::mem::take(&mut c.uvs));
+    let_go(held, std::mem::take(&mut c.colors));
+    hold(held, name, "the vertices", bytes_of::<Vertex>(count))?;
+    let vertices: Vec<Vertex> = sources
+        .par_iter()
+        .map(|s| Vertex {
+            position: positions[s.position as usize],
+            normal: normals[s.normal as usize],
+            uv: s.uv,
+            color: s.color,
+            tangent_u: Vec3::ZERO,
+            tangent_v: Vec3::ZERO,
+        })
+        .collect();
+    let_go(held, sources);
+    let_go(held, positions);
+    let_go(held, normals);
+    let mut mesh = Mesh::with_side_facets(vertices, triangles, &side, convex, closed);
+    let_go(held, side);
     hold(
         held,
         name,
@@ -466,10 +556,72 @@ fn build(
     Ok((mesh, tri_parts))
 }
 
-/// The vertices of the model, one per distinct key (position id, UV bits,
-/// normal bits, part and mirroring), in order of first use, each made from
-/// its first corner; and each corner's vertex. `held` grows by what is
-/// allocated, and keeps the corners' vertices (a `u32` each) when done.
+/// What a vertex takes from the first corner of its key.
+struct Source {
+    position: u32,
+    normal: u32,
+    uv: Vec2,
+    color: Vec3,
+}
+
+impl Source {
+    /// The vertex as far as its triangles' facets go (position, UV, colour).
+    fn facet_vertex(&self, positions: &[Vec3]) -> Vertex {
+        Vertex {
+            position: positions[self.position as usize],
+            normal: Vec3::ZERO,
+            uv: self.uv,
+            color: self.color,
+            tangent_u: Vec3::ZERO,
+            tangent_v: Vec3::ZERO,
+        }
+    }
+}
+
+/// Frees `v` and gives its bytes back to `held`.
+fn let_go<T>(held: &mut Reservation, v: Vec<T>) {
+    let bytes = bytes_of::<T>(v.capacity() as u64);
+    drop(v);
+    held.shrink(bytes);
+}
+
+/// Triangle `t`'s part.
+fn part(c: &IndexedCorners, t: usize) -> u32 {
+    c.part_of.get(t).copied().unwrap_or(0)
+}
+
+/// The positions of triangle `t`'s corners.
+fn positions_of(c: &IndexedCorners, t: usize) -> [Vec3; 3] {
+    [0, 1, 2].map(|k| c.positions[c.corners[3 * t + k][0] as usize])
+}
+
+/// The unit normal of triangle `t` (zero when it has no area): always
+/// this expression, so computing it again gives the same bits.
+fn normal_of(c: &IndexedCorners, t: usize) -> Vec3 {
+    let [a, b, d] = positions_of(c, t);
+    (b - a).cross(d - a).normalize_or_zero()
+}
+
+/// Triangle `t`'s facet as its corners give it: its normal, the texture
+/// axes of its UVs, the mean of its corners and of their colours.
+fn read_facet(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize, side: u8) -> Facet {
+    let normal = normal_of(c, t);
+    let positions = positions_of(c, t);
+    let colors = [0, 1, 2].map(|k| color_of(c, part_colors, t, k));
+    let frame = face_frame(positions, uvs_of(c, t, side), normal);
+    Facet {
+        normal,
+        tangent_u: frame.tangent_u,
+        tangent_v: frame.tangent_v,
+        center: positions.iter().sum::<Vec3>() / 3.0,
+        color: colors.iter().sum::<Vec3>() / 3.0,
+    }
+}
+
+/// Each corner's vertex, one per distinct key (position id, UV bits,
+/// normal bits, part and mirroring) numbered in order of first use, and
+/// each vertex's first corner. `held` grows by what is allocated, and
+/// keeps both arrays (a `u32` a corner and a vertex) when done.
 ///
 /// Only corners at the same point can share a vertex, so the corners are
 /// listed per point (a counting sort, in corner order) and each point's
@@ -479,11 +631,10 @@ fn build(
 fn split_vertices(
     name: &str,
     c: &IndexedCorners,
-    triangles: &[Face],
-    part_colors: &[Option<Vec3>],
+    flags: &[u8],
     (position_id, ids): (&[u32], usize),
     held: &mut Reservation,
-) -> Result<(Vec<Vertex>, Vec<u32>), ObjError> {
+) -> Result<(Vec<u32>, Vec<u32>), ObjError> {
     let corners = c.corners.len();
     let lists =
         bytes_of::<u32>(2 * (ids as u64 + 1)).saturating_add(bytes_of::<u32>(corners as u64));
@@ -512,14 +663,8 @@ fn split_vertices(
     // What makes corner `i` a vertex of its own, besides its point.
     let key = |i: usize| -> VertexKey {
         let t = i / 3;
-        let tri = &triangles[t];
-        let mirrored = tri
-            .face_tangent_u
-            .cross(tri.face_tangent_v)
-            .dot(tri.face_normal)
-            < 0.0;
-        let tag = c.part_of[t] << 1 | mirrored as u32;
-        let [u, w] = uvs_of(c, t, tri.face_normal)[i % 3]
+        let tag = part(c, t) << 1 | (flags[t] & MIRRORED != 0) as u32;
+        let [u, w] = uv_of(c, t, i % 3, flags[t] & SIDE)
             .to_array()
             .map(f32::to_bits);
         let [x, y, z] = c.normals[c.corners[i][2] as usize]
@@ -575,8 +720,8 @@ fn split_vertices(
     hold(
         held,
         name,
-        "the vertices",
-        bytes_of::<Vertex>(count as u64).saturating_add(bytes_of::<u32>(count as u64)),
+        "the vertices' first corners",
+        bytes_of::<u32>(count as u64),
     )?;
     let mut firsts = Vec::with_capacity(count as usize);
     let mut next = 0;
@@ -586,30 +731,14 @@ fn split_vertices(
             next += 1;
         }
     }
-    let vertices: Vec<Vertex> = firsts
-        .par_iter()
-        .map(|&i| {
-            let (i, t, k) = (i as usize, i as usize / 3, i as usize % 3);
-            let corner = c.corners[i];
-            let normal = c.normals[corner[2] as usize];
-            Vertex {
-                position: c.positions[corner[0] as usize],
-                normal,
-                uv: uvs_of(c, t, triangles[t].face_normal)[k],
-                color: color_of(c, part_colors, t, k),
-                tangent_u: Vec3::ZERO,
-                tangent_v: Vec3::ZERO,
-            }
-        })
-        .collect();
-    drop(firsts);
-    held.shrink(bytes_of::<u32>(count as u64));
-    Ok((vertices, vertex_of))
+    Ok((vertex_of, firsts))
 }
 
 /// Computes every corner's normal into a new normal array (the file's,
 /// normalised, where it has a usable one): by angle weighting, from the
-/// faces around the same position within the crease angle.
+/// faces around the same position within the crease angle. Corners of one
+/// point whose normals are equal, bit for bit, share one entry, so a
+/// smooth surface keeps about one normal per point, not one per corner.
 fn fill_normals(
     name: &str,
     c: &mut IndexedCorners,
@@ -620,13 +749,13 @@ fn fill_normals(
 ) -> Result<(), ObjError> {
     let cos_crease = CREASE_DEGREES.to_radians().cos();
     let corners = c.corners.len() as u64;
+    let lists =
+        bytes_of::<u32>(2 * (positions as u64 + 1)).saturating_add(bytes_of::<u32>(corners));
     hold(
         held,
         name,
-        "the normals",
-        bytes_of::<u32>(2 * (positions as u64 + 1))
-            .saturating_add(bytes_of::<(u32, u8)>(corners))
-            .saturating_add(bytes_of::<Vec3>(corners)),
+        "the normal lists",
+        lists.saturating_add(bytes_of::<u32>(corners)),
     )?;
     let id = |i: usize| position_id[c.corners[i][0] as usize];
     // The corners around each position, as one flat list (counting sort).
@@ -638,56 +767,120 @@ fn fill_normals(
         start[i + 1] += start[i];
     }
     let mut fill = start.clone();
-    let mut around = vec![(0u32, 0u8); start[positions] as usize];
+    let mut around = vec![0u32; start[positions] as usize];
     for i in 0..c.corners.len() {
         let p = id(i) as usize;
-        around[fill[p] as usize] = ((i / 3) as u32, (i % 3) as u8);
+        around[fill[p] as usize] = i as u32;
         fill[p] += 1;
     }
     drop(fill);
     let triangle = |t: usize| [0, 1, 2].map(|k| c.positions[c.corners[3 * t + k][0] as usize]);
-    let weighted = |&(t, k): &(u32, u8)| {
-        corner_angle(triangle(t as usize), k as usize) * face_normals[t as usize]
+    let weighted = |&i: &u32| {
+        let (t, k) = (i as usize / 3, i as usize % 3);
+        corner_angle(triangle(t), k) * face_normals[t]
     };
+    let list = |p: usize| &around[start[p] as usize..start[p + 1] as usize];
     // Around a position shared by very many faces (a cone's apex), the
     // per-corner crease test would cost valence²: there all faces are
     // averaged once instead.
     let big: HashMap<u32, Vec3> = (0..positions)
-        .filter(|&p| (start[p + 1] - start[p]) as usize > MAX_VALENCE)
-        .map(|p| {
-            let list = &around[start[p] as usize..start[p + 1] as usize];
-            (p as u32, list.iter().map(weighted).sum::<Vec3>())
-        })
+        .filter(|&p| list(p).len() > MAX_VALENCE)
+        .map(|p| (p as u32, list(p).iter().map(weighted).sum::<Vec3>()))
         .collect();
-    // Each corner's normal reads only the triangles around it: in parallel.
-    let normals: Vec<Vec3> = (0..c.corners.len())
+    // Each corner's normal reads only the triangles around it.
+    let normal_at = |i: usize| {
+        let normal = face_normals[i / 3];
+        let given = c.corners[i][2];
+        if given != NO_INDEX && c.normals[given as usize] != Vec3::ZERO {
+            return c.normals[given as usize];
+        }
+        let p = id(i);
+        let sum = match big.get(&p) {
+            Some(sum) => *sum,
+            None => list(p as usize)
+                .iter()
+                .filter(|&&i2| normal.dot(face_normals[i2 as usize / 3]) >= cos_crease)
+                .map(weighted)
+                .sum(),
+        };
+        sum.normalize_or(normal)
+    };
+    // The points, cut into runs, in parallel. First each corner learns its
+    // normal's number within its run (a normal met before at the same
+    // point, among its first `CROWDED`, is shared), flagged when it is the
+    // first; then the normals are made once each, into the run's slice.
+    const FIRST: u32 = 1 << 31;
+    let runs = (4 * rayon::current_num_threads()).min(positions.max(1));
+    let points = |r: usize| r * positions / runs..(r + 1) * positions / runs;
+    let number: Vec<AtomicU32> = (0..c.corners.len()).map(|_| AtomicU32::new(0)).collect();
+    let made: Vec<u32> = (0..runs)
         .into_par_iter()
-        .map(|i| {
-            let normal = face_normals[i / 3];
-            let given = c.corners[i][2];
-            if given != NO_INDEX && c.normals[given as usize] != Vec3::ZERO {
-                return c.normals[given as usize];
+        .map_init(Vec::new, |seen: &mut Vec<[u32; 3]>, r| {
+            let mut count = 0u32;
+            for p in points(r) {
+                seen.clear();
+                for &i in list(p) {
+                    let bits = normal_at(i as usize).to_array().map(f32::to_bits);
+                    let at = seen.iter().position(|&b| b == bits);
+                    let n = match at {
+                        Some(j) => count - seen.len() as u32 + j as u32,
+                        None => {
+                            if seen.len() < CROWDED {
+                                seen.push(bits);
+                            } else {
+                                // Beyond the first few, each keeps its own.
+                                seen.clear();
+                            }
+                            count += 1;
+                            (count - 1) | FIRST
+                        }
+                    };
+                    number[i as usize].store(n, Ordering::Relaxed);
+                }
             }
-            let p = id(i);
-            let sum = match big.get(&p) {
-                Some(sum) => *sum,
-                None => around[start[p as usize] as usize..start[p as usize + 1] as usize]
-                    .iter()
-                    .filter(|&&(t2, _)| normal.dot(face_normals[t2 as usize]) >= cos_crease)
-                    .map(weighted)
-                    .sum(),
-            };
-            sum.normalize_or(normal)
+            count
         })
         .collect();
+    let total: u64 = made.iter().map(|&n| n as u64).sum();
+    hold(held, name, "the normals", bytes_of::<Vec3>(total))?;
+    let mut normals = vec![Vec3::ZERO; total as usize];
+    {
+        let mut rest = &mut normals[..];
+        let mut slices = Vec::with_capacity(runs);
+        for &n in &made {
+            let (head, tail) = std::mem::take(&mut rest).split_at_mut(n as usize);
+            slices.push(head);
+            rest = tail;
+        }
+        let offsets: Vec<u32> = made
+            .iter()
+            .scan(0u32, |sum, &n| {
+                *sum += n;
+                Some(*sum - n)
+            })
+            .collect();
+        slices.into_par_iter().enumerate().for_each(|(r, out)| {
+            for p in points(r) {
+                for &i in list(p) {
+                    let n = number[i as usize].load(Ordering::Relaxed);
+                    if n & FIRST != 0 {
+                        out[(n & !FIRST) as usize] = normal_at(i as usize);
+                    }
+                    number[i as usize].store(offsets[r] + (n & !FIRST), Ordering::Relaxed);
+                }
+            }
+        });
+    }
     drop(big);
     drop(around);
     drop(start);
-    c.normals = normals;
+    let_go(held, std::mem::replace(&mut c.normals, normals));
     c.corners
         .par_iter_mut()
-        .enumerate()
-        .for_each(|(i, k)| k[2] = i as u32);
+        .zip(number.par_iter())
+        .for_each(|(k, n)| k[2] = n.load(Ordering::Relaxed));
+    drop(number);
+    held.shrink(lists.saturating_add(bytes_of::<u32>(corners)));
     Ok(())
 }
 

@@ -89,7 +89,8 @@ impl Facet {
         }
     }
 
-    fn bits(&self) -> [u32; 15] {
+    /// The facet's bits, field by field.
+    pub(crate) fn bits(&self) -> [u32; 15] {
         let mut out = [0; 15];
         let fields = [
             self.normal,
@@ -234,6 +235,35 @@ impl Mesh {
         );
         self.uv2 = uv2;
         self
+    }
+
+    /// The mesh of `triangles` (made with [`Triangle::new`]) over
+    /// `vertices`, the triangles named in `side` (in increasing order)
+    /// keeping the facet given there: what [`Mesh::new`] makes of the same
+    /// faces when exactly those facets differ from their corners'.
+    pub fn with_side_facets(
+        vertices: Vec<Vertex>,
+        mut triangles: Vec<Triangle>,
+        side: &[(u32, Facet)],
+        convex: bool,
+        closed: bool,
+    ) -> Mesh {
+        let mut facets: Vec<Facet> = Vec::new();
+        for (t, facet) in side {
+            if facets.last().map(Facet::bits) != Some(facet.bits()) {
+                facets.push(*facet);
+            }
+            triangles[*t as usize].facet = (facets.len() - 1) as u32;
+        }
+        facets.shrink_to_fit();
+        Mesh {
+            vertices,
+            triangles,
+            facets,
+            convex,
+            closed,
+            uv2: Vec::new(),
+        }
     }
 
     /// The second texture coordinate set: one per vertex, or empty.

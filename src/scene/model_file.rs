@@ -60,10 +60,9 @@ pub fn load(path: &Path) -> Result<LoadedModel, ObjError> {
             Ok(model)
         }
         Some(ModelFormat::Ply) => {
+            // The file's bytes are freed before the model is built.
             let (bytes, held) = read_model_file(path)?;
-            let model = super::ply::parse(&name, &bytes)?;
-            drop(held);
-            Ok(model)
+            super::ply::load(&name, bytes, held)
         }
         Some(ModelFormat::Gltf) => Err(ObjError::Unsupported {
             name,

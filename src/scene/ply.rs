@@ -14,21 +14,25 @@
 //! budget is asked before anything of the model's size exists. Errors say
 //! the header line, the body line (ASCII) or the byte offset (binary).
 //!
+//! The vertices are read into shared arrays (a position, and a normal, UV
+//! or colour only when the element has them) and the faces, fanned into
+//! triangles, into corners indexing them, as an OBJ's `v` lines and faces
+//! are: 36 bytes a triangle and 12 to 48 a vertex. A file read from disk
+//! is freed before the model is built ([`load`]).
+//!
 //! A PLY with vertices and no faces is a point cloud: each point becomes a
 //! triangle with three equal corners, which the points display draws.
 
 use glam::{Vec2, Vec3};
 
 use super::corners::{
-    CORNER_BYTES_PER_TRIANGLE, Corner, MAX_FACE_CORNERS, build_parts, fit_of, fitted,
+    IndexedCorners, MAX_FACE_CORNERS, NO_INDEX, build_indexed, bytes_of, fit_of, fitted,
 };
 use super::loaded_model::{LoadedModel, ModelMaps, ModelPart};
 use super::mesh::{Face, Mesh, Vertex};
 use super::model_error::ObjError;
 use super::model_io::reserve;
-
-/// Bytes kept per vertex while reading (position, normal, UV, colour, flags).
-const BYTES_PER_VERTEX: u64 = 12 + 12 + 8 + 12 + 4;
+use crate::budget::Reservation;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Scalar {
@@ -190,7 +194,29 @@ impl Body<'_> {
 
 /// Reads a PLY file; `name` (already sanitised) is used in messages.
 pub fn parse(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
-    crate::contain::contain(|| parse_unguarded(name, bytes)).unwrap_or_else(|cause| {
+    guarded(name, || {
+        let (corners, held) = read(name, bytes)?;
+        finish(name, corners, held)
+    })
+}
+
+/// [`parse`] of a file's bytes read with the reservation `held` that
+/// covers them: they are freed, with it, before the model is built.
+pub fn load(name: &str, bytes: Vec<u8>, held: Reservation) -> Result<LoadedModel, ObjError> {
+    guarded(name, move || {
+        let (corners, read_held) = read(name, &bytes)?;
+        drop(bytes);
+        drop(held);
+        finish(name, corners, read_held)
+    })
+}
+
+/// `f`, a panic in it made an error like any other.
+fn guarded(
+    name: &str,
+    f: impl FnOnce() -> Result<LoadedModel, ObjError>,
+) -> Result<LoadedModel, ObjError> {
+    crate::contain::contain(f).unwrap_or_else(|cause| {
         Err(ObjError::Parse {
             name: name.to_string(),
             reason: format!("the reader failed on it ({cause})"),
@@ -337,16 +363,9 @@ fn least_item_bytes(e: &Element, format: Format) -> u64 {
         .sum()
 }
 
-/// One read vertex.
-#[derive(Clone, Copy, Default)]
-struct PlyVertex {
-    position: Vec3,
-    normal: Option<Vec3>,
-    color: Option<Vec3>,
-    uv: Option<Vec2>,
-}
-
-fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
+/// Reads the file's vertices into shared arrays and its faces, fanned into
+/// triangles, as corners indexing them, with the reservation covering both.
+fn read(name: &str, bytes: &[u8]) -> Result<(IndexedCorners, Reservation), ObjError> {
     let (format, elements, start) = header(name, bytes)?;
     let vertex_element = elements.iter().position(|e| e.name == "vertex");
     let Some(vertex_element) = vertex_element else {
@@ -420,16 +439,44 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
         }
     }
     let vertex_count = elements[vertex_element].count;
-    let _held = reserve(
+    if vertex_count >= NO_INDEX as u64 {
+        return Err(ObjError::Unsupported {
+            name: name.to_string(),
+            what: format!("more than {} vertices", NO_INDEX - 1),
+        });
+    }
+    // The vertices' attributes go into shared arrays (the faces index
+    // them, as an OBJ's `v` lines are): an array only for what the
+    // vertex element has.
+    let layout = vertex_layout(&elements[vertex_element]);
+    let has = |idx: &[Option<usize>]| idx.iter().all(Option::is_some);
+    let (has_normal, has_color, has_uv) =
+        (has(&layout.normal), has(&layout.color), has(&layout.uv));
+    let per_vertex = bytes_of::<Vec3>(1)
+        + if has_normal { bytes_of::<Vec3>(1) } else { 0 }
+        + if has_color {
+            bytes_of::<Option<Vec3>>(1)
+        } else {
+            0
+        }
+        + if has_uv { bytes_of::<Vec2>(1) } else { 0 };
+    let held = reserve(
         name,
         "the vertices and triangles",
         vertex_count
-            .saturating_mul(BYTES_PER_VERTEX)
-            .saturating_add(triangles.saturating_mul(CORNER_BYTES_PER_TRIANGLE)),
+            .saturating_mul(per_vertex)
+            .saturating_add(bytes_of::<[u32; 3]>(triangles.saturating_mul(3))),
     )?;
+    let with = |yes: bool, n: u64| if yes { n as usize } else { 0 };
+    let mut c = IndexedCorners {
+        positions: Vec::with_capacity(vertex_count as usize),
+        colors: Vec::with_capacity(with(has_color, vertex_count)),
+        uvs: Vec::with_capacity(with(has_uv, vertex_count)),
+        normals: Vec::with_capacity(with(has_normal, vertex_count)),
+        corners: Vec::with_capacity(triangles as usize * 3),
+        part_of: Vec::new(),
+    };
     // Second pass: read.
-    let mut vertices: Vec<PlyVertex> = Vec::with_capacity(vertex_count as usize);
-    let mut corners: Vec<Corner> = Vec::with_capacity(triangles as usize * 3);
     let mut polygon: Vec<usize> = Vec::new();
     let mut values: Vec<f64> = Vec::new();
     for e in &elements {
@@ -449,13 +496,13 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
                         for _ in 0..n {
                             let v = body.value(p.ty).map_err(|m| place(&body, m))?;
                             if Some(k) == list {
-                                if !(v >= 0.0 && v < vertices.len() as f64 && v.fract() == 0.0) {
+                                let read = c.positions.len();
+                                if !(v >= 0.0 && v < read as f64 && v.fract() == 0.0) {
                                     return Err(place(
                                         &body,
                                         format!(
-                                            "face {}: vertex index {v} is out of range (there are {} vertices)",
+                                            "face {}: vertex index {v} is out of range (there are {read} vertices)",
                                             item + 1,
-                                            vertices.len()
                                         ),
                                     ));
                                 }
@@ -479,54 +526,66 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
                         format!("vertex {}: a position is not a finite number", item + 1),
                     ));
                 }
-                let color = three(layout.color).map(|c| {
+                c.positions.push(position);
+                if has_normal {
+                    // An unusable normal is computed, as a missing one.
+                    let normal = three(layout.normal).filter(|n| n.is_finite());
+                    c.normals.push(normal.unwrap_or(Vec3::ZERO));
+                }
+                if has_color {
                     let scale = if e.properties[layout.color[0].unwrap_or(0)].ty.is_float() {
                         1.0
                     } else {
                         1.0 / 255.0
                     };
-                    c * scale
-                });
-                let uv = match layout.uv {
-                    [Some(u), Some(v)] => Some(Vec2::new(values[u] as f32, values[v] as f32)),
-                    _ => None,
-                };
-                vertices.push(PlyVertex {
-                    position,
-                    normal: three(layout.normal).filter(|n| n.is_finite()),
-                    color: color.filter(|c| c.is_finite()),
-                    uv: uv.filter(|t| t.is_finite()),
-                });
+                    let color = three(layout.color).map(|c| c * scale);
+                    c.colors.push(color.filter(|c| c.is_finite()));
+                }
+                if has_uv {
+                    let uv = match layout.uv {
+                        [Some(u), Some(v)] => Vec2::new(values[u] as f32, values[v] as f32),
+                        _ => Vec2::NAN,
+                    };
+                    // An unusable UV is marked, and its corners take none.
+                    c.uvs.push(if uv.is_finite() { uv } else { Vec2::NAN });
+                }
             } else if list.is_some() {
+                let corner = |i: usize| {
+                    let uv = c.uvs.get(i).is_some_and(|t| t.is_finite());
+                    [
+                        i as u32,
+                        if uv { i as u32 } else { NO_INDEX },
+                        if has_normal { i as u32 } else { NO_INDEX },
+                    ]
+                };
                 for k in 1..polygon.len().saturating_sub(1) {
                     for i in [polygon[0], polygon[k], polygon[k + 1]] {
-                        let v = vertices[i];
-                        corners.push(Corner {
-                            position: v.position,
-                            uv: v.uv,
-                            normal: v.normal,
-                            color: v.color,
-                        });
+                        c.corners.push(corner(i));
                     }
                 }
             }
         }
     }
-    let parts = if corners.is_empty() {
-        if vertices.is_empty() {
-            return Err(ObjError::Empty {
-                name: name.to_string(),
-            });
-        }
+    if c.positions.is_empty() {
+        return Err(ObjError::Empty {
+            name: name.to_string(),
+        });
+    }
+    Ok((c, held))
+}
+
+/// The model of what [`read`] read: a point cloud when there are no
+/// faces, else the built triangles.
+fn finish(name: &str, c: IndexedCorners, mut held: Reservation) -> Result<LoadedModel, ObjError> {
+    let parts = if c.corners.is_empty() {
         vec![ModelPart {
-            mesh: point_cloud(name, &vertices)?,
+            mesh: point_cloud(name, &c)?,
             material: None,
             own_maps: None,
             opacity_map: None,
         }]
     } else {
-        drop(vertices);
-        build_parts(name, corners, &[], &[true])?
+        build_indexed(name, c, &[], &[true], &mut held)?
             .into_iter()
             .map(|(_, mesh)| ModelPart {
                 mesh,
@@ -536,6 +595,7 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
             })
             .collect()
     };
+    drop(held);
     Ok(LoadedModel {
         points: parts.iter().all(|p| {
             p.mesh
@@ -551,15 +611,16 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
 
 /// Points as triangles with three equal corners (drawn by the points
 /// display; they cover no pixel when filled), fitted like any model.
-fn point_cloud(name: &str, vertices: &[PlyVertex]) -> Result<Mesh, ObjError> {
-    let fit = match fit_of(|| vertices.iter().map(|v| v.position)) {
+fn point_cloud(name: &str, c: &IndexedCorners) -> Result<Mesh, ObjError> {
+    let positions = &c.positions;
+    let fit = match fit_of(|| positions.iter().copied()) {
         Some(fit) => fit,
         // Every point at one place: kept there, at scale 1.
-        None if vertices
+        None if positions
             .iter()
-            .all(|v| v.position.is_finite() && v.position == vertices[0].position) =>
+            .all(|p| p.is_finite() && *p == positions[0]) =>
         {
-            (vertices[0].position.as_dvec3(), 1.0)
+            (positions[0].as_dvec3(), 1.0)
         }
         None => {
             return Err(ObjError::Degenerate {
@@ -567,17 +628,25 @@ fn point_cloud(name: &str, vertices: &[PlyVertex]) -> Result<Mesh, ObjError> {
             });
         }
     };
-    let mesh_vertices: Vec<Vertex> = vertices
+    let mesh_vertices: Vec<Vertex> = positions
         .iter()
-        .map(|v| {
-            let position = fitted(v.position, fit);
-            let normal = v.normal.and_then(|n| n.try_normalize()).unwrap_or(Vec3::Z);
+        .enumerate()
+        .map(|(i, &p)| {
+            let normal = c.normals.get(i).and_then(|n| n.try_normalize());
             Vertex {
-                position,
-                normal,
-                uv: v.uv.unwrap_or(Vec2::ZERO),
-                color: v
-                    .color
+                position: fitted(p, fit),
+                normal: normal.unwrap_or(Vec3::Z),
+                uv: c
+                    .uvs
+                    .get(i)
+                    .copied()
+                    .filter(|t| t.is_finite())
+                    .unwrap_or(Vec2::ZERO),
+                color: c
+                    .colors
+                    .get(i)
+                    .copied()
+                    .flatten()
                     .map(|c| c.clamp(Vec3::ZERO, Vec3::ONE))
                     .unwrap_or(Vec3::ONE),
                 tangent_u: Vec3::ZERO,

@@ -147,9 +147,9 @@ fn a_load_reports_each_pass_over_each_chunk_then_each_build_step() {
     });
     assert!(model.is_ok());
     // The reading's passes are over (a cancelled load below shows their
-    // count); the build ran its six steps.
+    // count); the build ran its seven steps.
     let now = p.now();
-    assert_eq!((now.step, now.done, now.total), (LoadStep::Building, 6, 6));
+    assert_eq!((now.step, now.done, now.total), (LoadStep::Building, 7, 7));
 }
 
 #[test]
