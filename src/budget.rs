@@ -167,10 +167,19 @@ pub fn texture_bytes(width: u64, height: u64) -> u64 {
     texture_bytes_at(width, height, Precision::Float)
 }
 
-/// Worst case of a `width × height` texture kept at `precision`.
+/// Worst case of a `width × height` texture kept at `precision`, with the
+/// f32 copy a compact base level of at most
+/// [`crate::texture::texels::WIDE_TEXELS`] texels keeps beside it (16
+/// bytes a texel).
 pub fn texture_bytes_at(width: u64, height: u64, precision: Precision) -> u64 {
     let texels = width.saturating_mul(height);
-    (texels as f64 * precision.bytes_per_texel())
+    let copy =
+        if precision != Precision::Float && texels <= crate::texture::texels::WIDE_TEXELS as u64 {
+            16.0
+        } else {
+            0.0
+        };
+    (texels as f64 * (precision.bytes_per_texel() + copy))
         .ceil()
         .min(u64::MAX as f64) as u64
 }
