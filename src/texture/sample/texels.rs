@@ -45,9 +45,9 @@ pub enum Texels {
     Widened(Box<Texels>, Vec<[f32; 4]>),
 }
 
-/// The most texels a level may have to be [`Texels::Widened`]: 64 K, an
-/// f32 copy of 1 MiB (a 256×256 picture such as the reference brick).
-pub const WIDE_TEXELS: usize = 1 << 16;
+/// The most texels a level may have to be [`Texels::Widened`] (the budget
+/// counts the copy, so the limit lives there).
+pub use crate::budget::WIDE_TEXELS;
 
 /// The bits of `s / 765` as f32, for every sum of three bytes.
 static MEAN_OF_SUM: [u32; 766] = {
