@@ -167,10 +167,22 @@ pub fn texture_bytes(width: u64, height: u64) -> u64 {
     texture_bytes_at(width, height, Precision::Float)
 }
 
-/// Worst case of a `width × height` texture kept at `precision`.
+/// The most texels a compact (8- or 16-bit) base level may have to keep an
+/// f32 copy of its reads beside it (`texture::texels`, `Widened`): 64 K,
+/// a copy of 1 MiB (a 256×256 picture such as the reference brick).
+pub const WIDE_TEXELS: usize = 1 << 16;
+
+/// Worst case of a `width × height` texture kept at `precision`, with the
+/// f32 copy a compact base level of at most [`WIDE_TEXELS`] texels keeps
+/// beside it (16 bytes a texel).
 pub fn texture_bytes_at(width: u64, height: u64, precision: Precision) -> u64 {
     let texels = width.saturating_mul(height);
-    (texels as f64 * precision.bytes_per_texel())
+    let copy = if precision != Precision::Float && texels <= WIDE_TEXELS as u64 {
+        16.0
+    } else {
+        0.0
+    };
+    (texels as f64 * (precision.bytes_per_texel() + copy))
         .ceil()
         .min(u64::MAX as f64) as u64
 }

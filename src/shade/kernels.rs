@@ -221,7 +221,7 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
         opaque_at(ctx, lerp2(b, &self.0.uv))
     }
-    #[inline]
+    #[inline(always)]
     fn shade8(
         &self,
         ctx: &ShadeCtx,

@@ -21,7 +21,7 @@ pub fn grey(texture: &Texture) -> Level {
     let base = texture.base();
     let grey8 =
         |v: &[[u8; 4]]| Texels::Grey8(v.iter().map(|t| pack_grey8(t[0], t[1], t[2])).collect());
-    let texels = match &base.texels {
+    let texels = match base.texels.compact() {
         Texels::Rgba8(v) | Texels::Rgb8(v) => grey8(v),
         other => Texels::Grey16(
             other

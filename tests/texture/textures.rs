@@ -1073,10 +1073,14 @@ fn reservation_matches_what_a_texture_allocates() {
         Rgb([x as u16 * 600, y as u16 * 1000, 65535 - x as u16])
     });
     let float = Rgb32FImage::from_fn(w, h, |x, y| Rgb([x as f32 / 96.0, y as f32 / 64.0, 0.5]));
+    // Past 64 K texels an 8-bit picture keeps 4 bytes a texel; below, its
+    // base level also keeps an f32 copy for reading (16 more).
+    let large = RgbImage::from_fn(257, 256, |x, y| Rgb([x as u8, y as u8, 9]));
     let cases = [
-        ("rgb8.png", encode(rgb8.into(), ImageFormat::Png), 4),
-        ("rgba8.png", encode(rgba8.into(), ImageFormat::Png), 4),
-        ("rgb16.png", encode(rgb16.into(), ImageFormat::Png), 8),
+        ("rgb8.png", encode(rgb8.into(), ImageFormat::Png), 4 + 16),
+        ("rgba8.png", encode(rgba8.into(), ImageFormat::Png), 4 + 16),
+        ("large.png", encode(large.into(), ImageFormat::Png), 4),
+        ("rgb16.png", encode(rgb16.into(), ImageFormat::Png), 8 + 16),
         ("float.exr", encode(float.into(), ImageFormat::OpenExr), 16),
     ];
     for (name, bytes, base_bytes) in cases {

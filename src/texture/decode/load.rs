@@ -646,7 +646,7 @@ fn level_from_image(image: DynamicImage) -> Level {
             Level {
                 width: w,
                 height: h,
-                texels,
+                texels: texels.widened_if_small(),
             }
         }
         Precision::Unorm16 => {
@@ -668,7 +668,7 @@ fn level_from_image(image: DynamicImage) -> Level {
             Level {
                 width: w,
                 height: h,
-                texels: Texels::Rgba16(texels),
+                texels: Texels::Rgba16(texels).widened_if_small(),
             }
         }
         Precision::Float => {

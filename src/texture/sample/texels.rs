@@ -20,6 +20,14 @@
 //!   r + g + b and the grey's offset in floats from `s / 765`, exact as
 //!   for `Rgb8`.
 //! - `Grey16`: the grey of any other picture, k / 65535.
+//! - `Widened`: a compact base level of at most [`WIDE_TEXELS`] texels
+//!   with an f32 copy of what it reads as beside it (at most 1 MiB, which
+//!   stays in a core's L2 cache). Reads go to the copy: an 8-bit bilinear
+//!   read then loads four f32 texels instead of converting four 8-bit ones
+//!   (about a tenth of a textured Gouraud frame, docs/bench.md). Everything
+//!   that depends on the storage (the mip chain's kind, the specular map's
+//!   exact grey, the normal map's precision) sees the compact texels, so
+//!   nothing but the time changes; the budget counts the copy.
 
 /// RGBA (or height) in 0..1.
 pub type Texel = [f32; 4];
@@ -33,7 +41,13 @@ pub enum Texels {
     Xyz16(Vec<[i16; 3]>),
     Grey8(Vec<u16>),
     Grey16(Vec<u16>),
+    /// Compact texels (never `F32` or `Widened`) and their f32 reads.
+    Widened(Box<Texels>, Vec<[f32; 4]>),
 }
+
+/// The most texels a level may have to be [`Texels::Widened`] (the budget
+/// counts the copy, so the limit lives there).
+pub use crate::budget::WIDE_TEXELS;
 
 /// The bits of `s / 765` as f32, for every sum of three bytes.
 static MEAN_OF_SUM: [u32; 766] = {
@@ -283,7 +297,8 @@ fn grey8_value(code: u16) -> f32 {
 macro_rules! with_fetch {
     ($texels:expr, $f:ident => $body:expr) => {
         match $texels {
-            $crate::texture::texels::Texels::F32(v) => {
+            $crate::texture::texels::Texels::F32(v)
+            | $crate::texture::texels::Texels::Widened(_, v) => {
                 let $f = $crate::texture::texels::F32s(&v[..]);
                 $body
             }
@@ -388,9 +403,30 @@ impl Texels {
         matches!(self, Texels::F32(_))
     }
 
-    /// Bytes one texel takes in this storage.
+    /// Compact texels of at most [`WIDE_TEXELS`] with their f32 copy
+    /// beside them; anything else as it is.
+    pub fn widened_if_small(self) -> Texels {
+        if self.is_f32() || self.len() > WIDE_TEXELS || matches!(self, Texels::Widened(..)) {
+            return self;
+        }
+        let wide = self.iter().collect();
+        Texels::Widened(Box::new(self), wide)
+    }
+
+    /// The storage that decides what the texels are: the compact texels of
+    /// a widened level, else these.
+    pub fn compact(&self) -> &Texels {
+        match self {
+            Texels::Widened(compact, _) => compact,
+            other => other,
+        }
+    }
+
+    /// Bytes one texel takes in this storage (a widened level's copy
+    /// included).
     pub fn bytes_per_texel(&self) -> usize {
         match self {
+            Texels::Widened(compact, _) => compact.bytes_per_texel() + 16,
             Texels::F32(_) => 16,
             Texels::Rgba8(_) | Texels::Rgb8(_) => 4,
             Texels::Rgba16(_) => 8,
@@ -403,6 +439,7 @@ impl Texels {
     /// procedural textures unchanged), normals stay signed, the rest 16-bit.
     pub fn mip_kind(&self) -> MipKind {
         match self {
+            Texels::Widened(compact, _) => compact.mip_kind(),
             Texels::F32(_) => MipKind::F32,
             Texels::Xyz16(_) => MipKind::Xyz16,
             _ => MipKind::Rgba16,
@@ -510,6 +547,27 @@ mod tests {
         }
         assert_eq!(to_unorm16(f32::NAN), 0);
         assert_eq!(to_snorm16(-2.0), -32767);
+    }
+
+    #[test]
+    fn a_widened_level_reads_as_its_compact_texels() {
+        let bytes: Vec<[u8; 4]> = (0..=255u8).map(|k| [k, 255 - k, k / 3, k ^ 0x5a]).collect();
+        let rgb: Vec<[u8; 4]> = bytes.iter().map(|t| pack_rgb8(t[0], t[1], t[2])).collect();
+        for compact in [Texels::Rgba8(bytes), Texels::Rgb8(rgb)] {
+            let wide = compact.clone().widened_if_small();
+            assert!(matches!(wide, Texels::Widened(..)) && !wide.is_f32());
+            for i in 0..compact.len() {
+                let (a, b) = (compact.at(i), wide.at(i));
+                assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits), "texel {i}");
+            }
+            assert_eq!(wide.bytes_per_texel(), 4 + 16);
+            assert_eq!(wide.mip_kind(), MipKind::Rgba16);
+            assert!(matches!(wide.compact(), Texels::Rgba8(_) | Texels::Rgb8(_)));
+        }
+        // Past the limit, and f32 texels, stay as they are.
+        let large = Texels::Rgba8(vec![[1, 2, 3, 4]; WIDE_TEXELS + 1]).widened_if_small();
+        assert!(matches!(large, Texels::Rgba8(_)));
+        assert!(Texels::F32(vec![[0.5; 4]]).widened_if_small().is_f32());
     }
 
     #[test]
