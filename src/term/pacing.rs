@@ -114,6 +114,8 @@ struct Flight {
     bytes: u64,
     /// Given up waiting for (its reply is still expected, in order).
     abandoned: bool,
+    /// Written with no other query unanswered: nothing queued before it.
+    alone: bool,
 }
 
 /// What the link looks like, for the cost panel and the preview decision.
@@ -240,10 +242,12 @@ impl Pacer {
         self.hold.wrote(at, bytes);
         if asked {
             self.first_query.get_or_insert(at);
+            let alone = self.flights.is_empty();
             self.flights.push_back(Flight {
                 sent: at,
                 bytes,
                 abandoned: false,
+                alone,
             });
         }
     }
@@ -264,9 +268,15 @@ impl Pacer {
         // The base latency as known before this reply (none yet: no
         // throughput from this one, it would count the latency as transfer).
         let base = self.base_rtt().map(|b| b.min(took));
-        self.rtt_samples.push_back(took);
-        if self.rtt_samples.len() > RTT_WINDOW {
-            self.rtt_samples.pop_front();
+        // The base latency is sampled by small writes that queued behind
+        // nothing: a run of large ones (the strips of an exact frame) would
+        // otherwise push it out of the window, each then looking nearly
+        // free (at 1 Mbit/s 26 kB strips read as 26 MB/s after eight).
+        if self.rtt_samples.is_empty() || (flight.alone && flight.bytes < THROUGHPUT_MIN_BYTES) {
+            self.rtt_samples.push_back(took);
+            if self.rtt_samples.len() > RTT_WINDOW {
+                self.rtt_samples.pop_front();
+            }
         }
         self.round_trip = Some(smooth(self.round_trip, took.as_secs_f64()));
         if let Some(base) = base
@@ -584,6 +594,32 @@ mod tests {
             ..PacingConfig::default()
         });
         assert!(!off.preview(true, Some(1 << 30), frame));
+    }
+
+    #[test]
+    fn a_run_of_large_frames_keeps_the_base_latency() {
+        let c = Clock::new();
+        let mut p = Pacer::default();
+        // The probe: 40 ms with nothing queued.
+        p.sent(c.at(0), 0, true);
+        p.reply(c.at(40));
+        // Twenty 26 kB strips at 125 kB/s, each after the last one's reply:
+        // 40 + 208 ms each.
+        let mut at = 100;
+        for _ in 0..20 {
+            p.sent(c.at(at), 26_000, true);
+            p.reply(c.at(at + 248));
+            at += 300;
+        }
+        let t = p.throughput().unwrap();
+        assert!((t - 125_000.0).abs() < 1.0, "{t}");
+        // A status line queued behind a frame says nothing of the latency.
+        p.sent(c.at(at), 26_000, true);
+        p.sent(c.at(at + 1), 300, true);
+        p.reply(c.at(at + 248));
+        p.reply(c.at(at + 250));
+        assert_eq!(p.quiet(), Duration::from_millis(60));
+        assert!((p.throughput().unwrap() - 125_000.0).abs() < 1.0);
     }
 
     #[test]
