@@ -546,8 +546,8 @@ fn noise(s: &State, fb: &mut Framebuffer) {
     let turn = s.settings.rotation.y.to_bits() as usize;
     for y in 0..fb.height() {
         for x in 0..fb.width() {
-            let h =
-                (x * 73_856_093 ^ y * 19_349_663 ^ turn * 83_492_791).wrapping_mul(2_654_435_761);
+            let h = ((x * 73_856_093) ^ (y * 19_349_663) ^ (turn * 83_492_791))
+                .wrapping_mul(2_654_435_761);
             fb.set(x, y, [(h >> 8) as u8, (h >> 16) as u8, (h >> 24) as u8]);
         }
     }
