@@ -42,7 +42,7 @@ use crate::term::SgrBackend;
 use crate::term::input::{Input, InputParser};
 use crate::term::modes::{MouseReports, TermModes};
 use crate::term::pacing::{Answers, Pacer, QUERY};
-use crate::term::pixel_view::{self, PixelFrame, PixelView, TextLook};
+use crate::term::pixel_view::{PixelFrame, PixelView, TextLook};
 
 /// The terminal modes the state wants: only the plasma asks for every
 /// pointer motion (its light follows the pointer); everything else for
@@ -444,7 +444,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             if next.strip {
                 // The exact picture's next strip: one write, paced like a
                 // frame, nothing rendered or drawn again.
-                if let Some(strip) = pixels.next_strip()? {
+                if let Some(strip) = pixels.next_strip(self.pacer.throughput())? {
                     let asks = self.pacer.asks();
                     let backend = self.terminal.backend_mut();
                     backend.begin_frame()?;
@@ -530,7 +530,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                     None => render(state, fb),
                 };
                 if cheaper {
-                    let (pw, ph) = pixel_view::preview_for(
+                    let (pw, ph) = pixels.preview_size(
                         state.output.format(),
                         (w, h),
                         schedule.exact_bytes(),
@@ -601,6 +601,8 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 new_picture,
                 look,
                 throughput: self.pacer.throughput(),
+                unmeasured: self.pacer.throughput().is_none()
+                    && self.pacer.answers() != Answers::No,
             };
             pixels.draw(self.terminal, frame, areas.viewport, |f, pic| {
                 view::view(f, state, pic, self.background);

@@ -114,6 +114,8 @@ struct Flight {
     bytes: u64,
     /// Given up waiting for (its reply is still expected, in order).
     abandoned: bool,
+    /// Written with no other query unanswered: nothing queued before it.
+    alone: bool,
 }
 
 /// What the link looks like, for the cost panel and the preview decision.
@@ -159,6 +161,8 @@ pub struct Pacer {
     rtt_samples: VecDeque<Duration>,
     round_trip: Option<f64>,
     throughput: Option<f64>,
+    /// The last frames' bytes and transfer times (the throughput's samples).
+    transfers: VecDeque<(u64, f64)>,
     late_replies: u64,
     /// What else holds frames where the replies do not see the link.
     hold: Hold,
@@ -200,6 +204,7 @@ impl Pacer {
             rtt_samples: VecDeque::new(),
             round_trip: None,
             throughput: None,
+            transfers: VecDeque::new(),
             late_replies: 0,
             hold: Hold::new(HoldBy::Nothing),
             read_queue: None,
@@ -240,10 +245,12 @@ impl Pacer {
         self.hold.wrote(at, bytes);
         if asked {
             self.first_query.get_or_insert(at);
+            let alone = self.flights.is_empty();
             self.flights.push_back(Flight {
                 sent: at,
                 bytes,
                 abandoned: false,
+                alone,
             });
         }
     }
@@ -264,19 +271,36 @@ impl Pacer {
         // The base latency as known before this reply (none yet: no
         // throughput from this one, it would count the latency as transfer).
         let base = self.base_rtt().map(|b| b.min(took));
-        self.rtt_samples.push_back(took);
-        if self.rtt_samples.len() > RTT_WINDOW {
-            self.rtt_samples.pop_front();
+        // The base latency is sampled by small writes that queued behind
+        // nothing: a run of large ones (the strips of an exact frame) would
+        // otherwise push it out of the window, each then looking nearly
+        // free (at 1 Mbit/s 26 kB strips read as 26 MB/s after eight).
+        if self.rtt_samples.is_empty() || (flight.alone && flight.bytes < THROUGHPUT_MIN_BYTES) {
+            self.rtt_samples.push_back(took);
+            if self.rtt_samples.len() > RTT_WINDOW {
+                self.rtt_samples.pop_front();
+            }
         }
         self.round_trip = Some(smooth(self.round_trip, took.as_secs_f64()));
         if let Some(base) = base
             && flight.bytes >= THROUGHPUT_MIN_BYTES
             && !flight.abandoned
         {
-            // Delivery time = base latency + bytes / throughput.
+            // Delivery time = base latency + bytes / throughput. The
+            // recent frames' bytes over their transfer times: a small frame
+            // (a strip of background, a few kB) takes as long as the round
+            // trip's jitter, and its rate alone read several times the link.
             let transfer = (took.saturating_sub(base)).max(Duration::from_millis(1));
-            let rate = flight.bytes as f64 / transfer.as_secs_f64();
-            self.throughput = Some(smooth(self.throughput, rate));
+            self.transfers
+                .push_back((flight.bytes, transfer.as_secs_f64()));
+            if self.transfers.len() > RTT_WINDOW {
+                self.transfers.pop_front();
+            }
+            let (bytes, secs) = self
+                .transfers
+                .iter()
+                .fold((0.0, 0.0), |(b, t), &(fb, ft)| (b + fb as f64, t + ft));
+            self.throughput = Some(bytes / secs);
         }
     }
 
@@ -584,6 +608,40 @@ mod tests {
             ..PacingConfig::default()
         });
         assert!(!off.preview(true, Some(1 << 30), frame));
+    }
+
+    #[test]
+    fn a_run_of_strips_keeps_the_base_latency_and_the_links_rate() {
+        let c = Clock::new();
+        let mut p = Pacer::default();
+        // The probe: 40 ms with nothing queued.
+        p.sent(c.at(0), 0, true);
+        p.reply(c.at(40));
+        // Twenty 26 kB strips at 125 kB/s, each after the last one's reply:
+        // 40 + 208 ms each.
+        let mut at = 100;
+        for _ in 0..20 {
+            p.sent(c.at(at), 26_000, true);
+            p.reply(c.at(at + 248));
+            at += 300;
+        }
+        let t = p.throughput().unwrap();
+        assert!((t - 125_000.0).abs() < 1.0, "{t}");
+        // Strips of background, 2.5 kB, within 5 ms of the round trip: the
+        // link's bytes over its time, not their rates (500 kB/s) averaged.
+        for _ in 0..6 {
+            p.sent(c.at(at), 2_500, true);
+            p.reply(c.at(at + 45));
+            at += 100;
+        }
+        let t = p.throughput().unwrap();
+        assert!(t < 160_000.0, "{t}");
+        // A status line queued behind a frame says nothing of the latency.
+        p.sent(c.at(at), 26_000, true);
+        p.sent(c.at(at + 1), 300, true);
+        p.reply(c.at(at + 248));
+        p.reply(c.at(at + 250));
+        assert_eq!(p.quiet(), Duration::from_millis(60));
     }
 
     #[test]

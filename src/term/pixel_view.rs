@@ -201,6 +201,21 @@ pub const PREVIEW_RATE: f64 = 15.0;
 /// exact frame follows in strips ([`PixelView::next_strip`]).
 pub const LINK_SECONDS: f64 = 0.2;
 
+/// The link an exact frame is sized for while the terminal answers but no
+/// reply has timed a frame yet (right after start): 1 Mbit/s, the slowest
+/// link relief is made for. Sent whole, the first kitty frame of a
+/// 160×48-cell window (1.2 MB) held input behind it for 10 s at that rate;
+/// now it goes link-sized and in strips, re-cut once the first reply has
+/// measured the link ([`PixelView::next_strip`]).
+pub const UNMEASURED_RATE: f64 = 125_000.0;
+
+/// How many strips the `bytes` of an exact image take over a link of
+/// `throughput` bytes a second: each about what the link carries in a
+/// preview's frame interval.
+fn strip_count(bytes: f64, throughput: f64) -> usize {
+    (bytes / (throughput / PREVIEW_RATE).max(1.0)).ceil() as usize
+}
+
 /// The size of the link-sized picture of a `w × h` frame whose exact image
 /// takes `exact_bytes`, for `budget_bytes`: scaled by the square root of
 /// their ratio (bytes taken as proportional to pixels), at least
@@ -212,6 +227,23 @@ pub fn link_size(w: usize, h: usize, exact_bytes: f64, budget_bytes: f64) -> (us
     (
         ((w as f64 * s).round() as usize).clamp(1, w.max(1)),
         ((h as f64 * s).round() as usize).clamp(1, h.max(1)),
+    )
+}
+
+/// The size of a kitty or iTerm2 preview of a `w × h` frame that fits
+/// `share` bytes, when the last preview took `density` bytes per pixel of
+/// its own: a small image compresses worse than the exact frame (at
+/// 1 Mbit/s kitty previews sized by the exact frame's bytes took 12–15 kB
+/// for an 8 kB share), so the previews' own bytes size the next. Between
+/// [`MIN_PREVIEW_SCALE`] and half each way.
+pub fn preview_size_measured(w: usize, h: usize, density: f64, share: f64) -> (usize, usize) {
+    let pixels = (w * h).max(1) as f64;
+    let s = (share / (density.max(1e-6) * pixels))
+        .sqrt()
+        .clamp(MIN_PREVIEW_SCALE, 0.5);
+    (
+        ((w as f64 * s).floor() as usize).max(1),
+        ((h as f64 * s).floor() as usize).max(1),
     )
 }
 
@@ -520,6 +552,9 @@ struct Shown {
     strips: Vec<Layer>,
     /// Bytes of the strips sent.
     strip_bytes: usize,
+    /// The exact image's bytes when its strips were cut for
+    /// [`UNMEASURED_RATE`]: they are cut again once the link is measured.
+    recut: Option<usize>,
     /// Its sequences go through tmux's passthrough.
     passthrough: bool,
 }
@@ -577,6 +612,9 @@ pub struct PixelView {
     last_whole: Option<(Rect, Format, usize)>,
     /// The colours of the next sixel preview ([`next_preview_colours`]).
     preview_colours: usize,
+    /// Bytes per pixel of the last kitty or iTerm2 preview's image, and its
+    /// format ([`preview_size_measured`]).
+    preview_density: Option<(Format, f64)>,
 }
 
 /// What a frame is: the format in use and its pictures.
@@ -593,6 +631,9 @@ pub struct PixelFrame<'a> {
     /// exact frame it cannot carry in [`LINK_SECONDS`] goes link-sized,
     /// then in strips.
     pub throughput: Option<f64>,
+    /// No throughput yet, but the terminal's replies will measure it: the
+    /// exact frame is sized for [`UNMEASURED_RATE`] meanwhile.
+    pub unmeasured: bool,
 }
 
 impl Default for PixelView {
@@ -611,6 +652,26 @@ impl PixelView {
             split_bytes: None,
             last_whole: None,
             preview_colours: SIXEL_PREVIEW_COLOURS,
+            preview_density: None,
+        }
+    }
+
+    /// The size of the next preview of a `size` frame in `format` over a
+    /// link of `throughput` bytes a second: kitty and iTerm2 by the bytes
+    /// per pixel of the last preview once one was sent
+    /// ([`preview_size_measured`]), else as [`preview_for`] says.
+    pub fn preview_size(
+        &self,
+        format: Format,
+        size: (usize, usize),
+        exact_bytes: Option<u64>,
+        throughput: Option<f64>,
+    ) -> (usize, usize) {
+        match (self.preview_density, throughput) {
+            (Some((f, density)), Some(t)) if f == format => {
+                preview_size_measured(size.0, size.1, density, t / PREVIEW_RATE)
+            }
+            _ => preview_for(format, size, exact_bytes, throughput),
         }
     }
 
@@ -763,8 +824,10 @@ impl PixelView {
                 push_kitty(kitty::DELETE_PLACEMENTS, passthrough, &mut out);
             }
             let cell = self.image_cell(frame, area, self.kept.size());
-            let budget = frame
+            let rate = frame
                 .throughput
+                .or(frame.unmeasured.then_some(UNMEASURED_RATE));
+            let budget = rate
                 .filter(|_| frame.preview.is_none())
                 .map(|t| t * LINK_SECONDS);
             let mut shown = Shown {
@@ -776,6 +839,7 @@ impl PixelView {
                 pending: VecDeque::new(),
                 strips: Vec::new(),
                 strip_bytes: 0,
+                recut: None,
                 passthrough,
             };
             // The whole image: what goes when nothing covers it, and what
@@ -797,6 +861,10 @@ impl PixelView {
                             whole.len(),
                             t / PREVIEW_RATE,
                         );
+                    }
+                    (Some(p), _) if format != Format::Sixels => {
+                        let pixels = (p.width() * p.height()).max(1) as f64;
+                        self.preview_density = Some((format, whole.len() as f64 / pixels));
                     }
                     _ => {}
                 }
@@ -824,9 +892,11 @@ impl PixelView {
                     }
                     // Strips of about what the link carries in a
                     // preview's frame interval.
-                    let strip_budget = budget / LINK_SECONDS / PREVIEW_RATE;
-                    let n = (exact_len as f64 / strip_budget.max(1.0)).ceil() as usize;
+                    let n = strip_count(exact_len as f64, budget / LINK_SECONDS);
                     shown.pending = super::cell_rects::strips(area, n).into();
+                    if frame.throughput.is_none() {
+                        shown.recut = Some(exact_len);
+                    }
                     self.split_bytes = Some(exact_len as u64);
                 }
                 _ => match whole {
@@ -889,10 +959,16 @@ impl PixelView {
     /// The next strip of the exact frame (one write of its own), over the
     /// cells of it no panel covers: kitty sends it as an image of its own
     /// placed over them, sixel and iTerm2 send their rectangles of it.
-    pub fn next_strip(&mut self) -> io::Result<Option<Vec<u8>>> {
+    /// Strips cut before the link was measured are cut again for its
+    /// `throughput` once there is one.
+    pub fn next_strip(&mut self, throughput: Option<f64>) -> io::Result<Option<Vec<u8>>> {
         let Some(shown) = self.shown.as_mut() else {
             return Ok(None);
         };
+        if let (Some(exact), Some(t)) = (shown.recut, throughput) {
+            shown.recut = None;
+            shown.pending = recut(&shown.pending, shown.area, exact, t).into();
+        }
         let Some(strip) = shown.pending.pop_front() else {
             return Ok(None);
         };
@@ -949,6 +1025,18 @@ impl PixelView {
     pub fn shown(&self) -> Option<(Rect, Format)> {
         self.shown.as_ref().map(|s| (s.area, s.format))
     }
+}
+
+/// The strips `pending` of an exact image of `exact` bytes over `area` cut
+/// again for a link of `throughput` bytes a second: the rows they cover,
+/// in [`strip_count`] strips of their share of the bytes.
+fn recut(pending: &VecDeque<Rect>, area: Rect, exact: usize, throughput: f64) -> Vec<Rect> {
+    let (Some(first), Some(last)) = (pending.front(), pending.back()) else {
+        return Vec::new();
+    };
+    let rest = Rect::new(area.x, first.y, area.width, last.bottom() - first.y);
+    let share = f64::from(rest.height) / f64::from(area.height.max(1));
+    super::cell_rects::strips(rest, strip_count(exact as f64 * share, throughput))
 }
 
 /// Whether the exact frame can follow `shown` in strips: kitty and iTerm2
@@ -1086,6 +1174,45 @@ mod tests {
         // Never below a sixteenth, never above half.
         assert_eq!(preview_size(800, 600, u64::MAX, 1.0), (50, 38));
         assert_eq!(preview_size(800, 600, 10, 1e9), (400, 300));
+    }
+
+    #[test]
+    fn kitty_previews_are_sized_by_the_last_previews_bytes() {
+        // 1 Mbit/s at 15 frames a second: an 8.3 kB share.
+        let share = 125_000.0 / PREVIEW_RATE;
+        let (w, h) = (1280, 736);
+        // The exact frame's 1.27 bytes a pixel (1.2 MB) said 107 × 61;
+        // previews that small took 1.8 a pixel: 11.7 kB, over the share.
+        assert_eq!(preview_size(w, h, 1_200_000, share), (107, 61));
+        let (pw, ph) = preview_size_measured(w, h, 1.8, share);
+        // s = √(8333 / (1.8 × 942080)) = 0.0701: 89 × 51.
+        assert_eq!((pw, ph), (89, 51));
+        assert!((pw * ph) as f64 * 1.8 <= share);
+        // Denser still: smaller, never below a sixteenth each way.
+        assert_eq!(preview_size_measured(w, h, 2.5, share), (80, 46));
+        assert_eq!(preview_size_measured(w, h, 1e9, share), (80, 46));
+        // A fast link: at most half each way.
+        assert_eq!(preview_size_measured(w, h, 1.8, 1e9), (640, 368));
+    }
+
+    #[test]
+    fn strips_cut_before_the_link_was_measured_are_cut_again_for_it() {
+        let area = Rect::new(0, 2, 60, 12);
+        // Cut for the unmeasured 1 Mbit/s: 240 kB in 8.3 kB strips, one a row.
+        let pending: VecDeque<Rect> =
+            super::super::cell_rects::strips(area, strip_count(240_000.0, UNMEASURED_RATE)).into();
+        assert_eq!(pending.len(), 12);
+        // Two sent; the link carries 450 kB/s (30 kB a strip): the other
+        // ten rows are 200 kB, seven strips; at 3 MB/s one.
+        let rest: VecDeque<Rect> = pending.iter().skip(2).copied().collect();
+        let cut = recut(&rest, area, 240_000, 450_000.0);
+        assert_eq!(cut.len(), 7);
+        let one = recut(&rest, area, 240_000, 3_000_000.0);
+        assert_eq!(one, vec![Rect::new(0, 4, 60, 10)]);
+        // The cut covers the same rows, in order.
+        assert_eq!(cut.first().map(|r| r.y), Some(4));
+        assert_eq!(cut.iter().map(|r| r.height).sum::<u16>(), 10);
+        assert!(recut(&VecDeque::new(), area, 240_000, 1.0).is_empty());
     }
 
     #[test]

@@ -121,7 +121,8 @@ fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
 }
 
 /// The kitty images in `bytes`: each one's keys (of its first chunk) and
-/// its decoded RGB bytes.
+/// its decoded RGB bytes (deletes and placements, which carry none, are
+/// left out).
 fn kitty_images(bytes: &[u8]) -> Vec<(String, Vec<u8>)> {
     let text = String::from_utf8_lossy(bytes);
     let mut images = Vec::new();
@@ -129,7 +130,7 @@ fn kitty_images(bytes: &[u8]) -> Vec<(String, Vec<u8>)> {
     for command in text.split("\x1b_G").skip(1) {
         let body = &command[..command.find("\x1b\\").expect("ends with ST")];
         let (keys, data) = body.split_once(';').unwrap_or((body, ""));
-        if keys.contains("a=d") {
+        if keys.contains("a=d") || keys.split(',').any(|k| k == "a=p") {
             continue;
         }
         let entry = current.get_or_insert_with(|| (keys.to_string(), String::new()));
@@ -372,24 +373,53 @@ fn an_image_never_reaches_the_last_row() {
 }
 
 /// A terminal over a slow link: it answers each query (`CSI c`) as a link
-/// of [`LINK_RATE`] bytes a second would (the reply's time stamp is when
-/// the frame would have arrived), sends an arrow key after each write
-/// while `keys` last, and ends the input once the exact picture has come
-/// after them: a kitty image the size of the first, or strips of it (kitty
-/// images of their own) over all its pixel rows.
+/// of `rate` bytes a second would (the reply's time stamp is when the
+/// frame would have arrived), sends an arrow key after each write while
+/// `keys` last, and ends the input once the exact picture has come after
+/// them: a kitty image of the `full` frame's size, or strips of it (kitty
+/// images of their own) over all its pixel rows. Each write is kept.
 struct SlowLink {
     out: Vec<u8>,
+    writes: Vec<Vec<u8>>,
     tx: mpsc::Sender<Msg>,
+    rate: f64,
     keys: usize,
-    full: Option<(usize, usize)>,
+    full: (usize, usize),
     strip_rows: usize,
 }
 
-const LINK_RATE: f64 = 20_000.0;
+/// The frame's pixels on the 60 × 14 screen of the loop tests in kitty:
+/// its 60 × 12-cell picture area.
+fn loop_frame() -> (usize, usize) {
+    let screen = Rect::new(0, 0, 60, 14);
+    let area = relief::app::view::areas(screen).viewport;
+    assert_eq!((area.width, area.height), (60, 12));
+    PixelView::framebuffer_size(
+        &output(Format::Kitty),
+        area,
+        14,
+        relief::term::Symbols::Half,
+    )
+}
+
+impl SlowLink {
+    fn new(tx: mpsc::Sender<Msg>, rate: f64, keys: usize) -> Self {
+        SlowLink {
+            out: Vec::new(),
+            writes: Vec::new(),
+            tx,
+            rate,
+            keys,
+            full: loop_frame(),
+            strip_rows: 0,
+        }
+    }
+}
 
 impl std::io::Write for SlowLink {
     fn write(&mut self, data: &[u8]) -> std::io::Result<usize> {
         self.out.extend_from_slice(data);
+        self.writes.push(data.to_vec());
         let now = std::time::Instant::now();
         let base = std::time::Duration::from_millis(10);
         let queries = count(data, b"\x1b[c");
@@ -398,16 +428,12 @@ impl std::io::Write for SlowLink {
             let transfer = if i + 1 < queries {
                 0.0
             } else {
-                data.len() as f64 / LINK_RATE
+                data.len() as f64 / self.rate
             };
             let at = now + base + std::time::Duration::from_secs_f64(transfer);
             let _ = self.tx.send(Msg::Shown(at));
         }
         let images = kitty_images(data);
-        if let Some((keys, _)) = images.first() {
-            self.full
-                .get_or_insert((key_value(keys, "s"), key_value(keys, "v")));
-        }
         if self.keys > 0 {
             self.keys -= 1;
             let _ = self.tx.send(Msg::Input(Event::Key(KeyEvent::new(
@@ -415,7 +441,7 @@ impl std::io::Write for SlowLink {
                 KeyModifiers::NONE,
             ))));
         } else {
-            let full = self.full.unwrap_or_default();
+            let full = self.full;
             for (keys, _) in &images {
                 let size = (key_value(keys, "s"), key_value(keys, "v"));
                 if key_value(keys, "i") == kitty::IMAGE_ID as usize {
@@ -443,27 +469,63 @@ fn pixel_previews_shrink_over_a_slow_link_and_the_exact_frame_follows() {
     let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
     let _ = pixel_view::take_cleanup();
     let (tx, rx) = mpsc::channel();
-    let link = SlowLink {
-        out: Vec::new(),
-        tx,
-        keys: 8,
-        full: None,
-        strip_rows: 0,
-    };
+    let term = run_slow_link(SlowLink::new(tx, 20_000.0, 8), rx, |s, fb| {
+        // A picture that changes everywhere with the rotation.
+        let turn = s.settings.rotation.y as usize;
+        for y in 0..fb.height() {
+            for x in 0..fb.width() {
+                let v = (x * 7 + y * 13 + turn * 31) % 251;
+                fb.set(x, y, [v as u8, (v * 3 % 256) as u8, (255 - v) as u8]);
+            }
+        }
+    });
+    let all = kitty_images(&term.backend().writer().out);
+    // The pictures (relief's image), then the strips of the last one.
+    let split = all
+        .iter()
+        .rposition(|(k, _)| key_value(k, "i") == kitty::IMAGE_ID as usize)
+        .unwrap();
+    let (images, strips) = all.split_at(split + 1);
+    let widths: Vec<usize> = images.iter().map(|(k, _)| key_value(k, "s")).collect();
+    let full = loop_frame().0;
+    assert!(
+        widths.iter().any(|&w| w < full),
+        "a smaller preview while the keys came: {widths:?}"
+    );
+    for (keys, raw) in images {
+        // Every image covers the picture's cells, whatever its pixels.
+        assert_eq!((key_value(keys, "c"), key_value(keys, "r")), (60, 12));
+        assert_eq!(raw.len(), key_value(keys, "s") * key_value(keys, "v") * 3);
+    }
+    // The exact frame last: whole, or in strips at full width over all
+    // its pixel rows.
+    let full_height = loop_frame().1;
+    let rows: usize = strips.iter().map(|(k, _)| key_value(k, "v")).sum();
+    assert!(
+        *widths.last().unwrap() == full || rows == full_height,
+        "the exact frame last: {widths:?}, strips over {rows} pixel rows"
+    );
+    for (keys, _) in strips {
+        assert_eq!(key_value(keys, "s"), full);
+    }
+    let _ = pixel_view::take_cleanup();
+}
+
+/// Runs the loop in kitty over `link` (a 60 × 14 screen), the pacer
+/// measuring the link by its replies, `render` drawing each picture, to
+/// the end of input.
+fn run_slow_link(
+    link: SlowLink,
+    rx: mpsc::Receiver<Msg>,
+    mut render: impl FnMut(&State, &mut Framebuffer),
+) -> Terminal<SgrBackend<SlowLink>> {
     let mut term = Terminal::new(SgrBackend::with_size(link, 60, 14)).unwrap();
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     state.output = output(Format::Kitty);
     let exit = Looper {
         terminal: &mut term,
-        // A picture that changes everywhere with the rotation.
         render: |s: &State, fb: &mut Framebuffer| {
-            let turn = s.settings.rotation.y as usize;
-            for y in 0..fb.height() {
-                for x in 0..fb.width() {
-                    let v = (x * 7 + y * 13 + turn * 31) % 251;
-                    fb.set(x, y, [v as u8, (v * 3 % 256) as u8, (255 - v) as u8]);
-                }
-            }
+            render(s, fb);
             relief::FrameStats::default()
         },
         background: [0, 0, 0],
@@ -477,35 +539,105 @@ fn pixel_previews_shrink_over_a_slow_link_and_the_exact_frame_follows() {
     .run(&mut state)
     .unwrap();
     assert!(matches!(exit, Exit::InputClosed(_)));
-    let all = kitty_images(&term.backend().writer().out);
-    // The pictures (relief's image), then the strips of the last one.
-    let split = all
+    term
+}
+
+/// Noise (a hash of the pixel and the rotation): the exact kitty image of
+/// the loop's 480 × 192 frame is about 370 kB, far more than a slow link
+/// carries in [`pixel_view::LINK_SECONDS`].
+fn noise(s: &State, fb: &mut Framebuffer) {
+    let turn = s.settings.rotation.y.to_bits() as usize;
+    for y in 0..fb.height() {
+        for x in 0..fb.width() {
+            let h = ((x * 73_856_093) ^ (y * 19_349_663) ^ (turn * 83_492_791))
+                .wrapping_mul(2_654_435_761);
+            fb.set(x, y, [(h >> 8) as u8, (h >> 16) as u8, (h >> 24) as u8]);
+        }
+    }
+}
+
+/// The bytes of the kitty sequences (`ESC _ G … ESC \`) in `bytes`.
+fn kitty_bytes(bytes: &[u8]) -> usize {
+    let mut total = 0;
+    let mut i = 0;
+    while let Some(at) = find(&bytes[i..], b"\x1b_G") {
+        let start = i + at;
+        let end = find(&bytes[start..], b"\x1b\\").map_or(bytes.len(), |e| start + e + 2);
+        total += end - start;
+        i = end;
+    }
+    total
+}
+
+/// Right after start no reply has measured the link yet: a large exact
+/// frame still goes as over a slow link, the picture sized for
+/// [`pixel_view::UNMEASURED_RATE`] first. So the first write, after which
+/// input is taken, is bounded (whole, this one was 370 kB: ten seconds at
+/// 1 Mbit/s with the key waiting behind it), and a key right after it gets
+/// its own picture next, the first frame's strips dropped. Over a fast
+/// link the strips are cut again once its reply has measured it: the rest
+/// of the exact frame follows in one.
+#[test]
+fn before_the_link_is_measured_the_first_frame_is_link_sized_and_input_preempts_it() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
+    let _ = pixel_view::take_cleanup();
+    let budget = pixel_view::UNMEASURED_RATE * pixel_view::LINK_SECONDS;
+
+    // 20 kB/s, a key after the first write.
+    let (tx, rx) = mpsc::channel();
+    let term = run_slow_link(SlowLink::new(tx, 20_000.0, 1), rx, noise);
+    let writes = &term.backend().writer().writes;
+    // The first frame's write ends with its query: input is taken then.
+    let n = 1 + writes
         .iter()
-        .rposition(|(k, _)| key_value(k, "i") == kitty::IMAGE_ID as usize)
+        .position(|w| find(w, b"\x1b[c").is_some())
         .unwrap();
-    let (images, strips) = all.split_at(split + 1);
-    let widths: Vec<usize> = images.iter().map(|(k, _)| key_value(k, "s")).collect();
-    let full = widths[0];
+    let (before, after) = writes.split_at(n);
+    let before = before.concat();
+    let first = kitty_bytes(&before);
     assert!(
-        widths.iter().any(|&w| w < full),
-        "a smaller preview while the keys came: {widths:?}"
+        first > 0 && first as f64 <= budget,
+        "the first write's image takes {first} bytes, more than {budget}"
     );
-    for (keys, raw) in images {
-        // Every image covers the picture's cells, whatever its pixels.
-        assert_eq!((key_value(keys, "c"), key_value(keys, "r")), (60, 12));
-        assert_eq!(raw.len(), key_value(keys, "s") * key_value(keys, "v") * 3);
-    }
-    // The exact frame last: whole, or in strips at full width over all
-    // its pixel rows.
-    let full_height = key_value(&images[0].0, "v");
-    let rows: usize = strips.iter().map(|(k, _)| key_value(k, "v")).sum();
-    assert!(
-        *widths.last().unwrap() == full || rows == full_height,
-        "the exact frame last: {widths:?}, strips over {rows} pixel rows"
+    let images = kitty_images(&before);
+    assert_eq!(images.len(), 1, "one picture first");
+    let (keys, _) = &images[0];
+    assert_eq!(key_value(keys, "i"), kitty::IMAGE_ID as usize);
+    let full = loop_frame();
+    assert!(key_value(keys, "s") < full.0, "{keys}: scaled down");
+    // The key's picture is the next image: no strip of the first went.
+    let next = after
+        .iter()
+        .flat_map(|w| kitty_images(w))
+        .next()
+        .expect("the key's picture");
+    assert_eq!(
+        key_value(&next.0, "i"),
+        kitty::IMAGE_ID as usize,
+        "{}",
+        next.0
     );
-    for (keys, _) in strips {
-        assert_eq!(key_value(keys, "s"), full);
-    }
+    let turned = kitty_images(&term.backend().writer().out);
+    assert!(turned.len() > 2, "the key's picture, then its strips");
+    let _ = pixel_view::take_cleanup();
+
+    // A fast link, no key: the link-sized picture, then one strip.
+    let (tx, rx) = mpsc::channel();
+    let term = run_slow_link(SlowLink::new(tx, 1e9, 0), rx, noise);
+    let images = kitty_images(&term.backend().writer().out);
+    assert_eq!(images.len(), 2, "a picture and one strip");
+    let (keys, _) = &images[0];
+    assert_eq!(key_value(keys, "i"), kitty::IMAGE_ID as usize);
+    assert!(key_value(keys, "s") < full.0, "{keys}: scaled down");
+    let (keys, raw) = &images[1];
+    assert_ne!(key_value(keys, "i"), kitty::IMAGE_ID as usize, "a strip");
+    assert_eq!((key_value(keys, "s"), key_value(keys, "v")), full);
+    let mut fb = Framebuffer::new(full.0, full.1);
+    noise(
+        &State::new(Settings::default(), ColorDepth::Truecolor),
+        &mut fb,
+    );
+    assert!(raw == &fb.pixels().concat(), "the strip is the exact frame");
     let _ = pixel_view::take_cleanup();
 }
 
@@ -1080,6 +1212,7 @@ fn a_resize_with_a_panel_open_sends_the_new_picture_around_the_panel() {
                     pad: [0, 0, 0],
                 },
                 throughput: None,
+                unmeasured: false,
             };
             term.backend_mut().begin_frame().unwrap();
             view.draw(term, frame, area, |f, pic| {
@@ -1247,6 +1380,7 @@ fn draw_pixels(
         new_picture: !d.same,
         look,
         throughput: d.throughput,
+        unmeasured: false,
     };
     term.backend_mut().begin_frame().unwrap();
     view.draw(term, frame, AREA, |f, pic| {
@@ -1393,7 +1527,7 @@ fn the_exact_frame_follows_a_link_sized_picture_in_strips_that_compose_to_it() {
         // Then one strip per write, top to bottom.
         let mut rows = Vec::new();
         let mut iterm_rows = 0;
-        while let Some(strip) = view.next_strip().unwrap() {
+        while let Some(strip) = view.next_strip(None).unwrap() {
             rows.push(first_row(&strip));
             screen.feed(&strip);
             if format == Format::Iterm {
@@ -1444,8 +1578,8 @@ fn the_exact_frame_follows_a_link_sized_picture_in_strips_that_compose_to_it() {
         // orientation) drops the rest.
         let mut view = PixelView::new();
         draw_pixels(&mut view, &mut term, &out, &fb, slow);
-        view.next_strip().unwrap().unwrap();
-        view.next_strip().unwrap().unwrap();
+        view.next_strip(None).unwrap().unwrap();
+        view.next_strip(None).unwrap().unwrap();
         assert!(view.pending());
         let next = busy_frame(w, h, 1);
         let coarse = busy_frame(w / 4, h / 4, 1);
@@ -1455,7 +1589,7 @@ fn the_exact_frame_follows_a_link_sized_picture_in_strips_that_compose_to_it() {
         };
         let bytes = draw_pixels(&mut view, &mut term, &out, &next, preview);
         assert!(!view.pending(), "{format:?}: the unsent strips dropped");
-        assert_eq!(view.next_strip().unwrap(), None);
+        assert_eq!(view.next_strip(None).unwrap(), None);
         if format == Format::Kitty {
             let gone: Vec<usize> = (0..3)
                 .map(|k| count(&bytes, &kitty::delete(kitty::strip_id(k))))
@@ -1509,7 +1643,7 @@ fn strips_go_around_a_panel_and_the_exact_frame_completes_when_it_closes() {
         screen.feed(&draw_pixels(&mut view, &mut term, &out, &fb, open));
         // Strips while the panel is open: through its rows too.
         for _ in 0..6 {
-            screen.feed(&view.next_strip().unwrap().unwrap());
+            screen.feed(&view.next_strip(None).unwrap().unwrap());
         }
         assert!(view.pending(), "{format:?}: strips still to come");
         for y in 0..12u16 {
@@ -1533,7 +1667,7 @@ fn strips_go_around_a_panel_and_the_exact_frame_completes_when_it_closes() {
             ..open
         };
         screen.feed(&draw_pixels(&mut view, &mut term, &out, &fb, closed));
-        while let Some(strip) = view.next_strip().unwrap() {
+        while let Some(strip) = view.next_strip(None).unwrap() {
             screen.feed(&strip);
         }
         let want = match format {
