@@ -311,6 +311,20 @@ impl Mesh {
         }
     }
 
+    /// Triangle `t`'s corners when its facet is computed from them and
+    /// each is a vertex (its [`Mesh::face_normal`] is then the
+    /// [`triangle_normal`] of their positions); `None` otherwise or past
+    /// the last triangle.
+    #[inline]
+    pub fn computed_corners(&self, t: usize) -> Option<[u32; 3]> {
+        let tri = self.triangles.get(t)?;
+        let inside = tri
+            .indices
+            .iter()
+            .all(|&i| (i as usize) < self.vertices.len());
+        (tri.facet == COMPUTED && inside).then_some(tri.indices)
+    }
+
     /// Triangle `t` with its facet data, as it was given to [`Mesh::new`].
     pub fn face(&self, t: usize) -> Face {
         let tri = &self.triangles[t];

@@ -8,6 +8,7 @@ pub mod convex;
 pub mod corners;
 pub mod cube;
 pub mod face_frame;
+pub mod facing;
 pub mod flag_maps;
 pub mod gltf;
 pub mod light;

@@ -8,6 +8,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3};
 
 use rayon::prelude::*;
 
+use super::facing::Facing;
 use super::{Mesh, Object, Scene, normal_matrix};
 
 /// A vertex after the model transform, in world space.
@@ -81,29 +82,20 @@ impl Placed {
         fill(&mut self.positions, vertices.len(), |i| {
             model.transform_point3(vertices[i].position)
         });
-        let mesh = &object.mesh;
-        let closed = mesh.closed;
-        let positions = &self.positions;
+        let facing = Facing {
+            mesh: &object.mesh,
+            positions: &self.positions,
+            normals,
+            eye,
+        };
         // Each triangle's facet normal and the side the camera sees, in one
         // pass over the triangles.
-        fill_pair(&mut self.facets, &mut self.sides, triangles.len(), |t| {
-            let facet = normals * mesh.face_normal(t);
-            let indices = triangles[t].indices;
-            if !indices.iter().all(|&i| (i as usize) < positions.len()) {
-                return (facet, 0);
-            }
-            let facing = facet
-                .normalize_or_zero()
-                .dot(eye - positions[indices[0] as usize]);
-            let side = if !facing.is_finite() || facing == 0.0 || (facing < 0.0 && closed) {
-                0
-            } else if facing < 0.0 {
-                -1
-            } else {
-                1
-            };
-            (facet, side)
-        });
+        fill_pair_runs(
+            &mut self.facets,
+            &mut self.sides,
+            triangles.len(),
+            |start, facets, sides| facing.run(start, facets, sides),
+        );
     }
 }
 
@@ -130,14 +122,25 @@ pub fn fill_pair<A: Send + Copy + Default, B: Send + Copy + Default>(
     len: usize,
     f: impl Fn(usize) -> (A, B) + Sync + Send,
 ) {
-    // Every element is overwritten: only a longer buffer needs filling first.
-    a.resize(len, A::default());
-    b.resize(len, B::default());
-    let run = |start: usize, a: &mut [A], b: &mut [B]| {
+    fill_pair_runs(a, b, len, |start, a, b| {
         for (k, (a, b)) in a.iter_mut().zip(b.iter_mut()).enumerate() {
             (*a, *b) = f(start + k);
         }
-    };
+    });
+}
+
+/// [`fill_pair`] by runs: `run(start, a, b)` fills `a`, `b` (equally
+/// long) with the elements from `start` on, each element alone (the
+/// result does not depend on how the buffers are cut).
+pub fn fill_pair_runs<A: Send + Copy + Default, B: Send + Copy + Default>(
+    a: &mut Vec<A>,
+    b: &mut Vec<B>,
+    len: usize,
+    run: impl Fn(usize, &mut [A], &mut [B]) + Sync + Send,
+) {
+    // Every element is overwritten: only a longer buffer needs filling first.
+    a.resize(len, A::default());
+    b.resize(len, B::default());
     if len < PARALLEL_MIN {
         run(0, a, b);
     } else {

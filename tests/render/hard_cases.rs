@@ -495,3 +495,95 @@ proptest! {
         prop_assert_eq!(stats.counters.pixels_shaded as usize, c);
     }
 }
+
+/// A coordinate for the facing pass: mostly ordinary, sometimes zero,
+/// tiny, huge, infinite or NaN.
+fn any_coordinate() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        6 => -4.0f32..4.0,
+        1 => prop_oneof![
+            Just(0.0f32),
+            Just(-0.0),
+            Just(1e-30),
+            Just(-3e-39),
+            Just(1e30),
+            Just(-f32::MAX),
+            Just(f32::INFINITY),
+            Just(f32::NAN),
+        ],
+    ]
+}
+
+fn any_point() -> impl Strategy<Value = Vec3> {
+    (any_coordinate(), any_coordinate(), any_coordinate()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// The four-lane facing pass gives the bits of the one-triangle code
+    /// for every triangle: degenerate, huge, NaN, a corner past the
+    /// vertices, a facet from the side table, from any start.
+    #[test]
+    fn the_facing_pass_in_lanes_gives_the_bits_of_one_triangle_at_a_time(
+        points in prop::collection::vec(any_point(), 1..12),
+        corners in prop::collection::vec(([0u32..13, 0u32..13, 0u32..13], 0u8..8, any_point()), 0..40),
+        rows in [any_point(), any_point(), any_point()],
+        eye in any_point(),
+        closed in any::<bool>(),
+        start in 0usize..5,
+    ) {
+        use relief::scene::Facet;
+        use relief::scene::facing::Facing;
+        let vertices: Vec<Vertex> = points.iter().map(|&p| vertex(p, Vec3::Z)).collect();
+        // Mostly triangles whose facet is their own (computed from the
+        // corners), some with a facet of their own in the side table.
+        let faces: Vec<Face> = corners
+            .iter()
+            .map(|&(indices, kind, normal)| {
+                let own = indices
+                    .iter()
+                    .all(|&i| (i as usize) < vertices.len())
+                    .then(|| Facet::of_triangle(indices.map(|i| &vertices[i as usize])))
+                    .filter(|_| kind > 0);
+                let facet = own.unwrap_or(Facet {
+                    normal,
+                    tangent_u: Vec3::X,
+                    tangent_v: Vec3::Y,
+                    center: Vec3::ZERO,
+                    color: Vec3::ONE,
+                });
+                Face {
+                    indices,
+                    face_normal: facet.normal,
+                    face_tangent_u: facet.tangent_u,
+                    face_tangent_v: facet.tangent_v,
+                    facet_center: facet.center,
+                    facet_color: facet.color,
+                    textured: true,
+                }
+            })
+            .collect();
+        let mesh = Mesh::new(vertices, &faces, false, closed);
+        let positions: Vec<Vec3> = points.iter().map(|&p| p * 2.0 + Vec3::X).collect();
+        let facing = Facing {
+            mesh: &mesh,
+            positions: &positions,
+            normals: glam::Mat3::from_cols(rows[0], rows[1], rows[2]),
+            eye,
+        };
+        let start = start.min(faces.len());
+        let n = faces.len() - start;
+        let (mut facets, mut sides) = (vec![Vec3::splat(7.0); n], vec![9i8; n]);
+        facing.run(start, &mut facets, &mut sides);
+        for (k, (f, s)) in facets.iter().zip(&sides).enumerate() {
+            let (f1, s1) = facing.one(start + k);
+            // Rust leaves the sign and payload of a NaN result unspecified
+            // (the lanes and the scalar code may order a product's
+            // operands differently), so a NaN only has to be a NaN.
+            let bits = |v: Vec3| v.to_array().map(|c| if c.is_nan() { u32::MAX } else { c.to_bits() });
+            prop_assert_eq!(bits(*f), bits(f1), "facet {}", start + k);
+            prop_assert_eq!(*s, s1, "side {}", start + k);
+        }
+    }
+}
