@@ -69,25 +69,10 @@ fn phong<T: RasterTarget, const BUMP: bool>(
     counters: &mut Counters,
 ) {
     match (s.textured, ctx.plan.specular.is_some()) {
-        (true, true) => target.raster(tri, &PhongKernel::<true, BUMP, true>::new(s), ctx, counters),
-        (true, false) => target.raster(
-            tri,
-            &PhongKernel::<true, BUMP, false>::new(s),
-            ctx,
-            counters,
-        ),
-        (false, true) => target.raster(
-            tri,
-            &PhongKernel::<false, BUMP, true>::new(s),
-            ctx,
-            counters,
-        ),
-        (false, false) => target.raster(
-            tri,
-            &PhongKernel::<false, BUMP, false>::new(s),
-            ctx,
-            counters,
-        ),
+        (true, true) => target.raster(tri, &PhongKernel::<true, BUMP, true>(s), ctx, counters),
+        (true, false) => target.raster(tri, &PhongKernel::<true, BUMP, false>(s), ctx, counters),
+        (false, true) => target.raster(tri, &PhongKernel::<false, BUMP, true>(s), ctx, counters),
+        (false, false) => target.raster(tri, &PhongKernel::<false, BUMP, false>(s), ctx, counters),
     }
 }
 

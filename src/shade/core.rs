@@ -24,7 +24,7 @@ use super::material::compose;
 use super::packet::{self, LANES, V3};
 use super::shader::{PixelShader, ShadeCtx};
 use super::specular::{gloss, view_dir};
-use super::tangent::{Surface, Vertices};
+use super::tangent::Surface;
 use crate::framebuffer::Rgb;
 use crate::settings::{Filter, HeightDerivative};
 use crate::stats::Counters;
@@ -111,11 +111,9 @@ pub trait Hook {
 /// in the technique's normal when the plan has one. The colour before
 /// quantising.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 pub fn shade<V: Vector, H: Hook, const TEX: bool, const SPEC: bool>(
     hook: &H,
     tri: &PhongTri,
-    verts: &Vertices<V>,
     ctx: &ShadeCtx,
     b: [V::L; 3],
     fp: &[Footprint],
@@ -125,7 +123,7 @@ pub fn shade<V: Vector, H: Hook, const TEX: bool, const SPEC: bool>(
     let plan = ctx.plan;
     let px = Pixels {
         tri,
-        s: Surface::<V>::at(tri, verts, &b),
+        s: Surface::<V>::at(tri, &b),
         b,
         fp,
         live,
@@ -311,9 +309,7 @@ impl<H: Hook, const TEX: bool, const SPEC: bool> PixelShader for HookKernel<'_, 
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
         let b = [b.x, b.y, b.z];
-        let verts = Vertices::of(self.tri);
-        let c =
-            shade::<Vec3, H, TEX, SPEC>(&self.hook, self.tri, &verts, ctx, b, &[fp], 1, counters);
+        let c = shade::<Vec3, H, TEX, SPEC>(&self.hook, self.tri, ctx, b, &[fp], 1, counters);
         finish(c, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
@@ -338,8 +334,7 @@ impl<H: Hook, const TEX: bool, const SPEC: bool> PixelShader for HookKernel<'_, 
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
-        let verts = Vertices::of(self.tri);
-        let c = shade::<V3, H, TEX, SPEC>(&self.hook, self.tri, &verts, ctx, b, fp, live, counters);
+        let c = shade::<V3, H, TEX, SPEC>(&self.hook, self.tri, ctx, b, fp, live, counters);
         packet::finish(c, live, counters)
     }
 }

@@ -12,7 +12,6 @@ use super::shader::{
     GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, cuts, opaque_at,
 };
 use super::specular::gloss;
-use super::tangent::Vertices;
 use crate::framebuffer::Rgb;
 use crate::plan::Plan;
 use crate::stats::Counters;
@@ -228,20 +227,7 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
 
 /// The Phong kernel, with or without texture, Blinn bump and highlights:
 /// the shading core with Blinn's hook, one pixel or eight at a time.
-pub struct PhongKernel<'a, const TEX: bool, const BUMP: bool, const SPEC: bool> {
-    tri: &'a PhongTri,
-    /// The vertex values a packet interpolates, in lanes once per triangle.
-    lanes: Vertices<V3>,
-}
-
-impl<'a, const TEX: bool, const BUMP: bool, const SPEC: bool> PhongKernel<'a, TEX, BUMP, SPEC> {
-    pub fn new(tri: &'a PhongTri) -> Self {
-        PhongKernel {
-            tri,
-            lanes: Vertices::of(tri),
-        }
-    }
-}
+pub struct PhongKernel<'a, const TEX: bool, const BUMP: bool, const SPEC: bool>(pub &'a PhongTri);
 
 impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     for PhongKernel<'_, TEX, BUMP, SPEC>
@@ -250,21 +236,11 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
         let b = [b.x, b.y, b.z];
-        let verts = Vertices::of(self.tri);
-        let c = shade::<Vec3, Blinn<BUMP>, TEX, SPEC>(
-            &Blinn,
-            self.tri,
-            &verts,
-            ctx,
-            b,
-            &[fp],
-            1,
-            counters,
-        );
+        let c = shade::<Vec3, Blinn<BUMP>, TEX, SPEC>(&Blinn, self.0, ctx, b, &[fp], 1, counters);
         finish(c, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
-        Some(&self.tri.uv)
+        Some(&self.0.uv)
     }
     fn packets(&self, _: &ShadeCtx) -> bool {
         true
@@ -273,7 +249,7 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
         cuts(ctx)
     }
     fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
-        opaque_at(ctx, lerp2(b, &self.tri.uv))
+        opaque_at(ctx, lerp2(b, &self.0.uv))
     }
     #[inline(always)]
     fn shade8(
@@ -284,8 +260,7 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
-        let (tri, verts) = (self.tri, &self.lanes);
-        let c = shade::<V3, Blinn<BUMP>, TEX, SPEC>(&Blinn, tri, verts, ctx, b, fp, live, counters);
+        let c = shade::<V3, Blinn<BUMP>, TEX, SPEC>(&Blinn, self.0, ctx, b, fp, live, counters);
         packet::finish(c, live, counters)
     }
 }

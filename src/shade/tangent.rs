@@ -7,7 +7,7 @@
 //! projected into it and divided by its world length is a unit vector, and
 //! a tangent-space normal (0, 0, 1) lights exactly like N.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::PhongTri;
 use super::lanes::{Lanes, Vector};
@@ -111,72 +111,36 @@ pub(crate) fn lerp3<V: Vector>(b: &[V::L; 3], v: &[Vec3; 3]) -> V {
     V::uniform(v[0]) * b[0] + V::uniform(v[1]) * b[1] + V::uniform(v[2]) * b[2]
 }
 
-/// A Phong triangle's vertex values as lanes (`V::uniform` of each), made
-/// once per triangle: eight-pixel packets then read them as they are
-/// rather than loading and broadcasting every component again.
-pub struct Vertices<V: Vector> {
-    position: [V; 3],
-    normal: [V; 3],
-    face: V,
-    color: [V; 3],
-    /// u and v at the three vertices.
-    uv: [[V::L; 3]; 2],
-    tangent_u: [V; 3],
-    tangent_v: [V; 3],
-}
-
-impl<V: Vector> Vertices<V> {
-    #[inline(always)]
-    pub fn of(tri: &PhongTri) -> Self {
-        let lanes = |v: &[Vec3; 3]| v.map(V::uniform);
-        Vertices {
-            position: lanes(&tri.position),
-            normal: lanes(&tri.normal),
-            face: V::uniform(tri.face_normal),
-            color: lanes(&tri.color),
-            uv: [0, 1].map(|k| tri.uv.map(|t| V::L::splat(t[k]))),
-            tangent_u: lanes(&tri.tangent_u),
-            tangent_v: lanes(&tri.tangent_v),
-        }
-    }
-}
-
-/// `lerp3` of vertex values already in lanes, the same operations.
+/// The texture coordinate at barycentrics `b`, as glam's `lerp2` on `Vec2`.
 #[inline(always)]
-fn lerp3_lanes<V: Vector>(b: &[V::L; 3], v: &[V; 3]) -> V {
-    v[0] * b[0] + v[1] * b[1] + v[2] * b[2]
+pub(crate) fn lerp2<L: Lanes>(b: &[L; 3], v: &[Vec2; 3]) -> (L, L) {
+    let c =
+        |k: usize| L::splat(v[0][k]) * b[0] + L::splat(v[1][k]) * b[1] + L::splat(v[2][k]) * b[2];
+    (c(0), c(1))
 }
 
 impl<V: Vector> Surface<V> {
-    /// The surface of `tri` at barycentrics `b`, from its vertex values
-    /// `verts` (`Vertices::of(tri)`).
     #[inline(always)]
-    pub fn at(tri: &PhongTri, verts: &Vertices<V>, b: &[V::L; 3]) -> Surface<V> {
-        let face = verts.face;
+    pub fn at(tri: &PhongTri, b: &[V::L; 3]) -> Surface<V> {
+        let face = V::uniform(tri.face_normal);
         let n = if tri.smooth {
-            lerp3_lanes(b, &verts.normal).normalize_or(face)
+            lerp3::<V>(b, &tri.normal).normalize_or(face)
         } else {
             face
         };
         let (pu, pv) = if tri.uniform_tangents {
-            (verts.tangent_u[0], verts.tangent_v[0])
+            (V::uniform(tri.tangent_u[0]), V::uniform(tri.tangent_v[0]))
         } else {
-            (
-                lerp3_lanes(b, &verts.tangent_u),
-                lerp3_lanes(b, &verts.tangent_v),
-            )
+            (lerp3(b, &tri.tangent_u), lerp3(b, &tri.tangent_v))
         };
-        let c = |k: usize| {
-            let t = &verts.uv[k];
-            t[0] * b[0] + t[1] * b[1] + t[2] * b[2]
-        };
+        let (u, v) = lerp2(b, &tri.uv);
         Surface {
-            p: lerp3_lanes(b, &verts.position),
+            p: lerp3(b, &tri.position),
             n,
             face_n: tri.face_normal,
-            albedo: lerp3_lanes(b, &verts.color),
-            u: c(0),
-            v: c(1),
+            albedo: lerp3(b, &tri.color),
+            u,
+            v,
             pu,
             pv,
         }

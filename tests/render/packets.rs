@@ -148,14 +148,14 @@ fn both_planned(
                 }
             }
             TriShader::Phong(s) => match (s.textured, s.bumped, spec) {
-                (true, true, true) => draw!(PhongKernel::<true, true, true>::new(s)),
-                (true, false, true) => draw!(PhongKernel::<true, false, true>::new(s)),
-                (false, true, true) => draw!(PhongKernel::<false, true, true>::new(s)),
-                (false, false, true) => draw!(PhongKernel::<false, false, true>::new(s)),
-                (true, true, false) => draw!(PhongKernel::<true, true, false>::new(s)),
-                (true, false, false) => draw!(PhongKernel::<true, false, false>::new(s)),
-                (false, true, false) => draw!(PhongKernel::<false, true, false>::new(s)),
-                (false, false, false) => draw!(PhongKernel::<false, false, false>::new(s)),
+                (true, true, true) => draw!(PhongKernel::<true, true, true>(s)),
+                (true, false, true) => draw!(PhongKernel::<true, false, true>(s)),
+                (false, true, true) => draw!(PhongKernel::<false, true, true>(s)),
+                (false, false, true) => draw!(PhongKernel::<false, false, true>(s)),
+                (true, true, false) => draw!(PhongKernel::<true, true, false>(s)),
+                (true, false, false) => draw!(PhongKernel::<true, false, false>(s)),
+                (false, true, false) => draw!(PhongKernel::<false, true, false>(s)),
+                (false, false, false) => draw!(PhongKernel::<false, false, false>(s)),
             },
         }
     }
