@@ -43,10 +43,16 @@ pub fn draw_into<T: RasterTarget>(
             target.raster(tri, &FlatTexturedKernel::<false>(s), ctx, counters)
         }
         TriShader::Gouraud(s) => match (s.textured, spec) {
-            (true, true) => target.raster(tri, &GouraudKernel::<true, true>(s), ctx, counters),
-            (true, false) => target.raster(tri, &GouraudKernel::<true, false>(s), ctx, counters),
-            (false, true) => target.raster(tri, &GouraudKernel::<false, true>(s), ctx, counters),
-            (false, false) => target.raster(tri, &GouraudKernel::<false, false>(s), ctx, counters),
+            (true, true) => target.raster(tri, &GouraudKernel::<true, true>::new(s), ctx, counters),
+            (true, false) => {
+                target.raster(tri, &GouraudKernel::<true, false>::new(s), ctx, counters)
+            }
+            (false, true) => {
+                target.raster(tri, &GouraudKernel::<false, true>::new(s), ctx, counters)
+            }
+            (false, false) => {
+                target.raster(tri, &GouraudKernel::<false, false>::new(s), ctx, counters)
+            }
         },
         TriShader::Phong(s) if s.bumped => draw_bumped(tri, s, ctx, target, counters),
         TriShader::Phong(s) => phong::<T, false>(tri, s, ctx, target, counters),

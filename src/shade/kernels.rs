@@ -7,7 +7,7 @@ use wide::f32x8;
 use super::bump::Blinn;
 use super::core::{colour, gloss_map, shade};
 use super::lighting::finish;
-use super::packet::{self, LANES, V3};
+use super::packet::{self, LANES, V3, Vertices2, Vertices3};
 use super::shader::{
     GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, cuts, opaque_at,
 };
@@ -128,13 +128,43 @@ impl<const SPEC: bool> PixelShader for FlatTexturedKernel<'_, SPEC> {
 }
 
 /// The Gouraud kernel, with or without texture and highlights.
-pub struct GouraudKernel<'a, const TEX: bool, const SPEC: bool>(pub &'a GouraudTri);
+pub struct GouraudKernel<'a, const TEX: bool, const SPEC: bool> {
+    tri: &'a GouraudTri,
+    /// The vertex values a packet interpolates, broadcast once per
+    /// triangle rather than per packet.
+    lanes: GouraudLanes,
+}
+
+/// A Gouraud triangle's vertex values in eight lanes (the highlights and
+/// texture coordinates zero unless the kernel reads them).
+struct GouraudLanes {
+    color: Vertices3,
+    light: Vertices3,
+    highlight: Vertices3,
+    uv: Vertices2,
+}
+
+impl<'a, const TEX: bool, const SPEC: bool> GouraudKernel<'a, TEX, SPEC> {
+    pub fn new(tri: &'a GouraudTri) -> Self {
+        let lanes = GouraudLanes {
+            color: Vertices3::of(&tri.color),
+            light: Vertices3::of(&tri.light),
+            highlight: Vertices3::of(if SPEC {
+                &tri.highlight
+            } else {
+                &[Vec3::ZERO; 3]
+            }),
+            uv: Vertices2::of(if TEX { &tri.uv } else { &[Vec2::ZERO; 3] }),
+        };
+        GouraudKernel { tri, lanes }
+    }
+}
 
 impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, SPEC> {
     const SAMPLES_TEXTURE: bool = TEX;
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
-        let tri = self.0;
+        let tri = self.tri;
         counters.pixels_shaded += 1;
         let mut albedo = lerp3(b, &tri.color);
         if TEX {
@@ -152,7 +182,7 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
         finish(albedo * lerp3(b, &tri.light), counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
-        Some(&self.0.uv)
+        Some(&self.tri.uv)
     }
     fn packets(&self, ctx: &ShadeCtx) -> bool {
         // A masked pixel is tested before its depth, one at a time.
@@ -162,7 +192,7 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
         cuts(ctx)
     }
     fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
-        opaque_at(ctx, lerp2(b, &self.0.uv))
+        opaque_at(ctx, lerp2(b, &self.tri.uv))
     }
     #[inline]
     fn shade8(
@@ -173,18 +203,18 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
-        let tri = self.0;
+        let (tri, lanes) = (self.tri, &self.lanes);
         let n = live.count_ones() as u64;
         counters.pixels_shaded += n;
-        let mut albedo = packet::lerp3(&b, &tri.color);
+        let mut albedo = lanes.color.lerp(&b);
         if TEX {
             counters.texture_samples += n;
-            let (u, v) = packet::lerp2(&b, &tri.uv);
+            let (u, v) = lanes.uv.lerp(&b);
             albedo = albedo.times(colour::<V3>(ctx, u, v, fp, live));
         }
-        let lit = albedo.times(packet::lerp3(&b, &tri.light));
+        let lit = albedo.times(lanes.light.lerp(&b));
         if SPEC {
-            let mut highlight = packet::lerp3(&b, &tri.highlight);
+            let mut highlight = lanes.highlight.lerp(&b);
             if let Some(map) = gloss_map(ctx, tri.glossy) {
                 let (u, v) = packet::lerp2(&b, &tri.gloss_uv);
                 highlight = highlight.scale(gloss(map, u, v));

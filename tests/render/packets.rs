@@ -112,10 +112,10 @@ fn both_planned(
             TriShader::FlatTextured(s) if spec => draw!(FlatTexturedKernel::<true>(s)),
             TriShader::FlatTextured(s) => draw!(FlatTexturedKernel::<false>(s)),
             TriShader::Gouraud(s) => match (s.textured, spec) {
-                (true, true) => draw!(GouraudKernel::<true, true>(s)),
-                (true, false) => draw!(GouraudKernel::<true, false>(s)),
-                (false, true) => draw!(GouraudKernel::<false, true>(s)),
-                (false, false) => draw!(GouraudKernel::<false, false>(s)),
+                (true, true) => draw!(GouraudKernel::<true, true>::new(s)),
+                (true, false) => draw!(GouraudKernel::<true, false>::new(s)),
+                (false, true) => draw!(GouraudKernel::<false, true>::new(s)),
+                (false, false) => draw!(GouraudKernel::<false, false>::new(s)),
             },
             // The other techniques, as the dispatch picks them.
             TriShader::Phong(s) if s.bumped && hooked(&plan) => {
