@@ -187,6 +187,30 @@ impl FrameClock {
     }
 }
 
+impl<'a, W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'a, W, R> {
+    /// A loop that draws with `render` and reads `rx`, with nothing else:
+    /// a black background, no texture list, no stage or loader (scenes are
+    /// the render closure's business), frames paced by the writes alone
+    /// and no progress line. Set the other fields for more.
+    pub fn new(
+        terminal: &'a mut Terminal<SgrBackend<W>>,
+        rx: &'a Receiver<Msg>,
+        render: R,
+    ) -> Self {
+        Looper {
+            terminal,
+            render,
+            background: [0, 0, 0],
+            rx,
+            textures: None,
+            stage: None,
+            pacer: Pacer::by_writes(),
+            loader: None,
+            watch: None,
+        }
+    }
+}
+
 impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R> {
     /// Asks for a scene: a model file starts loading on the worker (unless
     /// it is loading already), anything else is built at once. Either way

@@ -67,18 +67,11 @@ fn decoder_panics_become_errors_and_leave_the_hook_silent() {
     let mut term = Terminal::new(SgrBackend::with_size(Vec::new(), 40, 12)).unwrap();
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     Looper {
-        terminal: &mut term,
-        render: |_: &State, fb: &mut relief::Framebuffer| {
+        textures: Some(&list),
+        ..Looper::new(&mut term, &rx, |_: &State, fb: &mut relief::Framebuffer| {
             fb.fill([1, 2, 3]);
             relief::FrameStats::default()
-        },
-        background: [0, 0, 0],
-        rx: &rx,
-        textures: Some(&list),
-        stage: None,
-        pacer: relief::term::pacing::Pacer::by_writes(),
-        loader: None,
-        watch: None,
+        })
     }
     .run(&mut state)
     .unwrap();

@@ -33,21 +33,11 @@ fn run(msgs: Vec<Msg>, close: bool) -> (Exit, usize, usize, State) {
     let mut term = Terminal::new(SgrBackend::with_size(Vec::new(), 40, 12)).unwrap();
     let mut renders = 0;
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
-    let exit = Looper {
-        terminal: &mut term,
-        render: |_: &State, fb: &mut relief::Framebuffer| {
-            renders += 1;
-            fb.fill([renders as u8 * 40, 0, 0]);
-            relief::FrameStats::default()
-        },
-        background: [0, 0, 0],
-        rx: &rx,
-        textures: None,
-        stage: None,
-        pacer: relief::term::pacing::Pacer::by_writes(),
-        loader: None,
-        watch: None,
-    }
+    let exit = Looper::new(&mut term, &rx, |_: &State, fb: &mut relief::Framebuffer| {
+        renders += 1;
+        fb.fill([renders as u8 * 40, 0, 0]);
+        relief::FrameStats::default()
+    })
     .run(&mut state)
     .unwrap();
     let out = term.backend().writer();
@@ -299,30 +289,27 @@ fn paced(
         let mut terminal = Terminal::new(SgrBackend::with_size(term, 100, 30)).unwrap();
         let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
         let mut looper = Looper {
-            terminal: &mut terminal,
-            // A picture that changes everywhere with the rotation: every
-            // frame costs many bytes.
-            render: |s: &State, fb: &mut relief::Framebuffer| {
-                let turn = s.settings.rotation.y as usize;
-                renders
-                    .lock()
-                    .unwrap()
-                    .push((s.settings.rotation.y, fb.width()));
-                for y in 0..fb.height() {
-                    for x in 0..fb.width() {
-                        let v = (x * 7 + y * 13 + turn * 31) % 251;
-                        fb.set(x, y, [v as u8, (v * 3 % 256) as u8, (255 - v) as u8]);
-                    }
-                }
-                relief::FrameStats::default()
-            },
-            background: [0, 0, 0],
-            rx: &rx,
-            textures: None,
-            stage: None,
             pacer: Pacer::new(config),
-            loader: None,
-            watch: None,
+            ..Looper::new(
+                &mut terminal,
+                &rx,
+                // A picture that changes everywhere with the rotation: every
+                // frame costs many bytes.
+                |s: &State, fb: &mut relief::Framebuffer| {
+                    let turn = s.settings.rotation.y as usize;
+                    renders
+                        .lock()
+                        .unwrap()
+                        .push((s.settings.rotation.y, fb.width()));
+                    for y in 0..fb.height() {
+                        for x in 0..fb.width() {
+                            let v = (x * 7 + y * 13 + turn * 31) % 251;
+                            fb.set(x, y, [v as u8, (v * 3 % 256) as u8, (255 - v) as u8]);
+                        }
+                    }
+                    relief::FrameStats::default()
+                },
+            )
         };
         let exit = looper.run(&mut state).unwrap();
         (exit, looper.pacer.outstanding())
@@ -509,51 +496,11 @@ impl std::io::Write for Wire {
     }
 }
 
-/// The characters on screen after `bytes`: cursor moves (absolute, forward,
-/// CR LF), the cursor saved and restored (ESC 7, ESC 8), text; attributes
-/// and modes are passed over.
+/// The characters on screen after `bytes`.
 fn screen_text(bytes: &[u8], w: usize, h: usize) -> Vec<String> {
-    let mut cells = vec![vec![' '; w]; h];
-    let (mut x, mut y, mut saved) = (0usize, 0usize, (0usize, 0usize));
-    let text = String::from_utf8_lossy(bytes);
-    let mut chars = text.chars();
-    while let Some(c) = chars.next() {
-        match c {
-            '\x1b' => match chars.next() {
-                Some('7') => saved = (x, y),
-                Some('8') => (x, y) = saved,
-                Some('[') => {
-                    let mut params = String::new();
-                    let fin = loop {
-                        let c = chars.next().expect("a whole sequence");
-                        if ('\x40'..='\x7e').contains(&c) {
-                            break c;
-                        }
-                        params.push(c);
-                    };
-                    let n: Vec<usize> = params.split(';').map(|p| p.parse().unwrap_or(0)).collect();
-                    match fin {
-                        'H' if !params.starts_with('?') => {
-                            y = n.first().copied().unwrap_or(1).max(1) - 1;
-                            x = n.get(1).copied().unwrap_or(1).max(1) - 1;
-                        }
-                        'C' => x += n.first().copied().unwrap_or(1).max(1),
-                        _ => {}
-                    }
-                }
-                other => panic!("unexpected escape {other:?}"),
-            },
-            '\r' => x = 0,
-            '\n' => y += 1,
-            c => {
-                if x < w && y < h {
-                    cells[y][x] = c;
-                }
-                x += 1;
-            }
-        }
-    }
-    cells.into_iter().map(|r| r.into_iter().collect()).collect()
+    let mut screen = crate::screen::Screen::lenient(w, h);
+    screen.feed(bytes);
+    screen.rows()
 }
 
 /// A frame that runs long shows its progress over the status line, and the
@@ -575,38 +522,36 @@ fn a_long_frame_shows_its_progress_and_leaves_no_trace() {
     let mut renders = 0;
     let seen = wire.all.clone();
     let exit = Looper {
-        terminal: &mut term,
-        render: |_: &State, fb: &mut relief::Framebuffer| {
-            renders += 1;
-            if renders == 1 {
-                // A key for a second frame, once the first is on screen.
-                tx.send(key('m')).unwrap();
-            }
-            if renders == 2 {
-                // The second frame runs until its progress shows (a minute
-                // at most: then the test fails below).
-                let shown = || {
-                    String::from_utf8_lossy(&seen.lock().unwrap()).contains("preparing the frame")
-                };
-                let give_up = std::time::Instant::now() + std::time::Duration::from_secs(60);
-                while !shown() && std::time::Instant::now() < give_up {
-                    std::thread::sleep(std::time::Duration::from_millis(10));
-                }
-                tx.send(Msg::InputClosed("end of input".into())).unwrap();
-            }
-            fb.fill([renders as u8 * 40, 0, 0]);
-            relief::FrameStats::default()
-        },
-        background: [0, 0, 0],
-        rx: &rx,
-        textures: None,
-        stage: None,
-        pacer: relief::term::pacing::Pacer::by_writes(),
-        loader: None,
         watch: Some(FrameWatch {
             progress: std::sync::Arc::new(relief::render::FrameProgress::new()),
             out: Box::new(wire.clone()),
         }),
+        ..Looper::new(
+            &mut term,
+            &rx,
+            // A key for a second frame, once the first is on screen.
+            // The second frame runs until its progress shows (a minute
+            // at most: then the test fails below).
+            |_: &State, fb: &mut relief::Framebuffer| {
+                renders += 1;
+                if renders == 1 {
+                    tx.send(key('m')).unwrap();
+                }
+                if renders == 2 {
+                    let shown = || {
+                        String::from_utf8_lossy(&seen.lock().unwrap())
+                            .contains("preparing the frame")
+                    };
+                    let give_up = std::time::Instant::now() + std::time::Duration::from_secs(60);
+                    while !shown() && std::time::Instant::now() < give_up {
+                        std::thread::sleep(std::time::Duration::from_millis(10));
+                    }
+                    tx.send(Msg::InputClosed("end of input".into())).unwrap();
+                }
+                fb.fill([renders as u8 * 40, 0, 0]);
+                relief::FrameStats::default()
+            },
+        )
     }
     .run(&mut state)
     .unwrap();

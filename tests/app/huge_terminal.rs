@@ -22,21 +22,11 @@ fn a_huge_terminal_gets_a_capped_view() {
     drop(tx);
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     let mut frames = Vec::new();
-    Looper {
-        terminal: &mut term,
-        render: |_: &State, fb: &mut relief::Framebuffer| {
-            frames.push((fb.width(), fb.height()));
-            fb.fill([200, 10, 10]);
-            relief::FrameStats::default()
-        },
-        background: [0, 0, 0],
-        rx: &rx,
-        textures: None,
-        stage: None,
-        pacer: relief::term::pacing::Pacer::by_writes(),
-        loader: None,
-        watch: None,
-    }
+    Looper::new(&mut term, &rx, |_: &State, fb: &mut relief::Framebuffer| {
+        frames.push((fb.width(), fb.height()));
+        fb.fill([200, 10, 10]);
+        relief::FrameStats::default()
+    })
     .run(&mut state)
     .unwrap();
     assert!(!frames.is_empty());

@@ -5,6 +5,8 @@
 
 #[path = "../hostile/mod.rs"]
 mod hostile;
+#[path = "../common/screen.rs"]
+mod screen;
 
 mod contained_panics;
 mod event_loop;

@@ -152,15 +152,10 @@ fn run(stage: &RefCell<Stage>, mut state: State, batches: Vec<Vec<char>>) -> (St
     let mut term = Terminal::new(SgrBackend::with_size(tap, 40, 12)).unwrap();
     let mut renderer = Renderer::new();
     let exit = Looper {
-        terminal: &mut term,
-        render: |s: &State, fb: &mut Framebuffer| stage.borrow_mut().render(&mut renderer, s, fb),
-        background: [0, 0, 0],
-        rx: &rx,
-        textures: None,
         stage: Some(stage),
-        pacer: relief::term::pacing::Pacer::by_writes(),
-        loader: None,
-        watch: None,
+        ..Looper::new(&mut term, &rx, |s: &State, fb: &mut Framebuffer| {
+            stage.borrow_mut().render(&mut renderer, s, fb)
+        })
     }
     .run(&mut state)
     .unwrap();
@@ -410,24 +405,18 @@ fn run_loading<T: Send + 'static>(
     let mut term = Terminal::new(SgrBackend::with_size(Vec::new(), 40, 12)).unwrap();
     let mut renderer = Renderer::new();
     let exit = Looper {
-        terminal: &mut term,
-        render: |s: &State, fb: &mut Framebuffer| {
+        stage: Some(stage),
+        loader: Some(Loader::new(move |id| {
+            let _ = woken_tx.send(id);
+        })),
+        ..Looper::new(&mut term, &rx, |s: &State, fb: &mut Framebuffer| {
             let stats = stage.borrow_mut().render(&mut renderer, s, fb);
             let _ = rendered_tx.send(Seen {
                 model: s.model.clone(),
                 loading: s.loading.as_ref().map(|l| l.text()),
             });
             stats
-        },
-        background: [0, 0, 0],
-        rx: &rx,
-        textures: None,
-        stage: Some(stage),
-        pacer: relief::term::pacing::Pacer::by_writes(),
-        loader: Some(Loader::new(move |id| {
-            let _ = woken_tx.send(id);
-        })),
-        watch: None,
+        })
     }
     .run(&mut state)
     .unwrap();

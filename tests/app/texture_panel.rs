@@ -317,18 +317,11 @@ fn run(list: &RefCell<TextureList>, state: State, msgs: Vec<Msg>) -> State {
     let mut term = Terminal::new(SgrBackend::with_size(Vec::new(), 100, 30)).unwrap();
     let mut state = state;
     Looper {
-        terminal: &mut term,
-        render: |_: &State, fb: &mut Framebuffer| {
+        textures: Some(list),
+        ..Looper::new(&mut term, &rx, |_: &State, fb: &mut Framebuffer| {
             fb.fill([1, 2, 3]);
             relief::FrameStats::default()
-        },
-        background: [0, 0, 0],
-        rx: &rx,
-        textures: Some(list),
-        stage: None,
-        pacer: relief::term::pacing::Pacer::by_writes(),
-        loader: None,
-        watch: None,
+        })
     }
     .run(&mut state)
     .unwrap();

@@ -76,26 +76,16 @@ fn run(output: Output, msgs: Vec<Msg>) -> (Vec<u8>, Vec<(usize, usize)>, State) 
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     state.output = output;
     let mut sizes = Vec::new();
-    let exit = Looper {
-        terminal: &mut term,
-        render: |_: &State, fb: &mut Framebuffer| {
-            let (w, h) = (fb.width(), fb.height());
-            sizes.push((w, h));
-            for y in 0..h {
-                for x in 0..w {
-                    fb.set(x, y, pattern(x, y, w, h));
-                }
+    let exit = Looper::new(&mut term, &rx, |_: &State, fb: &mut Framebuffer| {
+        let (w, h) = (fb.width(), fb.height());
+        sizes.push((w, h));
+        for y in 0..h {
+            for x in 0..w {
+                fb.set(x, y, pattern(x, y, w, h));
             }
-            relief::FrameStats::default()
-        },
-        background: [0, 0, 0],
-        rx: &rx,
-        textures: None,
-        stage: None,
-        pacer: relief::term::pacing::Pacer::by_writes(),
-        loader: None,
-        watch: None,
-    }
+        }
+        relief::FrameStats::default()
+    })
     .run(&mut state)
     .unwrap();
     assert!(matches!(exit, Exit::InputClosed(_)));
@@ -353,20 +343,10 @@ fn an_image_never_reaches_the_last_row() {
     let mut term = Terminal::new(SgrBackend::with_size(Vec::new(), 20, 1)).unwrap();
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     state.output = output(Format::Sixels);
-    Looper {
-        terminal: &mut term,
-        render: |_: &State, fb: &mut Framebuffer| {
-            fb.fill([200, 10, 10]);
-            relief::FrameStats::default()
-        },
-        background: [0, 0, 0],
-        rx: &rx,
-        textures: None,
-        stage: None,
-        pacer: relief::term::pacing::Pacer::by_writes(),
-        loader: None,
-        watch: None,
-    }
+    Looper::new(&mut term, &rx, |_: &State, fb: &mut Framebuffer| {
+        fb.fill([200, 10, 10]);
+        relief::FrameStats::default()
+    })
     .run(&mut state)
     .unwrap();
     assert_eq!(count(term.backend().writer(), b"\x1bP0;1;0q"), 0);
@@ -523,18 +503,11 @@ fn run_slow_link(
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     state.output = output(Format::Kitty);
     let exit = Looper {
-        terminal: &mut term,
-        render: |s: &State, fb: &mut Framebuffer| {
+        pacer: relief::term::pacing::Pacer::default(),
+        ..Looper::new(&mut term, &rx, |s: &State, fb: &mut Framebuffer| {
             render(s, fb);
             relief::FrameStats::default()
-        },
-        background: [0, 0, 0],
-        rx: &rx,
-        textures: None,
-        stage: None,
-        pacer: relief::term::pacing::Pacer::default(),
-        loader: None,
-        watch: None,
+        })
     }
     .run(&mut state)
     .unwrap();
@@ -983,24 +956,18 @@ fn run_panels(format: Format, msgs: Vec<Msg>) -> (Vec<u8>, Framebuffer) {
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     state.output = output(format);
     let mut last = Framebuffer::new(0, 0);
-    Looper {
-        terminal: &mut term,
-        render: |s: &State, fb: &mut Framebuffer| {
+    Looper::new(
+        &mut term,
+        &rx,
+        // The exact picture, not a smaller preview.
+        |s: &State, fb: &mut Framebuffer| {
             few_colours(s, fb);
-            // The exact picture, not a smaller preview.
             if fb.width() >= last.width() {
                 last = fb.clone();
             }
             relief::FrameStats::default()
         },
-        background: [0, 0, 0],
-        rx: &rx,
-        textures: None,
-        stage: None,
-        pacer: relief::term::pacing::Pacer::by_writes(),
-        loader: None,
-        watch: None,
-    }
+    )
     .run(&mut state)
     .unwrap();
     (term.backend().writer().out.clone(), last)
