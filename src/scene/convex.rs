@@ -47,8 +47,8 @@ const BLOCK: usize = 4096;
 /// `points` point ids, in bytes.
 pub fn scratch_bytes(triangles: usize, points: usize) -> u64 {
     let edges = 3 * triangles as u64;
-    // Two bucket starts, the edges by target then by source.
-    8 * (points as u64 + 1) + edges * (12 + 8)
+    // The bucket starts and their fill counters, and (target, edge) per edge.
+    8 * (points as u64 + 1) + edges * 8
 }
 
 /// Whether the closed surface of `triangles` triangles, whose corners
@@ -107,8 +107,8 @@ pub fn is_convex(
     if (solid.x - 4.0 * std::f64::consts::PI).abs() >= std::f64::consts::PI {
         return false;
     }
-    // 1. and 4. over the edges, bucketed by their source point and, in each
-    // bucket, ordered by target (two counting sorts: linear in the edges).
+    // 1. and 4. over the edges, bucketed by their source point (a counting
+    // sort, linear in the edges) and, in each bucket, ordered by target.
     let edges = 3 * triangles;
     let edge = |e: usize| {
         let c = corners(e / 3);
@@ -116,38 +116,37 @@ pub fn is_convex(
     };
     let mut start = vec![0u32; points + 1];
     for e in 0..edges {
-        start[edge(e).1 as usize + 1] += 1;
-    }
-    for i in 0..points {
-        start[i + 1] += start[i];
-    }
-    let mut by_target = vec![0u32; edges];
-    {
-        let mut fill = start.clone();
-        for e in 0..edges {
-            let target = edge(e).1 as usize;
-            by_target[fill[target] as usize] = e as u32;
-            fill[target] += 1;
-        }
-    }
-    start.iter_mut().for_each(|s| *s = 0);
-    for e in 0..edges {
         start[edge(e).0 as usize + 1] += 1;
     }
     for i in 0..points {
         start[i + 1] += start[i];
     }
-    // Per source, (target, edge) in order of target.
+    // Per source, (target, edge) in order of target, then of edge.
     let mut sorted = vec![(0u32, 0u32); edges];
     {
         let mut fill = start.clone();
-        for &e in &by_target {
-            let (source, target) = edge(e as usize);
-            sorted[fill[source as usize] as usize] = (target, e);
+        for e in 0..edges {
+            let (source, target) = edge(e);
+            sorted[fill[source as usize] as usize] = (target, e as u32);
             fill[source as usize] += 1;
         }
     }
-    drop(by_target);
+    // The buckets are short (a point's edges): sorted in place, in blocks
+    // of points on the threads.
+    let mut blocks = Vec::with_capacity(points.div_ceil(BLOCK));
+    let mut rest = sorted.as_mut_slice();
+    for first in (0..points).step_by(BLOCK) {
+        let last = (first + BLOCK).min(points);
+        let (block, tail) = rest.split_at_mut((start[last] - start[first]) as usize);
+        blocks.push((first, block));
+        rest = tail;
+    }
+    blocks.into_par_iter().for_each(|(first, block)| {
+        let base = start[first] as usize;
+        for s in first..(first + BLOCK).min(points) {
+            block[start[s] as usize - base..start[s + 1] as usize - base].sort_unstable();
+        }
+    });
     let bucket = |source: u32| {
         let s = source as usize;
         &sorted[start[s] as usize..start[s + 1] as usize]
