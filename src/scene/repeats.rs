@@ -9,7 +9,7 @@
 //! skip repeats when they test depth; without a depth buffer (painter's
 //! order on convex meshes) a repeat still paints and is drawn.
 
-use foldhash::{HashMap, HashMapExt};
+use rayon::prelude::*;
 
 use super::mesh::Triangle;
 
@@ -17,17 +17,23 @@ use super::mesh::Triangle;
 /// increasing order of the repeat (empty when every triangle is unique).
 pub type RepeatPairs = Vec<(u32, u32)>;
 
-/// The repeats of `triangles`, found in one hashing pass.
+/// The repeats of `triangles`: every triangle's corners with its index,
+/// sorted on the threads, so equal corners lie together with their first
+/// triangle leading. A sort of 16 bytes a triangle beats a hash table of a
+/// million entries and more, which is filled on one thread and takes twice
+/// the memory.
 pub fn find_repeats(triangles: &[Triangle]) -> RepeatPairs {
-    let mut first: HashMap<[u32; 3], u32> = HashMap::with_capacity(triangles.len());
-    let mut pairs = Vec::new();
-    for (i, t) in triangles.iter().enumerate() {
-        let i = i as u32;
-        let f = *first.entry(t.indices).or_insert(i);
-        if f != i {
-            pairs.push((i, f));
-        }
-    }
+    let mut keys: Vec<([u32; 3], u32)> = triangles
+        .par_iter()
+        .enumerate()
+        .map(|(i, t)| (t.indices, i as u32))
+        .collect();
+    keys.par_sort_unstable();
+    let mut pairs: RepeatPairs = keys
+        .par_chunk_by(|a, b| a.0 == b.0)
+        .flat_map_iter(|run| run[1..].iter().map(move |&(_, i)| (i, run[0].1)))
+        .collect();
+    pairs.par_sort_unstable();
     pairs
 }
 

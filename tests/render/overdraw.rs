@@ -115,6 +115,31 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// The repeats found by sorting are those a walk in order with a table
+    /// of first occurrences finds: each repeat once, with its first copy,
+    /// in increasing order of the repeat. Few distinct corners make many
+    /// repeats; rotated corners are distinct triangles.
+    #[test]
+    fn repeats_are_each_later_copy_with_its_first(
+        corners in prop::collection::vec(prop::array::uniform3(0u32..4), 0..400),
+    ) {
+        let triangles: Vec<Triangle> =
+            corners.iter().map(|&c| Triangle::new(c, false)).collect();
+        let mut first = std::collections::HashMap::new();
+        let mut expected = Vec::new();
+        for (i, c) in corners.iter().enumerate() {
+            let f = *first.entry(*c).or_insert(i as u32);
+            if f != i as u32 {
+                expected.push((i as u32, f));
+            }
+        }
+        prop_assert_eq!(find_repeats(&triangles), expected);
+    }
+}
+
 /// The skipper follows the pairs it was given only where the triangles
 /// still match: a pair found on an older mesh never hides a triangle.
 #[test]
