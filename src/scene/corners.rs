@@ -28,7 +28,6 @@ use super::cube::{FACES, corner_color};
 use super::load_progress::{self, LoadStep};
 use super::mesh::{Facet, Mesh, Triangle, Vertex};
 use super::model_error::ObjError;
-use super::model_io::reserve;
 use super::tangents::{accumulate, face_frame, sum_bytes};
 use crate::budget::Reservation;
 
@@ -43,19 +42,6 @@ pub const CREASE_DEGREES: f32 = 60.0;
 const MAX_VALENCE: usize = 256;
 /// Beyond this many vertices at one point, a hash table finds them (not a walk).
 const CROWDED: usize = 32;
-
-/// One triangle corner as read from a model file (of any format).
-#[derive(Clone, Copy)]
-pub(crate) struct Corner {
-    pub position: Vec3,
-    pub uv: Option<Vec2>,
-    pub normal: Option<Vec3>,
-    pub color: Option<Vec3>,
-}
-
-/// Bytes a format that reads corner by corner holds per triangle before
-/// building (its three [`Corner`]s); the builder reserves the rest itself.
-pub const CORNER_BYTES_PER_TRIANGLE: u64 = 3 * std::mem::size_of::<Corner>() as u64;
 
 /// The index of a corner's missing UV or normal.
 pub(crate) const NO_INDEX: u32 = u32::MAX;
@@ -79,49 +65,6 @@ pub(crate) struct IndexedCorners {
     pub corners: Vec<[u32; 3]>,
     /// Each triangle's part (empty: all in part 0).
     pub part_of: Vec<u32>,
-}
-
-impl IndexedCorners {
-    /// Each corner with entries of its own.
-    fn from_corners(corners: Vec<Corner>, part_of: &[u32]) -> IndexedCorners {
-        let n = corners.len();
-        let any_color = corners.iter().any(|c| c.color.is_some());
-        let mut out = IndexedCorners {
-            positions: corners.iter().map(|c| c.position).collect(),
-            colors: if any_color {
-                corners.iter().map(|c| c.color).collect()
-            } else {
-                Vec::new()
-            },
-            uvs: Vec::with_capacity(n),
-            normals: Vec::with_capacity(n),
-            corners: Vec::with_capacity(n),
-            part_of: part_of.to_vec(),
-        };
-        for c in &corners {
-            let mut index = [out.corners.len() as u32, NO_INDEX, NO_INDEX];
-            if let Some(uv) = c.uv {
-                index[1] = out.uvs.len() as u32;
-                out.uvs.push(uv);
-            }
-            if let Some(normal) = c.normal {
-                index[2] = out.normals.len() as u32;
-                out.normals.push(normal);
-            }
-            out.corners.push(index);
-        }
-        out
-    }
-
-    /// Bytes the arrays of `corners` corners with entries of their own hold.
-    fn bytes_for(corners: u64, triangles: u64) -> u64 {
-        bytes_of::<Vec3>(corners)
-            .saturating_add(bytes_of::<Option<Vec3>>(corners))
-            .saturating_add(bytes_of::<Vec2>(corners))
-            .saturating_add(bytes_of::<Vec3>(corners))
-            .saturating_add(bytes_of::<[u32; 3]>(corners))
-            .saturating_add(bytes_of::<u32>(triangles))
-    }
 }
 
 /// Bits of a position, with −0 and +0 alike: the key that says two corners
@@ -192,23 +135,9 @@ fn hold(held: &mut Reservation, name: &str, what: &str, bytes: u64) -> Result<()
         })
 }
 
-/// Builds the model from its triangle corners (three per triangle, in any
-/// format's reading), `part_of` giving each triangle's part (empty: all in
-/// part 0) and `textured` whether each part's triangles take the scene's
-/// texture. Returns each non-empty part's mesh, with its part number.
-pub(crate) fn build_parts(
-    name: &str,
-    corners: Vec<Corner>,
-    part_of: &[u32],
-    textured: &[bool],
-) -> Result<Vec<(usize, Mesh)>, ObjError> {
-    let need = IndexedCorners::bytes_for(corners.len() as u64, part_of.len() as u64);
-    let mut held = reserve(name, "the corners", need)?;
-    let indexed = IndexedCorners::from_corners(corners, part_of);
-    build_indexed(name, indexed, &[], textured, &mut held)
-}
-
-/// [`build_parts`] from indexed corners; `part_colors` colours the corners
+/// Builds the model from indexed corners (three per triangle, in any
+/// format's reading), `textured` saying whether each part's triangles take
+/// the scene's texture; `part_colors` colours the corners
 /// of each part that have no colour of their own (an MTL's `Kd`). `held`
 /// covers `corners` and grows by what building allocates, step by step,
 /// before it is allocated.

@@ -4,7 +4,7 @@
 //! by `scene::gltf` (`build_scene` sends them there), not as parts here.
 //!
 //! Every reader turns the file into triangle corners and hands them to the
-//! one builder (`corners::build_parts`), so fitting, normals, UVs, vertex
+//! one builder (`corners::build_indexed`), so fitting, normals, UVs, vertex
 //! splitting and tangents are the same for every format. A model comes
 //! back as parts (one per OBJ material used), each a mesh with the plain
 //! description of its material, and the warnings met on the way (a missing
