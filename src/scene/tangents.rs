@@ -52,14 +52,28 @@ pub fn accumulate_keeping_directions(mesh: &mut Mesh, uvs: Option<&[Vec2]>) {
     accumulate_with(mesh, true, uvs);
 }
 
+/// One face's vote: its unit texture axes, their lengths and its
+/// handedness; `len_u` is NaN for a face whose UVs are degenerate (no vote:
+/// a length of finite axes is never NaN).
+#[derive(Clone, Copy)]
+struct Vote {
+    dir_u: Vec3,
+    dir_v: Vec3,
+    len_u: f32,
+    len_v: f32,
+    handedness: f32,
+}
+
 /// What [`accumulate`] allocates for `vertices` and `triangles`: each
-/// vertex's sums and its place in the list of corners, and that list.
+/// vertex's sums and its place in the list of corners, that list, and
+/// each triangle's vote.
 pub fn sum_bytes(vertices: u64, triangles: u64) -> u64 {
     let word = std::mem::size_of::<u32>() as u64;
     let bytes = |n: u64, size: u64| n.saturating_mul(size);
     bytes(vertices, std::mem::size_of::<Sum>() as u64)
         .saturating_add(vertices.saturating_add(1).saturating_mul(2 * word))
         .saturating_add(triangles.saturating_mul(3 * word))
+        .saturating_add(bytes(triangles, std::mem::size_of::<Vote>() as u64))
 }
 
 fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>) {
@@ -89,35 +103,61 @@ fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>)
         }
     }
     drop(fill);
+    // Each face's vote, worked out once (not at each of its corners).
     let shared: &Mesh = mesh;
-    let frame_of = |t: u32| {
-        let tri = &shared.triangles[t as usize];
-        let normal = shared.face_normal(t as usize);
-        let idx = tri.indices.map(|i| i as usize);
-        let p = idx.map(|i| shared.vertices[i].position);
-        let uv = idx.map(|i| uvs.map_or(shared.vertices[i].uv, |u| u[i]));
-        (face_frame(p, uv, normal), normal)
-    };
+    let votes: Vec<Vote> = shared
+        .triangles
+        .par_iter()
+        .enumerate()
+        .map(|(t, tri)| {
+            let none = Vote {
+                dir_u: Vec3::ZERO,
+                dir_v: Vec3::ZERO,
+                len_u: f32::NAN,
+                len_v: 0.0,
+                handedness: 0.0,
+            };
+            if !valid(&tri.indices) {
+                return none;
+            }
+            let normal = shared.face_normal(t);
+            let idx = tri.indices.map(|i| i as usize);
+            let p = idx.map(|i| shared.vertices[i].position);
+            let uv = idx.map(|i| uvs.map_or(shared.vertices[i].uv, |u| u[i]));
+            let frame = face_frame(p, uv, normal);
+            if !frame.from_uv {
+                return none;
+            }
+            let (lu, lv) = (frame.tangent_u.length(), frame.tangent_v.length());
+            Vote {
+                dir_u: frame.tangent_u / lu,
+                dir_v: frame.tangent_v / lv,
+                len_u: lu,
+                len_v: lv,
+                handedness: frame.handedness(normal),
+            }
+        })
+        .collect();
     let sums: Vec<Sum> = (0..vertex_count)
         .into_par_iter()
         .map(|v| {
             let mut s = Sum::default();
             for &t in &around[start[v] as usize..start[v + 1] as usize] {
-                let (frame, normal) = frame_of(t);
-                if !frame.from_uv {
+                let vote = &votes[t as usize];
+                if vote.len_u.is_nan() {
                     continue;
                 }
-                let (lu, lv) = (frame.tangent_u.length(), frame.tangent_v.length());
-                s.dir_u += frame.tangent_u / lu;
-                s.dir_v += frame.tangent_v / lv;
-                s.len_u += lu;
-                s.len_v += lv;
+                s.dir_u += vote.dir_u;
+                s.dir_v += vote.dir_v;
+                s.len_u += vote.len_u;
+                s.len_v += vote.len_v;
                 s.votes += 1;
-                s.handedness += frame.handedness(normal);
+                s.handedness += vote.handedness;
             }
             s
         })
         .collect();
+    drop(votes);
     drop(around);
     drop(start);
     // Each vertex is finished from its own sums alone: in parallel.
