@@ -19,7 +19,7 @@
 use std::sync::atomic::{AtomicU32, Ordering};
 
 // Maps of vertex keys, only looked up (never iterated): a fast hash.
-use foldhash::{HashMap, HashMapExt};
+use foldhash::HashMap;
 use glam::{DVec3, Vec2, Vec3};
 use rayon::prelude::*;
 
@@ -28,7 +28,7 @@ use super::cube::{FACES, corner_color};
 use super::load_progress::{self, LoadStep};
 use super::mesh::{Facet, Mesh, Triangle, Vertex};
 use super::model_error::ObjError;
-use super::tangents::{accumulate, face_frame, sum_bytes};
+use super::tangents::{accumulate, accumulate_votes_once, face_frame, sum_bytes, vote_bytes};
 use crate::budget::Reservation;
 
 /// Most corners one face may have: a polygon is split into a fan, and a
@@ -73,6 +73,41 @@ fn position_key(p: Vec3) -> [u32; 3] {
     (p + Vec3::ZERO).to_array().map(f32::to_bits)
 }
 
+/// Each position's id, equal points (by [`position_key`]) sharing one, the
+/// ids numbered in order of first appearance, and how many there are: what
+/// one pass with a hash table gives, found by sorting the keys with their
+/// indices in parallel instead (a key's run starts at its first index).
+fn position_ids(positions: &[Vec3]) -> (Vec<u32>, usize) {
+    let mut keyed: Vec<([u32; 3], u32)> = positions
+        .par_iter()
+        .enumerate()
+        .map(|(i, &p)| (position_key(p), i as u32))
+        .collect();
+    keyed.par_sort_unstable();
+    // Sorted by key, then index: each run of a key starts at its first
+    // position.
+    let mut id = vec![0u32; positions.len()];
+    let mut run = 0;
+    for j in 0..keyed.len() {
+        if keyed[j].0 != keyed[run].0 {
+            run = j;
+        }
+        id[keyed[j].1 as usize] = keyed[run].1;
+    }
+    drop(keyed);
+    let mut count = 0u32;
+    for i in 0..id.len() {
+        let f = id[i] as usize;
+        id[i] = if f == i {
+            count += 1;
+            count - 1
+        } else {
+            id[f]
+        };
+    }
+    (id, count as usize)
+}
+
 /// The centre (of the bounding box) and the scale that put the farthest of
 /// `points` at `FIT_RADIUS`, worked out in f64 (coordinates near f32::MAX
 /// would overflow when subtracted); none when the points coincide or are
@@ -107,23 +142,6 @@ fn corner_angle(p: [Vec3; 3], k: usize) -> f32 {
     let a = p[(k + 1) % 3] - p[k];
     let b = p[(k + 2) % 3] - p[k];
     a.angle_between(b)
-}
-
-/// Bytes of a hash table of `capacity` entries of `E`: buckets (a power of
-/// two at most 7/8 full) of one entry and one control byte, and a group of
-/// control bytes more.
-fn table_bytes<E>(capacity: u64) -> u64 {
-    if capacity == 0 {
-        return 0;
-    }
-    let buckets = match capacity {
-        0..4 => 4,
-        4..8 => 8,
-        _ => (capacity.saturating_mul(8) / 7).next_power_of_two(),
-    };
-    bytes_of::<E>(buckets)
-        .saturating_add(buckets)
-        .saturating_add(32)
 }
 
 /// Reserves `bytes` more for `what` of model `name` in `held`.
@@ -305,26 +323,15 @@ fn build(
     c.corners.truncate(3 * kept);
     face_normals.truncate(kept);
     c.part_of.truncate(kept);
-    // Equal points get one id.
-    let table = table_bytes::<([u32; 3], u32)>(c.positions.len() as u64);
+    // Equal points get one id, in order of first appearance.
+    let table = bytes_of::<([u32; 3], u32)>(c.positions.len() as u64);
     hold(
         held,
         name,
         "the position ids",
         table + bytes_of::<u32>(c.positions.len() as u64),
     )?;
-    let (position_id, ids) = {
-        let mut ids: HashMap<[u32; 3], u32> = HashMap::with_capacity(c.positions.len());
-        let position_id: Vec<u32> = c
-            .positions
-            .iter()
-            .map(|&p| {
-                let next = ids.len() as u32;
-                *ids.entry(position_key(p)).or_insert(next)
-            })
-            .collect();
-        (position_id, ids.len())
-    };
+    let (position_id, ids) = position_ids(&c.positions);
     held.shrink(table);
     // File normals are normalised; a missing or unusable one is computed.
     c.normals
@@ -431,10 +438,30 @@ fn build(
             .map(|i| sources[i as usize].facet_vertex(&c.positions));
         Facet::of_triangle([&v[0], &v[1], &v[2]])
     };
+    // A facet is computed from its corners' positions, UVs and colours
+    // alone, by the same expressions here and when drawn: a triangle whose
+    // vertices give those bit for bit (nearly always) has its facet again.
+    let same_inputs = |t: usize| {
+        let side = flags[t] & SIDE;
+        (0..3).all(|k| {
+            let i = 3 * t + k;
+            let s = &sources[triangles[t].indices[k] as usize];
+            let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+            (s.position == c.corners[i][0]
+                || bits(c.positions[s.position as usize])
+                    == bits(c.positions[c.corners[i][0] as usize]))
+                && s.uv.to_array().map(f32::to_bits)
+                    == uv_of(&c, t, k, side).to_array().map(f32::to_bits)
+                && bits(s.color) == bits(color_of(&c, part_colors, t, k))
+        })
+    };
     hold(held, name, "the side flags", bytes_of::<bool>(kept as u64))?;
     let differs: Vec<bool> = (0..kept)
         .into_par_iter()
-        .map(|t| read_facet(&c, part_colors, t, flags[t] & SIDE).bits() != drawn(t).bits())
+        .map(|t| {
+            !same_inputs(t)
+                && read_facet(&c, part_colors, t, flags[t] & SIDE).bits() != drawn(t).bits()
+        })
         .collect();
     let side_count = differs.iter().filter(|&&d| d).count() as u64;
     hold(
@@ -481,7 +508,18 @@ fn build(
         sum_bytes(mesh.vertices.len() as u64, mesh.triangles.len() as u64),
     )?;
     step_done()?;
-    accumulate(&mut mesh);
+    // Each face's vote once, when its array fits the budget; else at
+    // each of its corners (the same sums, more time).
+    let votes = vote_bytes(mesh.triangles.len() as u64);
+    if held
+        .grow(&format!("the tangent votes of model {name}"), votes)
+        .is_ok()
+    {
+        accumulate_votes_once(&mut mesh);
+        held.shrink(votes);
+    } else {
+        accumulate(&mut mesh);
+    }
     Ok((mesh, tri_parts))
 }
 
@@ -813,6 +851,14 @@ fn fill_normals(
     Ok(())
 }
 
+/// `x`'s bits mixed (the SplitMix64 finaliser): nearby edges get unrelated
+/// hashes.
+fn mix(x: u64) -> u64 {
+    let x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    let x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    x ^ (x >> 31)
+}
+
 /// True when every edge (between positions) is used exactly twice, in
 /// opposite directions: a closed, consistently wound surface whose back
 /// faces can be culled.
@@ -822,6 +868,28 @@ fn is_closed(
     position_id: &[u32],
     held: &mut Reservation,
 ) -> Result<bool, ObjError> {
+    // A closed surface's edges, reversed, are its edges again, so any sum
+    // over its edges equals the same sum over the reversed ones: sums of a
+    // hash of each that differ say "open" without sorting anything.
+    let edge = |t: &[[u32; 3]], k: usize| {
+        let p = |k: usize| position_id[t[k % 3][0] as usize] as u64;
+        (p(k) << 32 | p(k + 1), p(k + 1) << 32 | p(k))
+    };
+    let (forth, back) = corners
+        .par_chunks_exact(3)
+        .map(|t| {
+            (0..3).fold((0u64, 0u64), |(f, b), k| {
+                let (e, r) = edge(t, k);
+                (f.wrapping_add(mix(e)), b.wrapping_add(mix(r)))
+            })
+        })
+        .reduce(
+            || (0, 0),
+            |(f1, b1), (f2, b2)| (f1.wrapping_add(f2), b1.wrapping_add(b2)),
+        );
+    if forth != back {
+        return Ok(false);
+    }
     let bytes = bytes_of::<u64>(corners.len() as u64);
     hold(held, name, "the edges", bytes)?;
     let mut edges: Vec<u64> = corners

@@ -138,7 +138,7 @@ fn parse_unguarded(
     let text = utf8_text(raw);
     // Text in any 8-bit encoding is read (names and comments are not
     // used); a NUL byte says it is not text at all.
-    if let Some(at) = text.iter().position(|&b| b == 0) {
+    if let Some(at) = memchr::memchr(0, &text) {
         return Err(ObjError::NotText {
             name: name.to_string(),
             at,

@@ -40,7 +40,14 @@ struct Sum {
 /// (no votes, or votes that cancel) gets a frame from its normal, at the
 /// mean length of its faces' axes, or 1.
 pub fn accumulate(mesh: &mut Mesh) {
-    accumulate_with(mesh, false, None);
+    accumulate_with(mesh, false, None, false);
+}
+
+/// [`accumulate`], each face's vote worked out once into an array of
+/// [`vote_bytes`] (that the caller has reserved) instead of at each of
+/// its corners: the same sums, bit for bit, in less time.
+pub fn accumulate_votes_once(mesh: &mut Mesh) {
+    accumulate_with(mesh, false, None, true);
 }
 
 /// [`accumulate`], but a vertex that already holds both texture axes (a
@@ -49,8 +56,28 @@ pub fn accumulate(mesh: &mut Mesh) {
 /// the vertices' own: those of a normal map that reads another set or
 /// transform (glTF, `scene::map_uv`).
 pub fn accumulate_keeping_directions(mesh: &mut Mesh, uvs: Option<&[Vec2]>) {
-    accumulate_with(mesh, true, uvs);
+    accumulate_with(mesh, true, uvs, false);
 }
+
+/// One face's vote: its unit texture axes, their lengths and its
+/// handedness; `len_u` is NaN for a face whose UVs are degenerate (no vote:
+/// a length of finite axes is never NaN).
+#[derive(Clone, Copy)]
+struct Vote {
+    dir_u: Vec3,
+    dir_v: Vec3,
+    len_u: f32,
+    len_v: f32,
+    handedness: f32,
+}
+
+const NO_VOTE: Vote = Vote {
+    dir_u: Vec3::ZERO,
+    dir_v: Vec3::ZERO,
+    len_u: f32::NAN,
+    len_v: 0.0,
+    handedness: 0.0,
+};
 
 /// What [`accumulate`] allocates for `vertices` and `triangles`: each
 /// vertex's sums and its place in the list of corners, and that list.
@@ -62,7 +89,13 @@ pub fn sum_bytes(vertices: u64, triangles: u64) -> u64 {
         .saturating_add(triangles.saturating_mul(3 * word))
 }
 
-fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>) {
+/// What [`accumulate_votes_once`] allocates beyond [`sum_bytes`]: each
+/// triangle's vote.
+pub fn vote_bytes(triangles: u64) -> u64 {
+    triangles.saturating_mul(std::mem::size_of::<Vote>() as u64)
+}
+
+fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>, votes_once: bool) {
     let vertex_count = mesh.vertices.len();
     // The corners at each vertex, in triangle order (a counting sort): each
     // vertex then sums its faces' votes on its own, in parallel, in the
@@ -90,34 +123,60 @@ fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>)
     }
     drop(fill);
     let shared: &Mesh = mesh;
-    let frame_of = |t: u32| {
-        let tri = &shared.triangles[t as usize];
-        let normal = shared.face_normal(t as usize);
+    // Each face's vote (a face is valid when the sums meet it).
+    let vote_of = |t: usize| {
+        let tri = &shared.triangles[t];
+        let normal = shared.face_normal(t);
         let idx = tri.indices.map(|i| i as usize);
         let p = idx.map(|i| shared.vertices[i].position);
         let uv = idx.map(|i| uvs.map_or(shared.vertices[i].uv, |u| u[i]));
-        (face_frame(p, uv, normal), normal)
+        let frame = face_frame(p, uv, normal);
+        if !frame.from_uv {
+            return NO_VOTE;
+        }
+        let (lu, lv) = (frame.tangent_u.length(), frame.tangent_v.length());
+        Vote {
+            dir_u: frame.tangent_u / lu,
+            dir_v: frame.tangent_v / lv,
+            len_u: lu,
+            len_v: lv,
+            handedness: frame.handedness(normal),
+        }
+    };
+    let votes: Vec<Vote> = if votes_once {
+        (0..shared.triangles.len())
+            .into_par_iter()
+            .map(|t| match valid(&shared.triangles[t].indices) {
+                true => vote_of(t),
+                false => NO_VOTE,
+            })
+            .collect()
+    } else {
+        Vec::new()
     };
     let sums: Vec<Sum> = (0..vertex_count)
         .into_par_iter()
         .map(|v| {
             let mut s = Sum::default();
             for &t in &around[start[v] as usize..start[v + 1] as usize] {
-                let (frame, normal) = frame_of(t);
-                if !frame.from_uv {
+                let vote = match votes.get(t as usize) {
+                    Some(vote) => *vote,
+                    None => vote_of(t as usize),
+                };
+                if vote.len_u.is_nan() {
                     continue;
                 }
-                let (lu, lv) = (frame.tangent_u.length(), frame.tangent_v.length());
-                s.dir_u += frame.tangent_u / lu;
-                s.dir_v += frame.tangent_v / lv;
-                s.len_u += lu;
-                s.len_v += lv;
+                s.dir_u += vote.dir_u;
+                s.dir_v += vote.dir_v;
+                s.len_u += vote.len_u;
+                s.len_v += vote.len_v;
                 s.votes += 1;
-                s.handedness += frame.handedness(normal);
+                s.handedness += vote.handedness;
             }
             s
         })
         .collect();
+    drop(votes);
     drop(around);
     drop(start);
     // Each vertex is finished from its own sums alone: in parallel.
@@ -160,6 +219,36 @@ fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>)
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn votes_worked_out_once_give_the_sums_of_votes_at_each_corner() {
+        // A sphere (UV seams, poles of degenerate UVs) and a mesh with a
+        // triangle naming a vertex it does not have.
+        let mut meshes = vec![crate::scene::sphere::sphere()];
+        let mut broken = crate::scene::sphere::sphere();
+        broken.triangles[0].indices[1] = u32::MAX;
+        meshes.push(broken);
+        for mesh in meshes {
+            let (mut once, mut each) = (mesh.clone(), mesh);
+            for v in once.vertices.iter_mut().chain(each.vertices.iter_mut()) {
+                (v.tangent_u, v.tangent_v) = (Vec3::ZERO, Vec3::ZERO);
+            }
+            accumulate_votes_once(&mut once);
+            accumulate(&mut each);
+            let bits = |m: &Mesh| -> Vec<[u32; 6]> {
+                m.vertices
+                    .iter()
+                    .map(|v| {
+                        let [a, b, c] = v.tangent_u.to_array().map(f32::to_bits);
+                        let [d, e, f] = v.tangent_v.to_array().map(f32::to_bits);
+                        [a, b, c, d, e, f]
+                    })
+                    .collect()
+            };
+            assert_eq!(bits(&once), bits(&each));
+            assert!(once.vertices.iter().all(|v| v.tangent_u != Vec3::ZERO));
+        }
+    }
 
     #[test]
     fn frame_from_normal_is_right_handed_and_unit() {

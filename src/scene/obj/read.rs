@@ -56,14 +56,30 @@ fn lines(bytes: &[u8]) -> impl Iterator<Item = &[u8]> {
     })
 }
 
+/// The first word of `s` and the text after it, none when only blanks or
+/// a `#` comment are left: words are split by ASCII blanks and a `#` ends
+/// the line's data (one scan, no search for the comment first).
+fn next_word(s: &[u8]) -> Option<(&[u8], &[u8])> {
+    let start = s.iter().position(|b| !b.is_ascii_whitespace())?;
+    let s = &s[start..];
+    if s[0] == b'#' {
+        return None;
+    }
+    let end = s
+        .iter()
+        .position(|&b| b == b'#' || b.is_ascii_whitespace())
+        .unwrap_or(s.len());
+    Some(s.split_at(end))
+}
+
 /// The words of a line, its `#` comment cut off.
 fn words(line: &[u8]) -> impl Iterator<Item = &[u8]> {
-    let data = match line.iter().position(|&b| b == b'#') {
-        Some(at) => &line[..at],
-        None => line,
-    };
-    data.split(|b| b.is_ascii_whitespace())
-        .filter(|w| !w.is_empty())
+    let mut rest = line;
+    std::iter::from_fn(move || {
+        let (word, after) = next_word(rest)?;
+        rest = after;
+        Some(word)
+    })
 }
 
 fn quote_bytes(word: &[u8]) -> String {
@@ -104,6 +120,9 @@ fn number_prefix(word: &[u8]) -> usize {
 
 /// A number as tinyobjloader reads it, and whether text followed it.
 fn number(word: &[u8], what: &str) -> Result<(f32, bool), String> {
+    if let Some(x) = plain_number(word) {
+        return Ok((x, false));
+    }
     let len = number_prefix(word);
     std::str::from_utf8(&word[..len])
         .ok()
@@ -112,6 +131,48 @@ fn number(word: &[u8], what: &str) -> Result<(f32, bool), String> {
         .filter(|x| x.is_finite())
         .map(|x| (x, len < word.len()))
         .ok_or_else(|| format!("{what}: {} is not a finite number", quote_bytes(word)))
+}
+
+/// Powers of ten that are exact in f64.
+const EXACT_POWERS: [f64; 20] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19,
+];
+
+/// The usual number form, a sign, at most 19 digits and a point (no
+/// exponent), read with the same bits as `str::parse::<f32>` gives, or none
+/// (the caller takes the general path). The digits `w` (below 2^53) and
+/// 10^q are exact in f64, so `w / 10^q` is the value rounded once to f64;
+/// rounding that to f32 is the value rounded once to f32 unless the f64
+/// lies exactly halfway between two f32s, the one case left to the parser.
+fn plain_number(word: &[u8]) -> Option<f32> {
+    let (negative, digits) = match word.split_first() {
+        Some((b'-', rest)) => (true, rest),
+        Some((b'+', rest)) => (false, rest),
+        _ => (false, word),
+    };
+    let (mut w, mut count, mut point) = (0u64, 0usize, None);
+    for &b in digits {
+        match b {
+            b'0'..=b'9' if count < 19 => {
+                w = w * 10 + u64::from(b - b'0');
+                count += 1;
+            }
+            b'.' if point.is_none() => point = Some(count),
+            _ => return None,
+        }
+    }
+    if count == 0 || w > 1 << 53 {
+        return None;
+    }
+    let x = w as f64 / EXACT_POWERS[count - point.unwrap_or(count)];
+    // The 29 bits an f32 drops from an f64's 52: exactly half is a tie
+    // the f64 may have made.
+    if x.to_bits() & 0x1FFF_FFFF == 0x1000_0000 {
+        return None;
+    }
+    let x = x as f32;
+    Some(if negative { -x } else { x })
 }
 
 /// Most numbers a line gives (a position with its colour).
@@ -314,54 +375,6 @@ struct Attributes<'a> {
     normals: &'a mut [Vec3],
 }
 
-/// The `v`, `vt` and `vn` lines of one chunk, into `out` (sized by the
-/// counting pass); stops at the first bad line. Returns that line's
-/// problem, if any, and the lines whose numbers had text after them.
-fn read_attributes(chunk: &[u8], out: Attributes) -> (Option<LineProblem>, Tally) {
-    let mut cut_numbers = Tally::default();
-    let (mut p, mut t, mut n) = (0, 0, 0);
-    for (number, line) in lines(chunk).enumerate() {
-        let mut w = words(line);
-        let mut cut = false;
-        let problem = match w.next() {
-            Some(b"v") => match numbers(w, 3, 6, "position", &mut cut) {
-                Ok((x, len)) => {
-                    let color = match len {
-                        3 => Ok(None),
-                        4 if x[3] != 0.0 => Ok(None),
-                        4 => Err("bad w '0'".to_string()),
-                        6 => Ok(Some(Vec3::new(x[3], x[4], x[5]))),
-                        k => Err(format!("position has {k} numbers")),
-                    };
-                    color.map(|color| {
-                        out.positions[p] = Vec3::new(x[0], x[1], x[2]);
-                        out.colors[p] = color;
-                        p += 1;
-                    })
-                }
-                Err(e) => Err(e),
-            },
-            Some(b"vt") => numbers(w, 1, 3, "texture coordinate", &mut cut).map(|(x, _)| {
-                // A missing v is 0.
-                out.texcoords[t] = Vec2::new(x[0], x[1]);
-                t += 1;
-            }),
-            Some(b"vn") => numbers(w, 3, 3, "normal", &mut cut).map(|(x, _)| {
-                out.normals[n] = Vec3::new(x[0], x[1], x[2]);
-                n += 1;
-            }),
-            _ => Ok(()),
-        };
-        if let Err(problem) = problem {
-            return (Some((number, problem)), cut_numbers);
-        }
-        if cut {
-            cut_numbers.add(number);
-        }
-    }
-    (None, cut_numbers)
-}
-
 /// Everything read from the faces and keywords of one chunk. Parts are
 /// local: part 0 is the one in effect when the chunk begins, the others
 /// are `names[k - 1]` in order of first use within the chunk.
@@ -387,82 +400,139 @@ struct FaceSlots<'a> {
     part_of: &'a mut [u32],
 }
 
-/// The faces, `usemtl` and `mtllib` lines of one chunk; `before` counts
-/// the lines of the chunks before it. Stops at the first bad line.
-fn read_faces(chunk: &[u8], before: Counts, slots: FaceSlots) -> FaceChunk {
-    let mut out = FaceChunk {
+/// The `v`, `vt` and `vn` lines of one chunk into `out`, its faces into
+/// `slots` (both sized by the counting pass), and its `usemtl` and
+/// `mtllib` lines, in one walk over its lines; `before` counts the lines of
+/// the chunks before it. Stops at the first bad line (`problem`); also
+/// returns the lines whose numbers had text after them.
+fn read_chunk(
+    chunk: &[u8],
+    before: Counts,
+    out: Attributes,
+    mut slots: FaceSlots,
+) -> (FaceChunk, Tally) {
+    let mut faces = FaceChunk {
         all_uv: true,
         all_normals: true,
         ..FaceChunk::default()
     };
-    let (mut positions, mut texcoords, mut normals) =
-        (before.positions, before.texcoords, before.normals);
+    let mut cut_numbers = Tally::default();
+    // Items of this chunk so far; faces may use those before it too.
+    let (mut p, mut t, mut n) = (0, 0, 0);
     let mut face: Vec<FaceCorner> = Vec::new();
     let mut part = 0u32;
     for (number, line) in lines(chunk).enumerate() {
-        let mut w = words(line);
-        match w.next() {
-            Some(b"v") => positions += 1,
-            Some(b"vt") => texcoords += 1,
-            Some(b"vn") => normals += 1,
-            Some(b"mtllib") => out.libraries.push(rest_of_line(line, b"mtllib")),
-            Some(b"usemtl") => {
+        let Some((keyword, rest)) = next_word(line) else {
+            continue;
+        };
+        let mut cut = false;
+        let problem = match keyword {
+            b"v" => match numbers(words(rest), 3, 6, "position", &mut cut) {
+                Ok((x, len)) => {
+                    let color = match len {
+                        3 => Ok(None),
+                        4 if x[3] != 0.0 => Ok(None),
+                        4 => Err("bad w '0'".to_string()),
+                        6 => Ok(Some(Vec3::new(x[3], x[4], x[5]))),
+                        k => Err(format!("position has {k} numbers")),
+                    };
+                    color.map(|color| {
+                        out.positions[p] = Vec3::new(x[0], x[1], x[2]);
+                        out.colors[p] = color;
+                        p += 1;
+                    })
+                }
+                Err(e) => Err(e),
+            },
+            b"vt" => numbers(words(rest), 1, 3, "texture coordinate", &mut cut).map(|(x, _)| {
+                // A missing v is 0.
+                out.texcoords[t] = Vec2::new(x[0], x[1]);
+                t += 1;
+            }),
+            b"vn" => numbers(words(rest), 3, 3, "normal", &mut cut).map(|(x, _)| {
+                out.normals[n] = Vec3::new(x[0], x[1], x[2]);
+                n += 1;
+            }),
+            b"mtllib" => {
+                faces.libraries.push(rest_of_line(line, b"mtllib"));
+                Ok(())
+            }
+            b"usemtl" => {
                 let material = rest_of_line(line, b"usemtl");
                 let key = (!material.is_empty()).then_some(material);
-                part = match out.names.iter().position(|p| *p == key) {
+                part = match faces.names.iter().position(|p| *p == key) {
                     Some(i) => i as u32 + 1,
                     None => {
-                        out.names.push(key);
-                        out.names.len() as u32
+                        faces.names.push(key);
+                        faces.names.len() as u32
                     }
                 };
+                Ok(())
             }
-            Some(b"f") => {
-                let counts = (positions, texcoords, normals);
-                let (uv_dropped, normal_dropped) = match read_face(w, counts, &mut face) {
-                    Ok(dropped) => dropped,
-                    Err(problem) => {
-                        out.problem = Some((number, problem));
-                        break;
-                    }
-                };
-                if uv_dropped {
-                    out.bad_uv.add(number);
-                    face.iter_mut().for_each(|c| c.uv = None);
-                }
-                if normal_dropped {
-                    out.bad_normal.add(number);
-                    face.iter_mut().for_each(|c| c.normal = None);
-                }
-                while face.len() > 1
-                    && face.first().map(|c| c.position) == face.last().map(|c| c.position)
-                {
-                    face.pop();
-                }
-                // One or two corners are a point or a line: not drawn.
-                if face.len() >= 3 {
-                    // A face that lost an attribute gets a computed one; it
-                    // does not make the model drop the file's everywhere.
-                    out.all_uv &= uv_dropped || face.iter().all(|c| c.uv.is_some());
-                    out.all_normals &= normal_dropped || face.iter().all(|c| c.normal.is_some());
-                    let corner = |c: &FaceCorner| {
-                        let index = |i: Option<usize>| i.map_or(NO_INDEX, |i| i as u32);
-                        [c.position as u32, index(c.uv), index(c.normal)]
-                    };
-                    for k in 1..face.len() - 1 {
-                        let t = out.triangles;
-                        slots.corners[3 * t..3 * t + 3]
-                            .copy_from_slice(&[&face[0], &face[k], &face[k + 1]].map(corner));
-                        slots.part_of[t] = part;
-                        out.triangles += 1;
-                    }
-                }
+            b"f" => {
+                let counts = (
+                    before.positions + p,
+                    before.texcoords + t,
+                    before.normals + n,
+                );
+                read_face(words(rest), counts, &mut face).map(|dropped| {
+                    add_face(&mut faces, &mut face, dropped, number, part, &mut slots)
+                })
             }
-            _ => {}
+            _ => Ok(()),
+        };
+        if let Err(problem) = problem {
+            faces.problem = Some((number, problem));
+            break;
+        }
+        if cut {
+            cut_numbers.add(number);
         }
     }
-    out.end_part = part;
-    out
+    faces.end_part = part;
+    (faces, cut_numbers)
+}
+
+/// The corners of a face read from line `number` (`dropped`: whether a
+/// `vt`, and a `vn`, index was out of range) as the triangles of its fan,
+/// into `slots` after the chunk's triangles so far.
+fn add_face(
+    out: &mut FaceChunk,
+    face: &mut Vec<FaceCorner>,
+    (uv_dropped, normal_dropped): (bool, bool),
+    number: usize,
+    part: u32,
+    slots: &mut FaceSlots,
+) {
+    if uv_dropped {
+        out.bad_uv.add(number);
+        face.iter_mut().for_each(|c| c.uv = None);
+    }
+    if normal_dropped {
+        out.bad_normal.add(number);
+        face.iter_mut().for_each(|c| c.normal = None);
+    }
+    while face.len() > 1 && face.first().map(|c| c.position) == face.last().map(|c| c.position) {
+        face.pop();
+    }
+    // One or two corners are a point or a line: not drawn.
+    if face.len() >= 3 {
+        // A face that lost an attribute gets a computed one; it
+        // does not make the model drop the file's everywhere.
+        out.all_uv &= uv_dropped || face.iter().all(|c| c.uv.is_some());
+        out.all_normals &= normal_dropped || face.iter().all(|c| c.normal.is_some());
+        let corner = |c: &FaceCorner| {
+            let index = |i: Option<usize>| i.map_or(NO_INDEX, |i| i as u32);
+            [c.position as u32, index(c.uv), index(c.normal)]
+        };
+        for k in 1..face.len() - 1 {
+            let t = out.triangles;
+            slots.corners[3 * t..3 * t + 3]
+                .copy_from_slice(&[&face[0], &face[k], &face[k + 1]].map(corner));
+            slots.part_of[t] = part;
+            out.triangles += 1;
+        }
+    }
 }
 
 /// The corners of one `f` line into `face`, given the `v`, `vt`, `vn`
@@ -476,6 +546,13 @@ fn read_face<'a>(
     face.clear();
     let (mut uv_dropped, mut normal_dropped) = (false, false);
     for word in words {
+        if let Some(corner) = plain_corner(word, (positions, texcoords, normals)) {
+            // A repeated position is a zero-length edge.
+            if face.last().is_none_or(|p| p.position != corner.position) {
+                face.push(corner);
+            }
+            continue;
+        }
         let mut pieces = word.split(|&b| b == b'/');
         let (p, t, n) = (pieces.next(), pieces.next(), pieces.next());
         let p = match p {
@@ -511,6 +588,40 @@ fn read_face<'a>(
     Ok((uv_dropped, normal_dropped))
 }
 
+/// The usual corner, `v`, `v/vt`, `v//vn` or `v/vt/vn` with positive
+/// indices in range, read in one scan; none for anything else (the
+/// general path then reads it, or says what is wrong with it).
+fn plain_corner(
+    word: &[u8],
+    (positions, texcoords, normals): (usize, usize, usize),
+) -> Option<FaceCorner> {
+    let mut index = [0u64; 3];
+    let mut digits = [0usize; 3];
+    let mut piece = 0;
+    for &b in word {
+        match b {
+            b'0'..=b'9' if digits[piece] < 18 => {
+                index[piece] = index[piece] * 10 + u64::from(b - b'0');
+                digits[piece] += 1;
+            }
+            b'/' if piece < 2 => piece += 1,
+            _ => return None,
+        }
+    }
+    // An index of no digits is none, one in range is 0-based.
+    let item = |k: usize, count: usize| match digits[k] {
+        0 => Some(None),
+        _ => (1..=count as u64)
+            .contains(&index[k])
+            .then(|| Some(index[k] as usize - 1)),
+    };
+    Some(FaceCorner {
+        position: item(0, positions)??,
+        uv: item(1, texcoords)?,
+        normal: item(2, normals)?,
+    })
+}
+
 /// Reads `bytes` (a whole OBJ file); `name` (already sanitised) is used in
 /// errors. Big files are cut into line-aligned chunks read in parallel
 /// (see [`read_in_chunks`]).
@@ -522,11 +633,12 @@ pub(super) fn read(name: &str, bytes: &[u8]) -> Result<ReadModel, ObjError> {
 /// [`read`] with the text cut into at most `parts` chunks: whatever the
 /// cut, the same model, warnings and first error as one chunk gives.
 ///
-/// Three passes, each over the chunks in parallel: counting (sizes and
+/// Two passes, each over the chunks in parallel: counting (sizes and
 /// budget are settled before anything of the model's size is allocated),
-/// the `v`/`vt`/`vn` lines into arrays sized by the counts (each chunk
-/// knows where its own start), then the faces, which may use any of those
-/// read before their line. Parts, warnings and errors are merged in chunk
+/// then the reading, each chunk putting its `v`/`vt`/`vn` lines into arrays
+/// sized by the counts and its faces into the triangle arrays (each chunk
+/// knows where its own start; a face may use any item before its line,
+/// whose numbers another chunk may be reading at the same time). Parts, warnings and errors are merged in chunk
 /// order, so the first line in the file wins as it does when read in one go.
 pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadModel, ObjError> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
@@ -537,9 +649,10 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         problem,
     };
 
-    // Three passes over the text: the view's progress line counts each
-    // chunk's bytes as each pass finishes it, and a cancel stops the
-    // reading between passes.
+    // Two passes over the text: the view's progress line counts each
+    // chunk's bytes as the counting finishes it and twice as the reading
+    // does (it parses what it walks: the units of the three passes this
+    // reading once made), and a cancel stops the reading between passes.
     let progress = load_progress::current();
     if let Some(p) = &progress {
         p.begin(LoadStep::Parsing, 3 * bytes.len() as u64);
@@ -608,16 +721,6 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
             (p, c, t, n) = (p2, c2, t2, n2);
         }
     }
-    let attributes: Vec<(Option<LineProblem>, Tally)> = outs
-        .into_par_iter()
-        .zip(chunks.par_iter())
-        .map(|(out, chunk)| {
-            let read = read_attributes(chunk, out);
-            passed(chunk);
-            read
-        })
-        .collect();
-    load_progress::check(name)?;
     // Each chunk's triangles go to its own slices (at most what it counted),
     // closed up afterwards: no copy of the whole.
     let mut corners = vec![[0u32; 3]; counts.triangles * 3];
@@ -637,32 +740,28 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
             (c, p) = (c2, p2);
         }
     }
-    let faces: Vec<FaceChunk> = chunks
+    let read: Vec<(FaceChunk, Tally)> = chunks
         .par_iter()
         .zip(before.par_iter())
-        .zip(slots.into_par_iter())
-        .map(|((chunk, b), slots)| {
-            let read = read_faces(chunk, *b, slots);
+        .zip(outs.into_par_iter().zip(slots.into_par_iter()))
+        .map(|((chunk, b), (out, slots))| {
+            let read = read_chunk(chunk, *b, out, slots);
+            passed(chunk);
             passed(chunk);
             read
         })
         .collect();
     load_progress::check(name)?;
 
-    // The first bad line of the file, of either pass.
-    let first_problem = attributes
+    // The first bad line of the file: that of the first chunk with one.
+    if let Some((f, b)) = read
         .iter()
-        .zip(&faces)
+        .map(|(f, _)| f)
         .zip(&before)
-        .flat_map(|(((a, _), f), b)| {
-            [a, &f.problem]
-                .into_iter()
-                .flatten()
-                .map(move |(line, problem)| (b.lines + line, problem))
-        })
-        .min_by_key(|(line, _)| *line);
-    if let Some((line, problem)) = first_problem {
-        return Err(error(line, problem.clone()));
+        .find(|(f, _)| f.problem.is_some())
+        && let Some((line, problem)) = &f.problem
+    {
+        return Err(error(b.lines + line, problem.clone()));
     }
 
     let mut triangles = 0;
@@ -672,7 +771,7 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
     let (mut all_uv, mut all_normals) = (true, true);
     let (mut bad_uv, mut bad_normal, mut cut_numbers) =
         (Tally::default(), Tally::default(), Tally::default());
-    for ((f, (_, cut)), b) in faces.into_iter().zip(attributes).zip(&before) {
+    for ((f, cut), b) in read.into_iter().zip(&before) {
         // Local parts to the file's, in order of first use.
         let mut global = vec![part];
         for key in f.names {
@@ -819,6 +918,132 @@ mod tests {
                 String::from_utf8_lossy(bad)
             );
         }
+    }
+
+    /// `str::parse`'s f32 for `text` (what the reader gave before the
+    /// plain form was read by hand).
+    fn parsed(text: &str) -> f32 {
+        text.parse().expect("a number")
+    }
+
+    #[test]
+    fn plain_numbers_have_the_parser_bits() {
+        // Every sign, point place and digit count up to the 19 the plain
+        // form takes, over digits from a fixed linear congruential walk.
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            seed >> 33
+        };
+        let mut fast = 0;
+        for _ in 0..200_000 {
+            let count = 1 + next() as usize % 19;
+            let point = next() as usize % (count + 2);
+            let mut text = String::from(["", "-", "+"][next() as usize % 3]);
+            for k in 0..count {
+                if k == point {
+                    text.push('.');
+                }
+                text.push(char::from(b'0' + (next() % 10) as u8));
+            }
+            if point == count {
+                text.push('.');
+            }
+            if let Some(x) = plain_number(text.as_bytes()) {
+                fast += 1;
+                assert_eq!(x.to_bits(), parsed(&text).to_bits(), "{text}");
+            }
+            let (x, cut) = number(text.as_bytes(), "x").expect("a number");
+            assert_eq!(
+                (x.to_bits(), cut),
+                (parsed(&text).to_bits(), false),
+                "{text}"
+            );
+        }
+        // Most of them are short enough for the plain form.
+        assert!(fast > 100_000, "{fast}");
+        for text in ["-0.0", "0", "7.", ".5", "+1.25", "-0.95374536", "1234567.0"] {
+            let x = plain_number(text.as_bytes()).expect("plain");
+            assert_eq!(x.to_bits(), parsed(text).to_bits(), "{text}");
+        }
+        // Exponents, more than 19 digits, signs alone and other text
+        // take the general path.
+        for text in [
+            &b"1e5"[..],
+            b"1.5E-3",
+            b"12345678901234567890",
+            b"-",
+            b".",
+            b"1.2.3",
+            b"3.1+e2",
+        ] {
+            assert_eq!(
+                plain_number(text),
+                None,
+                "{}",
+                String::from_utf8_lossy(text)
+            );
+        }
+    }
+
+    #[test]
+    fn a_number_whose_f64_is_an_f32_tie_is_left_to_the_parser() {
+        // 8.295374393463135 rounds (in f64) to exactly halfway between
+        // two f32s; the number itself is above that, so its f32 is the
+        // upper one, not the even lower one a second rounding picks.
+        let text = "8.295374393463135";
+        let (lower, upper) = (f32::from_bits(1_090_828_762), f32::from_bits(1_090_828_763));
+        let halfway = (f64::from(lower) + f64::from(upper)) / 2.0;
+        assert_eq!(text.parse::<f64>(), Ok(halfway));
+        assert_eq!(plain_number(text.as_bytes()), None);
+        let (x, _) = number(text.as_bytes(), "x").expect("a number");
+        assert_eq!(x.to_bits(), parsed(text).to_bits());
+        assert_eq!(x.to_bits(), 1_090_828_763);
+        assert_eq!(
+            (text.parse::<f64>().unwrap() as f32).to_bits(),
+            1_090_828_762
+        );
+    }
+
+    #[test]
+    fn plain_corners_are_read_in_one_scan_and_the_rest_left_to_the_general_path() {
+        let counts = (5, 4, 3);
+        let corner = |word: &[u8]| plain_corner(word, counts).map(|c| (c.position, c.uv, c.normal));
+        assert_eq!(corner(b"5"), Some((4, None, None)));
+        assert_eq!(corner(b"1/4"), Some((0, Some(3), None)));
+        assert_eq!(corner(b"2//3"), Some((1, None, Some(2))));
+        assert_eq!(corner(b"3/1/1"), Some((2, Some(0), Some(0))));
+        assert_eq!(corner(b"3/1/"), Some((2, Some(0), None)));
+        // Out of range (an error or a dropped attribute), negative, not a
+        // number, too many pieces or digits, no position: the general path.
+        for word in [
+            &b"6"[..],
+            b"0",
+            b"1/5",
+            b"1/1/4",
+            b"-1",
+            b"1/-1",
+            b"/1",
+            b"1/1/1/1",
+            b"x",
+            b"",
+            b"0000000000000000001",
+        ] {
+            assert!(corner(word).is_none(), "{}", String::from_utf8_lossy(word));
+        }
+        // What the general path reads of those it takes.
+        let mut face = Vec::new();
+        assert_eq!(
+            read_face(words(b"-1 1/5 2//-1"), counts, &mut face),
+            Ok((true, false))
+        );
+        let got: Vec<_> = face.iter().map(|c| (c.position, c.uv, c.normal)).collect();
+        assert_eq!(
+            got,
+            vec![(4, None, None), (0, None, None), (1, None, Some(2))]
+        );
     }
 
     #[test]
