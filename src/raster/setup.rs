@@ -167,17 +167,20 @@ fn round(x: f64) -> i64 {
 
 /// [`setup_reaching`] from vertices already projected, with their
 /// barycentrics in the source triangle. A triangle that holds no pixel
-/// centre (a sub-pixel one) is refused before anything else is set up.
+/// centre (a sub-pixel one) is refused before anything else is set up,
+/// here, where the caller's loop is: most triangles of a big mesh stop at
+/// their bounds.
+#[inline]
 pub fn setup_projected(
     v: [Projected; 3],
-    mut bary: [Vec3; 3],
+    bary: [Vec3; 3],
     width: usize,
     height: usize,
     shader: u32,
     reach: i64,
 ) -> Option<ScreenTri> {
-    let mut x = v.map(|p| p.x);
-    let mut y = v.map(|p| p.y);
+    let x = v.map(|p| p.x);
+    let y = v.map(|p| p.y);
     // Pixel px is covered only if its centre px·ONE + HALF lies within the bounds
     // With samples off the centre, within `reach` of it.
     let lo = |m: i64| (m - reach - HALF + ONE - 1).div_euclid(ONE);
@@ -189,6 +192,20 @@ pub fn setup_projected(
     if x0 > x1 || y0 > y1 {
         return None;
     }
+    setup_bounded(v, bary, [x0, x1, y0, y1], shader, reach)
+}
+
+/// The rest of [`setup_projected`], for a triangle whose pixel bounds
+/// `[x0, x1, y0, y1]` (inside the viewport) hold a pixel centre.
+fn setup_bounded(
+    v: [Projected; 3],
+    mut bary: [Vec3; 3],
+    [x0, x1, y0, y1]: [i64; 4],
+    shader: u32,
+    reach: i64,
+) -> Option<ScreenTri> {
+    let mut x = v.map(|p| p.x);
+    let mut y = v.map(|p| p.y);
     let mut area = (y[1] - y[0]) * (x[2] - x[0]) - (x[1] - x[0]) * (y[2] - y[0]);
     if area == 0 {
         return None;

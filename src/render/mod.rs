@@ -39,7 +39,7 @@ use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ScreenTri};
 use crate::scene::Scene;
 use crate::scene::terms::MaterialTerms;
-use crate::scene::world::{World, fill, fill_pair};
+use crate::scene::world::{World, fill_three_runs};
 use crate::settings::{AntiAlias, Display, Settings};
 use crate::shade::{ShadeCtx, TriShader};
 use crate::shadow::{Shadow, ShadowMap};
@@ -266,17 +266,37 @@ impl Renderer {
             // The view's projection, once per vertex: clip position,
             // outcode, and the screen position setup reads.
             // Each vertex alone: in parallel for big meshes, the same values.
-            fill(&mut self.clip, placed.positions.len(), |i| {
-                view_proj * placed.positions[i].extend(1.0)
-            });
+            // Each vertex alone, in one sweep: in parallel for big meshes,
+            // the same values.
+            // Each vertex alone, in one sweep (in parallel for big meshes,
+            // the same values), but for the vertices of no triangle the
+            // camera sees: the triangle stage reads none of theirs.
+            let positions = &placed.positions;
+            let project = |start: usize,
+                           clip: &mut [Vec4],
+                           codes: &mut [u8],
+                           projected: &mut [Option<Projected>]| {
+                let positions = &positions[start..start + clip.len()];
+                let vertices = positions.iter().zip(clip).zip(codes).zip(projected);
+                for (k, (((p, clip), code), projected)) in vertices.enumerate() {
+                    if !placed.is_seen(start + k) {
+                        continue;
+                    }
+                    *clip = view_proj * p.extend(1.0);
+                    *code = outcode(*clip);
+                    *projected = (*code == 0)
+                        .then(|| Projected::of(*clip, width, height))
+                        .flatten();
+                }
+            };
+            fill_three_runs(
+                &mut self.clip,
+                &mut self.codes,
+                &mut self.projected,
+                positions.len(),
+                project,
+            );
             let clip = &self.clip;
-            fill_pair(&mut self.codes, &mut self.projected, clip.len(), |i| {
-                let code = outcode(clip[i]);
-                let projected = (code == 0)
-                    .then(|| Projected::of(clip[i], width, height))
-                    .flatten();
-                (code, projected)
-            });
             // Behind a depth buffer a repeated triangle changes nothing.
             let skips_repeats = plan.display == Display::Fill && plan.depth;
             let view = ObjectView {

@@ -110,15 +110,17 @@ impl TriChunk {
                     // Projected once per vertex; a sub-pixel triangle stops
                     // at its bounds.
                     let [a, b, c] = idx.map(|i| view.projected[i]);
-                    if let (Some(a), Some(b), Some(c)) = (a, b, c) {
-                        self.tris.extend(setup_projected(
+                    if let (Some(a), Some(b), Some(c)) = (a, b, c)
+                        && let Some(tri) = setup_projected(
                             [a, b, c],
                             Vec3::AXES,
                             view.width,
                             view.height,
                             shader_index,
                             view.reach,
-                        ));
+                        )
+                    {
+                        self.tris.push(tri);
                     }
                 }
                 Clipped::Polygon => {

@@ -7,6 +7,8 @@
 //! runs the triangles that do not fit the four-lane path (a facet from
 //! the mesh's side table, a corner past the vertices, the last few).
 
+use std::sync::atomic::{AtomicU8, Ordering};
+
 use glam::{Mat3, Vec3, Vec4};
 
 use super::Mesh;
@@ -20,6 +22,10 @@ pub struct Facing<'a> {
     /// The normal matrix (the inverse transpose of the model's linear part).
     pub normals: Mat3,
     pub eye: Vec3,
+    /// Per vertex, set to 1 by [`Facing::run`] when the vertex is a corner
+    /// of a triangle the camera sees (side ≠ 0); never cleared here. May
+    /// be empty (nothing is marked).
+    pub seen: &'a [AtomicU8],
 }
 
 impl Facing<'_> {
@@ -48,6 +54,9 @@ impl Facing<'_> {
             if facets.len() < 4 || !self.four(t, facets, sides) {
                 for (j, (f, s)) in facets.iter_mut().zip(sides.iter_mut()).enumerate() {
                     (*f, *s) = self.one(t + j);
+                    if *s != 0 {
+                        self.mark(self.mesh.triangles[t + j].indices);
+                    }
                 }
             }
         }
@@ -58,35 +67,38 @@ impl Facing<'_> {
     /// written) unless all four exist and have their facet computed from
     /// their corners, all of them vertices.
     #[inline]
-    #[allow(clippy::needless_range_loop)] // the lanes are transposed
     fn four(&self, t: usize, facets: &mut [Vec3], sides: &mut [i8]) -> bool {
-        let vertices = &self.mesh.vertices;
-        // Corner c's coordinate i of lane k at [3 * c + i][k]; then the
-        // first corner in world space.
-        let mut lanes = [[0.0f32; 4]; 12];
+        // Per lane: the three corners in model space, then the first one
+        // in world space.
+        let mut p = [[Vec3::ZERO; 4]; 4];
+        let mut corners = [[0u32; 3]; 4];
         for k in 0..4 {
-            let Some(indices) = self.mesh.computed_corners(t + k) else {
+            let Some([i, j, l]) = self.mesh.computed_corners(t + k) else {
                 return false;
             };
-            let Some(first) = self.positions.get(indices[0] as usize) else {
+            corners[k] = [i, j, l];
+            let corner = |i: u32| self.mesh.vertices.get(i as usize).map(|v| v.position);
+            let (Some(a), Some(b), Some(c), Some(first)) = (
+                corner(i),
+                corner(j),
+                corner(l),
+                self.positions.get(i as usize),
+            ) else {
                 return false;
             };
-            for c in 0..3 {
-                let p = vertices[indices[c] as usize].position;
-                lanes[3 * c][k] = p.x;
-                lanes[3 * c + 1][k] = p.y;
-                lanes[3 * c + 2][k] = p.z;
-            }
-            lanes[9][k] = first.x;
-            lanes[10][k] = first.y;
-            lanes[11][k] = first.z;
+            (p[0][k], p[1][k], p[2][k], p[3][k]) = (a, b, c, *first);
         }
-        let at = |i: usize| Lanes {
-            x: Vec4::from_array(lanes[i]),
-            y: Vec4::from_array(lanes[i + 1]),
-            z: Vec4::from_array(lanes[i + 2]),
+        // Built from registers: lanes stored one float at a time and read
+        // back as a vector would stall on the store forwarding.
+        let at = |c: usize| {
+            let q = &p[c];
+            Lanes {
+                x: Vec4::new(q[0].x, q[1].x, q[2].x, q[3].x),
+                y: Vec4::new(q[0].y, q[1].y, q[2].y, q[3].y),
+                z: Vec4::new(q[0].z, q[1].z, q[2].z, q[3].z),
+            }
         };
-        let (a, b, c, first) = (at(0), at(3), at(6), at(9));
+        let (a, b, c, first) = (at(0), at(1), at(2), at(3));
         // `triangle_normal`: (b − a) × (c − a), normalized or zero.
         let normal = b.sub(a).cross(c.sub(a)).normalize_or_zero();
         // `normals * normal` as `Mat3 * Vec3` computes it.
@@ -103,14 +115,39 @@ impl Facing<'_> {
                 + Vec4::splat(m.z_axis.z) * normal.z,
         };
         let to_eye = Lanes::splat(self.eye).sub(first);
-        let facing = facet.normalize_or_zero().dot(to_eye).to_array();
+        let facing = facet.normalize_or_zero().dot(to_eye);
+        // `side` in lanes: a comparison with a NaN is false, so a NaN,
+        // an infinity and a zero are on no side.
+        let front = (facing.cmpgt(Vec4::ZERO) & facing.cmplt(Vec4::INFINITY)).bitmask();
+        let back = if self.mesh.closed {
+            0
+        } else {
+            (facing.cmplt(Vec4::ZERO) & facing.cmpgt(Vec4::NEG_INFINITY)).bitmask()
+        };
         let (x, y, z) = (facet.x.to_array(), facet.y.to_array(), facet.z.to_array());
-        let closed = self.mesh.closed;
-        for k in 0..4 {
-            facets[k] = Vec3::new(x[k], y[k], z[k]);
-            sides[k] = side(facing[k], closed);
+        for (k, (f, s)) in facets.iter_mut().zip(sides.iter_mut()).enumerate() {
+            *f = Vec3::new(x[k], y[k], z[k]);
+            *s = ((front >> k) & 1) as i8 - ((back >> k) & 1) as i8;
+        }
+        let seen = front | back;
+        if seen != 0 {
+            for (k, corners) in corners.iter().enumerate() {
+                if (seen >> k) & 1 != 0 {
+                    self.mark(*corners);
+                }
+            }
         }
         true
+    }
+
+    /// Marks `corners` as seen (those past `seen` are not).
+    #[inline]
+    fn mark(&self, corners: [u32; 3]) {
+        for i in corners {
+            if let Some(s) = self.seen.get(i as usize) {
+                s.store(1, Ordering::Relaxed);
+            }
+        }
     }
 }
 

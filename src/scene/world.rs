@@ -6,6 +6,8 @@
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
 
+use std::sync::atomic::{AtomicU8, Ordering};
+
 use rayon::prelude::*;
 
 use super::facing::Facing;
@@ -25,7 +27,7 @@ pub struct WorldVertex {
 }
 
 /// One object placed for the frame.
-#[derive(Clone, Debug, Default)]
+#[derive(Debug, Default)]
 pub struct Placed {
     pub model: Mat4,
     /// The model's linear part (carries tangents).
@@ -42,6 +44,11 @@ pub struct Placed {
     /// an open surface) or 0 (culled: a back face of a closed mesh, edge
     /// on, not finite, or with an index past the vertices).
     pub sides: Vec<i8>,
+    /// Per vertex: 1 when it is a corner of a triangle the camera sees
+    /// (side ≠ 0), else 0. A closed mesh seen from outside hides about
+    /// half its vertices: the view projects only these
+    /// ([`Placed::is_seen`]).
+    seen: Vec<AtomicU8>,
 }
 
 impl Placed {
@@ -63,6 +70,15 @@ impl Placed {
         }
     }
 
+    /// Whether vertex `i` is a corner of a triangle the camera sees (false
+    /// past the vertices).
+    #[inline]
+    pub fn is_seen(&self, i: usize) -> bool {
+        self.seen
+            .get(i)
+            .is_some_and(|s| s.load(Ordering::Relaxed) != 0)
+    }
+
     /// The unit facet normal of triangle `t` in world space (or zero).
     #[inline]
     pub fn facet_normal(&self, t: usize) -> Vec3 {
@@ -82,8 +98,13 @@ impl Placed {
         fill(&mut self.positions, vertices.len(), |i| {
             model.transform_point3(vertices[i].position)
         });
+        // Cleared as memory (no other thread sees it here), then marked by
+        // the facing pass from any thread.
+        self.seen.resize_with(vertices.len(), AtomicU8::default);
+        self.seen.iter_mut().for_each(|s| *s.get_mut() = 0);
         let facing = Facing {
             mesh: &object.mesh,
+            seen: &self.seen,
             positions: &self.positions,
             normals,
             eye,
@@ -151,9 +172,35 @@ pub fn fill_pair_runs<A: Send + Copy + Default, B: Send + Copy + Default>(
     }
 }
 
+/// [`fill_pair_runs`] of three buffers at once.
+pub fn fill_three_runs<A, B, C>(
+    a: &mut Vec<A>,
+    b: &mut Vec<B>,
+    c: &mut Vec<C>,
+    len: usize,
+    run: impl Fn(usize, &mut [A], &mut [B], &mut [C]) + Sync + Send,
+) where
+    A: Send + Copy + Default,
+    B: Send + Copy + Default,
+    C: Send + Copy + Default,
+{
+    a.resize(len, A::default());
+    b.resize(len, B::default());
+    c.resize(len, C::default());
+    if len < PARALLEL_MIN {
+        run(0, a, b, c);
+    } else {
+        a.par_chunks_mut(PARALLEL_CHUNK)
+            .zip(b.par_chunks_mut(PARALLEL_CHUNK))
+            .zip(c.par_chunks_mut(PARALLEL_CHUNK))
+            .enumerate()
+            .for_each(|(k, ((a, b), c))| run(k * PARALLEL_CHUNK, a, b, c));
+    }
+}
+
 /// Every object of a scene placed for one frame; its buffers are kept from
 /// frame to frame.
-#[derive(Clone, Debug, Default)]
+#[derive(Debug, Default)]
 pub struct World {
     objects: Vec<Placed>,
 }

@@ -535,6 +535,7 @@ proptest! {
     ) {
         use relief::scene::Facet;
         use relief::scene::facing::Facing;
+        use std::sync::atomic::{AtomicU8, Ordering};
         let vertices: Vec<Vertex> = points.iter().map(|&p| vertex(p, Vec3::Z)).collect();
         // Mostly triangles whose facet is their own (computed from the
         // corners), some with a facet of their own in the side table.
@@ -566,11 +567,13 @@ proptest! {
             .collect();
         let mesh = Mesh::new(vertices, &faces, false, closed);
         let positions: Vec<Vec3> = points.iter().map(|&p| p * 2.0 + Vec3::X).collect();
+        let seen: Vec<AtomicU8> = points.iter().map(|_| AtomicU8::new(0)).collect();
         let facing = Facing {
             mesh: &mesh,
             positions: &positions,
             normals: glam::Mat3::from_cols(rows[0], rows[1], rows[2]),
             eye,
+            seen: &seen,
         };
         let start = start.min(faces.len());
         let n = faces.len() - start;
@@ -584,6 +587,14 @@ proptest! {
             let bits = |v: Vec3| v.to_array().map(|c| if c.is_nan() { u32::MAX } else { c.to_bits() });
             prop_assert_eq!(bits(*f), bits(f1), "facet {}", start + k);
             prop_assert_eq!(*s, s1, "side {}", start + k);
+        }
+        // Seen: exactly the corners of the triangles run with a side.
+        for (v, mark) in seen.iter().enumerate() {
+            let corner = faces[start..]
+                .iter()
+                .zip(&sides)
+                .any(|(f, &s)| s != 0 && f.indices.contains(&(v as u32)));
+            prop_assert_eq!(mark.load(Ordering::Relaxed), u8::from(corner), "vertex {}", v);
         }
     }
 }
