@@ -351,23 +351,32 @@ fn fill(
             let inside = !outside.to_bitmask() & ((1 << lanes) - 1);
             if inside != 0 {
                 let q = b0 * q0 + b1 * q1 + b2 * q2;
-                let d = (f32x8::ONE / q).to_array();
-                for k in (0..lanes).filter(|k| inside & (1 << k) != 0) {
-                    let (texel, d) = (&mut row[tx + k], d[k]);
-                    if d < *texel {
-                        if let Some((cutout, uv)) = &mask {
-                            let [b0, b1, b2, q0, q1, q2] =
-                                [b0, b1, b2, q0, q1, q2].map(|v| v.as_array()[k]);
-                            let uv =
-                                (uv[0] * (b0 * q0) + uv[1] * (b1 * q1) + uv[2] * (b2 * q2)) * d;
-                            if !cutout.opaque(uv) {
-                                continue;
-                            }
+                let d = f32x8::ONE / q;
+                // The lanes inside and nearer than their texel.
+                let mut nearer = if lanes == 8 {
+                    let texels: [f32; 8] = row[tx..tx + 8].try_into().unwrap_or([0.0; 8]);
+                    inside & d.simd_lt(f32x8::from(texels)).to_bitmask()
+                } else {
+                    let d = d.as_array();
+                    (0..lanes)
+                        .filter(|&k| inside & (1 << k) != 0 && d[k] < row[tx + k])
+                        .fold(0, |m, k| m | 1 << k)
+                };
+                let d = d.as_array();
+                while nearer != 0 {
+                    let k = nearer.trailing_zeros() as usize;
+                    nearer &= nearer - 1;
+                    if let Some((cutout, uv)) = &mask {
+                        let [b0, b1, b2, q0, q1, q2] =
+                            [b0, b1, b2, q0, q1, q2].map(|v| v.as_array()[k]);
+                        let uv = (uv[0] * (b0 * q0) + uv[1] * (b1 * q1) + uv[2] * (b2 * q2)) * d[k];
+                        if !cutout.opaque(uv) {
+                            continue;
                         }
-                        *texel = d;
-                        owners[tx + k] = object;
-                        written += 1;
                     }
+                    row[tx + k] = d[k];
+                    owners[tx + k] = object;
+                    written += 1;
                 }
             }
             tx += 8;
