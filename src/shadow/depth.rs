@@ -77,8 +77,8 @@ pub(super) struct Setup {
     corners: [(f32, f32, f32); 3],
     /// Twice the signed area in texels (either winding).
     area: f32,
-    /// The rows and columns of its bounding box, clipped to the map (at
-    /// most [`super::MAX_SIZE`] a side).
+    /// The rows and columns of its bounding box, clipped to the map (whose
+    /// side fits in u16: `shadow::MAX_SIZE`).
     rows: (u16, u16),
     columns: (u16, u16),
     /// Its object (index in `Scene::objects`) and its index in that
@@ -87,8 +87,7 @@ pub(super) struct Setup {
     triangle: u32,
 }
 
-// Rows and columns fit in u16; a triangle set up takes 56 bytes.
-const _: () = assert!(super::MAX_SIZE <= u16::MAX as usize);
+// A triangle set up takes 56 bytes.
 const _: () = assert!(std::mem::size_of::<Setup>() == 56);
 
 /// The casters' alpha masks by object, with their meshes (for the UVs).

@@ -37,6 +37,8 @@ use crate::stats::Counters;
 /// Smallest and largest shadow map side, in texels.
 pub const MIN_SIZE: usize = 256;
 pub const MAX_SIZE: usize = 2048;
+// The fill's set-up triangles keep their rows and columns in u16.
+const _: () = assert!(MAX_SIZE <= u16::MAX as usize);
 
 /// Texels per framebuffer pixel along the frame's longer side.
 const SIZE_PER_PIXEL: f32 = 1.5;
