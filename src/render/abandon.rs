@@ -9,6 +9,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::progress::FrameProgress;
+use crate::shadow::Watch;
 
 /// Asked during a frame: `true` abandons it. Called from the threads that
 /// draw the bands, so it must be cheap and thread-safe.
@@ -38,13 +39,6 @@ impl<'a> Abandon<'a> {
             hook,
             stopped: AtomicBool::new(false),
             progress,
-        }
-    }
-
-    /// The shadow map starts, to go through `triangles` triangles.
-    pub(crate) fn shadow(&self, triangles: u64) {
-        if let Some(p) = self.progress {
-            p.shadow(triangles);
         }
     }
 
@@ -82,5 +76,20 @@ impl<'a> Abandon<'a> {
     /// Whether the frame was abandoned.
     pub(crate) fn stopped(&self) -> bool {
         self.stopped.load(Ordering::Relaxed)
+    }
+}
+
+/// The shadow pass counts its visits and asks to stop at the same places.
+impl Watch for Abandon<'_> {
+    fn start(&self, visits: u64) {
+        if let Some(p) = self.progress {
+            p.shadow(visits);
+        }
+    }
+    fn advance(&self, visits: usize) {
+        Abandon::advance(self, visits);
+    }
+    fn stop(&self) -> bool {
+        self.now()
     }
 }

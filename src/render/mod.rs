@@ -584,24 +584,15 @@ fn shadow_pass<'a>(
     let (Some(light), Some(map)) = (plan.shadow_light, map) else {
         return (None, Counters::default());
     };
-    let casters = &plan.shadow_casters;
-    let triangles = casters
-        .iter()
-        .map(|c| scene.objects[c.object].mesh.triangles.len());
-    abandon.shadow(triangles.sum::<usize>() as u64);
     let counters = map.render_placed(
         scene,
         world,
         plan.lights[light].position,
-        casters,
+        &plan.shadow_casters,
         width,
         height,
         &repeats.all(),
-        // Asked every `CHECK_EVERY` triangles of a caster (but for repeats).
-        &|| {
-            abandon.advance(crate::shadow::CHECK_EVERY);
-            abandon.now()
-        },
+        abandon,
     );
     (Some(Shadow { light, map }), counters)
 }

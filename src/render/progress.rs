@@ -1,8 +1,10 @@
 //! How far a frame has come, for a view that shows the progress of a long
 //! one. The renderer counts the triangles its bands have gone through (a
 //! band goes through every triangle of the frame, twice when it draws depth
-//! first), and before them the triangles its shadow map has gone through;
-//! the rest of the frame (placing, culling, setting up) is "preparing".
+//! first), and before them the triangle visits of its shadow map's bands
+//! (a caster triangle is visited by each band of the map's rows it
+//! crosses); the rest of the frame (placing, culling, setting up, the
+//! shadow casters' setup included) is "preparing".
 
 use std::sync::atomic::{AtomicU8, AtomicU64, Ordering};
 
@@ -23,7 +25,8 @@ pub struct FrameProgress {
 pub enum FrameStep {
     /// Placing, culling, setting up.
     Preparing,
-    /// The shadow map is drawing: about `done` of its `total` triangles.
+    /// The shadow map is drawing: about `done` of its `total` triangle
+    /// visits made.
     Shadow { done: u64, total: u64 },
     /// The bands are drawing: `done` of `total` triangle visits made.
     Drawing { done: u64, total: u64 },
@@ -39,7 +42,7 @@ impl FrameProgress {
         self.enter(0, 0);
     }
 
-    /// The shadow map starts: it will go through `total` triangles.
+    /// The shadow map's fills start: they will make `total` triangle visits.
     pub(crate) fn shadow(&self, total: u64) {
         self.enter(1, total);
     }

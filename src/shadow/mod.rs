@@ -24,7 +24,7 @@
 //!   percentage-closer filter: 9 depth compares, soft one-texel edges.
 
 mod depth;
-pub use depth::CHECK_EVERY;
+pub use depth::{CHECK_EVERY, Unwatched, Watch};
 
 use glam::{Mat4, Vec3};
 
@@ -37,6 +37,8 @@ use crate::stats::Counters;
 /// Smallest and largest shadow map side, in texels.
 pub const MIN_SIZE: usize = 256;
 pub const MAX_SIZE: usize = 2048;
+// The fill's set-up triangles keep their rows and columns in u16.
+const _: () = assert!(MAX_SIZE <= u16::MAX as usize);
 
 /// Texels per framebuffer pixel along the frame's longer side.
 const SIZE_PER_PIXEL: f32 = 1.5;
@@ -57,6 +59,10 @@ pub struct ShadowMap {
     near: f32,
     /// Width of one texel at unit distance along the axis.
     texel_per_depth: f32,
+    /// Scratch of the pass, kept for the next frame: the casters'
+    /// triangles set up, and each band's share of them.
+    setups: Vec<depth::Setup>,
+    bins: Vec<Vec<u32>>,
 }
 
 /// The shadow of one of the plan's lights, as the shaders see it.
@@ -102,6 +108,12 @@ impl ShadowMap {
         self.size
     }
 
+    /// Per texel (row 0 at the top): the distance along the light's axis of
+    /// the nearest caster (infinity where none is), and which object that is.
+    pub fn texels(&self) -> (&[f32], &[u32]) {
+        (&self.depth, &self.owner)
+    }
+
     /// Pass 1: the depth of `casters` (the plan's, found for this light)
     /// seen from `light`, the user's rotation being `rotation`, for a frame
     /// of `width × height`. Returns the counters (texels written).
@@ -115,15 +127,18 @@ impl ShadowMap {
         height: usize,
     ) -> Counters {
         let world = World::of(scene, rotation);
-        self.render_placed(scene, &world, light, casters, width, height, &[], &|| false)
+        let watch = &Unwatched;
+        self.render_placed(scene, &world, light, casters, width, height, &[], watch)
     }
 
     /// [`ShadowMap::render`] of the scene placed as `world` (the frame's
     /// world-space vertices), skipping the repeated triangles of each object
     /// (`scene::repeats`: the pairs of object `i` are `repeats[i]`, none
-    /// past the end), which cannot change a texel, and stopping (the map
-    /// incomplete) as soon as `stop` says so, asked every few thousand
-    /// triangles.
+    /// past the end), which cannot change a texel, telling `watch` how far
+    /// it has come and stopping (the map incomplete) as soon as it says so,
+    /// asked every few thousand triangles. The map is filled in bands of
+    /// rows on the current thread pool; the texels are the same whatever
+    /// the bands (docs/shadows.md).
     #[allow(clippy::too_many_arguments)]
     pub fn render_placed(
         &mut self,
@@ -134,7 +149,7 @@ impl ShadowMap {
         width: usize,
         height: usize,
         repeats: &[&[(u32, u32)]],
-        stop: &dyn Fn() -> bool,
+        watch: &dyn Watch,
     ) -> Counters {
         let mut counters = Counters::default();
         let size = Self::size_for(width, height);
@@ -178,22 +193,35 @@ impl ShadowMap {
             light: self.light,
             near: self.near,
         };
+        let mut setups = std::mem::take(&mut self.setups);
+        setups.clear();
+        let mut masks = vec![None; scene.objects.len()];
+        let mut whole = true;
         for caster in casters {
             let i = caster.object;
             let mesh = &scene.objects[i].mesh;
             let skipper = RepeatSkipper::new(repeats.get(i).copied().unwrap_or(&[]));
             // A texel its alpha mask cuts out casts nothing.
             let cutout = scene.own_terms(i).and_then(|t| t.cutout.as_ref());
-            counters.shadow_texels += depth::draw_mesh(
-                &mut target,
+            masks[i] = cutout.map(|c| (c, mesh));
+            whole = depth::set_up_mesh(
+                &target,
                 mesh,
                 world.object(i),
                 i as u32,
-                cutout,
                 skipper,
-                stop,
+                watch,
+                &mut setups,
             );
+            if !whole {
+                break;
+            }
         }
+        if whole {
+            counters.shadow_texels +=
+                depth::fill_all(&mut target, &setups, &masks, &mut self.bins, watch);
+        }
+        self.setups = setups;
         counters
     }
 

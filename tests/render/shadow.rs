@@ -560,3 +560,50 @@ fn a_masked_caster_lets_the_light_through_where_the_mask_cuts() {
         );
     }
 }
+
+/// The map is filled in bands of rows, in parallel on a pool of several
+/// threads: every texel keeps the same depth and owner as on one thread,
+/// ties included (a second cube at the same place as the first loses
+/// every texel to it, the earlier caster, as in one pass).
+#[test]
+fn the_map_is_the_same_on_one_thread_and_on_several() {
+    let mut scene = shadow_scene();
+    scene.objects.push(scene.objects[CUBE as usize].clone());
+    let twin = scene.objects.len() - 1;
+    let plan = Plan::new(&scene, &Settings::default());
+    let light = plan.lights[plan.shadow_light.expect("a shadow pass")].position;
+    let mut casters = plan.shadow_casters.clone();
+    let cube = *casters
+        .iter()
+        .find(|c| c.object == CUBE as usize)
+        .expect("the cube casts");
+    casters.retain(|c| c.object != twin);
+    casters.push(relief::scene::casters::Caster {
+        object: twin,
+        ..cube
+    });
+    let draw = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a pool");
+        pool.install(|| {
+            let mut map = ShadowMap::new();
+            let counters = map.render(&scene, plan.rotation, light, &casters, 640, 480);
+            let (depth, owner) = map.texels();
+            let bits: Vec<u32> = depth.iter().map(|d| d.to_bits()).collect();
+            (bits, owner.to_vec(), counters.shadow_texels)
+        })
+    };
+    let one = draw(1);
+    let cube_texels = one.1.iter().filter(|&&o| o == CUBE).count();
+    // Enough to fill for the pass to share the rows out (see depth.rs).
+    assert!(cube_texels > 100_000, "{cube_texels}");
+    assert!(!one.1.contains(&(twin as u32)), "ties go to the first");
+    for threads in [2, 3, 4] {
+        let many = draw(threads);
+        assert!(many.0 == one.0, "depths on {threads} threads");
+        assert!(many.1 == one.1, "owners on {threads} threads");
+        assert_eq!(many.2, one.2, "texels written on {threads} threads");
+    }
+}
