@@ -95,17 +95,25 @@ fn position_ids(positions: &[Vec3]) -> (Vec<u32>, usize) {
         id[keyed[j].1 as usize] = keyed[run].1;
     }
     drop(keyed);
+    let count = number_firsts(&mut id);
+    (id, count as usize)
+}
+
+/// Turns "the first index with my key" (each entry at most its own index)
+/// into numbers 0, 1, 2… given to the first ones in order and shared by
+/// the others; returns how many.
+fn number_firsts(first: &mut [u32]) -> u32 {
     let mut count = 0u32;
-    for i in 0..id.len() {
-        let f = id[i] as usize;
-        id[i] = if f == i {
+    for i in 0..first.len() {
+        let f = first[i] as usize;
+        first[i] = if f == i {
             count += 1;
             count - 1
         } else {
-            id[f]
+            first[f]
         };
     }
-    (id, count as usize)
+    count
 }
 
 /// The centre (of the bounding box) and the scale that put the farthest of
@@ -673,16 +681,7 @@ fn split_vertices(
     drop(start);
     // Each corner's vertex: first corners numbered in corner order.
     let mut vertex_of: Vec<u32> = first.into_iter().map(AtomicU32::into_inner).collect();
-    let mut count = 0u32;
-    for i in 0..corners {
-        let f = vertex_of[i] as usize;
-        vertex_of[i] = if f == i {
-            count += 1;
-            count - 1
-        } else {
-            vertex_of[f]
-        };
-    }
+    let count = number_firsts(&mut vertex_of);
     held.shrink(lists);
     hold(
         held,
