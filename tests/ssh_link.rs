@@ -629,15 +629,10 @@ fn pixels_over_a_slow_link(format: &str) -> Option<Vec<Figure>> {
     // The strip of the first frame in flight goes first: a cell row of the
     // exact frame, 26 kB in kitty at 1280 pixels wide.
     let shown = final_picture_in_time(&pane, received_then, (end - b0, pane.received() - p0), true);
-    figures.push(Figure {
-        input: "arrow key during the first frame: final picture (link-sized)",
-        bytes: Some(shown.bytes),
-        lag: shown
-            .at
-            .map_or(Duration::ZERO, |t| t.saturating_duration_since(input.at)),
-        queued: None,
-        after: None,
-    });
+    figures.push(shown.figure(
+        "arrow key during the first frame: final picture (link-sized)",
+        input.at,
+    ));
     let frame = end - b0;
     figures.push(Figure {
         input: "one arrow key",
@@ -668,15 +663,7 @@ fn pixels_over_a_slow_link(format: &str) -> Option<Vec<Figure>> {
         (end - b0, pane.received() - p0),
         false,
     );
-    figures.push(Figure {
-        input: "40-step drag: final picture (link-sized)",
-        bytes: Some(shown.bytes),
-        lag: shown
-            .at
-            .map_or(Duration::ZERO, |t| t.saturating_duration_since(input.at)),
-        queued: None,
-        after: None,
-    });
+    figures.push(shown.figure("40-step drag: final picture (link-sized)", input.at));
     figures.push(Figure {
         input: "40-step mouse drag in 0.8 s",
         bytes: Some(end - b0),
@@ -808,6 +795,21 @@ struct FinalShown {
     bytes: u64,
     /// When the pane had received them.
     at: Option<Instant>,
+}
+
+impl FinalShown {
+    /// The row of `input`'s final picture, its lag counted from `since`.
+    fn figure(&self, input: &'static str, since: Instant) -> Figure {
+        Figure {
+            input,
+            bytes: Some(self.bytes),
+            lag: self
+                .at
+                .map_or(Duration::ZERO, |t| t.saturating_duration_since(since)),
+            queued: None,
+            after: None,
+        }
+    }
 }
 
 /// What "the final picture within 0.5 s of the last input" means here, checked by
