@@ -120,7 +120,7 @@ pub fn vertex_frames(scene: &Scene, world: &World, plan: &Plan) -> Vec<VertexFra
                 let (n, pu, pv) = if facets {
                     let facet = object.mesh.facet(t);
                     (
-                        placed.facet_normal(t),
+                        placed.facet_normal(&object.mesh, t),
                         placed.linear * facet.tangent_u,
                         placed.linear * facet.tangent_v,
                     )

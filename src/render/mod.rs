@@ -155,7 +155,9 @@ impl Renderer {
         // Taken out of `self` for the frame so the shaders can borrow it.
         let mut shadow_map = std::mem::take(&mut self.shadow);
         self.repeats.update(scene);
-        self.world.place(scene, plan.rotation);
+        // Every facet is made only for the shadow pass, which reads them all.
+        let facets = plan.shadow_light.is_some() && !self.no_shadows;
+        self.world.place(scene, plan.rotation, facets);
         let (shadow, mut counters) = shadow_pass(
             (!self.no_shadows).then_some(&mut shadow_map),
             scene,
@@ -217,7 +219,8 @@ impl Renderer {
         let plans = FramePlans::new(scene, settings, Plan::new(scene, settings));
         let mut shadow_map = std::mem::take(&mut self.shadow);
         self.repeats.update(scene);
-        self.world.place(scene, plans.plans[0].rotation);
+        let facets = plans.plans[0].shadow_light.is_some() && !self.no_shadows;
+        self.world.place(scene, plans.plans[0].rotation, facets);
         let (shadow, _) = shadow_pass(
             (!self.no_shadows).then_some(&mut shadow_map),
             scene,

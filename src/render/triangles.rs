@@ -89,7 +89,7 @@ impl TriChunk {
             };
             let idx = triangles[tri_index].indices.map(|i| i as usize);
             if plan.display != Display::Fill {
-                let face_normal = placed.facet_normal(tri_index);
+                let face_normal = placed.facet_normal(mesh, tri_index);
                 self.counters.light_evals += 3 * plan.lights.len() as u64;
                 self.wire.push(wire_triangle(
                     plan,
@@ -141,7 +141,7 @@ impl TriChunk {
                 continue;
             }
             let verts = idx.map(|i| placed.vertex(mesh, i));
-            let face_normal = placed.facet_normal(tri_index);
+            let face_normal = placed.facet_normal(mesh, tri_index);
             let uv2 = match mesh.uv2() {
                 [] => [glam::Vec2::ZERO; 3],
                 set => idx.map(|i| set.get(i).copied().unwrap_or_default()),

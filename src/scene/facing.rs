@@ -6,10 +6,18 @@
 //! the same order, so every result has the bits of [`Facing::one`], which
 //! runs the triangles that do not fit the four-lane path (a facet from
 //! the mesh's side table, a corner past the vertices, the last few).
+//!
+//! When no pass needs every facet (no shadow map is drawn), only the sides
+//! are made ([`Facing::run_sides`]): a triangle's side is then decided in
+//! model space from its unnormalized cross product and the eye carried
+//! back by the inverse model matrix ([`Quick`]), with no square root, no
+//! division and no matrix, whenever that sign is sure to be the one
+//! [`Facing::one`] computes; the few triangles near edge-on, degenerate or
+//! not finite go through [`Facing::one`] itself. Same sides, same bits.
 
 use std::sync::atomic::{AtomicU8, Ordering};
 
-use glam::{Mat3, Vec3, Vec4};
+use glam::{DMat3, DMat4, DVec3, DVec4, Mat3, Mat4, Vec3, Vec4};
 
 use super::Mesh;
 
@@ -26,6 +34,105 @@ pub struct Facing<'a> {
     /// of a triangle the camera sees (side ≠ 0); never cleared here. May
     /// be empty (nothing is marked).
     pub seen: &'a [AtomicU8],
+    /// The model-space test of [`Facing::run_sides`], when the model
+    /// matrix allows it.
+    pub quick: Option<Quick>,
+}
+
+/// The model-space side test of one object for one frame.
+///
+/// [`Facing::one`] takes the sign of F = n̂_w · (e − M a), where n̂_w is the
+/// unit facet normal N n̂ / |N n̂| (N the normal matrix, n̂ the unit cross
+/// product c / |c| of the edges at corner a) and M a the first corner in
+/// world space. In exact arithmetic, with N = L⁻ᵀ (L the model's linear
+/// part) and e_m = M⁻¹ e, F has the sign of G = c · (e_m − a): the two
+/// normalizations and the matrices cancel. Both start from the same
+/// computed c (the same operations), so they differ only by the rounding
+/// of what follows, which is bounded by a few units in the last place of
+/// the magnitudes involved, times the conditioning of L, plus the
+/// measured error Δ = ‖Lᵀ N − I‖ of the normal matrix. When |G| exceeds
+/// 16 times that bound (`margin`), F is finite, nonzero and of G's sign.
+#[derive(Clone, Copy, Debug)]
+pub struct Quick {
+    /// The eye in model space.
+    eye: Vec4x3,
+    /// The bound on |F − G|-like rounding is |c|₁ (k0 + k1 |a|₁).
+    k0: Vec4,
+    k1: Vec4,
+}
+
+/// Bounds within which the quick test's error analysis holds (no
+/// underflow of |c|², no overflow of the world positions).
+const CROSS_MIN: f32 = 1e-18;
+const CROSS_MAX: f32 = 1e18;
+const POSITION_MAX: f32 = 1e15;
+
+impl Quick {
+    /// The test for an object placed by `model`, whose normals `normals`
+    /// carries, seen from `eye`; `None` when the model matrix is not
+    /// affine, not finite, too badly conditioned, or `normals` is not its
+    /// inverse transpose (a singular model's fallback): every triangle then
+    /// takes the exact path.
+    pub fn new(model: Mat4, normals: Mat3, eye: Vec3) -> Option<Quick> {
+        let m: DMat4 = model.as_dmat4();
+        if m.row(3) != DVec4::new(0.0, 0.0, 0.0, 1.0) || !m.is_finite() {
+            return None;
+        }
+        let l = DMat3::from_mat4(m);
+        let n = normals.as_dmat3();
+        let frobenius = |a: DMat3| {
+            (a.x_axis.length_squared() + a.y_axis.length_squared() + a.z_axis.length_squared())
+                .sqrt()
+        };
+        let (lf, nf) = (frobenius(l), frobenius(n));
+        let delta = frobenius(l.transpose() * n - DMat3::IDENTITY);
+        let sane = |v: f64| (1e-10..=1e10).contains(&v);
+        if !sane(lf) || !sane(nf) || !(0.0..1e-3).contains(&delta) {
+            return None;
+        }
+        let kappa = lf * frobenius(l.inverse());
+        let eye_model: DVec3 = m.inverse().transform_point3(eye.as_dvec3());
+        let (e, t, em) = (
+            eye.as_dvec3().length(),
+            m.w_axis.truncate().length(),
+            eye_model.length(),
+        );
+        let u = f64::from(f32::EPSILON) / 2.0;
+        let k0 = 16.0 * ((delta + 8.0 * u) * em + (20.0 + 4.0 * kappa) * u * nf * (e + 2.0 * t));
+        let k1 = 16.0 * ((delta + 8.0 * u) + (40.0 + 8.0 * kappa) * u * nf * lf);
+        let eye_model = eye_model.as_vec3();
+        let usable = k0.is_finite()
+            && k1.is_finite()
+            && kappa < 1e6
+            && eye_model.is_finite()
+            && eye_model.abs().max_element() <= POSITION_MAX;
+        if !usable {
+            return None;
+        }
+        Some(Quick {
+            eye: Vec4x3::splat(eye_model),
+            k0: Vec4::splat(k0 as f32),
+            k1: Vec4::splat(k1 as f32),
+        })
+    }
+}
+
+/// A `Vec3` in each of four lanes (kept in [`Quick`] ready to use).
+#[derive(Clone, Copy, Debug)]
+struct Vec4x3 {
+    x: Vec4,
+    y: Vec4,
+    z: Vec4,
+}
+
+impl Vec4x3 {
+    fn splat(v: Vec3) -> Vec4x3 {
+        Vec4x3 {
+            x: Vec4::splat(v.x),
+            y: Vec4::splat(v.y),
+            z: Vec4::splat(v.z),
+        }
+    }
 }
 
 impl Facing<'_> {
@@ -60,6 +167,94 @@ impl Facing<'_> {
                 }
             }
         }
+    }
+
+    /// The sides of triangles `start`, `start + 1`, … into `sides`, as
+    /// [`Facing::one`] gives them, without their facets: decided in model
+    /// space where [`Quick`] is sure, else by [`Facing::one`].
+    pub fn run_sides(&self, start: usize, sides: &mut [i8]) {
+        let Some(quick) = self.quick else {
+            let mut facets = [Vec3::ZERO; 4];
+            for (k, sides) in sides.chunks_mut(4).enumerate() {
+                self.run(start + 4 * k, &mut facets[..sides.len()], sides);
+            }
+            return;
+        };
+        for (k, sides) in sides.chunks_mut(4).enumerate() {
+            let t = start + 4 * k;
+            if sides.len() < 4 || !self.four_sides(&quick, t, sides) {
+                for (j, s) in sides.iter_mut().enumerate() {
+                    *s = self.one(t + j).1;
+                    if *s != 0 {
+                        self.mark(self.mesh.triangles[t + j].indices);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The sides of triangles `t` … `t + 3` into `sides` (four), as
+    /// [`Facing::one`] gives them; false (nothing written) unless all four
+    /// exist and have their facet computed from their corners.
+    #[inline]
+    fn four_sides(&self, quick: &Quick, t: usize, sides: &mut [i8]) -> bool {
+        let mut p = [[Vec3::ZERO; 4]; 3];
+        let mut corners = [[0u32; 3]; 4];
+        for k in 0..4 {
+            let Some([i, j, l]) = self.mesh.computed_corners(t + k) else {
+                return false;
+            };
+            corners[k] = [i, j, l];
+            // In range: `computed_corners` checked them.
+            let at = |i: u32| self.mesh.vertices[i as usize].position;
+            (p[0][k], p[1][k], p[2][k]) = (at(i), at(j), at(l));
+        }
+        let at = |c: usize| {
+            let q = &p[c];
+            Lanes {
+                x: Vec4::new(q[0].x, q[1].x, q[2].x, q[3].x),
+                y: Vec4::new(q[0].y, q[1].y, q[2].y, q[3].y),
+                z: Vec4::new(q[0].z, q[1].z, q[2].z, q[3].z),
+            }
+        };
+        let (a, b, c) = (at(0), at(1), at(2));
+        // The cross product as `triangle_normal` computes it (same bits).
+        let cross = b.sub(a).cross(c.sub(a));
+        let eye = Lanes {
+            x: quick.eye.x,
+            y: quick.eye.y,
+            z: quick.eye.z,
+        };
+        let g = cross.dot(eye.sub(a));
+        let norm1 = |v: Lanes| v.x.abs() + v.y.abs() + v.z.abs();
+        let (c1, a1) = (norm1(cross), norm1(a));
+        let margin = c1 * (quick.k0 + quick.k1 * a1);
+        // Every comparison is false on a NaN: such a lane is not sure.
+        let fits = c1.cmpge(Vec4::splat(CROSS_MIN))
+            & c1.cmple(Vec4::splat(CROSS_MAX))
+            & a1.cmple(Vec4::splat(POSITION_MAX));
+        let front = (fits & g.cmpgt(margin)).bitmask();
+        let back = (fits & g.cmplt(-margin)).bitmask();
+        let back_side = if self.mesh.closed { 0 } else { -1 };
+        let mut seen = 0;
+        for (k, s) in sides.iter_mut().enumerate() {
+            *s = if (front >> k) & 1 != 0 {
+                1
+            } else if (back >> k) & 1 != 0 {
+                back_side
+            } else {
+                self.one(t + k).1
+            };
+            seen |= u32::from(*s != 0) << k;
+        }
+        if seen != 0 {
+            for (k, corners) in corners.iter().enumerate() {
+                if (seen >> k) & 1 != 0 {
+                    self.mark(*corners);
+                }
+            }
+        }
+        true
     }
 
     /// Triangles `t` … `t + 3` in four lanes into `facets` and `sides`

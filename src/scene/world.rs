@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicU8, Ordering};
 
 use rayon::prelude::*;
 
-use super::facing::Facing;
+use super::facing::{Facing, Quick};
 use super::{Mesh, Object, Scene, normal_matrix};
 
 /// A vertex after the model transform, in world space.
@@ -38,7 +38,9 @@ pub struct Placed {
     pub positions: Vec<Vec3>,
     /// Per triangle: its facet normal carried by `normals`, not normalized
     /// (the shadow pass's cull reads it so; [`Placed::facet_normal`] is
-    /// its unit vector).
+    /// its unit vector). Made only for a frame whose passes read every
+    /// facet (the shadow pass); empty otherwise, when
+    /// [`Placed::facet`] computes the few that the drawn triangles need.
     pub facets: Vec<Vec3>,
     /// Per triangle: the side the camera sees, 1 (front), −1 (the back of
     /// an open surface) or 0 (culled: a back face of a closed mesh, edge
@@ -79,15 +81,27 @@ impl Placed {
             .is_some_and(|s| s.load(Ordering::Relaxed) != 0)
     }
 
+    /// Triangle `t`'s facet normal carried by the normal matrix, not
+    /// normalized (`mesh` is the mesh this object was placed with): from
+    /// `facets` when they were made, else computed as the facing pass
+    /// computes it (the same bits).
+    #[inline]
+    pub fn facet(&self, mesh: &Mesh, t: usize) -> Vec3 {
+        match self.facets.get(t) {
+            Some(&f) => f,
+            None => self.normals * mesh.face_normal(t),
+        }
+    }
+
     /// The unit facet normal of triangle `t` in world space (or zero).
     #[inline]
-    pub fn facet_normal(&self, t: usize) -> Vec3 {
-        self.facets[t].normalize_or_zero()
+    pub fn facet_normal(&self, mesh: &Mesh, t: usize) -> Vec3 {
+        self.facet(mesh, t).normalize_or_zero()
     }
 
     /// Places `object` with the user's `rotation`, its triangles culled for
-    /// an eye at `eye`.
-    fn place(&mut self, object: &Object, rotation: Mat4, eye: Vec3) {
+    /// an eye at `eye`; every facet made too when `facets`.
+    fn place(&mut self, object: &Object, rotation: Mat4, eye: Vec3, facets: bool) {
         let model = object.model_matrix(rotation);
         let linear = Mat3::from_mat4(model);
         let normals = normal_matrix(model);
@@ -108,15 +122,23 @@ impl Placed {
             positions: &self.positions,
             normals,
             eye,
+            quick: Quick::new(model, normals, eye),
         };
-        // Each triangle's facet normal and the side the camera sees, in one
-        // pass over the triangles.
-        fill_pair_runs(
-            &mut self.facets,
-            &mut self.sides,
-            triangles.len(),
-            |start, facets, sides| facing.run(start, facets, sides),
-        );
+        if facets {
+            // Each triangle's facet normal and the side the camera sees, in
+            // one pass over the triangles.
+            fill_pair_runs(
+                &mut self.facets,
+                &mut self.sides,
+                triangles.len(),
+                |start, facets, sides| facing.run(start, facets, sides),
+            );
+        } else {
+            self.facets.clear();
+            fill_runs(&mut self.sides, triangles.len(), |start, sides| {
+                facing.run_sides(start, sides)
+            });
+        }
     }
 }
 
@@ -148,6 +170,24 @@ pub fn fill_pair<A: Send + Copy + Default, B: Send + Copy + Default>(
             (*a, *b) = f(start + k);
         }
     });
+}
+
+/// [`fill`] by runs: `run(start, out)` fills `out` with the elements from
+/// `start` on, each element alone (the result does not depend on how the
+/// buffer is cut).
+pub fn fill_runs<A: Send + Copy + Default>(
+    out: &mut Vec<A>,
+    len: usize,
+    run: impl Fn(usize, &mut [A]) + Sync + Send,
+) {
+    out.resize(len, A::default());
+    if len < PARALLEL_MIN {
+        run(0, out);
+    } else {
+        out.par_chunks_mut(PARALLEL_CHUNK)
+            .enumerate()
+            .for_each(|(c, out)| run(c * PARALLEL_CHUNK, out));
+    }
 }
 
 /// [`fill_pair`] by runs: `run(start, a, b)` fills `a`, `b` (equally
@@ -211,20 +251,21 @@ impl World {
     }
 
     /// Places every object of `scene` with the user's `rotation`, culled
-    /// for the scene's camera.
+    /// for the scene's camera, with every facet made.
     pub fn of(scene: &Scene, rotation: Mat4) -> Self {
         let mut world = World::new();
-        world.place(scene, rotation);
+        world.place(scene, rotation, true);
         world
     }
 
     /// Places every object of `scene` with the user's `rotation`, culled
-    /// for the scene's camera, reusing the buffers.
-    pub fn place(&mut self, scene: &Scene, rotation: Mat4) {
+    /// for the scene's camera, reusing the buffers; every triangle's facet
+    /// is made only when `facets` (a pass will read them all).
+    pub fn place(&mut self, scene: &Scene, rotation: Mat4, facets: bool) {
         self.objects
             .resize_with(scene.objects.len(), Placed::default);
         for (placed, object) in self.objects.iter_mut().zip(&scene.objects) {
-            placed.place(object, rotation, scene.camera.eye);
+            placed.place(object, rotation, scene.camera.eye, facets);
         }
     }
 

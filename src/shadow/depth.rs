@@ -136,7 +136,7 @@ pub(super) fn set_up_mesh(
         };
         if mesh.closed {
             // Second depth: keep the faces turned away from the light.
-            let n = placed.facets[i];
+            let n = placed.facet(mesh, i);
             if n.dot(map.light - a.3) > 0.0 {
                 continue;
             }

@@ -574,6 +574,7 @@ proptest! {
             normals: glam::Mat3::from_cols(rows[0], rows[1], rows[2]),
             eye,
             seen: &seen,
+            quick: None,
         };
         let start = start.min(faces.len());
         let n = faces.len() - start;
@@ -595,6 +596,103 @@ proptest! {
                 .zip(&sides)
                 .any(|(f, &s)| s != 0 && f.indices.contains(&(v as u32)));
             prop_assert_eq!(mark.load(Ordering::Relaxed), u8::from(corner), "vertex {}", v);
+        }
+    }
+}
+
+/// A model matrix: a rotation, a scale per axis (sometimes far from 1 or
+/// mirroring), sometimes a shear, and a translation.
+fn any_model() -> impl Strategy<Value = Mat4> {
+    (
+        (-180.0f32..180.0, -180.0f32..180.0, -180.0f32..180.0),
+        prop_oneof![
+            3 => Just(Vec3::ONE),
+            2 => (0.01f32..100.0).prop_map(Vec3::splat),
+            2 => (-3.0f32..3.0, 0.1f32..3.0, 0.001f32..1000.0).prop_map(|(x, y, z)| Vec3::new(x, y, z)),
+            1 => Just(Vec3::new(1.0, 1.0, 0.0)),
+        ],
+        prop_oneof![3 => Just(0.0f32), 1 => -2.0f32..2.0],
+        (-50.0f32..50.0, -50.0f32..50.0, -50.0f32..50.0),
+    )
+        .prop_map(|(angles, scale, shear, t)| {
+            let shear = Mat4::from_cols_array(&[
+                1.0, shear, 0.0, 0.0, //
+                0.0, 1.0, 0.0, 0.0, //
+                0.0, 0.0, 1.0, 0.0, //
+                0.0, 0.0, 0.0, 1.0,
+            ]);
+            Mat4::from_translation(Vec3::from(t))
+                * relief::scene::rotation_matrix(Vec3::from(angles))
+                * shear
+                * Mat4::from_scale(scale)
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// The sides made without facets, decided in model space where that is
+    /// sure, are those of the one-triangle code for every triangle, under
+    /// any model matrix and eye: random, degenerate, huge and NaN corners,
+    /// and triangles built to lie within a hair of edge-on to the eye
+    /// (where the two formulas' roundings could disagree).
+    #[test]
+    fn the_sides_alone_are_those_of_one_triangle_at_a_time(
+        points in prop::collection::vec(any_point(), 3..12),
+        corners in prop::collection::vec([0u32..14, 0u32..14, 0u32..14], 0..40),
+        edge_on in prop::collection::vec((0usize..12, 0usize..12, -2.0f32..2.0, -2.0f32..2.0, -6i32..0), 0..24),
+        model in any_model(),
+        eye in prop_oneof![3 => (-20.0f32..20.0, -20.0f32..20.0, -20.0f32..20.0).prop_map(Vec3::from), 1 => any_point()],
+        closed in any::<bool>(),
+        start in 0usize..5,
+    ) {
+        use relief::scene::facing::{Facing, Quick};
+        use relief::scene::{Triangle, normal_matrix};
+        use std::sync::atomic::{AtomicU8, Ordering};
+        let mut points = points;
+        let mut triangles: Vec<Triangle> = corners.iter().map(|&c| Triangle::new(c, true)).collect();
+        // Edge-on triangles: a third corner in the plane of two others and
+        // the model-space eye, moved off it by 10^k of the edge's length.
+        let eye_model = model.inverse().transform_point3(eye);
+        for &(i, j, s, t, k) in &edge_on {
+            let (a, b) = (points[i % points.len()], points[j % points.len()]);
+            let normal = (b - a).cross(eye_model - a).normalize_or_zero();
+            let c = a + (b - a) * s + (eye_model - a) * t
+                + normal * (10f32.powi(k) * (b - a).length());
+            points.push(c);
+            let n = points.len() as u32 - 1;
+            triangles.push(Triangle::new([(i % points.len()) as u32, (j % points.len()) as u32, n], true));
+        }
+        let vertices: Vec<Vertex> = points.iter().map(|&p| vertex(p, Vec3::Z)).collect();
+        let mesh = Mesh::of_triangles(vertices, triangles, false, closed);
+        let positions: Vec<Vec3> = points.iter().map(|&p| model.transform_point3(p)).collect();
+        let normals = normal_matrix(model);
+        let quick = Quick::new(model, normals, eye);
+        // A model whose linear part is not too far from a rotation, seen
+        // from a finite eye, always has the quick test.
+        let linear = glam::DMat3::from_mat4(model.as_dmat4());
+        let frobenius = |m: glam::DMat3| (m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared()).sqrt();
+        let condition = frobenius(linear) * frobenius(linear.inverse());
+        if condition < 1e3 && eye.is_finite() && eye.abs().max_element() < 1e6 {
+            prop_assert!(quick.is_some());
+        }
+        let marks = || -> Vec<AtomicU8> { points.iter().map(|_| AtomicU8::new(0)).collect() };
+        let (seen, seen_one) = (marks(), marks());
+        let facing = Facing { mesh: &mesh, positions: &positions, normals, eye, seen: &seen, quick };
+        let start = start.min(mesh.triangles.len());
+        let n = mesh.triangles.len() - start;
+        let mut sides = vec![9i8; n];
+        facing.run_sides(start, &mut sides);
+        let exact = Facing { seen: &seen_one, ..facing };
+        let mut facets = vec![Vec3::ZERO; n];
+        let mut sides_one = vec![9i8; n];
+        exact.run(start, &mut facets, &mut sides_one);
+        for (k, s) in sides.iter().enumerate() {
+            prop_assert_eq!(*s, exact.one(start + k).1, "side {}", start + k);
+        }
+        prop_assert_eq!(&sides, &sides_one);
+        for (v, (a, b)) in seen.iter().zip(&seen_one).enumerate() {
+            prop_assert_eq!(a.load(Ordering::Relaxed), b.load(Ordering::Relaxed), "vertex {}", v);
         }
     }
 }
