@@ -93,60 +93,97 @@ const _: () = assert!(std::mem::size_of::<Setup>() == 56);
 /// The casters' alpha masks by object, with their meshes (for the UVs).
 pub(super) type Masks<'a> = [Option<(&'a Cutout, &'a Mesh)>];
 
+/// Triangles per task of the set-up: a big mesh is set up in chunks of
+/// consecutive triangles, in parallel, then joined in triangle order.
+const SETUP_CHUNK: usize = 16_384;
+
 /// Sets up `mesh` (object `object`) placed as `placed` into `out`, but for
-/// the triangles `repeats` skips, the faces second-depth drops, and those
-/// that cover no texel centre's box; stops (returning false) as soon as
-/// `watch` says so.
+/// the triangles `repeats` (its repeated triangles) skips, the faces
+/// second-depth drops, and those that cover no texel centre's box; stops
+/// (returning false) as soon as `watch` says so. A big mesh is set up in
+/// chunks on the threads, each into its own buffer of `chunks` (kept from
+/// frame to frame), then joined in order: the same setups in the same
+/// order as on one thread.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn set_up_mesh(
     map: &Target,
     mesh: &Mesh,
     placed: &Placed,
     object: u32,
-    mut repeats: RepeatSkipper,
+    repeats: &[(u32, u32)],
     watch: &dyn Watch,
     out: &mut Vec<Setup>,
+    chunks: &mut Vec<Vec<Setup>>,
 ) -> bool {
     let size = map.size as f32;
     // Per vertex: texel coordinates and 1/w (None when too near the light).
-    let projected: Vec<Option<(f32, f32, f32, Vec3)>> = placed
-        .positions
-        .iter()
-        .map(|&world| {
-            let clip = map.view_proj * world.extend(1.0);
-            (clip.w > map.near * 0.5 && clip.is_finite()).then(|| {
-                let inv_w = 1.0 / clip.w;
-                let x = (clip.x * inv_w * 0.5 + 0.5) * size;
-                let y = (0.5 - clip.y * inv_w * 0.5) * size;
-                (x, y, inv_w, world)
-            })
+    let project = |&world: &Vec3| {
+        let clip = map.view_proj * world.extend(1.0);
+        (clip.w > map.near * 0.5 && clip.is_finite()).then(|| {
+            let inv_w = 1.0 / clip.w;
+            let x = (clip.x * inv_w * 0.5 + 0.5) * size;
+            let y = (0.5 - clip.y * inv_w * 0.5) * size;
+            (x, y, inv_w, world)
         })
-        .collect();
-    for (i, tri) in mesh.triangles.iter().enumerate() {
-        if repeats.skip(i, &mesh.triangles) {
-            continue;
-        }
-        if i % CHECK_EVERY == CHECK_EVERY - 1 && watch.stop() {
-            return false;
-        }
-        let [a, b, c] = tri
-            .indices
-            .map(|i| projected.get(i as usize).copied().flatten());
-        let (Some(a), Some(b), Some(c)) = (a, b, c) else {
-            continue;
-        };
-        if mesh.closed {
-            // Second depth: keep the faces turned away from the light.
-            let n = placed.facet(mesh, i);
-            if n.dot(map.light - a.3) > 0.0 {
+    };
+    let projected: Vec<Option<(f32, f32, f32, Vec3)>> = if placed.positions.len() < SETUP_CHUNK {
+        placed.positions.iter().map(project).collect()
+    } else {
+        placed.positions.par_iter().map(project).collect()
+    };
+    let triangles = &mesh.triangles;
+    let run = |range: std::ops::Range<usize>, out: &mut Vec<Setup>| -> bool {
+        let first = repeats.partition_point(|&(r, _)| (r as usize) < range.start);
+        let mut repeats = RepeatSkipper::new(&repeats[first..]);
+        for i in range {
+            if repeats.skip(i, triangles) {
                 continue;
             }
+            if i % CHECK_EVERY == CHECK_EVERY - 1 && watch.stop() {
+                return false;
+            }
+            let [a, b, c] = triangles[i]
+                .indices
+                .map(|i| projected.get(i as usize).copied().flatten());
+            let (Some(a), Some(b), Some(c)) = (a, b, c) else {
+                continue;
+            };
+            if mesh.closed {
+                // Second depth: keep the faces turned away from the light.
+                let n = placed.facet(mesh, i);
+                if n.dot(map.light - a.3) > 0.0 {
+                    continue;
+                }
+            }
+            let corners = [a, b, c].map(|(x, y, q, _)| (x, y, q));
+            if let Some(s) = set_up(map.size, corners, object, i as u32) {
+                out.push(s);
+            }
         }
-        let corners = [a, b, c].map(|(x, y, q, _)| (x, y, q));
-        if let Some(s) = set_up(map.size, corners, object, i as u32) {
-            out.push(s);
+        true
+    };
+    let n = triangles.len();
+    let count = n.div_ceil(SETUP_CHUNK);
+    if count <= 1 || rayon::current_num_threads() == 1 {
+        return run(0..n, out);
+    }
+    if chunks.len() < count {
+        chunks.resize_with(count, Vec::new);
+    }
+    let whole = chunks[..count]
+        .par_iter_mut()
+        .enumerate()
+        .map(|(c, chunk)| {
+            chunk.clear();
+            run(c * SETUP_CHUNK..((c + 1) * SETUP_CHUNK).min(n), chunk)
+        })
+        .all(|whole| whole);
+    if whole {
+        for chunk in &chunks[..count] {
+            out.extend_from_slice(chunk);
         }
     }
-    true
+    whole
 }
 
 /// One triangle's setup, or None if it covers no texel centre's box (or

@@ -30,7 +30,6 @@ use glam::{Mat4, Vec3};
 
 use crate::scene::Scene;
 use crate::scene::casters::{Caster, enclose};
-use crate::scene::repeats::RepeatSkipper;
 use crate::scene::world::World;
 use crate::stats::Counters;
 
@@ -62,6 +61,9 @@ pub struct ShadowMap {
     /// Scratch of the pass, kept for the next frame: the casters'
     /// triangles set up, and each band's share of them.
     setups: Vec<depth::Setup>,
+    /// Per chunk of a big mesh's triangles, its setups, before they are
+    /// joined into `setups` (kept from frame to frame).
+    setup_chunks: Vec<Vec<depth::Setup>>,
     bins: Vec<Vec<u32>>,
 }
 
@@ -200,7 +202,6 @@ impl ShadowMap {
         for caster in casters {
             let i = caster.object;
             let mesh = &scene.objects[i].mesh;
-            let skipper = RepeatSkipper::new(repeats.get(i).copied().unwrap_or(&[]));
             // A texel its alpha mask cuts out casts nothing.
             let cutout = scene.own_terms(i).and_then(|t| t.cutout.as_ref());
             masks[i] = cutout.map(|c| (c, mesh));
@@ -209,9 +210,10 @@ impl ShadowMap {
                 mesh,
                 world.object(i),
                 i as u32,
-                skipper,
+                repeats.get(i).copied().unwrap_or(&[]),
                 watch,
                 &mut setups,
+                &mut self.setup_chunks,
             );
             if !whole {
                 break;

@@ -607,3 +607,87 @@ fn the_map_is_the_same_on_one_thread_and_on_several() {
         assert_eq!(many.2, one.2, "texels written on {threads} threads");
     }
 }
+
+/// A big caster is set up in chunks of triangles on the threads, then
+/// joined in order: a 58 k-triangle closed sphere, with repeated triangles
+/// whose first copies lie in another chunk, gives every texel the same
+/// depth and owner, and the same count of texels written, on one thread
+/// and on several.
+#[test]
+fn a_big_caster_is_set_up_the_same_on_one_thread_and_on_several() {
+    use relief::scene::world::World;
+    use relief::scene::{Mesh, Triangle, Vertex};
+    let mut scene = shadow_scene();
+    let (rings, segments) = (121u32, 240u32);
+    let mut vertices = Vec::new();
+    for i in 0..=rings {
+        let theta = std::f32::consts::PI * i as f32 / rings as f32;
+        for j in 0..segments {
+            let phi = std::f32::consts::TAU * j as f32 / segments as f32;
+            let p = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
+            vertices.push(Vertex {
+                position: p * 0.8,
+                normal: p,
+                uv: glam::Vec2::ZERO,
+                color: Vec3::ONE,
+                tangent_u: Vec3::X,
+                tangent_v: Vec3::Y,
+            });
+        }
+    }
+    let at = |i: u32, j: u32| i * segments + j % segments;
+    let mut triangles = Vec::new();
+    for i in 0..rings {
+        for j in 0..segments {
+            let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+            triangles.push(Triangle::new([a, c, b], true));
+            triangles.push(Triangle::new([a, d, c], true));
+        }
+    }
+    let first: Vec<Triangle> = triangles[..500].to_vec();
+    triangles.extend(first);
+    assert!(triangles.len() > 3 * 16_384, "{}", triangles.len());
+    let repeats = relief::scene::repeats::find_repeats(&triangles);
+    assert_eq!(repeats.len(), 500);
+    scene.objects[CUBE as usize].mesh = Mesh::of_triangles(vertices, triangles, false, true);
+    let plan = Plan::new(&scene, &Settings::default());
+    let light = plan.lights[plan.shadow_light.expect("a shadow pass")].position;
+    let world = World::of(&scene, plan.rotation);
+    let mut all_repeats: Vec<&[(u32, u32)]> = vec![&[]; scene.objects.len()];
+    all_repeats[CUBE as usize] = &repeats;
+    let draw = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a pool");
+        pool.install(|| {
+            let mut map = ShadowMap::new();
+            let counters = map.render_placed(
+                &scene,
+                &world,
+                light,
+                &plan.shadow_casters,
+                640,
+                480,
+                &all_repeats,
+                &relief::shadow::Unwatched,
+            );
+            let (depth, owner) = map.texels();
+            let bits: Vec<u32> = depth.iter().map(|d| d.to_bits()).collect();
+            (bits, owner.to_vec(), counters.shadow_texels)
+        })
+    };
+    let one = draw(1);
+    let sphere_texels = one.1.iter().filter(|&&o| o == CUBE).count();
+    assert!(sphere_texels > 10_000, "{sphere_texels}");
+    for threads in [2, 3, 4] {
+        let many = draw(threads);
+        assert!(many.0 == one.0, "depths on {threads} threads");
+        assert!(many.1 == one.1, "owners on {threads} threads");
+        assert_eq!(many.2, one.2, "texels written on {threads} threads");
+    }
+}
