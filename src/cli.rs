@@ -146,7 +146,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
     pub light: Option<Vec2>,
     /// Texture image (RGB = colour, alpha = height; without alpha, the mean of R, G, B),
-    /// or a model file (.obj, .stl, .ply) to draw as the model.
+    /// or a model file (.obj, .stl, .ply, .gltf, .glb) to draw as the model.
     #[arg(value_name = "IMAGE|MODEL")]
     pub image: Option<PathBuf>,
 }
