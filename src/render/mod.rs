@@ -323,18 +323,28 @@ impl Renderer {
             // Joined in triangle order, each chunk's shader indices moved
             // past the shaders before it.
             for chunk in run_chunks(&mut self.chunks, &view) {
-                let offset = self.shaders.len() as u32;
-                self.tris.extend(chunk.tris.drain(..).map(|mut t| {
-                    t.shader += offset;
-                    t
-                }));
                 if plans.plans.len() > 1 {
                     let count = chunk.shaders.len();
                     self.shader_groups
                         .extend(std::iter::repeat_n(group as u32, count));
                 }
-                self.shaders.append(&mut chunk.shaders);
-                self.wire.append(&mut chunk.wire);
+                if self.tris.is_empty() && self.shaders.is_empty() && self.wire.is_empty() {
+                    // The frame's first triangles are taken whole, not
+                    // copied: a small mesh is one chunk, and its shaders
+                    // (252 bytes) and screen triangles (168) are most of
+                    // what it moves. Each side keeps its capacity.
+                    std::mem::swap(&mut self.tris, &mut chunk.tris);
+                    std::mem::swap(&mut self.shaders, &mut chunk.shaders);
+                    std::mem::swap(&mut self.wire, &mut chunk.wire);
+                } else {
+                    let offset = self.shaders.len() as u32;
+                    self.tris.extend(chunk.tris.drain(..).map(|mut t| {
+                        t.shader += offset;
+                        t
+                    }));
+                    self.shaders.append(&mut chunk.shaders);
+                    self.wire.append(&mut chunk.wire);
+                }
                 counters += chunk.counters;
             }
         }
