@@ -55,7 +55,7 @@ pub struct Facing<'a> {
 #[derive(Clone, Copy, Debug)]
 pub struct Quick {
     /// The eye in model space.
-    eye: Vec4x3,
+    eye: Lanes,
     /// The bound on |F − G|-like rounding is |c|₁ (k0 + k1 |a|₁).
     k0: Vec4,
     k1: Vec4,
@@ -110,28 +110,10 @@ impl Quick {
             return None;
         }
         Some(Quick {
-            eye: Vec4x3::splat(eye_model),
+            eye: Lanes::splat(eye_model),
             k0: Vec4::splat(k0 as f32),
             k1: Vec4::splat(k1 as f32),
         })
-    }
-}
-
-/// A `Vec3` in each of four lanes (kept in [`Quick`] ready to use).
-#[derive(Clone, Copy, Debug)]
-struct Vec4x3 {
-    x: Vec4,
-    y: Vec4,
-    z: Vec4,
-}
-
-impl Vec4x3 {
-    fn splat(v: Vec3) -> Vec4x3 {
-        Vec4x3 {
-            x: Vec4::splat(v.x),
-            y: Vec4::splat(v.y),
-            z: Vec4::splat(v.z),
-        }
     }
 }
 
@@ -193,39 +175,38 @@ impl Facing<'_> {
         }
     }
 
-    /// The sides of triangles `t` … `t + 3` into `sides` (four), as
-    /// [`Facing::one`] gives them; false (nothing written) unless all four
-    /// exist and have their facet computed from their corners.
+    /// The corners of triangles `t` … `t + 3` in model space, a lane per
+    /// triangle (its first, second and third corners), and their vertex
+    /// indices; `None` unless all four exist and have their facet computed
+    /// from their corners, all of them vertices.
     #[inline]
-    fn four_sides(&self, quick: &Quick, t: usize, sides: &mut [i8]) -> bool {
+    fn corners4(&self, t: usize) -> Option<([Lanes; 3], [[u32; 3]; 4])> {
         let mut p = [[Vec3::ZERO; 4]; 3];
         let mut corners = [[0u32; 3]; 4];
         for k in 0..4 {
-            let Some([i, j, l]) = self.mesh.computed_corners(t + k) else {
-                return false;
-            };
+            let [i, j, l] = self.mesh.computed_corners(t + k)?;
             corners[k] = [i, j, l];
             // In range: `computed_corners` checked them.
             let at = |i: u32| self.mesh.vertices[i as usize].position;
             (p[0][k], p[1][k], p[2][k]) = (at(i), at(j), at(l));
         }
-        let at = |c: usize| {
-            let q = &p[c];
-            Lanes {
-                x: Vec4::new(q[0].x, q[1].x, q[2].x, q[3].x),
-                y: Vec4::new(q[0].y, q[1].y, q[2].y, q[3].y),
-                z: Vec4::new(q[0].z, q[1].z, q[2].z, q[3].z),
-            }
+        Some((
+            [Lanes::of(&p[0]), Lanes::of(&p[1]), Lanes::of(&p[2])],
+            corners,
+        ))
+    }
+
+    /// The sides of triangles `t` … `t + 3` into `sides` (four), as
+    /// [`Facing::one`] gives them; false (nothing written) unless all four
+    /// exist and have their facet computed from their corners.
+    #[inline]
+    fn four_sides(&self, quick: &Quick, t: usize, sides: &mut [i8]) -> bool {
+        let Some(([a, b, c], corners)) = self.corners4(t) else {
+            return false;
         };
-        let (a, b, c) = (at(0), at(1), at(2));
         // The cross product as `triangle_normal` computes it (same bits).
         let cross = b.sub(a).cross(c.sub(a));
-        let eye = Lanes {
-            x: quick.eye.x,
-            y: quick.eye.y,
-            z: quick.eye.z,
-        };
-        let g = cross.dot(eye.sub(a));
+        let g = cross.dot(quick.eye.sub(a));
         let norm1 = |v: Lanes| v.x.abs() + v.y.abs() + v.z.abs();
         let (c1, a1) = (norm1(cross), norm1(a));
         let margin = c1 * (quick.k0 + quick.k1 * a1);
@@ -263,37 +244,18 @@ impl Facing<'_> {
     /// their corners, all of them vertices.
     #[inline]
     fn four(&self, t: usize, facets: &mut [Vec3], sides: &mut [i8]) -> bool {
-        // Per lane: the three corners in model space, then the first one
-        // in world space.
-        let mut p = [[Vec3::ZERO; 4]; 4];
-        let mut corners = [[0u32; 3]; 4];
-        for k in 0..4 {
-            let Some([i, j, l]) = self.mesh.computed_corners(t + k) else {
-                return false;
-            };
-            corners[k] = [i, j, l];
-            let corner = |i: u32| self.mesh.vertices.get(i as usize).map(|v| v.position);
-            let (Some(a), Some(b), Some(c), Some(first)) = (
-                corner(i),
-                corner(j),
-                corner(l),
-                self.positions.get(i as usize),
-            ) else {
-                return false;
-            };
-            (p[0][k], p[1][k], p[2][k], p[3][k]) = (a, b, c, *first);
-        }
-        // Built from registers: lanes stored one float at a time and read
-        // back as a vector would stall on the store forwarding.
-        let at = |c: usize| {
-            let q = &p[c];
-            Lanes {
-                x: Vec4::new(q[0].x, q[1].x, q[2].x, q[3].x),
-                y: Vec4::new(q[0].y, q[1].y, q[2].y, q[3].y),
-                z: Vec4::new(q[0].z, q[1].z, q[2].z, q[3].z),
-            }
+        let Some(([a, b, c], corners)) = self.corners4(t) else {
+            return false;
         };
-        let (a, b, c, first) = (at(0), at(1), at(2), at(3));
+        // The first corner of each in world space.
+        let mut first = [Vec3::ZERO; 4];
+        for (f, corners) in first.iter_mut().zip(&corners) {
+            let Some(p) = self.positions.get(corners[0] as usize) else {
+                return false;
+            };
+            *f = *p;
+        }
+        let first = Lanes::of(&first);
         // `triangle_normal`: (b − a) × (c − a), normalized or zero.
         let normal = b.sub(a).cross(c.sub(a)).normalize_or_zero();
         // `normals * normal` as `Mat3 * Vec3` computes it.
@@ -360,7 +322,7 @@ fn side(facing: f32, closed: bool) -> i8 {
 }
 
 /// Four `Vec3`s, a lane each.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 struct Lanes {
     x: Vec4,
     y: Vec4,
@@ -368,6 +330,18 @@ struct Lanes {
 }
 
 impl Lanes {
+    /// Four `Vec3`s, one per lane, built from registers: lanes stored one
+    /// float at a time and read back as a vector would stall on the store
+    /// forwarding.
+    #[inline]
+    fn of(q: &[Vec3; 4]) -> Lanes {
+        Lanes {
+            x: Vec4::new(q[0].x, q[1].x, q[2].x, q[3].x),
+            y: Vec4::new(q[0].y, q[1].y, q[2].y, q[3].y),
+            z: Vec4::new(q[0].z, q[1].z, q[2].z, q[3].z),
+        }
+    }
+
     #[inline]
     fn splat(v: Vec3) -> Lanes {
         Lanes {

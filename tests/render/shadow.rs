@@ -11,7 +11,7 @@ use relief::scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
 use relief::settings::{Display, LightVector, Shading, Technique};
 use relief::shadow::ShadowMap;
 use relief::texture::procedural;
-use relief::{Framebuffer, Settings};
+use relief::{Counters, Framebuffer, Settings};
 
 fn texture() -> Arc<relief::texture::Texture> {
     Arc::new(procedural::brick())
@@ -582,26 +582,40 @@ fn the_map_is_the_same_on_one_thread_and_on_several() {
         object: twin,
         ..cube
     });
-    let draw = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("a pool");
-        pool.install(|| {
-            let mut map = ShadowMap::new();
-            let counters = map.render(&scene, plan.rotation, light, &casters, 640, 480);
-            let (depth, owner) = map.texels();
-            let bits: Vec<u32> = depth.iter().map(|d| d.to_bits()).collect();
-            (bits, owner.to_vec(), counters.shadow_texels)
-        })
-    };
-    let one = draw(1);
+    let draw = |map: &mut ShadowMap| map.render(&scene, plan.rotation, light, &casters, 640, 480);
+    let one = map_on_threads(1, &draw);
     let cube_texels = one.1.iter().filter(|&&o| o == CUBE).count();
     // Enough to fill for the pass to share the rows out (see depth.rs).
     assert!(cube_texels > 100_000, "{cube_texels}");
     assert!(!one.1.contains(&(twin as u32)), "ties go to the first");
+    assert_same_on_more_threads(&one, &draw);
+}
+
+/// A map's texels: each one's depth bits and owner, and the count written.
+type MapTexels = (Vec<u32>, Vec<u32>, u64);
+
+/// The map `draw` makes on a pool of `threads` threads.
+fn map_on_threads(threads: usize, draw: &(dyn Fn(&mut ShadowMap) -> Counters + Sync)) -> MapTexels {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a pool");
+    pool.install(|| {
+        let mut map = ShadowMap::new();
+        let counters = draw(&mut map);
+        let (depth, owner) = map.texels();
+        let bits: Vec<u32> = depth.iter().map(|d| d.to_bits()).collect();
+        (bits, owner.to_vec(), counters.shadow_texels)
+    })
+}
+
+/// The map `draw` makes on 2, 3 and 4 threads is `one`, made on one.
+fn assert_same_on_more_threads(
+    one: &MapTexels,
+    draw: &(dyn Fn(&mut ShadowMap) -> Counters + Sync),
+) {
     for threads in [2, 3, 4] {
-        let many = draw(threads);
+        let many = map_on_threads(threads, draw);
         assert!(many.0 == one.0, "depths on {threads} threads");
         assert!(many.1 == one.1, "owners on {threads} threads");
         assert_eq!(many.2, one.2, "texels written on {threads} threads");
@@ -659,35 +673,20 @@ fn a_big_caster_is_set_up_the_same_on_one_thread_and_on_several() {
     let world = World::of(&scene, plan.rotation);
     let mut all_repeats: Vec<&[(u32, u32)]> = vec![&[]; scene.objects.len()];
     all_repeats[CUBE as usize] = &repeats;
-    let draw = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("a pool");
-        pool.install(|| {
-            let mut map = ShadowMap::new();
-            let counters = map.render_placed(
-                &scene,
-                &world,
-                light,
-                &plan.shadow_casters,
-                640,
-                480,
-                &all_repeats,
-                &relief::shadow::Unwatched,
-            );
-            let (depth, owner) = map.texels();
-            let bits: Vec<u32> = depth.iter().map(|d| d.to_bits()).collect();
-            (bits, owner.to_vec(), counters.shadow_texels)
-        })
+    let draw = |map: &mut ShadowMap| {
+        map.render_placed(
+            &scene,
+            &world,
+            light,
+            &plan.shadow_casters,
+            640,
+            480,
+            &all_repeats,
+            &relief::shadow::Unwatched,
+        )
     };
-    let one = draw(1);
+    let one = map_on_threads(1, &draw);
     let sphere_texels = one.1.iter().filter(|&&o| o == CUBE).count();
     assert!(sphere_texels > 10_000, "{sphere_texels}");
-    for threads in [2, 3, 4] {
-        let many = draw(threads);
-        assert!(many.0 == one.0, "depths on {threads} threads");
-        assert!(many.1 == one.1, "owners on {threads} threads");
-        assert_eq!(many.2, one.2, "texels written on {threads} threads");
-    }
+    assert_same_on_more_threads(&one, &draw);
 }
