@@ -179,7 +179,9 @@ impl Facing<'_> {
     /// triangle (its first, second and third corners), and their vertex
     /// indices; `None` unless all four exist and have their facet computed
     /// from their corners, all of them vertices.
-    #[inline]
+    // Always inlined: returned through memory, its 192 bytes cost the
+    // 1 M sphere's frame about 7 M instructions (callgrind).
+    #[inline(always)]
     fn corners4(&self, t: usize) -> Option<([Lanes; 3], [[u32; 3]; 4])> {
         let mut p = [[Vec3::ZERO; 4]; 3];
         let mut corners = [[0u32; 3]; 4];
