@@ -156,8 +156,8 @@ impl Renderer {
         let mut shadow_map = std::mem::take(&mut self.shadow);
         self.repeats.update(scene);
         // Every facet is made only for the shadow pass, which reads them all.
-        let facets = plan.shadow_light.is_some() && !self.no_shadows;
-        self.world.place(scene, plan.rotation, facets);
+        self.world
+            .place(scene, plan.rotation, self.draws_shadow_map(plan));
         let (shadow, mut counters) = shadow_pass(
             (!self.no_shadows).then_some(&mut shadow_map),
             scene,
@@ -219,13 +219,14 @@ impl Renderer {
         let plans = FramePlans::new(scene, settings, Plan::new(scene, settings));
         let mut shadow_map = std::mem::take(&mut self.shadow);
         self.repeats.update(scene);
-        let facets = plans.plans[0].shadow_light.is_some() && !self.no_shadows;
-        self.world.place(scene, plans.plans[0].rotation, facets);
+        let plan = &plans.plans[0];
+        self.world
+            .place(scene, plan.rotation, self.draws_shadow_map(plan));
         let (shadow, _) = shadow_pass(
             (!self.no_shadows).then_some(&mut shadow_map),
             scene,
             &self.world,
-            &plans.plans[0],
+            plan,
             &self.repeats,
             &Abandon::new(None, None),
             width,
@@ -234,6 +235,13 @@ impl Renderer {
         self.prepare(scene, &plans, shadow, width, height);
         self.shadow = shadow_map;
         (&self.tris, &self.shaders)
+    }
+
+    /// Whether the frame of `plan` draws a shadow map (the plan asks for
+    /// one and the renderer is not told to skip it): its pass reads every
+    /// facet.
+    fn draws_shadow_map(&self, plan: &Plan) -> bool {
+        plan.shadow_light.is_some() && !self.no_shadows
     }
 
     /// Projects the placed vertices (`self.world`, culled there), clips,
