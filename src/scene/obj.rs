@@ -8,6 +8,7 @@
 //! shares (`scene::corners`).
 
 pub mod mtl;
+mod plain_lines;
 mod read;
 
 use std::path::Path;
