@@ -225,6 +225,29 @@ mod tests {
     }
 
     #[test]
+    fn a_file_read_in_parallel_pieces_gives_its_first_len_bytes() {
+        let data: Vec<u8> = (0..READ_CHUNK * 2 + 1000)
+            .map(|i| (i % 251) as u8)
+            .collect();
+        let path = std::env::temp_dir().join(format!("relief-read-{}.bin", std::process::id()));
+        std::fs::write(&path, &data).unwrap();
+        let file = File::open(&path).unwrap();
+        let len = data.len();
+        // The whole file, a prefix (it grew), all of it when it is shorter
+        // than said (it shrank), and nothing.
+        for (asked, got) in [
+            (len, len),
+            (READ_CHUNK + 7, READ_CHUNK + 7),
+            (len + READ_CHUNK, len),
+            (0, 0),
+        ] {
+            let bytes = read_file_reporting(&file, asked as u64).unwrap();
+            assert_eq!(bytes, data[..got], "{asked}");
+        }
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
     fn a_cancelled_read_stops_after_the_chunk_under_way() {
         let len = READ_CHUNK * 3;
         let p = LoadProgress::new();

@@ -805,10 +805,17 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
             });
         }
         part = global[f.end_part as usize];
+        // A chunk whose triangles are already in place (none before it
+        // fell short of its count) and whose parts are the file's is left
+        // as it is.
         let first = b.triangles;
-        corners.copy_within(3 * first..3 * (first + f.triangles), 3 * triangles);
-        for t in 0..f.triangles {
-            part_of[triangles + t] = global[part_of[first + t] as usize];
+        if first != triangles {
+            corners.copy_within(3 * first..3 * (first + f.triangles), 3 * triangles);
+        }
+        if first != triangles || global.iter().enumerate().any(|(k, &g)| g as usize != k) {
+            for t in 0..f.triangles {
+                part_of[triangles + t] = global[part_of[first + t] as usize];
+            }
         }
         triangles += f.triangles;
         libraries.extend(f.libraries);
