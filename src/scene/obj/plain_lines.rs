@@ -55,23 +55,29 @@ pub(super) fn number_at(text: &[u8], mut at: usize) -> Option<(f32, usize)> {
     if matches!(text.get(at), Some(b'-' | b'+')) {
         at += 1;
     }
-    let (mut w, mut count, mut point) = (0u64, 0usize, None);
-    loop {
-        match text.get(at) {
-            Some(&b @ b'0'..=b'9') if count < 19 => {
-                w = w * 10 + u64::from(b - b'0');
-                count += 1;
-            }
-            Some(b'.') if point.is_none() => point = Some(count),
-            b if ends_word(b) => break,
-            _ => return None,
+    // Digits, a point, digits: `w` is exact while there are at most 19
+    // (more are left to the parser, so its wrapping does not matter).
+    let mut w = 0u64;
+    let mut digits = |at: &mut usize| {
+        let start = *at;
+        while let Some(&b @ b'0'..=b'9') = text.get(*at) {
+            w = w.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+            *at += 1;
         }
+        *at - start
+    };
+    let whole = digits(&mut at);
+    let fraction = if text.get(at) == Some(&b'.') {
         at += 1;
-    }
-    if count == 0 || w > 1 << 53 {
+        digits(&mut at)
+    } else {
+        0
+    };
+    let count = whole + fraction;
+    if !ends_word(text.get(at)) || count == 0 || count > 19 || w > 1 << 53 {
         return None;
     }
-    let x = w as f64 / EXACT_POWERS[count - point.unwrap_or(count)];
+    let x = w as f64 / EXACT_POWERS[fraction];
     // The 29 bits an f32 drops from an f64's 52: exactly half is a tie
     // the f64 may have made.
     if x.to_bits() & 0x1FFF_FFFF == 0x1000_0000 {
@@ -190,11 +196,38 @@ pub(super) fn face_at(
     }
 }
 
+/// A byte of `x` (eight bytes) equal to `b`, as its top bit (exact:
+/// nothing carries from one byte to the next).
+#[inline]
+fn bytes_equal(x: u64, b: u8) -> u64 {
+    const LOW: u64 = 0x7F7F_7F7F_7F7F_7F7F;
+    let y = x ^ (0x0101_0101_0101_0101 * u64::from(b));
+    !(((y & LOW) + LOW) | y) & !LOW
+}
+
 /// The number of words of a line from `at` (its `#` comment cut), and
 /// where the next line starts: an `f` line's corners, counted.
 #[inline]
 pub(super) fn words_at(text: &[u8], mut at: usize) -> (usize, usize) {
     let (mut words, mut in_word) = (0, false);
+    // Eight bytes at a time while they hold no line end, `#`, tab or form
+    // feed: a word starts at each non-space after a space.
+    while let Some(eight) = text.get(at..at + 8) {
+        let x = u64::from_le_bytes(eight.try_into().unwrap_or_default());
+        let odd = [b'\n', b'\r', b'#', b'\t', b'\x0C']
+            .iter()
+            .fold(0, |m, &b| m | bytes_equal(x, b));
+        if odd != 0 {
+            break;
+        }
+        let space = bytes_equal(x, b' ');
+        let word = !space & 0x8080_8080_8080_8080;
+        // Whether the byte before each one is a space (or no word).
+        let after_space = space << 8 | u64::from(!in_word) << 7;
+        words += (word & after_space).count_ones() as usize;
+        in_word = word >> 63 != 0;
+        at += 8;
+    }
     loop {
         match text.get(at) {
             Some(b' ' | b'\t' | b'\x0C') => in_word = false,

@@ -926,6 +926,39 @@ mod tests {
     }
 
     #[test]
+    fn face_lines_are_counted_as_their_words_say() {
+        // Lines of random words, blanks, comments and endings, long
+        // enough for the eight-byte steps of the count.
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 33) as usize
+        };
+        let pieces: [&[u8]; 10] = [
+            b" ", b"  ", b"\t", b"\x0C", b"12", b"3/4/5", b"#", b"x", b"\xe9", b"//",
+        ];
+        for _ in 0..20_000 {
+            let mut text = b"f ".to_vec();
+            for _ in 0..next() % 24 {
+                text.extend_from_slice(pieces[next() % pieces.len()]);
+            }
+            let line_len = text.len();
+            text.extend_from_slice([&b"\n"[..], b"\r\n", b"\r"][next() % 3]);
+            let next_line = text.len();
+            text.extend_from_slice(b"v 1 2 3");
+            let want = words(&text[2..line_len]).count();
+            let text_shown = String::from_utf8_lossy(&text).into_owned();
+            assert_eq!(
+                counted_line(&text, 0),
+                (Some((Kind::Face, want)), next_line),
+                "{text_shown:?}"
+            );
+        }
+    }
+
+    #[test]
     fn comments_are_cut_anywhere() {
         let got: Vec<&[u8]> = words(b"f 1 2\t3 # a #comment").collect();
         assert_eq!(got, vec![&b"f"[..], b"1", b"2", b"3"]);
