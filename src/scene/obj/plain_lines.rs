@@ -119,14 +119,12 @@ pub(super) fn numbers_at<const N: usize>(
 fn index_at(text: &[u8], mut at: usize) -> Option<(u64, usize, usize)> {
     let start = at;
     let mut value = 0u64;
+    // Past 18 digits the value may wrap, but is then not used.
     while let Some(&b @ b'0'..=b'9') = text.get(at) {
-        if at - start == 18 {
-            return None;
-        }
-        value = value * 10 + u64::from(b - b'0');
+        value = value.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
         at += 1;
     }
-    Some((value, at - start, at))
+    (at - start <= 18).then_some((value, at - start, at))
 }
 
 /// The usual corner, `v`, `v/vt`, `v//vn` or `v/vt/vn` with positive
