@@ -4,7 +4,14 @@
 //! to the general path (`read`), which reads the lines these take to the
 //! same bits: plain numbers and corners are read here for both.
 
-use super::read::FaceCorner;
+/// One face corner: indices into the positions, UVs and normals read so
+/// far (both paths read corners into it).
+#[derive(Clone, Copy, PartialEq)]
+pub(super) struct FaceCorner {
+    pub position: usize,
+    pub uv: Option<usize>,
+    pub normal: Option<usize>,
+}
 
 /// Powers of ten that are exact in f64.
 const EXACT_POWERS: [f64; 20] = [

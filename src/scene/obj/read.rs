@@ -28,7 +28,8 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::plain_lines::{
-    Kind, after_ending, corner_at, face_at, kind_at, line_end, number_at, numbers_at, words_at,
+    FaceCorner, Kind, after_ending, corner_at, face_at, kind_at, line_end, number_at, numbers_at,
+    words_at,
 };
 use crate::budget::Reservation;
 use crate::scene::corners::{IndexedCorners, MAX_FACE_CORNERS, NO_INDEX, bytes_of};
@@ -252,14 +253,6 @@ impl Counts {
             triangles: self.triangles + o.triangles,
         }
     }
-}
-
-/// One face corner: indices into the positions, UVs and normals read so far.
-#[derive(Clone, Copy, PartialEq)]
-pub(super) struct FaceCorner {
-    pub position: usize,
-    pub uv: Option<usize>,
-    pub normal: Option<usize>,
 }
 
 /// The model's triangle corners, and the reservation that covers them
