@@ -135,6 +135,24 @@ pub(crate) fn fit_of<I: Iterator<Item = Vec3>>(points: impl Fn() -> I) -> Option
     (radius > 0.0 && radius.is_finite()).then(|| (center, FIT_RADIUS as f64 / radius))
 }
 
+/// [`fit_of`] of the positions the corners use, walked in parallel: the
+/// same bits, since the bounds keep the later of equal values (`min` and
+/// `max` take their second argument on a tie, as one walk does, and the
+/// pieces are joined in order) and the farthest distance is a maximum.
+fn fit_of_corners(positions: &[Vec3], corners: &[[u32; 3]]) -> Option<(DVec3, f64)> {
+    let at = |k: &[u32; 3]| positions[k[0] as usize].as_dvec3();
+    let (lo, hi) = corners.par_iter().map(|k| (at(k), at(k))).reduce(
+        || (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo1, hi1), (lo2, hi2)| (lo1.min(lo2), hi1.max(hi2)),
+    );
+    let center = (lo + hi) * 0.5;
+    let radius = corners
+        .par_iter()
+        .map(|k| (at(k) - center).length())
+        .reduce(|| 0.0f64, f64::max);
+    (radius > 0.0 && radius.is_finite()).then(|| (center, FIT_RADIUS as f64 / radius))
+}
+
 /// A point moved by the fit [`fit_of`] found.
 pub(crate) fn fitted(p: Vec3, (center, scale): (DVec3, f64)) -> Vec3 {
     ((p.as_dvec3() - center) * scale).as_vec3()
@@ -226,8 +244,9 @@ pub(crate) fn build_indexed(
 /// The cube face a triangle of unit normal `normal` is projected on when
 /// its UVs are made: the one whose normal is closest (the last of equals).
 fn box_side(normal: Vec3) -> u8 {
+    let along = FACES.map(|(n, _, _)| normal.dot(n));
     (0..FACES.len())
-        .max_by(|&x, &y| normal.dot(FACES[x].0).total_cmp(&normal.dot(FACES[y].0)))
+        .max_by(|&x, &y| along[x].total_cmp(&along[y]))
         .unwrap_or(4) as u8
 }
 
@@ -298,10 +317,7 @@ fn build(
     if c.colors.iter().all(Option::is_none) {
         let_go(held, std::mem::take(&mut c.colors));
     }
-    let fit = {
-        let (positions, corners) = (&c.positions, &c.corners);
-        fit_of(|| corners.iter().map(|k| positions[k[0] as usize])).ok_or_else(degenerate)?
-    };
+    let fit = fit_of_corners(&c.positions, &c.corners).ok_or_else(degenerate)?;
     c.positions
         .par_iter_mut()
         .for_each(|p| *p = fitted(*p, fit));
@@ -313,8 +329,13 @@ fn build(
     if c.part_of.len() != all || c.part_of.iter().all(|&p| p == 0) {
         let_go(held, std::mem::take(&mut c.part_of));
     }
-    let mut kept = 0;
-    for t in 0..all {
+    // Up to the first without one, each triangle stays where it is.
+    let first_dropped = face_normals
+        .par_iter()
+        .position_first(|n| *n == Vec3::ZERO)
+        .unwrap_or(all);
+    let mut kept = first_dropped;
+    for t in first_dropped..all {
         if face_normals[t] != Vec3::ZERO {
             c.corners.copy_within(3 * t..3 * t + 3, 3 * kept);
             face_normals[kept] = face_normals[t];
@@ -449,18 +470,20 @@ fn build(
     // A facet is computed from its corners' positions, UVs and colours
     // alone, by the same expressions here and when drawn: a triangle whose
     // vertices give those bit for bit (nearly always) has its facet again.
+    // A vertex made from a corner of the same position gives all three
+    // (the UV's bits and the part, which colours it, are in its key).
     let same_inputs = |t: usize| {
         let side = flags[t] & SIDE;
         (0..3).all(|k| {
             let i = 3 * t + k;
             let s = &sources[triangles[t].indices[k] as usize];
             let bits = |v: Vec3| v.to_array().map(f32::to_bits);
-            (s.position == c.corners[i][0]
-                || bits(c.positions[s.position as usize])
-                    == bits(c.positions[c.corners[i][0] as usize]))
-                && s.uv.to_array().map(f32::to_bits)
-                    == uv_of(&c, t, k, side).to_array().map(f32::to_bits)
-                && bits(s.color) == bits(color_of(&c, part_colors, t, k))
+            s.position == c.corners[i][0]
+                || (bits(c.positions[s.position as usize])
+                    == bits(c.positions[c.corners[i][0] as usize])
+                    && s.uv.to_array().map(f32::to_bits)
+                        == uv_of(&c, t, k, side).to_array().map(f32::to_bits)
+                    && bits(s.color) == bits(color_of(&c, part_colors, t, k)))
         })
     };
     hold(held, name, "the side flags", bytes_of::<bool>(kept as u64))?;

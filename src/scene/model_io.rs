@@ -1,8 +1,12 @@
 //! A model's files: read whole, their bytes reserved against the memory
 //! budget first, and the files it names found beside it.
 
+use std::fs::File;
 use std::io::Read;
+use std::os::unix::fs::FileExt;
 use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
 
 use super::load_progress::{self, LoadStep, cancelled};
 use super::model_error::ObjError;
@@ -22,8 +26,8 @@ pub(crate) fn read_model_file(path: &Path) -> Result<(Vec<u8>, Reservation), Obj
         return Err(ObjError::NotAFile { name });
     }
     let held = reserve(&name, "the file", meta.len())?;
-    let file = std::fs::File::open(path).map_err(read_error)?;
-    let bytes = read_reporting(file, meta.len())
+    let file = File::open(path).map_err(read_error)?;
+    let bytes = read_file_reporting(&file, meta.len())
         .map_err(|e| e.map_or_else(|| cancelled(&name), read_error))?;
     Ok((bytes, held))
 }
@@ -63,6 +67,58 @@ pub(crate) fn read_reporting(file: impl Read, len: u64) -> Result<Vec<u8>, Optio
             return Ok(bytes);
         }
     }
+}
+
+/// [`read_reporting`] of a file, its chunks read into their places in
+/// parallel (the copy from the page cache, and the first touch of each
+/// page of the buffer, take as long as a quick parse): the same bytes,
+/// the file's first `len` or all of it when it is shorter, or the error or
+/// cancel the first chunk to meet one meets.
+fn read_file_reporting(file: &File, len: u64) -> Result<Vec<u8>, Option<std::io::Error>> {
+    let progress = load_progress::current();
+    if let Some(p) = &progress {
+        p.begin(LoadStep::Reading, len);
+    }
+    // Zeroed by the allocator as fresh pages: each is first touched by
+    // the read that fills it.
+    let mut bytes = vec![0u8; len as usize];
+    let got: Vec<Result<usize, Option<std::io::Error>>> = bytes
+        .par_chunks_mut(READ_CHUNK)
+        .enumerate()
+        .map(|(k, piece)| {
+            if progress.as_ref().is_some_and(|p| p.cancelled()) {
+                return Err(None);
+            }
+            let (at, mut filled) = ((k * READ_CHUNK) as u64, 0);
+            while filled < piece.len() {
+                match file.read_at(&mut piece[filled..], at + filled as u64) {
+                    Ok(0) => break,
+                    Ok(n) => filled += n,
+                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                    Err(e) => return Err(Some(e)),
+                }
+            }
+            if let Some(p) = &progress {
+                p.advance(filled as u64);
+            }
+            Ok(filled)
+        })
+        .collect();
+    // The file ends where the first chunk came back short.
+    let mut total = 0;
+    for piece in got {
+        let filled = piece?;
+        total += filled;
+        if filled < READ_CHUNK {
+            break;
+        }
+    }
+    bytes.truncate(total);
+    // What follows a read is the parse (an OBJ reader counts it).
+    if let Some(p) = &progress {
+        p.begin(LoadStep::Parsing, 0);
+    }
+    Ok(bytes)
 }
 
 /// The error reading `path` would start with, if any: a missing file, one
@@ -166,6 +222,29 @@ mod tests {
                 total: 0
             }
         );
+    }
+
+    #[test]
+    fn a_file_read_in_parallel_pieces_gives_its_first_len_bytes() {
+        let data: Vec<u8> = (0..READ_CHUNK * 2 + 1000)
+            .map(|i| (i % 251) as u8)
+            .collect();
+        let path = std::env::temp_dir().join(format!("relief-read-{}.bin", std::process::id()));
+        std::fs::write(&path, &data).unwrap();
+        let file = File::open(&path).unwrap();
+        let len = data.len();
+        // The whole file, a prefix (it grew), all of it when it is shorter
+        // than said (it shrank), and nothing.
+        for (asked, got) in [
+            (len, len),
+            (READ_CHUNK + 7, READ_CHUNK + 7),
+            (len + READ_CHUNK, len),
+            (0, 0),
+        ] {
+            let bytes = read_file_reporting(&file, asked as u64).unwrap();
+            assert_eq!(bytes, data[..got], "{asked}");
+        }
+        std::fs::remove_file(&path).unwrap();
     }
 
     #[test]

@@ -8,6 +8,7 @@
 //! shares (`scene::corners`).
 
 pub mod mtl;
+mod plain_lines;
 mod read;
 
 use std::path::Path;
@@ -119,6 +120,15 @@ fn utf8_text(text: &[u8]) -> std::borrow::Cow<'_, [u8]> {
     decoded.into_bytes().into()
 }
 
+/// Where the first NUL byte of `text` is, its pieces searched in parallel.
+fn first_nul(text: &[u8]) -> Option<usize> {
+    use rayon::prelude::*;
+    const PIECE: usize = 1 << 20;
+    text.par_chunks(PIECE)
+        .enumerate()
+        .find_map_first(|(k, piece)| memchr::memchr(0, piece).map(|at| k * PIECE + at))
+}
+
 fn parse_unguarded(
     name: &str,
     file: Text,
@@ -138,7 +148,7 @@ fn parse_unguarded(
     let text = utf8_text(raw);
     // Text in any 8-bit encoding is read (names and comments are not
     // used); a NUL byte says it is not text at all.
-    if let Some(at) = memchr::memchr(0, &text) {
+    if let Some(at) = first_nul(&text) {
         return Err(ObjError::NotText {
             name: name.to_string(),
             at,

@@ -27,6 +27,10 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
+use super::plain_lines::{
+    FaceCorner, Kind, after_ending, corner_at, face_at, kind_at, line_end, number_at, numbers_at,
+    words_at,
+};
 use crate::budget::Reservation;
 use crate::scene::corners::{IndexedCorners, MAX_FACE_CORNERS, NO_INDEX, bytes_of};
 use crate::scene::load_progress::{self, LoadStep};
@@ -37,21 +41,18 @@ use crate::scene::model_error::{ObjError, quote};
 pub const READ_BYTES_PER_TRIANGLE: u64 =
     3 * std::mem::size_of::<[u32; 3]>() as u64 + std::mem::size_of::<u32>() as u64;
 
-/// The lines of `bytes`, ended by `\n`, `\r\n` or `\r`, without the ending.
+/// The lines of `bytes`, ended by `\n`, `\r\n` or `\r`, without the
+/// ending: how the readers below walk them.
+#[cfg(test)]
 fn lines(bytes: &[u8]) -> impl Iterator<Item = &[u8]> {
-    let mut rest = bytes;
+    let mut at = 0;
     std::iter::from_fn(move || {
-        if rest.is_empty() {
+        if at == bytes.len() {
             return None;
         }
-        let end = memchr::memchr2(b'\n', b'\r', rest).unwrap_or(rest.len());
-        let line = &rest[..end];
-        let skip = match rest.get(end..end + 2) {
-            Some(b"\r\n") => 2,
-            _ if end < rest.len() => 1,
-            _ => 0,
-        };
-        rest = &rest[end + skip..];
+        let end = line_end(bytes, at);
+        let line = &bytes[at..end];
+        at = after_ending(bytes, end);
         Some(line)
     })
 }
@@ -133,46 +134,11 @@ fn number(word: &[u8], what: &str) -> Result<(f32, bool), String> {
         .ok_or_else(|| format!("{what}: {} is not a finite number", quote_bytes(word)))
 }
 
-/// Powers of ten that are exact in f64.
-const EXACT_POWERS: [f64; 20] = [
-    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
-    1e17, 1e18, 1e19,
-];
-
 /// The usual number form, a sign, at most 19 digits and a point (no
 /// exponent), read with the same bits as `str::parse::<f32>` gives, or none
-/// (the caller takes the general path). The digits `w` (below 2^53) and
-/// 10^q are exact in f64, so `w / 10^q` is the value rounded once to f64;
-/// rounding that to f32 is the value rounded once to f32 unless the f64
-/// lies exactly halfway between two f32s, the one case left to the parser.
+/// (the caller takes the general path): see [`number_at`].
 fn plain_number(word: &[u8]) -> Option<f32> {
-    let (negative, digits) = match word.split_first() {
-        Some((b'-', rest)) => (true, rest),
-        Some((b'+', rest)) => (false, rest),
-        _ => (false, word),
-    };
-    let (mut w, mut count, mut point) = (0u64, 0usize, None);
-    for &b in digits {
-        match b {
-            b'0'..=b'9' if count < 19 => {
-                w = w * 10 + u64::from(b - b'0');
-                count += 1;
-            }
-            b'.' if point.is_none() => point = Some(count),
-            _ => return None,
-        }
-    }
-    if count == 0 || w > 1 << 53 {
-        return None;
-    }
-    let x = w as f64 / EXACT_POWERS[count - point.unwrap_or(count)];
-    // The 29 bits an f32 drops from an f64's 52: exactly half is a tie
-    // the f64 may have made.
-    if x.to_bits() & 0x1FFF_FFFF == 0x1000_0000 {
-        return None;
-    }
-    let x = x as f32;
-    Some(if negative { -x } else { x })
+    number_at(word, 0).map(|(x, _)| x)
 }
 
 /// Most numbers a line gives (a position with its colour).
@@ -289,14 +255,6 @@ impl Counts {
     }
 }
 
-/// One face corner: indices into the positions, UVs and normals read so far.
-#[derive(Clone, Copy, PartialEq)]
-struct FaceCorner {
-    position: usize,
-    uv: Option<usize>,
-    normal: Option<usize>,
-}
-
 /// The model's triangle corners, and the reservation that covers them
 /// until it is dropped (the builder grows it for what it allocates).
 pub(super) struct ReadModel {
@@ -341,28 +299,54 @@ fn line_chunks(bytes: &[u8], parts: usize) -> Vec<&[u8]> {
     out
 }
 
+/// The kind of the line at `at` (`None` when the counting pass skips
+/// it), an `f` line with its corners, and where the next line starts: the
+/// usual lines known by their first bytes, the others word by word.
+fn counted_line(chunk: &[u8], at: usize) -> (Option<(Kind, usize)>, usize) {
+    match kind_at(chunk, at) {
+        Some((Kind::Face, words)) => {
+            let (corners, next) = words_at(chunk, words);
+            (Some((Kind::Face, corners)), next)
+        }
+        Some((kind, _)) => (Some((kind, 0)), after_ending(chunk, line_end(chunk, at))),
+        None => {
+            let end = line_end(chunk, at);
+            let mut w = words(&chunk[at..end]);
+            let kind = match w.next() {
+                Some(b"v") => Some((Kind::Position, 0)),
+                Some(b"vt") => Some((Kind::Texcoord, 0)),
+                Some(b"vn") => Some((Kind::Normal, 0)),
+                Some(b"f") => Some((Kind::Face, w.count())),
+                _ => None,
+            };
+            (kind, after_ending(chunk, end))
+        }
+    }
+}
+
 /// The counting pass over one chunk.
 fn count(chunk: &[u8]) -> Result<Counts, LineProblem> {
     let mut counts = Counts::default();
-    for (number, line) in lines(chunk).enumerate() {
-        counts.lines += 1;
-        let mut w = words(line);
-        match w.next() {
-            Some(b"v") => counts.positions += 1,
-            Some(b"vt") => counts.texcoords += 1,
-            Some(b"vn") => counts.normals += 1,
-            Some(b"f") => {
-                let corners = w.count();
+    let mut at = 0;
+    while at < chunk.len() {
+        let (kind, next) = counted_line(chunk, at);
+        at = next;
+        match kind {
+            Some((Kind::Position, _)) => counts.positions += 1,
+            Some((Kind::Texcoord, _)) => counts.texcoords += 1,
+            Some((Kind::Normal, _)) => counts.normals += 1,
+            Some((Kind::Face, corners)) => {
                 if corners > MAX_FACE_CORNERS {
                     return Err((
-                        number,
+                        counts.lines,
                         format!("a face of {corners} corners (limit {MAX_FACE_CORNERS})"),
                     ));
                 }
                 counts.triangles += corners.saturating_sub(2);
             }
-            _ => {}
+            None => {}
         }
+        counts.lines += 1;
     }
     Ok(counts)
 }
@@ -421,7 +405,63 @@ fn read_chunk(
     let (mut p, mut t, mut n) = (0, 0, 0);
     let mut face: Vec<FaceCorner> = Vec::new();
     let mut part = 0u32;
-    for (number, line) in lines(chunk).enumerate() {
+    let (mut at, mut lines) = (0, 0);
+    while at < chunk.len() {
+        let number = lines;
+        lines += 1;
+        // The usual lines in one scan; the others (or one of those the
+        // scan does not take) word by word, below.
+        if let Some((kind, words)) = kind_at(chunk, at) {
+            let next = match kind {
+                Kind::Position => numbers_at::<3>(chunk, words)
+                    .filter(|&(_, len, _)| len == 3)
+                    .map(|(x, _, next)| {
+                        out.positions[p] = Vec3::from_array(x);
+                        out.colors[p] = None;
+                        p += 1;
+                        next
+                    }),
+                Kind::Texcoord => numbers_at::<3>(chunk, words)
+                    .filter(|&(_, len, _)| len >= 1)
+                    .map(|(x, _, next)| {
+                        // A missing v is 0.
+                        out.texcoords[t] = Vec2::new(x[0], x[1]);
+                        t += 1;
+                        next
+                    }),
+                Kind::Normal => numbers_at::<3>(chunk, words)
+                    .filter(|&(_, len, _)| len == 3)
+                    .map(|(x, _, next)| {
+                        out.normals[n] = Vec3::from_array(x);
+                        n += 1;
+                        next
+                    }),
+                Kind::Face => {
+                    let counts = (
+                        before.positions + p,
+                        before.texcoords + t,
+                        before.normals + n,
+                    );
+                    face_at(chunk, words, counts, &mut face).inspect(|_| {
+                        add_face(
+                            &mut faces,
+                            &mut face,
+                            (false, false),
+                            number,
+                            part,
+                            &mut slots,
+                        )
+                    })
+                }
+            };
+            if let Some(next) = next {
+                at = next;
+                continue;
+            }
+        }
+        let end = line_end(chunk, at);
+        let line = &chunk[at..end];
+        at = after_ending(chunk, end);
         let Some((keyword, rest)) = next_word(line) else {
             continue;
         };
@@ -590,36 +630,10 @@ fn read_face<'a>(
 
 /// The usual corner, `v`, `v/vt`, `v//vn` or `v/vt/vn` with positive
 /// indices in range, read in one scan; none for anything else (the
-/// general path then reads it, or says what is wrong with it).
-fn plain_corner(
-    word: &[u8],
-    (positions, texcoords, normals): (usize, usize, usize),
-) -> Option<FaceCorner> {
-    let mut index = [0u64; 3];
-    let mut digits = [0usize; 3];
-    let mut piece = 0;
-    for &b in word {
-        match b {
-            b'0'..=b'9' if digits[piece] < 18 => {
-                index[piece] = index[piece] * 10 + u64::from(b - b'0');
-                digits[piece] += 1;
-            }
-            b'/' if piece < 2 => piece += 1,
-            _ => return None,
-        }
-    }
-    // An index of no digits is none, one in range is 0-based.
-    let item = |k: usize, count: usize| match digits[k] {
-        0 => Some(None),
-        _ => (1..=count as u64)
-            .contains(&index[k])
-            .then(|| Some(index[k] as usize - 1)),
-    };
-    Some(FaceCorner {
-        position: item(0, positions)??,
-        uv: item(1, texcoords)?,
-        normal: item(2, normals)?,
-    })
+/// general path then reads it, or says what is wrong with it): see
+/// [`corner_at`].
+fn plain_corner(word: &[u8], counts: (usize, usize, usize)) -> Option<FaceCorner> {
+    corner_at(word, 0, counts).map(|(c, _)| c)
 }
 
 /// Reads `bytes` (a whole OBJ file); `name` (already sanitised) is used in
@@ -784,10 +798,17 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
             });
         }
         part = global[f.end_part as usize];
+        // A chunk whose triangles are already in place (none before it
+        // fell short of its count) and whose parts are the file's is left
+        // as it is.
         let first = b.triangles;
-        corners.copy_within(3 * first..3 * (first + f.triangles), 3 * triangles);
-        for t in 0..f.triangles {
-            part_of[triangles + t] = global[part_of[first + t] as usize];
+        if first != triangles {
+            corners.copy_within(3 * first..3 * (first + f.triangles), 3 * triangles);
+        }
+        if first != triangles || global.iter().enumerate().any(|(k, &g)| g as usize != k) {
+            for t in 0..f.triangles {
+                part_of[triangles + t] = global[part_of[first + t] as usize];
+            }
         }
         triangles += f.triangles;
         libraries.extend(f.libraries);
@@ -895,6 +916,39 @@ mod tests {
         assert_eq!(got, want);
         assert_eq!(lines(b"").count(), 0);
         assert_eq!(lines(b"x\r\n").count(), 1);
+    }
+
+    #[test]
+    fn face_lines_are_counted_as_their_words_say() {
+        // Lines of random words, blanks, comments and endings, long
+        // enough for the eight-byte steps of the count.
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 33) as usize
+        };
+        let pieces: [&[u8]; 10] = [
+            b" ", b"  ", b"\t", b"\x0C", b"12", b"3/4/5", b"#", b"x", b"\xe9", b"//",
+        ];
+        for _ in 0..20_000 {
+            let mut text = b"f ".to_vec();
+            for _ in 0..next() % 24 {
+                text.extend_from_slice(pieces[next() % pieces.len()]);
+            }
+            let line_len = text.len();
+            text.extend_from_slice([&b"\n"[..], b"\r\n", b"\r"][next() % 3]);
+            let next_line = text.len();
+            text.extend_from_slice(b"v 1 2 3");
+            let want = words(&text[2..line_len]).count();
+            let text_shown = String::from_utf8_lossy(&text).into_owned();
+            assert_eq!(
+                counted_line(&text, 0),
+                (Some((Kind::Face, want)), next_line),
+                "{text_shown:?}"
+            );
+        }
     }
 
     #[test]
