@@ -909,6 +909,17 @@ fn rest_of_line(line: &[u8], keyword: &[u8]) -> String {
 mod tests {
     use super::*;
 
+    /// A fixed linear congruential walk from `seed`: its high bits, one
+    /// draw per call.
+    fn lcg(mut seed: u64) -> impl FnMut() -> u64 {
+        move || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            seed >> 33
+        }
+    }
+
     #[test]
     fn lines_end_with_any_of_the_three_endings() {
         let got: Vec<&[u8]> = lines(b"a\nb\r\nc\rd\n\ne").collect();
@@ -922,13 +933,8 @@ mod tests {
     fn face_lines_are_counted_as_their_words_say() {
         // Lines of random words, blanks, comments and endings, long
         // enough for the eight-byte steps of the count.
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (seed >> 33) as usize
-        };
+        let mut walk = lcg(0x9e37_79b9_7f4a_7c15);
+        let mut next = || walk() as usize;
         let pieces: [&[u8]; 10] = [
             b" ", b"  ", b"\t", b"\x0C", b"12", b"3/4/5", b"#", b"x", b"\xe9", b"//",
         ];
@@ -984,13 +990,7 @@ mod tests {
     fn plain_numbers_have_the_parser_bits() {
         // Every sign, point place and digit count up to the 19 the plain
         // form takes, over digits from a fixed linear congruential walk.
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            seed >> 33
-        };
+        let mut next = lcg(0x2545_f491_4f6c_dd1d);
         let mut fast = 0;
         for _ in 0..200_000 {
             let count = 1 + next() as usize % 19;
