@@ -28,7 +28,7 @@ use super::cube::{FACES, corner_color};
 use super::load_progress::{self, LoadStep};
 use super::mesh::{Facet, Mesh, Triangle, Vertex};
 use super::model_error::ObjError;
-use super::tangents::{accumulate, accumulate_votes_once, face_frame, sum_bytes, vote_bytes};
+use super::tangents::{accumulate, face_frame, sum_bytes};
 use crate::budget::Reservation;
 
 /// Most corners one face may have: a polygon is split into a fan, and a
@@ -539,18 +539,7 @@ fn build(
         sum_bytes(mesh.vertices.len() as u64, mesh.triangles.len() as u64),
     )?;
     step_done()?;
-    // Each face's vote once, when its array fits the budget; else at
-    // each of its corners (the same sums, more time).
-    let votes = vote_bytes(mesh.triangles.len() as u64);
-    if held
-        .grow(&format!("the tangent votes of model {name}"), votes)
-        .is_ok()
-    {
-        accumulate_votes_once(&mut mesh);
-        held.shrink(votes);
-    } else {
-        accumulate(&mut mesh);
-    }
+    accumulate(&mut mesh);
     Ok((mesh, tri_parts))
 }
 

@@ -40,14 +40,7 @@ struct Sum {
 /// (no votes, or votes that cancel) gets a frame from its normal, at the
 /// mean length of its faces' axes, or 1.
 pub fn accumulate(mesh: &mut Mesh) {
-    accumulate_with(mesh, false, None, false);
-}
-
-/// [`accumulate`], each face's vote worked out once into an array of
-/// [`vote_bytes`] (that the caller has reserved) instead of at each of
-/// its corners: the same sums, bit for bit, in less time.
-pub fn accumulate_votes_once(mesh: &mut Mesh) {
-    accumulate_with(mesh, false, None, true);
+    accumulate_with(mesh, false, None, BLOCK);
 }
 
 /// [`accumulate`], but a vertex that already holds both texture axes (a
@@ -56,7 +49,7 @@ pub fn accumulate_votes_once(mesh: &mut Mesh) {
 /// the vertices' own: those of a normal map that reads another set or
 /// transform (glTF, `scene::map_uv`).
 pub fn accumulate_keeping_directions(mesh: &mut Mesh, uvs: Option<&[Vec2]>) {
-    accumulate_with(mesh, true, uvs, false);
+    accumulate_with(mesh, true, uvs, BLOCK);
 }
 
 /// One face's vote: its unit texture axes, their lengths and its
@@ -79,49 +72,23 @@ const NO_VOTE: Vote = Vote {
     handedness: 0.0,
 };
 
+/// Triangles in a block whose lowest and highest vertex are noted, so a
+/// range of vertices skips the blocks that do not reach it.
+const BLOCK: usize = 1024;
+
 /// What [`accumulate`] allocates for `vertices` and `triangles`: each
-/// vertex's sums and its place in the list of corners, and that list.
+/// vertex's sums and each block's vertex bounds.
 pub fn sum_bytes(vertices: u64, triangles: u64) -> u64 {
-    let word = std::mem::size_of::<u32>() as u64;
-    let bytes = |n: u64, size: u64| n.saturating_mul(size);
-    bytes(vertices, std::mem::size_of::<Sum>() as u64)
-        .saturating_add(vertices.saturating_add(1).saturating_mul(2 * word))
-        .saturating_add(triangles.saturating_mul(3 * word))
+    let blocks = triangles / BLOCK as u64 + 1;
+    vertices
+        .saturating_mul(std::mem::size_of::<Sum>() as u64)
+        .saturating_add(blocks.saturating_mul(std::mem::size_of::<(u32, u32)>() as u64))
 }
 
-/// What [`accumulate_votes_once`] allocates beyond [`sum_bytes`]: each
-/// triangle's vote.
-pub fn vote_bytes(triangles: u64) -> u64 {
-    triangles.saturating_mul(std::mem::size_of::<Vote>() as u64)
-}
-
-fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>, votes_once: bool) {
+/// The sums with `block` triangles a block (any size gives the same bits).
+fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>, block: usize) {
     let vertex_count = mesh.vertices.len();
-    // The corners at each vertex, in triangle order (a counting sort): each
-    // vertex then sums its faces' votes on its own, in parallel, in the
-    // order one pass over the triangles would add them, so the sums do not
-    // depend on how the work is split.
-    let mut start = vec![0u32; vertex_count + 1];
     let valid = |indices: &[u32; 3]| indices.iter().all(|&i| (i as usize) < vertex_count);
-    for tri in mesh.triangles.iter().filter(|t| valid(&t.indices)) {
-        for &i in &tri.indices {
-            start[i as usize + 1] += 1;
-        }
-    }
-    for i in 0..vertex_count {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut around = vec![0u32; start[vertex_count] as usize];
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        if valid(&tri.indices) {
-            for &i in &tri.indices {
-                around[fill[i as usize] as usize] = t as u32;
-                fill[i as usize] += 1;
-            }
-        }
-    }
-    drop(fill);
     let shared: &Mesh = mesh;
     // Each face's vote (a face is valid when the sums meet it).
     let vote_of = |t: usize| {
@@ -143,42 +110,69 @@ fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>,
             handedness: frame.handedness(normal),
         }
     };
-    let votes: Vec<Vote> = if votes_once {
-        (0..shared.triangles.len())
-            .into_par_iter()
-            .map(|t| match valid(&shared.triangles[t].indices) {
-                true => vote_of(t),
-                false => NO_VOTE,
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
-    let sums: Vec<Sum> = (0..vertex_count)
-        .into_par_iter()
-        .map(|v| {
-            let mut s = Sum::default();
-            for &t in &around[start[v] as usize..start[v + 1] as usize] {
-                let vote = match votes.get(t as usize) {
-                    Some(vote) => *vote,
-                    None => vote_of(t as usize),
-                };
+    // Each block's lowest and highest vertex (none: lowest above highest).
+    let bounds: Vec<(u32, u32)> = shared
+        .triangles
+        .par_chunks(block)
+        .map(|block| {
+            block
+                .iter()
+                .filter(|t| valid(&t.indices))
+                .fold((u32::MAX, 0), |(lo, hi), t| {
+                    let [a, b, c] = t.indices;
+                    (lo.min(a.min(b).min(c)), hi.max(a.max(b).max(c)))
+                })
+        })
+        .collect();
+    // The vertices are cut into ranges, each summed by one thread that
+    // walks the triangles in order (skipping the blocks that cannot reach
+    // it): every vertex adds its faces' votes in triangle order, as one
+    // pass over the triangles would, so the floating-point sums do not
+    // depend on the cut. A face whose corners lie in two ranges has its
+    // vote worked out in each (the same bits); on a mesh whose vertices
+    // are numbered in order of use, as the builder numbers them, that is
+    // only the faces along the cuts.
+    let mut sums = vec![Sum::default(); vertex_count];
+    let ranges = (2 * rayon::current_num_threads()).clamp(1, vertex_count.max(1));
+    let mut pieces = Vec::with_capacity(ranges);
+    let mut rest = &mut sums[..];
+    for r in 0..ranges {
+        let (lo, hi) = (r * vertex_count / ranges, (r + 1) * vertex_count / ranges);
+        let (piece, tail) = std::mem::take(&mut rest).split_at_mut(hi - lo);
+        pieces.push((lo, piece));
+        rest = tail;
+    }
+    pieces.into_par_iter().for_each(|(lo, out)| {
+        let hi = (lo + out.len()) as u32;
+        let lo = lo as u32;
+        for (b, &(least, most)) in bounds.iter().enumerate() {
+            if least > most || least >= hi || most < lo {
+                continue;
+            }
+            let first = b * block;
+            let end = (first + block).min(shared.triangles.len());
+            for (k, tri) in shared.triangles[first..end].iter().enumerate() {
+                let inside = tri.indices.map(|i| (lo..hi).contains(&i));
+                if inside == [false; 3] || !valid(&tri.indices) {
+                    continue;
+                }
+                let vote = vote_of(first + k);
                 if vote.len_u.is_nan() {
                     continue;
                 }
-                s.dir_u += vote.dir_u;
-                s.dir_v += vote.dir_v;
-                s.len_u += vote.len_u;
-                s.len_v += vote.len_v;
-                s.votes += 1;
-                s.handedness += vote.handedness;
+                for (&i, _) in tri.indices.iter().zip(inside).filter(|(_, inside)| *inside) {
+                    let s = &mut out[(i - lo) as usize];
+                    s.dir_u += vote.dir_u;
+                    s.dir_v += vote.dir_v;
+                    s.len_u += vote.len_u;
+                    s.len_v += vote.len_v;
+                    s.votes += 1;
+                    s.handedness += vote.handedness;
+                }
             }
-            s
-        })
-        .collect();
-    drop(votes);
-    drop(around);
-    drop(start);
+        }
+    });
+    drop(bounds);
     // Each vertex is finished from its own sums alone: in parallel.
     mesh.vertices
         .par_iter_mut()
@@ -221,32 +215,55 @@ mod tests {
     use super::*;
 
     #[test]
-    fn votes_worked_out_once_give_the_sums_of_votes_at_each_corner() {
-        // A sphere (UV seams, poles of degenerate UVs) and a mesh with a
-        // triangle naming a vertex it does not have.
-        let mut meshes = vec![crate::scene::sphere::sphere()];
-        let mut broken = crate::scene::sphere::sphere();
+    fn the_sums_do_not_depend_on_how_the_vertices_are_cut() {
+        // A sphere (UV seams, poles of degenerate UVs), the same with its
+        // triangles shuffled (every block then reaches every range) and
+        // one with a triangle naming a vertex it does not have; summed on
+        // 1 to 7 threads (2 to 14 ranges), in blocks of 1, 5, 16 and 1024
+        // triangles.
+        let sphere = crate::scene::sphere::sphere();
+        let mut shuffled = sphere.clone();
+        let mut seed = 12345u64;
+        for i in (1..shuffled.triangles.len()).rev() {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            shuffled.triangles.swap(i, (seed >> 33) as usize % (i + 1));
+        }
+        let mut broken = sphere.clone();
         broken.triangles[0].indices[1] = u32::MAX;
-        meshes.push(broken);
-        for mesh in meshes {
-            let (mut once, mut each) = (mesh.clone(), mesh);
-            for v in once.vertices.iter_mut().chain(each.vertices.iter_mut()) {
-                (v.tangent_u, v.tangent_v) = (Vec3::ZERO, Vec3::ZERO);
-            }
-            accumulate_votes_once(&mut once);
-            accumulate(&mut each);
-            let bits = |m: &Mesh| -> Vec<[u32; 6]> {
-                m.vertices
-                    .iter()
-                    .map(|v| {
-                        let [a, b, c] = v.tangent_u.to_array().map(f32::to_bits);
-                        let [d, e, f] = v.tangent_v.to_array().map(f32::to_bits);
-                        [a, b, c, d, e, f]
-                    })
-                    .collect()
+        assert!(sphere.triangles.len() > 8 * 16);
+        let bits = |m: &Mesh| -> Vec<[u32; 6]> {
+            m.vertices
+                .iter()
+                .map(|v| {
+                    let [a, b, c] = v.tangent_u.to_array().map(f32::to_bits);
+                    let [d, e, f] = v.tangent_v.to_array().map(f32::to_bits);
+                    [a, b, c, d, e, f]
+                })
+                .collect()
+        };
+        for mesh in [sphere, shuffled, broken] {
+            let summed = |threads: usize, block: usize| {
+                let mut m = mesh.clone();
+                for v in &mut m.vertices {
+                    (v.tangent_u, v.tangent_v) = (Vec3::ZERO, Vec3::ZERO);
+                }
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                pool.install(|| accumulate_with(&mut m, false, None, block));
+                assert!(m.vertices.iter().all(|v| v.tangent_u != Vec3::ZERO));
+                bits(&m)
             };
-            assert_eq!(bits(&once), bits(&each));
-            assert!(once.vertices.iter().all(|v| v.tangent_u != Vec3::ZERO));
+            let one = summed(1, BLOCK);
+            for threads in 1..=7 {
+                for block in [1, 5, 16, BLOCK] {
+                    let same = summed(threads, block) == one;
+                    assert!(same, "{threads} threads, blocks of {block}");
+                }
+            }
         }
     }
 
