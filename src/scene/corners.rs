@@ -28,6 +28,7 @@ use super::cube::{FACES, corner_color};
 use super::load_progress::{self, LoadStep};
 use super::mesh::{Facet, Mesh, Triangle, Vertex};
 use super::model_error::ObjError;
+use super::point_lists::PointLists;
 use super::tangents::{accumulate, face_frame, sum_bytes};
 use crate::budget::Reservation;
 
@@ -623,30 +624,16 @@ fn split_vertices(
     held: &mut Reservation,
 ) -> Result<(Vec<u32>, Vec<u32>), ObjError> {
     let corners = c.corners.len();
-    let lists =
-        bytes_of::<u32>(2 * (ids as u64 + 1)).saturating_add(bytes_of::<u32>(corners as u64));
+    let lists = PointLists::bytes(corners as u64, ids as u64);
     hold(
         held,
         name,
         "the vertex lists",
         lists.saturating_add(bytes_of::<u32>(corners as u64)),
     )?;
-    let id = |i: usize| position_id[c.corners[i][0] as usize] as usize;
-    let mut start = vec![0u32; ids + 1];
-    for i in 0..corners {
-        start[id(i) + 1] += 1;
-    }
-    for i in 0..ids {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut around = vec![0u32; corners];
-    for i in 0..corners {
-        let p = id(i);
-        around[fill[p] as usize] = i as u32;
-        fill[p] += 1;
-    }
-    drop(fill);
+    let around = PointLists::new(corners, ids, |i| {
+        position_id[c.corners[i][0] as usize] as usize
+    });
     // What makes corner `i` a vertex of its own, besides its point.
     let key = |i: usize| -> VertexKey {
         let t = i / 3;
@@ -668,9 +655,8 @@ fn split_vertices(
         .for_each_init(Vec::new, |keys, r| {
             let (from, to) = (r * ids / runs, (r + 1) * ids / runs);
             for p in from..to {
-                let list = &around[start[p] as usize..start[p + 1] as usize];
                 keys.clear();
-                keys.extend(list.iter().map(|&i| (key(i as usize), i)));
+                keys.extend(around.at(p).iter().map(|&i| (key(i as usize), i)));
                 if keys.len() <= CROWDED {
                     for (e, &(k, i)) in keys.iter().enumerate() {
                         let at = keys[..e].iter().find(|(k2, _)| *k2 == k).map_or(i, |f| f.1);
@@ -690,7 +676,6 @@ fn split_vertices(
             }
         });
     drop(around);
-    drop(start);
     // Each corner's vertex: first corners numbered in corner order.
     let mut vertex_of: Vec<u32> = first.into_iter().map(AtomicU32::into_inner).collect();
     let count = number_firsts(&mut vertex_of);
@@ -727,8 +712,7 @@ fn fill_normals(
 ) -> Result<(), ObjError> {
     let cos_crease = CREASE_DEGREES.to_radians().cos();
     let corners = c.corners.len() as u64;
-    let lists =
-        bytes_of::<u32>(2 * (positions as u64 + 1)).saturating_add(bytes_of::<u32>(corners));
+    let lists = PointLists::bytes(corners, positions as u64);
     hold(
         held,
         name,
@@ -736,28 +720,13 @@ fn fill_normals(
         lists.saturating_add(bytes_of::<u32>(corners)),
     )?;
     let id = |i: usize| position_id[c.corners[i][0] as usize];
-    // The corners around each position, as one flat list (counting sort).
-    let mut start = vec![0u32; positions + 1];
-    for i in 0..c.corners.len() {
-        start[id(i) as usize + 1] += 1;
-    }
-    for i in 0..positions {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut around = vec![0u32; start[positions] as usize];
-    for i in 0..c.corners.len() {
-        let p = id(i) as usize;
-        around[fill[p] as usize] = i as u32;
-        fill[p] += 1;
-    }
-    drop(fill);
+    let around = PointLists::new(c.corners.len(), positions, |i| id(i) as usize);
     let triangle = |t: usize| [0, 1, 2].map(|k| c.positions[c.corners[3 * t + k][0] as usize]);
     let weighted = |&i: &u32| {
         let (t, k) = (i as usize / 3, i as usize % 3);
         corner_angle(triangle(t), k) * face_normals[t]
     };
-    let list = |p: usize| &around[start[p] as usize..start[p + 1] as usize];
+    let list = |p: usize| around.at(p);
     // Around a position shared by very many faces (a cone's apex), the
     // per-corner crease test would cost valence²: there all faces are
     // averaged once instead.
@@ -851,7 +820,6 @@ fn fill_normals(
     }
     drop(big);
     drop(around);
-    drop(start);
     let_go(held, std::mem::replace(&mut c.normals, normals));
     c.corners
         .par_iter_mut()

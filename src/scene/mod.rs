@@ -25,6 +25,7 @@ pub mod obj;
 pub mod object;
 pub mod plane;
 pub mod ply;
+pub(crate) mod point_lists;
 pub mod repeats;
 pub mod sphere;
 pub mod stl;
