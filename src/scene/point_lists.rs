@@ -65,7 +65,11 @@ mod tests {
                     .wrapping_add(1442695040888963407);
                 // Some points crowded, some never used.
                 let r = (seed >> 33) as usize;
-                if r % 7 == 0 { 3 } else { r % (points - 10) }
+                if r.is_multiple_of(7) {
+                    3
+                } else {
+                    r % (points - 10)
+                }
             })
             .collect();
         let mut expected = vec![Vec::new(); points];
