@@ -25,10 +25,6 @@ use relief::{Framebuffer, Renderer, Scene};
 
 const RUNS: usize = 5;
 
-// The program's allocator, so the loads are timed as `relief` runs them.
-#[global_allocator]
-static ALLOCATOR: relief::huge_pages::HugePages = relief::huge_pages::HugePages;
-
 /// An `n × n` grid of vertices in the plane z = a ripple, every corner with
 /// its UV and normal (`v/vt/vn`), two triangles per cell.
 fn write_grid(path: &Path, n: usize) -> std::io::Result<()> {

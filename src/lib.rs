@@ -8,7 +8,6 @@ pub mod budget;
 pub mod cli;
 pub mod contain;
 pub mod framebuffer;
-pub mod huge_pages;
 pub mod options;
 pub mod plan;
 pub mod plasma;

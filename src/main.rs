@@ -8,11 +8,6 @@ use clap::Parser;
 use relief::cli::{Cli, Command};
 use relief::sanitize::clean;
 
-// Big blocks on huge pages: a model's load takes a fifth less time (see
-// the module).
-#[global_allocator]
-static ALLOCATOR: relief::huge_pages::HugePages = relief::huge_pages::HugePages;
-
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
