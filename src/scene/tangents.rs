@@ -53,9 +53,7 @@ pub fn accumulate_keeping_directions(mesh: &mut Mesh, uvs: Option<&[Vec2]>) {
 }
 
 /// One face's vote: its unit texture axes, their lengths and its
-/// handedness; `len_u` is NaN for a face whose UVs are degenerate (no vote:
-/// a length of finite axes is never NaN).
-#[derive(Clone, Copy)]
+/// handedness.
 struct Vote {
     dir_u: Vec3,
     dir_v: Vec3,
@@ -63,14 +61,6 @@ struct Vote {
     len_v: f32,
     handedness: f32,
 }
-
-const NO_VOTE: Vote = Vote {
-    dir_u: Vec3::ZERO,
-    dir_v: Vec3::ZERO,
-    len_u: f32::NAN,
-    len_v: 0.0,
-    handedness: 0.0,
-};
 
 /// Triangles in a block whose lowest and highest vertex are noted, so a
 /// range of vertices skips the blocks that do not reach it.
@@ -90,7 +80,8 @@ fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>,
     let vertex_count = mesh.vertices.len();
     let valid = |indices: &[u32; 3]| indices.iter().all(|&i| (i as usize) < vertex_count);
     let shared: &Mesh = mesh;
-    // Each face's vote (a face is valid when the sums meet it).
+    // Each face's vote, none when its UVs are degenerate (a face is valid
+    // when the sums meet it).
     let vote_of = |t: usize| {
         let tri = &shared.triangles[t];
         let normal = shared.face_normal(t);
@@ -99,16 +90,16 @@ fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>,
         let uv = idx.map(|i| uvs.map_or(shared.vertices[i].uv, |u| u[i]));
         let frame = face_frame(p, uv, normal);
         if !frame.from_uv {
-            return NO_VOTE;
+            return None;
         }
         let (lu, lv) = (frame.tangent_u.length(), frame.tangent_v.length());
-        Vote {
+        Some(Vote {
             dir_u: frame.tangent_u / lu,
             dir_v: frame.tangent_v / lv,
             len_u: lu,
             len_v: lv,
             handedness: frame.handedness(normal),
-        }
+        })
     };
     // Each block's lowest and highest vertex (none: lowest above highest).
     let bounds: Vec<(u32, u32)> = shared
@@ -156,10 +147,9 @@ fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>,
                 if inside == [false; 3] || !valid(&tri.indices) {
                     continue;
                 }
-                let vote = vote_of(first + k);
-                if vote.len_u.is_nan() {
+                let Some(vote) = vote_of(first + k) else {
                     continue;
-                }
+                };
                 for (&i, _) in tri.indices.iter().zip(inside).filter(|(_, inside)| *inside) {
                     let s = &mut out[(i - lo) as usize];
                     s.dir_u += vote.dir_u;
