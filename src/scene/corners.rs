@@ -726,13 +726,12 @@ fn fill_normals(
         let (t, k) = (i as usize / 3, i as usize % 3);
         corner_angle(triangle(t), k) * face_normals[t]
     };
-    let list = |p: usize| around.at(p);
     // Around a position shared by very many faces (a cone's apex), the
     // per-corner crease test would cost valence²: there all faces are
     // averaged once instead.
     let big: HashMap<u32, Vec3> = (0..positions)
-        .filter(|&p| list(p).len() > MAX_VALENCE)
-        .map(|p| (p as u32, list(p).iter().map(weighted).sum::<Vec3>()))
+        .filter(|&p| around.at(p).len() > MAX_VALENCE)
+        .map(|p| (p as u32, around.at(p).iter().map(weighted).sum::<Vec3>()))
         .collect();
     // Each corner's normal reads only the triangles around it.
     let normal_at = |i: usize| {
@@ -744,7 +743,8 @@ fn fill_normals(
         let p = id(i);
         let sum = match big.get(&p) {
             Some(sum) => *sum,
-            None => list(p as usize)
+            None => around
+                .at(p as usize)
                 .iter()
                 .filter(|&&i2| normal.dot(face_normals[i2 as usize / 3]) >= cos_crease)
                 .map(weighted)
@@ -766,7 +766,7 @@ fn fill_normals(
             let mut count = 0u32;
             for p in points(r) {
                 seen.clear();
-                for &i in list(p) {
+                for &i in around.at(p) {
                     let bits = normal_at(i as usize).to_array().map(f32::to_bits);
                     let at = seen.iter().position(|&b| b == bits);
                     let n = match at {
@@ -808,7 +808,7 @@ fn fill_normals(
             .collect();
         slices.into_par_iter().enumerate().for_each(|(r, out)| {
             for p in points(r) {
-                for &i in list(p) {
+                for &i in around.at(p) {
                     let n = number[i as usize].load(Ordering::Relaxed);
                     if n & FIRST != 0 {
                         out[(n & !FIRST) as usize] = normal_at(i as usize);
