@@ -25,6 +25,7 @@ use rayon::prelude::*;
 
 use super::convex;
 use super::cube::{FACES, corner_color};
+use super::face_frame::uv_mirrored;
 use super::load_progress::{self, LoadStep};
 use super::mesh::{Facet, Mesh, Triangle, Vertex};
 use super::model_error::ObjError;
@@ -260,13 +261,18 @@ const MIRRORED: u8 = 8;
 /// the triangle has none) a box projection on the cube face `side`, with
 /// its texture axes.
 fn uv_of(c: &IndexedCorners, t: usize, k: usize, side: u8) -> Vec2 {
-    let corners = &c.corners[3 * t..3 * t + 3];
-    if corners.iter().all(|k| k[1] != NO_INDEX) {
-        return c.uvs[corners[k][1] as usize];
+    if has_file_uvs(c, t) {
+        return c.uvs[c.corners[3 * t + k][1] as usize];
     }
     let (_, u_axis, v_axis) = FACES[side as usize];
-    let p = c.positions[corners[k][0] as usize] / FIT_RADIUS;
+    let p = c.positions[c.corners[3 * t + k][0] as usize] / FIT_RADIUS;
     Vec2::new(0.5 + 0.5 * p.dot(u_axis), 0.5 + 0.5 * p.dot(v_axis))
+}
+
+/// Whether every corner of triangle `t` has a UV in the file (else its
+/// UVs are all made by projection).
+fn has_file_uvs(c: &IndexedCorners, t: usize) -> bool {
+    c.corners[3 * t..3 * t + 3].iter().all(|k| k[1] != NO_INDEX)
 }
 
 /// The UVs of triangle `t` ([`uv_of`]).
@@ -388,10 +394,13 @@ fn build(
     let flags: Vec<u8> = (0..kept)
         .into_par_iter()
         .map(|t| {
-            let normal = face_normals[t];
-            let side = box_side(normal);
-            let frame = face_frame(positions_of(&c, t), uvs_of(&c, t, side), normal);
-            let mirrored = frame.tangent_u.cross(frame.tangent_v).dot(normal) < 0.0;
+            // The side only matters to a triangle without the file's UVs.
+            let side = if has_file_uvs(&c, t) {
+                0
+            } else {
+                box_side(face_normals[t])
+            };
+            let mirrored = uv_mirrored(uvs_of(&c, t, side));
             side | if mirrored { MIRRORED } else { 0 }
         })
         .collect();

@@ -59,13 +59,7 @@ pub fn face_frame(p: [Vec3; 3], uv: [Vec2; 3], normal: Vec3) -> FaceFrame {
 pub fn triangle_tangents(p: [Vec3; 3], uv: [Vec2; 3]) -> Option<(Vec3, Vec3)> {
     let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
     let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
-    let det = d1.x * d2.y - d2.x * d1.y;
-    // Relative threshold: UV spans of any scale are judged alike.
-    let scale = (d1.length_squared() * d2.length_squared()).sqrt();
-    if !det.is_finite() || det.abs() <= 1e-7 * scale || scale == 0.0 {
-        return None;
-    }
-    let inv = 1.0 / det;
+    let inv = 1.0 / uv_determinant(uv)?;
     let tu = (e1 * d2.y - e2 * d1.y) * inv;
     let tv = (e2 * d1.x - e1 * d2.x) * inv;
     if !tu.is_finite() || !tv.is_finite() {
@@ -74,8 +68,66 @@ pub fn triangle_tangents(p: [Vec3; 3], uv: [Vec2; 3]) -> Option<(Vec3, Vec3)> {
     Some((tu, tv))
 }
 
+/// The determinant of a triangle's UV edges, `None` when it is degenerate:
+/// zero, not finite, or tiny beside the edges (a relative threshold, so UV
+/// spans of any scale are judged alike).
+fn uv_determinant(uv: [Vec2; 3]) -> Option<f32> {
+    let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+    let det = d1.x * d2.y - d2.x * d1.y;
+    let scale = (d1.length_squared() * d2.length_squared()).sqrt();
+    (det.is_finite() && det.abs() > 1e-7 * scale && scale != 0.0).then_some(det)
+}
+
+/// Whether a triangle's texture axes are mirrored: ∂P/∂u × ∂P/∂v is the
+/// triangle's normal divided by the UV determinant, so it points against
+/// the normal exactly when the determinant is negative. A frame made from
+/// the normal (degenerate UVs) is right-handed. Needs no positions.
+pub fn uv_mirrored(uv: [Vec2; 3]) -> bool {
+    uv_determinant(uv).is_some_and(|det| det < 0.0)
+}
+
 /// Any unit vector perpendicular to `n` (for a tangent frame when UVs give none).
 pub fn any_perpendicular(n: Vec3) -> Vec3 {
     let helper = if n.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
     n.cross(helper).normalize_or(Vec3::X)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn point() -> impl Strategy<Value = Vec3> {
+        (-2.0f32..2.0, -2.0f32..2.0, -2.0f32..2.0).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+    }
+
+    fn uv() -> impl Strategy<Value = Vec2> {
+        (-3.0f32..3.0, -3.0f32..3.0).prop_map(|(u, v)| Vec2::new(u, v))
+    }
+
+    #[test]
+    fn a_quad_mapped_backwards_is_mirrored() {
+        let uv = [Vec2::ZERO, Vec2::X, Vec2::Y];
+        assert!(!uv_mirrored(uv));
+        assert!(uv_mirrored(uv.map(|t| Vec2::new(1.0 - t.x, t.y))));
+        // Degenerate UVs give a frame from the normal: right-handed.
+        assert!(!uv_mirrored([Vec2::ZERO, Vec2::X, Vec2::X * 2.0]));
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        /// The flag read from the UVs alone is the handedness of the frame
+        /// made from positions and UVs.
+        #[test]
+        fn the_uv_flag_is_the_frames_handedness(
+            p in [point(), point(), point()],
+            uv in [uv(), uv(), uv()],
+        ) {
+            let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            prop_assume!(normal != Vec3::ZERO);
+            let frame = face_frame(p, uv, normal);
+            prop_assert_eq!(uv_mirrored(uv), frame.handedness(normal) < 0.0);
+        }
+    }
 }
