@@ -9,6 +9,7 @@ pub mod corners;
 pub mod cube;
 pub mod face_frame;
 pub mod facing;
+pub(crate) mod file_map;
 pub mod flag_maps;
 pub mod gltf;
 pub mod light;

@@ -55,9 +55,10 @@ pub fn load(path: &Path) -> Result<LoadedModel, ObjError> {
         Some(ModelFormat::Obj) => obj::load_model(path),
         Some(ModelFormat::Stl) => {
             let (bytes, held) = read_model_file(path)?;
-            let model = super::stl::parse(&name, &bytes)?;
+            let model = super::stl::parse(&name, &bytes);
+            bytes.check(&name)?;
             drop(held);
-            Ok(model)
+            model
         }
         Some(ModelFormat::Ply) => {
             // The file's bytes are freed before the model is built.

@@ -1,21 +1,66 @@
-//! A model's files: read whole, their bytes reserved against the memory
-//! budget first, and the files it names found beside it.
+//! A model's files: read whole (large ones mapped), their bytes reserved
+//! against the memory budget first, and the files it names found beside it.
 
 use std::fs::File;
 use std::io::Read;
+use std::ops::Deref;
 use std::os::unix::fs::FileExt;
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
+use super::file_map::MappedFile;
 use super::load_progress::{self, LoadStep, cancelled};
 use super::model_error::ObjError;
 use crate::budget::{self, Reservation};
 use crate::sanitize::{clean, display_path};
 
+/// A model file's bytes: mapped when the file is large, read otherwise.
+pub(crate) enum FileBytes {
+    Read(Vec<u8>),
+    Mapped(MappedFile),
+}
+
+impl Deref for FileBytes {
+    type Target = [u8];
+    fn deref(&self) -> &[u8] {
+        match self {
+            FileBytes::Read(bytes) => bytes,
+            FileBytes::Mapped(map) => map,
+        }
+    }
+}
+
+impl FileBytes {
+    /// An error when the file shrank while it was mapped: its lost bytes
+    /// read as zeros, so what was made of them is not the file. Asked
+    /// after reading, whatever the reading gave.
+    pub fn check(&self, name: &str) -> Result<(), ObjError> {
+        match self {
+            FileBytes::Mapped(map) if map.was_cut() => Err(ObjError::Read {
+                name: name.to_string(),
+                reason: "the file shrank while it was read".into(),
+            }),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Files from this size on are mapped, not read (`file_map`): below it
+/// the copy costs little, and reading reports its progress.
+pub(crate) const MAP_FROM: u64 = 16 << 20;
+
 /// Reads a whole model file, its bytes reserved against the memory budget
 /// before they are read (there is no fixed size limit).
-pub(crate) fn read_model_file(path: &Path) -> Result<(Vec<u8>, Reservation), ObjError> {
+pub(crate) fn read_model_file(path: &Path) -> Result<(FileBytes, Reservation), ObjError> {
+    read_model_file_mapping_from(path, MAP_FROM)
+}
+
+/// [`read_model_file`], files from `map_from` bytes on mapped.
+pub(crate) fn read_model_file_mapping_from(
+    path: &Path,
+    map_from: u64,
+) -> Result<(FileBytes, Reservation), ObjError> {
     let name = display_path(path);
     let read_error = |e: std::io::Error| ObjError::Read {
         name: name.clone(),
@@ -27,9 +72,18 @@ pub(crate) fn read_model_file(path: &Path) -> Result<(Vec<u8>, Reservation), Obj
     }
     let held = reserve(&name, "the file", meta.len())?;
     let file = File::open(path).map_err(read_error)?;
+    if meta.len() >= map_from
+        && let Some(map) = MappedFile::new(&file, meta.len())
+    {
+        // No reading step: the pages come in as the parse first walks them.
+        if let Some(p) = load_progress::current() {
+            p.begin(LoadStep::Parsing, 0);
+        }
+        return Ok((FileBytes::Mapped(map), held));
+    }
     let bytes = read_file_reporting(&file, meta.len())
         .map_err(|e| e.map_or_else(|| cancelled(&name), read_error))?;
-    Ok((bytes, held))
+    Ok((FileBytes::Read(bytes), held))
 }
 
 /// Bytes read between two progress reports and cancel checks: a few
@@ -266,5 +320,37 @@ mod tests {
             },
             "one chunk read, then the check"
         );
+    }
+
+    #[test]
+    fn a_mapped_file_gives_the_bytes_a_read_gives() {
+        let path = Path::new("tests/data/models/tinyobjloader/map-bump.obj");
+        let (mapped, _held) = read_model_file_mapping_from(path, 0).unwrap();
+        let (read, _held) = read_model_file_mapping_from(path, u64::MAX).unwrap();
+        assert!(matches!(mapped, FileBytes::Mapped(_)));
+        assert!(matches!(read, FileBytes::Read(_)));
+        assert_eq!(&mapped[..], &read[..]);
+        assert!(mapped.check("m").is_ok());
+    }
+
+    #[test]
+    fn a_file_that_shrinks_while_mapped_is_an_error_naming_it() {
+        let path = std::env::temp_dir().join(format!("relief-shrinks-{}.obj", std::process::id()));
+        std::fs::write(&path, "v 0 0 0\n".repeat(100_000)).unwrap();
+        let (bytes, _held) = read_model_file_mapping_from(&path, 0).unwrap();
+        std::fs::File::options()
+            .write(true)
+            .open(&path)
+            .unwrap()
+            .set_len(10)
+            .unwrap();
+        assert!(bytes.iter().skip(10).all(|&b| b == 0));
+        let e = bytes.check("shrinks.obj").unwrap_err().to_string();
+        assert!(
+            e.contains("shrinks.obj") && e.contains("shrank while it was read"),
+            "{e}"
+        );
+        drop(bytes);
+        std::fs::remove_file(path).unwrap();
     }
 }

@@ -20,7 +20,7 @@ use super::corners::build_indexed;
 use super::loaded_model::{LoadedModel, MaterialDesc, ModelMaps, ModelPart};
 use super::mesh::Mesh;
 use super::model_error::quote;
-use super::model_io::read_model_file;
+use super::model_io::{FileBytes, read_model_file};
 use crate::budget::Reservation;
 use crate::sanitize::{clean, display_path};
 
@@ -48,7 +48,10 @@ pub fn load_model(path: &Path) -> Result<LoadedModel, ObjError> {
 /// reservation, once read).
 enum Text<'a> {
     Borrowed(&'a [u8]),
-    Owned { bytes: Vec<u8>, _held: Reservation },
+    Owned {
+        bytes: FileBytes,
+        _held: Reservation,
+    },
 }
 
 impl Text<'_> {
@@ -56,6 +59,14 @@ impl Text<'_> {
         match self {
             Text::Borrowed(b) => b,
             Text::Owned { bytes, .. } => bytes,
+        }
+    }
+
+    /// [`FileBytes::check`] for a file's text.
+    fn check(&self, name: &str) -> Result<(), ObjError> {
+        match self {
+            Text::Borrowed(_) => Ok(()),
+            Text::Owned { bytes, .. } => bytes.check(name),
         }
     }
 }
@@ -149,15 +160,18 @@ fn parse_unguarded(
     // Text in any 8-bit encoding is read (names and comments are not
     // used); a NUL byte says it is not text at all.
     if let Some(at) = first_nul(&text) {
+        file.check(name)?;
         return Err(ObjError::NotText {
             name: name.to_string(),
             at,
         });
     }
-    let mut model = match chunks {
-        Some(parts) => read::read_in_chunks(name, &text, parts)?,
-        None => read::read(name, &text)?,
+    let read = match chunks {
+        Some(parts) => read::read_in_chunks(name, &text, parts),
+        None => read::read(name, &text),
     };
+    file.check(name)?;
+    let mut model = read?;
     drop(text);
     drop(_decoded);
     drop(file);
@@ -281,6 +295,10 @@ fn load_libraries(
                 Ok((bytes, _held)) => {
                     let lib_dir = path.parent().unwrap_or(dir);
                     let (materials, more) = mtl::parse(&shown, &bytes, lib_dir);
+                    if let Err(e) = bytes.check(&shown) {
+                        warnings.push(clean(&e.to_string()));
+                        continue;
+                    }
                     out.extend(materials);
                     warnings.extend(more);
                 }

@@ -31,7 +31,7 @@ use super::corners::{
 use super::loaded_model::{LoadedModel, ModelMaps, ModelPart};
 use super::mesh::{Face, Mesh, Vertex};
 use super::model_error::ObjError;
-use super::model_io::reserve;
+use super::model_io::{FileBytes, reserve};
 use crate::budget::Reservation;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -202,9 +202,15 @@ pub fn parse(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
 
 /// [`parse`] of a file's bytes read with the reservation `held` that
 /// covers them: they are freed, with it, before the model is built.
-pub fn load(name: &str, bytes: Vec<u8>, held: Reservation) -> Result<LoadedModel, ObjError> {
+pub(crate) fn load(
+    name: &str,
+    bytes: FileBytes,
+    held: Reservation,
+) -> Result<LoadedModel, ObjError> {
     guarded(name, move || {
-        let (corners, read_held) = read(name, &bytes)?;
+        let read = read(name, &bytes);
+        bytes.check(name)?;
+        let (corners, read_held) = read?;
         drop(bytes);
         drop(held);
         finish(name, corners, read_held)
