@@ -13,6 +13,7 @@ pub(crate) mod file_map;
 pub mod flag_maps;
 pub mod gltf;
 pub mod light;
+pub(crate) mod load_memory;
 pub mod load_progress;
 pub mod loaded_model;
 pub mod map_uv;

@@ -50,6 +50,7 @@ pub fn is_model_path(path: &Path) -> bool {
 
 /// Loads a model file of any supported format.
 pub fn load(path: &Path) -> Result<LoadedModel, ObjError> {
+    let _keep = super::load_memory::KeepFreed::new();
     let name = display_path(path);
     match ModelFormat::of(path) {
         Some(ModelFormat::Obj) => obj::load_model(path),

@@ -17,6 +17,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::corners::build_indexed;
+use super::load_memory::KeepFreed;
 use super::loaded_model::{LoadedModel, MaterialDesc, ModelMaps, ModelPart};
 use super::mesh::Mesh;
 use super::model_error::quote;
@@ -37,6 +38,7 @@ pub fn load(path: &Path) -> Result<Mesh, ObjError> {
 /// Loads an OBJ file with its material libraries: a part per material, the
 /// maps the scene's one material shows, and the warnings.
 pub fn load_model(path: &Path) -> Result<LoadedModel, ObjError> {
+    let _keep = KeepFreed::new();
     let name = display_path(path);
     let (bytes, held) = read_model_file(path)?;
     let dir = path.parent().unwrap_or(Path::new("."));

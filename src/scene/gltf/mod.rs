@@ -91,6 +91,7 @@ impl Scene {
 /// Loads a `.gltf` or `.glb` file. A problem is one line naming the file
 /// and the place (a JSON path or a byte offset).
 pub fn load(path: &Path) -> Result<Model, ObjError> {
+    let _keep = crate::scene::load_memory::KeepFreed::new();
     let name = display_path(path);
     let fail = |reason: Problem| ObjError::Parse {
         name: name.clone(),
