@@ -354,7 +354,9 @@ fn count(chunk: &[u8]) -> Result<Counts, LineProblem> {
 /// Where one chunk writes its `v`, `vt` and `vn` lines.
 struct Attributes<'a> {
     positions: &'a mut [Vec3],
-    colors: &'a mut [Option<Vec3>],
+    /// Made at the chunk's first colour (most files have none), then one
+    /// entry for each position from the chunk's first.
+    colors: Vec<Option<Vec3>>,
     texcoords: &'a mut [Vec2],
     normals: &'a mut [Vec3],
 }
@@ -370,6 +372,8 @@ struct FaceChunk {
     /// The local part in effect at the end of the chunk.
     end_part: u32,
     libraries: Vec<String>,
+    /// The chunk's positions' colours, when it has any ([`Attributes`]).
+    colors: Vec<Option<Vec3>>,
     all_uv: bool,
     all_normals: bool,
     bad_uv: Tally,
@@ -392,7 +396,7 @@ struct FaceSlots<'a> {
 fn read_chunk(
     chunk: &[u8],
     before: Counts,
-    out: Attributes,
+    mut out: Attributes,
     mut slots: FaceSlots,
 ) -> (FaceChunk, Tally) {
     let mut faces = FaceChunk {
@@ -417,7 +421,9 @@ fn read_chunk(
                     .filter(|&(_, len, _)| len == 3)
                     .map(|(x, _, next)| {
                         out.positions[p] = Vec3::from_array(x);
-                        out.colors[p] = None;
+                        if !out.colors.is_empty() {
+                            out.colors.push(None);
+                        }
                         p += 1;
                         next
                     }),
@@ -478,7 +484,13 @@ fn read_chunk(
                     };
                     color.map(|color| {
                         out.positions[p] = Vec3::new(x[0], x[1], x[2]);
-                        out.colors[p] = color;
+                        if color.is_some() && out.colors.is_empty() {
+                            out.colors.reserve_exact(out.positions.len());
+                            out.colors.resize(p, None);
+                        }
+                        if color.is_some() || !out.colors.is_empty() {
+                            out.colors.push(color);
+                        }
                         p += 1;
                     })
                 }
@@ -530,6 +542,7 @@ fn read_chunk(
         }
     }
     faces.end_part = part;
+    faces.colors = out.colors;
     (faces, cut_numbers)
 }
 
@@ -700,7 +713,7 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
     // No fixed limit: the memory budget decides, before anything is
     // allocated. The text itself is held by whoever read it.
     let need = read_bytes(&counts);
-    let reservation = crate::scene::model_io::reserve(name, "the triangles", need)?;
+    let mut reservation = crate::scene::model_io::reserve(name, "the triangles", need)?;
     if counts.positions.max(counts.texcoords).max(counts.normals) >= NO_INDEX as usize {
         return Err(ObjError::Unsupported {
             name: name.to_string(),
@@ -708,31 +721,26 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         });
     }
 
-    let mut positions = vec![Vec3::ZERO; counts.positions];
-    let mut colors: Vec<Option<Vec3>> = vec![None; counts.positions];
-    let mut texcoords = vec![Vec2::ZERO; counts.texcoords];
-    let mut normals = vec![Vec3::ZERO; counts.normals];
+    // Zeroed by the allocator as fresh pages, each first touched by the
+    // chunk that fills it.
+    let mut positions: Vec<Vec3> = bytemuck::zeroed_vec(counts.positions);
+    let mut texcoords: Vec<Vec2> = bytemuck::zeroed_vec(counts.texcoords);
+    let mut normals: Vec<Vec3> = bytemuck::zeroed_vec(counts.normals);
     let mut outs = Vec::with_capacity(chunks.len());
     {
-        let (mut p, mut c, mut t, mut n) = (
-            &mut positions[..],
-            &mut colors[..],
-            &mut texcoords[..],
-            &mut normals[..],
-        );
+        let (mut p, mut t, mut n) = (&mut positions[..], &mut texcoords[..], &mut normals[..]);
         for (k, b) in before.iter().enumerate() {
             let next = before.get(k + 1).copied().unwrap_or(counts);
             let (p1, p2) = std::mem::take(&mut p).split_at_mut(next.positions - b.positions);
-            let (c1, c2) = std::mem::take(&mut c).split_at_mut(next.positions - b.positions);
             let (t1, t2) = std::mem::take(&mut t).split_at_mut(next.texcoords - b.texcoords);
             let (n1, n2) = std::mem::take(&mut n).split_at_mut(next.normals - b.normals);
             outs.push(Attributes {
                 positions: p1,
-                colors: c1,
+                colors: Vec::new(),
                 texcoords: t1,
                 normals: n1,
             });
-            (p, c, t, n) = (p2, c2, t2, n2);
+            (p, t, n) = (p2, t2, n2);
         }
     }
     // Each chunk's triangles go to its own slices (at most what it counted),
@@ -785,7 +793,28 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
     let (mut all_uv, mut all_normals) = (true, true);
     let (mut bad_uv, mut bad_normal, mut cut_numbers) =
         (Tally::default(), Tally::default(), Tally::default());
-    for ((f, cut), b) in read.into_iter().zip(&before) {
+    // The chunks' colours, when any has one, one after the other (the
+    // reading reserved them once; the whole is a second copy for a moment).
+    let mut colors = Vec::new();
+    if read.iter().any(|(f, _)| !f.colors.is_empty()) {
+        reservation
+            .grow(
+                &format!("the colours of model {name}"),
+                bytes_of::<Option<Vec3>>(counts.positions as u64),
+            )
+            .map_err(|e| ObjError::Budget {
+                name: name.to_string(),
+                reason: e.to_string(),
+            })?;
+        colors.reserve_exact(counts.positions);
+    }
+    for (k, ((f, cut), b)) in read.into_iter().zip(&before).enumerate() {
+        if colors.capacity() > 0 {
+            let next = before.get(k + 1).copied().unwrap_or(counts);
+            let from = colors.len();
+            colors.extend(f.colors);
+            colors.resize(from + next.positions - b.positions, None);
+        }
         // Local parts to the file's, in order of first use.
         let mut global = vec![part];
         for key in f.names {
