@@ -12,6 +12,7 @@
 //! Resolves average the 8-bit values the renderer writes (the same space as
 //! every other pixel: no linear-light conversion), rounded to nearest.
 
+use super::fill::fill;
 use super::scan::{
     Band, OwnedBand, depth_prepass, opaque_at, pixel_setup, raster_owned, raster_triangle, shade_at,
 };
@@ -71,20 +72,6 @@ pub fn resolve_msaa(samples: &[[Rgb; MSAA_SAMPLES]], dst: &mut [Rgb]) {
             }
         }
         *out = sum.map(|v| ((v + 2) / 4) as u8);
-    }
-}
-
-/// `slice.fill(value)` by doubling copies: a 3-byte pixel filled one at a
-/// time costs more than its pixels' shading on a small frame, a copy of a
-/// few hundred bytes at once does not.
-fn fill<T: Copy>(slice: &mut [T], value: T) {
-    let seed = slice.len().min(64);
-    slice[..seed].fill(value);
-    let mut done = seed;
-    while done < slice.len() {
-        let n = done.min(slice.len() - done);
-        slice.copy_within(..n, done);
-        done += n;
     }
 }
 

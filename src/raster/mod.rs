@@ -3,6 +3,7 @@
 
 pub mod aa;
 pub mod clip;
+pub mod fill;
 pub mod frames;
 pub mod scan;
 pub mod setup;

@@ -3,6 +3,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::fill::fill;
 use super::setup::{ONE, ScreenTri};
 use crate::framebuffer::Rgb;
 use crate::shade::packet::{self, LANES};
@@ -302,7 +303,7 @@ fn raster_packets<S: PixelShader>(
         let row = (py - band.y0) * width;
         let no_depth = matches!(band.depth, DepthRule::Off);
         if let (Some(color), true) = (shader.solid(), no_depth) {
-            band.color[row + first..=row + last].fill(color);
+            fill(&mut band.color[row + first..=row + last], color);
             counters.pixels_shaded += (last + 1 - first) as u64;
             continue;
         }
