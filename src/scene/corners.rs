@@ -80,21 +80,26 @@ fn position_key(p: Vec3) -> [u32; 3] {
 /// one pass with a hash table gives, found by sorting the keys with their
 /// indices in parallel instead (a key's run starts at its first index).
 fn position_ids(positions: &[Vec3]) -> (Vec<u32>, usize) {
-    let mut keyed: Vec<([u32; 3], u32)> = positions
+    // Key and index in one integer, the key above: sorting the integers
+    // sorts by key, then index, with one comparison each.
+    let mut keyed: Vec<u128> = positions
         .par_iter()
         .enumerate()
-        .map(|(i, &p)| (position_key(p), i as u32))
+        .map(|(i, &p)| {
+            let [x, y, z] = position_key(p).map(u128::from);
+            x << 96 | y << 64 | z << 32 | i as u128
+        })
         .collect();
     keyed.par_sort_unstable();
-    // Sorted by key, then index: each run of a key starts at its first
-    // position.
+    let (key, index) = (|e: u128| e >> 32, |e: u128| e as u32);
+    // Each run of a key starts at its first position.
     let mut id = vec![0u32; positions.len()];
     let mut run = 0;
     for j in 0..keyed.len() {
-        if keyed[j].0 != keyed[run].0 {
+        if key(keyed[j]) != key(keyed[run]) {
             run = j;
         }
-        id[keyed[j].1 as usize] = keyed[run].1;
+        id[index(keyed[j]) as usize] = index(keyed[run]);
     }
     drop(keyed);
     let count = number_firsts(&mut id);
@@ -360,7 +365,7 @@ fn build(
     face_normals.truncate(kept);
     c.part_of.truncate(kept);
     // Equal points get one id, in order of first appearance.
-    let table = bytes_of::<([u32; 3], u32)>(c.positions.len() as u64);
+    let table = bytes_of::<u128>(c.positions.len() as u64);
     hold(
         held,
         name,

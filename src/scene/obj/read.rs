@@ -959,6 +959,31 @@ mod tests {
     }
 
     #[test]
+    fn a_line_ends_at_the_first_ending_from_anywhere() {
+        // Endings at every distance, before and past the words scanned
+        // eight bytes at a time, and none at all.
+        let mut next = lcg(5);
+        for _ in 0..300 {
+            let len = (next() % 200) as usize;
+            let text: Vec<u8> = (0..len)
+                .map(|_| match next() % 40 {
+                    0 => b'\n',
+                    1 => b'\r',
+                    2 => 0x8A,
+                    k => b' ' + k as u8,
+                })
+                .collect();
+            for at in 0..=len {
+                let want = text[at..]
+                    .iter()
+                    .position(|&b| b == b'\n' || b == b'\r')
+                    .map_or(len, |e| at + e);
+                assert_eq!(line_end(&text, at), want, "{text:?} from {at}");
+            }
+        }
+    }
+
+    #[test]
     fn face_lines_are_counted_as_their_words_say() {
         // Lines of random words, blanks, comments and endings, long
         // enough for the eight-byte steps of the count.
