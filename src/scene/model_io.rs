@@ -323,6 +323,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(target_os = "linux")]
     fn a_mapped_file_gives_the_bytes_a_read_gives() {
         let path = Path::new("tests/data/models/tinyobjloader/map-bump.obj");
         let (mapped, _held) = read_model_file_mapping_from(path, 0).unwrap();
@@ -334,6 +335,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(target_os = "linux")]
     fn a_file_that_shrinks_while_mapped_is_an_error_naming_it() {
         let path = std::env::temp_dir().join(format!("relief-shrinks-{}.obj", std::process::id()));
         std::fs::write(&path, "v 0 0 0\n".repeat(100_000)).unwrap();
