@@ -333,24 +333,43 @@ fn build(
     c.positions
         .par_iter_mut()
         .for_each(|p| *p = fitted(*p, fit));
+    // File normals are normalised; a missing or unusable one is computed.
+    c.normals
+        .par_iter_mut()
+        .for_each(|n| *n = n.try_normalize().unwrap_or(Vec3::ZERO));
+    let lacks_normal = |k: &[u32; 3]| k[2] == NO_INDEX || c.normals[k[2] as usize] == Vec3::ZERO;
+    // The face normals are kept only for what needs them again: computed
+    // normals, and UVs made by projection (a box side). Otherwise they only
+    // say which triangles have an area, computed where asked.
+    let keep_normals = c
+        .corners
+        .par_iter()
+        .any(|k| lacks_normal(k) || k[1] == NO_INDEX);
     // Keep the triangles that have an area (and so a normal).
     let all = c.corners.len() / 3;
-    hold(held, name, "the face normals", bytes_of::<Vec3>(all as u64))?;
-    let mut face_normals: Vec<Vec3> = (0..all).into_par_iter().map(|t| normal_of(&c, t)).collect();
+    let mut face_normals: Vec<Vec3> = if keep_normals {
+        hold(held, name, "the face normals", bytes_of::<Vec3>(all as u64))?;
+        (0..all).into_par_iter().map(|t| normal_of(&c, t)).collect()
+    } else {
+        Vec::new()
+    };
     // A model of one part keeps no part numbers.
     if c.part_of.len() != all || c.part_of.iter().all(|&p| p == 0) {
         let_go(held, std::mem::take(&mut c.part_of));
     }
     // Up to the first without one, each triangle stays where it is.
-    let first_dropped = face_normals
-        .par_iter()
-        .position_first(|n| *n == Vec3::ZERO)
+    let first_dropped = (0..all)
+        .into_par_iter()
+        .position_first(|t| kept_normal(&c, &face_normals, t) == Vec3::ZERO)
         .unwrap_or(all);
     let mut kept = first_dropped;
     for t in first_dropped..all {
-        if face_normals[t] != Vec3::ZERO {
+        let n = kept_normal(&c, &face_normals, t);
+        if n != Vec3::ZERO {
             c.corners.copy_within(3 * t..3 * t + 3, 3 * kept);
-            face_normals[kept] = face_normals[t];
+            if keep_normals {
+                face_normals[kept] = n;
+            }
             if !c.part_of.is_empty() {
                 c.part_of[kept] = c.part_of[t];
             }
@@ -374,14 +393,10 @@ fn build(
     )?;
     let (position_id, ids) = position_ids(&c.positions);
     held.shrink(table);
-    // File normals are normalised; a missing or unusable one is computed.
-    c.normals
-        .par_iter_mut()
-        .for_each(|n| *n = n.try_normalize().unwrap_or(Vec3::ZERO));
-    let missing = c
-        .corners
-        .par_iter()
-        .any(|k| k[2] == NO_INDEX || c.normals[k[2] as usize] == Vec3::ZERO);
+    let missing = keep_normals
+        && c.corners
+            .par_iter()
+            .any(|k| k[2] == NO_INDEX || c.normals[k[2] as usize] == Vec3::ZERO);
     if missing {
         fill_normals(name, &mut c, &face_normals, &position_id, ids, held)?;
     }
@@ -602,6 +617,15 @@ fn positions_of(c: &IndexedCorners, t: usize) -> [Vec3; 3] {
 fn normal_of(c: &IndexedCorners, t: usize) -> Vec3 {
     let [a, b, d] = positions_of(c, t);
     (b - a).cross(d - a).normalize_or_zero()
+}
+
+/// Triangle `t`'s normal: kept in `face_normals` when they are kept, else
+/// computed ([`normal_of`], the same bits).
+fn kept_normal(c: &IndexedCorners, face_normals: &[Vec3], t: usize) -> Vec3 {
+    face_normals
+        .get(t)
+        .copied()
+        .unwrap_or_else(|| normal_of(c, t))
 }
 
 /// Triangle `t`'s facet as its corners give it: its normal, the texture
