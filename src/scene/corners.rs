@@ -178,7 +178,12 @@ fn corner_angle(p: [Vec3; 3], k: usize) -> f32 {
 }
 
 /// Reserves `bytes` more for `what` of model `name` in `held`.
-fn hold(held: &mut Reservation, name: &str, what: &str, bytes: u64) -> Result<(), ObjError> {
+pub(crate) fn hold(
+    held: &mut Reservation,
+    name: &str,
+    what: &str,
+    bytes: u64,
+) -> Result<(), ObjError> {
     held.grow(&format!("{what} of model {name}"), bytes)
         .map_err(|e| ObjError::Budget {
             name: name.to_string(),
@@ -393,10 +398,7 @@ fn build(
     )?;
     let (position_id, ids) = position_ids(&c.positions);
     held.shrink(table);
-    let missing = keep_normals
-        && c.corners
-            .par_iter()
-            .any(|k| k[2] == NO_INDEX || c.normals[k[2] as usize] == Vec3::ZERO);
+    let missing = keep_normals && c.corners.par_iter().any(lacks_normal);
     if missing {
         fill_normals(name, &mut c, &face_normals, &position_id, ids, held)?;
     }

@@ -32,7 +32,7 @@ use super::plain_lines::{
     words_at,
 };
 use crate::budget::Reservation;
-use crate::scene::corners::{IndexedCorners, MAX_FACE_CORNERS, NO_INDEX, bytes_of};
+use crate::scene::corners::{IndexedCorners, MAX_FACE_CORNERS, NO_INDEX, bytes_of, hold};
 use crate::scene::load_progress::{self, LoadStep};
 use crate::scene::model_error::{ObjError, quote};
 
@@ -361,6 +361,20 @@ struct Attributes<'a> {
     normals: &'a mut [Vec3],
 }
 
+impl Attributes<'_> {
+    /// The colour of position `p` (the chunk's): the array is made at the
+    /// first colour, earlier positions having none.
+    fn add_color(&mut self, p: usize, color: Option<Vec3>) {
+        if color.is_some() && self.colors.is_empty() {
+            self.colors.reserve_exact(self.positions.len());
+            self.colors.resize(p, None);
+        }
+        if color.is_some() || !self.colors.is_empty() {
+            self.colors.push(color);
+        }
+    }
+}
+
 /// Everything read from the faces and keywords of one chunk. Parts are
 /// local: part 0 is the one in effect when the chunk begins, the others
 /// are `names[k - 1]` in order of first use within the chunk.
@@ -421,9 +435,7 @@ fn read_chunk(
                     .filter(|&(_, len, _)| len == 3)
                     .map(|(x, _, next)| {
                         out.positions[p] = Vec3::from_array(x);
-                        if !out.colors.is_empty() {
-                            out.colors.push(None);
-                        }
+                        out.add_color(p, None);
                         p += 1;
                         next
                     }),
@@ -484,13 +496,7 @@ fn read_chunk(
                     };
                     color.map(|color| {
                         out.positions[p] = Vec3::new(x[0], x[1], x[2]);
-                        if color.is_some() && out.colors.is_empty() {
-                            out.colors.reserve_exact(out.positions.len());
-                            out.colors.resize(p, None);
-                        }
-                        if color.is_some() || !out.colors.is_empty() {
-                            out.colors.push(color);
-                        }
+                        out.add_color(p, color);
                         p += 1;
                     })
                 }
@@ -797,15 +803,12 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
     // reading reserved them once; the whole is a second copy for a moment).
     let mut colors = Vec::new();
     if read.iter().any(|(f, _)| !f.colors.is_empty()) {
-        reservation
-            .grow(
-                &format!("the colours of model {name}"),
-                bytes_of::<Option<Vec3>>(counts.positions as u64),
-            )
-            .map_err(|e| ObjError::Budget {
-                name: name.to_string(),
-                reason: e.to_string(),
-            })?;
+        hold(
+            &mut reservation,
+            name,
+            "the colours",
+            bytes_of::<Option<Vec3>>(counts.positions as u64),
+        )?;
         colors.reserve_exact(counts.positions);
     }
     for (k, ((f, cut), b)) in read.into_iter().zip(&before).enumerate() {
