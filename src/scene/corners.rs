@@ -146,18 +146,49 @@ pub(crate) fn fit_of<I: Iterator<Item = Vec3>>(points: impl Fn() -> I) -> Option
 /// same bits, since the bounds keep the later of equal values (`min` and
 /// `max` take their second argument on a tie, as one walk does, and the
 /// pieces are joined in order) and the farthest distance is a maximum.
-fn fit_of_corners(positions: &[Vec3], corners: &[[u32; 3]]) -> Option<(DVec3, f64)> {
-    let at = |k: &[u32; 3]| positions[k[0] as usize].as_dvec3();
-    let (lo, hi) = corners.par_iter().map(|k| (at(k), at(k))).reduce(
-        || (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-        |(lo1, hi1), (lo2, hi2)| (lo1.min(lo2), hi1.max(hi2)),
-    );
-    let center = (lo + hi) * 0.5;
+/// The bounds are found in `f32`, lane by lane with the same `min` and
+/// `max` (widening keeps order and sign), and the farthest squared distance
+/// is rooted once (the root keeps order too). Also says whether any corner
+/// passes `test`, asked in the same walk.
+fn fit_of_corners(
+    positions: &[Vec3],
+    corners: &[[u32; 3]],
+    test: impl Fn(&[u32; 3]) -> bool + Sync,
+) -> (Option<(DVec3, f64)>, bool) {
+    type Bounds = ([f32; 3], [f32; 3]);
+    let at = |k: &[u32; 3]| positions[k[0] as usize].to_array();
+    let lanes = |a: [f32; 3], b: [f32; 3], f: fn(f32, f32) -> f32| [0, 1, 2].map(|i| f(a[i], b[i]));
+    let join = |(lo1, hi1): Bounds, (lo2, hi2): Bounds| {
+        (lanes(lo1, lo2, f32::min), lanes(hi1, hi2, f32::max))
+    };
+    let none = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    let ((lo, hi), any) = corners
+        .par_chunks(1 << 14)
+        .map(|piece| {
+            let bounds = piece.iter().fold(none, |b, k| join(b, (at(k), at(k))));
+            (bounds, piece.iter().any(&test))
+        })
+        .reduce(
+            || (none, false),
+            |(b1, t1), (b2, t2)| (join(b1, b2), t1 || t2),
+        );
+    let center = (Vec3::from(lo).as_dvec3() + Vec3::from(hi).as_dvec3()) * 0.5;
     let radius = corners
         .par_iter()
-        .map(|k| (at(k) - center).length())
-        .reduce(|| 0.0f64, f64::max);
-    (radius > 0.0 && radius.is_finite()).then(|| (center, FIT_RADIUS as f64 / radius))
+        .map(|k| (Vec3::from(at(k)).as_dvec3() - center).length_squared())
+        .reduce(|| 0.0f64, f64::max)
+        .sqrt();
+    let fit = (radius > 0.0 && radius.is_finite()).then(|| (center, FIT_RADIUS as f64 / radius));
+    (fit, any)
+}
+
+/// Whether any item passes `test`, in parallel: a slice cut into pieces
+/// each walked plainly (rayon's own `any` checks for an early stop at
+/// every item, which costs more than these tests).
+fn any_of<T: Sync>(items: &[T], test: impl Fn(&T) -> bool + Sync) -> bool {
+    items
+        .par_chunks(1 << 14)
+        .any(|piece| piece.iter().any(&test))
 }
 
 /// A point moved by the fit [`fit_of`] found.
@@ -262,10 +293,11 @@ fn box_side(normal: Vec3) -> u8 {
         .unwrap_or(4) as u8
 }
 
-/// A triangle's flags: its [`box_side`] and whether its texture axes are
-/// mirrored.
+/// A triangle's flags: its [`box_side`], whether its texture axes are
+/// mirrored, and whether its UVs are made by projection.
 const SIDE: u8 = 7;
 const MIRRORED: u8 = 8;
+const PROJECTED: u8 = 16;
 
 /// The UV of corner `k` of triangle `t`: the file's, or (when a corner of
 /// the triangle has none) a box projection on the cube face `side`, with
@@ -304,11 +336,11 @@ fn color_of(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize, k: usize
         .unwrap_or_else(|| corner_color(c.positions[p] / FIT_RADIUS).min(Vec3::ONE))
 }
 
-/// The steps of [`build`] the progress line counts: the face normals, the
-/// vertex normals, the triangle flags, the vertex keys, the closed and
+/// The steps of [`build`] the progress line counts: the face normals and
+/// triangle flags, the vertex normals, the vertex keys, the closed and
 /// convex tests, the triangles and their side table, the vertices; the
 /// tangent sums come after the last.
-const BUILD_STEPS: u64 = 7;
+const BUILD_STEPS: u64 = 6;
 
 fn build(
     name: &str,
@@ -334,10 +366,6 @@ fn build(
     if c.colors.iter().all(Option::is_none) {
         let_go(held, std::mem::take(&mut c.colors));
     }
-    let fit = fit_of_corners(&c.positions, &c.corners).ok_or_else(degenerate)?;
-    c.positions
-        .par_iter_mut()
-        .for_each(|p| *p = fitted(*p, fit));
     // File normals are normalised; a missing or unusable one is computed.
     c.normals
         .par_iter_mut()
@@ -345,35 +373,65 @@ fn build(
     let lacks_normal = |k: &[u32; 3]| k[2] == NO_INDEX || c.normals[k[2] as usize] == Vec3::ZERO;
     // The face normals are kept only for what needs them again: computed
     // normals, and UVs made by projection (a box side). Otherwise they only
-    // say which triangles have an area, computed where asked.
-    let keep_normals = c
-        .corners
-        .par_iter()
-        .any(|k| lacks_normal(k) || k[1] == NO_INDEX);
-    // Keep the triangles that have an area (and so a normal).
+    // say which triangles have an area, computed where asked. Whether any
+    // corner needs them is asked in the walk that bounds the points.
+    let (fit, keep_normals) = fit_of_corners(&c.positions, &c.corners, |k| {
+        lacks_normal(k) || k[1] == NO_INDEX
+    });
+    let fit = fit.ok_or_else(degenerate)?;
+    c.positions
+        .par_iter_mut()
+        .for_each(|p| *p = fitted(*p, fit));
+    // Each triangle's flags, in the pass that finds which have an area
+    // (and so a normal): its box side (for UVs made by projection), whether
+    // its texture axes are mirrored (its corners' vertices are told apart by
+    // it) and whether its UVs are projected; `DROPPED` when it has no area.
+    const DROPPED: u8 = u8::MAX;
+    let flag_of = |t: usize, normal: Vec3| -> u8 {
+        if normal == Vec3::ZERO {
+            return DROPPED;
+        }
+        // The side only matters to a triangle without the file's UVs.
+        let (side, projected) = if has_file_uvs(&c, t) {
+            (0, 0)
+        } else {
+            (box_side(normal), PROJECTED)
+        };
+        let mirrored = uv_mirrored(uvs_of(&c, t, side));
+        side | projected | if mirrored { MIRRORED } else { 0 }
+    };
     let all = c.corners.len() / 3;
-    let mut face_normals: Vec<Vec3> = if keep_normals {
+    hold(held, name, "the triangle flags", bytes_of::<u8>(all as u64))?;
+    let (mut face_normals, mut flags): (Vec<Vec3>, Vec<u8>) = if keep_normals {
         hold(held, name, "the face normals", bytes_of::<Vec3>(all as u64))?;
-        (0..all).into_par_iter().map(|t| normal_of(&c, t)).collect()
+        (0..all)
+            .into_par_iter()
+            .map(|t| {
+                let normal = normal_of(&c, t);
+                (normal, flag_of(t, normal))
+            })
+            .unzip()
     } else {
-        Vec::new()
+        let flags = (0..all)
+            .into_par_iter()
+            .map(|t| flag_of(t, normal_of(&c, t)))
+            .collect();
+        (Vec::new(), flags)
     };
     // A model of one part keeps no part numbers.
     if c.part_of.len() != all || c.part_of.iter().all(|&p| p == 0) {
         let_go(held, std::mem::take(&mut c.part_of));
     }
-    // Up to the first without one, each triangle stays where it is.
-    let first_dropped = (0..all)
-        .into_par_iter()
-        .position_first(|t| kept_normal(&c, &face_normals, t) == Vec3::ZERO)
-        .unwrap_or(all);
+    // The triangles with an area are kept; up to the first without one,
+    // each stays where it is.
+    let first_dropped = memchr::memchr(DROPPED, &flags).unwrap_or(all);
     let mut kept = first_dropped;
     for t in first_dropped..all {
-        let n = kept_normal(&c, &face_normals, t);
-        if n != Vec3::ZERO {
+        if flags[t] != DROPPED {
             c.corners.copy_within(3 * t..3 * t + 3, 3 * kept);
+            flags[kept] = flags[t];
             if keep_normals {
-                face_normals[kept] = n;
+                face_normals[kept] = face_normals[t];
             }
             if !c.part_of.is_empty() {
                 c.part_of[kept] = c.part_of[t];
@@ -386,6 +444,7 @@ fn build(
         return Err(degenerate());
     }
     c.corners.truncate(3 * kept);
+    flags.truncate(kept);
     face_normals.truncate(kept);
     c.part_of.truncate(kept);
     // Equal points get one id, in order of first appearance.
@@ -398,34 +457,12 @@ fn build(
     )?;
     let (position_id, ids) = position_ids(&c.positions);
     held.shrink(table);
-    let missing = keep_normals && c.corners.par_iter().any(lacks_normal);
+    let missing = keep_normals && any_of(&c.corners, lacks_normal);
     if missing {
         fill_normals(name, &mut c, &face_normals, &position_id, ids, held)?;
     }
-    step_done()?;
-    // Each triangle's box side (for UVs made by projection) and whether
-    // its texture axes are mirrored (its corners' vertices are told apart
-    // by it). The face normals then go: what needs one again computes the
-    // same bits from the corners.
-    hold(
-        held,
-        name,
-        "the triangle flags",
-        bytes_of::<u8>(kept as u64),
-    )?;
-    let flags: Vec<u8> = (0..kept)
-        .into_par_iter()
-        .map(|t| {
-            // The side only matters to a triangle without the file's UVs.
-            let side = if has_file_uvs(&c, t) {
-                0
-            } else {
-                box_side(face_normals[t])
-            };
-            let mirrored = uv_mirrored(uvs_of(&c, t, side));
-            side | if mirrored { MIRRORED } else { 0 }
-        })
-        .collect();
+    // The face normals go: what needs one again computes the same bits
+    // from the corners.
     let_go(held, face_normals);
     step_done()?;
     // Each corner's vertex: one per distinct key, in order of first use.
@@ -621,15 +658,6 @@ fn normal_of(c: &IndexedCorners, t: usize) -> Vec3 {
     (b - a).cross(d - a).normalize_or_zero()
 }
 
-/// Triangle `t`'s normal: kept in `face_normals` when they are kept, else
-/// computed ([`normal_of`], the same bits).
-fn kept_normal(c: &IndexedCorners, face_normals: &[Vec3], t: usize) -> Vec3 {
-    face_normals
-        .get(t)
-        .copied()
-        .unwrap_or_else(|| normal_of(c, t))
-}
-
 /// Triangle `t`'s facet as its corners give it: its normal, the texture
 /// axes of its UVs, the mean of its corners and of their colours.
 fn read_facet(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize, side: u8) -> Facet {
@@ -646,16 +674,32 @@ fn read_facet(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize, side: 
     }
 }
 
+/// What makes corner `i` a vertex of its own, besides its point.
+fn vertex_key(c: &IndexedCorners, flags: &[u8], i: usize) -> VertexKey {
+    let t = i / 3;
+    let tag = part(c, t) << 1 | (flags[t] & MIRRORED != 0) as u32;
+    let [u, w] = uv_of(c, t, i % 3, flags[t] & SIDE)
+        .to_array()
+        .map(f32::to_bits);
+    let [x, y, z] = c.normals[c.corners[i][2] as usize]
+        .to_array()
+        .map(f32::to_bits);
+    [u, w, x, y, z, tag]
+}
+
 /// Each corner's vertex, one per distinct key (position id, UV bits,
 /// normal bits, part and mirroring) numbered in order of first use, and
 /// each vertex's first corner. `held` grows by what is allocated, and
 /// keeps both arrays (a `u32` a corner and a vertex) when done.
 ///
-/// Only corners at the same point can share a vertex, so the corners are
-/// listed per point (a counting sort, in corner order) and each point's
-/// corners are matched in parallel; numbering the first corner of each key
-/// in corner order then gives the vertices the order one pass over the
-/// triangles would.
+/// Only corners at the same point can share a vertex. Each point's first
+/// corner is found (the least index, so any order of search gives it), and
+/// a corner with the key of its point's first shares its vertex: on a
+/// smooth surface that is every corner, matched in parallel with no list.
+/// The others (at seams and creases) can only share with each other; they
+/// are listed per point (a counting sort, in corner order) and matched
+/// point by point. Numbering the first corner of each key in corner order
+/// then gives the vertices the order one pass over the triangles would.
 fn split_vertices(
     name: &str,
     c: &IndexedCorners,
@@ -664,62 +708,109 @@ fn split_vertices(
     held: &mut Reservation,
 ) -> Result<(Vec<u32>, Vec<u32>), ObjError> {
     let corners = c.corners.len();
-    let lists = PointLists::bytes(corners as u64, ids as u64);
+    let heads = bytes_of::<u32>(ids as u64);
     hold(
         held,
         name,
-        "the vertex lists",
-        lists.saturating_add(bytes_of::<u32>(corners as u64)),
+        "the points' first corners",
+        heads.saturating_add(bytes_of::<u32>(corners as u64)),
     )?;
-    let around = PointLists::new(corners, ids, |i| {
-        position_id[c.corners[i][0] as usize] as usize
-    });
-    // What makes corner `i` a vertex of its own, besides its point.
-    let key = |i: usize| -> VertexKey {
-        let t = i / 3;
-        let tag = part(c, t) << 1 | (flags[t] & MIRRORED != 0) as u32;
-        let [u, w] = uv_of(c, t, i % 3, flags[t] & SIDE)
-            .to_array()
-            .map(f32::to_bits);
-        let [x, y, z] = c.normals[c.corners[i][2] as usize]
-            .to_array()
-            .map(f32::to_bits);
-        [u, w, x, y, z, tag]
+    let point = |i: usize| position_id[c.corners[i][0] as usize] as usize;
+    let key = |i: usize| vertex_key(c, flags, i);
+    // Corners of the same point with the same indices, flags and part have
+    // the same key (their UVs are read or projected alike).
+    let alike = |i: usize, h: usize| {
+        let (t, u) = (i / 3, h / 3);
+        c.corners[i] == c.corners[h] && flags[t] == flags[u] && part(c, t) == part(c, u)
     };
-    // Each corner's first corner of the same key (itself when it is the
-    // first), point by point, the points cut into runs matched in parallel.
-    let first: Vec<AtomicU32> = (0..corners).map(|_| AtomicU32::new(0)).collect();
-    let runs = (4 * rayon::current_num_threads()).min(ids.max(1));
-    (0..runs)
+    // Each point's first corner: the least of its corners, however the
+    // threads meet them (zeroed pages, read as `u32::MAX - 0`).
+    let head: Vec<AtomicU32> = bytemuck::zeroed_vec(ids);
+    let least = |h: &AtomicU32| u32::MAX - h.load(Ordering::Relaxed);
+    let piece = corners.div_ceil(4 * rayon::current_num_threads()).max(1);
+    (0..corners)
         .into_par_iter()
-        .for_each_init(Vec::new, |keys, r| {
-            let (from, to) = (r * ids / runs, (r + 1) * ids / runs);
-            for p in from..to {
-                keys.clear();
-                keys.extend(around.at(p).iter().map(|&i| (key(i as usize), i)));
-                if keys.len() <= CROWDED {
-                    for (e, &(k, i)) in keys.iter().enumerate() {
-                        let at = keys[..e].iter().find(|(k2, _)| *k2 == k).map_or(i, |f| f.1);
-                        first[i as usize].store(at, Ordering::Relaxed);
-                    }
-                } else {
-                    // Too many to compare pairwise: sorted, the first of each run.
-                    keys.sort_unstable();
-                    let mut at = 0;
-                    for e in 0..keys.len() {
-                        if keys[e].0 != keys[at].0 {
-                            at = e;
-                        }
-                        first[keys[e].1 as usize].store(keys[at].1, Ordering::Relaxed);
-                    }
-                }
+        .with_min_len(piece)
+        .for_each(|i| {
+            let h = &head[point(i)];
+            if least(h) > i as u32 {
+                h.fetch_max(u32::MAX - i as u32, Ordering::Relaxed);
             }
         });
-    drop(around);
+    // Each corner's first corner of the same key (itself when it is the
+    // first); `ODD` where that is not its point's first.
+    const ODD: u32 = u32::MAX;
+    let mut first: Vec<u32> = bytemuck::zeroed_vec(corners);
+    let odd = first
+        .par_chunks_mut(piece)
+        .enumerate()
+        .map(|(k, out)| {
+            let mut odd = 0usize;
+            for (j, f) in out.iter_mut().enumerate() {
+                let i = k * piece + j;
+                let h = least(&head[point(i)]);
+                *f = if h as usize == i || alike(i, h as usize) || key(i) == key(h as usize) {
+                    h
+                } else {
+                    odd += 1;
+                    ODD
+                };
+            }
+            odd
+        })
+        .sum::<usize>();
+    drop(head);
+    held.shrink(heads);
+    if odd > 0 {
+        // The odd corners, listed per point and matched among themselves.
+        // Besides the lists: the odd corners and what each matches.
+        let lists = PointLists::bytes(odd as u64, ids as u64)
+            .saturating_add(bytes_of::<u32>(odd as u64).saturating_mul(2));
+        hold(held, name, "the vertex lists", lists)?;
+        let odds: Vec<u32> = (0..corners as u32)
+            .into_par_iter()
+            .filter(|&i| first[i as usize] == ODD)
+            .collect();
+        let around = PointLists::new(odd, ids, |j| point(odds[j] as usize));
+        let found: Vec<AtomicU32> = bytemuck::zeroed_vec(odd);
+        let runs = (4 * rayon::current_num_threads()).min(ids.max(1));
+        (0..runs)
+            .into_par_iter()
+            .for_each_init(Vec::new, |keys, r| {
+                let (from, to) = (r * ids / runs, (r + 1) * ids / runs);
+                for p in from..to {
+                    keys.clear();
+                    keys.extend(around.at(p).iter().map(|&j| {
+                        let i = odds[j as usize];
+                        (key(i as usize), j, i)
+                    }));
+                    if keys.len() <= CROWDED {
+                        for (e, &(k, j, i)) in keys.iter().enumerate() {
+                            let at = keys[..e].iter().find(|f| f.0 == k).map_or(i, |f| f.2);
+                            found[j as usize].store(at, Ordering::Relaxed);
+                        }
+                    } else {
+                        // Too many to compare pairwise: sorted, the first of each run.
+                        keys.sort_unstable();
+                        let mut at = 0;
+                        for e in 0..keys.len() {
+                            if keys[e].0 != keys[at].0 {
+                                at = e;
+                            }
+                            found[keys[e].1 as usize].store(keys[at].2, Ordering::Relaxed);
+                        }
+                    }
+                }
+            });
+        drop(around);
+        for (&i, f) in odds.iter().zip(found) {
+            first[i as usize] = f.into_inner();
+        }
+        held.shrink(lists);
+    }
     // Each corner's vertex: first corners numbered in corner order.
-    let mut vertex_of: Vec<u32> = first.into_iter().map(AtomicU32::into_inner).collect();
+    let mut vertex_of = first;
     let count = number_firsts(&mut vertex_of);
-    held.shrink(lists);
     hold(
         held,
         name,
@@ -799,7 +890,7 @@ fn fill_normals(
     const FIRST: u32 = 1 << 31;
     let runs = (4 * rayon::current_num_threads()).min(positions.max(1));
     let points = |r: usize| r * positions / runs..(r + 1) * positions / runs;
-    let number: Vec<AtomicU32> = (0..c.corners.len()).map(|_| AtomicU32::new(0)).collect();
+    let number: Vec<AtomicU32> = bytemuck::zeroed_vec(c.corners.len());
     let made: Vec<u32> = (0..runs)
         .into_par_iter()
         .map_init(Vec::new, |seen: &mut Vec<[u32; 3]>, r| {
@@ -927,4 +1018,93 @@ fn is_closed(
     drop(edges);
     held.shrink(bytes);
     Ok(closed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Corners at a few points with UVs, normals, parts and flags drawn
+    /// from small sets, so most points are seams and some crowded.
+    fn corners(seed: u64, points: u32, triangles: usize) -> (IndexedCorners, Vec<u8>) {
+        let mut state = seed;
+        let mut next = |n: u32| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) as u32 % n
+        };
+        let pick = |n: u32, next: &mut dyn FnMut(u32) -> u32| {
+            let r = next(8);
+            if r < 6 { r % n } else { next(n) }
+        };
+        let positions = (0..points)
+            .map(|p| Vec3::new(p as f32, (p % 3) as f32, 0.5))
+            .collect();
+        let uvs = (0..4).map(|k| Vec2::new(k as f32 * 0.25, 0.5)).collect();
+        let normals = (0..3).map(|k| Vec3::new(0.0, k as f32, 1.0)).collect();
+        let mut corner_list = Vec::with_capacity(3 * triangles);
+        let mut flags = Vec::with_capacity(triangles);
+        for _ in 0..triangles {
+            let projected = next(5) == 0;
+            for _ in 0..3 {
+                let uv = if projected {
+                    NO_INDEX
+                } else {
+                    pick(4, &mut next)
+                };
+                corner_list.push([pick(points, &mut next), uv, pick(3, &mut next)]);
+            }
+            let side = if projected { next(6) as u8 } else { 0 };
+            let mirrored = if next(4) == 0 { MIRRORED } else { 0 };
+            flags.push(side | mirrored | if projected { PROJECTED } else { 0 });
+        }
+        let part_of = (0..triangles).map(|_| pick(3, &mut next)).collect();
+        let c = IndexedCorners {
+            positions,
+            colors: Vec::new(),
+            uvs,
+            normals,
+            corners: corner_list,
+            part_of,
+        };
+        (c, flags)
+    }
+
+    #[test]
+    fn vertices_are_split_as_one_pass_with_a_table_would() {
+        for (seed, points, triangles) in [(1, 1, 40), (2, 3, 200), (3, 50, 300), (4, 400, 2000)] {
+            let (c, flags) = corners(seed, points, triangles);
+            let (position_id, ids) = position_ids(&c.positions);
+            // One pass in corner order: a new key is the next vertex.
+            let mut table = HashMap::default();
+            let (mut vertex_of, mut firsts) = (Vec::new(), Vec::new());
+            for i in 0..c.corners.len() {
+                let point = position_id[c.corners[i][0] as usize];
+                let count = table.len() as u32;
+                let v = *table
+                    .entry((point, vertex_key(&c, &flags, i)))
+                    .or_insert(count);
+                if v == count {
+                    firsts.push(i as u32);
+                }
+                vertex_of.push(v);
+            }
+            for threads in [1, 2, 5] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let mut held = crate::scene::model_io::reserve("t", "test", 0).unwrap();
+                let split = pool
+                    .install(|| split_vertices("t", &c, &flags, (&position_id, ids), &mut held))
+                    .unwrap();
+                assert_eq!(
+                    split,
+                    (vertex_of.clone(), firsts.clone()),
+                    "seed {seed}, {threads} threads"
+                );
+            }
+        }
+    }
 }
