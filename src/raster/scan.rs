@@ -355,7 +355,11 @@ fn raster_packets<S: PixelShader>(
                 let colors = shader.shade8(ctx, b, &fp, live, counters);
                 let out = &mut band.color[row + px..row + px + lanes];
                 if live == (1 << LANES) - 1 {
-                    out.copy_from_slice(&colors);
+                    // A whole packet: a store of known size (a slice copy
+                    // of unknown length was a call to `memcpy` per packet).
+                    if let Ok(whole) = <&mut [[u8; 3]; LANES]>::try_from(out) {
+                        *whole = colors;
+                    }
                 } else {
                     for (lane, (o, c)) in out.iter_mut().zip(colors).enumerate() {
                         if live & (1 << lane) != 0 {
