@@ -843,20 +843,21 @@ fn fill_normals(
 ) -> Result<(), ObjError> {
     let cos_crease = CREASE_DEGREES.to_radians().cos();
     let corners = c.corners.len() as u64;
-    let lists = PointLists::bytes(corners, positions as u64);
-    hold(
-        held,
-        name,
-        "the normal lists",
-        lists.saturating_add(bytes_of::<u32>(corners)),
-    )?;
+    // Besides the lists: each corner's angle, and each corner's number.
+    let lists = PointLists::bytes(corners, positions as u64)
+        .saturating_add(bytes_of::<f32>(corners))
+        .saturating_add(bytes_of::<u32>(corners));
+    hold(held, name, "the normal lists", lists)?;
     let id = |i: usize| position_id[c.corners[i][0] as usize];
     let around = PointLists::new(c.corners.len(), positions, |i| id(i) as usize);
+    // A corner's angle is asked by every corner around its point: it is
+    // worked out once.
     let triangle = |t: usize| [0, 1, 2].map(|k| c.positions[c.corners[3 * t + k][0] as usize]);
-    let weighted = |&i: &u32| {
-        let (t, k) = (i as usize / 3, i as usize % 3);
-        corner_angle(triangle(t), k) * face_normals[t]
-    };
+    let angles: Vec<f32> = (0..c.corners.len())
+        .into_par_iter()
+        .map(|i| corner_angle(triangle(i / 3), i % 3))
+        .collect();
+    let weighted = |&i: &u32| angles[i as usize] * face_normals[i as usize / 3];
     // Around a position shared by very many faces (a cone's apex), the
     // per-corner crease test would cost valence²: there all faces are
     // averaged once instead.
@@ -951,13 +952,14 @@ fn fill_normals(
     }
     drop(big);
     drop(around);
+    drop(angles);
     let_go(held, std::mem::replace(&mut c.normals, normals));
     c.corners
         .par_iter_mut()
         .zip(number.par_iter())
         .for_each(|(k, n)| k[2] = n.load(Ordering::Relaxed));
     drop(number);
-    held.shrink(lists.saturating_add(bytes_of::<u32>(corners)));
+    held.shrink(lists);
     Ok(())
 }
 
@@ -1010,13 +1012,46 @@ fn is_closed(
         })
         .collect();
     edges.par_sort_unstable();
-    let unique = edges.par_windows(2).all(|w| w[0] != w[1]);
-    let closed = unique
-        && edges
-            .par_iter()
-            .all(|&e| edges.binary_search(&e.rotate_right(32)).is_ok());
+    // Tested by pieces (see `any_of`), each piece also against the edge
+    // before it.
+    const PIECE: usize = 1 << 14;
+    let repeated = edges.par_chunks(PIECE).enumerate().any(|(k, piece)| {
+        let before = (k * PIECE).checked_sub(1).map(|j| edges[j]);
+        before == Some(piece[0]) || piece.windows(2).any(|w| w[0] == w[1])
+    });
+    if repeated {
+        held.shrink(bytes);
+        return Ok(false);
+    }
+    // Where each point's edges start in the sorted list (0: none, else the
+    // index + 1): an edge's reverse is looked for among the few edges of
+    // its end, not by a search of the whole list.
+    let points = edges.last().map_or(0, |&e| (e >> 32) as usize + 1);
+    let index = bytes_of::<u32>(points as u64);
+    hold(held, name, "the edges' index", index)?;
+    let starts: Vec<AtomicU32> = bytemuck::zeroed_vec(points);
+    (0..edges.len()).into_par_iter().for_each(|j| {
+        let from = edges[j] >> 32;
+        if j == 0 || edges[j - 1] >> 32 != from {
+            starts[from as usize].store(j as u32 + 1, Ordering::Relaxed);
+        }
+    });
+    let has = |e: u64| {
+        let from = e >> 32;
+        let start = match starts.get(from as usize) {
+            Some(s) => s.load(Ordering::Relaxed) as usize,
+            None => 0,
+        };
+        start != 0
+            && edges[start - 1..]
+                .iter()
+                .take_while(|&&f| f >> 32 == from)
+                .any(|&f| f == e)
+    };
+    let closed = !any_of(&edges, |&e| !has(e.rotate_right(32)));
+    drop(starts);
     drop(edges);
-    held.shrink(bytes);
+    held.shrink(bytes.saturating_add(index));
     Ok(closed)
 }
 
