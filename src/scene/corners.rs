@@ -146,24 +146,18 @@ pub(crate) fn fit_of<I: Iterator<Item = Vec3>>(points: impl Fn() -> I) -> Option
 /// same bits, since the bounds keep the later of equal values (`min` and
 /// `max` take their second argument on a tie, as one walk does, and the
 /// pieces are joined in order) and the farthest distance is a maximum.
-/// The bounds are found in `f32`, lane by lane with the same `min` and
-/// `max` (widening keeps order and sign), and the farthest squared distance
-/// is rooted once (the root keeps order too). Also says whether any corner
-/// passes `test`, asked in the same walk.
+/// Also says whether any corner passes `test`, asked in the same walk.
 fn fit_of_corners(
     positions: &[Vec3],
     corners: &[[u32; 3]],
     test: impl Fn(&[u32; 3]) -> bool + Sync,
 ) -> (Option<(DVec3, f64)>, bool) {
-    type Bounds = ([f32; 3], [f32; 3]);
-    let at = |k: &[u32; 3]| positions[k[0] as usize].to_array();
-    let lanes = |a: [f32; 3], b: [f32; 3], f: fn(f32, f32) -> f32| [0, 1, 2].map(|i| f(a[i], b[i]));
-    let join = |(lo1, hi1): Bounds, (lo2, hi2): Bounds| {
-        (lanes(lo1, lo2, f32::min), lanes(hi1, hi2, f32::max))
-    };
-    let none = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    type Bounds = (DVec3, DVec3);
+    let at = |k: &[u32; 3]| positions[k[0] as usize].as_dvec3();
+    let join = |(lo1, hi1): Bounds, (lo2, hi2): Bounds| (lo1.min(lo2), hi1.max(hi2));
+    let none = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     let ((lo, hi), any) = corners
-        .par_chunks(1 << 14)
+        .par_chunks(PIECE)
         .map(|piece| {
             let bounds = piece.iter().fold(none, |b, k| join(b, (at(k), at(k))));
             (bounds, piece.iter().any(&test))
@@ -172,23 +166,23 @@ fn fit_of_corners(
             || (none, false),
             |(b1, t1), (b2, t2)| (join(b1, b2), t1 || t2),
         );
-    let center = (Vec3::from(lo).as_dvec3() + Vec3::from(hi).as_dvec3()) * 0.5;
+    let center = (lo + hi) * 0.5;
     let radius = corners
         .par_iter()
-        .map(|k| (Vec3::from(at(k)).as_dvec3() - center).length_squared())
-        .reduce(|| 0.0f64, f64::max)
-        .sqrt();
+        .map(|k| (at(k) - center).length())
+        .reduce(|| 0.0f64, f64::max);
     let fit = (radius > 0.0 && radius.is_finite()).then(|| (center, FIT_RADIUS as f64 / radius));
     (fit, any)
 }
+
+/// Items a parallel walk takes at a time where it tests or folds plainly.
+const PIECE: usize = 1 << 14;
 
 /// Whether any item passes `test`, in parallel: a slice cut into pieces
 /// each walked plainly (rayon's own `any` checks for an early stop at
 /// every item, which costs more than these tests).
 fn any_of<T: Sync>(items: &[T], test: impl Fn(&T) -> bool + Sync) -> bool {
-    items
-        .par_chunks(1 << 14)
-        .any(|piece| piece.iter().any(&test))
+    items.par_chunks(PIECE).any(|piece| piece.iter().any(&test))
 }
 
 /// A point moved by the fit [`fit_of`] found.
@@ -1014,7 +1008,6 @@ fn is_closed(
     edges.par_sort_unstable();
     // Tested by pieces (see `any_of`), each piece also against the edge
     // before it.
-    const PIECE: usize = 1 << 14;
     let repeated = edges.par_chunks(PIECE).enumerate().any(|(k, piece)| {
         let before = (k * PIECE).checked_sub(1).map(|j| edges[j]);
         before == Some(piece[0]) || piece.windows(2).any(|w| w[0] == w[1])
