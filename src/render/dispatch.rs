@@ -68,11 +68,32 @@ fn phong<T: RasterTarget, const BUMP: bool>(
     target: &mut T,
     counters: &mut Counters,
 ) {
+    let k = ctx.plan.bump_strength;
     match (s.textured, ctx.plan.specular.is_some()) {
-        (true, true) => target.raster(tri, &PhongKernel::<true, BUMP, true>(s), ctx, counters),
-        (true, false) => target.raster(tri, &PhongKernel::<true, BUMP, false>(s), ctx, counters),
-        (false, true) => target.raster(tri, &PhongKernel::<false, BUMP, true>(s), ctx, counters),
-        (false, false) => target.raster(tri, &PhongKernel::<false, BUMP, false>(s), ctx, counters),
+        (true, true) => target.raster(
+            tri,
+            &PhongKernel::<true, BUMP, true>::new(s, k),
+            ctx,
+            counters,
+        ),
+        (true, false) => target.raster(
+            tri,
+            &PhongKernel::<true, BUMP, false>::new(s, k),
+            ctx,
+            counters,
+        ),
+        (false, true) => target.raster(
+            tri,
+            &PhongKernel::<false, BUMP, true>::new(s, k),
+            ctx,
+            counters,
+        ),
+        (false, false) => target.raster(
+            tri,
+            &PhongKernel::<false, BUMP, false>::new(s, k),
+            ctx,
+            counters,
+        ),
     }
 }
 

@@ -1,6 +1,9 @@
 //! Blinn's perturbed normal (docs/bump-blinn.md), and Blinn's technique
 //! for the shading core: the height gradient tilts the normal.
 
+use glam::Vec3;
+
+use super::PhongTri;
 use super::core::{Hook, HookAt, Pixels, gradient};
 use super::lanes::{Lanes, Vector};
 use super::shader::ShadeCtx;
@@ -9,7 +12,23 @@ use crate::stats::Counters;
 
 /// Blinn bump mapping when `BUMP`, plain Phong otherwise (the surface's own
 /// normal and texture coordinate).
-pub struct Blinn<const BUMP: bool>;
+pub struct Blinn<const BUMP: bool> {
+    /// The triangle's axes when every pixel has the same ones (see
+    /// [`Blinn::for_triangle`]).
+    flat: Option<Axes<Vec3>>,
+}
+
+impl<const BUMP: bool> Blinn<BUMP> {
+    /// Blinn's hook for `tri` under the strength `k`. A facet drawn with its
+    /// face normal and one pair of texture axes (a cube face) has the same
+    /// N × ∂P/∂v, N × ∂P/∂u and orientation at every pixel: they are made
+    /// here once, with the very operations each pixel would repeat.
+    pub fn for_triangle(tri: &PhongTri, k: f32) -> Self {
+        let flat = (BUMP && !tri.smooth && tri.uniform_tangents)
+            .then(|| Axes::new(tri.face_normal, tri.tangent_u[0], tri.tangent_v[0], k));
+        Blinn { flat }
+    }
+}
 
 impl<const BUMP: bool> Hook for Blinn<BUMP> {
     type Pixel<V: Vector> = ();
@@ -44,7 +63,11 @@ impl<const BUMP: bool> Hook for Blinn<BUMP> {
             } else {
                 gradient(ctx, s.u, s.v, px.fp, px.live)
             };
-            at.n = blinn(s.n, s.pu, s.pv, fu, fv, plan.bump_strength);
+            let axes = match &self.flat {
+                Some(a) => a.lanes(),
+                None => Axes::new(s.n, s.pu, s.pv, plan.bump_strength),
+            };
+            at.n = axes.perturb(s.n, fu, fv);
         }
         (at, ())
     }
@@ -59,19 +82,55 @@ impl<const BUMP: bool> Hook for Blinn<BUMP> {
 /// Written once for one normal or eight (`shade::lanes`).
 #[inline(always)]
 pub fn blinn<V: Vector>(n: V, pu: V, pv: V, fu: V::L, fv: V::L, k: f32) -> V {
-    let flip = pu.cross(pv).dot(n).lt(V::L::ZERO);
-    let k = V::L::select(flip, V::L::splat(-k), V::L::splat(k));
-    let perturbed = n + (n.cross(pv) * fu - n.cross(pu) * fv) * k;
-    let len2 = perturbed.dot(perturbed);
-    let inf = V::L::splat(f32::INFINITY);
-    let ok = V::L::both(len2.gt(V::L::splat(1e-20)), || len2.lt(inf));
-    V::select(ok, perturbed / len2.sqrt(), n)
+    Axes::new(n, pu, pv, k).perturb(n, fu, fv)
+}
+
+/// The part of Blinn's formula the heights do not change: N × Pv, N × Pu
+/// and k with the sign of the UVs' orientation.
+#[derive(Clone, Copy, Debug)]
+pub struct Axes<V: Vector> {
+    n_pv: V,
+    n_pu: V,
+    k: V::L,
+}
+
+impl<V: Vector> Axes<V> {
+    #[inline(always)]
+    pub fn new(n: V, pu: V, pv: V, k: f32) -> Self {
+        let flip = pu.cross(pv).dot(n).lt(V::L::ZERO);
+        Axes {
+            n_pv: n.cross(pv),
+            n_pu: n.cross(pu),
+            k: V::L::select(flip, V::L::splat(-k), V::L::splat(k)),
+        }
+    }
+
+    /// The unit normal `n` tilted by the height slopes (fu, fv).
+    #[inline(always)]
+    pub fn perturb(&self, n: V, fu: V::L, fv: V::L) -> V {
+        let perturbed = n + (self.n_pv * fu - self.n_pu * fv) * self.k;
+        let len2 = perturbed.dot(perturbed);
+        let inf = V::L::splat(f32::INFINITY);
+        let ok = V::L::both(len2.gt(V::L::splat(1e-20)), || len2.lt(inf));
+        V::select(ok, perturbed / len2.sqrt(), n)
+    }
+}
+
+impl Axes<Vec3> {
+    /// The same axes in every lane of `V`.
+    #[inline(always)]
+    fn lanes<V: Vector>(&self) -> Axes<V> {
+        Axes {
+            n_pv: V::uniform(self.n_pv),
+            n_pu: V::uniform(self.n_pu),
+            k: V::L::splat(self.k),
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec3;
 
     // +Z face of the reference cube: U = +X, V = +Y, Pu = 2U, Pv = 2V.
     const PU: Vec3 = Vec3::new(2.0, 0.0, 0.0);

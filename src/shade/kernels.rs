@@ -227,7 +227,20 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
 
 /// The Phong kernel, with or without texture, Blinn bump and highlights:
 /// the shading core with Blinn's hook, one pixel or eight at a time.
-pub struct PhongKernel<'a, const TEX: bool, const BUMP: bool, const SPEC: bool>(pub &'a PhongTri);
+pub struct PhongKernel<'a, const TEX: bool, const BUMP: bool, const SPEC: bool> {
+    tri: &'a PhongTri,
+    hook: Blinn<BUMP>,
+}
+
+impl<'a, const TEX: bool, const BUMP: bool, const SPEC: bool> PhongKernel<'a, TEX, BUMP, SPEC> {
+    /// The kernel of `tri` under the bump strength `k` (of the plan).
+    pub fn new(tri: &'a PhongTri, k: f32) -> Self {
+        PhongKernel {
+            tri,
+            hook: Blinn::for_triangle(tri, k),
+        }
+    }
+}
 
 impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     for PhongKernel<'_, TEX, BUMP, SPEC>
@@ -236,11 +249,11 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
         let b = [b.x, b.y, b.z];
-        let c = shade::<Vec3, Blinn<BUMP>, TEX, SPEC>(&Blinn, self.0, ctx, b, &[fp], 1, counters);
+        let c = shade::<Vec3, _, TEX, SPEC>(&self.hook, self.tri, ctx, b, &[fp], 1, counters);
         finish(c, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
-        Some(&self.0.uv)
+        Some(&self.tri.uv)
     }
     fn packets(&self, _: &ShadeCtx) -> bool {
         true
@@ -249,7 +262,7 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
         cuts(ctx)
     }
     fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
-        opaque_at(ctx, lerp2(b, &self.0.uv))
+        opaque_at(ctx, lerp2(b, &self.tri.uv))
     }
     #[inline(always)]
     fn shade8(
@@ -260,7 +273,7 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
-        let c = shade::<V3, Blinn<BUMP>, TEX, SPEC>(&Blinn, self.0, ctx, b, fp, live, counters);
+        let c = shade::<V3, _, TEX, SPEC>(&self.hook, self.tri, ctx, b, fp, live, counters);
         packet::finish(c, live, counters)
     }
 }

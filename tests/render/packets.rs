@@ -107,6 +107,7 @@ fn both_planned(
             }};
         }
         let spec = plan.specular.is_some();
+        let k = plan.bump_strength;
         match &shaders[tri.shader as usize] {
             TriShader::Solid(c) => draw!(*c),
             TriShader::FlatTextured(s) if spec => draw!(FlatTexturedKernel::<true>(s)),
@@ -148,14 +149,14 @@ fn both_planned(
                 }
             }
             TriShader::Phong(s) => match (s.textured, s.bumped, spec) {
-                (true, true, true) => draw!(PhongKernel::<true, true, true>(s)),
-                (true, false, true) => draw!(PhongKernel::<true, false, true>(s)),
-                (false, true, true) => draw!(PhongKernel::<false, true, true>(s)),
-                (false, false, true) => draw!(PhongKernel::<false, false, true>(s)),
-                (true, true, false) => draw!(PhongKernel::<true, true, false>(s)),
-                (true, false, false) => draw!(PhongKernel::<true, false, false>(s)),
-                (false, true, false) => draw!(PhongKernel::<false, true, false>(s)),
-                (false, false, false) => draw!(PhongKernel::<false, false, false>(s)),
+                (true, true, true) => draw!(PhongKernel::<true, true, true>::new(s, k)),
+                (true, false, true) => draw!(PhongKernel::<true, false, true>::new(s, k)),
+                (false, true, true) => draw!(PhongKernel::<false, true, true>::new(s, k)),
+                (false, false, true) => draw!(PhongKernel::<false, false, true>::new(s, k)),
+                (true, true, false) => draw!(PhongKernel::<true, true, false>::new(s, k)),
+                (true, false, false) => draw!(PhongKernel::<true, false, false>::new(s, k)),
+                (false, true, false) => draw!(PhongKernel::<false, true, false>::new(s, k)),
+                (false, false, false) => draw!(PhongKernel::<false, false, false>::new(s, k)),
             },
         }
     }
