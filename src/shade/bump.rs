@@ -173,4 +173,46 @@ mod tests {
         assert!(n.is_finite());
         assert!((n.length() - 1.0).abs() < 1e-5);
     }
+
+    #[test]
+    fn a_facets_axes_made_once_give_every_pixels_normal() {
+        use crate::shade::packet::V3;
+        use wide::f32x8;
+        let n = Vec3::new(0.3, -0.5, 0.8).normalize();
+        let slopes = [
+            (0.0, 0.0),
+            (37.5, -12.25),
+            (-0.001, 250.0),
+            (1e30, 1e30),
+            (f32::NAN, 1.0),
+            (3.0, f32::INFINITY),
+            (-80.0, -80.0),
+            (0.5, -0.5),
+        ];
+        let (fu, fv) = (slopes.map(|s| s.0), slopes.map(|s| s.1));
+        for (pu, pv) in [
+            (PU, PV),
+            (-PU, PV),
+            (Vec3::new(1.5, 0.2, -0.1), Vec3::new(-0.3, 2.0, 0.4)),
+        ] {
+            for k in [0.006, -0.02, 0.0] {
+                let once = Axes::new(n, pu, pv, k);
+                let eight =
+                    once.lanes::<V3>()
+                        .perturb(V3::splat(n), f32x8::from(fu), f32x8::from(fv));
+                let (x, y, z) = (eight.x.to_array(), eight.y.to_array(), eight.z.to_array());
+                for i in 0..8 {
+                    let each = blinn(n, pu, pv, fu[i], fv[i], k);
+                    let one = once.lanes::<Vec3>().perturb(n, fu[i], fv[i]);
+                    let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+                    assert_eq!(bits(one), bits(each), "{pu} {pv} {k} lane {i}");
+                    assert_eq!(
+                        bits(Vec3::new(x[i], y[i], z[i])),
+                        bits(each),
+                        "{pu} {pv} {k} lane {i}"
+                    );
+                }
+            }
+        }
+    }
 }
