@@ -68,32 +68,25 @@ fn phong<T: RasterTarget, const BUMP: bool>(
     target: &mut T,
     counters: &mut Counters,
 ) {
+    // The kernel is made per triangle: Blinn's axes of a flat facet once.
     let k = ctx.plan.bump_strength;
     match (s.textured, ctx.plan.specular.is_some()) {
-        (true, true) => target.raster(
-            tri,
-            &PhongKernel::<true, BUMP, true>::new(s, k),
-            ctx,
-            counters,
-        ),
-        (true, false) => target.raster(
-            tri,
-            &PhongKernel::<true, BUMP, false>::new(s, k),
-            ctx,
-            counters,
-        ),
-        (false, true) => target.raster(
-            tri,
-            &PhongKernel::<false, BUMP, true>::new(s, k),
-            ctx,
-            counters,
-        ),
-        (false, false) => target.raster(
-            tri,
-            &PhongKernel::<false, BUMP, false>::new(s, k),
-            ctx,
-            counters,
-        ),
+        (true, true) => {
+            let kernel = PhongKernel::<true, BUMP, true>::new(s, k);
+            target.raster(tri, &kernel, ctx, counters)
+        }
+        (true, false) => {
+            let kernel = PhongKernel::<true, BUMP, false>::new(s, k);
+            target.raster(tri, &kernel, ctx, counters)
+        }
+        (false, true) => {
+            let kernel = PhongKernel::<false, BUMP, true>::new(s, k);
+            target.raster(tri, &kernel, ctx, counters)
+        }
+        (false, false) => {
+            let kernel = PhongKernel::<false, BUMP, false>::new(s, k);
+            target.raster(tri, &kernel, ctx, counters)
+        }
     }
 }
 
