@@ -13,7 +13,7 @@ use super::file_map::MappedFile;
 use super::load_progress::{self, LoadStep, cancelled};
 use super::model_error::ObjError;
 use crate::budget::{self, Reservation};
-use crate::sanitize::{clean, display_path};
+use crate::sanitize::display_path;
 
 /// A model file's bytes: mapped when the file is large, read otherwise.
 pub(crate) enum FileBytes {
@@ -64,7 +64,7 @@ pub(crate) fn read_model_file_mapping_from(
     let name = display_path(path);
     let read_error = |e: std::io::Error| ObjError::Read {
         name: name.clone(),
-        reason: clean(&e.to_string()),
+        reason: crate::sanitize::io_reason(&e),
     };
     let meta = std::fs::metadata(path).map_err(read_error)?;
     if !meta.is_file() {
@@ -182,7 +182,7 @@ pub fn check_openable(path: &Path) -> Result<(), ObjError> {
     let name = display_path(path);
     let read_error = |e: std::io::Error| ObjError::Read {
         name: name.clone(),
-        reason: clean(&e.to_string()),
+        reason: crate::sanitize::io_reason(&e),
     };
     if !std::fs::metadata(path).map_err(read_error)?.is_file() {
         return Err(ObjError::NotAFile { name });
@@ -207,8 +207,10 @@ pub fn resolve_beside(dir: &Path, written: &str) -> Option<PathBuf> {
     if written.is_empty() {
         return None;
     }
+    // What is there, file or not: reading it says what it is (a device
+    // or a FIFO is not a regular file, which "not found" would hide).
     let direct = dir.join(&written);
-    if direct.is_file() {
+    if direct.exists() {
         return Some(direct);
     }
     let mut at = if Path::new(&written).is_absolute() {
@@ -235,7 +237,7 @@ pub fn resolve_beside(dir: &Path, written: &str) -> Option<PathBuf> {
         })?;
         at.push(found.file_name());
     }
-    at.is_file().then_some(at)
+    at.exists().then_some(at)
 }
 
 #[cfg(test)]
@@ -299,6 +301,25 @@ mod tests {
             assert_eq!(bytes, data[..got], "{asked}");
         }
         std::fs::remove_file(&path).unwrap();
+    }
+
+    /// A name that is there but is not a regular file (a device, a FIFO,
+    /// a folder) is found: reading it then says what it is, where "not
+    /// found" would mislead.
+    #[test]
+    #[cfg(unix)]
+    fn what_is_not_a_regular_file_is_found_and_refused_as_such() {
+        let dir = std::env::temp_dir().join(format!("relief-beside-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("Maps")).unwrap();
+        assert_eq!(
+            resolve_beside(&dir, "/dev/zero"),
+            Some(PathBuf::from("/dev/zero"))
+        );
+        assert_eq!(resolve_beside(&dir, "maps"), Some(dir.join("Maps")));
+        assert_eq!(resolve_beside(&dir, "none.png"), None);
+        let e = read_model_file(Path::new("/dev/zero")).err().unwrap();
+        assert!(matches!(e, ObjError::NotAFile { .. }), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

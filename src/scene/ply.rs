@@ -195,8 +195,8 @@ impl Body<'_> {
 /// Reads a PLY file; `name` (already sanitised) is used in messages.
 pub fn parse(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
     guarded(name, || {
-        let (corners, held) = read(name, bytes)?;
-        finish(name, corners, held)
+        let (corners, held, warnings) = read(name, bytes)?;
+        finish(name, corners, held, warnings)
     })
 }
 
@@ -210,10 +210,10 @@ pub(crate) fn load(
     guarded(name, move || {
         let read = read(name, &bytes);
         bytes.check(name)?;
-        let (corners, read_held) = read?;
+        let (corners, read_held, warnings) = read?;
         drop(bytes);
         drop(held);
-        finish(name, corners, read_held)
+        finish(name, corners, read_held, warnings)
     })
 }
 
@@ -230,8 +230,23 @@ fn guarded(
     })
 }
 
+/// The header's words relief reads; a line that begins with another word
+/// is skipped with a warning (Blender 2.4 wrote a "Created by Blender3D …"
+/// line without `comment`, and assimp and Blender read such files), one
+/// that begins with one of these but cannot be read refuses the file.
+const HEADER_WORDS: &[&str] = &["ply", "format", "element", "property", "end_header"];
+
+/// What the header says: format, elements, where the body starts, and the
+/// lines skipped (as warnings).
+struct Header {
+    format: Format,
+    elements: Vec<Element>,
+    start: usize,
+    warnings: Vec<String>,
+}
+
 /// The header: elements, format, and where the body starts.
-fn header(name: &str, bytes: &[u8]) -> Result<(Format, Vec<Element>, usize), ObjError> {
+fn header(name: &str, bytes: &[u8]) -> Result<Header, ObjError> {
     let at = |line: usize, problem: String| ObjError::Line {
         name: name.to_string(),
         line,
@@ -246,6 +261,7 @@ fn header(name: &str, bytes: &[u8]) -> Result<(Format, Vec<Element>, usize), Obj
     let mut pos = 0;
     let mut format = None;
     let mut elements: Vec<Element> = Vec::new();
+    let mut warnings = Vec::new();
     for number in 1.. {
         let Some(end) = bytes[pos..].iter().position(|&b| b == b'\n') else {
             return Err(at(number, "the header has no 'end_header'".into()));
@@ -308,7 +324,18 @@ fn header(name: &str, bytes: &[u8]) -> Result<(Format, Vec<Element>, usize), Obj
             }
             ["end_header"] => {
                 let format = format.ok_or_else(|| at(number, "no 'format' line".into()))?;
-                return Ok((format, elements, pos));
+                return Ok(Header {
+                    format,
+                    elements,
+                    start: pos,
+                    warnings,
+                });
+            }
+            [word, ..] if !HEADER_WORDS.contains(word) => {
+                let shown: String = crate::sanitize::clean(&line).chars().take(40).collect();
+                warnings.push(format!(
+                    "model {name}, line {number}: header line '{shown}' skipped (not a PLY keyword)"
+                ));
             }
             _ => {
                 let shown: String = crate::sanitize::clean(&line).chars().take(40).collect();
@@ -371,8 +398,13 @@ fn least_item_bytes(e: &Element, format: Format) -> u64 {
 
 /// Reads the file's vertices into shared arrays and its faces, fanned into
 /// triangles, as corners indexing them, with the reservation covering both.
-fn read(name: &str, bytes: &[u8]) -> Result<(IndexedCorners, Reservation), ObjError> {
-    let (format, elements, start) = header(name, bytes)?;
+fn read(name: &str, bytes: &[u8]) -> Result<(IndexedCorners, Reservation, Vec<String>), ObjError> {
+    let Header {
+        format,
+        elements,
+        start,
+        warnings,
+    } = header(name, bytes)?;
     let vertex_element = elements.iter().position(|e| e.name == "vertex");
     let Some(vertex_element) = vertex_element else {
         return Err(ObjError::Empty {
@@ -577,12 +609,17 @@ fn read(name: &str, bytes: &[u8]) -> Result<(IndexedCorners, Reservation), ObjEr
             name: name.to_string(),
         });
     }
-    Ok((c, held))
+    Ok((c, held, warnings))
 }
 
 /// The model of what [`read`] read: a point cloud when there are no
 /// faces, else the built triangles.
-fn finish(name: &str, c: IndexedCorners, mut held: Reservation) -> Result<LoadedModel, ObjError> {
+fn finish(
+    name: &str,
+    c: IndexedCorners,
+    mut held: Reservation,
+    warnings: Vec<String>,
+) -> Result<LoadedModel, ObjError> {
     let parts = if c.corners.is_empty() {
         vec![ModelPart {
             mesh: point_cloud(name, &c)?,
@@ -611,7 +648,7 @@ fn finish(name: &str, c: IndexedCorners, mut held: Reservation) -> Result<Loaded
         }),
         parts,
         maps: ModelMaps::default(),
-        warnings: Vec::new(),
+        warnings,
     })
 }
 

@@ -576,7 +576,18 @@ fn bad_files_give_one_clear_line() {
         error_of("flat_line.obj"),
         ObjError::Degenerate { .. }
     ));
+    // Two faces that repeat a corner: they are there, with no area.
+    let e = failure(obj::parse(
+        "repeats.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\nf 2 2 3\n",
+    ));
+    assert!(matches!(e, ObjError::Degenerate { .. }), "{e:?}");
     assert!(matches!(error_of("missing.obj"), ObjError::Read { .. }));
+    let missing = error_of("missing.obj").to_string();
+    assert!(
+        missing.ends_with("no such file") && !missing.contains("os error"),
+        "{missing}"
+    );
     assert!(matches!(
         obj::load(&data("")),
         Err(ObjError::NotAFile { .. })
@@ -619,7 +630,10 @@ fn bad_text_is_refused_with_its_line() {
             "line 3: vertex index 3",
         ),
         ("v 0 0 0\rv 1 0 0\rf 1 2 3\r", "line 3: vertex index 3"),
-        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 1 2 2 2\n", "no faces"),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 1 2 2 2\n",
+            "no face with an area",
+        ),
         ("v 0 0 0\nf 1 1 1\nv 0 0 \u{1b}[31m\n", "'?[31m'"),
     ];
     for (text, expected) in cases {

@@ -270,6 +270,34 @@ fn ply_ascii_and_binary_of_the_same_cube_give_the_same_mesh() {
     );
 }
 
+/// Blender 2.47 wrote a header line that is not a `comment` ("Created by
+/// Blender3D 247 - www.blender.org, source file: …"): it is skipped with a
+/// warning naming its line, and the cube is the same as without it. A
+/// line that begins with a PLY keyword but cannot be read still refuses.
+#[test]
+fn a_ply_header_line_of_unknown_words_is_skipped_with_a_warning() {
+    let plain = ply("binary_little_endian");
+    let line = b"Created by Blender3D 247 - www.blender.org, source file: 'wuson.blend'\n";
+    let mut blender = plain[..4].to_vec();
+    blender.extend_from_slice(line);
+    blender.extend_from_slice(&plain[4..]);
+    let with = relief::scene::ply::parse("blender.ply", &blender).unwrap();
+    let without = relief::scene::ply::parse("plain.ply", &plain).unwrap();
+    assert_eq!(with.merged(), without.merged());
+    assert_eq!(with.warnings.len(), 1, "{:?}", with.warnings);
+    let w = &with.warnings[0];
+    assert!(
+        w.contains("line 2") && w.contains("Created by Blender3D"),
+        "{w}"
+    );
+
+    let text = String::from_utf8_lossy(&plain).replacen("element face 12", "element face", 1);
+    let Err(e) = relief::scene::ply::parse("bad.ply", text.as_bytes()) else {
+        panic!("a malformed element line was read");
+    };
+    assert!(e.to_string().contains("cannot read header line"), "{e}");
+}
+
 #[test]
 fn assimp_ply_files_load() {
     let count = |f: &str| load(&data(&format!("assimp/{f}"))).merged().triangles.len();

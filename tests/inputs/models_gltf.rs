@@ -20,34 +20,34 @@ const H: usize = 120;
 
 /// One primitive as written to the file.
 #[derive(Clone, Default)]
-struct Prim {
-    pos: Vec<[f32; 3]>,
-    nrm: Vec<[f32; 3]>,
-    uv: Vec<[f32; 2]>,
-    tan: Option<Vec<[f32; 4]>>,
-    idx: Vec<u16>,
-    material: Option<usize>,
+pub(super) struct Prim {
+    pub(super) pos: Vec<[f32; 3]>,
+    pub(super) nrm: Vec<[f32; 3]>,
+    pub(super) uv: Vec<[f32; 2]>,
+    pub(super) tan: Option<Vec<[f32; 4]>>,
+    pub(super) idx: Vec<u16>,
+    pub(super) material: Option<usize>,
     /// COLOR_0 (RGB), if any.
-    col: Vec<[f32; 3]>,
+    pub(super) col: Vec<[f32; 3]>,
     /// The primitive's mode (absent: triangles).
-    mode: Option<u32>,
+    pub(super) mode: Option<u32>,
 }
 
 /// A GLB of one mesh with these primitives, drawn by the nodes in
 /// `nodes` (JSON; node 0 is the scene's root) or by one node.
-struct Doc {
-    prims: Vec<Prim>,
-    nodes: String,
-    materials: String,
+pub(super) struct Doc {
+    pub(super) prims: Vec<Prim>,
+    pub(super) nodes: String,
+    pub(super) materials: String,
     /// PNG files, texture i reading image i.
-    images: Vec<Vec<u8>>,
+    pub(super) images: Vec<Vec<u8>>,
     /// A sampler every texture uses (JSON), if any.
-    sampler: Option<String>,
-    extra: String,
+    pub(super) sampler: Option<String>,
+    pub(super) extra: String,
 }
 
 impl Doc {
-    fn new(prims: Vec<Prim>) -> Self {
+    pub(super) fn new(prims: Vec<Prim>) -> Self {
         Doc {
             prims,
             nodes: r#"[{"mesh":0}]"#.into(),
@@ -59,7 +59,7 @@ impl Doc {
     }
 }
 
-fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+pub(super) fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     let mut json = json.as_bytes().to_vec();
     while !json.len().is_multiple_of(4) {
         json.push(b' ');
@@ -82,7 +82,7 @@ fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     out
 }
 
-fn encode(doc: &Doc) -> Vec<u8> {
+pub(super) fn encode(doc: &Doc) -> Vec<u8> {
     let mut bin: Vec<u8> = Vec::new();
     let mut views = Vec::new();
     let mut accessors = Vec::new();
@@ -199,7 +199,7 @@ fn encode(doc: &Doc) -> Vec<u8> {
     glb(&json, &bin)
 }
 
-fn png(w: u32, h: u32, rgba: impl Fn(u32, u32) -> [u8; 4]) -> Vec<u8> {
+pub(super) fn png(w: u32, h: u32, rgba: impl Fn(u32, u32) -> [u8; 4]) -> Vec<u8> {
     let mut img = image::RgbaImage::new(w, h);
     for (x, y, p) in img.enumerate_pixels_mut() {
         *p = image::Rgba(rgba(x, y));
@@ -216,7 +216,7 @@ fn scratch(test: &str) -> PathBuf {
     dir
 }
 
-fn write(test: &str, name: &str, bytes: &[u8]) -> PathBuf {
+pub(super) fn write(test: &str, name: &str, bytes: &[u8]) -> PathBuf {
     let path = scratch(test).join(name);
     std::fs::write(&path, bytes).unwrap();
     path
@@ -224,7 +224,7 @@ fn write(test: &str, name: &str, bytes: &[u8]) -> PathBuf {
 
 /// An axis-aligned quad in z = 0 facing +Z: corners (x0, y0)–(x1, y1),
 /// u from `u0` at x0 to `u1` at x1, v 0 at the top (y1) and 1 at the bottom.
-fn quad(x0: f32, x1: f32, y0: f32, y1: f32, u0: f32, u1: f32) -> Prim {
+pub(super) fn quad(x0: f32, x1: f32, y0: f32, y1: f32, u0: f32, u1: f32) -> Prim {
     Prim {
         pos: vec![[x0, y1, 0.0], [x0, y0, 0.0], [x1, y0, 0.0], [x1, y1, 0.0]],
         nrm: vec![[0.0, 0.0, 1.0]; 4],
@@ -240,14 +240,14 @@ fn quad(x0: f32, x1: f32, y0: f32, y1: f32, u0: f32, u1: f32) -> Prim {
     }
 }
 
-fn scene_of(model: Model) -> Scene {
+pub(super) fn scene_of(model: Model) -> Scene {
     let mut scene = Scene::gltf(model, Arc::new(procedural::brick()));
     scene.background = MAGENTA;
     scene
 }
 
 /// Seen face-on: no rotation.
-fn face_on() -> Settings {
+pub(super) fn face_on() -> Settings {
     Settings {
         rotation: Vec3::ZERO,
         ..Settings::default()
@@ -258,11 +258,11 @@ fn px(fb: &Framebuffer, x: usize, y: usize) -> [u8; 3] {
     fb.pixels()[y * fb.width() + x]
 }
 
-fn covered(fb: &Framebuffer) -> usize {
+pub(super) fn covered(fb: &Framebuffer) -> usize {
     fb.pixels().iter().filter(|&&p| p != MAGENTA).count()
 }
 
-fn render(scene: &Scene, settings: &Settings) -> Framebuffer {
+pub(super) fn render(scene: &Scene, settings: &Settings) -> Framebuffer {
     render_frame(scene, settings, W, H).0
 }
 
@@ -289,7 +289,7 @@ fn projected_area(scene: &Scene, corners: &[Vec3]) -> f32 {
     twice.abs() / 2.0
 }
 
-fn load_ok(path: &Path) -> Model {
+pub(super) fn load_ok(path: &Path) -> Model {
     load(path).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -351,11 +351,11 @@ fn every_triangle_mode_draws_the_same_square() {
 
 /// A constant normal map tilted towards +u and up the picture:
 /// (0.5, 0.5, 0.707), green being up as in glTF.
-fn tilted_map() -> Vec<u8> {
+pub(super) fn tilted_map() -> Vec<u8> {
     png(4, 4, |_, _| [191, 191, 218, 255])
 }
 
-fn dot3() -> Settings {
+pub(super) fn dot3() -> Settings {
     Settings {
         technique: Technique::Dot3,
         shading: Shading::Phong,
@@ -372,7 +372,7 @@ fn light_on_seam(scene: &mut Scene) {
     }];
 }
 
-fn materials_with_normal(scale: Option<f32>) -> String {
+pub(super) fn materials_with_normal(scale: Option<f32>) -> String {
     match scale {
         Some(s) => format!(r#"[{{"normalTexture":{{"index":0,"scale":{s}}}}}]"#),
         None => r#"[{}]"#.into(),
@@ -526,7 +526,20 @@ fn base_color_factor_scales_the_colour() {
     );
 }
 
-fn refused(test: &str, bytes: &[u8]) -> String {
+/// The GLB with the first `from` of its JSON replaced by `to`.
+pub(super) fn json_fix(bytes: Vec<u8>, from: &str, to: &str) -> Vec<u8> {
+    let text = String::from_utf8_lossy(&bytes).into_owned();
+    assert!(text.contains(from), "{from}");
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let json = std::str::from_utf8(&bytes[20..20 + json_len])
+        .unwrap()
+        .replacen(from, to, 1);
+    let bin_at = 20 + json_len;
+    let bin_len = u32::from_le_bytes(bytes[bin_at..bin_at + 4].try_into().unwrap()) as usize;
+    glb(json.trim_end(), &bytes[bin_at + 8..bin_at + 8 + bin_len])
+}
+
+pub(super) fn refused(test: &str, bytes: &[u8]) -> String {
     let path = write(test, "bad.glb", bytes);
     let message = match load(&path) {
         Ok(_) => panic!("{test}: loaded"),
@@ -537,7 +550,7 @@ fn refused(test: &str, bytes: &[u8]) -> String {
     message
 }
 
-fn good() -> Doc {
+pub(super) fn good() -> Doc {
     Doc::new(vec![quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0)])
 }
 
@@ -572,17 +585,6 @@ fn bad_files_are_refused_with_the_place() {
     // An accessor past its buffer view.
     let mut doc = good();
     doc.extra = String::new();
-    let json_fix = |bytes: Vec<u8>, from: &str, to: &str| -> Vec<u8> {
-        let text = String::from_utf8_lossy(&bytes).into_owned();
-        assert!(text.contains(from));
-        let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-        let json = std::str::from_utf8(&bytes[20..20 + json_len])
-            .unwrap()
-            .replacen(from, to, 1);
-        let bin_at = 20 + json_len;
-        let bin_len = u32::from_le_bytes(bytes[bin_at..bin_at + 4].try_into().unwrap()) as usize;
-        glb(json.trim_end(), &bytes[bin_at + 8..bin_at + 8 + bin_len])
-    };
     let bytes = json_fix(
         encode(&doc),
         r#""count":4,"type":"VEC3""#,

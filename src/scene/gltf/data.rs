@@ -4,7 +4,7 @@
 //! what is there, and the memory budget is asked, before anything of that
 //! length is allocated.
 
-use std::path::Path;
+use std::path::{Component, Path, PathBuf};
 
 use base64::Engine;
 
@@ -27,15 +27,15 @@ pub(super) struct Container<'a> {
 
 /// Reads the whole file after reserving its size.
 pub(super) fn read_file(path: &Path, what: &str) -> Result<(Vec<u8>, Reservation), Problem> {
-    let meta = std::fs::metadata(path).map_err(|e| crate::sanitize::clean(&e.to_string()))?;
+    let meta = std::fs::metadata(path).map_err(|e| crate::sanitize::io_reason(&e))?;
     if !meta.is_file() {
         return Err("not a regular file".into());
     }
     let held = budget::reserve(what, meta.len()).map_err(|e| e.to_string())?;
     // Exactly the reserved size, reported to the view's progress line.
-    let file = std::fs::File::open(path).map_err(|e| crate::sanitize::clean(&e.to_string()))?;
+    let file = std::fs::File::open(path).map_err(|e| crate::sanitize::io_reason(&e))?;
     let bytes = crate::scene::model_io::read_reporting(file, meta.len()).map_err(|e| match e {
-        Some(e) => crate::sanitize::clean(&e.to_string()),
+        Some(e) => crate::sanitize::io_reason(&e),
         None => "the load was cancelled".to_string(),
     })?;
     Ok((bytes, held))
@@ -136,6 +136,45 @@ pub(super) fn parse_uri(uri: &str) -> Result<Uri<'_>, Problem> {
     Ok(Uri::File(percent_decode(uri)))
 }
 
+/// The file a relative URI names inside the model's folder `dir`: a URI
+/// that is absolute or climbs out of the folder (`../`, or a link inside it
+/// that points elsewhere) is refused, as a viewer that opens files from the
+/// internet must (a model could otherwise read any file of the machine).
+pub(super) fn beside(dir: &Path, rel: &str) -> Result<PathBuf, Problem> {
+    let outside = || {
+        format!(
+            "the URI '{}' points outside the model's folder (only files in it are read)",
+            crate::sanitize::clean(&rel.chars().take(60).collect::<String>())
+        )
+    };
+    let mut inside = PathBuf::new();
+    for part in Path::new(rel).components() {
+        match part {
+            Component::Normal(name) => inside.push(name),
+            Component::CurDir => {}
+            Component::ParentDir => {
+                if !inside.pop() {
+                    return Err(outside());
+                }
+            }
+            Component::RootDir | Component::Prefix(_) => return Err(outside()),
+        }
+    }
+    // "C:/x" or "\\server\x" are not absolute on Linux, but are meant to be.
+    if rel.starts_with('\\') || rel.as_bytes().get(1) == Some(&b':') {
+        return Err(outside());
+    }
+    let path = dir.join(&inside);
+    // A link inside the folder may lead out of it; a missing file is
+    // reported by the read that follows.
+    if let (Ok(real), Ok(root)) = (path.canonicalize(), dir.canonicalize())
+        && !real.starts_with(&root)
+    {
+        return Err(outside());
+    }
+    Ok(path)
+}
+
 /// `%20` and the like in a relative URI, decoded; malformed escapes stay as they are.
 fn percent_decode(uri: &str) -> String {
     let b = uri.as_bytes();
@@ -197,7 +236,7 @@ pub(super) fn buffer(
                 (b, Some(h))
             }
             Uri::File(rel) => {
-                let (b, h) = read_file(&dir.join(&rel), what)
+                let (b, h) = read_file(&beside(dir, &rel)?, what)
                     .map_err(|p| format!("file '{}': {p}", crate::sanitize::clean(&rel)))?;
                 (b, Some(h))
             }

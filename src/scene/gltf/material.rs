@@ -291,9 +291,15 @@ impl<'a> Materials<'a> {
                     Uri::Data(payload) => data::decode_data(payload, &what)
                         .map(|(b, _)| Cow::Owned(b))
                         .map_err(|p| format!("{at}: {p}")),
-                    Uri::File(rel) => data::read_file(&self.dir.join(&rel), &what)
-                        .map(|(b, _)| Cow::Owned(b))
-                        .map_err(|p| format!("{at}: file '{}': {p}", crate::sanitize::clean(&rel))),
+                    Uri::File(rel) => {
+                        let path =
+                            data::beside(self.dir, &rel).map_err(|p| format!("{at}: {p}"))?;
+                        data::read_file(&path, &what)
+                            .map(|(b, _)| Cow::Owned(b))
+                            .map_err(|p| {
+                                format!("{at}: file '{}': {p}", crate::sanitize::clean(&rel))
+                            })
+                    }
                 }
             }
         }

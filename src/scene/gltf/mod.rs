@@ -16,6 +16,7 @@ mod data;
 mod material;
 mod sampling;
 mod tangent;
+mod validate;
 
 use std::path::Path;
 use std::sync::Arc;
@@ -37,6 +38,7 @@ use crate::texture::Texture;
 
 use data::Problem;
 use material::Materials;
+use validate::Role;
 
 /// Extensions a file may require that relief draws; any other required
 /// one is refused.
@@ -108,15 +110,9 @@ pub fn load(path: &Path) -> Result<Model, ObjError> {
 pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem> {
     let container = data::container(bytes)?;
     let parsed = ::gltf::Gltf::from_slice_without_validation(container.json).map_err(json_error)?;
-    for ext in parsed.document.extensions_required() {
-        if !SUPPORTED_REQUIRED.contains(&ext) {
-            return Err(format!(
-                "extensionsRequired: '{}' is not supported",
-                crate::sanitize::clean(ext)
-            ));
-        }
-    }
-    let document = ::gltf::Document::from_json(parsed.document.into_json()).map_err(json_error)?;
+    let mut root = parsed.document.into_json();
+    validate::before_parse(&mut root, SUPPORTED_REQUIRED)?;
+    let document = ::gltf::Document::from_json(root).map_err(json_error)?;
     let mut buffers = Vec::new();
     let mut held = Vec::new();
     for b in document.buffers() {
@@ -308,8 +304,14 @@ fn hold(held: &mut Reservation, name: &str, what: &str, bytes: u64) -> Result<()
 
 /// Checks that an accessor's elements lie inside its view and the view
 /// inside its buffer.
-fn check_accessor(acc: &Accessor, buffers: &[Vec<u8>], role: &str) -> Result<(), Problem> {
-    let path = format!("accessors[{}] ({role})", acc.index());
+fn check_accessor(
+    acc: &Accessor,
+    buffers: &[Vec<u8>],
+    role: Role,
+    place: &str,
+) -> Result<(), Problem> {
+    let path = format!("accessors[{}] ({} of {place})", acc.index(), role.name());
+    validate::check_kind(acc, role, &path)?;
     if acc.sparse().is_some() {
         return Err(format!("{path}: sparse accessors are not read"));
     }
@@ -362,10 +364,10 @@ fn read_primitive(
         _ => None,
     };
     for (semantic, acc) in prim.attributes() {
-        check_accessor(&acc, buffers, &format!("{semantic:?} of {place}"))?;
+        check_accessor(&acc, buffers, Role::Attribute(&semantic), place)?;
     }
     if let Some(acc) = prim.indices() {
-        check_accessor(&acc, buffers, &format!("indices of {place}"))?;
+        check_accessor(&acc, buffers, Role::Indices, place)?;
     }
     let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
     let unreadable = |what: &str| format!("{place}: its {what} cannot be read");

@@ -851,8 +851,12 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         cut_numbers.merge(&cut, b.lines);
     }
     if triangles == 0 {
-        return Err(ObjError::Empty {
-            name: name.to_string(),
+        let name = name.to_string();
+        // Faces were there, but repeated corners left none with three.
+        return Err(if counts.triangles > 0 {
+            ObjError::Degenerate { name }
+        } else {
+            ObjError::Empty { name }
         });
     }
     corners.truncate(3 * triangles);

@@ -488,6 +488,9 @@ fn plain_reason(message: &str) -> String {
     if lower.contains("lzw") {
         return "its LZW-compressed data does not decode".into();
     }
+    if lower.contains("deflate") {
+        return "its deflate-compressed data does not decode".into();
+    }
     if let Some(rest) = text.strip_prefix("Format error") {
         // "Format error decoding Png: …" or "Format error: …"
         text = rest.split_once(':').map_or("", |(_, r)| r).trim();
@@ -524,12 +527,27 @@ fn plain_reason(message: &str) -> String {
         rest = &rest[close..];
     }
     plain.push_str(rest);
-    let reason = one_line(plain.trim().trim_end_matches([':', ',']));
+    let plain: Vec<&str> = plain.split(' ').filter(|w| !is_type_name(w)).collect();
+    let reason = one_line(plain.join(" ").trim().trim_end_matches([':', ',']));
     if reason.is_empty() {
         "the data does not decode".into()
     } else {
         reason
     }
+}
+
+/// A word that is a decoder's type or variant name (`BadCodeLengthHuffmanTree`):
+/// capitalised, with another capital after a small letter, letters only.
+fn is_type_name(word: &str) -> bool {
+    let word = word.trim_end_matches(['.', ',', ':', ')']);
+    let mut chars = word.chars();
+    let starts_upper = chars.next().is_some_and(|c| c.is_ascii_uppercase());
+    let letters = word.chars().all(|c| c.is_ascii_alphabetic());
+    let camel = word
+        .as_bytes()
+        .windows(2)
+        .any(|w| w[0].is_ascii_lowercase() && w[1].is_ascii_uppercase());
+    starts_upper && letters && camel
 }
 
 /// `\u{1}` escapes of a `Debug` string as `?`.
@@ -699,6 +717,14 @@ mod tests {
             "the data does not decode"
         );
         assert_eq!(plain_reason("bad\nheader"), "bad header");
+        assert_eq!(
+            plain_reason("Corrupt deflate stream. BadCodeLengthHuffmanTree"),
+            "its deflate-compressed data does not decode"
+        );
+        assert_eq!(
+            plain_reason("Format error decoding Gif: bad block SomeVariantName."),
+            "bad block"
+        );
         assert_eq!(
             plain_reason(
                 "Format error decoding Png: Unrecognized critical chunk: ChunkType { type: A\\u{1}bc, critical: true, private: false, reserved: true, safecopy: true }"
