@@ -500,7 +500,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
 
             // Render only when what the picture depends on changed.
             let start = Instant::now();
-            let size = self.terminal.size()?;
+            // One size for the whole frame: laid out, rendered and drawn
+            // at it, though the terminal be resized meanwhile (its signal
+            // brings the next frame).
+            let size = self.terminal.backend_mut().hold_size()?;
             // The help cannot scroll past what this screen needs: keep the
             // state there so the first key back moves it.
             update(
@@ -630,14 +633,17 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             };
             pixels.draw(self.terminal, frame, areas.viewport, |f, pic| {
                 view::view(f, state, pic, self.background);
-                status_cells = areas.status.map(|r| {
-                    let buf = f.buffer_mut();
-                    (r, (r.x..r.right()).map(|x| buf[(x, r.y)].clone()).collect())
-                });
+                // Only what the frame holds (the same size, as it is held).
+                let buf = f.buffer_mut();
+                status_cells = areas
+                    .status
+                    .map(|r| r.intersection(buf.area))
+                    .map(|r| (r, (r.x..r.right()).map(|x| buf[(x, r.y)].clone()).collect()));
             })?;
             let write_start = Instant::now();
             let trailer: &[u8] = if asks { QUERY } else { &[] };
             let bytes = self.terminal.backend_mut().end_frame_then(trailer)?;
+            self.terminal.backend_mut().release_size();
             let done = Instant::now();
             if probe {
                 self.pacer.sent(write_start, 0, true);
