@@ -116,11 +116,8 @@ fn spawn_reader(mut input: impl Read + Send + 'static, fd: Option<RawFd>, tx: Se
                 }
                 Ok(n) => {
                     parser.feed(&buf[..n], &mut events);
-                    if let Some(fd) = fd
-                        && parser.waiting()
-                        && !crate::term::wait::readable_within(fd, ESCAPE_WAIT).unwrap_or(false)
-                    {
-                        parser.flush_pending(&mut events);
+                    if let Some(fd) = fd {
+                        settle(&mut parser, fd, &mut events);
                     }
                     let at = Instant::now();
                     for e in events.drain(..) {
@@ -141,6 +138,30 @@ fn spawn_reader(mut input: impl Read + Send + 'static, fd: Option<RawFd>, tx: Se
             }
         }
     });
+}
+
+/// Waits on `fd` for what the parser holds open: a lone `ESC` for
+/// [`ESCAPE_WAIT`], a paste or an unfinished sequence until its deadline
+/// (see [`InputParser::deadline`]); when nothing comes meanwhile, closes it.
+/// Returns as soon as there is more to read.
+fn settle(parser: &mut InputParser, fd: RawFd, events: &mut Vec<Input>) {
+    loop {
+        let wait = if parser.waiting() {
+            ESCAPE_WAIT
+        } else if let Some(deadline) = parser.deadline() {
+            deadline.saturating_duration_since(Instant::now())
+        } else {
+            return;
+        };
+        if crate::term::wait::readable_within(fd, wait).unwrap_or(false) {
+            return;
+        }
+        if parser.waiting() {
+            parser.flush_pending(events);
+        } else {
+            parser.expire(Instant::now(), events);
+        }
+    }
 }
 
 /// Everything the loop needs besides the state.
