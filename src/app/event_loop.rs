@@ -116,11 +116,8 @@ fn spawn_reader(mut input: impl Read + Send + 'static, fd: Option<RawFd>, tx: Se
                 }
                 Ok(n) => {
                     parser.feed(&buf[..n], &mut events);
-                    if let Some(fd) = fd
-                        && parser.waiting()
-                        && !crate::term::wait::readable_within(fd, ESCAPE_WAIT).unwrap_or(false)
-                    {
-                        parser.flush_pending(&mut events);
+                    if let Some(fd) = fd {
+                        settle(&mut parser, fd, &mut events);
                     }
                     let at = Instant::now();
                     for e in events.drain(..) {
@@ -141,6 +138,30 @@ fn spawn_reader(mut input: impl Read + Send + 'static, fd: Option<RawFd>, tx: Se
             }
         }
     });
+}
+
+/// Waits on `fd` for what the parser holds open: a lone `ESC` for
+/// [`ESCAPE_WAIT`], a paste or an unfinished sequence until its deadline
+/// (see [`InputParser::deadline`]); when nothing comes meanwhile, closes it.
+/// Returns as soon as there is more to read.
+fn settle(parser: &mut InputParser, fd: RawFd, events: &mut Vec<Input>) {
+    loop {
+        let wait = if parser.waiting() {
+            ESCAPE_WAIT
+        } else if let Some(deadline) = parser.deadline() {
+            deadline.saturating_duration_since(Instant::now())
+        } else {
+            return;
+        };
+        if crate::term::wait::readable_within(fd, wait).unwrap_or(false) {
+            return;
+        }
+        if parser.waiting() {
+            parser.flush_pending(events);
+        } else {
+            parser.expire(Instant::now(), events);
+        }
+    }
 }
 
 /// Everything the loop needs besides the state.
@@ -500,7 +521,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
 
             // Render only when what the picture depends on changed.
             let start = Instant::now();
-            let size = self.terminal.size()?;
+            // One size for the whole frame: laid out, rendered and drawn
+            // at it, though the terminal be resized meanwhile (its signal
+            // brings the next frame).
+            let size = self.terminal.backend_mut().hold_size()?;
             // The help cannot scroll past what this screen needs: keep the
             // state there so the first key back moves it.
             update(
@@ -630,14 +654,17 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             };
             pixels.draw(self.terminal, frame, areas.viewport, |f, pic| {
                 view::view(f, state, pic, self.background);
-                status_cells = areas.status.map(|r| {
-                    let buf = f.buffer_mut();
-                    (r, (r.x..r.right()).map(|x| buf[(x, r.y)].clone()).collect())
-                });
+                // Only what the frame holds (the same size, as it is held).
+                let buf = f.buffer_mut();
+                status_cells = areas
+                    .status
+                    .map(|r| r.intersection(buf.area))
+                    .map(|r| (r, (r.x..r.right()).map(|x| buf[(x, r.y)].clone()).collect()));
             })?;
             let write_start = Instant::now();
             let trailer: &[u8] = if asks { QUERY } else { &[] };
             let bytes = self.terminal.backend_mut().end_frame_then(trailer)?;
+            self.terminal.backend_mut().release_size();
             let done = Instant::now();
             if probe {
                 self.pacer.sent(write_start, 0, true);

@@ -47,6 +47,12 @@ pub struct SgrBackend<W: Write> {
     out: BufWriter<CountingWriter<W>>,
     /// A fixed size (tests, benchmarks); `None` asks the terminal.
     fixed_size: Option<Size>,
+    /// Sizes given one a read, in turn (tests: a terminal resized between
+    /// any two reads); empty: `fixed_size` or the terminal's.
+    sizes_per_read: Vec<Size>,
+    next_size: std::cell::Cell<usize>,
+    /// The size one frame is laid out and drawn at (see [`Self::hold_size`]).
+    held_size: Option<Size>,
     cursor: Position,
     cursor_hidden: Option<bool>,
     in_frame: bool,
@@ -62,6 +68,9 @@ impl<W: Write> SgrBackend<W> {
         SgrBackend {
             out: BufWriter::with_capacity(OUT_BUFFER, CountingWriter::new(writer)),
             fixed_size: None,
+            sizes_per_read: Vec::new(),
+            next_size: std::cell::Cell::new(0),
+            held_size: None,
             cursor: Position::ORIGIN,
             cursor_hidden: None,
             in_frame: false,
@@ -81,6 +90,44 @@ impl<W: Write> SgrBackend<W> {
     /// Changes the fixed size (tests simulating a resize).
     pub fn set_fixed_size(&mut self, width: u16, height: u16) {
         self.fixed_size = Some(Size::new(width, height));
+    }
+
+    /// Gives these sizes one a read of [`Backend::size`], in turn and
+    /// over again: a terminal resized between any two reads (tests).
+    pub fn set_sizes_per_read(&mut self, sizes: &[(u16, u16)]) {
+        self.sizes_per_read = sizes.iter().map(|&(w, h)| Size::new(w, h)).collect();
+        self.next_size.set(0);
+    }
+
+    /// Reads the terminal's size and keeps giving it until
+    /// [`Self::release_size`]: a frame laid out at one size is drawn at
+    /// that size, though the terminal may be resized meanwhile (ratatui
+    /// reads the size again when it draws). The resize's signal brings
+    /// the next frame at the new size.
+    pub fn hold_size(&mut self) -> io::Result<Size> {
+        self.held_size = None;
+        let size = self.size()?;
+        self.held_size = Some(size);
+        Ok(size)
+    }
+
+    /// Reads of the size ask the terminal again.
+    pub fn release_size(&mut self) {
+        self.held_size = None;
+    }
+
+    /// The size as the terminal (or the test's setting) has it now.
+    fn current_size(&self) -> io::Result<(u16, u16)> {
+        if !self.sizes_per_read.is_empty() {
+            let i = self.next_size.get();
+            self.next_size.set((i + 1) % self.sizes_per_read.len());
+            let s = self.sizes_per_read[i];
+            return Ok((s.width, s.height));
+        }
+        match self.fixed_size {
+            Some(size) => Ok((size.width, size.height)),
+            None => crossterm::terminal::size(),
+        }
     }
 
     /// Lets picture colours within `tolerance` (per channel, of 255) of the
@@ -475,10 +522,10 @@ impl<W: Write> Backend for SgrBackend<W> {
     }
 
     fn size(&self) -> io::Result<Size> {
-        let (w, h) = match self.fixed_size {
-            Some(size) => (size.width, size.height),
-            None => crossterm::terminal::size()?,
-        };
+        if let Some(size) = self.held_size {
+            return Ok(size);
+        }
+        let (w, h) = self.current_size()?;
         // A huge reported size draws in the top-left corner: the cell
         // buffers and the frame stay within the memory budget.
         Ok(Size::new(

@@ -10,12 +10,24 @@
 //! (`ESC P`, `ESC ]`, `ESC _`, `ESC ^`, `ESC X` up to `ESC \` or BEL), such
 //! as a capability answer arriving after the start-up probe gave up, are
 //! swallowed whole: none of their bytes may turn into keys.
+//!
+//! Nothing left open holds the keys after it for long: a paste whose end
+//! never comes is closed once its bytes stop for [`PASTE_WAIT`], a
+//! sequence still unfinished [`SEQUENCE_WAIT`] after its start is
+//! dropped, and a control byte (Ctrl-C) inside a sequence or a paste is
+//! the key it is: terminals filter control bytes out of what they paste,
+//! so one there was typed. The time is the caller's (`feed_at`,
+//! [`InputParser::expire`]), so tests drive it without sleeping.
+
+use std::time::{Duration, Instant};
 
 use crossterm::event::{
     Event, KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind,
 };
 
 const PASTE_END: &[u8] = b"\x1b[201~";
+/// Ctrl-C: the key that always quits.
+const CTRL_C: u8 = 0x03;
 /// A paste larger than this is cut (it is shown, not stored).
 const PASTE_LIMIT: usize = 1 << 20;
 /// A control sequence longer than this is garbage and is dropped.
@@ -23,6 +35,14 @@ const CSI_LIMIT: usize = 64;
 /// A string reply longer than this without its terminator was not one:
 /// its introducer is read as an Alt key and the bytes after it as input.
 const STRING_LIMIT: usize = 1024;
+/// A paste whose bytes stop this long without its end marker is closed
+/// (what came is the paste): a lost `ESC [ 201 ~` must not hold the keys.
+/// Long enough for a paste stalled on a slow link to go on.
+pub const PASTE_WAIT: Duration = Duration::from_secs(1);
+/// A sequence (CSI, SS3 or a string reply) not finished this long after
+/// its first byte is dropped, so the keys typed after it are keys again.
+/// A terminal's reply comes whole within a round trip.
+pub const SEQUENCE_WAIT: Duration = Duration::from_millis(300);
 
 /// What the terminal sent: input, or a reply to a query.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -37,7 +57,11 @@ pub enum Input {
 #[derive(Debug, Default)]
 pub struct InputParser {
     pending: Vec<u8>,
+    /// When the first byte of what is pending (outside a paste) arrived.
+    pending_since: Option<Instant>,
     paste: Option<Vec<u8>>,
+    /// When the open paste's last bytes arrived.
+    paste_seen: Option<Instant>,
     /// Keep a trailing lone `ESC` (or `ESC` + string introducer) for
     /// [`flush_pending`](Self::flush_pending) instead of deciding at the end
     /// of each read: over a network a reply can be split after its `ESC`.
@@ -91,6 +115,7 @@ impl InputParser {
             return;
         }
         let pending = std::mem::take(&mut self.pending);
+        self.pending_since = None;
         match pending[..] {
             [_, c] => {
                 if let Step::Done(_, Some(Input::Event(Event::Key(mut k)))) =
@@ -110,19 +135,92 @@ impl InputParser {
         self.step(0)
     }
 
-    /// Decodes `bytes`, appending events to `out`. A lone `ESC` at the end
-    /// of a read is the Escape key (terminals send sequences in one piece),
-    /// unless the decoder was made with [`holding_escape`](Self::holding_escape).
+    /// Decodes `bytes`, read now, appending events to `out` (see [`Self::feed_at`]).
     pub fn feed(&mut self, bytes: &[u8], out: &mut Vec<Input>) {
+        self.feed_at(bytes, Instant::now(), out);
+    }
+
+    /// Decodes `bytes`, read at `now`, appending events to `out`. What was
+    /// left open past its time by `now` is closed first (see
+    /// [`Self::expire`]). A lone `ESC` at the end of a read is the Escape
+    /// key (terminals send sequences in one piece), unless the decoder was
+    /// made with [`holding_escape`](Self::holding_escape).
+    pub fn feed_at(&mut self, bytes: &[u8], now: Instant, out: &mut Vec<Input>) {
+        self.expire(now, out);
+        let before = self.pending.len();
         self.pending.extend_from_slice(bytes);
+        let start = self.decode(out);
+        self.pending.drain(..start);
+        if self.paste.is_some() && (!bytes.is_empty() || self.paste_seen.is_none()) {
+            self.paste_seen = Some(now);
+        }
+        // A sequence started in this read dates from now; one still
+        // waiting for its end keeps its start.
+        self.pending_since = match self.pending_since {
+            _ if self.pending.is_empty() || self.paste.is_some() => None,
+            Some(t) if start == 0 && before > 0 => Some(t),
+            _ => Some(now),
+        };
+        if !self.hold {
+            self.flush_pending(out);
+        }
+    }
+
+    /// When what is open (a paste, an unfinished sequence) is closed if
+    /// nothing comes: the caller waits for input until then and calls
+    /// [`Self::expire`]. `None`: nothing waits.
+    pub fn deadline(&self) -> Option<Instant> {
+        match (self.paste_seen, self.pending_since) {
+            (Some(seen), _) if self.paste.is_some() => Some(seen + PASTE_WAIT),
+            (_, Some(since)) => Some(since + SEQUENCE_WAIT),
+            _ => None,
+        }
+    }
+
+    /// Closes what has been open too long by `now`: a paste (its text so
+    /// far is the paste), an unfinished sequence (dropped: its bytes may
+    /// be the start of a reply, never keys), a lone `ESC` (the Escape key).
+    pub fn expire(&mut self, now: Instant, out: &mut Vec<Input>) {
+        if self.deadline().is_none_or(|d| now < d) {
+            return;
+        }
+        if let Some(mut paste) = self.paste.take() {
+            append_capped(&mut paste, &self.pending);
+            self.pending.clear();
+            self.paste_seen = None;
+            if !paste.is_empty() {
+                out.push(Input::Event(Event::Paste(
+                    String::from_utf8_lossy(&paste).into_owned(),
+                )));
+            }
+        } else if self.waiting() {
+            self.flush_pending(out);
+        } else {
+            self.pending.clear();
+        }
+        self.pending_since = None;
+    }
+
+    /// Decodes what is pending; returns how many bytes were used.
+    fn decode(&mut self, out: &mut Vec<Input>) -> usize {
         let mut start = 0;
         loop {
             if let Some(paste) = &mut self.paste {
                 let rest = &self.pending[start..];
+                if let Some(at) = rest.iter().position(|&c| c == CTRL_C) {
+                    // Typed, not pasted: the paste is abandoned for the key.
+                    if find(&rest[..at], PASTE_END).is_none() {
+                        self.paste = None;
+                        self.paste_seen = None;
+                        start += at;
+                        continue;
+                    }
+                }
                 if let Some(end) = find(rest, PASTE_END) {
                     append_capped(paste, &rest[..end]);
                     let text = String::from_utf8_lossy(paste).into_owned();
                     self.paste = None;
+                    self.paste_seen = None;
                     out.push(Input::Event(Event::Paste(text)));
                     start += end + PASTE_END.len();
                     continue;
@@ -147,10 +245,7 @@ impl InputParser {
                 Step::Incomplete => break,
             }
         }
-        self.pending.drain(..start);
-        if !self.hold {
-            self.flush_pending(out);
-        }
+        start
     }
 
     fn step(&mut self, start: usize) -> Step {
@@ -199,6 +294,10 @@ impl InputParser {
                 if b.len() < 3 {
                     return Step::Incomplete;
                 }
+                if b[2] < 0x20 {
+                    // Alt+O, then a control key.
+                    return self.alt_key(start);
+                }
                 let code = match b[2] {
                     b'A' => Some(KeyCode::Up),
                     b'B' => Some(KeyCode::Down),
@@ -229,7 +328,12 @@ impl InputParser {
 
     fn csi(&mut self, start: usize) -> Step {
         let b = &self.pending[start..];
-        let Some(end) = b[2..].iter().position(|c| (0x40..=0x7e).contains(c)) else {
+        // A control byte, `ESC` or a byte past ASCII cannot be inside a
+        // sequence: what came before it is dropped, the byte is read anew.
+        let Some(end) = b[2..]
+            .iter()
+            .position(|&c| (0x40..=0x7e).contains(&c) || !(0x20..0x7f).contains(&c))
+        else {
             return if b.len() > CSI_LIMIT {
                 Step::Done(b.len(), None)
             } else {
@@ -237,6 +341,9 @@ impl InputParser {
             };
         };
         let final_byte = b[2 + end];
+        if !(0x40..=0x7e).contains(&final_byte) {
+            return Step::Done(2 + end, None);
+        }
         let params = &b[2..2 + end];
         let len = 3 + end;
         if params.first() == Some(&b'?') && final_byte == b'c' {
@@ -246,6 +353,7 @@ impl InputParser {
             (Some(b'<'), b'M' | b'm') => sgr_mouse(&params[1..], final_byte == b'M'),
             (_, b'~') if params == b"200" => {
                 self.paste = Some(Vec::new());
+                self.paste_seen = None;
                 None
             }
             (_, b'~') => {

@@ -1100,6 +1100,8 @@ fn kitty_placements(layer: Layer, open: &[Rect], passthrough: bool) -> io::Resul
 /// (nothing drawn over them) as skipped by the diff, so the image there
 /// stays; returns the others, drawn over (true), row by row.
 fn skip_picture(buf: &mut Buffer, viewport: Rect, fb: &Framebuffer, look: TextLook) -> Vec<bool> {
+    // Cells outside the frame's buffer count as drawn over.
+    let inside = viewport.intersection(buf.area);
     let mut text = Buffer::empty(viewport);
     SymbolCells {
         fb,
@@ -1112,6 +1114,10 @@ fn skip_picture(buf: &mut Buffer, viewport: Rect, fb: &Framebuffer, look: TextLo
     let mut covered = Vec::with_capacity(viewport.area() as usize);
     for y in viewport.top()..viewport.bottom() {
         for x in viewport.left()..viewport.right() {
+            if !inside.contains((x, y).into()) {
+                covered.push(true);
+                continue;
+            }
             let over = buf[(x, y)] != text[(x, y)];
             if !over {
                 buf[(x, y)].set_diff_option(ratatui::buffer::CellDiffOption::Skip);
@@ -1125,6 +1131,34 @@ fn skip_picture(buf: &mut Buffer, viewport: Rect, fb: &Framebuffer, look: TextLo
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_picture_area_past_the_buffer_counts_as_drawn_over() {
+        let mut buf = Buffer::empty(Rect::new(0, 0, 10, 5));
+        let look = TextLook {
+            symbols: Symbols::Half,
+            depth: ColorDepth::Truecolor,
+            dither: false,
+            pad: [0, 0, 0],
+        };
+        let mut fb = Framebuffer::new(20, 20);
+        fb.fill([90, 120, 30]);
+        // The picture as the view draws it: clipped to the buffer.
+        SymbolCells {
+            fb: &fb,
+            symbols: look.symbols,
+            depth: look.depth,
+            dither: look.dither,
+            pad: look.pad,
+        }
+        .render(Rect::new(0, 0, 20, 10), &mut buf);
+        let covered = skip_picture(&mut buf, Rect::new(0, 0, 20, 10), &fb, look);
+        assert_eq!(covered.len(), 200);
+        for (i, &c) in covered.iter().enumerate() {
+            let (x, y) = (i % 20, i / 20);
+            assert_eq!(c, x >= 10 || y >= 5, "{x},{y}");
+        }
+    }
 
     #[test]
     fn the_cell_size_comes_from_the_window_then_the_reply_then_the_default() {

@@ -8,7 +8,9 @@ use std::time::Duration;
 /// True when `fd` has bytes to read (or has reached its end) within
 /// `timeout`; false when the time ran out first.
 pub fn readable_within(fd: RawFd, timeout: Duration) -> io::Result<bool> {
-    let ms = timeout.as_millis().clamp(0, i32::MAX as u128) as libc::c_int;
+    // Whole milliseconds, rounded up: a caller waiting for a deadline is
+    // not woken just before it, to wait again for nothing.
+    let ms = timeout.as_micros().div_ceil(1000).min(i32::MAX as u128) as libc::c_int;
     loop {
         let mut fds = libc::pollfd {
             fd,

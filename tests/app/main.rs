@@ -13,6 +13,7 @@ mod event_loop;
 mod huge_terminal;
 mod keys;
 mod modes;
+mod resizes;
 mod stage;
 mod texture_app;
 mod texture_panel;

@@ -3,7 +3,9 @@
 use crossterm::event::{
     Event, KeyCode, KeyEvent, KeyModifiers, MouseButton, MouseEvent, MouseEventKind,
 };
-use relief::term::input::{Input, InputParser};
+use std::time::{Duration, Instant};
+
+use relief::term::input::{Input, InputParser, PASTE_WAIT, SEQUENCE_WAIT};
 
 /// Everything decoded from `chunks`, read one after the other.
 fn decode(chunks: &[&[u8]]) -> Vec<Input> {
@@ -254,4 +256,180 @@ fn a_held_escape_waits_for_the_rest_of_its_sequence() {
     assert_eq!(out, vec![Input::Event(key(KeyCode::Esc))]);
     // A decoder that does not hold decides at the end of the read.
     assert_eq!(parse(&[b"\x1b"]), vec![key(KeyCode::Esc)]);
+}
+
+/// What a decoder makes of `chunks`, each read `ms` after the start, then
+/// of nothing more for a long time (the reader's time-out): the input
+/// events only.
+fn timed(hold: bool, chunks: &[(u64, &[u8])]) -> Vec<Event> {
+    let t0 = Instant::now();
+    let mut p = if hold {
+        InputParser::holding_escape()
+    } else {
+        InputParser::new()
+    };
+    let mut out = Vec::new();
+    for &(ms, bytes) in chunks {
+        p.feed_at(bytes, t0 + Duration::from_millis(ms), &mut out);
+    }
+    p.expire(t0 + Duration::from_secs(3600), &mut out);
+    assert_eq!(p.deadline(), None, "nothing is left open");
+    events(out)
+}
+
+fn events(out: Vec<Input>) -> Vec<Event> {
+    out.into_iter()
+        .filter_map(|i| match i {
+            Input::Event(e) => Some(e),
+            Input::DeviceAttributes => None,
+        })
+        .collect()
+}
+
+fn ctrl_c() -> Event {
+    Event::Key(KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL))
+}
+
+#[test]
+fn a_paste_without_its_end_is_closed_once_its_bytes_stop() {
+    let q = key(KeyCode::Char('q'));
+    // Nothing pasted: nothing to apply, and the next key is a key.
+    assert_eq!(
+        timed(true, &[(0, b"\x1b[200~"), (1500, b"q")]),
+        vec![q.clone()]
+    );
+    // What came is the paste.
+    assert_eq!(
+        timed(false, &[(0, b"\x1b[200~/tmp/a.png"), (1000, b"q")]),
+        vec![Event::Paste("/tmp/a.png".into()), q.clone()]
+    );
+    // Closed by the time-out alone, with no key after it.
+    assert_eq!(
+        timed(false, &[(0, b"\x1b[200~/tmp/a.p"), (10, b"ng\x1b[20")]),
+        vec![Event::Paste("/tmp/a.png\x1b[20".into())]
+    );
+    // Its end marker, when it comes late, is no key.
+    assert_eq!(
+        timed(false, &[(0, b"\x1b[200~x"), (2000, b"q\x1b[201~m")]),
+        vec![Event::Paste("x".into()), q.clone(), key(KeyCode::Char('m'))]
+    );
+}
+
+#[test]
+fn a_paste_that_keeps_coming_is_not_cut() {
+    let wait = PASTE_WAIT.as_millis() as u64;
+    assert_eq!(
+        timed(
+            false,
+            &[
+                (0, b"\x1b[200~abc"),
+                (wait - 1, b"def"),
+                (2 * wait - 2, b"ghi\x1b[2"),
+                (3 * wait - 3, b"01~q"),
+            ]
+        ),
+        vec![Event::Paste("abcdefghi".into()), key(KeyCode::Char('q'))]
+    );
+}
+
+#[test]
+fn the_deadline_is_the_last_paste_bytes_time_plus_the_wait() {
+    let t0 = Instant::now();
+    let mut p = InputParser::new();
+    let mut out = Vec::new();
+    assert_eq!(p.deadline(), None);
+    p.feed_at(b"\x1b[200~ab", t0, &mut out);
+    assert_eq!(p.deadline(), Some(t0 + PASTE_WAIT));
+    let later = t0 + Duration::from_millis(400);
+    p.feed_at(b"c", later, &mut out);
+    assert_eq!(p.deadline(), Some(later + PASTE_WAIT));
+    p.expire(later + PASTE_WAIT - Duration::from_millis(1), &mut out);
+    assert!(out.is_empty(), "{out:?}");
+    p.expire(later + PASTE_WAIT, &mut out);
+    assert_eq!(events(out), vec![Event::Paste("abc".into())]);
+    assert_eq!(p.deadline(), None);
+}
+
+#[test]
+fn ctrl_c_always_quits_even_inside_a_paste_or_a_sequence() {
+    let q = key(KeyCode::Char('q'));
+    // In an open paste (terminals filter control bytes out of pastes).
+    assert_eq!(parse(&[b"\x1b[200~/tmp/a", b"\x03"]), vec![ctrl_c()]);
+    // In a partial CSI, an SS3 or a string.
+    assert_eq!(parse(&[b"\x1b[12;", b"\x03q"]), vec![ctrl_c(), q.clone()]);
+    let mut huge = b"\x1b[".to_vec();
+    huge.extend(std::iter::repeat_n(b'9', 60));
+    assert_eq!(parse(&[&huge, b"\x03"]), vec![ctrl_c()]);
+    assert_eq!(
+        parse(&[b"\x1bO\x03"]),
+        vec![
+            Event::Key(KeyEvent::new(
+                KeyCode::Char('O'),
+                KeyModifiers::ALT | KeyModifiers::SHIFT
+            )),
+            ctrl_c()
+        ]
+    );
+    assert_eq!(parse(&[b"\x1b_Gi=1", b"\x03"]).last(), Some(&ctrl_c()));
+    // An ESC inside a CSI starts the next sequence.
+    assert_eq!(parse(&[b"\x1b[12\x1b[A"]), vec![key(KeyCode::Up)]);
+}
+
+#[test]
+fn an_unfinished_sequence_is_dropped_after_its_wait() {
+    let q = key(KeyCode::Char('q'));
+    let late = SEQUENCE_WAIT.as_millis() as u64 + 1;
+    // An APC start, a partial CSI, a huge partial CSI, a partial SS3.
+    let mut huge = b"\x1b[".to_vec();
+    huge.extend(std::iter::repeat_n(b'1', 60));
+    for start in [&b"\x1b_Gi=31;"[..], b"\x1b[12;", &huge, b"\x1bP1+r"] {
+        for hold in [false, true] {
+            assert_eq!(
+                timed(hold, &[(0, start), (late, b"q")]),
+                vec![q.clone()],
+                "{start:?}"
+            );
+        }
+    }
+    // An APC introducer alone: Alt+_ as ever, then the key.
+    let alt = Event::Key(KeyEvent::new(KeyCode::Char('_'), KeyModifiers::ALT));
+    for hold in [false, true] {
+        assert_eq!(
+            timed(hold, &[(0, b"\x1b_"), (late, b"q")]),
+            vec![alt.clone(), q.clone()]
+        );
+    }
+    // A reply split over reads within the wait is still swallowed whole.
+    assert_eq!(
+        timed(true, &[(0, b"\x1b_Gi=1;"), (late - 2, b"OK\x1b\\q")]),
+        vec![q.clone()]
+    );
+    assert_eq!(
+        timed(true, &[(0, b"\x1b[<0;1"), (late - 2, b"0;5M")]).len(),
+        1
+    );
+}
+
+#[test]
+fn the_terminal_reader_closes_an_open_paste_with_no_more_input() {
+    use relief::app::event_loop::{Msg, spawn_terminal_reader};
+    use std::io::Write;
+    use std::os::fd::AsRawFd;
+    let (mut tty, reader) = std::os::unix::net::UnixStream::pair().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    let fd = reader.as_raw_fd();
+    spawn_terminal_reader(reader, fd, tx);
+    tty.write_all(b"\x1b[200~/tmp/a.png").unwrap();
+    // Nothing more is written: the reader's own time-out ends the paste.
+    let got = rx.recv_timeout(Duration::from_secs(30)).unwrap();
+    assert!(
+        matches!(&got, Msg::Input(Event::Paste(p)) if p == "/tmp/a.png"),
+        "{got:?}"
+    );
+    tty.write_all(b"q").unwrap();
+    let got = rx.recv_timeout(Duration::from_secs(30)).unwrap();
+    assert!(
+        matches!(&got, Msg::Input(e) if *e == key(KeyCode::Char('q'))),
+        "{got:?}"
+    );
 }
