@@ -189,46 +189,53 @@ impl Palette {
     /// values differ from terminal to terminal): cube 16..=231, greys 232..=255.
     pub fn xterm256() -> &'static Palette {
         static P: OnceLock<Palette> = OnceLock::new();
-        P.get_or_init(|| {
-            let mut entries = Vec::with_capacity(240);
-            for (r, &lr) in CUBE_LEVELS.iter().enumerate() {
-                for (g, &lg) in CUBE_LEVELS.iter().enumerate() {
-                    for (b, &lb) in CUBE_LEVELS.iter().enumerate() {
-                        let index = 16 + 36 * r + 6 * g + b;
-                        let rgb = [lr, lg, lb];
-                        entries.push(Entry::new(Color::Indexed(index as u8), rgb));
-                    }
+        P.get_or_init(Palette::new_xterm256)
+    }
+
+    /// A palette as [`Palette::xterm256`], with a table of its own (the
+    /// bench measures a first frame with it).
+    pub fn new_xterm256() -> Palette {
+        let mut entries = Vec::with_capacity(240);
+        for (r, &lr) in CUBE_LEVELS.iter().enumerate() {
+            for (g, &lg) in CUBE_LEVELS.iter().enumerate() {
+                for (b, &lb) in CUBE_LEVELS.iter().enumerate() {
+                    let index = 16 + 36 * r + 6 * g + b;
+                    let rgb = [lr, lg, lb];
+                    entries.push(Entry::new(Color::Indexed(index as u8), rgb));
                 }
             }
-            for i in 0..24 {
-                entries.push(Entry::new(
-                    Color::Indexed(232 + i as u8),
-                    [grey_level(i); 3],
-                ));
-            }
-            let weights = Weights {
-                hue: HUE_WEIGHT,
-                chroma_loss: CHROMA_LOSS_WEIGHT,
-                chroma_gain: 1.0,
-                substitute: f32::INFINITY,
-            };
-            Palette::build(entries, candidates_256, weights)
-        })
+        }
+        for i in 0..24 {
+            entries.push(Entry::new(
+                Color::Indexed(232 + i as u8),
+                [grey_level(i); 3],
+            ));
+        }
+        let weights = Weights {
+            hue: HUE_WEIGHT,
+            chroma_loss: CHROMA_LOSS_WEIGHT,
+            chroma_gain: 1.0,
+            substitute: f32::INFINITY,
+        };
+        Palette::build(entries, candidates_256, weights)
     }
 
     /// The 16 ANSI colours.
     pub fn ansi16() -> &'static Palette {
         static P: OnceLock<Palette> = OnceLock::new();
-        P.get_or_init(|| {
-            let entries = ANSI16.iter().map(|&(rgb, c)| Entry::new(c, rgb)).collect();
-            let weights = Weights {
-                hue: HUE_WEIGHT,
-                chroma_loss: CHROMA_LOSS_WEIGHT,
-                chroma_gain: CHROMA_GAIN_WEIGHT_16,
-                substitute: SUBSTITUTE_RATIO_16,
-            };
-            Palette::build(entries, |_, out| out.extend(0..16), weights)
-        })
+        P.get_or_init(Palette::new_ansi16)
+    }
+
+    /// A palette as [`Palette::ansi16`], with a table of its own.
+    pub fn new_ansi16() -> Palette {
+        let entries = ANSI16.iter().map(|&(rgb, c)| Entry::new(c, rgb)).collect();
+        let weights = Weights {
+            hue: HUE_WEIGHT,
+            chroma_loss: CHROMA_LOSS_WEIGHT,
+            chroma_gain: CHROMA_GAIN_WEIGHT_16,
+            substitute: SUBSTITUTE_RATIO_16,
+        };
+        Palette::build(entries, |_, out| out.extend(0..16), weights)
     }
 
     /// The table's answer for `rgb`.
