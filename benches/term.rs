@@ -14,6 +14,7 @@ use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::widgets::Widget;
 use ratatui::{Terminal, TerminalOptions, Viewport};
+use relief::term::palette::Palette;
 use relief::term::{ColorDepth, HalfBlocks, SgrBackend};
 use relief::{Framebuffer, Renderer, Scene, Settings};
 
@@ -282,9 +283,60 @@ fn benches(c: &mut Criterion) {
     });
 }
 
+/// Maps every pixel of `fb` with `palette`'s table, as a frame's cells do.
+fn map_frame(palette: &Palette, fb: &Framebuffer) -> usize {
+    fb.pixels()
+        .iter()
+        .map(|&p| usize::from(palette.pick(p).best))
+        .sum()
+}
+
+/// Maps each of the 2²⁴ colours (every bin of the table).
+fn map_all(palette: &Palette) -> usize {
+    let mut sum = 0;
+    for r in 0..=255u8 {
+        for g in 0..=255u8 {
+            for b in 0..=255u8 {
+                sum += usize::from(palette.pick(black_box([r, g, b])).best);
+            }
+        }
+    }
+    sum
+}
+
+/// The first frame in 256 and 16 colours: a palette with a new table, then
+/// the frame mapped (the cost panel's `encode` of the first frame), and the
+/// worst cases: a frame whose every pixel is its own colour, and every
+/// colour (all the table's bins).
+fn table_benches(c: &mut Criterion) {
+    let fb = cube(35.0);
+    let busy = noise(3);
+    let mut g = c.benchmark_group("colour table");
+    g.sample_size(10);
+    for (name, new) in [
+        ("256", Palette::new_xterm256 as fn() -> Palette),
+        ("16", Palette::new_ansi16),
+    ] {
+        g.bench_function(
+            format!("{name} colours: new table + first 200x120 cube frame"),
+            |b| b.iter(|| map_frame(&new(), black_box(&fb))),
+        );
+        g.bench_function(
+            format!("{name} colours: new table + 200x120 noise frame"),
+            |b| b.iter(|| map_frame(&new(), black_box(&busy))),
+        );
+        g.bench_function(
+            format!("{name} colours: new table + every 24-bit colour"),
+            |b| b.iter(|| map_all(&new())),
+        );
+    }
+    g.finish();
+}
+
 fn main() {
     byte_table();
     let mut c = Criterion::default().configure_from_args();
     benches(&mut c);
+    table_benches(&mut c);
     c.final_summary();
 }

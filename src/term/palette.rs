@@ -6,13 +6,18 @@
 //! dull red goes to a red cube entry rather than to the grey of the same
 //! lightness. The 16 colours also weigh chroma gained up
 //! ([`CHROMA_GAIN_WEIGHT_16`]): their nearest chromatic entries are full
-//! primaries, and without it a grey or a dark tint takes one. The table has 64 levels per channel, even in lightness rather
-//! than in sRGB (2¹⁸ bins, each answered for the bin's centre), and is built
-//! the first time a palette is used. Each bin also keeps the second-best entry (so a
-//! pixel can avoid the background's entry) and an ordered-dither partner
-//! with its share, kept only where mixing the two lowers the error.
+//! primaries, and without it a grey or a dark tint takes one. The table has
+//! 64 levels per channel, even in lightness rather than in sRGB (2¹⁸ bins,
+//! each answered for the bin's centre). Each bin also keeps the second-best
+//! entry (so a pixel can avoid the background's entry) and an ordered-dither
+//! partner with its share, kept only where mixing the two lowers the error.
+//!
+//! A bin is answered the first time a colour in it is asked for, and kept:
+//! building all 2¹⁸ at once held the first 256-colour frame back by about
+//! 0.2 s (0.1 s in 16 colours), where a frame asks for a few thousand.
 
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 use ratatui::style::Color;
 
@@ -120,11 +125,35 @@ pub struct Pick {
     pub share: u8,
 }
 
+impl Pick {
+    /// Marks a packed pick: a bin still 0 has not been answered yet (the
+    /// share, at most 16, leaves the top bit free).
+    const FILLED: u32 = 1 << 31;
+
+    fn pack(self) -> u32 {
+        u32::from_le_bytes([self.best, self.second, self.partner, self.share]) | Self::FILLED
+    }
+
+    fn unpack(v: u32) -> Pick {
+        let [best, second, partner, share] = (v & !Self::FILLED).to_le_bytes();
+        Pick {
+            best,
+            second,
+            partner,
+            share,
+        }
+    }
+}
+
 /// A palette with its lookup table.
 pub struct Palette {
     pub entries: Vec<Entry>,
-    table: Vec<Pick>,
-    level: &'static [u8; 256],
+    /// Each bin's [`Pick::pack`]ed answer once asked for, 0 until then.
+    /// Any thread may answer a bin: the answer is the same whoever computes
+    /// it, so a plain store is enough.
+    table: Box<[AtomicU32]>,
+    channel: &'static Channel,
+    candidates: fn(Rgb, &mut Vec<u8>),
     weights: Weights,
 }
 
@@ -189,52 +218,77 @@ impl Palette {
     /// values differ from terminal to terminal): cube 16..=231, greys 232..=255.
     pub fn xterm256() -> &'static Palette {
         static P: OnceLock<Palette> = OnceLock::new();
-        P.get_or_init(|| {
-            let mut entries = Vec::with_capacity(240);
-            for (r, &lr) in CUBE_LEVELS.iter().enumerate() {
-                for (g, &lg) in CUBE_LEVELS.iter().enumerate() {
-                    for (b, &lb) in CUBE_LEVELS.iter().enumerate() {
-                        let index = 16 + 36 * r + 6 * g + b;
-                        let rgb = [lr, lg, lb];
-                        entries.push(Entry::new(Color::Indexed(index as u8), rgb));
-                    }
+        P.get_or_init(Palette::new_xterm256)
+    }
+
+    /// A palette as [`Palette::xterm256`], with a table of its own (the
+    /// bench measures a first frame with it).
+    pub fn new_xterm256() -> Palette {
+        let mut entries = Vec::with_capacity(240);
+        for (r, &lr) in CUBE_LEVELS.iter().enumerate() {
+            for (g, &lg) in CUBE_LEVELS.iter().enumerate() {
+                for (b, &lb) in CUBE_LEVELS.iter().enumerate() {
+                    let index = 16 + 36 * r + 6 * g + b;
+                    let rgb = [lr, lg, lb];
+                    entries.push(Entry::new(Color::Indexed(index as u8), rgb));
                 }
             }
-            for i in 0..24 {
-                entries.push(Entry::new(
-                    Color::Indexed(232 + i as u8),
-                    [grey_level(i); 3],
-                ));
-            }
-            let weights = Weights {
-                hue: HUE_WEIGHT,
-                chroma_loss: CHROMA_LOSS_WEIGHT,
-                chroma_gain: 1.0,
-                substitute: f32::INFINITY,
-            };
-            Palette::build(entries, candidates_256, weights)
-        })
+        }
+        for i in 0..24 {
+            entries.push(Entry::new(
+                Color::Indexed(232 + i as u8),
+                [grey_level(i); 3],
+            ));
+        }
+        let weights = Weights {
+            hue: HUE_WEIGHT,
+            chroma_loss: CHROMA_LOSS_WEIGHT,
+            chroma_gain: 1.0,
+            substitute: f32::INFINITY,
+        };
+        Palette::build(entries, candidates_256, weights)
     }
 
     /// The 16 ANSI colours.
     pub fn ansi16() -> &'static Palette {
         static P: OnceLock<Palette> = OnceLock::new();
-        P.get_or_init(|| {
-            let entries = ANSI16.iter().map(|&(rgb, c)| Entry::new(c, rgb)).collect();
-            let weights = Weights {
-                hue: HUE_WEIGHT,
-                chroma_loss: CHROMA_LOSS_WEIGHT,
-                chroma_gain: CHROMA_GAIN_WEIGHT_16,
-                substitute: SUBSTITUTE_RATIO_16,
-            };
-            Palette::build(entries, |_, out| out.extend(0..16), weights)
-        })
+        P.get_or_init(Palette::new_ansi16)
     }
 
-    /// The table's answer for `rgb`.
+    /// A palette as [`Palette::ansi16`], with a table of its own.
+    pub fn new_ansi16() -> Palette {
+        let entries = ANSI16.iter().map(|&(rgb, c)| Entry::new(c, rgb)).collect();
+        let weights = Weights {
+            hue: HUE_WEIGHT,
+            chroma_loss: CHROMA_LOSS_WEIGHT,
+            chroma_gain: CHROMA_GAIN_WEIGHT_16,
+            substitute: SUBSTITUTE_RATIO_16,
+        };
+        Palette::build(entries, |_, out| out.extend(0..16), weights)
+    }
+
+    /// The table's answer for `rgb` (its bin answered now if it was not yet).
     #[inline]
     pub fn pick(&self, rgb: Rgb) -> Pick {
-        self.table[bin(self.level, rgb)]
+        let i = bin(&self.channel.level, rgb);
+        match self.table[i].load(Ordering::Relaxed) {
+            0 => self.answer(i),
+            v => Pick::unpack(v),
+        }
+    }
+
+    /// Answers bin `i` for its centre and keeps the answer.
+    #[cold]
+    fn answer(&self, i: usize) -> Pick {
+        let mask = LEVELS - 1;
+        let levels = [i >> (2 * BITS), (i >> BITS) & mask, i & mask];
+        let lin = levels.map(|l| self.channel.centre[l]);
+        let srgb = |lin: f32| (super::oklab::from_linear(lin) * 255.0).round() as u8;
+        let mut cands = Vec::with_capacity(80);
+        (self.candidates)(lin.map(srgb), &mut cands);
+        let pick = self.bin_pick(lin, &cands);
+        self.table[i].store(pick.pack(), Ordering::Relaxed);
+        pick
     }
 
     /// Position of the entry nearest to `rgb` (the table's answer).
@@ -267,29 +321,18 @@ impl Palette {
         (best.1, second.1)
     }
 
+    /// A palette of `entries` whose table answers each bin the first time
+    /// it is asked, among the `candidates` for the bin's centre.
     fn build(entries: Vec<Entry>, candidates: fn(Rgb, &mut Vec<u8>), weights: Weights) -> Palette {
-        let ch = channel();
-        let mut palette = Palette {
+        Palette {
             entries,
-            table: Vec::new(),
-            level: &ch.level,
+            table: (0..LEVELS * LEVELS * LEVELS)
+                .map(|_| AtomicU32::new(0))
+                .collect(),
+            channel: channel(),
+            candidates,
             weights,
-        };
-        let srgb = |lin: f32| (super::oklab::from_linear(lin) * 255.0).round() as u8;
-        let mut table = Vec::with_capacity(LEVELS * LEVELS * LEVELS);
-        let mut cands = Vec::with_capacity(256);
-        for r in 0..LEVELS {
-            for g in 0..LEVELS {
-                for b in 0..LEVELS {
-                    let lin = [ch.centre[r], ch.centre[g], ch.centre[b]];
-                    cands.clear();
-                    candidates(lin.map(srgb), &mut cands);
-                    table.push(palette.bin_pick(lin, &cands));
-                }
-            }
         }
-        palette.table = table;
-        palette
     }
 
     /// The pick for the colour with linear RGB `lin`.
@@ -406,6 +449,76 @@ fn candidates_256(rgb: Rgb, out: &mut Vec<u8>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    impl Palette {
+        /// The whole table as it was built at first use before bins were
+        /// answered on demand: every bin in order, red slowest.
+        fn whole_table(&self) -> Vec<Pick> {
+            let ch = channel();
+            let srgb = |lin: f32| (super::super::oklab::from_linear(lin) * 255.0).round() as u8;
+            let mut table = Vec::with_capacity(LEVELS * LEVELS * LEVELS);
+            let mut cands = Vec::with_capacity(256);
+            for r in 0..LEVELS {
+                for g in 0..LEVELS {
+                    for b in 0..LEVELS {
+                        let lin = [ch.centre[r], ch.centre[g], ch.centre[b]];
+                        cands.clear();
+                        (self.candidates)(lin.map(srgb), &mut cands);
+                        table.push(self.bin_pick(lin, &cands));
+                    }
+                }
+            }
+            table
+        }
+    }
+
+    /// Every colour of a grid of step 3 (86³) and 200 000 random ones.
+    fn many_colours() -> Vec<Rgb> {
+        let steps: Vec<u8> = (0..=255).step_by(3).collect();
+        let mut out = Vec::new();
+        for &r in &steps {
+            for &g in &steps {
+                for &b in &steps {
+                    out.push([r, g, b]);
+                }
+            }
+        }
+        let mut s = 0x9e37_79b9u32;
+        for _ in 0..200_000 {
+            s ^= s << 13;
+            s ^= s >> 17;
+            s ^= s << 5;
+            out.push([s as u8, (s >> 8) as u8, (s >> 16) as u8]);
+        }
+        out
+    }
+
+    #[test]
+    fn bins_answered_on_demand_equal_the_table_built_whole() {
+        let colours = many_colours();
+        for new in [Palette::new_xterm256, Palette::new_ansi16] {
+            let whole = new().whole_table();
+            let level = &channel().level;
+            // A new palette asked in two orders from two threads at once,
+            // then everything again (answers kept).
+            let lazy = new();
+            std::thread::scope(|scope| {
+                scope.spawn(|| {
+                    colours.iter().for_each(|&c| {
+                        let _ = lazy.pick(c);
+                    })
+                });
+                scope.spawn(|| {
+                    colours.iter().rev().for_each(|&c| {
+                        let _ = lazy.pick(c);
+                    })
+                });
+            });
+            for &rgb in &colours {
+                assert_eq!(lazy.pick(rgb), whole[bin(level, rgb)], "{rgb:?}");
+            }
+        }
+    }
 
     #[test]
     fn the_table_agrees_with_a_search_of_the_whole_palette() {
