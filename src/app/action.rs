@@ -175,6 +175,9 @@ pub enum Action {
     },
     /// The terminal changed size: nothing in the state changes, the frame must.
     Resize,
+    /// A key bound to nothing where the user is: it changes nothing but
+    /// clears the message, as every key does.
+    Unbound,
     /// Scroll the help by this many lines (arrows, pages, Home/End while it is open).
     HelpScroll(i32),
     /// PgUp / PgDn in the help: this many pages (a page is what it shows).

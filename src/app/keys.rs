@@ -572,12 +572,16 @@ pub fn binding_in(mode: Mode, key: Key) -> Option<(&'static Binding, Key)> {
     }
 }
 
-/// The action a key asks for in this state, if any.
+/// The action a key asks for in this state: [`Action::Unbound`] for a key
+/// bound to nothing here (it still clears the message); `None` for a
+/// key's release.
 pub fn action_for_key(state: &State, event: &KeyEvent) -> Option<Action> {
     if event.kind == KeyEventKind::Release {
         return None;
     }
-    let key = key_of(event)?;
+    let Some(key) = key_of(event) else {
+        return Some(Action::Unbound);
+    };
     let typed = match event.code {
         KeyCode::Char(ch) => Some(ch),
         _ => None,
@@ -589,7 +593,7 @@ pub fn action_for_key(state: &State, event: &KeyEvent) -> Option<Action> {
         }
         mode = m.fallback();
     }
-    None
+    Some(Action::Unbound)
 }
 
 /// One line of the help: the keys column and the text (a heading has no

@@ -477,7 +477,7 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
                 }
             }
         }
-        Action::Resize => {}
+        Action::Resize | Action::Unbound => {}
         Action::HelpFits(max) => state.help_scroll = state.help_scroll.min(max),
         Action::FrameStart { preview, idle } => {
             state.frame.preview = preview;

@@ -109,9 +109,10 @@ fn unbound_keys_do_nothing() {
         } else {
             KeyModifiers::NONE
         };
+        // Nothing but what every key does: the message goes.
         assert_eq!(
             action_for_event(&s, &key_event(KeyCode::Char(c), m)),
-            None,
+            Some(Action::Unbound),
             "{c}"
         );
         press_mod(&mut s, KeyCode::Char(c), m);

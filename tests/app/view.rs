@@ -581,3 +581,33 @@ fn the_plasma_shows_no_orientation_fields() {
     let row = row_text(&screen(&s, 160, 20), 18);
     assert!(!row.contains('°'), "{row}");
 }
+
+#[test]
+fn a_message_clears_at_the_next_key_even_one_bound_to_nothing() {
+    use crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
+    use relief::app::action_for_event;
+    let keys = [
+        KeyEvent::new(KeyCode::F(5), KeyModifiers::NONE),
+        KeyEvent::new(KeyCode::Insert, KeyModifiers::NONE),
+        KeyEvent::new(KeyCode::Char('m'), KeyModifiers::ALT),
+        KeyEvent::new(KeyCode::Char('j'), KeyModifiers::CONTROL),
+    ];
+    let said = "texture: cannot read x.png";
+    for key in keys {
+        // Over the picture, and with the help open (it passes the key on).
+        for help in [false, true] {
+            let mut s = state();
+            if help {
+                update(&mut s, Action::ToggleHelp);
+            }
+            update(&mut s, Action::TextureResult(Err(said.into())));
+            assert!(all_text(&screen(&s, 200, 90)).contains(said));
+            let action = action_for_event(&s, &Event::Key(key)).expect("every key acts");
+            assert_eq!(action, Action::Unbound, "{key:?}");
+            update(&mut s, action);
+            assert_eq!(s.message, None, "{key:?}");
+            assert!(!all_text(&screen(&s, 200, 90)).contains(said), "{key:?}");
+            assert_eq!(s.help, help, "nothing else changed");
+        }
+    }
+}
