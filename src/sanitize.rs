@@ -35,9 +35,33 @@ pub fn display_path(path: &Path) -> String {
     clean(&path.to_string_lossy())
 }
 
+/// What an I/O error says, in plain words for a message: the system's
+/// sentence without its "(os error N)" and starting in lower case ("no space
+/// left on device"), control characters replaced.
+pub fn io_reason(e: &std::io::Error) -> String {
+    let text = e.to_string();
+    let plain = match text.rfind(" (os error ") {
+        Some(at) if text.ends_with(')') => &text[..at],
+        _ => &text,
+    };
+    let mut chars = plain.chars();
+    let first = chars.next().map(|c| c.to_lowercase().collect::<String>());
+    clean(&(first.unwrap_or_default() + chars.as_str()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn io_errors_in_plain_words() {
+        let os = |code| std::io::Error::from_raw_os_error(code);
+        assert_eq!(io_reason(&os(libc::ENOSPC)), "no space left on device");
+        assert_eq!(io_reason(&os(libc::EPIPE)), "broken pipe");
+        assert_eq!(io_reason(&os(libc::ENOENT)), "no such file or directory");
+        let own = std::io::Error::other("Bad\x1b[31m data");
+        assert_eq!(io_reason(&own), "bad?[31m data");
+    }
 
     #[test]
     fn escape_sequences_are_neutralised() {

@@ -380,3 +380,27 @@ fn ansi_rows_each_end_with_a_reset() {
         }
     }
 }
+
+#[test]
+fn a_missing_model_is_not_found_in_every_format() {
+    let dir = scratch_dir("missing-model");
+    let out = dir.0.join("x.png");
+    for ext in ["glb", "gltf", "obj", "stl", "ply", "GLB"] {
+        let model = dir.0.join(format!("none.{ext}"));
+        let shown = model.to_str().unwrap();
+        for args in [
+            vec!["render", "--out", out.to_str().unwrap(), "--model", shown],
+            vec!["render", "--out", out.to_str().unwrap(), shown],
+            vec!["render", "--ansi", shown],
+        ] {
+            let o = relief(&args);
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+            assert_eq!(
+                err.trim_end(),
+                format!("relief: model {shown} not found"),
+                "{args:?}"
+            );
+        }
+    }
+}

@@ -576,7 +576,9 @@ fn bad_files_give_one_clear_line() {
         error_of("flat_line.obj"),
         ObjError::Degenerate { .. }
     ));
-    assert!(matches!(error_of("missing.obj"), ObjError::Read { .. }));
+    let e = error_of("missing.obj");
+    assert!(matches!(e, ObjError::NotFound { .. }), "{e:?}");
+    assert!(one_clean_line(&e).ends_with("missing.obj not found"), "{e}");
     assert!(matches!(
         obj::load(&data("")),
         Err(ObjError::NotAFile { .. })
