@@ -13,6 +13,7 @@ use crate::scene::{Built, build_scene_noting};
 use crate::{Framebuffer, Renderer};
 
 pub mod out;
+pub mod stdout;
 
 use out::{out_target, output_format, write_picture};
 
@@ -76,7 +77,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let pad = crate::scene::BACKGROUND;
     if args.ansi {
         let mut out = std::io::BufWriter::new(std::io::stdout().lock());
-        crate::term::format::write_frame(
+        return crate::term::format::write_frame(
             &fb,
             args.format,
             args.symbols,
@@ -84,9 +85,9 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
             args.dither,
             pad,
             &mut out,
-        )?;
-        out.flush()?;
-        return Ok(());
+        )
+        .and_then(|()| out.flush())
+        .map_err(stdout::write_error);
     }
     let out = args.out.as_ref().context("--out FILE.png is required")?;
     let format = output_format(out)?;
@@ -118,6 +119,10 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
 /// it does the rest; and what makes it stop before rendering.
 fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
     use crate::scene::{ModelChoice, SceneKind};
+    if args.ansi || args.out.as_ref().is_some_and(|o| o.as_os_str() == "-") {
+        // Before any file is opened or anything rendered.
+        stdout::check_open()?;
+    }
     let mut notes = Vec::new();
     let view = &args.view;
     let settings = view.settings();

@@ -4,4 +4,5 @@
 //! binaries instead of one per file.
 
 mod bench_quick;
+mod output;
 mod render;
