@@ -5,4 +5,5 @@
 
 mod bench_quick;
 mod output;
+mod preview;
 mod render;
