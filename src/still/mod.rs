@@ -15,6 +15,7 @@ use crate::scene::build::LoadedNotes;
 use crate::scene::flag_maps::FlagMaps;
 use crate::scene::{Built, SceneKind, build_scene_noting};
 use crate::settings::Settings;
+use crate::texture::decode::size_cap;
 use crate::{Framebuffer, Renderer};
 
 pub mod input;
@@ -31,7 +32,12 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     }
     let (width, height) = frame_size(args);
     let mut settings = args.view.settings();
-    let (built, maps, notes) = load_scene(args)?;
+    // A preview decodes its pictures no larger than it can show them.
+    let k = crate::raster::aa::ssaa_factor(settings.aa, width, height);
+    let cap = args
+        .cells
+        .map(|_| size_cap::side_for_frame(width * k, height * k));
+    let (built, maps, notes) = size_cap::with_max_side(cap, || load_scene(args))?;
     for warning in &notes.warnings {
         eprintln!("relief: warning: {}", clean(warning));
     }
