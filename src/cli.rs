@@ -134,6 +134,13 @@ pub struct RenderArgs {
     /// Ordered dithering in 256 and 16 colours (where it lowers the error).
     #[arg(long)]
     pub dither: bool,
+    /// The frame that fills COLSxROWS terminal cells (a file manager's preview area), in place
+    /// of --width and --height: its pixels are the cells' (half: 1×2 a cell, quad 2×2, sextant
+    /// 2×3, octant 2×4), so the text has exactly ROWS lines of COLS cells; with a pixel --format,
+    /// the terminal's cell size in pixels (8×16 when it cannot be asked), kitty and iTerm2
+    /// images placed to fill the cells.
+    #[arg(long, value_name = "COLSxROWS", value_parser = parse_cells, conflicts_with_all = ["width", "height"])]
+    pub cells: Option<Cells>,
     /// Width in pixels.
     #[arg(long, default_value_t = 320, value_parser = clap::value_parser!(u32).range(1..=16384))]
     pub width: u32,
@@ -146,9 +153,39 @@ pub struct RenderArgs {
     #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
     pub light: Option<Vec2>,
     /// Texture image (RGB = colour, alpha = height; without alpha, the mean of R, G, B),
-    /// or a model file (.obj, .stl, .ply, .gltf, .glb) to draw as the model.
+    /// or a model file (.obj, .stl, .ply, .gltf, .glb) to draw as the model. `-` reads
+    /// either from standard input, its format found by its bytes (an OBJ's material
+    /// libraries and a glTF's other files are not read: there is no folder).
     #[arg(value_name = "IMAGE|MODEL")]
     pub image: Option<PathBuf>,
+}
+
+/// `--cells COLSxROWS`: a terminal area in cells.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Cells {
+    pub cols: u16,
+    pub rows: u16,
+}
+
+/// Largest `--cells` side: the frame stays within 16384 pixels a side for
+/// every symbol set (octants are 4 pixels tall).
+pub const MAX_CELLS: u16 = 4096;
+
+/// `COLSxROWS` (`80x24`), each from 1 to [`MAX_CELLS`].
+pub fn parse_cells(text: &str) -> Result<Cells, String> {
+    let bad = || format!("expected COLSxROWS in cells, such as 80x24, got '{text}'");
+    let (cols, rows) = text.trim().split_once(['x', 'X']).ok_or_else(bad)?;
+    let side = |t: &str| match t.trim().parse::<u16>() {
+        Ok(n) if (1..=MAX_CELLS).contains(&n) => Ok(n),
+        Ok(_) => Err(format!(
+            "cells must be from 1 to {MAX_CELLS} a side, got '{text}'"
+        )),
+        Err(_) => Err(bad()),
+    };
+    Ok(Cells {
+        cols: side(cols)?,
+        rows: side(rows)?,
+    })
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -375,6 +412,24 @@ mod tests {
         assert!(parse_point("1,NaN").is_err());
         assert!(parse_point("1").is_err());
         assert!(parse_point("1,2,3").is_err());
+    }
+
+    #[test]
+    fn cells_parse_as_cols_x_rows() {
+        assert_eq!(parse_cells("80x24"), Ok(Cells { cols: 80, rows: 24 }));
+        assert_eq!(parse_cells(" 1X1 "), Ok(Cells { cols: 1, rows: 1 }));
+        for bad in [
+            "80", "80x", "x24", "0x24", "80x0", "-1x5", "4097x2", "a x b", "80x24x2",
+        ] {
+            assert!(parse_cells(bad).is_err(), "{bad}");
+        }
+        assert!(
+            Cli::try_parse_from([
+                "relief", "render", "--ansi", "--cells", "8x4", "--width", "9"
+            ])
+            .is_err(),
+            "--cells replaces --width"
+        );
     }
 
     #[test]

@@ -25,6 +25,14 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        // The reader of the output stopped reading: a filter ends quietly.
+        Err(err)
+            if err
+                .downcast_ref::<relief::still::stdout::ClosedPipe>()
+                .is_some() =>
+        {
+            ExitCode::SUCCESS
+        }
         Err(err) => {
             eprintln!("relief: {}", clean(&format!("{err:#}")));
             ExitCode::FAILURE

@@ -176,11 +176,15 @@ pub fn build_scene_noting(
 ) -> Result<(Built, LoadedNotes), ObjError> {
     Ok(match kind {
         SceneKind::Cube => match model {
-            // glTF keeps its node tree and materials (`scene::gltf`).
-            ModelChoice::File(path) if super::gltf::is_gltf(path) => (
-                Built::Scene(Box::new(Scene::gltf(super::gltf::load(path)?, texture))),
-                LoadedNotes::default(),
-            ),
+            // glTF keeps its node tree and materials (`scene::gltf`). A
+            // file that cannot be opened is said as for every format.
+            ModelChoice::File(path) if super::gltf::is_gltf(path) => {
+                super::model_io::check_openable(path)?;
+                (
+                    Built::Scene(Box::new(Scene::gltf(super::gltf::load(path)?, texture))),
+                    LoadedNotes::default(),
+                )
+            }
             _ => {
                 let loaded = model.load(all_faces)?;
                 let notes = LoadedNotes {

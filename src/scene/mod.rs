@@ -19,6 +19,7 @@ pub mod loaded_model;
 pub mod map_uv;
 pub mod material;
 pub mod mesh;
+pub mod model_bytes;
 pub mod model_error;
 pub mod model_file;
 pub mod model_io;

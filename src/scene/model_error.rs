@@ -7,6 +7,8 @@ use crate::sanitize::clean;
 /// Why a model (of any format) could not be loaded: one line, already safe to print.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 pub enum ObjError {
+    #[error("model {name} not found")]
+    NotFound { name: String },
     #[error("cannot read model {name}: {reason}")]
     Read { name: String, reason: String },
     #[error("model {name} is not a regular file")]

@@ -62,10 +62,7 @@ pub(crate) fn read_model_file_mapping_from(
     map_from: u64,
 ) -> Result<(FileBytes, Reservation), ObjError> {
     let name = display_path(path);
-    let read_error = |e: std::io::Error| ObjError::Read {
-        name: name.clone(),
-        reason: crate::sanitize::io_reason(&e),
-    };
+    let read_error = |e: std::io::Error| open_error(&name, &e);
     let meta = std::fs::metadata(path).map_err(read_error)?;
     if !meta.is_file() {
         return Err(ObjError::NotAFile { name });
@@ -180,15 +177,26 @@ fn read_file_reporting(file: &File, len: u64) -> Result<Vec<u8>, Option<std::io:
 /// it starts, and loads the file on its worker afterwards).
 pub fn check_openable(path: &Path) -> Result<(), ObjError> {
     let name = display_path(path);
-    let read_error = |e: std::io::Error| ObjError::Read {
-        name: name.clone(),
-        reason: crate::sanitize::io_reason(&e),
-    };
+    let read_error = |e: std::io::Error| open_error(&name, &e);
     if !std::fs::metadata(path).map_err(read_error)?.is_file() {
         return Err(ObjError::NotAFile { name });
     }
     std::fs::File::open(path).map_err(read_error)?;
     Ok(())
+}
+
+/// Why model `name` could not be opened or read, in plain words: a
+/// missing file is "not found", other errors without their "(os error N)".
+pub(crate) fn open_error(name: &str, e: &std::io::Error) -> ObjError {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => ObjError::NotFound {
+            name: name.to_string(),
+        },
+        _ => ObjError::Read {
+            name: name.to_string(),
+            reason: crate::sanitize::io_reason(e),
+        },
+    }
 }
 
 /// Reserves `bytes` for `what` of model `name`, or the budget's error.

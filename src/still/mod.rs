@@ -1,53 +1,128 @@
 //! `relief render`: one still frame, written as a picture (PNG and the
-//! other formats `--out` names) or as terminal text (`--ansi`).
+//! other formats `--out` names) or as terminal text (`--ansi`), of a size
+//! in pixels or of a terminal area in cells (`--cells`, a file manager's
+//! preview); the model or picture may come from standard input (`-`).
 
 use std::io::Write;
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use anyhow::Context;
 
 use crate::cli::RenderArgs;
 use crate::sanitize::clean;
+use crate::scene::build::LoadedNotes;
 use crate::scene::flag_maps::FlagMaps;
-use crate::scene::{Built, build_scene_noting};
+use crate::scene::{Built, SceneKind, build_scene_noting};
+use crate::settings::Settings;
+use crate::texture::decode::size_cap;
 use crate::{Framebuffer, Renderer};
 
+pub mod input;
 pub mod out;
+pub mod stdout;
 
+use input::StdinFile;
 use out::{out_target, output_format, write_picture};
 
-/// `relief render`: one frame, to a PNG or to stdout as half-block text.
+/// `relief render`: one frame, to a picture file or to stdout as text.
 pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     for note in check_render_flags(args)? {
         eprintln!("relief: {}", clean(&note));
     }
-    // A positional model file is the model; an image is the texture.
-    let mut view = args.view.clone();
-    let mut image = args.image.clone().into_iter().collect();
-    crate::cli::models_from_positional(&mut image, &mut view.model);
+    let (width, height) = frame_size(args);
+    let mut settings = args.view.settings();
+    // A preview decodes its pictures no larger than it can show them.
+    let k = crate::raster::aa::ssaa_factor(settings.aa, width, height);
+    let cap = args
+        .cells
+        .map(|_| size_cap::side_for_frame(width * k, height * k));
+    let (built, maps, notes) = size_cap::with_max_side(cap, || load_scene(args))?;
+    for warning in &notes.warnings {
+        eprintln!("relief: warning: {}", clean(warning));
+    }
+    if notes.points && settings.display == crate::settings::Display::Fill {
+        eprintln!("relief: the model is a point cloud: drawn as points");
+        settings.display = crate::settings::Display::Points;
+    }
+    let fb = draw(args, built, &maps, &settings, (width, height))?;
+    write_frame_out(args, &fb)
+}
+
+/// The frame's size in pixels: `--width` × `--height`, or what fills
+/// `--cells` in the symbols (or, for pixel formats, the terminal's cell size).
+fn frame_size(args: &RenderArgs) -> (usize, usize) {
+    let Some(cells) = args.cells else {
+        return (args.width as usize, args.height as usize);
+    };
+    if args.ansi && args.format.is_pixels() {
+        use crate::term::pixel_view::{cell_pixels, frame_size, window_size};
+        let (cell, _) = cell_pixels(window_size(), None);
+        return frame_size(cells.cols, cells.rows, cell);
+    }
+    (
+        usize::from(cells.cols) * args.symbols.columns(),
+        usize::from(cells.rows) * args.symbols.rows(),
+    )
+}
+
+/// The scene to draw, the maps the flags name, and what loading the model
+/// had to say. A positional model file is the model, an image the
+/// texture; `-` is whichever of them standard input holds.
+fn load_scene(args: &RenderArgs) -> anyhow::Result<(Built, FlagMaps, LoadedNotes)> {
+    let view = &args.view;
+    let from_stdin = args.image.as_ref().is_some_and(|p| p.as_os_str() == "-");
+    let (picture, stdin_model) = match from_stdin.then(input::read_stdin_file).transpose()? {
+        Some(StdinFile::Picture(t)) => (Some(t), None),
+        Some(StdinFile::Model(m)) => (None, Some(m)),
+        None => (None, None),
+    };
+    let mut model = view.model.clone();
+    let mut image: Vec<PathBuf> = args.image.iter().filter(|_| !from_stdin).cloned().collect();
+    crate::cli::models_from_positional(&mut image, &mut model);
     // Errors name the file and are already free of control characters.
-    let texture = crate::texture::load::load_for_view(
-        image.first().map(|p| p.as_path()),
-        args.view.height_map.as_deref(),
-    )?;
-    let view = &view;
+    let height_map = view.height_map.as_deref();
+    let texture = match (picture, height_map) {
+        (Some(color), Some(path)) => crate::texture::load::with_height_map(
+            color,
+            &crate::texture::load::load_texture(path)?,
+        )?,
+        (Some(color), None) => color,
+        (None, _) => {
+            crate::texture::load::load_for_view(image.first().map(PathBuf::as_path), height_map)?
+        }
+    };
     let maps = FlagMaps::read(
         view.specular_map.as_deref(),
         view.normal_map.as_deref(),
         view.environment_map.as_deref(),
     )
     .all()?;
-    let (built, notes) =
-        build_scene_noting(view.scene, &view.model, Arc::new(texture), view.all_faces)?;
-    for warning in &notes.warnings {
-        eprintln!("relief: warning: {}", clean(warning));
+    let texture = Arc::new(texture);
+    let model_ignored = stdin_model.is_some() && view.scene != SceneKind::Cube;
+    let (built, mut notes) = match stdin_model {
+        Some(m) if view.scene == SceneKind::Cube => {
+            let (scene, notes) = m.into_scene(texture);
+            (Built::Scene(Box::new(scene)), notes)
+        }
+        _ => build_scene_noting(view.scene, &model, texture, view.all_faces)?,
+    };
+    if model_ignored {
+        notes.warnings.push(
+            "the model from standard input is ignored: only --scene cube draws a model".into(),
+        );
     }
-    let mut settings = view.settings();
-    if notes.points && settings.display == crate::settings::Display::Fill {
-        eprintln!("relief: the model is a point cloud: drawn as points");
-        settings.display = crate::settings::Display::Points;
-    }
-    let (width, height) = (args.width as usize, args.height as usize);
+    Ok((built, maps, notes))
+}
+
+/// The frame of `size` pixels drawn.
+fn draw(
+    args: &RenderArgs,
+    built: Built,
+    maps: &FlagMaps,
+    settings: &Settings,
+    (width, height): (usize, usize),
+) -> anyhow::Result<Framebuffer> {
     // The frame's memory is reserved before any of it exists.
     let _frame = crate::budget::reserve(
         &format!("a {width}x{height} frame"),
@@ -56,7 +131,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let mut fb = Framebuffer::new(width, height);
     match built {
         Built::Scene(mut scene) => {
-            scene.camera = scene.camera.at_distance(view.distance);
+            scene.camera = scene.camera.at_distance(args.view.distance);
             scene.camera.fov_y_degrees = settings.fov;
             maps.dress(&mut scene);
             let mut renderer = Renderer::new();
@@ -64,35 +139,42 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
                 // The text's pixels are as tall as its symbols make them.
                 renderer.set_pixel_aspect(args.symbols.pixel_aspect());
             }
-            renderer.render(&scene, &settings, &mut fb);
+            renderer.render(&scene, settings, &mut fb);
         }
         Built::Plasma(plasma) => {
             let centre = (fb.width() as f32 / 2.0, fb.height() as f32 / 2.0);
             let light = args.light.map_or(centre, |p| (p.x, p.y));
-            plasma.render(light, view.plasma_normal, &mut fb);
+            plasma.render(light, args.view.plasma_normal, &mut fb);
         }
     }
+    Ok(fb)
+}
+
+/// Writes the frame where the flags say: text or a terminal image on
+/// standard output (`--ansi`), or a picture (`--out`).
+fn write_frame_out(args: &RenderArgs, fb: &Framebuffer) -> anyhow::Result<()> {
     let depth = crate::app::color_depth(Some(args.color));
     let pad = crate::scene::BACKGROUND;
     if args.ansi {
         let mut out = std::io::BufWriter::new(std::io::stdout().lock());
-        crate::term::format::write_frame(
-            &fb,
+        return crate::term::format::write_frame(
+            fb,
             args.format,
             args.symbols,
             depth,
             args.dither,
             pad,
+            args.cells.map(|c| (c.cols, c.rows)),
             &mut out,
-        )?;
-        out.flush()?;
-        return Ok(());
+        )
+        .and_then(|()| out.flush())
+        .map_err(stdout::write_error);
     }
     let out = args.out.as_ref().context("--out FILE.png is required")?;
     let format = output_format(out)?;
     let out = &out_target(out)?;
     if depth == crate::term::ColorDepth::Truecolor && args.symbols == crate::term::Symbols::Half {
-        write_picture(&fb, out, format)
+        write_picture(fb, out, format)
     } else {
         // The picture a terminal with that depth shows: its cells first.
         let (w, h) = args.symbols.cells_for_pixels(fb.width(), fb.height());
@@ -106,7 +188,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
                 + fb.width() * fb.height() * crate::budget::FRAME_BYTES_PER_PIXEL as usize)
                 as u64,
         )?;
-        let cells = crate::term::ansi::symbol_cells(&fb, args.symbols, depth, args.dither, pad);
+        let cells = crate::term::ansi::symbol_cells(fb, args.symbols, depth, args.dither, pad);
         let shown =
             crate::term::cells::shown_picture(&cells, args.symbols, fb.width(), fb.height(), pad);
         drop(cells);
@@ -118,6 +200,10 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
 /// it does the rest; and what makes it stop before rendering.
 fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
     use crate::scene::{ModelChoice, SceneKind};
+    if args.ansi || args.out.as_ref().is_some_and(|o| o.as_os_str() == "-") {
+        // Before any file is opened or anything rendered.
+        stdout::check_open()?;
+    }
     let mut notes = Vec::new();
     let view = &args.view;
     let settings = view.settings();
@@ -134,7 +220,7 @@ fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
                 .into(),
         );
     }
-    let (w, h) = (args.width as usize, args.height as usize);
+    let (w, h) = frame_size(args);
     let k = crate::raster::aa::ssaa_factor(settings.aa, w, h);
     let wanted = match settings.aa {
         crate::settings::AntiAlias::Ssaa2 => 2,

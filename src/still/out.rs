@@ -6,7 +6,7 @@ use std::io::Write;
 use anyhow::Context;
 
 use crate::Framebuffer;
-use crate::sanitize::clean;
+use crate::sanitize::{clean, io_reason};
 
 /// Where `--out` writes.
 #[derive(Debug)]
@@ -65,10 +65,7 @@ pub fn out_target(out: &std::path::Path) -> anyhow::Result<OutTarget> {
         }
         // Opened without truncating: only asks whether writing is allowed.
         if let Err(e) = std::fs::OpenOptions::new().write(true).open(&target) {
-            anyhow::bail!(
-                "cannot write {shown} (mode {mode:o}): {}",
-                clean(&e.to_string())
-            );
+            anyhow::bail!("cannot write {shown} (mode {mode:o}): {}", io_reason(&e));
         }
     }
     Ok(OutTarget::File(target))
@@ -91,6 +88,16 @@ pub fn output_format(out: &std::path::Path) -> anyhow::Result<image::ImageFormat
     }
 }
 
+/// The frame as a picture `format` can encode: 8-bit RGB, or 16-bit RGBA
+/// for Farbfeld (the only layout it has), each value the 8-bit one × 257.
+fn picture_for(fb: &Framebuffer, format: image::ImageFormat) -> image::DynamicImage {
+    let rgb = image::DynamicImage::ImageRgb8(fb.to_image());
+    match format {
+        image::ImageFormat::Farbfeld => image::DynamicImage::ImageRgba16(rgb.into_rgba16()),
+        _ => rgb,
+    }
+}
+
 /// Writes the frame in `format` to standard output, or to a file through a
 /// temporary file in the same directory renamed over it at the end: a
 /// reader never sees half a picture, and nothing but a regular file is
@@ -109,13 +116,12 @@ pub fn write_picture(
             // Encoded whole first: the image encoders need a seekable
             // writer for some formats, and a pipe is not one.
             let mut bytes = std::io::Cursor::new(Vec::new());
-            fb.to_image().write_to(&mut bytes, format)?;
+            picture_for(fb, format).write_to(&mut bytes, format)?;
             let mut stdout = std::io::stdout().lock();
-            stdout
+            return stdout
                 .write_all(bytes.get_ref())
                 .and_then(|()| stdout.flush())
-                .context("cannot write the picture to standard output")?;
-            return Ok(());
+                .map_err(super::stdout::write_error);
         }
     };
     let shown = crate::sanitize::display_path(out);
@@ -136,7 +142,7 @@ pub fn write_picture(
             .create_new(true)
             .open(&temp)?;
         let mut writer = std::io::BufWriter::new(file);
-        fb.to_image().write_to(&mut writer, format)?;
+        picture_for(fb, format).write_to(&mut writer, format)?;
         writer.flush()?;
         if let Some(p) = permissions {
             std::fs::set_permissions(&temp, p)?;
@@ -146,7 +152,19 @@ pub fn write_picture(
     })();
     if let Err(e) = written {
         let _ = std::fs::remove_file(&temp);
-        anyhow::bail!("cannot write {shown}: {}", clean(&e.to_string()));
+        anyhow::bail!("cannot write {shown}: {}", plain_reason(&e));
     }
     Ok(())
+}
+
+/// A failed write in plain words: an I/O error (of the file, or met by the
+/// encoder) without its "(os error N)".
+fn plain_reason(e: &anyhow::Error) -> String {
+    let io = e.downcast_ref::<std::io::Error>().or_else(|| {
+        match e.downcast_ref::<image::ImageError>() {
+            Some(image::ImageError::IoError(io)) => Some(io),
+            _ => None,
+        }
+    });
+    io.map_or_else(|| clean(&e.to_string()), io_reason)
 }

@@ -2,10 +2,13 @@
 //! the picture a terminal would show (`relief render --color 256`).
 //!
 //! The text goes through the view's own widget and backend: colours are sent
-//! only when they change, a half-block cell is `▀`, `▄` or a space whichever
-//! takes fewer bytes (the finer symbol sets write their fitted glyph), and
-//! rows are joined by `\r\n` (or `\n` for a file, [`write_symbol_text`]). It starts where the cursor is (no
-//! absolute move, no alternate screen, no synchronized-output brackets).
+//! only when they change within a row, a half-block cell is `▀`, `▄` or a
+//! space whichever takes fewer bytes (the finer symbol sets write their
+//! fitted glyph), each row ends with an attribute reset (the rest of a
+//! wider line keeps the terminal's own background), and rows are joined by
+//! `\r\n` (or `\n` for a file, [`write_symbol_text`]). It starts where the
+//! cursor is (no absolute move, no alternate screen, no synchronized-output
+//! brackets).
 
 use std::io;
 
@@ -68,7 +71,7 @@ pub fn frame_text(
 }
 
 /// Writes [`frame_text`] to `out`, a band of [`BAND_ROWS`] cell rows at a
-/// time (each band starts from the default pen and ends with a reset);
+/// time; each row starts from the default pen and ends with a reset, and
 /// rows end with LF, as a file's lines do.
 pub fn write_frame_text(
     fb: &Framebuffer,
@@ -81,7 +84,8 @@ pub fn write_frame_text(
 }
 
 /// The frame as text drawn with `symbols`, rows joined by `newline`
-/// (`\r\n` for a terminal in raw mode, `\n` for a file).
+/// (`\r\n` for a terminal in raw mode, `\n` for a file), each row ending
+/// with an attribute reset when it set any.
 pub fn write_symbol_text(
     fb: &Framebuffer,
     symbols: Symbols,
@@ -106,36 +110,35 @@ pub fn write_symbol_text(
         let area = Rect::new(0, 0, w, rows);
         let mut buf = Buffer::empty(area);
         widget.render_from_row(first, area, &mut buf);
-        let mut backend = SgrBackend::with_size(std::mem::take(&mut text), w, rows);
-        let cells = buf
-            .content
-            .iter()
-            .enumerate()
-            .map(|(i, c)| ((i % w as usize) as u16, (i / w as usize) as u16, c));
-        backend.draw(cells)?;
-        Backend::flush(&mut backend)?;
-        text = std::mem::take(backend.writer_mut());
-        // The backend places a band's first cell with an absolute move to
-        // the top left; the text goes on where the cursor is.
-        let body = text.strip_prefix(b"\x1b[H").unwrap_or(&text);
-        if first > 0 {
-            out.write_all(newline)?;
-        }
-        // The backend starts each row below the first with CR LF.
-        if newline == b"\r\n" {
-            out.write_all(body)?;
-        } else {
-            let mut rest = body;
-            while let Some(at) = rest.windows(2).position(|w| w == b"\r\n") {
-                out.write_all(&rest[..at])?;
+        for (y, row) in buf.content.chunks(w.max(1) as usize).enumerate() {
+            if first + y > 0 {
                 out.write_all(newline)?;
-                rest = &rest[at + 2..];
             }
-            out.write_all(rest)?;
+            text = row_text(row, w, text)?;
+            out.write_all(&text)?;
+            text.clear();
         }
-        text.clear();
     }
     out.write_all(b"\n")
+}
+
+/// One row of cells as text, from the default pen and ending with an
+/// attribute reset: a terminal wider than the row, or one that scrolls,
+/// paints the rest of the line with the default background, not the last
+/// cell's. `text` is the buffer to write into (given back filled).
+fn row_text(row: &[ratatui::buffer::Cell], w: u16, text: Vec<u8>) -> io::Result<Vec<u8>> {
+    let mut backend = SgrBackend::with_size(text, w, 1);
+    let cells = row.iter().enumerate().map(|(x, c)| (x as u16, 0, c));
+    // Each draw starts from the default pen and ends with a reset.
+    backend.draw(cells)?;
+    Backend::flush(&mut backend)?;
+    let mut text = std::mem::take(backend.writer_mut());
+    // The backend places the row's first cell with an absolute move to the
+    // top left; the text goes on where the cursor is.
+    if text.starts_with(b"\x1b[H") {
+        text.drain(..3);
+    }
+    Ok(text)
 }
 
 /// The picture the cells show (xterm's palette values), `width × height` pixels.

@@ -42,8 +42,10 @@ impl Format {
 }
 
 /// The frame in `format` for a file or a pipe (`relief render --ansi`),
-/// starting at the cursor and ending with a newline (LF only); pixel
-/// formats show the frame at its own pixel size.
+/// starting at the cursor and ending with a newline (LF only). Pixel
+/// formats show the frame at its own pixel size, or, for kitty and iTerm2,
+/// scaled to fill `cells` (columns × rows) when given; a sixel image has
+/// no such setting.
 #[allow(clippy::too_many_arguments)]
 pub fn write_frame(
     fb: &Framebuffer,
@@ -52,6 +54,7 @@ pub fn write_frame(
     depth: ColorDepth,
     dither: bool,
     pad: Rgb,
+    cells: Option<(u16, u16)>,
     out: &mut impl Write,
 ) -> io::Result<()> {
     match format {
@@ -59,7 +62,7 @@ pub fn write_frame(
             ansi::write_symbol_text(fb, symbols, depth, dither, pad, b"\n", out)
         }
         Format::Kitty => {
-            kitty::write_image(fb, None, out)?;
+            kitty::write_image(fb, cells, out)?;
             out.write_all(b"\n")
         }
         Format::Sixels => {
@@ -67,7 +70,7 @@ pub fn write_frame(
             out.write_all(b"\n")
         }
         Format::Iterm => {
-            iterm::write_image(fb, None, out)?;
+            iterm::write_image(fb, cells, out)?;
             out.write_all(b"\n")
         }
     }

@@ -4,4 +4,6 @@
 //! binaries instead of one per file.
 
 mod bench_quick;
+mod output;
+mod preview;
 mod render;

@@ -346,3 +346,61 @@ fn ansi_writes_every_symbol_set_and_pixel_format_with_lf_rows() {
     );
     assert!(text.ends_with("\x07\n"));
 }
+
+#[test]
+fn ansi_rows_each_end_with_a_reset() {
+    // A row that ends on a coloured cell leaves no colour set for the rest
+    // of a wider line, whatever the symbols and the depth.
+    for symbols in ["half", "quad", "sextant", "octant"] {
+        for color in ["truecolor", "256", "16"] {
+            let o = relief(&[
+                "render",
+                "--ansi",
+                "--width",
+                "24",
+                "--height",
+                "24",
+                "--symbols",
+                symbols,
+                "--color",
+                color,
+            ]);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            let text = String::from_utf8(o.stdout).unwrap();
+            for (k, line) in text.lines().enumerate() {
+                assert!(
+                    line.contains("\x1b["),
+                    "{symbols} {color} row {k}: coloured"
+                );
+                assert!(
+                    line.ends_with("\x1b[0m"),
+                    "{symbols} {color} row {k}: {line:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_missing_model_is_not_found_in_every_format() {
+    let dir = scratch_dir("missing-model");
+    let out = dir.0.join("x.png");
+    for ext in ["glb", "gltf", "obj", "stl", "ply", "GLB"] {
+        let model = dir.0.join(format!("none.{ext}"));
+        let shown = model.to_str().unwrap();
+        for args in [
+            vec!["render", "--out", out.to_str().unwrap(), "--model", shown],
+            vec!["render", "--out", out.to_str().unwrap(), shown],
+            vec!["render", "--ansi", shown],
+        ] {
+            let o = relief(&args);
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+            assert_eq!(
+                err.trim_end(),
+                format!("relief: model {shown} not found"),
+                "{args:?}"
+            );
+        }
+    }
+}

@@ -427,7 +427,8 @@ fn decode_image(
     let precision = precision_of(decoder.color_type());
     let held = reserve_texture(file, width as usize, height as usize, precision)?;
     let image = DynamicImage::from_decoder(decoder).map_err(image_error)?;
-    Ok((level_from_image(image), held))
+    // A frame that needs less detail gets a smaller copy (`size_cap`).
+    Ok((level_from_image(super::size_cap::reduced(image)), held))
 }
 
 fn convert_error(e: ImageError, file: &str, format: &str) -> TextureError {

@@ -7,6 +7,7 @@ pub mod builtin;
 pub mod load;
 pub mod procedural;
 pub mod resample;
+pub mod size_cap;
 pub mod tiff_picture;
 pub mod tiff_samples;
 pub mod tiff_strips;
