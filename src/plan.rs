@@ -1,16 +1,15 @@
 //! Which stages a frame runs, decided once from the scene and the settings,
 //! so that an effect that is off, or cannot show, costs nothing.
 
-use std::f32::consts::FRAC_PI_2;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
 use crate::scene::casters::{Caster, casters, enclose};
 use crate::scene::terms::MaterialTerms;
-use crate::scene::{Material, Scene, rotation_matrix};
+use crate::scene::{Material, Scene};
 use crate::settings::{
-    AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique, UpAxis,
+    AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
 };
 use crate::texture::environment::Environment;
 use crate::texture::normal_map::normal_map_scale;
@@ -80,6 +79,9 @@ pub struct Plan {
     pub normal_map_from_file: bool,
     /// The camera position in world space (parallax needs the view vector).
     pub eye: Vec3,
+    /// The camera the frame is seen with: the scene's, or in the model
+    /// view the one that frames the model (`scene::model_view`).
+    pub camera: crate::scene::Camera,
     pub height_derivative: HeightDerivative,
     pub filter: Filter,
     /// Screen-space UV derivatives per pixel, for the filters that pick a mip level.
@@ -198,10 +200,7 @@ impl Plan {
             settings.aa
         };
         // A Z-up model is first turned so +Z is up, then the user's rotation.
-        let rotation = match settings.up {
-            UpAxis::Y => rotation_matrix(settings.rotation),
-            UpAxis::Z => rotation_matrix(settings.rotation) * Mat4::from_rotation_x(-FRAC_PI_2),
-        };
+        let rotation = crate::scene::model_view::view_rotation(settings.rotation, settings.up);
         let (shadow_light, shadow_casters) =
             shadow_light(scene, settings.display, rotation, &lights).unzip();
         let specular = (settings.specular
@@ -233,6 +232,7 @@ impl Plan {
             normal_map: stages.normal_map,
             normal_map_from_file: stages.normal_map_from_file,
             eye: scene.camera.eye,
+            camera: scene.camera,
             height_derivative: settings.height_derivative,
             filter: settings.filter,
             footprint: stages.footprint,

@@ -178,7 +178,9 @@ pub fn build_scene_noting(
         SceneKind::Cube => match model {
             // glTF keeps its node tree and materials (`scene::gltf`).
             ModelChoice::File(path) if super::gltf::is_gltf(path) => (
-                Built::Scene(Box::new(Scene::gltf(super::gltf::load(path)?, texture))),
+                Built::Scene(Box::new(
+                    Scene::gltf(super::gltf::load(path)?, texture).into_model_view(),
+                )),
                 LoadedNotes::default(),
             ),
             _ => {
@@ -187,10 +189,14 @@ pub fn build_scene_noting(
                     warnings: loaded.warnings.clone(),
                     points: loaded.points,
                 };
-                (
-                    Built::Scene(Box::new(Scene::loaded(loaded, texture))),
-                    notes,
-                )
+                let scene = Scene::loaded(loaded, texture);
+                // A model file is shown in the model view; the built-in
+                // models keep the reference scene's camera and lights.
+                let scene = match model {
+                    ModelChoice::File(_) => scene.into_model_view(),
+                    _ => scene,
+                };
+                (Built::Scene(Box::new(scene)), notes)
             }
         },
         SceneKind::Shadow => (
@@ -328,6 +334,7 @@ impl Scene {
             ambient: AMBIENT,
             camera: Camera::default(),
             background: BACKGROUND,
+            model_view: None,
         }
     }
 
