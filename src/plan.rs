@@ -10,6 +10,7 @@ use crate::scene::terms::MaterialTerms;
 use crate::scene::{Material, Scene};
 use crate::settings::{
     AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
+    ToneMap,
 };
 use crate::texture::environment::Environment;
 use crate::texture::normal_map::normal_map_scale;
@@ -51,6 +52,17 @@ pub struct Reflection {
     pub map: Arc<Environment>,
     /// k of c = (1 − k)·lit + k·env(R): in (0, 1].
     pub reflectivity: f32,
+}
+
+/// The model view's physically based shading of metallic-roughness
+/// materials (docs/shading.md, "Metallic-roughness").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Physical {
+    pub tone_map: ToneMap,
+    /// Multiplies the light before the tone map: finite and > 0.
+    pub exposure: f32,
+    /// Normal maps applied (key `b`, on by default).
+    pub normal_maps: bool,
 }
 
 /// The stages of one frame.
@@ -116,6 +128,10 @@ pub struct Plan {
     /// A model material's extra terms (emission, occlusion, specular
     /// colour), only when they change a pixel (`Plan::with_terms`).
     pub terms: Option<Arc<MaterialTerms>>,
+    /// The model view shades metallic-roughness materials physically:
+    /// `None` for the reference scenes, whose pictures are defined in sRGB
+    /// values.
+    pub physical: Option<Physical>,
 }
 
 /// Whether the settings let a bump show at all: Phong, bump on and a
@@ -249,6 +265,15 @@ impl Plan {
             shadow_casters: shadow_casters.unwrap_or_default(),
             tangent_frames: settings.tangent_frames && any_textured,
             terms: None,
+            physical: scene.model_view.map(|_| Physical {
+                tone_map: settings.tone_map,
+                exposure: if settings.exposure.is_finite() && settings.exposure > 0.0 {
+                    settings.exposure
+                } else {
+                    1.0
+                },
+                normal_maps: settings.bump,
+            }),
         }
     }
 }
@@ -301,6 +326,16 @@ impl Plan {
             && s > 0.0
         {
             spec.shininess = s;
+        }
+        // The model view shades a metallic-roughness material physically,
+        // its normal map applied on the triangles with texture coordinates.
+        if let (Some(physical), Some(pbr)) = (plan.physical, &terms.pbr)
+            && plan.display == Display::Fill
+            && plan.shading == Shading::Phong
+        {
+            plan.bump = physical.normal_maps && pbr.normal.is_some();
+            plan.terms = Some(terms.clone());
+            return plan;
         }
         // Flat and Gouraud read only the alpha mask of the terms, and where
         // the specular map is read.

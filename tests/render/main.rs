@@ -20,6 +20,7 @@ mod hard_cases;
 mod model_view;
 mod overdraw;
 mod packets;
+mod pbr;
 mod plan;
 mod plasma;
 mod reference;
