@@ -205,9 +205,10 @@ pub enum ColorDepthArg {
 pub struct ViewArgs {
     #[command(flatten)]
     pub options: OptionArgs,
-    /// Model rotation in degrees about X, then Y, then Z.
-    #[arg(long, value_name = "X,Y,Z", default_value = "25,35,0", value_parser = parse_rotation, allow_hyphen_values = true)]
-    pub rotate: Vec3,
+    /// Model rotation in degrees about X, then Y, then Z (default 25,35,0; a model file's
+    /// start view 0,-35,0, seen from 20° above: docs/models.md).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_rotation, allow_hyphen_values = true)]
+    pub rotate: Option<Vec3>,
     /// Map the texture on all six faces of the cube (default: front and back).
     #[arg(long)]
     pub all_faces: bool,
@@ -246,7 +247,14 @@ impl ViewArgs {
     /// The settings these flags describe.
     pub fn settings(&self) -> Settings {
         let mut s = self.options.settings;
-        s.rotation = self.rotate;
+        // A model file starts in the model view's three-quarter turn.
+        let model_file =
+            matches!(self.model, ModelChoice::File(_)) && self.scene == SceneKind::Cube;
+        s.rotation = self.rotate.unwrap_or(if model_file {
+            crate::scene::model_view::START_ROTATION
+        } else {
+            crate::settings::DEFAULT_ROTATION
+        });
         s.normal_map_file = self.normal_map.is_some();
         // The environment is on by itself when a map is given.
         if !self.options.given("environment") {

@@ -1,16 +1,16 @@
 //! Which stages a frame runs, decided once from the scene and the settings,
 //! so that an effect that is off, or cannot show, costs nothing.
 
-use std::f32::consts::FRAC_PI_2;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
 use crate::scene::casters::{Caster, casters, enclose};
 use crate::scene::terms::MaterialTerms;
-use crate::scene::{Material, Scene, rotation_matrix};
+use crate::scene::{Material, Scene};
 use crate::settings::{
-    AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique, UpAxis,
+    AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
+    ToneMap,
 };
 use crate::texture::environment::Environment;
 use crate::texture::normal_map::normal_map_scale;
@@ -54,6 +54,17 @@ pub struct Reflection {
     pub reflectivity: f32,
 }
 
+/// The model view's physically based shading of metallic-roughness
+/// materials (docs/shading.md, "Metallic-roughness").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Physical {
+    pub tone_map: ToneMap,
+    /// Multiplies the light before the tone map: finite and > 0.
+    pub exposure: f32,
+    /// Normal maps applied (key `b`, on by default).
+    pub normal_maps: bool,
+}
+
 /// The stages of one frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Plan {
@@ -80,6 +91,9 @@ pub struct Plan {
     pub normal_map_from_file: bool,
     /// The camera position in world space (parallax needs the view vector).
     pub eye: Vec3,
+    /// The camera the frame is seen with: the scene's, or in the model
+    /// view the one that frames the model (`scene::model_view`).
+    pub camera: crate::scene::Camera,
     pub height_derivative: HeightDerivative,
     pub filter: Filter,
     /// Screen-space UV derivatives per pixel, for the filters that pick a mip level.
@@ -114,6 +128,10 @@ pub struct Plan {
     /// A model material's extra terms (emission, occlusion, specular
     /// colour), only when they change a pixel (`Plan::with_terms`).
     pub terms: Option<Arc<MaterialTerms>>,
+    /// The model view shades metallic-roughness materials physically:
+    /// `None` for the reference scenes, whose pictures are defined in sRGB
+    /// values.
+    pub physical: Option<Physical>,
 }
 
 /// Whether the settings let a bump show at all: Phong, bump on and a
@@ -198,10 +216,7 @@ impl Plan {
             settings.aa
         };
         // A Z-up model is first turned so +Z is up, then the user's rotation.
-        let rotation = match settings.up {
-            UpAxis::Y => rotation_matrix(settings.rotation),
-            UpAxis::Z => rotation_matrix(settings.rotation) * Mat4::from_rotation_x(-FRAC_PI_2),
-        };
+        let rotation = crate::scene::model_view::view_rotation(settings.rotation, settings.up);
         let (shadow_light, shadow_casters) =
             shadow_light(scene, settings.display, rotation, &lights).unzip();
         let specular = (settings.specular
@@ -233,6 +248,7 @@ impl Plan {
             normal_map: stages.normal_map,
             normal_map_from_file: stages.normal_map_from_file,
             eye: scene.camera.eye,
+            camera: scene.camera,
             height_derivative: settings.height_derivative,
             filter: settings.filter,
             footprint: stages.footprint,
@@ -249,6 +265,15 @@ impl Plan {
             shadow_casters: shadow_casters.unwrap_or_default(),
             tangent_frames: settings.tangent_frames && any_textured,
             terms: None,
+            physical: scene.model_view.map(|_| Physical {
+                tone_map: settings.tone_map,
+                exposure: if settings.exposure.is_finite() && settings.exposure > 0.0 {
+                    settings.exposure
+                } else {
+                    1.0
+                },
+                normal_maps: settings.bump,
+            }),
         }
     }
 }
@@ -301,6 +326,16 @@ impl Plan {
             && s > 0.0
         {
             spec.shininess = s;
+        }
+        // The model view shades a metallic-roughness material physically,
+        // its normal map applied on the triangles with texture coordinates.
+        if let (Some(physical), Some(pbr)) = (plan.physical, &terms.pbr)
+            && plan.display == Display::Fill
+            && plan.shading == Shading::Phong
+        {
+            plan.bump = physical.normal_maps && pbr.normal.is_some();
+            plan.terms = Some(terms.clone());
+            return plan;
         }
         // Flat and Gouraud read only the alpha mask of the terms, and where
         // the specular map is read.

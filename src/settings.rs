@@ -258,6 +258,24 @@ pub struct Settings {
     pub fov: f32,
     /// Key `U`, `--up`: the model's axis that points up (Z for CAD files).
     pub up: UpAxis,
+    /// `--tone-map`: how physically shaded light (a model's glTF
+    /// materials) is brought into the picture's range.
+    pub tone_map: ToneMap,
+    /// `--exposure`: multiplies physically shaded light before the tone map.
+    pub exposure: f32,
+}
+
+/// The tone map of physically shaded pixels (docs/shading.md,
+/// "Metallic-roughness").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum ToneMap {
+    /// Khronos PBR Neutral: colours kept up to 0.76, brighter ones rolled off to white.
+    #[default]
+    PbrNeutral,
+    /// ACES filmic (Narkowicz's fit): more contrast, highlights rolled off.
+    Aces,
+    /// None: linear light clamped at white.
+    None,
 }
 
 /// The model axis drawn upwards (docs/models.md, "Camera").
@@ -296,6 +314,8 @@ impl Default for Settings {
             tangent_frames: false,
             fov: DEFAULT_FOV,
             up: UpAxis::Y,
+            tone_map: ToneMap::PbrNeutral,
+            exposure: 1.0,
         }
     }
 }

@@ -210,6 +210,11 @@ impl Stage {
                     light.position = turn * *at;
                 }
                 scene.camera = self.camera.at_distance(state.distance).panned(state.pan);
+                // The model view frames the model at the start rotation, so
+                // turning it does not move the camera (`r` comes back to it).
+                if let Some(view) = &mut scene.model_view {
+                    view.pose = Some(state.start_rotation);
+                }
                 scene.camera.fov_y_degrees = state.settings.fov;
                 renderer.render(scene, &state.settings, fb)
             }

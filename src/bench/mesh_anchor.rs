@@ -3,8 +3,9 @@
 //! harness times it, so the two run one after the other and compare as
 //! ratios (docs/bench.md, "A model file side by side with llvmpipe").
 //!
-//! The view: the model as `relief FILE` opens it (centred on its bounding
-//! box, farthest point 1.5 from the centre, rotated 25°, 35°, 0°), the
+//! The view: the model as `relief FILE` loads it (centred on its bounding
+//! box, farthest point 1.5 from the centre), but rotated 25°, 35°, 0° in the
+//! reference view rather than the model view (`scene::model_view`), the
 //! reference camera at (0, 0, 5) (60° vertical field of view, near 0.1,
 //! far 100), the four reference point lights and ambient 0.1, no attenuation;
 //! Phong with vertex normals, the vertex colours (0.4 + 0.3·(p/1.5 + 1)
@@ -51,7 +52,9 @@ pub fn settings() -> Settings {
     }
 }
 
-/// The model file as `relief FILE` builds it (the cube scene with that model).
+/// The model file as `relief FILE` builds it (the cube scene with that
+/// model), in the reference camera and lights rather than the model view,
+/// as the llvmpipe harness draws it.
 pub fn scene(path: &Path) -> anyhow::Result<Scene> {
     let (texture, _) = super::reference::texture();
     match build_scene(
@@ -60,7 +63,7 @@ pub fn scene(path: &Path) -> anyhow::Result<Scene> {
         texture,
         true,
     )? {
-        Built::Scene(scene) => Ok(*scene),
+        Built::Scene(scene) => Ok((*scene).into_reference_view()),
         Built::Plasma(_) => unreachable!("the cube scene is a 3D scene"),
     }
 }

@@ -20,7 +20,8 @@ use super::values;
 use crate::plan;
 use crate::settings::{
     AntiAlias, BUMP_FACTOR, BUMP_MAX, BUMP_MIN, DEFAULT_FOV, Display, FOV_RANGE, Filter,
-    HeightDerivative, LightVector, Normals, SHININESS_RANGE, Settings, Shading, Technique, UpAxis,
+    HeightDerivative, LightVector, Normals, SHININESS_RANGE, Settings, Shading, Technique, ToneMap,
+    UpAxis,
 };
 
 /// How an entry reads and writes its [`Settings`] field: `field!(name: bool)`,
@@ -651,6 +652,54 @@ pub static OPTIONS: &[Opt] = &[
             shown: Some(|c| c.settings.up == UpAxis::Z),
             ..same(19, |_| "Z up".into(), Some(4))
         }),
+        bench: Bench::None,
+    },
+    Opt {
+        name: "tone_map",
+        title: "tone map",
+        kind: Kind::Choice {
+            values: values::<ToneMap>,
+        },
+        field: field!(tone_map: ToneMap),
+        flag: flag(
+            "Tone map of physically shaded models (glTF materials): Khronos PBR Neutral, ACES filmic, or none",
+        ),
+        keys: &[],
+        shows: None,
+        status: None,
+        bench: Bench::None,
+    },
+    Opt {
+        name: "exposure",
+        title: "exposure",
+        kind: Kind::Number {
+            parse: |text| {
+                let e = parse_finite(text)?;
+                if e > 0.0 {
+                    Ok(e)
+                } else {
+                    Err(format!("the exposure must be above 0, got '{text}'"))
+                }
+            },
+            step: Step {
+                factor: 1.25,
+                min: 0.01,
+                max: 100.0,
+                zero_below: None,
+            },
+            show: format_shininess,
+            negative: false,
+        },
+        field: field!(exposure: f32),
+        flag: Flag {
+            value_name: Some("E"),
+            ..flag(
+                "Exposure: multiplies the light of physically shaded models before the tone map (1: as lit)",
+            )
+        },
+        keys: &[],
+        shows: None,
+        status: None,
         bench: Bench::None,
     },
 ];

@@ -211,7 +211,7 @@ pub fn draw_tangent_frames(
     if width == 0 || height == 0 {
         return counters;
     }
-    let view_proj = scene.camera.projection(aspect) * scene.camera.view();
+    let view_proj = plan.camera.projection(aspect) * plan.camera.view();
     let clip = |p: Vec3| -> Vec4 { view_proj * p.extend(1.0) };
     let mut canvas = Canvas::new(width, height, fb.pixels_mut());
     for f in vertex_frames(scene, world, plan) {

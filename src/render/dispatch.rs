@@ -9,6 +9,7 @@ use crate::shade::dot3::Dot3;
 use crate::shade::emboss::Emboss;
 use crate::shade::kernels::{FlatTexturedKernel, GouraudKernel, PhongKernel};
 use crate::shade::parallax::Parallax;
+use crate::shade::pbr::PbrKernel;
 use crate::shade::{PhongTri, ShadeCtx, TriShader};
 use crate::stats::Counters;
 
@@ -54,8 +55,52 @@ pub fn draw_into<T: RasterTarget>(
                 target.raster(tri, &GouraudKernel::<false, false>::new(s), ctx, counters)
             }
         },
+        TriShader::Phong(s) if physical(ctx) => draw_physical(tri, s, ctx, target, counters),
         TriShader::Phong(s) if s.bumped => draw_bumped(tri, s, ctx, target, counters),
         TriShader::Phong(s) => phong::<T, false>(tri, s, ctx, target, counters),
+    }
+}
+
+/// Whether the plan shades its material physically (the model view's
+/// metallic-roughness materials).
+fn physical(ctx: &ShadeCtx) -> bool {
+    let plan = ctx.plan;
+    plan.physical.is_some() && plan.terms.as_ref().is_some_and(|t| t.pbr.is_some())
+}
+
+/// A metallic-roughness triangle, with or without its colour texture and
+/// normal map.
+fn draw_physical<T: RasterTarget>(
+    tri: &ScreenTri,
+    s: &PhongTri,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
+    let plan = ctx.plan;
+    let (Some(physical), Some(terms)) = (plan.physical, plan.terms.as_deref()) else {
+        return;
+    };
+    let Some(pbr) = terms.pbr.as_ref() else {
+        return;
+    };
+    let mapped = s.bumped && pbr.normal.is_some();
+    macro_rules! kernel {
+        ($tex:literal, $nmap:literal) => {{
+            let k = PbrKernel::<$tex, $nmap> {
+                tri: s,
+                terms,
+                pbr,
+                physical,
+            };
+            target.raster(tri, &k, ctx, counters)
+        }};
+    }
+    match (s.textured, mapped) {
+        (true, true) => kernel!(true, true),
+        (true, false) => kernel!(true, false),
+        (false, true) => kernel!(false, true),
+        (false, false) => kernel!(false, false),
     }
 }
 

@@ -37,9 +37,9 @@ use crate::raster::scan::OwnedBand;
 use crate::raster::setup::Projected;
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ScreenTri};
-use crate::scene::Scene;
 use crate::scene::terms::MaterialTerms;
 use crate::scene::world::{World, fill_three_runs};
+use crate::scene::{Scene, model_view};
 use crate::settings::{AntiAlias, Display, Settings};
 use crate::shade::{ShadeCtx, TriShader};
 use crate::shadow::{Shadow, ShadowMap};
@@ -87,6 +87,18 @@ pub struct Renderer {
     progress: Option<Arc<FrameProgress>>,
     /// No shadow pass even where the plan asks for one (`set_shadows`).
     no_shadows: bool,
+    /// The model view's last framing, and what it was made for.
+    fit: Option<(FrameKey, Option<model_view::Fit>)>,
+}
+
+/// What a model view's framing depends on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct FrameKey {
+    model: u64,
+    pose: [u32; 3],
+    up: crate::settings::UpAxis,
+    fov: u32,
+    aspect: u32,
 }
 
 impl Renderer {
@@ -144,7 +156,8 @@ impl Renderer {
         let progress = self.progress.clone();
         let abandon = Abandon::new(cancel.as_deref(), progress.as_deref());
         let normal_maps_before = normal_map_builds(scene);
-        let plans = FramePlans::new(scene, settings, Plan::new(scene, settings));
+        let base = self.plan_of(scene, settings, width, height);
+        let plans = FramePlans::new(scene, settings, base);
         let plan = &plans.plans[0];
         let mips_before = scene.material.texture.mips_built();
         let normal_mips_built =
@@ -157,7 +170,7 @@ impl Renderer {
         self.repeats.update(scene);
         // Every facet is made only for the shadow pass, which reads them all.
         self.world
-            .place(scene, plan.rotation, self.draws_shadow_map(plan));
+            .place(scene, plan.rotation, plan.eye, self.draws_shadow_map(plan));
         let (shadow, mut counters) = shadow_pass(
             (!self.no_shadows).then_some(&mut shadow_map),
             scene,
@@ -216,12 +229,13 @@ impl Renderer {
         width: usize,
         height: usize,
     ) -> (&[ScreenTri], &[TriShader]) {
-        let plans = FramePlans::new(scene, settings, Plan::new(scene, settings));
+        let base = self.plan_of(scene, settings, width, height);
+        let plans = FramePlans::new(scene, settings, base);
         let mut shadow_map = std::mem::take(&mut self.shadow);
         self.repeats.update(scene);
         let plan = &plans.plans[0];
         self.world
-            .place(scene, plan.rotation, self.draws_shadow_map(plan));
+            .place(scene, plan.rotation, plan.eye, self.draws_shadow_map(plan));
         let (shadow, _) = shadow_pass(
             (!self.no_shadows).then_some(&mut shadow_map),
             scene,
@@ -235,6 +249,38 @@ impl Renderer {
         self.prepare(scene, &plans, shadow, width, height);
         self.shadow = shadow_map;
         (&self.tris, &self.shaders)
+    }
+
+    /// The frame's plan, seen through the framing camera when the scene
+    /// is in the model view (`scene::model_view`).
+    fn plan_of(&mut self, scene: &Scene, settings: &Settings, width: usize, height: usize) -> Plan {
+        let mut plan = Plan::new(scene, settings);
+        let Some(view) = scene.model_view else {
+            return plan;
+        };
+        let aspect = width as f32 / height as f32 * self.pixel_aspect.unwrap_or(1.0);
+        let pose = view.pose.unwrap_or(settings.rotation);
+        let key = FrameKey {
+            model: view.id,
+            pose: pose.to_array().map(f32::to_bits),
+            up: settings.up,
+            fov: settings.fov.to_bits(),
+            aspect: aspect.to_bits(),
+        };
+        let fit = match &self.fit {
+            Some((k, fit)) if *k == key => *fit,
+            _ => {
+                let fit = model_view::fit_scene(scene, pose, settings.up, settings.fov, aspect);
+                self.fit = Some((key, fit));
+                fit
+            }
+        };
+        if let Some(fit) = fit {
+            plan.camera = model_view::framed_camera(&scene.camera, fit);
+            plan.camera.fov_y_degrees = settings.fov;
+            plan.eye = plan.camera.eye;
+        }
+        plan
     }
 
     /// Whether the frame of `plan` draws a shadow map (the plan asks for
@@ -262,7 +308,7 @@ impl Renderer {
         self.shader_groups.clear();
         self.tris.clear();
         let aspect = width as f32 / height as f32 * self.pixel_aspect.unwrap_or(1.0);
-        let view_proj = scene.camera.projection(aspect) * scene.camera.view();
+        let view_proj = plan.camera.projection(aspect) * plan.camera.view();
         // Multisampling covers samples off the pixel centres: a sliver
         // between two rows of centres still has samples inside.
         let reach = if plan.aa == AntiAlias::Msaa4 {

@@ -45,7 +45,7 @@ impl Renderer {
             &mut own
         };
         let aspect = width as f32 / height as f32 * self.pixel_aspect.unwrap_or(1.0);
-        let view_proj = scene.camera.projection(aspect) * scene.camera.view();
+        let view_proj = plan.camera.projection(aspect) * plan.camera.view();
         let point = point_size(width / brush, height / brush) * brush;
         let mut canvas = DepthCanvas::new(width, height, fb.pixels_mut(), depth);
         draw_strokes(

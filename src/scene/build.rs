@@ -181,7 +181,9 @@ pub fn build_scene_noting(
             ModelChoice::File(path) if super::gltf::is_gltf(path) => {
                 super::model_io::check_openable(path)?;
                 (
-                    Built::Scene(Box::new(Scene::gltf(super::gltf::load(path)?, texture))),
+                    Built::Scene(Box::new(
+                        Scene::gltf(super::gltf::load(path)?, texture).into_model_view(),
+                    )),
                     LoadedNotes::default(),
                 )
             }
@@ -191,10 +193,14 @@ pub fn build_scene_noting(
                     warnings: loaded.warnings.clone(),
                     points: loaded.points,
                 };
-                (
-                    Built::Scene(Box::new(Scene::loaded(loaded, texture))),
-                    notes,
-                )
+                let scene = Scene::loaded(loaded, texture);
+                // A model file is shown in the model view; the built-in
+                // models keep the reference scene's camera and lights.
+                let scene = match model {
+                    ModelChoice::File(_) => scene.into_model_view(),
+                    _ => scene,
+                };
+                (Built::Scene(Box::new(scene)), notes)
             }
         },
         SceneKind::Shadow => (
@@ -332,6 +338,7 @@ impl Scene {
             ambient: AMBIENT,
             camera: Camera::default(),
             background: BACKGROUND,
+            model_view: None,
         }
     }
 

@@ -2,6 +2,7 @@
 //! lights and the camera.
 
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec3;
 
@@ -32,6 +33,10 @@ pub struct Scene {
     pub ambient: Vec3,
     pub camera: Camera,
     pub background: Rgb,
+    /// Shown as a model file is (`scene::model_view`): framed, lit by the
+    /// neutral rig, its glTF materials shaded physically; `None` for the
+    /// reference scenes.
+    pub model_view: Option<ModelView>,
 }
 
 impl Scene {
@@ -68,3 +73,31 @@ impl Scene {
 
 /// Background of the reference scene.
 pub const BACKGROUND: Rgb = [16, 24, 32];
+
+/// A scene shown in the model view (`scene::model_view`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModelView {
+    /// Which model (made once per scene built): framings are kept per model.
+    pub id: u64,
+    /// The rotation (degrees) the camera frames the model at; `None`: the
+    /// frame's own rotation (a still frame is its own start view). The
+    /// interactive view sets its start rotation, so turning the model
+    /// does not move the camera; `r`, a resize or another model frame it again.
+    pub pose: Option<Vec3>,
+}
+
+impl ModelView {
+    pub fn new() -> Self {
+        static NEXT: AtomicU64 = AtomicU64::new(1);
+        ModelView {
+            id: NEXT.fetch_add(1, Ordering::Relaxed),
+            pose: None,
+        }
+    }
+}
+
+impl Default for ModelView {
+    fn default() -> Self {
+        ModelView::new()
+    }
+}

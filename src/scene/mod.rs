@@ -24,6 +24,7 @@ pub mod model_error;
 pub mod model_file;
 pub mod model_io;
 pub mod model_textures;
+pub mod model_view;
 pub mod obj;
 pub mod object;
 pub mod plane;

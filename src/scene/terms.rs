@@ -38,6 +38,36 @@ pub struct MaterialTerms {
     /// texture coordinates (glTF `texCoord` and `KHR_texture_transform`
     /// per map; all the vertices' `uv` for every other material).
     pub uvs: MapUvs,
+    /// A metallic-roughness material (glTF's), shaded physically in the
+    /// model view (`shade::pbr`); the other views draw it as before.
+    pub pbr: Option<PbrMaterial>,
+}
+
+/// A metallic-roughness material's own values (docs/shading.md).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PbrMaterial {
+    /// `metallicFactor`: 0 dielectric, 1 metal.
+    pub metallic: f32,
+    /// `roughnessFactor`: 0 mirror-smooth, 1 rough.
+    pub roughness: f32,
+    /// The metallic-roughness map (green roughness, blue metallic, linear),
+    /// multiplied into the factors; read with the specular map's coordinates.
+    pub metal_rough: Option<Arc<Level>>,
+    /// The tangent-space normal map (its `scale` applied), read with the
+    /// normal map's coordinates.
+    pub normal: Option<Arc<crate::texture::NormalMap>>,
+}
+
+impl PbrMaterial {
+    /// glTF's default material: white, fully metallic, fully rough.
+    pub fn gltf_default() -> Self {
+        PbrMaterial {
+            metallic: 1.0,
+            roughness: 1.0,
+            metal_rough: None,
+            normal: None,
+        }
+    }
 }
 
 /// An alpha mask (glTF `alphaMode` MASK, and BLEND drawn as MASK at 0.5;
@@ -77,6 +107,7 @@ impl Default for MaterialTerms {
             map_names: Vec::new(),
             cutout: None,
             uvs: MapUvs::default(),
+            pbr: None,
         }
     }
 }

@@ -254,18 +254,18 @@ impl World {
     /// for the scene's camera, with every facet made.
     pub fn of(scene: &Scene, rotation: Mat4) -> Self {
         let mut world = World::new();
-        world.place(scene, rotation, true);
+        world.place(scene, rotation, scene.camera.eye, true);
         world
     }
 
     /// Places every object of `scene` with the user's `rotation`, culled
-    /// for the scene's camera, reusing the buffers; every triangle's facet
-    /// is made only when `facets` (a pass will read them all).
-    pub fn place(&mut self, scene: &Scene, rotation: Mat4, facets: bool) {
+    /// for an eye at `eye` (the frame's camera), reusing the buffers; every
+    /// triangle's facet is made only when `facets` (a pass will read them all).
+    pub fn place(&mut self, scene: &Scene, rotation: Mat4, eye: Vec3, facets: bool) {
         self.objects
             .resize_with(scene.objects.len(), Placed::default);
         for (placed, object) in self.objects.iter_mut().zip(&scene.objects) {
-            placed.place(object, rotation, scene.camera.eye, facets);
+            placed.place(object, rotation, eye, facets);
         }
     }
 

@@ -4,6 +4,7 @@
 //! pixels need; the rasterizer then runs one monomorphised loop per kind, so
 //! the choice of stages is made per draw, never per pixel.
 
+pub mod brdf;
 pub mod bump;
 pub mod core;
 pub mod dot3;
@@ -16,6 +17,7 @@ pub mod map_uv;
 pub mod material;
 pub mod packet;
 pub mod parallax;
+pub mod pbr;
 pub mod shader;
 pub mod specular;
 pub mod tangent;

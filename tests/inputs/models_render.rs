@@ -19,7 +19,9 @@ fn model_scene(model: &ModelChoice) -> Scene {
     let texture = Arc::new(procedural::brick());
     match build_scene(SceneKind::Cube, model, texture, false).unwrap() {
         Built::Scene(s) => {
-            let mut s = *s;
+            // The reference camera, which the silhouettes are projected with
+            // (a model file's own framing is tests/render/model_view.rs's).
+            let mut s = (*s).into_reference_view();
             s.background = MAGENTA;
             s
         }

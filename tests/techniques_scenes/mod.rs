@@ -68,6 +68,7 @@ pub fn scene_of(
         ambient,
         camera: Camera::default(),
         background: relief::scene::BACKGROUND,
+        model_view: None,
     }
 }
 

@@ -4,8 +4,10 @@
 //!   `baseColorFactor` multiplies the vertex colours (COLOR_0, else white);
 //! - `normalTexture` is a file normal map for dot3, its `scale` applied to
 //!   the normals' x and y as the specification says (scale 0: no map);
-//! - metallic-roughness becomes the specular map: gloss = (1 − roughness)²,
-//!   roughness = `roughnessFactor` × the texture's green channel;
+//! - metallic-roughness: in the model view, the factors and the map (green
+//!   roughness, blue metallic) as they are, shaded by `shade::pbr`; elsewhere
+//!   the specular map: gloss = (1 − roughness)², roughness =
+//!   `roughnessFactor` × the texture's green channel;
 //! - `doubleSided` false culls back faces.
 
 use std::borrow::Cow;
@@ -18,7 +20,7 @@ use glam::Vec3;
 use super::data::{self, Problem, Uri};
 use super::sampling::{Kind, Reading, Sets, maps_of};
 use crate::scene::Material;
-use crate::scene::terms::{Cutout, MaterialTerms};
+use crate::scene::terms::{Cutout, MaterialTerms, PbrMaterial};
 use crate::texture::load::load_texture_from_bytes;
 use crate::texture::normal_map_file::{
     FileNormalMap, decode_level, load_normal_map_from_bytes, tilt,
@@ -84,7 +86,10 @@ impl<'a> Materials<'a> {
                 base_color: Vec3::ONE,
                 double_sided: false,
                 normal_mapped: false,
-                terms: None,
+                terms: Some(Arc::new(MaterialTerms {
+                    pbr: Some(PbrMaterial::gltf_default()),
+                    ..MaterialTerms::default()
+                })),
                 sets: Sets::default(),
             },
         };
@@ -141,24 +146,34 @@ impl<'a> Materials<'a> {
             }
             _ => None,
         };
-        let roughness = pbr.roughness_factor().clamp(0.0, 1.0);
-        let specular_map = match pbr.metallic_roughness_texture() {
+        let roughness = finite_unit(pbr.roughness_factor());
+        let metal_rough = match pbr.metallic_roughness_texture() {
             Some(info) => {
                 let t = self
                     .decode(&info.texture(), &read(Kind::MetallicRoughness))?
                     .texture;
-                let base = t.base();
-                Level {
-                    width: base.width,
-                    height: base.height,
-                    texels: base
-                        .texels
-                        .iter()
-                        .map(|t| [gloss(roughness * t[1]); 4])
-                        .collect(),
-                }
+                Some(Arc::new(t.base().clone()))
             }
+            None => None,
+        };
+        // The highlight's map where the material is not shaded physically.
+        let specular_map = match &metal_rough {
+            Some(base) => Level {
+                width: base.width,
+                height: base.height,
+                texels: base
+                    .texels
+                    .iter()
+                    .map(|t| [gloss(roughness * t[1]); 4])
+                    .collect(),
+            },
             None => Level::solid(1, 1, [gloss(roughness); 4]),
+        };
+        let physical = PbrMaterial {
+            metallic: finite_unit(pbr.metallic_factor()),
+            roughness,
+            metal_rough,
+            normal: normal_map.as_ref().map(|m| m.given().clone()),
         };
         let mut map_names = Vec::new();
         let occlusion = match m.occlusion_texture() {
@@ -206,6 +221,7 @@ impl<'a> Materials<'a> {
             filter: reading.filter,
             map_names,
             uvs: sets.uvs,
+            pbr: Some(physical),
             ..MaterialTerms::default()
         };
         let [r, g, b, _] = pbr.base_color_factor();
@@ -338,6 +354,15 @@ fn mime_ext(mime: &str) -> &'static str {
         "image/png" => ".png",
         "image/jpeg" => ".jpg",
         _ => "",
+    }
+}
+
+/// A factor in 0..=1 (NaN: 0).
+fn finite_unit(x: f32) -> f32 {
+    if x.is_finite() {
+        x.clamp(0.0, 1.0)
+    } else {
+        0.0
     }
 }
 

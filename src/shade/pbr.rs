@@ -1,0 +1,279 @@
+//! The metallic-roughness kernel (docs/shading.md, "Metallic-roughness"):
+//! a model's glTF material in the model view, per pixel, in linear light.
+//!
+//! Base colour = vertex colour × factor (linear) × the colour texture
+//! decoded from sRGB; metallic and roughness = their factors × the map's
+//! blue and green; the normal map's normal in the pixel's tangent frame.
+//! Each light adds (1 − F)(1 − metallic)·base + π·F·D·V, times its colour
+//! and N·L (a light of colour 1 gives a white Lambert surface facing it 1);
+//! the ambient light stands in for an environment, with the split-sum
+//! fit for its specular part and the occlusion map on it; emission is
+//! added; then exposure, the tone map and the sRGB encoding, once.
+//!
+//! One source for one pixel and eight (`shade::lanes`); texels and shadow
+//! lookups are read lane by lane where the packet read does not apply.
+
+use glam::{Vec2, Vec3};
+use wide::f32x8;
+
+use super::PhongTri;
+use super::brdf::{
+    self, DIELECTRIC_F0, MIN_ROUGHNESS, distribution, environment_brdf, fresnel, saturate,
+    srgb_to_linear, visibility,
+};
+use super::core::colour;
+use super::lanes::{Lanes, Vector};
+use super::lighting::{ATTENUATION_QUADRATIC, finish};
+use super::map_uv::{Coords, carry, footprint_map};
+use super::packet::{self, LANES, V3};
+use super::shader::{PixelShader, ShadeCtx, cuts, opaque_at};
+use super::specular::view_dir;
+use super::tangent::Surface;
+use crate::framebuffer::Rgb;
+use crate::plan::Physical;
+use crate::scene::terms::{MaterialTerms, PbrMaterial};
+use crate::stats::Counters;
+use crate::texture::filter::{Footprint, read_normal};
+
+/// A metallic-roughness triangle: with or without its colour texture
+/// (`TEX`) and normal map (`NMAP`).
+pub struct PbrKernel<'a, const TEX: bool, const NMAP: bool> {
+    pub tri: &'a PhongTri,
+    pub terms: &'a MaterialTerms,
+    pub pbr: &'a PbrMaterial,
+    pub physical: Physical,
+}
+
+/// What the light loop reads at the pixels.
+struct At<V: Vector> {
+    p: V,
+    n: V,
+    view: V,
+    nv: V::L,
+    /// Lambert's colour: (1 − metallic)·base.
+    diffuse: V,
+    f0: V,
+    alpha2: V::L,
+}
+
+impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
+    /// The colour of the pixels at barycentrics `b`, encoded for display
+    /// (before quantising).
+    #[inline(always)]
+    fn shade_lanes<V: Vector>(
+        &self,
+        ctx: &ShadeCtx,
+        b: [V::L; 3],
+        fp: &[Footprint],
+        live: u32,
+        counters: &mut Counters,
+    ) -> V {
+        let (tri, terms, pbr) = (self.tri, self.terms, self.pbr);
+        let s = Surface::<V>::at(tri, &b);
+        let count = live.count_ones() as u64;
+        counters.pixels_shaded += count;
+        let at = Coords {
+            uv: (s.u, s.v),
+            b: &b,
+            uv2: &tri.uv2,
+        };
+        let mut base = s.albedo;
+        if TEX {
+            counters.texture_samples += count;
+            base = base * srgb_to_linear(colour::<V>(ctx, s.u, s.v, fp, live));
+        }
+        let (mut metallic, mut roughness) = (V::L::splat(pbr.metallic), V::L::splat(pbr.roughness));
+        if let Some(map) = &pbr.metal_rough {
+            let (u, v) = at.of(&terms.uvs.specular);
+            let [_, g, blue] = V::L::bilinear(map, u, v);
+            roughness = roughness * g;
+            metallic = metallic * blue;
+        }
+        let metallic = saturate(metallic);
+        let roughness = brdf::max(saturate(roughness), V::L::splat(MIN_ROUGHNESS));
+        let n = if NMAP {
+            self.mapped_normal(ctx, &s, at, fp, live, counters)
+        } else {
+            s.n
+        };
+        let view = view_dir(ctx.plan.eye, s.p);
+        // A normal turned away from the eye (interpolated or mapped) is lit
+        // as if grazing, not from behind.
+        let nv = brdf::max(n.dot(view), V::L::splat(1e-4)).min(V::L::ONE);
+        let dielectric = V::uniform(Vec3::splat(DIELECTRIC_F0));
+        let alpha = roughness * roughness;
+        let px = At {
+            p: s.p,
+            n,
+            view,
+            nv,
+            diffuse: base * (V::L::ONE - metallic),
+            f0: dielectric + (base - dielectric) * metallic,
+            alpha2: alpha * alpha,
+        };
+        let lit = self.lights(ctx, &px, live, counters) + self.ambient(ctx, &px, roughness, at);
+        let lit = lit + emission(terms, at);
+        brdf::display(lit, self.physical.exposure, self.physical.tone_map)
+    }
+
+    /// The normal map's normal at the pixels, in their tangent frame.
+    #[inline(always)]
+    fn mapped_normal<V: Vector>(
+        &self,
+        ctx: &ShadeCtx,
+        s: &Surface<V>,
+        at: Coords<V::L>,
+        fp: &[Footprint],
+        live: u32,
+        counters: &mut Counters,
+    ) -> V {
+        let Some(map) = self.pbr.normal.as_deref() else {
+            return s.n;
+        };
+        counters.bump_evals += live.count_ones() as u64;
+        let plan = ctx.plan;
+        let m = &self.terms.uvs.normal;
+        let (u, v) = at.of(m);
+        let to = footprint_map(m, &self.tri.uv, &self.tri.uv2);
+        let t = V::gather(live, |i| {
+            let uv = Vec2::new(u.lane(i), v.lane(i));
+            let f = carry(fp.get(i).copied().unwrap_or_default(), to);
+            Vec3::from(read_normal(map, plan.height_derivative, plan.filter, uv, f))
+        });
+        let f = s.frame();
+        (f.t * t.x() + f.b * t.y() + f.n * t.z()).normalize_or(s.n)
+    }
+
+    /// Σ over the lights of colour × N·L × ((1 − F)·diffuse + π·F·D·V),
+    /// each scaled by its attenuation and shadow.
+    #[inline(always)]
+    fn lights<V: Vector>(
+        &self,
+        ctx: &ShadeCtx,
+        px: &At<V>,
+        live: u32,
+        counters: &mut Counters,
+    ) -> V {
+        let plan = ctx.plan;
+        let zero = V::L::ZERO;
+        let mut sum = V::uniform(Vec3::ZERO);
+        counters.light_evals += live.count_ones() as u64 * plan.lights.len() as u64;
+        for (i, light) in plan.lights.iter().enumerate() {
+            let d = V::uniform(light.position) - px.p;
+            let len2 = d.dot(d);
+            let l = d * (V::L::ONE / len2.sqrt());
+            let nl = px.n.dot(l);
+            let inf = V::L::splat(f32::INFINITY);
+            let reached = V::L::both(nl.gt(zero), || V::L::both(len2.gt(zero), || len2.lt(inf)));
+            if V::L::skips(reached) || V::L::none(reached) {
+                continue;
+            }
+            let h = (l + px.view).normalize_or(px.n);
+            let nh = saturate(px.n.dot(h));
+            let vh = saturate(px.view.dot(h));
+            let nl = saturate(nl);
+            let f = fresnel(px.f0, vh);
+            let specular = distribution(px.alpha2, nh)
+                * visibility(px.alpha2, nl, px.nv)
+                * V::L::splat(std::f32::consts::PI);
+            let one = V::uniform(Vec3::ONE);
+            let brdf = (one - f) * px.diffuse + f * specular;
+            let mut k = nl;
+            if plan.attenuation {
+                k = k / (V::L::ONE + V::L::splat(ATTENUATION_QUADRATIC) * len2);
+            }
+            if let Some(sh) = ctx.shadow
+                && sh.light == i
+            {
+                let lanes = V::L::bits(reached) & live;
+                let [seen] = V::L::gather(lanes, 1.0, |lane| {
+                    let p = px.p.lane(lane);
+                    [sh.factor(i, p, self.tri.face_normal, self.tri.object, counters)]
+                });
+                k = k * seen;
+            }
+            let add = brdf * V::uniform(light.color) * k;
+            sum = sum + V::select(reached, add, V::uniform(Vec3::ZERO));
+        }
+        sum
+    }
+
+    /// The ambient light as a uniform environment: Lambert's part (less
+    /// what the surface reflects) plus the specular part F0·A + B, times the
+    /// occlusion map.
+    #[inline(always)]
+    fn ambient<V: Vector>(
+        &self,
+        ctx: &ShadeCtx,
+        px: &At<V>,
+        roughness: V::L,
+        at: Coords<V::L>,
+    ) -> V {
+        let ambient = ctx.plan.ambient;
+        if ambient == Vec3::ZERO {
+            return V::uniform(Vec3::ZERO);
+        }
+        let (a, b) = environment_brdf(roughness, px.nv);
+        let specular = px.f0 * a + V::uniform(Vec3::ONE) * b;
+        let one = V::uniform(Vec3::ONE);
+        let reflected = px.diffuse * (one - specular) + specular;
+        let mut light = V::uniform(ambient);
+        if let Some((map, strength)) = &self.terms.occlusion {
+            let (u, v) = at.of(&self.terms.uvs.occlusion);
+            let occ = V::L::bilinear(map, u, v)[0];
+            light = light * (V::L::ONE + V::L::splat(*strength) * (occ - V::L::ONE));
+        }
+        reflected * light
+    }
+}
+
+/// The light given off: the emissive factor (linear) times the emissive
+/// map decoded from sRGB.
+#[inline(always)]
+fn emission<V: Vector>(terms: &MaterialTerms, at: Coords<V::L>) -> V {
+    if terms.emissive == Vec3::ZERO {
+        return V::uniform(Vec3::ZERO);
+    }
+    match &terms.emissive_map {
+        Some(map) => {
+            let (u, v) = at.of(&terms.uvs.emissive);
+            let [r, g, b] = V::L::bilinear(map, u, v);
+            V::uniform(terms.emissive) * srgb_to_linear(V::new(r, g, b))
+        }
+        None => V::uniform(terms.emissive),
+    }
+}
+
+impl<const TEX: bool, const NMAP: bool> PixelShader for PbrKernel<'_, TEX, NMAP> {
+    const SAMPLES_TEXTURE: bool = true;
+    #[inline]
+    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
+        let c: Vec3 = self.shade_lanes(ctx, [b.x, b.y, b.z], &[fp], 1, counters);
+        finish(c, counters)
+    }
+    fn uvs(&self) -> Option<&[Vec2; 3]> {
+        Some(&self.tri.uv)
+    }
+    fn packets(&self, _: &ShadeCtx) -> bool {
+        true
+    }
+    fn cutout(&self, ctx: &ShadeCtx) -> bool {
+        cuts(ctx)
+    }
+    fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
+        let uv = self.tri.uv[0] * b.x + self.tri.uv[1] * b.y + self.tri.uv[2] * b.z;
+        opaque_at(ctx, uv)
+    }
+    #[inline]
+    fn shade8(
+        &self,
+        ctx: &ShadeCtx,
+        b: [f32x8; 3],
+        fp: &[Footprint; LANES],
+        live: u32,
+        counters: &mut Counters,
+    ) -> [Rgb; LANES] {
+        let c: V3 = self.shade_lanes(ctx, b, fp, live, counters);
+        packet::finish(c, live, counters)
+    }
+}
