@@ -184,13 +184,17 @@ impl BytesModel {
     /// The scene that draws it, and what its loading had to say.
     pub fn into_scene(self, texture: Arc<Texture>) -> (Scene, LoadedNotes) {
         match self {
-            BytesModel::Gltf(model) => (Scene::gltf(model, texture), LoadedNotes::default()),
+            // A model read from bytes is a model file: the model view.
+            BytesModel::Gltf(model) => (
+                Scene::gltf(model, texture).into_model_view(),
+                LoadedNotes::default(),
+            ),
             BytesModel::Parts(model) => {
                 let notes = LoadedNotes {
                     warnings: model.warnings.clone(),
                     points: model.points,
                 };
-                (Scene::loaded(model, texture), notes)
+                (Scene::loaded(model, texture).into_model_view(), notes)
             }
         }
     }

@@ -38,6 +38,12 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
         .cells
         .map(|_| size_cap::side_for_frame(width * k, height * k));
     let (built, maps, notes) = size_cap::with_max_side(cap, || load_scene(args))?;
+    // A model from standard input starts in the model view's turn, as a
+    // model file named on the command line does.
+    let model_view = matches!(&built, Built::Scene(s) if s.model_view.is_some());
+    if model_view && args.view.rotate.is_none() {
+        settings.rotation = crate::scene::model_view::START_ROTATION;
+    }
     for warning in &notes.warnings {
         eprintln!("relief: warning: {}", clean(warning));
     }
