@@ -1,7 +1,9 @@
 //! The real binary in a real terminal (tmux): keys, an SGR mouse drag,
 //! quitting, signals, and the terminal left as it was found.
 //!
-//! Skipped, with a notice, when tmux is not installed (`apt-get install tmux`).
+//! Ignored in a plain `cargo test`, as they need tmux (and `script`):
+//! `.ci/run` installs them and runs these tests by name. Run without tmux,
+//! a test fails and says what to install.
 
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -12,11 +14,8 @@ struct Tmux {
 }
 
 impl Tmux {
-    fn start(name: &str, width: u16, height: u16, command: &str) -> Option<Tmux> {
-        if Command::new("tmux").arg("-V").output().is_err() {
-            eprintln!("tmux not found: end-to-end test skipped (apt-get install tmux)");
-            return None;
-        }
+    fn start(name: &str, width: u16, height: u16, command: &str) -> Tmux {
+        need("tmux", "-V", "tmux");
         let t = Tmux {
             socket: format!("relief-e2e-{}-{name}", std::process::id()),
         };
@@ -31,7 +30,7 @@ impl Tmux {
             &height.to_string(),
             command,
         ]);
-        Some(t)
+        t
     }
 
     fn run(&self, args: &[&str]) -> String {
@@ -142,7 +141,8 @@ fn status(screen: &str) -> String {
         .to_string()
 }
 
-/// Everything above the two text lines.
+/// Everything above the last two lines (a status line wrapped onto more
+/// rows leaves text rows in it, which hold no half block).
 fn viewport(picture: &str) -> String {
     let lines: Vec<&str> = picture.lines().collect();
     lines[..lines.len().saturating_sub(2)].join("\n")
@@ -161,10 +161,9 @@ fn assert_restored(t: &Tmux) {
 }
 
 #[test]
+#[ignore = "end-to-end: needs tmux (apt-get install tmux); .ci/run runs it by name"]
 fn keys_drag_and_quit_in_a_real_terminal() {
-    let Some(t) = Tmux::start("keys", 160, 48, &command("keys", "COLORTERM=truecolor", "")) else {
-        return;
-    };
+    let t = Tmux::start("keys", 160, 48, &command("keys", "COLORTERM=truecolor", ""));
     let s = t.wait_for("first frame", |s| status(s).starts_with("Phong │ vertex"));
     assert!(
         status(&s).contains("│ 24b │") && status(&s).ends_with("? help"),
@@ -261,14 +260,14 @@ fn keys_drag_and_quit_in_a_real_terminal() {
 }
 
 #[test]
+#[ignore = "end-to-end: needs tmux (apt-get install tmux); .ci/run runs it by name"]
 fn small_terminal_resizes_and_signals_restore_the_terminal() {
     for (signal, code) in [("TERM", "143"), ("HUP", "129"), ("INT", "130")] {
-        let Some(t) = Tmux::start(signal, 40, 12, &command(signal, "COLORTERM=truecolor", ""))
-        else {
-            return;
-        };
+        let t = Tmux::start(signal, 40, 12, &command(signal, "COLORTERM=truecolor", ""));
         t.wait_for("first frame", |s| {
-            status(s).starts_with("Phong │") && status(s).ends_with("24b │ ? help")
+            // 40×12: one status row, counting the modes it leaves out.
+            let st = status(s);
+            st.starts_with("Phong │") && st.contains("│ 24b │ +") && st.ends_with(" more │ ? help")
         });
         for (w, h) in [("1", "1"), ("3", "2"), ("60", "20"), ("40", "12")] {
             t.run(&["resize-window", "-x", w, "-y", h]);
@@ -288,12 +287,15 @@ fn small_terminal_resizes_and_signals_restore_the_terminal() {
 }
 
 #[test]
+#[ignore = "end-to-end: needs tmux (apt-get install tmux); .ci/run runs it by name"]
 fn forced_palette_shows_in_the_status_line() {
     let cmd = command("palette", "-u COLORTERM", "--color 256");
-    let Some(t) = Tmux::start("palette", 120, 20, &cmd) else {
-        return;
-    };
-    t.wait_for("256 colours", |s| status(s).ends_with("256c │ ? help"));
+    let t = Tmux::start("palette", 120, 20, &cmd);
+    // 120×20: the status line wraps onto two rows, in long or short forms.
+    t.wait_for("256 colours", |s| {
+        let st = status(s);
+        st.ends_with("? help") && (st.contains("│ 256c │") || st.contains("│ 256 colours │"))
+    });
     // The picture uses palette colours, not 24-bit ones.
     let pic = t.picture();
     assert!(pic.contains("8;5;") && !pic.contains("8;2;"), "{pic}");
@@ -316,14 +318,13 @@ fn no_text_picture(screen: &str, from: usize) -> bool {
 /// blocks), also after a resize with the panel open; quitting with the
 /// panel open leaves the alternate screen and the mouse modes.
 #[test]
+#[ignore = "end-to-end: needs tmux (apt-get install tmux); .ci/run runs it by name"]
 fn a_panel_over_a_kitty_picture_and_a_resize_then_quit_restore_the_terminal() {
     let cmd = format!(
         "tmux set -g allow-passthrough on; {}",
         command("panel", "RELIEF_FORMAT=kitty", "")
     );
-    let Some(t) = Tmux::start("panel", 100, 30, &cmd) else {
-        return;
-    };
+    let t = Tmux::start("panel", 100, 30, &cmd);
     let s = t.wait_for("a kitty frame", |s| status(s).contains("kitty │"));
     assert!(no_text_picture(&s, 100), "{s}");
     t.keys(&["k"]);
@@ -362,6 +363,7 @@ fn panic_child_with_a_frame_in_flight() {
 }
 
 #[test]
+#[ignore = "end-to-end: needs tmux (apt-get install tmux); .ci/run runs it by name"]
 fn a_panic_restores_the_terminal() {
     let exe = std::env::current_exe().unwrap();
     let cmd = format!(
@@ -370,9 +372,7 @@ fn a_panic_restores_the_terminal() {
          | grep -x -E -- '-?(icanon|echo)'); sleep 60",
         exe.display()
     );
-    let Some(t) = Tmux::start("panic", 100, 30, &cmd) else {
-        return;
-    };
+    let t = Tmux::start("panic", 100, 30, &cmd);
     // libtest reports a failed test with 101.
     assert_eq!(t.wait_exit(), "101");
     let screen = t.wait_for("stty's report", |s| s.contains("TTY "));
@@ -390,11 +390,9 @@ fn a_panic_restores_the_terminal() {
 /// colours without (tmux would turn 24-bit colours into its palette
 /// anyway). The cost panel says so.
 #[test]
+#[ignore = "end-to-end: needs tmux and script (apt-get install tmux bsdutils); .ci/run runs it by name"]
 fn inside_tmux_the_colour_depth_comes_from_the_client() {
-    if Command::new("script").arg("--version").output().is_err() {
-        eprintln!("script not found: test skipped (apt-get install bsdutils)");
-        return;
-    }
+    need("script", "--version", "bsdutils");
     let cases = [
         ("rgb", true, "│ 24b │", "24-bit: tmux client RGB", "8;2;"),
         (
@@ -421,9 +419,7 @@ fn inside_tmux_the_colour_depth_comes_from_the_client() {
         )
         .unwrap();
         let cmd = format!("sh {}; echo RELIEF-EXITED $?; sleep 60", script.display());
-        let Some(inner) = Tmux::start(&inner_name, 100, 30, &cmd) else {
-            return;
-        };
+        let inner = Tmux::start(&inner_name, 100, 30, &cmd);
         if rgb {
             inner.run(&["set", "-as", "terminal-features", ",xterm-256color:RGB"]);
         }
@@ -467,6 +463,14 @@ impl Drop for Child {
     }
 }
 
+/// Fails the test, saying what to install, when `program` cannot be run.
+fn need(program: &str, arg: &str, package: &str) {
+    assert!(
+        installed(program, arg),
+        "`{program}` is not installed: this test needs it (apt-get install {package})"
+    );
+}
+
 fn installed(program: &str, arg: &str) -> bool {
     Command::new(program)
         .arg(arg)
@@ -504,7 +508,7 @@ fn tmux_in_terminal(display: &str, terminal: &[&str], socket: &str) -> (Child, T
 }
 
 #[test]
-#[ignore = "needs Xvfb, xterm and kitty (apt-get install xvfb xterm kitty) and takes a minute: cargo test --test e2e_tmux -- --ignored"]
+#[ignore = "needs Xvfb, xterm and kitty (apt-get install xvfb xterm kitty) and takes a minute: cargo test --test e2e_tmux passthrough -- --ignored"]
 fn inside_tmux_in_kitty_and_xterm_the_pixel_format_needs_passthrough() {
     for (program, arg) in [
         ("Xvfb", "-help"),

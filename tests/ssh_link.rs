@@ -1,7 +1,7 @@
 //! relief through a real `ssh -tt` over a slow link: lag and bytes per input.
 //!
 //! Another build of relief (another branch, say) is measured by giving its binary:
-//! `RELIEF_SSH_BIN=/path/to/relief cargo test --release --test ssh_link -- --ignored --nocapture`
+//! `RELIEF_SSH_BIN=/path/to/relief cargo test --release --test ssh_link measure -- --ignored --nocapture`
 //!
 //! Each session builds its own network namespaces, a rate-limited link with 20 ms each
 //! way, an sshd and a tmux pane (160×48) running `ssh -tt server relief --color …` (see
@@ -20,11 +20,12 @@
 //! bytes: what crosses the link after the last input and what the send queue holds
 //! stay within a few frames (no backlog). Times are printed as a Markdown table, never
 //! asserted. Needs root, iproute2 (`ip netns`, `tc`), OpenSSH (client and server) and
-//! tmux (GNU screen for its case); skipped with a notice otherwise.
+//! tmux (GNU screen for its case): every test here is ignored in a plain `cargo test`,
+//! and fails, saying what is missing, when run without them.
 //!
-//! `cargo test --release --test ssh_link` runs one plain session at 8 Mbit/s, one
-//! inside tmux and one inside screen at 1 Mbit/s, and one each with `--format kitty`
-//! and `--format sixels` at 1 Mbit/s (~100 s). Pixel pictures are not in the pane's
+//! `.ci/run` installs them and runs by name one plain session at 8 Mbit/s, one inside
+//! tmux and one inside screen at 1 Mbit/s, and one each with `--format kitty` and
+//! `--format sixels` at 1 Mbit/s (~100 s; the tests ignored as "end-to-end"). Pixel pictures are not in the pane's
 //! text: the exact picture is complete when the link goes quiet (`Session::link_sampler`);
 //! what the pane received is recorded (`tmux pipe-pane`), and the final picture after the
 //! drag is checked by its bytes and order (`final_picture_in_time`). Plain SSH against tmux and
@@ -37,7 +38,7 @@
 //! The full measurement (1 and 8 Mbit/s, 3 sessions each, medians):
 //!
 //! ```sh
-//! cargo test --release --test ssh_link -- --ignored --nocapture
+//! cargo test --release --test ssh_link measure -- --ignored --nocapture
 //! ```
 //!
 //! Environment (all optional):
@@ -128,18 +129,14 @@ fn options(rate_kbit: u32, server_mux: Option<Mux>) -> Options {
     }
 }
 
-/// The session, or `None` after a printed notice when it cannot be had here.
-fn session(opts: &Options) -> Option<Session> {
+/// The session; the test fails, saying why, when it cannot be had here.
+fn session(opts: &Options) -> Session {
     if let Some(why) = ssh::missing_for(opts.server_mux) {
-        println!("ssh link test skipped: {why}");
-        return None;
+        panic!("this test cannot run here: {why}");
     }
     match Session::start(opts) {
-        Ok(s) => Some(s),
-        Err(ssh::Unavailable(why)) => {
-            println!("ssh link test skipped: {why}");
-            None
-        }
+        Ok(s) => s,
+        Err(ssh::Unavailable(why)) => panic!("this test cannot run here: {why}"),
     }
 }
 
@@ -244,9 +241,8 @@ fn drag(s: &Session) {
 }
 
 /// One session: connect, the four inputs, and checks that it all ends cleanly.
-/// `None` when the session cannot be had here.
-fn run_session(opts: &Options) -> Option<Vec<Figure>> {
-    let s = session(opts)?;
+fn run_session(opts: &Options) -> Vec<Figure> {
+    let s = session(opts);
     let q = s.queue_sampler();
     let mut figures = Vec::new();
 
@@ -385,7 +381,7 @@ fn run_session(opts: &Options) -> Option<Vec<Figure>> {
         assert!(!listed.contains(&ns), "namespace {ns} left behind");
     }
     assert!(!dir.exists(), "{} left behind", dir.display());
-    Some(figures)
+    figures
 }
 
 /// relief ended with status 0 and left the terminal as it found it.
@@ -500,11 +496,10 @@ fn one_at_a_time() -> MutexGuard<'static, ()> {
 
 /// One session at 8 Mbit/s: everything works through real SSH; the figures printed.
 #[test]
+#[ignore = "end-to-end: needs root, iproute2, OpenSSH and tmux; .ci/run runs it by name"]
 fn keys_drag_and_quit_over_a_slow_ssh_link() {
     let _one = one_at_a_time();
-    let Some(figures) = run_session(&options(8000, None)) else {
-        return;
-    };
+    let figures = run_session(&options(8000, None));
     report(&[(8000, figures)], None);
 }
 
@@ -556,19 +551,19 @@ fn assert_no_backlog(figures: &[Figure]) {
 fn inside_a_multiplexer(mux: Mux) {
     let _one = one_at_a_time();
     let opts = options(1000, Some(mux));
-    let Some(figures) = run_session(&opts) else {
-        return;
-    };
+    let figures = run_session(&opts);
     report(&[(1000, figures.clone())], Some(mux));
     assert_no_backlog(&figures);
 }
 
 #[test]
+#[ignore = "end-to-end: needs root, iproute2, OpenSSH and tmux; .ci/run runs it by name"]
 fn inside_tmux_on_the_server_frames_are_paced_by_the_ssh_connection() {
     inside_a_multiplexer(Mux::Tmux);
 }
 
 #[test]
+#[ignore = "end-to-end: needs root, iproute2, OpenSSH, tmux and GNU screen; .ci/run runs it by name"]
 fn inside_screen_on_the_server_frames_are_paced_by_the_ssh_connection() {
     inside_a_multiplexer(Mux::Screen);
 }
@@ -599,11 +594,11 @@ fn link_quiet(link: &LinkSampler, input: Instant, what: &str) -> (Duration, u64)
 /// link yet), one arrow key, whose final picture must come in time (by bytes,
 /// [`final_picture_in_time`]: the first frame does not hold it back); then the drag
 /// (the same check) and an idle second, and `q`.
-fn pixels_over_a_slow_link(format: &str) -> Option<Vec<Figure>> {
+fn pixels_over_a_slow_link(format: &str) -> Vec<Figure> {
     let mut opts = options(1000, None);
     opts.relief_args
         .splice(0..0, ["--format".to_string(), format.to_string()]);
-    let s = session(&opts)?;
+    let s = session(&opts);
     let link = s.link_sampler();
     let q = s.queue_sampler();
     let pane = s.record_pane();
@@ -688,7 +683,7 @@ fn pixels_over_a_slow_link(format: &str) -> Option<Vec<Figure>> {
     }
     drop((q, link));
     assert_restored(&s);
-    Some(figures)
+    figures
 }
 
 /// An image in what the pane received.
@@ -875,22 +870,22 @@ fn final_picture_in_time(
 /// link carries in 0.5 s, then the exact one in strips; from the last input on at
 /// most three exact frames cross the link, and idle writes nothing.
 #[test]
+#[ignore = "end-to-end: needs root, iproute2, OpenSSH and tmux; .ci/run runs it by name"]
 fn kitty_images_over_a_slow_link_are_paced() {
     let _one = one_at_a_time();
-    if let Some(figures) = pixels_over_a_slow_link("kitty") {
-        println!("--format kitty");
-        report(&[(1000, figures)], None);
-    }
+    let figures = pixels_over_a_slow_link("kitty");
+    println!("--format kitty");
+    report(&[(1000, figures)], None);
 }
 
 /// The same in sixels.
 #[test]
+#[ignore = "end-to-end: needs root, iproute2, OpenSSH and tmux; .ci/run runs it by name"]
 fn sixel_images_over_a_slow_link_are_paced() {
     let _one = one_at_a_time();
-    if let Some(figures) = pixels_over_a_slow_link("sixels") {
-        println!("--format sixels");
-        report(&[(1000, figures)], None);
-    }
+    let figures = pixels_over_a_slow_link("sixels");
+    println!("--format sixels");
+    report(&[(1000, figures)], None);
 }
 
 /// Plain SSH, inside tmux and inside screen, sessions interleaved, at each rate of
@@ -913,9 +908,7 @@ fn compare_multiplexers_with_plain_ssh() {
                     rep + 1,
                     rate_name(rate)
                 );
-                let Some(figures) = run_session(&options(rate, mux)) else {
-                    return;
-                };
+                let figures = run_session(&options(rate, mux));
                 runs[m].push((rate, figures));
             }
         }
@@ -954,7 +947,7 @@ fn compare_multiplexers_with_plain_ssh() {
 
 /// The full measurement: every rate, several sessions each, medians.
 #[test]
-#[ignore = "the full measurement (minutes): cargo test --release --test ssh_link -- --ignored --nocapture"]
+#[ignore = "the full measurement (minutes): cargo test --release --test ssh_link measure -- --ignored --nocapture"]
 fn measure_lag_and_bytes_over_ssh() {
     let _one = one_at_a_time();
     let rates = env_list("RELIEF_SSH_RATES", "1000,8000");
@@ -964,9 +957,7 @@ fn measure_lag_and_bytes_over_ssh() {
     for rep in 0..reps {
         for &rate in &rates {
             eprintln!("session {} of {reps} at {}", rep + 1, rate_name(rate));
-            let Some(figures) = run_session(&options(rate, mux)) else {
-                return;
-            };
+            let figures = run_session(&options(rate, mux));
             runs.push((rate, figures));
         }
     }

@@ -535,7 +535,10 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 state,
                 Action::HelpPageFits(view::help_page(size.width, size.height)),
             );
-            let areas = view::areas(ratatui::layout::Rect::new(0, 0, size.width, size.height));
+            let areas = view::layout(
+                state,
+                ratatui::layout::Rect::new(0, 0, size.width, size.height),
+            );
             update(
                 state,
                 Action::TexturesFit(view::texture_panel_area(areas.viewport, state)),

@@ -7,7 +7,7 @@ use ratatui::backend::TestBackend;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use relief::Framebuffer;
-use relief::app::view::{areas, framebuffer_size, help_lines, status_line};
+use relief::app::view::{areas, framebuffer_size, help_lines, layout, status_line};
 use relief::app::{Action, State, update, view};
 use relief::settings::Settings;
 use relief::term::{ColorDepth, Symbols};
@@ -24,7 +24,7 @@ fn state() -> State {
 
 fn screen(s: &State, w: u16, h: u16) -> Buffer {
     let mut term = Terminal::new(TestBackend::new(w, h)).unwrap();
-    let a = areas(Rect::new(0, 0, w, h));
+    let a = layout(s, Rect::new(0, 0, w, h));
     let (fw, fh) = framebuffer_size(a.viewport, Symbols::Half);
     let mut fb = Framebuffer::new(fw, fh);
     fb.fill([200, 100, 50]);
@@ -114,15 +114,15 @@ fn narrow_terminals_split_modes_and_cost_over_two_lines() {
     update(&mut s, Action::next("shading"));
     let buf = screen(&s, 40, 12);
     let status = row_text(&buf, 11);
-    assert_eq!(status.trim_end(), "flat │ cube │ lights on │ 24b │ ? help");
+    assert_eq!(status.trim_end(), "flat │ cube │ 24b │ +11 more │ ? help");
     let panel = row_text(&buf, 10);
     assert_eq!(panel.trim_end(), "X25° Y35° Z0°   3.2ms  30fps 41.2kB");
-    // 80 columns: the modes that fit, the cost on the line above with
-    // the full-size fields.
+    // 80 columns, 12 rows (one status row): the modes that fit and how
+    // many do not, the cost on the line above with the full-size fields.
     let buf = screen(&state(), 80, 12);
     let status = row_text(&buf, 11);
     assert!(
-        status.starts_with("Phong │ ") && status.trim_end().ends_with("│ 24b │ ? help"),
+        status.starts_with("Phong │ ") && status.trim_end().ends_with("│ 24b │ +7 more │ ? help"),
         "{status}"
     );
     assert!(!status.contains("3.2"), "{status}");
@@ -443,11 +443,12 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
         short.contains("lights 1·3·") && short.contains("att on"),
         "{short}"
     );
-    // Narrow: the modes at their default go before the changed ones; the
-    // lighting, the colour depth and the hint stay.
+    // Narrow and low: the modes at their default go before the changed
+    // ones, and the line counts them; the lighting, the colour depth and
+    // the hint stay.
     let at40 = row_text(&screen(&s, 40, 12), 11);
     assert!(
-        at40.starts_with("Phong │") && at40.trim_end().ends_with("24b │ ? help"),
+        at40.starts_with("Phong │") && at40.trim_end().ends_with("24b │ +11 more │ ? help"),
         "{at40}"
     );
     let at60 = status_line(&s, 60);
@@ -456,7 +457,7 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
         "{at60}"
     );
     assert!(
-        at60.contains("sphere") && at60.ends_with("? help"),
+        at60.contains("sphere") && at60.ends_with("more │ ? help"),
         "{at60}"
     );
     update(&mut s, Action::next("lights"));
@@ -544,8 +545,12 @@ fn the_status_line_shortens_field_by_field_and_keeps_the_help_hint() {
             );
         }
     }
-    assert_eq!(status_line(&s, 20), "Phong │ 24b │ ? help");
-    assert_eq!(status_line(&s, 37), "Phong │ bump on │ cube │ 24b │ ? help");
+    // What does not fit is counted; narrower still, the cut says so.
+    assert_eq!(
+        status_line(&s, 40),
+        "Phong │ cube │ 24b │ +11 more │ ? help"
+    );
+    assert_eq!(status_line(&s, 20), "Phong │ 24b … ? help");
     // Through the TestBackend at several widths: the last row.
     for w in [250u16, 160, 120, 80, 60, 40] {
         let row = row_text(&screen(&s, w, 20), 19);
@@ -608,6 +613,107 @@ fn a_message_clears_at_the_next_key_even_one_bound_to_nothing() {
             assert_eq!(s.message, None, "{key:?}");
             assert!(!all_text(&screen(&s, 200, 90)).contains(said), "{key:?}");
             assert_eq!(s.help, help, "nothing else changed");
+        }
+    }
+}
+
+/// The modes a status text shows (not the frame cost, the count or the
+/// hint), and the count of those it leaves out (`+N more`).
+fn modes_in(text: &str) -> (usize, usize) {
+    let (mut shown, mut more) = (0, 0);
+    for part in text.lines().flat_map(|row| row.trim_end().split(" │ ")) {
+        let cost = part.contains("fps") || part.contains("3.2") || part.contains("41.2");
+        if let Some(n) = part.strip_prefix('+').and_then(|p| p.strip_suffix(" more")) {
+            more = n.parse().unwrap();
+        } else if !cost && part != "? help" {
+            shown += 1;
+        }
+    }
+    (shown, more)
+}
+
+/// States with many modes away from their default, and the plasma.
+fn busy_states() -> Vec<State> {
+    use relief::scene::{ModelChoice, SceneKind};
+    let mut changed = state();
+    for a in [
+        Action::next("technique"),
+        Action::next("aa"),
+        Action::next("display"),
+        Action::ToggleLight(1),
+        Action::next("attenuation"),
+        Action::ToggleAutoRotate,
+        Action::ZoomIn,
+    ] {
+        update(&mut changed, a);
+    }
+    let mut plasma = state();
+    update(
+        &mut plasma,
+        Action::SceneBuilt(Ok((SceneKind::Plasma, ModelChoice::Sphere))),
+    );
+    vec![state(), changed, plasma]
+}
+
+#[test]
+fn the_status_line_wraps_before_it_leaves_a_mode_out_and_counts_what_it_leaves_out() {
+    for s in busy_states() {
+        let (all, _) = modes_in(&status_line(&s, 10_000));
+        for h in [3u16, 8, 12, 16, 24, 48] {
+            let allowed = relief::app::view::status::max_rows(h);
+            for w in 8..=250u16 {
+                let buf = screen(&s, w, h);
+                let area = layout(&s, Rect::new(0, 0, w, h)).status.unwrap();
+                let text: String = (area.top()..area.bottom())
+                    .map(|y| row_text(&buf, y).trim_end().to_string() + "\n")
+                    .collect();
+                let at = format!("{w}x{h}:\n{text}");
+                assert!(area.height <= allowed, "{at}");
+                assert!(text.trim_end().ends_with("? help") || w < 6, "{at}");
+                if text.contains('…') {
+                    // Too narrow for the count itself: the cut says so.
+                    continue;
+                }
+                let (shown, more) = modes_in(&text);
+                assert_eq!(shown + more, all, "every mode shown or counted: {at}");
+                if more > 0 {
+                    assert_eq!(area.height, allowed, "rows first: {at}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn at_80_by_24_the_status_line_takes_two_rows_and_shows_every_mode() {
+    let s = state();
+    let buf = screen(&s, 80, 24);
+    let a = layout(&s, Rect::new(0, 0, 80, 24));
+    assert_eq!(a.status, Some(Rect::new(0, 22, 80, 2)));
+    assert_eq!(a.viewport.height, 21);
+    let (top, bottom) = (row_text(&buf, 22), row_text(&buf, 23));
+    assert!(top.starts_with("Phong │ vertex │ tex on │"), "{top}");
+    assert!(bottom.trim_end().ends_with("│ 24b │ ? help"), "{bottom}");
+    assert!(
+        !top.contains('+') && !bottom.contains('+'),
+        "{top}\n{bottom}"
+    );
+    let (shown, more) = modes_in(&format!("{top}\n{bottom}"));
+    assert_eq!((shown, more), (modes_in(&status_line(&s, 10_000)).0, 0));
+    // The cost on the line above, as on any screen where it does not fit.
+    assert!(row_text(&buf, 21).contains("3.2 ms │  30 fps │ 41.2 kB"));
+    // The figures never change the number of rows.
+    let mut busy = state();
+    busy.frame.frame_time = Duration::from_millis(1234);
+    busy.frame.bytes = 5_678_901;
+    busy.frame.fps = None;
+    for w in 20..=220u16 {
+        for h in [16u16, 24, 48] {
+            assert_eq!(
+                relief::app::view::status_rows(&s, w, h),
+                relief::app::view::status_rows(&busy, w, h),
+                "{w}x{h}"
+            );
         }
     }
 }

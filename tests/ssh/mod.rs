@@ -76,7 +76,7 @@ impl Mux {
     }
 }
 
-/// Why a session cannot be had on this machine (the test then skips).
+/// Why a session cannot be had on this machine (the test then fails, saying so).
 pub struct Unavailable(pub String);
 
 /// The namespaces, the link, sshd and the tmux pane running `ssh -tt … relief`.

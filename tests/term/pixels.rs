@@ -974,9 +974,18 @@ fn run_panels(format: Format, msgs: Vec<Msg>) -> (Vec<u8>, Framebuffer) {
 }
 
 /// The cost panel's cells on an 80×30 screen: 44 × 18 at the top right of
-/// the 80 × 28 picture.
+/// the picture.
 const COST_PANEL: Rect = Rect::new(36, 0, 44, 18);
-const PICTURE: Rect = Rect::new(0, 0, 80, 28);
+
+/// The picture's area on the 80×30 screen of [`run_panels`]: 80 columns,
+/// and the rows above the text lines (the status line takes two rows).
+fn panels_picture(format: Format) -> Rect {
+    let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
+    s.output = output(format);
+    let area = relief::app::view::layout(&s, Rect::new(0, 0, 80, 30)).viewport;
+    assert_eq!(area, Rect::new(0, 0, 80, 27));
+    area
+}
 
 fn right() -> Msg {
     Msg::Input(Event::Key(KeyEvent::new(
@@ -997,7 +1006,8 @@ fn under_a_panel_kitty_shows_the_picture_around_it_without_sending_it_again() {
     let keys = vec![key('k'), key('k'), key('k'), right(), key('k')];
     let (bytes, last) = run_panels(Format::Kitty, keys);
     let (w, h) = (last.width(), last.height());
-    let mut screen = Replay::new(80, 30, (w / 80, h / 28));
+    let rows = panels_picture(Format::Kitty).height;
+    let mut screen = Replay::new(80, 30, (w / 80, h / usize::from(rows)));
     // Per frame: pixels sent, and whether the panel was open.
     let mut seen = Vec::new();
     for frame in frames(&bytes) {
@@ -1009,7 +1019,7 @@ fn under_a_panel_kitty_shows_the_picture_around_it_without_sending_it_again() {
         let panel = screen.placements.len() > 1;
         seen.push((screen.sent_pixels - before, panel));
         let placed = screen.placed_cells();
-        for y in 0..28u16 {
+        for y in 0..rows {
             for x in 0..80u16 {
                 let i = usize::from(y) * 80 + usize::from(x);
                 let under = panel && COST_PANEL.contains((x, y).into());
@@ -1024,7 +1034,7 @@ fn under_a_panel_kitty_shows_the_picture_around_it_without_sending_it_again() {
         // Each placement shows its own cells' pixels: its source is its
         // cells' rectangle at the image's pixels per cell.
         let (iw, ih, _) = screen.image().unwrap();
-        let (sx, sy) = (iw / 80, ih / 28);
+        let (sx, sy) = (iw / 80, ih / usize::from(rows));
         for p in screen.placements.values() {
             let c = p.cells;
             assert_eq!(
@@ -1075,7 +1085,8 @@ fn under_a_panel_sixel_sends_only_the_cells_the_panel_leaves() {
     let keys = vec![key('k'), key('k'), key('k'), right(), key('k')];
     let (bytes, last) = run_panels(Format::Sixels, keys);
     let (w, h) = (last.width(), last.height());
-    let cell = (w / 80, h / 28);
+    let rows = panels_picture(Format::Sixels).height;
+    let cell = (w / 80, h / usize::from(rows));
     let panel_pixels =
         usize::from(COST_PANEL.width) * cell.0 * usize::from(COST_PANEL.height) * cell.1;
     let mut screen = Replay::new(80, 30, cell);
@@ -1090,7 +1101,7 @@ fn under_a_panel_sixel_sends_only_the_cells_the_panel_leaves() {
         }
         // The panel is open when any picture cell shows text: then exactly
         // the panel's cells do.
-        let text: Vec<(u16, u16)> = (0..28u16)
+        let text: Vec<(u16, u16)> = (0..rows)
             .flat_map(|y| (0..80u16).map(move |x| (x, y)))
             .filter(|&(x, y)| screen.text[usize::from(y) * 80 + usize::from(x)])
             .collect();
@@ -1138,8 +1149,8 @@ fn under_a_panel_sixel_sends_only_the_cells_the_panel_leaves() {
         }
     }
     assert!(
-        (0..PICTURE.height).all(|y| (0..PICTURE.width)
-            .all(|x| !screen.text[usize::from(y) * 80 + usize::from(x)]))
+        (0..panels_picture(Format::Sixels).height)
+            .all(|y| (0..80u16).all(|x| !screen.text[usize::from(y) * 80 + usize::from(x)]))
     );
 }
 
@@ -1158,7 +1169,7 @@ fn a_resize_with_a_panel_open_sends_the_new_picture_around_the_panel() {
         let mut view = PixelView::new();
         // 8 × 16 pixels a cell.
         let mut draw = |term: &mut Terminal<SgrBackend<Vec<u8>>>, cols: u16, rows: u16| {
-            let area = relief::app::view::areas(Rect::new(0, 0, cols, rows)).viewport;
+            let area = relief::app::view::layout(&state, Rect::new(0, 0, cols, rows)).viewport;
             let mut fb =
                 Framebuffer::new(usize::from(area.width) * 8, usize::from(area.height) * 16);
             let (w, h) = (fb.width(), fb.height());
@@ -1193,7 +1204,8 @@ fn a_resize_with_a_panel_open_sends_the_new_picture_around_the_panel() {
         let first = term.backend().writer().len();
         term.backend_mut().set_fixed_size(70, 26);
         let (area, fb) = draw(&mut term, 70, 26);
-        assert_eq!(area, Rect::new(0, 0, 70, 24));
+        // Three status rows at 70 columns.
+        assert_eq!(area, Rect::new(0, 0, 70, 22));
         let panel = Rect::new(26, 0, 44, 18);
         let bytes = term.backend().writer().clone();
         let resized = &bytes[first..];
@@ -1203,7 +1215,7 @@ fn a_resize_with_a_panel_open_sends_the_new_picture_around_the_panel() {
         );
         let mut screen = Replay::new(80, 30, (8, 16));
         screen.feed(&bytes);
-        for y in 0..24u16 {
+        for y in 0..area.height {
             for x in 0..70u16 {
                 let i = usize::from(y) * 80 + usize::from(x);
                 let under = panel.contains((x, y).into());
@@ -1218,7 +1230,7 @@ fn a_resize_with_a_panel_open_sends_the_new_picture_around_the_panel() {
             }
         }
         if format == Format::Kitty {
-            assert_eq!(screen.image().map(|i| (i.0, i.1)), Some((560, 384)));
+            assert_eq!(screen.image().map(|i| (i.0, i.1)), Some((560, 22 * 16)));
         }
         let _ = pixel_view::take_cleanup();
     }
@@ -1269,12 +1281,13 @@ fn under_a_panel_iterm_sends_the_panels_cells_when_it_closes() {
     let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
     let (bytes, last) = run_panels(Format::Iterm, vec![key('k'), key('k')]);
     let (w, h) = (last.width(), last.height());
-    let (cw, ch) = (w / 80, h / 28);
+    let rows = panels_picture(Format::Iterm).height;
+    let (cw, ch) = (w / 80, h / usize::from(rows));
     let per_frame: Vec<_> = frames(&bytes).iter().map(|f| iterm_images(f)).collect();
     let sent: Vec<usize> = per_frame.iter().map(Vec::len).collect();
     // The whole picture, then (panel open) nothing, then the panel's part.
     let first = sent.iter().position(|&n| n > 0).unwrap();
-    assert_eq!(per_frame[first][0].1, (80, 28));
+    assert_eq!(per_frame[first][0].1, (80, usize::from(rows)));
     let next = first + 1 + sent[first + 1..].iter().position(|&n| n > 0).unwrap();
     assert!(next > first + 1, "the panel opened with no image: {sent:?}");
     assert_eq!(sent.iter().sum::<usize>(), 2, "{sent:?}");

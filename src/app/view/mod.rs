@@ -16,6 +16,7 @@ use ratatui::Frame;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::style::{Modifier, Style};
+use ratatui::text::Line;
 use ratatui::widgets::{Clear, Paragraph, Widget};
 
 use super::state::State;
@@ -26,7 +27,7 @@ use help::help;
 pub use help::{help_lines, help_max_scroll, help_page};
 use panels::cost_panel;
 use status::status_choice;
-pub use status::{HELP_HINT, cost_text, format_bytes, status_line};
+pub use status::{HELP_HINT, cost_text, format_bytes, status_line, status_rows};
 use textures::texture_panel;
 pub use textures::texture_panel_area;
 
@@ -43,11 +44,22 @@ pub struct Areas {
     pub status: Option<Rect>,
 }
 
-/// Splits the screen: picture on top, then the orientation line, then the
-/// status line. Small terminals drop the orientation line (height 2) and
-/// the status line too (height 1: the picture wins).
+/// Splits the screen with a status line of one row (see [`layout`]).
 pub fn areas(screen: Rect) -> Areas {
-    let row = |y: u16| Rect::new(screen.x, screen.y + y, screen.width, 1);
+    split(screen, 1)
+}
+
+/// Splits the screen as `state` draws it: the status line takes the rows
+/// its fields need on this screen (see [`status_rows`]).
+pub fn layout(state: &State, screen: Rect) -> Areas {
+    split(screen, status_rows(state, screen.width, screen.height))
+}
+
+/// Splits the screen: picture on top, then the orientation line, then the
+/// status line of `rows` rows. Small terminals drop the orientation line
+/// (height 2) and the status line too (height 1: the picture wins).
+fn split(screen: Rect, rows: u16) -> Areas {
+    let row = |y: u16, h: u16| Rect::new(screen.x, screen.y + y, screen.width, h);
     match screen.height {
         0 | 1 => Areas {
             viewport: screen,
@@ -60,16 +72,20 @@ pub fn areas(screen: Rect) -> Areas {
                 ..screen
             },
             panel: None,
-            status: Some(row(1)),
+            status: Some(row(1, 1)),
         },
-        h => Areas {
-            viewport: Rect {
-                height: h - 2,
-                ..screen
-            },
-            panel: Some(row(h - 2)),
-            status: Some(row(h - 1)),
-        },
+        h => {
+            // The picture keeps a row at least.
+            let rows = rows.clamp(1, h - 2);
+            Areas {
+                viewport: Rect {
+                    height: h - 1 - rows,
+                    ..screen
+                },
+                panel: Some(row(h - 1 - rows, 1)),
+                status: Some(row(h - rows, rows)),
+            }
+        }
     }
 }
 
@@ -93,7 +109,7 @@ pub fn view(frame: &mut Frame, state: &State, fb: &Framebuffer, background: Rgb)
 
 /// [`view`] on a bare buffer (the benchmark and tests use it directly).
 pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf: &mut Buffer) {
-    let a = areas(screen);
+    let a = layout(state, screen);
     SymbolCells {
         fb,
         symbols: state.symbols,
@@ -102,7 +118,8 @@ pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf:
         pad: background,
     }
     .render(a.viewport, buf);
-    let (status_text, status_cost) = status_choice(state, screen.width as usize);
+    let rows = a.status.map_or(1, |r| r.height);
+    let (status_text, status_cost) = status_choice(state, screen.width as usize, rows);
     // Narrow screens shorten the fields; a status line without the frame
     // cost leaves it to the line above.
     let compact = screen.width < COMPACT_BELOW;
@@ -136,7 +153,8 @@ pub fn draw(state: &State, fb: &Framebuffer, background: Rgb, screen: Rect, buf:
         return help(state, screen, buf);
     }
     if let Some(status) = a.status {
-        Paragraph::new(status_text)
+        let lines: Vec<Line> = status_text.into_iter().map(Line::from).collect();
+        Paragraph::new(lines)
             .style(Style::new().add_modifier(Modifier::REVERSED))
             .render(status, buf);
     }

@@ -1,7 +1,10 @@
 //! The status line: every mode and the last frame's cost. As the screen
-//! narrows, fields take their short form one at a time, then those at
-//! their default value go, then the others (the frame cost first moves to
-//! the line above); the lighting, the colour depth, auto-rotation and
+//! narrows, fields take their short form one at a time and the frame cost
+//! moves to the line above; then the line wraps onto a second row and a
+//! third, as far as the screen's height allows (one row in eight). Only
+//! when even that is too little do fields go, those at their default
+//! value first, and the line then says how many are not shown
+//! (`+N more`); the lighting, the colour depth, auto-rotation and
 //! `? help` always stay.
 
 use crate::app::state::{LIGHT_NAMES, State, plasma_light};
@@ -16,15 +19,42 @@ pub const HELP_HINT: &str = "? help";
 /// Between two fields.
 const SEP: &str = " │ ";
 
-/// The status line that fits in `width` columns.
+/// The status line that fits in one row of `width` columns.
 pub fn status_line(state: &State, width: usize) -> String {
-    status_choice(state, width).0
+    status_choice(state, width, 1).0.join("\n")
 }
 
-/// The status text, and whether it carries the frame cost (without it, the
-/// view shows the cost on the line above).
-pub(super) fn status_choice(state: &State, width: usize) -> (String, bool) {
-    fit(&fields(state), width)
+/// The rows the status line takes on a screen of this size (see
+/// [`max_rows`]).
+pub fn status_rows(state: &State, width: u16, height: u16) -> u16 {
+    let rows = status_choice(state, width as usize, max_rows(height))
+        .0
+        .len();
+    rows.max(1) as u16
+}
+
+/// The status line may take at most one row in this many of the screen.
+const SCREEN_ROWS_PER_STATUS_ROW: u16 = 8;
+/// And never more rows than this.
+const MAX_STATUS_ROWS: u16 = 3;
+
+/// How many rows the status line may take on a screen `height` rows tall:
+/// one row in eight, from one to three.
+pub fn max_rows(height: u16) -> u16 {
+    (height / SCREEN_ROWS_PER_STATUS_ROW).clamp(1, MAX_STATUS_ROWS)
+}
+
+/// The status rows (top to bottom) in `width` columns and at most
+/// `max_rows` rows, and whether they carry the frame cost (without it,
+/// the view shows the cost on the line above).
+pub(super) fn status_choice(state: &State, width: usize, max_rows: u16) -> (Vec<String>, bool) {
+    let fields = fields(state);
+    for rows in 1..=max_rows.max(1) as usize {
+        if let Some(fit) = fit_whole(&fields, width, rows) {
+            return fit;
+        }
+    }
+    fit_counted(&fields, width, max_rows.max(1) as usize)
 }
 
 /// One field of the status line.
@@ -73,28 +103,55 @@ fn drop_rank(default: bool, rank: u8) -> Option<u8> {
     Some(if default { DEFAULT_DROP } else { CHANGED_DROP } + rank)
 }
 
-/// The text of `fields` with these shortened and these dropped.
-fn join(fields: &[Field], short: &[bool], dropped: &[bool]) -> String {
-    let mut parts: Vec<&str> = fields
+/// The parts of the line: `fields` with these shortened and these
+/// dropped, the count of the dropped ones (`+N more`, the cost aside: it
+/// shows above) when `count`, then the hint.
+fn parts(fields: &[Field], short: &[bool], dropped: &[bool], count: bool) -> Vec<String> {
+    let mut parts: Vec<String> = fields
         .iter()
         .enumerate()
         .filter(|(i, _)| !dropped[*i])
-        .map(|(i, f)| {
-            if short[i] {
-                f.short.as_str()
-            } else {
-                f.long.as_str()
-            }
-        })
+        .map(|(i, f)| if short[i] { &f.short } else { &f.long }.clone())
         .collect();
-    parts.push(HELP_HINT);
-    parts.join(SEP)
+    let hidden = (0..fields.len())
+        .filter(|&i| dropped[i] && !fields[i].cost)
+        .count();
+    if count && hidden > 0 {
+        parts.push(format!("+{hidden} more"));
+    }
+    parts.push(HELP_HINT.to_string());
+    parts
 }
 
-/// The longest form of `fields` that fits in `width`: shorten one field
-/// at a time, then drop one at a time; a screen too narrow even then cuts
-/// the text before `? help`.
-fn fit(fields: &[Field], width: usize) -> (String, bool) {
+/// `parts` wrapped into rows of at most `width` columns, at the
+/// separators; `None` when they take more than `rows` rows (or one part
+/// is wider than a row).
+fn wrap(parts: &[String], width: usize, rows: usize) -> Option<Vec<String>> {
+    let mut out: Vec<String> = Vec::new();
+    let mut row = String::new();
+    for part in parts {
+        let len = part.chars().count();
+        let used = row.chars().count();
+        if used > 0 && used + SEP.chars().count() + len <= width {
+            row.push_str(SEP);
+            row.push_str(part);
+            continue;
+        }
+        if used > 0 {
+            out.push(std::mem::take(&mut row));
+        }
+        if len > width {
+            return None;
+        }
+        row.push_str(part);
+    }
+    out.push(row);
+    (out.len() <= rows).then_some(out)
+}
+
+/// Every field in `rows` rows, shortened one at a time, the frame cost
+/// moved to the line above last; `None` when they do not fit.
+fn fit_whole(fields: &[Field], width: usize, rows: usize) -> Option<(Vec<String>, bool)> {
     let n = fields.len();
     let mut short = vec![false; n];
     let mut dropped = vec![false; n];
@@ -102,42 +159,71 @@ fn fit(fields: &[Field], width: usize) -> (String, bool) {
         .filter(|&i| fields[i].short != fields[i].long)
         .collect();
     shorten.sort_by_key(|&i| fields[i].shorten);
-    let mut drop: Vec<usize> = (0..n).filter(|&i| fields[i].drop.is_some()).collect();
+    let mut shorten = shorten.into_iter();
+    loop {
+        if let Some(lines) = wrap(&parts(fields, &short, &dropped, false), width, rows) {
+            let cost = (0..n).any(|i| fields[i].cost && !dropped[i]);
+            return Some((lines, cost));
+        }
+        if let Some(i) = shorten.next() {
+            short[i] = true;
+        } else if let Some(i) = (0..n).find(|&i| fields[i].cost && !dropped[i]) {
+            dropped[i] = true;
+        } else {
+            return None;
+        }
+    }
+}
+
+/// The fields in their short forms in `rows` rows, dropped one at a time
+/// (the defaults first) with their count shown (`+N more`); those dropped
+/// before the last come back where they fit, the last dropped first. A
+/// screen too narrow even then cuts the text before `? help` with `…`.
+fn fit_counted(fields: &[Field], width: usize, rows: usize) -> (Vec<String>, bool) {
+    let n = fields.len();
+    let short = vec![true; n];
+    let mut dropped: Vec<bool> = fields.iter().map(|f| f.cost).collect();
+    let mut drop: Vec<usize> = (0..n)
+        .filter(|&i| fields[i].drop.is_some() && !fields[i].cost)
+        .collect();
     drop.sort_by_key(|&i| fields[i].drop);
     let mut gone = Vec::new();
-    let mut shorten = shorten.into_iter();
     let mut drop = drop.into_iter();
+    let fits = |dropped: &[bool]| wrap(&parts(fields, &short, dropped, true), width, rows);
     loop {
-        let text = join(fields, &short, &dropped);
-        if text.chars().count() <= width {
-            // Room left by the last field to go: the fields dropped
-            // before it come back where they fit, the last dropped first.
+        if fits(&dropped).is_some() {
             for &i in gone.iter().rev() {
                 dropped[i] = false;
-                if join(fields, &short, &dropped).chars().count() > width {
+                if fits(&dropped).is_none() {
                     dropped[i] = true;
                 }
             }
             let cost = (0..n).any(|i| fields[i].cost && !dropped[i]);
-            return (join(fields, &short, &dropped), cost);
+            return (fits(&dropped).unwrap_or_default(), cost);
         }
-        if let Some(i) = shorten.next() {
-            short[i] = true;
-        } else if let Some(i) = drop.next() {
+        if let Some(i) = drop.next() {
             dropped[i] = true;
             gone.push(i);
         } else {
-            // The hint stays whole; what is before it is cut.
-            let room = width.saturating_sub(HELP_HINT.chars().count() + 1);
-            let text = if room == 0 {
-                HELP_HINT.chars().take(width).collect()
-            } else {
-                let kept: String = text.chars().take(room).collect();
-                format!("{kept:<room$} {HELP_HINT}")
-            };
-            return (text, false);
+            return (
+                vec![cut(&parts(fields, &short, &dropped, true), width)],
+                false,
+            );
         }
     }
+}
+
+/// `parts` in one row of `width` columns: the hint stays whole, what is
+/// before it is cut and ends with `…`.
+fn cut(parts: &[String], width: usize) -> String {
+    let hint = HELP_HINT.chars().count();
+    if width <= hint + 1 {
+        return HELP_HINT.chars().take(width).collect();
+    }
+    let text = parts[..parts.len() - 1].join(SEP);
+    let room = width - hint - 2;
+    let kept: String = text.chars().take(room).collect();
+    format!("{kept:<room$}… {HELP_HINT}")
 }
 
 /// Frame time, frames per second and bytes of the last frame; a preview
