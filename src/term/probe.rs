@@ -13,10 +13,14 @@
 //!   `APC G i=31;OK ST`), XTVERSION (`CSI > q`, answered `DCS > | name
 //!   version ST`) and the cell size in pixels (`CSI 16 t`, answered
 //!   `CSI 6 ; height ; width t`).
-//! - The largest sixel image (XTSMGRAPHICS, `CSI ? 2 ; 1 ; 0 S`, answered
+//! - The largest sixel image (XTSMGRAPHICS, `CSI ? 2 ; 1 ; 0 S` for the
+//!   current one and `CSI ? 2 ; 4 ; 0 S` for the most allowed, answered
 //!   `CSI ? 2 ; 0 ; width ; height S` by xterm, foot, mlterm, WezTerm…):
 //!   xterm drops an image larger than its `maxGraphicSize` (1000×1000 by
-//!   default) without a trace, so relief never sends a larger one. An error
+//!   default) without a trace, so relief never sends a larger one. xterm's
+//!   current size is that limit cut to the window at start (1000×672 in a
+//!   160×48 window of 14-pixel rows): the larger of the two answers counts,
+//!   so a window enlarged later is not held to its first size. An error
 //!   status or no answer leaves no limit.
 //! - Primary device attributes (`CSI c`), which every terminal answers, and
 //!   answers after the questions before it: once its reply is in, no other
@@ -40,7 +44,7 @@ use std::time::{Duration, Instant};
 
 /// The questions, in the order the replies come back.
 pub const QUERY: &[u8] = b"\x1bP+q524742;5463\x1b\\\x1b[48:2::1:2:3m\x1bP$qm\x1b\\\x1b[0m\
-\x1b_Gi=31,s=1,v=1,a=q,t=d,f=24;AAAA\x1b\\\x1b[>q\x1b[16t\x1b[?2;1;0S\x1b[c";
+\x1b_Gi=31,s=1,v=1,a=q,t=d,f=24;AAAA\x1b\\\x1b[>q\x1b[16t\x1b[?2;1;0S\x1b[?2;4;0S\x1b[c";
 
 /// The kitty graphics query in [`QUERY`]: left out inside tmux, which has
 /// no answer to it and takes an `APC` string as a new window name.
@@ -220,8 +224,13 @@ impl ReplyScanner {
                     {
                         self.outcome.cell_pixels = Some(size);
                     } else if rest[2] == b'?' && rest[len - 1] == b'S' {
-                        // A graphics attribute reply, success or error: no key.
-                        self.outcome.sixel_max = sixel_geometry(params).or(self.outcome.sixel_max);
+                        // A graphics attribute reply, success or error: no
+                        // key. The larger answer is the most allowed.
+                        let answer = sixel_geometry(params);
+                        self.outcome.sixel_max = match (self.outcome.sixel_max, answer) {
+                            (Some((w0, h0)), Some((w1, h1))) => Some((w0.max(w1), h0.max(h1))),
+                            (known, None) | (None, known) => known,
+                        };
                     } else {
                         // A key (arrows, function keys): the decoder's.
                         self.outcome.other.extend_from_slice(&rest[..len]);
@@ -408,9 +417,13 @@ mod tests {
 
     #[test]
     fn the_largest_sixel_image_is_read_from_a_successful_reply_only() {
-        // xterm 379 by default; foot.
-        let o = scan(&[b"\x1b[?2;0;1000;1000S", DA1]);
+        // xterm 379 by default, in a 160×48 window: the current size, then
+        // the most allowed; foot.
+        let o = scan(&[b"\x1b[?2;0;1000;672S\x1b[?2;0;1000;1000S", DA1]);
         assert_eq!(o.sixel_max, Some((1000, 1000)));
+        // Only the current size answered, or the other an error.
+        let o = scan(&[b"\x1b[?2;0;1000;672S\x1b[?2;2;0S", DA1]);
+        assert_eq!(o.sixel_max, Some((1000, 672)));
         assert!(o.other.is_empty(), "{o:?}");
         let o = scan(&[b"\x1b[?2;0;10000;10000S\x1b[?63;4c"]);
         assert_eq!((o.sixel_max, o.sixel), (Some((10000, 10000)), true));
@@ -443,6 +456,7 @@ mod tests {
             "\x1b[>q",
             "\x1b[16t",
             "\x1b[?2;1;0S",
+            "\x1b[?2;4;0S",
         ] {
             assert!(text[..da1].contains(q), "{q:?}");
         }
