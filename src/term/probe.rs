@@ -430,7 +430,9 @@ mod tests {
         // Error statuses (item, action, failure) and odd replies: no limit,
         // and never taken for a key.
         for reply in [
-            &b"\x1b[?2;1;0S"[..],
+            // xterm 379 without `-ti vt340` (no sixel): failure, no value.
+            &b"\x1b[?2;3S"[..],
+            b"\x1b[?2;1;0S",
             b"\x1b[?2;2;0S",
             b"\x1b[?2;3;0S",
             b"\x1b[?2;0;0;0S",
