@@ -187,6 +187,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     });
     let mut truecolor_reply = None;
     let mut cell_reply = None;
+    let mut sixel_max = None;
     if let Some(found) = found.flatten() {
         clues.kitty_reply = found.kitty;
         clues.sixel_da1 = found.sixel;
@@ -194,9 +195,11 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         clues.version = found.version;
         truecolor_reply = Some(found.truecolor);
         cell_reply = found.cell_pixels;
+        sixel_max = found.sixel_max;
         typed = found.other;
     }
     state.output = crate::term::pixel_view::Output::from_clues(&clues, cell_reply);
+    state.output.sixel_max = sixel_max;
     if state.message.is_none() {
         state.message = state.output.choice.note.clone();
     }

@@ -80,6 +80,9 @@ pub struct Output {
     pub tmux_sixel: bool,
     /// The cell size the terminal replied to `CSI 16 t`.
     pub cell_reply: Option<(u16, u16)>,
+    /// The largest sixel image the terminal takes (width, height in
+    /// pixels; its XTSMGRAPHICS reply): see [`picture_area`].
+    pub sixel_max: Option<(u32, u32)>,
 }
 
 impl Default for Output {
@@ -95,6 +98,7 @@ impl Default for Output {
             tmux: None,
             tmux_sixel: false,
             cell_reply: None,
+            sixel_max: None,
         }
     }
 }
@@ -110,6 +114,7 @@ impl Output {
             tmux: c.tmux.clone(),
             tmux_sixel: c.tmux_draws_sixel(),
             cell_reply,
+            sixel_max: None,
         }
     }
 
@@ -149,6 +154,51 @@ pub fn cell_pixels(
         Some((w, h)) if w > 0 && h > 0 => ((w, h), "CSI 16 t"),
         _ => (DEFAULT_CELL, "default"),
     }
+}
+
+/// The cells of `viewport` the picture takes, with cells of `cell` pixels:
+/// all of them, except for sixel in a terminal that answered its largest
+/// image ([`Output::sixel_max`]): then the most whole columns and rows
+/// whose image fits it, centred (empty when not one cell fits). xterm
+/// drops a larger image without a trace (`maxGraphicSize`, 1000×1000 by
+/// default): a full-screen window showed nothing.
+pub fn picture_area(output: &Output, viewport: Rect, cell: (u16, u16)) -> Rect {
+    let Some((max_w, max_h)) = output.sixel_max else {
+        return viewport;
+    };
+    if output.format() != Format::Sixels {
+        return viewport;
+    }
+    let (cw, ch) = (u32::from(cell.0.max(1)), u32::from(cell.1.max(1)));
+    let cols = (max_w / cw).min(u32::from(viewport.width)) as u16;
+    // Sixel draws bands six pixels tall: the last one counts whole.
+    let fits = |rows: u16| (u32::from(rows) * ch).next_multiple_of(6) <= max_h;
+    let rows = (0..=viewport.height).rev().find(|&r| fits(r)).unwrap_or(0);
+    Rect::new(
+        viewport.x + (viewport.width - cols) / 2,
+        viewport.y + (viewport.height - rows) / 2,
+        cols,
+        rows,
+    )
+}
+
+/// What the cost panel says of the sixel limit, when the terminal
+/// answered one: the limit and, when it shrinks the picture, the cells the
+/// picture takes of the area's (cells of `cell` pixels).
+pub fn sixel_limit_line(output: &Output, viewport: Rect, cell: (u16, u16)) -> Option<String> {
+    let (w, h) = output.sixel_max?;
+    if output.format() != Format::Sixels {
+        return None;
+    }
+    let area = picture_area(output, viewport, cell);
+    Some(if area == viewport {
+        format!("max {w}×{h} px: the whole area")
+    } else {
+        format!(
+            "max {w}×{h} px: {}×{} of {}×{} cells",
+            area.width, area.height, viewport.width, viewport.height
+        )
+    })
 }
 
 /// The kernel's window size of standard output: columns, rows, width and
@@ -682,17 +732,28 @@ impl PixelView {
         format.is_pixels() && !viewport.is_empty() && viewport.bottom() < screen_height
     }
 
+    /// The cells of `viewport` an image covers ([`picture_area`]), or
+    /// none when the picture is text.
+    pub fn image_area(output: &Output, viewport: Rect, screen_height: u16) -> Option<Rect> {
+        if !Self::usable(output.format(), viewport, screen_height) {
+            return None;
+        }
+        let (cell, _) = cell_pixels(window_size(), output.cell_reply);
+        Some(picture_area(output, viewport, cell)).filter(|a| !a.is_empty())
+    }
+
     /// The framebuffer size for the picture in `viewport`: the text's
-    /// pixels, or for a pixel format the cells' pixels.
+    /// pixels, or for a pixel format the pixels of the cells its image
+    /// covers ([`PixelView::image_area`]).
     pub fn framebuffer_size(
         output: &Output,
         viewport: Rect,
         screen_height: u16,
         symbols: Symbols,
     ) -> (usize, usize) {
-        if Self::usable(output.format(), viewport, screen_height) {
+        if let Some(area) = Self::image_area(output, viewport, screen_height) {
             let (cell, _) = cell_pixels(window_size(), output.cell_reply);
-            frame_size(viewport.width, viewport.height, cell)
+            frame_size(area.width, area.height, cell)
         } else {
             (
                 usize::from(viewport.width) * symbols.columns(),
@@ -715,18 +776,23 @@ impl PixelView {
     ) -> io::Result<()> {
         let format = frame.output.format();
         let screen = terminal.size()?;
-        let pixels = Self::usable(format, viewport, screen.height);
+        let area = Self::image_area(frame.output, viewport, screen.height);
         let fb = frame.fb;
         let text_size = (
             usize::from(viewport.width) * frame.look.symbols.columns(),
             usize::from(viewport.height) * frame.look.symbols.rows(),
         );
-        let text_fb = if pixels && (fb.width(), fb.height()) != text_size {
-            self.small.resize(text_size.0, text_size.1);
-            downscale(fb, &mut self.small);
-            &self.small
-        } else {
-            fb
+        let text_fb = match area {
+            Some(a) if a != viewport => {
+                self.text_around(fb, viewport, a, frame.look);
+                &self.small
+            }
+            Some(_) if (fb.width(), fb.height()) != text_size => {
+                self.small.resize(text_size.0, text_size.1);
+                downscale(fb, &mut self.small);
+                &self.small
+            }
+            _ => fb,
         };
         if self.last_format.is_some_and(|f| f != format) {
             // A new format: the whole screen is drawn again, so nothing a
@@ -742,13 +808,14 @@ impl PixelView {
         let mut covered = None;
         terminal.draw(|f| {
             view(f, text_fb);
-            if pixels {
-                covered = Some(skip_picture(f.buffer_mut(), viewport, text_fb, frame.look));
+            if let Some(area) = area {
+                let buf = f.buffer_mut();
+                covered = Some(skip_picture(buf, viewport, area, text_fb, frame.look));
             }
         })?;
-        let bytes = match covered {
-            Some(covered) => self.image_update(&frame, viewport, covered)?,
-            None => {
+        let bytes = match (covered, area) {
+            (Some(covered), Some(area)) => self.image_update(&frame, area, covered)?,
+            _ => {
                 // Text only: kitty's images are deleted; sixel and iTerm2
                 // pixels are covered by the text cells drawn meanwhile.
                 set_cleanup(&[]);
@@ -951,6 +1018,27 @@ impl PixelView {
         }
     }
 
+    /// The picture as text over all of `viewport` when its image covers
+    /// only `area` of it, into `self.small`: `fb` box-filtered to `area`'s
+    /// text pixels, the rest of the viewport the background.
+    fn text_around(&mut self, fb: &Framebuffer, viewport: Rect, area: Rect, look: TextLook) {
+        let (cols, rows) = (look.symbols.columns(), look.symbols.rows());
+        let cells = |r: Rect| (usize::from(r.width) * cols, usize::from(r.height) * rows);
+        let (w, h) = cells(viewport);
+        self.small.resize(w, h);
+        self.small.fill(look.pad);
+        let (pw, ph) = cells(area);
+        let mut part = Framebuffer::new(pw, ph);
+        downscale(fb, &mut part);
+        let x0 = usize::from(area.x - viewport.x) * cols;
+        let y0 = usize::from(area.y - viewport.y) * rows;
+        for y in 0..ph {
+            for (x, &p) in part.row(y).iter().enumerate() {
+                self.small.set(x0 + x, y0 + y, p);
+            }
+        }
+    }
+
     /// Strips of the exact frame are still to be sent.
     pub fn pending(&self) -> bool {
         self.shown.as_ref().is_some_and(|s| !s.pending.is_empty())
@@ -1096,12 +1184,19 @@ fn kitty_placements(layer: Layer, open: &[Rect], passthrough: bool) -> io::Resul
     Ok(out)
 }
 
-/// Marks the picture's cells in `buf` that still hold the picture's text
-/// (nothing drawn over them) as skipped by the diff, so the image there
-/// stays; returns the others, drawn over (true), row by row.
-fn skip_picture(buf: &mut Buffer, viewport: Rect, fb: &Framebuffer, look: TextLook) -> Vec<bool> {
+/// Marks the cells of the image's `area` in `buf` that still hold the
+/// picture's text (`fb` drawn over `viewport`; nothing drawn over them) as
+/// skipped by the diff, so the image there stays; returns the others,
+/// drawn over (true), row by row.
+fn skip_picture(
+    buf: &mut Buffer,
+    viewport: Rect,
+    area: Rect,
+    fb: &Framebuffer,
+    look: TextLook,
+) -> Vec<bool> {
     // Cells outside the frame's buffer count as drawn over.
-    let inside = viewport.intersection(buf.area);
+    let inside = area.intersection(buf.area);
     let mut text = Buffer::empty(viewport);
     SymbolCells {
         fb,
@@ -1111,9 +1206,9 @@ fn skip_picture(buf: &mut Buffer, viewport: Rect, fb: &Framebuffer, look: TextLo
         pad: look.pad,
     }
     .render(viewport, &mut text);
-    let mut covered = Vec::with_capacity(viewport.area() as usize);
-    for y in viewport.top()..viewport.bottom() {
-        for x in viewport.left()..viewport.right() {
+    let mut covered = Vec::with_capacity(area.area() as usize);
+    for y in area.top()..area.bottom() {
+        for x in area.left()..area.right() {
             if !inside.contains((x, y).into()) {
                 covered.push(true);
                 continue;
@@ -1152,7 +1247,7 @@ mod tests {
             pad: look.pad,
         }
         .render(Rect::new(0, 0, 20, 10), &mut buf);
-        let covered = skip_picture(&mut buf, Rect::new(0, 0, 20, 10), &fb, look);
+        let covered = skip_picture(&mut buf, Rect::new(0, 0, 20, 10), Rect::new(0, 0, 20, 10), &fb, look);
         assert_eq!(covered.len(), 200);
         for (i, &c) in covered.iter().enumerate() {
             let (x, y) = (i % 20, i / 20);
@@ -1172,6 +1267,57 @@ mod tests {
             ((9, 18), "CSI 16 t")
         );
         assert_eq!(cell_pixels(None, None), (DEFAULT_CELL, "default"));
+    }
+
+    fn sixels(sixel_max: Option<(u32, u32)>) -> Output {
+        let clues = super::super::format::Clues {
+            forced: Some((Format::Sixels, "--format")),
+            ..Default::default()
+        };
+        Output {
+            sixel_max,
+            ..Output::from_clues(&clues, None)
+        }
+    }
+
+    #[test]
+    fn a_sixel_picture_takes_the_most_whole_cells_within_the_largest_image() {
+        // xterm at font size 8 full screen: 160 × 46 cells of 8 × 13 pixels
+        // (1280 × 598) against 1000 × 1000: 125 columns, centred.
+        let viewport = Rect::new(0, 0, 160, 46);
+        let capped = sixels(Some((1000, 1000)));
+        let a = picture_area(&capped, viewport, (8, 13));
+        assert_eq!(a, Rect::new(17, 0, 125, 46));
+        // Rows: the last band of six counts whole: 10 rows of 13 are 130
+        // pixels, drawn in 22 bands (132): 131 takes 9 rows, 132 ten.
+        let short = Rect::new(2, 1, 20, 12);
+        let rows = |h| picture_area(&sixels(Some((1000, h))), short, (8, 13));
+        assert_eq!(rows(131), Rect::new(2, 2, 20, 9));
+        assert_eq!(rows(132), Rect::new(2, 2, 20, 10));
+        // Not one cell fits: nothing (the view then draws text).
+        assert!(picture_area(&sixels(Some((7, 1000))), viewport, (8, 13)).is_empty());
+        assert!(PixelView::image_area(&sixels(Some((0, 0))), viewport, 48).is_none());
+        // No answer, a limit that does not bind, or another format: all of it.
+        assert_eq!(picture_area(&sixels(None), viewport, (8, 13)), viewport);
+        assert_eq!(
+            picture_area(&sixels(Some((4096, 4096))), viewport, (8, 13)),
+            viewport
+        );
+        let mut kitty = capped.clone();
+        kitty.wanted = Format::Kitty;
+        kitty.choice.format = Format::Kitty;
+        assert_eq!(picture_area(&kitty, viewport, (8, 13)), viewport);
+        // What the cost panel says.
+        assert_eq!(
+            sixel_limit_line(&capped, viewport, (8, 13)).as_deref(),
+            Some("max 1000×1000 px: 125×46 of 160×46 cells")
+        );
+        assert_eq!(
+            sixel_limit_line(&capped, Rect::new(0, 0, 100, 40), (8, 13)).as_deref(),
+            Some("max 1000×1000 px: the whole area")
+        );
+        assert_eq!(sixel_limit_line(&sixels(None), viewport, (8, 13)), None);
+        assert_eq!(sixel_limit_line(&kitty, viewport, (8, 13)), None);
     }
 
     #[test]

@@ -13,6 +13,15 @@
 //!   `APC G i=31;OK ST`), XTVERSION (`CSI > q`, answered `DCS > | name
 //!   version ST`) and the cell size in pixels (`CSI 16 t`, answered
 //!   `CSI 6 ; height ; width t`).
+//! - The largest sixel image (XTSMGRAPHICS, `CSI ? 2 ; 1 ; 0 S` for the
+//!   current one and `CSI ? 2 ; 4 ; 0 S` for the most allowed, answered
+//!   `CSI ? 2 ; 0 ; width ; height S` by xterm, foot, mlterm, WezTerm…):
+//!   xterm drops an image larger than its `maxGraphicSize` (1000×1000 by
+//!   default) without a trace, so relief never sends a larger one. xterm's
+//!   current size is that limit cut to the window at start (1000×672 in a
+//!   160×48 window of 14-pixel rows): the larger of the two answers counts,
+//!   so a window enlarged later is not held to its first size. An error
+//!   status or no answer leaves no limit.
 //! - Primary device attributes (`CSI c`), which every terminal answers, and
 //!   answers after the questions before it: once its reply is in, no other
 //!   answer is coming and there is nothing to wait for. A parameter `4` in
@@ -35,7 +44,7 @@ use std::time::{Duration, Instant};
 
 /// The questions, in the order the replies come back.
 pub const QUERY: &[u8] = b"\x1bP+q524742;5463\x1b\\\x1b[48:2::1:2:3m\x1bP$qm\x1b\\\x1b[0m\
-\x1b_Gi=31,s=1,v=1,a=q,t=d,f=24;AAAA\x1b\\\x1b[>q\x1b[16t\x1b[c";
+\x1b_Gi=31,s=1,v=1,a=q,t=d,f=24;AAAA\x1b\\\x1b[>q\x1b[16t\x1b[?2;1;0S\x1b[?2;4;0S\x1b[c";
 
 /// The kitty graphics query in [`QUERY`]: left out inside tmux, which has
 /// no answer to it and takes an `APC` string as a new window name.
@@ -75,6 +84,9 @@ pub struct Outcome {
     pub version: Option<String>,
     /// The cell size in pixels (width, height) from the `CSI 16 t` reply.
     pub cell_pixels: Option<(u16, u16)>,
+    /// The largest sixel image (width, height) in pixels, from the
+    /// XTSMGRAPHICS reply (`None`: no answer, or an error status).
+    pub sixel_max: Option<(u32, u32)>,
     /// Input that was not part of a reply, in arrival order.
     pub other: Vec<u8>,
 }
@@ -159,6 +171,20 @@ fn cell_size(params: &[u8]) -> Option<(u16, u16)> {
     (w > 0 && h > 0 && it.next().is_none()).then_some((w, h))
 }
 
+/// The size (width, height) in a successful XTSMGRAPHICS sixel-geometry
+/// reply's parameters (`?2;0;W;H`); none for an error status (`?2;3;0`),
+/// another item or a zero size.
+fn sixel_geometry(params: &[u8]) -> Option<(u32, u32)> {
+    let text = std::str::from_utf8(params).ok()?;
+    let mut it = text.strip_prefix('?')?.split(';');
+    if (it.next()?, it.next()?) != ("2", "0") {
+        return None;
+    }
+    let w: u32 = it.next()?.parse().ok()?;
+    let h: u32 = it.next()?.parse().ok()?;
+    (w > 0 && h > 0 && it.next().is_none()).then_some((w, h))
+}
+
 impl ReplyScanner {
     pub fn new() -> Self {
         Self::default()
@@ -197,6 +223,14 @@ impl ReplyScanner {
                         && let Some(size) = cell_size(params)
                     {
                         self.outcome.cell_pixels = Some(size);
+                    } else if rest[2] == b'?' && rest[len - 1] == b'S' {
+                        // A graphics attribute reply, success or error: no
+                        // key. The larger answer is the most allowed.
+                        let answer = sixel_geometry(params);
+                        self.outcome.sixel_max = match (self.outcome.sixel_max, answer) {
+                            (Some((w0, h0)), Some((w1, h1))) => Some((w0.max(w1), h0.max(h1))),
+                            (known, None) | (None, known) => known,
+                        };
                     } else {
                         // A key (arrows, function keys): the decoder's.
                         self.outcome.other.extend_from_slice(&rest[..len]);
@@ -382,6 +416,39 @@ mod tests {
     }
 
     #[test]
+    fn the_largest_sixel_image_is_read_from_a_successful_reply_only() {
+        // xterm 379 by default, in a 160×48 window: the current size, then
+        // the most allowed; foot.
+        let o = scan(&[b"\x1b[?2;0;1000;672S\x1b[?2;0;1000;1000S", DA1]);
+        assert_eq!(o.sixel_max, Some((1000, 1000)));
+        // Only the current size answered, or the other an error.
+        let o = scan(&[b"\x1b[?2;0;1000;672S\x1b[?2;2;0S", DA1]);
+        assert_eq!(o.sixel_max, Some((1000, 672)));
+        assert!(o.other.is_empty(), "{o:?}");
+        let o = scan(&[b"\x1b[?2;0;10000;10000S\x1b[?63;4c"]);
+        assert_eq!((o.sixel_max, o.sixel), (Some((10000, 10000)), true));
+        // Error statuses (item, action, failure) and odd replies: no limit,
+        // and never taken for a key.
+        for reply in [
+            // xterm 379 without `-ti vt340` (no sixel): failure, no value.
+            &b"\x1b[?2;3S"[..],
+            b"\x1b[?2;1;0S",
+            b"\x1b[?2;2;0S",
+            b"\x1b[?2;3;0S",
+            b"\x1b[?2;0;0;0S",
+            b"\x1b[?2;0;640S",
+            b"\x1b[?2;0;640;480;1S",
+            b"\x1b[?1;0;256S",
+        ] {
+            let o = scan(&[reply, DA1]);
+            assert_eq!(o.sixel_max, None, "{reply:?}");
+            assert!(o.answered && o.other.is_empty(), "{reply:?}: {o:?}");
+        }
+        // No answer (most terminals without sixel): no limit, as before.
+        assert_eq!(scan(&[DA1]).sixel_max, None);
+    }
+
+    #[test]
     fn the_query_asks_every_question_before_the_device_attributes() {
         let text = String::from_utf8_lossy(QUERY);
         let da1 = text.find("\x1b[c").unwrap();
@@ -390,6 +457,8 @@ mod tests {
             "\x1b_Gi=31,s=1,v=1,a=q,t=d,f=24;AAAA\x1b\\",
             "\x1b[>q",
             "\x1b[16t",
+            "\x1b[?2;1;0S",
+            "\x1b[?2;4;0S",
         ] {
             assert!(text[..da1].contains(q), "{q:?}");
         }
@@ -444,7 +513,7 @@ mod tests {
     fn replies_split_anywhere_are_read_whole() {
         let all: Vec<u8> = [
             &b"\x1bP1+r5463\x1b\\"[..],
-            b"\x1b_Gi=31;OK\x1b\\\x1b[6;16;8t",
+            b"\x1b_Gi=31;OK\x1b\\\x1b[6;16;8t\x1b[?2;0;1000;800S",
             DA1,
         ]
         .concat();
@@ -461,6 +530,7 @@ mod tests {
                 "cut {cut}: {o:?}"
             );
             assert_eq!(o.cell_pixels, Some((8, 16)));
+            assert_eq!(o.sixel_max, Some((1000, 800)), "cut {cut}");
         }
     }
 

@@ -650,6 +650,11 @@ struct Replay {
     sent_pixels: usize,
     /// A kitty transmission spread over chunks: its keys and payload.
     chunks: Option<(String, String)>,
+    /// The largest sixel image drawn (xterm's `maxGraphicSize`): a larger
+    /// one is dropped whole.
+    sixel_max: Option<(usize, usize)>,
+    /// Sixel images dropped for their size.
+    dropped: usize,
 }
 
 impl Replay {
@@ -666,6 +671,8 @@ impl Replay {
             placements: Default::default(),
             sent_pixels: 0,
             chunks: None,
+            sixel_max: None,
+            dropped: 0,
         }
     }
 
@@ -724,6 +731,11 @@ impl Replay {
                     b'P' => {
                         let end = Self::string_end(bytes, i);
                         let (w, h, pixels) = decode_sixel(&bytes[i..end]);
+                        if self.sixel_max.is_some_and(|(mw, mh)| w > mw || h > mh) {
+                            self.dropped += 1;
+                            i = end;
+                            continue;
+                        }
                         self.sent_pixels += w * h;
                         let (x0, y0) = (self.x * self.cell.0, self.y * self.cell.1);
                         let width = self.cols * self.cell.0;
@@ -946,6 +958,11 @@ fn few_colours(s: &State, fb: &mut Framebuffer) {
 /// Runs the loop on an 80×30 screen with `format`, `msgs` one after each
 /// frame; returns the bytes and the last exact picture.
 fn run_panels(format: Format, msgs: Vec<Msg>) -> (Vec<u8>, Framebuffer) {
+    run_panels_with(output(format), msgs)
+}
+
+/// [`run_panels`] with `output`.
+fn run_panels_with(output: Output, msgs: Vec<Msg>) -> (Vec<u8>, Framebuffer) {
     let (tx, rx) = mpsc::channel();
     let feeder = Feeder {
         out: Vec::new(),
@@ -954,7 +971,7 @@ fn run_panels(format: Format, msgs: Vec<Msg>) -> (Vec<u8>, Framebuffer) {
     };
     let mut term = Terminal::new(SgrBackend::with_size(feeder, 80, 30)).unwrap();
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
-    state.output = output(format);
+    state.output = output;
     let mut last = Framebuffer::new(0, 0);
     Looper::new(
         &mut term,
@@ -1152,6 +1169,66 @@ fn under_a_panel_sixel_sends_only_the_cells_the_panel_leaves() {
         (0..panels_picture(Format::Sixels).height)
             .all(|y| (0..80u16).all(|x| !screen.text[usize::from(y) * 80 + usize::from(x)]))
     );
+}
+
+/// A terminal that answered its largest sixel image (xterm: 1000×1000 by
+/// default, and it drops a larger image without a trace): the picture is
+/// the most whole cells whose image fits, centred in the picture area, the
+/// rest of the area text; with the cost panel opened and closed over it
+/// nothing is dropped and the screen ends as the whole picture. Without the
+/// answer the same terminal drops the whole image (the blank screen in
+/// xterm; only the smaller rectangles sent around the panel show).
+#[test]
+fn sixel_images_stay_within_the_largest_the_terminal_answered() {
+    let _turn = IMAGE_SHOWN.lock().unwrap_or_else(|e| e.into_inner());
+    // The cell size the loop uses here (the window's, or 8 × 16).
+    let (cell, _) = pixel_view::cell_pixels(pixel_view::window_size(), None);
+    let (cw, ch) = (usize::from(cell.0), usize::from(cell.1));
+    assert!(ch >= 10, "a cell {cw}×{ch} too small for this test");
+    // Room for 50 of the 80 columns and 20 of the 28 rows, and part of a cell.
+    let max = (50 * cw + cw / 2, 20 * ch + ch / 2);
+    let area = Rect::new(15, 4, 50, 20);
+    let mut capped = output(Format::Sixels);
+    capped.sixel_max = Some((max.0 as u32, max.1 as u32));
+    let keys = || vec![key('k'), key('k'), right()];
+    let (bytes, last) = run_panels_with(capped, keys());
+    assert_eq!((last.width(), last.height()), (50 * cw, 20 * ch));
+    let mut screen = Replay::new(80, 30, (cw, ch));
+    screen.sixel_max = Some(max);
+    for (row, image) in placed_images(&bytes) {
+        let (w, h, _) = decode_sixel(&image);
+        assert!(w <= max.0 && h <= max.1, "{w}×{h} over {max:?}");
+        assert!(row >= usize::from(area.y), "row {row}");
+    }
+    screen.feed(&bytes);
+    assert_eq!(screen.dropped, 0);
+    assert!(screen.sent_pixels > 0);
+    let width = 80 * cw;
+    for y in 0..28 * ch {
+        for x in 0..width {
+            let cell = (x / cw, y / ch);
+            let got = screen.canvas[y * width + x];
+            if area.contains((cell.0 as u16, cell.1 as u16).into()) {
+                let (px, py) = (x - 15 * cw, y - 4 * ch);
+                let want = sixel::shown(sixel::percent(last.get(px, py)));
+                assert_eq!(got, Some(want), "{x},{y}");
+            } else {
+                assert_eq!(got, None, "no image outside the area at {x},{y}");
+                assert!(screen.text[cell.1 * 80 + cell.0]);
+            }
+        }
+    }
+    // The same terminal, not asked: every image dropped.
+    let (bytes, _) = run_panels(Format::Sixels, keys());
+    let mut screen = Replay::new(80, 30, (cw, ch));
+    screen.sixel_max = Some(max);
+    screen.feed(&bytes);
+    assert!(screen.dropped > 0);
+    let blank = (0..28 * ch)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .filter(|&(x, y)| screen.canvas[y * width + x].is_none())
+        .count();
+    assert!(blank > 0, "the whole picture was never drawn");
 }
 
 /// The terminal resized while the cost panel is open, drawn by the view

@@ -134,6 +134,9 @@ pub struct CostPanel<'a> {
     pub link: &'a LinkInfo,
     /// The colour depth and what decided it.
     pub colour: String,
+    /// What limits the pixel image, if anything (the largest sixel image
+    /// the terminal takes).
+    pub pixels: Option<String>,
 }
 
 impl Widget for CostPanel<'_> {
@@ -144,6 +147,7 @@ impl Widget for CostPanel<'_> {
         let mut stages = stage_lines(self.history);
         stages.extend(link_lines(self.link));
         stages.push(self.colour);
+        stages.extend(self.pixels);
         let [table, spark, active] = Layout::vertical([
             Constraint::Length(stages.len() as u16),
             Constraint::Length(3),
@@ -233,6 +237,7 @@ mod tests {
             history: &h,
             link: &link,
             colour: colour_line(crate::term::ColorDepth::Palette256, "tmux client no RGB"),
+            pixels: None,
         }
         .render(area, &mut buf);
         let text: String = (0..area.height)
@@ -266,6 +271,7 @@ mod tests {
             history: &CostHistory::default(),
             link: &LinkInfo::default(),
             colour: String::new(),
+            pixels: None,
         }
         .render(small.area, &mut small);
         assert_eq!(link_lines(&LinkInfo::default())[0], "round trip   waiting");

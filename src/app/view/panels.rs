@@ -7,6 +7,14 @@ use ratatui::widgets::{Clear, Widget};
 use crate::app::state::State;
 use crate::app::view::cost::CostPanel;
 
+/// The sixel limit's line of the cost panel, when the terminal answered one.
+fn sixel_limit(state: &State, viewport: Rect) -> Option<String> {
+    use crate::term::pixel_view::{cell_pixels, sixel_limit_line, window_size};
+    state.output.sixel_max?;
+    let (cell, _) = cell_pixels(window_size(), state.output.cell_reply);
+    sixel_limit_line(&state.output, viewport, cell)
+}
+
 /// The cost panel (key `k`) in the top-right corner of the picture.
 pub(super) fn cost_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
     if !state.cost_panel {
@@ -31,6 +39,7 @@ pub(super) fn cost_panel(state: &State, viewport: Rect, buf: &mut Buffer) {
             }
             _ => crate::app::view::cost::colour_line(state.depth, &state.depth_source),
         },
+        pixels: sixel_limit(state, viewport),
     }
     .render(area, buf);
 }
