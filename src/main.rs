@@ -8,6 +8,13 @@ use clap::Parser;
 use relief::cli::{Cli, Command};
 use relief::sanitize::clean;
 
+/// Whether standard output is closed, noted before the Rust runtime puts
+/// `/dev/null` in its place (`relief render` refuses to write into it).
+#[cfg(target_os = "linux")]
+#[used]
+#[unsafe(link_section = ".init_array")]
+static RECORD_STDOUT: extern "C" fn() = relief::still::stdout::record_at_start;
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,

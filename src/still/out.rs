@@ -72,15 +72,16 @@ pub fn out_target(out: &std::path::Path) -> anyhow::Result<OutTarget> {
 }
 
 /// The picture format `--out`'s extension names (PNG when it has none).
+/// Of the PNM family only `.ppm` is written (as binary PPM, P6).
 pub fn output_format(out: &std::path::Path) -> anyhow::Result<image::ImageFormat> {
     use image::ImageFormat as F;
     let Some(ext) = out.extension() else {
         return Ok(F::Png);
     };
+    let ppm = ext.eq_ignore_ascii_case("ppm");
     match F::from_extension(ext) {
-        Some(
-            f @ (F::Png | F::Jpeg | F::Bmp | F::Tga | F::Tiff | F::Pnm | F::Qoi | F::Farbfeld),
-        ) => Ok(f),
+        Some(F::Pnm) if ppm => Ok(F::Pnm),
+        Some(f @ (F::Png | F::Jpeg | F::Bmp | F::Tga | F::Tiff | F::Qoi | F::Farbfeld)) => Ok(f),
         _ => anyhow::bail!(
             "{}: unknown picture extension (use .png, .jpg, .bmp, .tga, .tif, .ppm, .qoi or .ff)",
             crate::sanitize::display_path(out)
@@ -88,13 +89,25 @@ pub fn output_format(out: &std::path::Path) -> anyhow::Result<image::ImageFormat
     }
 }
 
-/// The frame as a picture `format` can encode: 8-bit RGB, or 16-bit RGBA
-/// for Farbfeld (the only layout it has), each value the 8-bit one × 257.
-fn picture_for(fb: &Framebuffer, format: image::ImageFormat) -> image::DynamicImage {
+/// Encodes the frame in `format`: 8-bit RGB, or 16-bit RGBA for Farbfeld
+/// (the only layout it has, each value the 8-bit one × 257), and PNM as
+/// binary PPM (P6), where the encoder's own choice for RGB is a PAM (P7)
+/// that a `.ppm` reader does not take.
+fn encode(
+    fb: &Framebuffer,
+    format: image::ImageFormat,
+    out: &mut (impl Write + std::io::Seek),
+) -> image::ImageResult<()> {
+    use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
     let rgb = image::DynamicImage::ImageRgb8(fb.to_image());
     match format {
-        image::ImageFormat::Farbfeld => image::DynamicImage::ImageRgba16(rgb.into_rgba16()),
-        _ => rgb,
+        image::ImageFormat::Farbfeld => {
+            image::DynamicImage::ImageRgba16(rgb.into_rgba16()).write_to(out, format)
+        }
+        image::ImageFormat::Pnm => rgb.write_with_encoder(
+            PnmEncoder::new(out).with_subtype(PnmSubtype::Pixmap(SampleEncoding::Binary)),
+        ),
+        _ => rgb.write_to(out, format),
     }
 }
 
@@ -116,7 +129,7 @@ pub fn write_picture(
             // Encoded whole first: the image encoders need a seekable
             // writer for some formats, and a pipe is not one.
             let mut bytes = std::io::Cursor::new(Vec::new());
-            picture_for(fb, format).write_to(&mut bytes, format)?;
+            encode(fb, format, &mut bytes)?;
             let mut stdout = std::io::stdout().lock();
             return stdout
                 .write_all(bytes.get_ref())
@@ -142,7 +155,7 @@ pub fn write_picture(
             .create_new(true)
             .open(&temp)?;
         let mut writer = std::io::BufWriter::new(file);
-        picture_for(fb, format).write_to(&mut writer, format)?;
+        encode(fb, format, &mut writer)?;
         writer.flush()?;
         if let Some(p) = permissions {
             std::fs::set_permissions(&temp, p)?;

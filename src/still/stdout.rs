@@ -4,6 +4,7 @@
 //! program quietly, as a filter does.
 
 use std::io;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::sanitize::io_reason;
 
@@ -14,38 +15,29 @@ use crate::sanitize::io_reason;
 #[error("the reader of standard output closed it")]
 pub struct ClosedPipe;
 
-/// Fails when standard output was closed when relief started. The Rust
-/// runtime opens `/dev/null` read-write in place of a closed standard
-/// descriptor, so that is how a closed one looks from here (a shell's
-/// `> /dev/null` opens it write-only).
+/// Whether descriptor 1 was closed when the process started, as seen by
+/// [`record_at_start`] (false when it never ran).
+static CLOSED_AT_START: AtomicBool = AtomicBool::new(false);
+
+/// Notes whether standard output is closed. It must run before the Rust
+/// runtime starts: the runtime opens `/dev/null` in place of a closed
+/// standard descriptor, after which a closed one cannot be told from a
+/// redirection to `/dev/null`. The binary runs it from `.init_array`.
+pub extern "C" fn record_at_start() {
+    // SAFETY: fcntl(F_GETFD) on descriptor 1 only reads its flags.
+    let closed = unsafe { libc::fcntl(1, libc::F_GETFD) } == -1;
+    CLOSED_AT_START.store(closed, Ordering::Relaxed);
+}
+
+/// Fails when standard output was closed when relief started (`>&-`):
+/// what is written would go nowhere, and nobody would know.
 pub fn check_open() -> anyhow::Result<()> {
-    if stdout_was_closed() {
+    if CLOSED_AT_START.load(Ordering::Relaxed) {
         anyhow::bail!(
             "standard output is closed, so there is nowhere to write the frame: redirect it to a file or a pipe"
         );
     }
     Ok(())
-}
-
-fn stdout_was_closed() -> bool {
-    // SAFETY: fcntl and fstat on descriptor 1 only read its flags and
-    // status into a local struct.
-    unsafe {
-        let flags = libc::fcntl(1, libc::F_GETFL);
-        if flags == -1 {
-            return true;
-        }
-        let mut stat: libc::stat = std::mem::zeroed();
-        if libc::fstat(1, &mut stat) != 0 {
-            return true;
-        }
-        let dev_null = std::fs::metadata("/dev/null")
-            .map(|m| std::os::unix::fs::MetadataExt::rdev(&m))
-            .ok();
-        (flags & libc::O_ACCMODE) == libc::O_RDWR
-            && (stat.st_mode & libc::S_IFMT) == libc::S_IFCHR
-            && dev_null == Some(stat.st_rdev)
-    }
 }
 
 /// The error a failed write to standard output is: [`ClosedPipe`] when

@@ -111,7 +111,7 @@ pub fn load_normal_map_from_bytes(name: &str, bytes: &[u8]) -> Result<FileNormal
 impl FileNormalMap {
     /// The normal map a loaded picture encodes; its memory is reserved
     /// before the picture's own is given back.
-    fn from_texture(texture: Texture) -> Result<FileNormalMap, TextureError> {
+    pub(crate) fn from_texture(texture: Texture) -> Result<FileNormalMap, TextureError> {
         let (w, h) = (texture.width(), texture.height());
         let bytes = ((w * h) as f64 * BYTES_PER_TEXEL).ceil() as u64;
         let held = budget::reserve(&format!("a {w}x{h} normal map"), bytes).map_err(|e| {

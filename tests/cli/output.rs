@@ -31,6 +31,23 @@ fn every_listed_out_extension_writes_a_picture_of_the_frame() {
         let picture = image::load_from_memory_with_format(&bytes, format)
             .unwrap_or_else(|e| panic!(".{ext}: {e}"));
         assert_eq!((picture.width(), picture.height()), (24, 16), ".{ext}");
+        if ext == "ppm" {
+            // A binary PPM, not the PAM (P7) a .ppm reader refuses.
+            assert!(bytes.starts_with(b"P6\n24 16 255\n"), "{:?}", &bytes[..12]);
+        }
+    }
+    // The other PNM names are not written as something they are not.
+    for ext in ["pgm", "pbm", "pam"] {
+        let out = dir.join(format!("frame.{ext}"));
+        let o = relief()
+            .args(["render", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), ".{ext}: {err}");
+        assert!(err.contains("unknown picture extension"), ".{ext}: {err}");
+        assert!(!out.exists());
     }
     // Farbfeld holds the frame's 8-bit values exactly (k × 257 in 16 bits).
     let png = image::open(dir.join("frame.png")).unwrap().to_rgb8();
@@ -55,6 +72,7 @@ fn with_stdout_closed(args: &[&str]) -> std::process::Output {
 }
 
 #[test]
+#[cfg(target_os = "linux")]
 fn a_closed_standard_output_is_an_error_that_says_so() {
     for args in [
         &["render", "--out", "-", "--width", "8", "--height", "8"][..],
@@ -66,13 +84,21 @@ fn a_closed_standard_output_is_an_error_that_says_so() {
         assert!(err.contains("standard output is closed"), "{args:?}: {err}");
         assert_plain(&err);
     }
-    // Redirected to /dev/null is not closed: the frame is written there.
-    let o = relief()
-        .args(["render", "--ansi", "--width", "8", "--height", "8"])
-        .stdout(std::fs::File::create("/dev/null").unwrap())
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // Redirected to /dev/null is not closed, opened write-only (a shell's
+    // `>`) or read-write (what the runtime puts in place of a closed one).
+    for read in [false, true] {
+        let null = std::fs::OpenOptions::new()
+            .read(read)
+            .write(true)
+            .open("/dev/null")
+            .unwrap();
+        let o = relief()
+            .args(["render", "--ansi", "--width", "8", "--height", "8"])
+            .stdout(null)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
 }
 
 #[test]

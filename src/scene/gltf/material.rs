@@ -13,7 +13,7 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::Path;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use glam::Vec3;
 
@@ -21,6 +21,7 @@ use super::data::{self, Problem, Uri};
 use super::sampling::{Kind, Reading, Sets, maps_of};
 use crate::scene::Material;
 use crate::scene::terms::{Cutout, MaterialTerms, PbrMaterial};
+use crate::texture::decode::size_cap;
 use crate::texture::load::load_texture_from_bytes;
 use crate::texture::normal_map_file::{
     FileNormalMap, decode_level, load_normal_map_from_bytes, tilt,
@@ -49,6 +50,9 @@ pub(super) struct Materials<'a> {
     buffers: &'a [Vec<u8>],
     dir: &'a Path,
     looks: HashMap<Option<usize>, Look>,
+    /// Images decoded ahead ([`Materials::decode_ahead`]), by index, each
+    /// taken by the first map that reads it.
+    ready: Mutex<HashMap<usize, Texture>>,
 }
 
 impl<'a> Materials<'a> {
@@ -64,6 +68,7 @@ impl<'a> Materials<'a> {
             buffers,
             dir,
             looks: HashMap::new(),
+            ready: Mutex::new(HashMap::new()),
         }
     }
 
@@ -98,6 +103,7 @@ impl<'a> Materials<'a> {
     }
 
     fn build(&self, m: &::gltf::Material) -> Result<Look, Problem> {
+        self.decode_ahead(m);
         let pbr = m.pbr_metallic_roughness();
         let reading = Reading::of(m);
         // Each map laid out for its own sampler's wrap modes.
@@ -134,6 +140,8 @@ impl<'a> Materials<'a> {
                 let map = if reading.lays_out() {
                     let t = self.decode(&info.texture(), &reading)?.texture;
                     FileNormalMap::new(name.clone(), decode_level(t.base()))
+                } else if let Some(t) = self.take_ready(&image) {
+                    FileNormalMap::from_texture(t).map_err(|e| e.to_string())?
                 } else {
                     let bytes = self.image_bytes(&image)?;
                     load_normal_map_from_bytes(&name, &bytes).map_err(|e| e.to_string())?
@@ -246,7 +254,10 @@ impl<'a> Materials<'a> {
         let name = self.image_name(&image);
         let bytes = self.image_bytes(&image)?;
         let has_alpha = has_alpha(&bytes);
-        let decoded = load_texture_from_bytes(&name, &bytes).map_err(|e| e.to_string())?;
+        let decoded = match self.take_ready(&image) {
+            Some(t) => t,
+            None => load_texture_from_bytes(&name, &bytes).map_err(|e| e.to_string())?,
+        };
         if !reading.lays_out() {
             return Ok(Decoded {
                 texture: decoded,
@@ -268,6 +279,62 @@ impl<'a> Materials<'a> {
             texture: Texture::new(name, level).holding(held),
             has_alpha,
         })
+    }
+
+    /// Decodes the images `m`'s maps read side by side, one per core,
+    /// before `build` takes them one by one: decoding is most of the time a
+    /// textured model takes to load. An image that fails is left to
+    /// `build`, which says why; the picture size cap in force
+    /// (`size_cap`) holds on every core.
+    fn decode_ahead(&self, m: &::gltf::Material) {
+        use rayon::prelude::*;
+        let pbr = m.pbr_metallic_roughness();
+        // The maps `build` reads (a zero scale, strength or emission reads none).
+        let used = |x: f32| x.is_finite() && x != 0.0;
+        let emits = m.emissive_factor().iter().any(|&e| e > 0.0);
+        let mut images: Vec<::gltf::Image> = [
+            pbr.base_color_texture().map(|i| i.texture()),
+            pbr.metallic_roughness_texture().map(|i| i.texture()),
+            m.normal_texture()
+                .filter(|i| used(i.scale()))
+                .map(|i| i.texture()),
+            m.occlusion_texture()
+                .filter(|i| used(i.strength()))
+                .map(|i| i.texture()),
+            m.emissive_texture().filter(|_| emits).map(|i| i.texture()),
+        ]
+        .into_iter()
+        .flatten()
+        .map(|t| t.source())
+        .collect();
+        images.sort_by_key(::gltf::Image::index);
+        images.dedup_by_key(|i| i.index());
+        if images.len() < 2 {
+            return;
+        }
+        let cap = size_cap::max_side();
+        let decoded: Vec<(usize, Texture)> = images
+            .par_iter()
+            .filter_map(|image| {
+                let bytes = self.image_bytes(image).ok()?;
+                let name = self.image_name(image);
+                size_cap::with_max_side(cap, || load_texture_from_bytes(&name, &bytes))
+                    .ok()
+                    .map(|t| (image.index(), t))
+            })
+            .collect();
+        self.ready
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .extend(decoded);
+    }
+
+    /// The image decoded ahead, if it was and no map took it yet.
+    fn take_ready(&self, image: &::gltf::Image) -> Option<Texture> {
+        self.ready
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .remove(&image.index())
     }
 
     /// A name for an image in messages and the texture panel.

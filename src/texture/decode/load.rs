@@ -427,8 +427,13 @@ fn decode_image(
     let precision = precision_of(decoder.color_type());
     let held = reserve_texture(file, width as usize, height as usize, precision)?;
     let image = DynamicImage::from_decoder(decoder).map_err(image_error)?;
-    // A frame that needs less detail gets a smaller copy (`size_cap`).
-    Ok((level_from_image(super::size_cap::reduced(image)), held))
+    // A frame that needs less detail gets a smaller copy (`size_cap`), and
+    // the budget the whole picture would have held is given back.
+    let image = super::size_cap::reduced(image);
+    let mut held = held;
+    let kept = budget::texture_bytes_at(image.width() as u64, image.height() as u64, precision);
+    held.shrink(held.bytes().saturating_sub(kept));
+    Ok((level_from_image(image), held))
 }
 
 fn convert_error(e: ImageError, file: &str, format: &str) -> TextureError {

@@ -107,44 +107,35 @@ where
     let (dw, dh) = (sw.div_ceil(f), sh.div_ceil(f));
     let raw: &[u8] = src.as_raw();
     let mut out = Vec::with_capacity(dw * dh * channels);
-    // Sums of whole blocks, whatever their size, fit in 64 bits.
-    let mut sums = vec![0u64; dw * channels];
+    // Each column's sum over a block's rows first (one pass over the
+    // bytes, in lanes; 2^24 rows of 255 fit in 32 bits), then the sums of
+    // each block's columns.
+    let mut columns = vec![0u32; sw * channels];
     for oy in 0..dh {
-        sums.fill(0);
+        columns.fill(0);
         let rows = oy * f..((oy + 1) * f).min(sh);
         let row_count = rows.len();
-        for y in rows {
-            let row = &raw[y * sw * channels..(y + 1) * sw * channels];
-            match channels {
-                1 => add_blocks::<1>(row, &mut sums, f),
-                2 => add_blocks::<2>(row, &mut sums, f),
-                3 => add_blocks::<3>(row, &mut sums, f),
-                _ => add_blocks::<4>(row, &mut sums, f),
+        for row in
+            raw[rows.start * sw * channels..rows.end * sw * channels].chunks_exact(sw * channels)
+        {
+            for (sum, &v) in columns.iter_mut().zip(row) {
+                *sum += u32::from(v);
             }
         }
-        for (ox, block) in sums.chunks_exact(channels).enumerate() {
+        for (ox, run) in columns.chunks(f * channels).enumerate() {
             let n = ((((ox + 1) * f).min(sw) - ox * f) * row_count) as u64;
-            out.extend(block.iter().map(|&sum| ((sum + n / 2) / n) as u8));
+            for c in 0..channels {
+                let sum: u64 = run
+                    .iter()
+                    .skip(c)
+                    .step_by(channels)
+                    .map(|&v| u64::from(v))
+                    .sum();
+                out.push(((sum + n / 2) / n) as u8);
+            }
         }
     }
     image::ImageBuffer::from_raw(dw as u32, dh as u32, out).expect("the size it was made for")
-}
-
-/// Adds each run of `f` texels of `C` channels in `row` to its block's
-/// sums (the channel count a constant, so the inner loop unrolls).
-fn add_blocks<const C: usize>(row: &[u8], sums: &mut [u64], f: usize) {
-    for (run, sum) in row.chunks(f * C).zip(sums.chunks_exact_mut(C)) {
-        // At most 2^32 / 255 texels a run: a picture is far narrower.
-        let mut acc = [0u32; C];
-        for texel in run.chunks_exact(C) {
-            for (a, &v) in acc.iter_mut().zip(texel) {
-                *a += u32::from(v);
-            }
-        }
-        for (s, a) in sum.iter_mut().zip(acc) {
-            *s += u64::from(a);
-        }
-    }
 }
 
 #[cfg(test)]
