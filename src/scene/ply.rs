@@ -589,6 +589,7 @@ fn finish(name: &str, c: IndexedCorners, mut held: Reservation) -> Result<Loaded
             material: None,
             own_maps: None,
             opacity_map: None,
+            pbr_maps: Default::default(),
         }]
     } else {
         build_indexed(name, c, &[], &[true], &mut held)?
@@ -598,6 +599,7 @@ fn finish(name: &str, c: IndexedCorners, mut held: Reservation) -> Result<Loaded
                 material: None,
                 own_maps: None,
                 opacity_map: None,
+                pbr_maps: Default::default(),
             })
             .collect()
     };
