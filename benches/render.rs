@@ -1,6 +1,8 @@
 //! Criterion micro-benchmarks of the renderer at 320×240 on the reference cube
 //! (texture and bump on all six faces, 4 point lights): the full Phong path
-//! and the cheapest flat untextured frame, on one thread and on all threads.
+//! and the cheapest flat untextured frame, on one thread and on all threads;
+//! and the model view's metallic-roughness kernel against Phong with Blinn's
+//! bump on the same framed cube (docs/shading.md).
 //! `cargo bench --bench render`; `relief bench` covers every setting.
 
 use std::hint::black_box;
@@ -16,7 +18,41 @@ const HEIGHT: usize = 240;
 /// Renders `settings` repeatedly inside a pool of `threads` threads (0: rayon's default).
 fn bench(c: &mut Criterion, name: &str, settings: Settings, threads: usize) {
     let (texture, _) = relief::bench::reference::texture();
-    let scene = Scene::cube(texture, true);
+    bench_scene(c, name, &Scene::cube(texture, true), settings, threads);
+}
+
+/// The reference cube in the model view (framed, the neutral rig): as it
+/// is (Phong with Blinn's bump), or with a metallic-roughness material of
+/// the same texture as base colour and its height map's normal map.
+fn model_view_cube(physical: bool) -> Scene {
+    use std::sync::Arc;
+
+    use relief::scene::terms::{MaterialTerms, PbrMaterial};
+    use relief::texture::normal_map::normal_map_scale;
+    let (texture, _) = relief::bench::reference::texture();
+    let mut scene = Scene::cube(texture, true).into_model_view();
+    if physical {
+        let strength = relief::settings::DEFAULT_BUMP_STRENGTH;
+        let normal = scene
+            .material
+            .texture
+            .normal_map(normal_map_scale(strength))
+            .0;
+        let material = PbrMaterial {
+            metallic: 0.5,
+            roughness: 0.5,
+            normal: Some(normal),
+            ..PbrMaterial::gltf_default()
+        };
+        scene.object_terms = vec![Some(Arc::new(MaterialTerms {
+            pbr: Some(material),
+            ..MaterialTerms::default()
+        }))];
+    }
+    scene
+}
+
+fn bench_scene(c: &mut Criterion, name: &str, scene: &Scene, settings: Settings, threads: usize) {
     let mut builder = rayon::ThreadPoolBuilder::new();
     if threads > 0 {
         builder = builder.num_threads(threads);
@@ -30,7 +66,7 @@ fn bench(c: &mut Criterion, name: &str, settings: Settings, threads: usize) {
             pool.install(|| {
                 let start = Instant::now();
                 for _ in 0..iters {
-                    black_box(renderer.render(&scene, black_box(&settings), &mut fb));
+                    black_box(renderer.render(scene, black_box(&settings), &mut fb));
                 }
                 start.elapsed()
             })
@@ -51,6 +87,15 @@ fn renderer(c: &mut Criterion) {
     bench(c, "phong_bump_bilinear_320x240/1_thread", phong, 1);
     bench(c, "flat_untextured_320x240/all_threads", flat, 0);
     bench(c, "flat_untextured_320x240/1_thread", flat, 1);
+    let start = Settings {
+        rotation: relief::scene::model_view::START_ROTATION,
+        ..Settings::default()
+    };
+    for (physical, name) in [(false, "model_view_phong_bump"), (true, "model_view_pbr")] {
+        let scene = model_view_cube(physical);
+        bench_scene(c, &format!("{name}_320x240/all_threads"), &scene, start, 0);
+        bench_scene(c, &format!("{name}_320x240/1_thread"), &scene, start, 1);
+    }
 }
 
 criterion_group!(benches, renderer);

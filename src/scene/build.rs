@@ -17,8 +17,10 @@ use super::{AMBIENT, BACKGROUND, Camera, Material, Mesh, Object, Scene, cube, li
 use super::{sphere, triangle};
 use crate::plasma::Plasma;
 use crate::sanitize::display_path;
-use crate::scene::terms::{Cutout, MaterialTerms};
+use crate::scene::loaded_model::PbrMaps;
+use crate::scene::terms::{Cutout, MaterialTerms, PbrMaterial};
 use crate::texture::Texture;
+use crate::texture::normal_map_file::FileNormalMap;
 
 /// Which scene is shown.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
@@ -108,6 +110,7 @@ impl ModelChoice {
                 material: None,
                 own_maps: None,
                 opacity_map: None,
+                pbr_maps: Default::default(),
             }],
             maps: ModelMaps::default(),
             points: false,
@@ -222,10 +225,13 @@ pub struct LoadedNotes {
 
 /// What an MTL material adds to relief's material: `Ks` tints the
 /// highlight, `Ns` (above 0) is its exponent, and an opacity (`d`, or
-/// 1 − `Tr`, times `map_d`) below 0.5 cuts the pixel out (docs/models.md).
+/// 1 − `Tr`, times `map_d`) below 0.5 cuts the pixel out; in the model
+/// view, its metallic-roughness reading (`mtl_pbr`) (docs/models.md).
 fn mtl_terms(
     desc: Option<&MaterialDesc>,
     opacity_map: Option<Arc<crate::texture::Level>>,
+    pbr_maps: &PbrMaps,
+    normal: Option<Arc<FileNormalMap>>,
 ) -> Option<Arc<MaterialTerms>> {
     let desc = desc?;
     let factor = desc.opacity.filter(|d| d.is_finite()).unwrap_or(1.0);
@@ -241,9 +247,38 @@ fn mtl_terms(
             .map_or(Vec3::ONE, |ks| ks.max(Vec3::ZERO)),
         shininess: desc.shininess.filter(|ns| ns.is_finite() && *ns > 0.0),
         cutout,
+        pbr: Some(mtl_pbr(desc, pbr_maps, normal)),
         ..MaterialTerms::default()
     };
     (terms != MaterialTerms::default()).then(|| Arc::new(terms))
+}
+
+/// An MTL material as metallic-roughness: the PBR extension's `Pr`, `Pm`,
+/// `map_Pr` and `map_Pm` as they are (a map alone: factor 1; both: their
+/// product, as glTF does); a plain Phong material is a dielectric whose
+/// roughness is read back from `Ns` as Blender writes it,
+/// Ns = 1000·(1 − roughness)², and rough (1) without `Ns`. `Kd` is already
+/// the corner colour, `map_Kd` the colour texture, `norm` the normal map.
+fn mtl_pbr(desc: &MaterialDesc, maps: &PbrMaps, normal: Option<Arc<FileNormalMap>>) -> PbrMaterial {
+    let from_ns = |ns: f32| 1.0 - (ns.clamp(0.0, 1000.0) / 1000.0).sqrt();
+    let roughness = match (desc.roughness, &maps.roughness, desc.shininess) {
+        (Some(r), _, _) => r,
+        (None, Some(_), _) => 1.0,
+        (None, None, Some(ns)) if ns.is_finite() => from_ns(ns),
+        _ => 1.0,
+    };
+    let metallic = match (desc.metallic, &maps.metallic) {
+        (Some(m), _) => m,
+        (None, Some(_)) => 1.0,
+        (None, None) => 0.0,
+    };
+    PbrMaterial {
+        metallic,
+        roughness,
+        roughness_map: maps.roughness.clone().map(|m| (m, 0)),
+        metallic_map: maps.metallic.clone().map(|m| (m, 0)),
+        normal: normal.map(|n| n.given().clone()),
+    }
 }
 
 /// MTL opacity below this is not drawn (relief draws no translucency).
@@ -273,20 +308,43 @@ impl Scene {
             material: None,
             own_maps: None,
             opacity_map: None,
+            pbr_maps: Default::default(),
         });
         let mut scene = Scene::model(first.mesh, maps.texture.unwrap_or(texture));
         scene.material.specular_map = maps.specular_map;
+        // A part drawn with the scene's material reads its normal map.
+        let shared_normal = maps.normal_map.clone();
         scene.material.normal_map = maps.normal_map;
+        let normal_of = |own: &Option<ModelMaps>| match own {
+            Some(m) => m.normal_map.clone(),
+            None => shared_normal.clone(),
+        };
+        let terms_of = |material: &Option<MaterialDesc>,
+                        opacity: &Option<Arc<crate::texture::Level>>,
+                        pbr_maps: &PbrMaps,
+                        own: &Option<ModelMaps>| {
+            mtl_terms(material.as_ref(), opacity.clone(), pbr_maps, normal_of(own))
+        };
+        let mut terms = vec![terms_of(
+            &first.material,
+            &first.opacity_map,
+            &first.pbr_maps,
+            &first.own_maps,
+        )];
         let mut own = vec![first.own_maps];
-        let mut terms = vec![mtl_terms(first.material.as_ref(), first.opacity_map)];
         for p in parts {
+            terms.push(terms_of(
+                &p.material,
+                &p.opacity_map,
+                &p.pbr_maps,
+                &p.own_maps,
+            ));
             scene.objects.push(Object {
                 mesh: p.mesh,
                 transform: Mat4::IDENTITY,
                 rotates: true,
             });
             own.push(p.own_maps);
-            terms.push(mtl_terms(p.material.as_ref(), p.opacity_map));
         }
         if terms.iter().any(Option::is_some) {
             scene.object_terms = terms;

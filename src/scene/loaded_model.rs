@@ -23,6 +23,15 @@ pub struct ModelPart {
     pub own_maps: Option<ModelMaps>,
     /// MTL `map_d`: the material's opacity (grey), when it loaded.
     pub opacity_map: Option<Arc<crate::texture::Level>>,
+    /// MTL `map_Pr` and `map_Pm`, when they loaded.
+    pub pbr_maps: PbrMaps,
+}
+
+/// An MTL material's roughness and metallic maps (grey, any size each).
+#[derive(Clone, Debug, Default)]
+pub struct PbrMaps {
+    pub roughness: Option<Arc<crate::texture::Level>>,
+    pub metallic: Option<Arc<crate::texture::Level>>,
 }
 
 /// The maps the single scene material takes from the model's textured
@@ -95,6 +104,14 @@ pub struct MaterialDesc {
     pub bump_multiplier: f32,
     /// `norm`: tangent-space normal map.
     pub normal_map: Option<TexturePath>,
+    /// `Pr` (the PBR extension): roughness, 0..=1.
+    pub roughness: Option<f32>,
+    /// `Pm`: metallic, 0..=1.
+    pub metallic: Option<f32>,
+    /// `map_Pr`: roughness map (grey).
+    pub roughness_map: Option<TexturePath>,
+    /// `map_Pm`: metallic map (grey).
+    pub metallic_map: Option<TexturePath>,
 }
 
 impl MaterialDesc {
@@ -111,6 +128,10 @@ impl MaterialDesc {
             bump_map: None,
             bump_multiplier: 1.0,
             normal_map: None,
+            roughness: None,
+            metallic: None,
+            roughness_map: None,
+            metallic_map: None,
         }
     }
 }

@@ -244,6 +244,28 @@ fn parse_unguarded(
             }
         })
         .collect();
+    // `map_Pr` and `map_Pm`: each material's roughness and metallic, read once.
+    let grey = |path: Option<&crate::scene::loaded_model::TexturePath>,
+                warnings: &mut Vec<String>| {
+        let file = path?.file.as_ref()?;
+        match crate::texture::specular_map::load_specular_map(file) {
+            Ok(level) => Some(Arc::new(level)),
+            Err(e) => {
+                warnings.push(clean(&e.to_string()));
+                None
+            }
+        }
+    };
+    let pbr_maps: Vec<crate::scene::loaded_model::PbrMaps> = materials
+        .iter()
+        .map(|m| match m {
+            Some(m) => crate::scene::loaded_model::PbrMaps {
+                roughness: grey(m.roughness_map.as_ref(), &mut warnings),
+                metallic: grey(m.metallic_map.as_ref(), &mut warnings),
+            },
+            None => Default::default(),
+        })
+        .collect();
     let meshes = build_indexed(
         name,
         model.corners,
@@ -259,6 +281,7 @@ fn parse_unguarded(
             material: materials[part].clone(),
             own_maps: own[part].clone(),
             opacity_map: opacity[part].clone(),
+            pbr_maps: pbr_maps[part].clone(),
         })
         .collect();
     Ok(LoadedModel {

@@ -626,6 +626,7 @@ fn finish(
             material: None,
             own_maps: None,
             opacity_map: None,
+            pbr_maps: Default::default(),
         }]
     } else {
         build_indexed(name, c, &[], &[true], &mut held)?
@@ -635,6 +636,7 @@ fn finish(
                 material: None,
                 own_maps: None,
                 opacity_map: None,
+                pbr_maps: Default::default(),
             })
             .collect()
     };

@@ -55,6 +55,7 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
                 material: None,
                 own_maps: None,
                 opacity_map: None,
+                pbr_maps: Default::default(),
             })
             .collect(),
         maps: ModelMaps::default(),

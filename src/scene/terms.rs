@@ -50,9 +50,12 @@ pub struct PbrMaterial {
     pub metallic: f32,
     /// `roughnessFactor`: 0 mirror-smooth, 1 rough.
     pub roughness: f32,
-    /// The metallic-roughness map (green roughness, blue metallic, linear),
-    /// multiplied into the factors; read with the specular map's coordinates.
-    pub metal_rough: Option<Arc<Level>>,
+    /// The roughness map and the channel read (glTF's metallic-roughness
+    /// map: green; MTL `map_Pr`: grey), multiplied into the factor; read
+    /// with the specular map's coordinates.
+    pub roughness_map: Option<(Arc<Level>, usize)>,
+    /// The metallic map and its channel (glTF's: blue; MTL `map_Pm`: grey).
+    pub metallic_map: Option<(Arc<Level>, usize)>,
     /// The tangent-space normal map (its `scale` applied), read with the
     /// normal map's coordinates.
     pub normal: Option<Arc<crate::texture::NormalMap>>,
@@ -64,7 +67,8 @@ impl PbrMaterial {
         PbrMaterial {
             metallic: 1.0,
             roughness: 1.0,
-            metal_rough: None,
+            roughness_map: None,
+            metallic_map: None,
             normal: None,
         }
     }

@@ -83,11 +83,24 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             base = base * srgb_to_linear(colour::<V>(ctx, s.u, s.v, fp, live));
         }
         let (mut metallic, mut roughness) = (V::L::splat(pbr.metallic), V::L::splat(pbr.roughness));
-        if let Some(map) = &pbr.metal_rough {
+        if pbr.roughness_map.is_some() || pbr.metallic_map.is_some() {
             let (u, v) = at.of(&terms.uvs.specular);
-            let [_, g, blue] = V::L::bilinear(map, u, v);
-            roughness = roughness * g;
-            metallic = metallic * blue;
+            match (&pbr.roughness_map, &pbr.metallic_map) {
+                // glTF's one map: one read for both.
+                (Some((a, r)), Some((b, m))) if std::sync::Arc::ptr_eq(a, b) => {
+                    let t = V::L::bilinear(a, u, v);
+                    roughness = roughness * t[*r];
+                    metallic = metallic * t[*m];
+                }
+                (r, m) => {
+                    if let Some((map, c)) = r {
+                        roughness = roughness * V::L::bilinear(map, u, v)[*c];
+                    }
+                    if let Some((map, c)) = m {
+                        metallic = metallic * V::L::bilinear(map, u, v)[*c];
+                    }
+                }
+            }
         }
         let metallic = saturate(metallic);
         let roughness = brdf::max(saturate(roughness), V::L::splat(MIN_ROUGHNESS));

@@ -696,7 +696,7 @@ fn highlight_picture(name: &str, mtl: &str) -> relief::Framebuffer {
     write(&dir, "q.mtl", format!("newmtl m\nKd 0 0 0\n{mtl}\n"));
     let obj = "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nusemtl m\nf 1 2 3 4\n";
     let path = write(&dir, "q.obj", obj);
-    let Ok(Built::Scene(mut scene)) = build_scene(
+    let Ok(Built::Scene(scene)) = build_scene(
         SceneKind::Cube,
         &ModelChoice::File(path),
         std::sync::Arc::new(relief::texture::procedural::brick()),
@@ -704,6 +704,9 @@ fn highlight_picture(name: &str, mtl: &str) -> relief::Framebuffer {
     ) else {
         panic!("the model builds a scene");
     };
+    // The Blinn-Phong highlight of the reference view (the model view
+    // reads the material as metallic-roughness: tests/render/pbr.rs).
+    let mut scene = (*scene).into_reference_view();
     scene.lights = vec![Light {
         position: Vec3::new(0.4, 0.3, 3.0),
         color: Vec3::ONE,

@@ -408,6 +408,44 @@ fn a_normal_map_shows_by_default_and_bump_off_removes_it() {
     assert_eq!(draw(&mapped, &off, 120, 90).pixels(), flat.pixels());
 }
 
+/// An OBJ quad (z = 0, facing +Z, 2 × 2) with the MTL `mtl`.
+fn obj_model(test: &str, mtl: &str) -> Scene {
+    let dir = std::env::temp_dir().join(format!("relief-pbr-{}-{test}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("quad.mtl"), format!("newmtl m\n{mtl}\n")).unwrap();
+    let obj = "mtllib quad.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nusemtl m\nf 1//1 2//1 3//1\nf 1//1 3//1 4//1\n";
+    let path = dir.join("quad.obj");
+    std::fs::write(&path, obj).unwrap();
+    match build_scene(
+        SceneKind::Cube,
+        &ModelChoice::File(path),
+        Arc::new(procedural::brick()),
+        false,
+    ) {
+        Ok(Built::Scene(scene)) => *scene,
+        Ok(Built::Plasma(_)) => unreachable!(),
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// MTL's PBR extension gives what glTF's factors give: `Pm 1`, `Pr 1` and
+/// `Kd 1 0.5 0.25` seen head on under a light of 2 is base/2; a plain
+/// Phong material's `Ns 250` is roughness 0.5 (Ns = 1000·(1 − r)²): a
+/// white dielectric under 0.5 gives 0.5·(0.96 + 0.04/(4·0.0625)).
+#[test]
+fn an_mtl_material_is_read_as_metallic_roughness() {
+    let mut metal = obj_model("mtl-metal", "Kd 1 0.5 0.25\nPm 1\nPr 1");
+    head_on(&mut metal, 2.0);
+    let want = [1.0, 0.5, 0.25].map(|b: f32| srgb8(b / 2.0));
+    let got = centre(&draw(&metal, &facing(), 120, 90));
+    assert!(near(got, want, 1), "{got:?}, want {want:?}");
+    let mut phong = obj_model("mtl-phong", "Kd 1 1 1\nKs 1 1 1\nNs 250");
+    head_on(&mut phong, 0.5);
+    let want = srgb8(0.5 * 1.12);
+    let got = centre(&draw(&phong, &facing(), 120, 90));
+    assert!(near(got, [want; 3], 1), "{got:?}, want {want}");
+}
+
 /// Tone maps: none clamps, PBR Neutral keeps a mid grey (less its 0.04
 /// offset) and rolls off white, ACES darkens a mid grey; exposure scales
 /// the light before them.

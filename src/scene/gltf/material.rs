@@ -180,7 +180,8 @@ impl<'a> Materials<'a> {
         let physical = PbrMaterial {
             metallic: finite_unit(pbr.metallic_factor()),
             roughness,
-            metal_rough,
+            roughness_map: metal_rough.clone().map(|m| (m, 1)),
+            metallic_map: metal_rough.map(|m| (m, 2)),
             normal: normal_map.as_ref().map(|m| m.given().clone()),
         };
         let mut map_names = Vec::new();

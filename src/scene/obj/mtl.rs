@@ -4,13 +4,14 @@
 //!
 //! Read: `Kd`, `Ks`, `Ns`, `d` (opacity) or `Tr` (transparency, 1 − d),
 //! `map_Kd`, `map_Ks`, `map_d`, `bump`/`map_Bump`/`map_bump` (a height map,
-//! its `-bm` multiplier kept) and `norm` (a tangent-space normal map).
+//! its `-bm` multiplier kept), `norm` (a tangent-space normal map) and the
+//! PBR extension's `Pr`, `Pm`, `map_Pr` and `map_Pm` (roughness, metallic).
 //! Keywords are matched without regard to case. A map line's options
 //! (`-bm 2`, `-s 1 1 1`, `-clamp on`, …) come before the file name, which
 //! is the rest of the line: it may hold spaces, be quoted, and use `\`.
 //! Texture paths are resolved relative to the MTL, matching names without
 //! regard to case when the exact one is missing. Everything else (`Ka`,
-//! `illum`, `Ni`, PBR extensions, …) is skipped. A line that cannot be read
+//! `illum`, `Ni`, the extension's sheen and clearcoat, …) is skipped. A line that cannot be read
 //! is a warning naming the file and line; the rest of the library is kept.
 
 use std::path::Path;
@@ -157,6 +158,10 @@ pub fn parse(name: &str, text: &[u8], dir: &Path) -> (Vec<MaterialDesc>, Vec<Str
                     m.bump_multiplier = bm.unwrap_or(1.0);
                 }
                 "norm" => m.normal_map = Some(texture(rest)?.0),
+                "pr" => m.roughness = Some(scalar(rest)?.clamp(0.0, 1.0)),
+                "pm" => m.metallic = Some(scalar(rest)?.clamp(0.0, 1.0)),
+                "map_pr" => m.roughness_map = Some(texture(rest)?.0),
+                "map_pm" => m.metallic_map = Some(texture(rest)?.0),
                 _ => {}
             }
             Ok(())
@@ -175,6 +180,8 @@ pub fn parse(name: &str, text: &[u8], dir: &Path) -> (Vec<MaterialDesc>, Vec<Str
             ("map_d", &m.opacity_map),
             ("bump", &m.bump_map),
             ("norm", &m.normal_map),
+            ("map_Pr", &m.roughness_map),
+            ("map_Pm", &m.metallic_map),
         ] {
             if let Some(TexturePath {
                 written,
@@ -195,6 +202,19 @@ pub fn parse(name: &str, text: &[u8], dir: &Path) -> (Vec<MaterialDesc>, Vec<Str
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_pbr_extension_is_read() {
+        let text = b"newmtl steel\nKd 0.5 0.5 0.5\nPr 0.25\nPM 2\nmap_Pr -bm 1 rough.png\nmap_Pm metal.png\n";
+        let (m, warnings) = parse("lib.mtl", text, Path::new("/nonexistent-dir"));
+        assert_eq!(m.len(), 1);
+        assert_eq!((m[0].roughness, m[0].metallic), (Some(0.25), Some(1.0)));
+        assert_eq!(m[0].roughness_map.as_ref().unwrap().written, "rough.png");
+        assert_eq!(m[0].metallic_map.as_ref().unwrap().written, "metal.png");
+        // Both maps are missing there: a warning each.
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert!(warnings[0].contains("map_Pr"), "{warnings:?}");
+    }
 
     #[test]
     fn options_come_before_a_file_name_with_spaces() {
