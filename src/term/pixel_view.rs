@@ -1247,7 +1247,13 @@ mod tests {
             pad: look.pad,
         }
         .render(Rect::new(0, 0, 20, 10), &mut buf);
-        let covered = skip_picture(&mut buf, Rect::new(0, 0, 20, 10), Rect::new(0, 0, 20, 10), &fb, look);
+        let covered = skip_picture(
+            &mut buf,
+            Rect::new(0, 0, 20, 10),
+            Rect::new(0, 0, 20, 10),
+            &fb,
+            look,
+        );
         assert_eq!(covered.len(), 200);
         for (i, &c) in covered.iter().enumerate() {
             let (x, y) = (i % 20, i / 20);
