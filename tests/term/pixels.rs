@@ -1185,9 +1185,13 @@ fn sixel_images_stay_within_the_largest_the_terminal_answered() {
     let (cell, _) = pixel_view::cell_pixels(pixel_view::window_size(), None);
     let (cw, ch) = (usize::from(cell.0), usize::from(cell.1));
     assert!(ch >= 10, "a cell {cw}×{ch} too small for this test");
-    // Room for 50 of the 80 columns and 20 of the 28 rows, and part of a cell.
+    // Room for 50 of the 80 columns and 20 of the picture's rows, and part
+    // of a cell: the 50 × 20 cells centred in the picture area.
     let max = (50 * cw + cw / 2, 20 * ch + ch / 2);
-    let area = Rect::new(15, 4, 50, 20);
+    let picture = panels_picture(Format::Sixels);
+    let (left, top) = ((picture.width - 50) / 2, (picture.height - 20) / 2);
+    let area = Rect::new(left, top, 50, 20);
+    let rows = usize::from(picture.height);
     let mut capped = output(Format::Sixels);
     capped.sixel_max = Some((max.0 as u32, max.1 as u32));
     let keys = || vec![key('k'), key('k'), right()];
@@ -1204,12 +1208,12 @@ fn sixel_images_stay_within_the_largest_the_terminal_answered() {
     assert_eq!(screen.dropped, 0);
     assert!(screen.sent_pixels > 0);
     let width = 80 * cw;
-    for y in 0..28 * ch {
+    for y in 0..rows * ch {
         for x in 0..width {
             let cell = (x / cw, y / ch);
             let got = screen.canvas[y * width + x];
             if area.contains((cell.0 as u16, cell.1 as u16).into()) {
-                let (px, py) = (x - 15 * cw, y - 4 * ch);
+                let (px, py) = (x - usize::from(left) * cw, y - usize::from(top) * ch);
                 let want = sixel::shown(sixel::percent(last.get(px, py)));
                 assert_eq!(got, Some(want), "{x},{y}");
             } else {
@@ -1224,7 +1228,7 @@ fn sixel_images_stay_within_the_largest_the_terminal_answered() {
     screen.sixel_max = Some(max);
     screen.feed(&bytes);
     assert!(screen.dropped > 0);
-    let blank = (0..28 * ch)
+    let blank = (0..rows * ch)
         .flat_map(|y| (0..width).map(move |x| (x, y)))
         .filter(|&(x, y)| screen.canvas[y * width + x].is_none())
         .count();
