@@ -12,9 +12,10 @@
 //! Resolves average the 8-bit values the renderer writes (the same space as
 //! every other pixel: no linear-light conversion), rounded to nearest.
 
+use super::alpha::{AlphaRule, over};
 use super::fill::fill;
 use super::scan::{
-    Band, OwnedBand, depth_prepass, opaque_at, pixel_setup, raster_owned, raster_triangle, shade_at,
+    Band, OwnedBand, depth_prepass, pixel_setup, raster_owned, raster_triangle, shade_at,
 };
 use super::setup::{ONE, ScreenTri};
 use crate::framebuffer::{Framebuffer, Rgb};
@@ -187,8 +188,10 @@ pub fn raster_triangle_msaa<S: PixelShader>(
     let xa = tri.x0 as usize;
     let xb = (tri.x1 as usize).min(width - 1);
     let (footprint, inv_area, steps) = pixel_setup(tri, shader, ctx);
-    // An alpha mask drops a pixel (all its samples) at its centre.
-    let cut = shader.cutout(ctx);
+    // An alpha mask drops a pixel (all its samples) at its centre; a
+    // translucent pixel is composited over each covered sample.
+    let alpha = AlphaRule::of(shader, ctx);
+    let blends = alpha.blends();
     // Edge offsets of each sample from the pixel centre (exact integers).
     let delta: [[i64; 3]; MSAA_SAMPLES] =
         MSAA4_OFFSETS.map(|(ox, oy)| [0, 1, 2].map(|i| (steps[i].0 * ox + steps[i].1 * oy) / ONE));
@@ -213,10 +216,12 @@ pub fn raster_triangle_msaa<S: PixelShader>(
                     mask |= 1 << s;
                 }
             }
-            if mask != 0 && cut {
+            let mut opacity = 1.0;
+            if mask != 0 && alpha != AlphaRule::Opaque {
                 let l = [0, 1, 2].map(|i| e[i] as f32 * inv_area);
-                if !opaque_at(tri, shader, ctx, l) {
-                    mask = 0;
+                match alpha.coverage(tri, shader, ctx, l) {
+                    Some(a) => opacity = a,
+                    None => mask = 0,
                 }
             }
             if mask != 0
@@ -230,7 +235,9 @@ pub fn raster_triangle_msaa<S: PixelShader>(
                         counters.depth_tests += 1;
                         let zs = z + dz[s];
                         if zs < slots[s] {
-                            slots[s] = zs;
+                            if !blends {
+                                slots[s] = zs;
+                            }
                         } else {
                             mask &= !(1 << s);
                         }
@@ -253,7 +260,11 @@ pub fn raster_triangle_msaa<S: PixelShader>(
                 let slots = &mut band.samples[row + px];
                 for (s, slot) in slots.iter_mut().enumerate() {
                     if mask & (1 << s) != 0 {
-                        *slot = color;
+                        *slot = if blends {
+                            over(*slot, color, opacity)
+                        } else {
+                            color
+                        };
                     }
                 }
             }

@@ -2,6 +2,7 @@
 //! fill rule, and the perspective-correct pixel loop.
 
 pub mod aa;
+pub mod alpha;
 pub mod clip;
 pub mod fill;
 pub mod frames;

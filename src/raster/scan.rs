@@ -3,6 +3,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::alpha::{AlphaRule, over};
 use super::fill::fill;
 use super::setup::{ONE, ScreenTri};
 use crate::framebuffer::Rgb;
@@ -89,9 +90,17 @@ enum DepthRule<'a> {
 
 impl DepthRule<'_> {
     /// Whether the pixel at index `at` of the band, at screen-space
-    /// barycentrics `l` of `tri`, is drawn (and the buffer updated).
+    /// barycentrics `l` of `tri`, is drawn (and the buffer updated, unless
+    /// the pixel is blended: a translucent surface hides nothing).
     #[inline(always)]
-    fn passes(&mut self, at: usize, l: [f32; 3], tri: &ScreenTri, counters: &mut Counters) -> bool {
+    fn passes(
+        &mut self,
+        at: usize,
+        l: [f32; 3],
+        tri: &ScreenTri,
+        blends: bool,
+        counters: &mut Counters,
+    ) -> bool {
         match self {
             DepthRule::Off => true,
             DepthRule::Less(depth) => {
@@ -99,12 +108,15 @@ impl DepthRule<'_> {
                 let z = l[0] * tri.z[0] + l[1] * tri.z[1] + l[2] * tri.z[2];
                 let slot = &mut depth[at];
                 if z < *slot {
-                    *slot = z;
+                    if !blends {
+                        *slot = z;
+                    }
                     true
                 } else {
                     false
                 }
             }
+            // No pre-pass runs on a frame with a translucent material.
             DepthRule::Owner(owner) => owner[at] == tri.shader,
         }
     }
@@ -214,12 +226,13 @@ fn raster_rows<S: PixelShader>(
     if ya >= yb {
         return;
     }
-    if tri.unclipped && shader.packets(ctx) {
+    let alpha = AlphaRule::of(shader, ctx);
+    if tri.unclipped && shader.packets(ctx) && !alpha.blends() {
         return raster_packets(tri, shader, ctx, band, counters, ya..yb);
     }
     let (footprint, inv_area, steps) = pixel_setup(tri, shader, ctx);
     // An alpha mask drops a pixel before its depth test.
-    let cut = shader.cutout(ctx);
+    let blends = alpha.blends();
     let x0 = tri.x0 as usize;
     let cx = tri.x0 as i64 * ONE + ONE / 2;
     let width = band.width;
@@ -234,11 +247,13 @@ fn raster_rows<S: PixelShader>(
                     e[1] as f32 * inv_area,
                     e[2] as f32 * inv_area,
                 ];
-                let covered = (!cut || opaque_at(tri, shader, ctx, l))
-                    && band.depth.passes(row + px, l, tri, counters);
-                if covered {
-                    band.color[row + px] =
-                        shade_at(tri, shader, ctx, footprint.as_ref(), l, counters);
+                let covered = alpha
+                    .coverage(tri, shader, ctx, l)
+                    .filter(|_| band.depth.passes(row + px, l, tri, blends, counters));
+                if let Some(a) = covered {
+                    let c = shade_at(tri, shader, ctx, footprint.as_ref(), l, counters);
+                    let slot = &mut band.color[row + px];
+                    *slot = if blends { over(*slot, c, a) } else { c };
                 }
             }
             e[0] += steps[0].0;
@@ -280,7 +295,8 @@ fn raster_packets<S: PixelShader>(
 ) {
     let (footprint, inv_area, steps) = pixel_setup(tri, shader, ctx);
     // An alpha mask drops a lane before its depth test, as it drops a pixel.
-    let cut = shader.cutout(ctx);
+    let alpha = AlphaRule::of(shader, ctx);
+    let cut = alpha != AlphaRule::Opaque;
     let (x0, x1) = (tri.x0 as usize, tri.x1 as usize);
     let cx = tri.x0 as i64 * ONE + ONE / 2;
     let width = band.width;
@@ -329,11 +345,11 @@ fn raster_packets<S: PixelShader>(
                         e[1] as f32 * inv_area,
                         e[2] as f32 * inv_area,
                     ];
-                    if cut && !opaque_at(tri, shader, ctx, lf) {
+                    if alpha.coverage(tri, shader, ctx, lf).is_none() {
                         live &= !(1 << lane);
                         continue;
                     }
-                    if !band.depth.passes(row + px + lane, lf, tri, counters) {
+                    if !band.depth.passes(row + px + lane, lf, tri, false, counters) {
                         live &= !(1 << lane);
                         continue;
                     }
@@ -400,26 +416,6 @@ fn covered_span(
         }
     }
     (lo <= hi).then_some((lo as usize, hi as usize))
-}
-
-/// Whether an alpha-masked shader draws the point with screen-space
-/// barycentrics `l` (the source triangle's weights, as `shade_at` finds them).
-#[inline]
-pub(crate) fn opaque_at<S: PixelShader>(
-    tri: &ScreenTri,
-    shader: &S,
-    ctx: &ShadeCtx,
-    l: [f32; 3],
-) -> bool {
-    let w = [l[0] * tri.q[0], l[1] * tri.q[1], l[2] * tri.q[2]];
-    let inv = 1.0 / (w[0] + w[1] + w[2]);
-    let b = Vec3::new(w[0] * inv, w[1] * inv, w[2] * inv);
-    let b = if tri.unclipped {
-        b
-    } else {
-        tri.bary[0] * b.x + tri.bary[1] * b.y + tri.bary[2] * b.z
-    };
-    shader.opaque(ctx, b)
 }
 
 /// Shades the point with screen-space barycentrics `l` (summing to 1):

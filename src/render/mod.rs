@@ -31,6 +31,7 @@ use crate::plan::Plan;
 use crate::raster::aa::{
     MSAA_REACH, MSAA_SAMPLES, MsaaBand, resolve_box, resolve_msaa, ssaa_factor,
 };
+use crate::raster::alpha::order_blended;
 use crate::raster::clip::outcode;
 use crate::raster::frames::{DepthView, draw_tangent_frames};
 use crate::raster::scan::OwnedBand;
@@ -402,8 +403,28 @@ impl Renderer {
                 counters += chunk.counters;
             }
         }
+        self.order_blended(plans);
         counters.triangles_drawn = self.tris.len() as u64;
         counters
+    }
+
+    /// Translucent triangles after the opaque ones, far to near
+    /// (`raster::alpha`); nothing moves in a frame without them.
+    fn order_blended(&mut self, plans: &FramePlans) {
+        let blends: Vec<bool> = plans
+            .plans
+            .iter()
+            .map(|p| {
+                let cutout = p.terms.as_ref().and_then(|t| t.cutout.as_ref());
+                cutout.is_some_and(|c| c.blend)
+            })
+            .collect();
+        if !blends.contains(&true) {
+            return;
+        }
+        let groups = &self.shader_groups;
+        let group = |t: &ScreenTri| groups.get(t.shader as usize).map_or(0, |&g| g as usize);
+        order_blended(&mut self.tris, |t| blends[group(t)]);
     }
 
     /// Clears and draws the frame: bands of pixels (or of samples, with

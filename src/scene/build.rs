@@ -239,6 +239,7 @@ fn mtl_terms(
         factor,
         map: opacity_map,
         cutoff: MTL_CUTOFF,
+        blend: false,
     });
     let terms = MaterialTerms {
         specular_color: desc

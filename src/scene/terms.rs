@@ -74,8 +74,9 @@ impl PbrMaterial {
     }
 }
 
-/// An alpha mask (glTF `alphaMode` MASK, and BLEND drawn as MASK at 0.5;
-/// MTL `d`/`Tr` and `map_d` at 0.5): coverage, not blending.
+/// A material's opacity: an alpha mask (glTF `alphaMode` MASK; MTL
+/// `d`/`Tr` and `map_d` at 0.5), or translucency composited over what is
+/// behind (glTF BLEND; docs/models.md, "Transparency").
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cutout {
     /// The constant opacity (glTF base colour factor's alpha, MTL `d`).
@@ -83,19 +84,33 @@ pub struct Cutout {
     /// Opacity per texel in the red channel (glTF base colour alpha, MTL
     /// `map_d`'s grey), read bilinearly; none: `factor` everywhere.
     pub map: Option<Arc<Level>>,
-    /// Opacity below this is not drawn.
+    /// Opacity below this is not drawn (a mask), or casts no shadow (a
+    /// blend).
     pub cutoff: f32,
+    /// Composited with its opacity, behind the opaque surfaces' depth and
+    /// far to near, instead of cut at `cutoff`.
+    pub blend: bool,
 }
 
+/// Below this opacity a blended pixel would change no 8-bit channel by a
+/// whole step: it is not drawn.
+pub const BLEND_MIN_OPACITY: f32 = 0.5 / 255.0;
+
 impl Cutout {
-    /// Whether the pixel at `uv` is drawn.
+    /// The opacity at `uv`, 0 to 1 (or beyond, as the factor gives).
     #[inline]
-    pub fn opaque(&self, uv: Vec2) -> bool {
-        let a = match &self.map {
+    pub fn opacity(&self, uv: Vec2) -> f32 {
+        match &self.map {
             Some(map) => self.factor * map.bilinear(uv.x, uv.y)[0],
             None => self.factor,
-        };
-        a >= self.cutoff
+        }
+    }
+
+    /// Whether the point at `uv` is solid: drawn by a mask, casting a
+    /// shadow for both kinds.
+    #[inline]
+    pub fn opaque(&self, uv: Vec2) -> bool {
+        self.opacity(uv) >= self.cutoff
     }
 }
 

@@ -321,9 +321,8 @@ impl<H: Hook, const TEX: bool, const SPEC: bool> PixelShader for HookKernel<'_, 
     fn cutout(&self, ctx: &ShadeCtx) -> bool {
         super::shader::cuts(ctx)
     }
-    fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
-        let uv = self.tri.uv[0] * b.x + self.tri.uv[1] * b.y + self.tri.uv[2] * b.z;
-        super::shader::opaque_at(ctx, uv)
+    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
+        super::shader::opacity_at(ctx, super::kernels::lerp2(b, &self.tri.uv))
     }
     #[inline]
     fn shade8(

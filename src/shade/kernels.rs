@@ -9,7 +9,7 @@ use super::core::{colour, gloss_map, shade};
 use super::lighting::finish;
 use super::packet::{self, LANES, V3, Vertices2, Vertices3};
 use super::shader::{
-    GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, cuts, opaque_at,
+    GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, cuts, opacity_at,
 };
 use super::specular::gloss;
 use crate::framebuffer::Rgb;
@@ -38,7 +38,7 @@ fn lerp3(b: Vec3, v: &[Vec3; 3]) -> Vec3 {
 }
 
 #[inline]
-fn lerp2(b: Vec3, v: &[Vec2; 3]) -> Vec2 {
+pub(super) fn lerp2(b: Vec3, v: &[Vec2; 3]) -> Vec2 {
     v[0] * b.x + v[1] * b.y + v[2] * b.z
 }
 
@@ -101,8 +101,8 @@ impl<const SPEC: bool> PixelShader for FlatTexturedKernel<'_, SPEC> {
     fn cutout(&self, ctx: &ShadeCtx) -> bool {
         cuts(ctx)
     }
-    fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
-        opaque_at(ctx, lerp2(b, &self.0.uv))
+    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
+        opacity_at(ctx, lerp2(b, &self.0.uv))
     }
     #[inline]
     fn shade8(
@@ -191,8 +191,8 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
     fn cutout(&self, ctx: &ShadeCtx) -> bool {
         cuts(ctx)
     }
-    fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
-        opaque_at(ctx, lerp2(b, &self.tri.uv))
+    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
+        opacity_at(ctx, lerp2(b, &self.tri.uv))
     }
     #[inline]
     fn shade8(
@@ -261,8 +261,8 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     fn cutout(&self, ctx: &ShadeCtx) -> bool {
         cuts(ctx)
     }
-    fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
-        opaque_at(ctx, lerp2(b, &self.tri.uv))
+    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
+        opacity_at(ctx, lerp2(b, &self.tri.uv))
     }
     #[inline(always)]
     fn shade8(

@@ -26,7 +26,7 @@ use super::lanes::{Lanes, Vector};
 use super::lighting::{ATTENUATION_QUADRATIC, finish};
 use super::map_uv::{Coords, carry, footprint_map};
 use super::packet::{self, LANES, V3};
-use super::shader::{PixelShader, ShadeCtx, cuts, opaque_at};
+use super::shader::{PixelShader, ShadeCtx, cuts, opacity_at};
 use super::specular::view_dir;
 use super::tangent::Surface;
 use crate::framebuffer::Rgb;
@@ -273,9 +273,8 @@ impl<const TEX: bool, const NMAP: bool> PixelShader for PbrKernel<'_, TEX, NMAP>
     fn cutout(&self, ctx: &ShadeCtx) -> bool {
         cuts(ctx)
     }
-    fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
-        let uv = self.tri.uv[0] * b.x + self.tri.uv[1] * b.y + self.tri.uv[2] * b.z;
-        opaque_at(ctx, uv)
+    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
+        opacity_at(ctx, super::kernels::lerp2(b, &self.tri.uv))
     }
     #[inline]
     fn shade8(

@@ -42,9 +42,10 @@ pub trait PixelShader {
     fn cutout(&self, _ctx: &ShadeCtx) -> bool {
         false
     }
-    /// Whether the pixel at barycentrics `b` of the source triangle is drawn.
-    fn opaque(&self, _ctx: &ShadeCtx, _b: Vec3) -> bool {
-        true
+    /// The material's opacity at barycentrics `b` of the source triangle
+    /// (asked only when `cutout` said yes).
+    fn opacity(&self, _ctx: &ShadeCtx, _b: Vec3) -> f32 {
+        1.0
     }
     /// The one colour of every pixel, for a kernel that has one: its rows
     /// are filled, not shaded.
@@ -73,12 +74,12 @@ pub(crate) fn cuts(ctx: &ShadeCtx) -> bool {
     ctx.plan.terms.as_ref().is_some_and(|t| t.cutout.is_some())
 }
 
-/// Whether the plan's alpha mask draws the pixel at `uv`.
+/// The opacity of the plan's material at `uv` (1 without a cutout).
 #[inline]
-pub(crate) fn opaque_at(ctx: &ShadeCtx, uv: Vec2) -> bool {
+pub(crate) fn opacity_at(ctx: &ShadeCtx, uv: Vec2) -> f32 {
     match ctx.plan.terms.as_ref().and_then(|t| t.cutout.as_ref()) {
-        Some(c) => c.opaque(uv),
-        None => true,
+        Some(c) => c.opacity(uv),
+        None => 1.0,
     }
 }
 

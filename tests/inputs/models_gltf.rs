@@ -843,7 +843,7 @@ fn a_texture_transform_offset_moves_the_texture() {
 /// alphaMode MASK: a texture whose alpha is 0.2, 0.4, 0.6, 0.8 in its four
 /// columns, cutoff 0.5: the quad shows the background over the first two
 /// columns and is drawn over the last two; cutoff 0.3 drops only the
-/// first; OPAQUE drops none, and BLEND is MASK at 0.5. Flat and Gouraud
+/// first; OPAQUE and BLEND drop none. Flat and Gouraud
 /// shading cut the same texels as Phong, with the texture shown or not.
 #[test]
 fn an_alpha_mask_drops_exactly_the_texels_below_the_cutoff() {
@@ -889,9 +889,10 @@ fn alpha_mask_in(shading: Shading, texture: bool) {
         "{shading:?}, texture {texture}"
     );
     assert_eq!(drawn(""), [true; 4], "{shading:?}, texture {texture}");
+    // BLEND draws every texel, each with its alpha.
     assert_eq!(
         drawn(r#","alphaMode":"BLEND""#),
-        [false, false, true, true],
+        [true; 4],
         "{shading:?}, texture {texture}"
     );
 }

@@ -41,8 +41,8 @@ impl<S: PixelShader> PixelShader for OnePixel<'_, S> {
     fn cutout(&self, ctx: &ShadeCtx) -> bool {
         self.0.cutout(ctx)
     }
-    fn opaque(&self, ctx: &ShadeCtx, b: Vec3) -> bool {
-        self.0.opaque(ctx, b)
+    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
+        self.0.opacity(ctx, b)
     }
 }
 
@@ -441,6 +441,7 @@ fn material_terms_match_the_one_pixel_loop() {
             factor: 0.9,
             map: Some(map(11, 6, 97)),
             cutoff: 0.5,
+            blend: false,
         }),
         ..Default::default()
     };

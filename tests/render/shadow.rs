@@ -510,6 +510,7 @@ fn masked_square_over_the_floor(masked: bool) -> Scene {
                 factor: 1.0,
                 map: Some(Arc::new(map)),
                 cutoff: 0.5,
+                blend: false,
             }),
             ..Default::default()
         };

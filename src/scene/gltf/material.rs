@@ -114,8 +114,10 @@ impl<'a> Materials<'a> {
                 .map_or(reading, Reading::of_map)
         };
         let sets = Sets::of(m);
-        // MASK draws the pixels whose alpha reaches the cutoff; BLEND is
-        // drawn as MASK at 0.5 (relief draws no translucency).
+        // MASK draws the pixels whose alpha reaches the cutoff; BLEND
+        // composites each pixel with its alpha (and casts a shadow where it
+        // reaches 0.5).
+        let blend = m.alpha_mode() == ::gltf::material::AlphaMode::Blend;
         let cutoff = match m.alpha_mode() {
             ::gltf::material::AlphaMode::Opaque => None,
             ::gltf::material::AlphaMode::Mask => Some(m.alpha_cutoff().unwrap_or(0.5)),
@@ -215,12 +217,16 @@ impl<'a> Materials<'a> {
             _ => None,
         };
         let factor = pbr.base_color_factor()[3];
+        // A constant opacity that a mask keeps, or that a blend draws
+        // whole, needs no cutout.
+        let whole = |c: f32| if blend { 1.0 } else { c };
         let cutout = cutoff
-            .filter(|c| c.is_finite() && (alpha_map.is_some() || factor < *c))
+            .filter(|c| c.is_finite() && (alpha_map.is_some() || factor < whole(*c)))
             .map(|cutoff| Cutout {
                 factor,
                 map: alpha_map,
                 cutoff,
+                blend,
             });
         let terms = MaterialTerms {
             cutout,
