@@ -1221,3 +1221,18 @@ fn a_normal_map_on_the_second_set_takes_its_tangents_from_it() {
         }
     }
 }
+
+/// KHR_texture_transform's rotation turns as the extension's matrix says:
+/// R = [[cos, sin], [−sin, cos]] on (u, v), so a quarter turn with an
+/// offset of (0, 1) reads v' = 1 − u. The emissive map (1 × 8 texels) gives
+/// off blue 255 in its top half (v' < ½) and none below: at u = ⅛, ⅜, ⅝, ⅞
+/// it reads v' = ⅞, ⅝, ⅜, ⅛, so 0, 0, 255, 255. (The opposite turn, the
+/// one relief used to make, reads v' = 1 + u: 255, 255, 0, 0.)
+#[test]
+fn a_quarter_turn_reads_the_texels_the_extension_names() {
+    let top = png(1, 8, |_, y| [0, 0, if y < 4 { 255 } else { 0 }, 255]);
+    let material = r#"{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},"emissiveFactor":[1,1,1],"emissiveTexture":{"index":1,"extensions":{"KHR_texture_transform":{"rotation":1.5707963,"offset":[0,1]}}}}"#;
+    let path = two_set_gltf("quarter-turn", &[QUAD_UV], material, &[red_green(), top]);
+    let p = quarter_pixels(&path);
+    assert_eq!(p.map(|c| c[2]), [0, 0, 255, 255], "{p:?}");
+}

@@ -252,9 +252,11 @@ fn source(wrap: WrappingMode, i: usize, n: usize) -> usize {
     }
 }
 
-/// `KHR_texture_transform`'s matrix (offset · rotation · scale, the
-/// rotation counter-clockwise in UV space as the extension writes it) and
-/// its texCoord override. Missing or malformed numbers keep their defaults.
+/// `KHR_texture_transform`'s matrix (offset · rotation · scale) and its
+/// texCoord override. Missing or malformed numbers keep their defaults.
+/// The rotation is the extension's matrix R = [[cos, sin], [−sin, cos]] on
+/// the column (u, v): with v pointing down the picture, the image turns
+/// clockwise as the extension says.
 pub fn transform_of(json: &::gltf::json::Value) -> (Mat3, Option<u32>) {
     let num = |v: &::gltf::json::Value| v.as_f64().map(|x| x as f32).filter(|x| x.is_finite());
     let pair = |key: &str, default: Vec2| {
@@ -268,8 +270,8 @@ pub fn transform_of(json: &::gltf::json::Value) -> (Mat3, Option<u32>) {
     let scale = pair("scale", Vec2::ONE);
     let rotation = json.get("rotation").and_then(num).unwrap_or(0.0);
     let (s, c) = rotation.sin_cos();
-    // Columns: u' = c·u − s·v + offset.x, v' = s·u + c·v + offset.y.
-    let rotate = Mat3::from_cols_array(&[c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0]);
+    // u' = c·u + s·v + offset.x, v' = −s·u + c·v + offset.y (columns below).
+    let rotate = Mat3::from_cols_array(&[c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0]);
     let m = Mat3::from_translation(offset) * rotate * Mat3::from_scale(scale);
     let set = json
         .get("texCoord")
@@ -342,17 +344,34 @@ mod tests {
 
     #[test]
     fn a_quarter_turn_maps_a_known_texel() {
-        // rotation π/2: u' = −v, v' = u; then offset (1, 0): (0.25, 0.5)
-        // reads (1 − 0.5, 0.25) = (0.5, 0.25).
+        // The extension's example: offset (0, 1), rotation π/2, scale ½
+        // reads "only the lower left quadrant of the image, rotated
+        // clockwise 90°". By hand, R = [[0, 1], [−1, 0]]: (u, v) ↦
+        // (v/2, 1 − u/2), so the corners (0,0), (1,0), (0,1), (1,1) read
+        // (0,1), (0,½), (½,1), (½,½): inside the lower left quadrant.
         let json: ::gltf::json::Value = ::gltf::json::deserialize::from_str(
-            r#"{"rotation": 1.5707964, "offset": [1, 0], "texCoord": 1}"#,
+            r#"{"rotation": 1.57079632679, "offset": [0, 1], "scale": [0.5, 0.5], "texCoord": 1}"#,
         )
         .unwrap();
         let (m, set) = transform_of(&json);
         assert_eq!(set, Some(1));
-        let uv = m.transform_point2(Vec2::new(0.25, 0.5));
+        let corners = [(0.0, 0.0, 0.0, 1.0), (1.0, 0.0, 0.0, 0.5)];
+        let corners = corners
+            .into_iter()
+            .chain([(0.0, 1.0, 0.5, 1.0), (1.0, 1.0, 0.5, 0.5)]);
+        for (u, v, wu, wv) in corners {
+            let uv = m.transform_point2(Vec2::new(u, v));
+            assert!(
+                (uv - Vec2::new(wu, wv)).abs().max_element() < 1e-6,
+                "({u}, {v}) reads {uv}"
+            );
+        }
+        // A texel off the diagonal: (0.25, 0.5) at π/2 alone is (0.5, −0.25).
+        let json: ::gltf::json::Value =
+            ::gltf::json::deserialize::from_str(r#"{"rotation": 1.5707964}"#).unwrap();
+        let uv = transform_of(&json).0.transform_point2(Vec2::new(0.25, 0.5));
         assert!(
-            (uv - Vec2::new(0.5, 0.25)).abs().max_element() < 1e-6,
+            (uv - Vec2::new(0.5, -0.25)).abs().max_element() < 1e-6,
             "{uv}"
         );
         // Scale applies first: (0.25, 0.5) scaled by (2, 4) is (0.5, 2).
