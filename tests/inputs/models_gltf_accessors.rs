@@ -309,3 +309,68 @@ fn what_is_not_drawn_is_named_in_one_line() {
     // A file with nothing left out says nothing.
     assert!(twin("skipped-none").warnings.is_empty());
 }
+
+/// COLOR_0 is linear, as glTF says: the quad of vertex colour
+/// (1, 0.5, 0.25) and no material (glTF's default: white, metal, roughness
+/// 1), seen and lit head on under a light of 2 in the model view, gives
+/// 2·base/4 = base/2 in linear light (F = F0 = base, D = 1/π, V = 1/4),
+/// encoded to sRGB once: the colour is not decoded from sRGB first.
+#[test]
+fn vertex_colours_are_linear_light() {
+    use relief::scene::model_view::{ELEVATION_DEGREES, view_axes};
+    use relief::scene::{Built, Light, ModelChoice, SceneKind, build_scene};
+    use relief::{Framebuffer, Renderer, Settings};
+    let base = [1.0f32, 0.5, 0.25];
+    let square = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
+    let colour = Acc {
+        bytes: f32s(&[base; 4]),
+        ..floats(&[base; 4])
+    };
+    let bytes = quad_glb(
+        &[
+            ("POSITION", floats(&square)),
+            ("NORMAL", floats(&UP)),
+            ("COLOR_0", colour),
+        ],
+        r#"{"mesh":0}"#,
+        "",
+    );
+    let path = write("vertex-colour", "c.glb", &bytes);
+    let texture = std::sync::Arc::new(relief::texture::procedural::brick());
+    let Ok(Built::Scene(mut scene)) =
+        build_scene(SceneKind::Cube, &ModelChoice::File(path), texture, false)
+    else {
+        panic!("not a scene");
+    };
+    let [_, _, back] = view_axes();
+    scene.lights = vec![Light::new(back * 1e4, Vec3::splat(2.0))];
+    scene.ambient = Vec3::ZERO;
+    let settings = Settings {
+        rotation: Vec3::new(-ELEVATION_DEGREES, 0.0, 0.0),
+        tone_map: relief::settings::ToneMap::None,
+        ..Settings::default()
+    };
+    let mut fb = Framebuffer::new(120, 90);
+    Renderer::new().render(&scene, &settings, &mut fb);
+    let got = fb.pixels()[45 * 120 + 60];
+    let srgb8 = |x: f32| {
+        let e = if x <= 0.003_130_8 {
+            12.92 * x
+        } else {
+            1.055 * x.powf(1.0 / 2.4) - 0.055
+        };
+        (e.clamp(0.0, 1.0) * 255.0 + 0.5) as i32
+    };
+    for k in 0..3 {
+        let want = srgb8(base[k] / 2.0);
+        assert!(
+            (got[k] as i32 - want).abs() <= 1,
+            "{got:?}: channel {k} want {want}"
+        );
+    }
+}
