@@ -183,11 +183,14 @@ pub fn build_scene_noting(
             // file that cannot be opened is said as for every format.
             ModelChoice::File(path) if super::gltf::is_gltf(path) => {
                 super::model_io::check_openable(path)?;
+                let model = super::gltf::load(path)?;
+                let notes = LoadedNotes {
+                    warnings: model.warnings.clone(),
+                    points: false,
+                };
                 (
-                    Built::Scene(Box::new(
-                        Scene::gltf(super::gltf::load(path)?, texture).into_model_view(),
-                    )),
-                    LoadedNotes::default(),
+                    Built::Scene(Box::new(Scene::gltf(model, texture).into_model_view())),
+                    notes,
                 )
             }
             _ => {

@@ -185,10 +185,13 @@ impl BytesModel {
     pub fn into_scene(self, texture: Arc<Texture>) -> (Scene, LoadedNotes) {
         match self {
             // A model read from bytes is a model file: the model view.
-            BytesModel::Gltf(model) => (
-                Scene::gltf(model, texture).into_model_view(),
-                LoadedNotes::default(),
-            ),
+            BytesModel::Gltf(model) => {
+                let notes = LoadedNotes {
+                    warnings: model.warnings.clone(),
+                    points: false,
+                };
+                (Scene::gltf(model, texture).into_model_view(), notes)
+            }
             BytesModel::Parts(model) => {
                 let notes = LoadedNotes {
                     warnings: model.warnings.clone(),

@@ -306,6 +306,9 @@ pub fn bilinear<const COLOR: bool, const GRADIENT: bool>(
     u: f32x8,
     v: f32x8,
 ) -> TexelPacket {
+    if !level.wrap.repeats() {
+        return bilinear_wrapped::<COLOR, GRADIENT>(level, u, v);
+    }
     let (w, h) = (level.width, level.height);
     let (xi, fx, x_inside) = axis(u, w);
     let (yi, fy, y_inside) = axis(v, h);
@@ -328,6 +331,42 @@ pub fn bilinear<const COLOR: bool, const GRADIENT: bool>(
         fv = (north - south) * half * f32x8::splat(h as f32);
     }
     TexelPacket { color, fu, fv }
+}
+
+/// `bilinear` on a level that does not repeat on both axes (a model's
+/// clamped or mirrored map): each lane read by the one-pixel read, so both
+/// give the same bits.
+#[inline(never)]
+fn bilinear_wrapped<const COLOR: bool, const GRADIENT: bool>(
+    level: &Level,
+    u: f32x8,
+    v: f32x8,
+) -> TexelPacket {
+    let (u, v) = (u.to_array(), v.to_array());
+    /// One lane's colour and height gradient.
+    type Read = ([f32; 4], (f32, f32));
+    let reads: [Read; LANES] = std::array::from_fn(|i| {
+        if GRADIENT {
+            level.bilinear_with_gradient(u[i], v[i])
+        } else {
+            (level.bilinear(u[i], v[i]), (0.0, 0.0))
+        }
+    });
+    let lane = |f: &dyn Fn(&Read) -> f32| f32x8::new(reads.each_ref().map(f));
+    let color = if COLOR {
+        V3 {
+            x: lane(&|r| r.0[0]),
+            y: lane(&|r| r.0[1]),
+            z: lane(&|r| r.0[2]),
+        }
+    } else {
+        V3::splat(Vec3::ZERO)
+    };
+    TexelPacket {
+        color,
+        fu: lane(&|r| r.1.0),
+        fv: lane(&|r| r.1.1),
+    }
 }
 
 /// Every lane's bilinear colour and its four bilinear heights, from

@@ -75,6 +75,7 @@ impl Environment {
         Environment::from_texture(Texture::new(
             name,
             Level {
+                wrap: Default::default(),
                 width,
                 height,
                 texels: texels.into(),

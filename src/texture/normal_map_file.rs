@@ -78,7 +78,7 @@ pub fn decode_level(level: &Level) -> NormalMap {
         let t = level.texels.at(i);
         decode_texel([t[0], t[1], t[2]])
     });
-    NormalMap::from_normals(level.width, level.height, 1.0, normals)
+    NormalMap::from_normals(level.width, level.height, 1.0, normals).with_wrap(level.wrap)
 }
 
 /// A normal map as 8-bit RGB rows, top row first (what a file holds).
@@ -200,7 +200,7 @@ pub(crate) fn tilt(map: &NormalMap, factor: f32) -> NormalMap {
             [0.0, 0.0, 1.0]
         }
     });
-    NormalMap::from_normals(map.width, map.height, factor, normals)
+    NormalMap::from_normals(map.width, map.height, factor, normals).with_wrap(map.wrap)
 }
 
 #[cfg(test)]

@@ -31,6 +31,7 @@ pub fn grey(texture: &Texture) -> Level {
         ),
     };
     Level {
+        wrap: Default::default(),
         width: base.width,
         height: base.height,
         texels,

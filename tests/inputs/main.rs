@@ -9,6 +9,7 @@ mod hostile;
 mod models;
 mod models_formats;
 mod models_gltf;
+mod models_gltf_accessors;
 mod models_gltf_blend;
 mod models_gltf_hostile;
 mod models_props;

@@ -1222,3 +1222,60 @@ fn a_normal_map_on_the_second_set_takes_its_tangents_from_it() {
         }
     }
 }
+
+/// KHR_texture_transform's rotation turns as the extension's matrix says:
+/// R = [[cos, sin], [−sin, cos]] on (u, v), so a quarter turn with an
+/// offset of (0, 1) reads v' = 1 − u. The emissive map (1 × 8 texels) gives
+/// off blue 255 in its top half (v' < ½) and none below: at u = ⅛, ⅜, ⅝, ⅞
+/// it reads v' = ⅞, ⅝, ⅜, ⅛, so 0, 0, 255, 255. (The opposite turn, the
+/// one relief used to make, reads v' = 1 + u: 255, 255, 0, 0.)
+#[test]
+fn a_quarter_turn_reads_the_texels_the_extension_names() {
+    let top = png(1, 8, |_, y| [0, 0, if y < 4 { 255 } else { 0 }, 255]);
+    let material = r#"{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}},"emissiveFactor":[1,1,1],"emissiveTexture":{"index":1,"extensions":{"KHR_texture_transform":{"rotation":1.5707963,"offset":[0,1]}}}}"#;
+    let path = two_set_gltf("quarter-turn", &[QUAD_UV], material, &[red_green(), top]);
+    let p = quarter_pixels(&path);
+    assert_eq!(p.map(|c| c[2]), [0, 0, 255, 255], "{p:?}");
+}
+
+/// CLAMP_TO_EDGE reads the edge texel however far the coordinate is: a
+/// texture red in its left half and green in its right, on a quad whose u
+/// runs from −3 to 4, is red for every u below ½ and green above, at
+/// u = −2.5, −1 and 2, 3.5 too (where a map laid out twice as large with
+/// its edges repeated again: −1 read green, 2 and 3.5 red).
+#[test]
+fn clamp_to_edge_is_exact_at_any_distance() {
+    let picture = |wrap: &str| {
+        let mut q = quad(-1.0, 1.0, -0.5, 0.5, -3.0, 4.0);
+        q.material = Some(0);
+        let mut doc = Doc::new(vec![q]);
+        doc.materials = r#"[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}]"#.into();
+        doc.images = vec![red_green()];
+        doc.sampler = Some(format!(r#"{{"magFilter":9728,"minFilter":9728,{wrap}}}"#));
+        let path = write("clamp", "far.glb", &encode(&doc));
+        let mut scene = scene_of(load_ok(&path));
+        light_on_seam(&mut scene);
+        let fb = render(&scene, &face_on());
+        let half = projected_half_width(&scene);
+        let x = move |u: f32| (W as f32 / 2.0 - half + (u + 3.0) / 7.0 * 2.0 * half) as usize;
+        move |u: f32| px(&fb, x(u), H / 2)
+    };
+    let red = |c: [u8; 3]| c[0] > 0 && c[1] == 0;
+    let green = |c: [u8; 3]| c[1] > 0 && c[0] == 0;
+    let at = picture(r#""wrapS":33071,"wrapT":33071"#);
+    for u in [-2.5, -1.0, 0.25] {
+        assert!(red(at(u)), "u = {u}: {:?}", at(u));
+    }
+    for u in [0.75, 2.0, 3.5] {
+        assert!(green(at(u)), "u = {u}: {:?}", at(u));
+    }
+    // S repeating beside a clamped T: u = −2.75 and 2.25 read ¼ (red),
+    // −0.25 and 3.75 read ¾ (green).
+    let at = picture(r#""wrapS":10497,"wrapT":33071"#);
+    for u in [-2.75, 2.25] {
+        assert!(red(at(u)), "repeat u = {u}: {:?}", at(u));
+    }
+    for u in [-0.25, 3.75] {
+        assert!(green(at(u)), "repeat u = {u}: {:?}", at(u));
+    }
+}

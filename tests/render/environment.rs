@@ -168,6 +168,7 @@ fn grid_env() -> Environment {
     Environment::from_texture(Texture::new(
         "grid",
         Level {
+            wrap: Default::default(),
             width: w,
             height: h,
             texels,

@@ -412,6 +412,7 @@ fn tiny_and_odd_textures_render() {
         let tex = Texture::new(
             "odd",
             Level {
+                wrap: Default::default(),
                 width: w,
                 height: h,
                 texels,

@@ -271,6 +271,7 @@ fn ramp_scene() -> Scene {
         .map(|i| [0.8, 0.8, 0.8, ((i % w) as f32 + 0.5) / w as f32])
         .collect();
     let level = relief::texture::Level {
+        wrap: Default::default(),
         width: w,
         height: 4,
         texels,

@@ -73,6 +73,7 @@ fn small_brick(side: usize) -> Arc<Texture> {
     Arc::new(Texture::new(
         "brick 16",
         Level {
+            wrap: Default::default(),
             width: side,
             height: side,
             texels: texels.into(),

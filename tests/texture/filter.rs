@@ -25,6 +25,7 @@ fn close(a: [f32; 4], b: [f32; 4]) -> bool {
 /// A level from grey values (RGB = height = v), row v = 0 (the picture's top) first.
 fn grey(width: usize, height: usize, values: &[f32]) -> Level {
     Level {
+        wrap: Default::default(),
         width,
         height,
         texels: values.iter().map(|&v| [v, v, v, v]).collect(),

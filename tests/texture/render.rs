@@ -79,6 +79,7 @@ fn the_chain_is_built_only_for_minified_textures() {
     let small = Arc::new(Texture::new(
         "96",
         relief::texture::Level {
+            wrap: Default::default(),
             width: 96,
             height: 96,
             texels: texels.into(),
@@ -134,6 +135,7 @@ fn texture_mapping_is_perspective_correct_across_both_triangles() {
     // of ½ under the same light: the ratio of the two frames is u.
     let ramp = (0..256).map(|x| [(x as f32 + 0.5) / 512.0; 4]).collect();
     let level = |texels| relief::texture::Level {
+        wrap: Default::default(),
         width: 256,
         height: 1,
         texels,
@@ -227,6 +229,7 @@ fn whole_number_uv_shifts_change_no_mip_filtered_pixel() {
     let noise = Arc::new(Texture::new(
         "noise",
         relief::texture::Level {
+            wrap: Default::default(),
             width: 256,
             height: 256,
             texels: noise.into(),

@@ -275,6 +275,7 @@ mod tests {
     #[test]
     fn the_relief_of_a_constant_height_is_met_at_its_depth() {
         let level = Level {
+            wrap: Default::default(),
             width: 4,
             height: 4,
             texels: vec![[0.5, 0.5, 0.5, 0.5]; 16].into(),
@@ -320,6 +321,7 @@ mod tests {
     #[test]
     fn a_plain_face_head_on_is_the_lighting_formula() {
         let level = Level {
+            wrap: Default::default(),
             width: 4,
             height: 4,
             texels: vec![[0.8, 0.6, 0.4, 0.5]; 16].into(),

@@ -23,9 +23,7 @@ use crate::scene::Material;
 use crate::scene::terms::{Cutout, MaterialTerms, PbrMaterial};
 use crate::texture::decode::size_cap;
 use crate::texture::load::load_texture_from_bytes;
-use crate::texture::normal_map_file::{
-    FileNormalMap, decode_level, load_normal_map_from_bytes, tilt,
-};
+use crate::texture::normal_map_file::{FileNormalMap, tilt};
 use crate::texture::{Level, Texture};
 
 /// What a primitive takes from its material.
@@ -106,7 +104,7 @@ impl<'a> Materials<'a> {
         self.decode_ahead(m);
         let pbr = m.pbr_metallic_roughness();
         let reading = Reading::of(m);
-        // Each map laid out for its own sampler's wrap modes.
+        // Each map read with its own sampler's wrap modes.
         let maps = maps_of(m);
         let read = |kind: Kind| {
             maps.iter()
@@ -139,15 +137,14 @@ impl<'a> Materials<'a> {
                 let image = info.texture().source();
                 let name = self.image_name(&image);
                 let reading = read(Kind::Normal);
-                let map = if reading.lays_out() {
-                    let t = self.decode(&info.texture(), &reading)?.texture;
-                    FileNormalMap::new(name.clone(), decode_level(t.base()))
-                } else if let Some(t) = self.take_ready(&image) {
-                    FileNormalMap::from_texture(t).map_err(|e| e.to_string())?
-                } else {
-                    let bytes = self.image_bytes(&image)?;
-                    load_normal_map_from_bytes(&name, &bytes).map_err(|e| e.to_string())?
+                let wrap = reading.wrap();
+                let texture = match self.take_ready(&image) {
+                    Some(t) => t,
+                    None => load_texture_from_bytes(&name, &self.image_bytes(&image)?)
+                        .map_err(|e| e.to_string())?,
                 };
+                let map = FileNormalMap::from_texture(texture.with_wrap(wrap))
+                    .map_err(|e| e.to_string())?;
                 Some(Arc::new(if info.scale() == 1.0 {
                     map
                 } else {
@@ -169,6 +166,7 @@ impl<'a> Materials<'a> {
         // The highlight's map where the material is not shaded physically.
         let specular_map = match &metal_rough {
             Some(base) => Level {
+                wrap: base.wrap,
                 width: base.width,
                 height: base.height,
                 texels: base
@@ -255,7 +253,7 @@ impl<'a> Materials<'a> {
         })
     }
 
-    /// A texture's image decoded, laid out for the material's wrap modes.
+    /// A texture's image decoded, read with the map's wrap modes.
     fn decode(&self, texture: &::gltf::Texture, reading: &Reading) -> Result<Decoded, Problem> {
         let image = texture.source();
         let name = self.image_name(&image);
@@ -265,25 +263,10 @@ impl<'a> Materials<'a> {
             Some(t) => t,
             None => load_texture_from_bytes(&name, &bytes).map_err(|e| e.to_string())?,
         };
-        if !reading.lays_out() {
-            return Ok(Decoded {
-                texture: decoded,
-                has_alpha,
-            });
-        }
-        let base = decoded.base();
-        // Read as f32 (the wrapped layout's copy keeps the decoded values).
-        let source: Vec<[f32; 4]> = base.texels.iter().collect();
-        let (width, height, texels) = reading.lay_out(base.width, base.height, &source);
-        let bytes = crate::budget::texture_bytes(width as u64, height as u64);
-        let held = crate::budget::reserve(&name, bytes).map_err(|e| e.to_string())?;
-        let level = Level {
-            width,
-            height,
-            texels: texels.into(),
-        };
+        // The sampler's wrap modes are read where the map is addressed:
+        // the map is kept at its own size.
         Ok(Decoded {
-            texture: Texture::new(name, level).holding(held),
+            texture: decoded.with_wrap(reading.wrap()),
             has_alpha,
         })
     }
@@ -416,6 +399,7 @@ fn has_alpha(bytes: &[u8]) -> bool {
 /// A level's alpha as opacity in every channel.
 fn alpha_of(level: &Level) -> Level {
     Level {
+        wrap: level.wrap,
         width: level.width,
         height: level.height,
         texels: level.texels.iter().map(|t| [t[3]; 4]).collect(),

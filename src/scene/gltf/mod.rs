@@ -12,9 +12,11 @@
 //! - each glTF material becomes one relief material (`material`), shared
 //!   by the objects that use it.
 
+mod accessor;
 mod data;
 mod material;
 mod sampling;
+mod skipped;
 mod tangent;
 mod validate;
 
@@ -42,7 +44,7 @@ use validate::Role;
 
 /// Extensions a file may require that relief draws; any other required
 /// one is refused.
-const SUPPORTED_REQUIRED: &[&str] = &["KHR_materials_emissive_strength", "KHR_texture_transform"];
+const SUPPORTED_REQUIRED: &[&str] = skipped::READ;
 
 /// Deepest node hierarchy walked (a file with a cycle would never end).
 const MAX_DEPTH: usize = 64;
@@ -67,6 +69,8 @@ pub struct Model {
     pub parts: Vec<Part>,
     /// Its points and lines primitives, fitted with the parts.
     pub strokes: Strokes,
+    /// What the file has that is not drawn (one line each, safe to print).
+    pub warnings: Vec<String>,
 }
 
 impl Scene {
@@ -123,6 +127,9 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
         held.extend(h);
     }
     let instances = instances(&document)?;
+    let quantized = document
+        .extensions_used()
+        .any(|e| e == "KHR_mesh_quantization");
     // What is built is reserved step by step, before it is allocated.
     let mut model =
         crate::budget::reserve(&format!("model {name}"), 0).map_err(|e| e.to_string())?;
@@ -133,7 +140,7 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
             let place = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
             prims.push(read_primitive(
                 &prim,
-                *world,
+                (*world, quantized),
                 &buffers,
                 &place,
                 (name, &mut model),
@@ -175,7 +182,12 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
     if parts.is_empty() && strokes.is_empty() {
         return Err("it has no triangle with an area".into());
     }
-    Ok(Model { parts, strokes })
+    let warnings = skipped::note(name, &document).into_iter().collect();
+    Ok(Model {
+        parts,
+        strokes,
+        warnings,
+    })
 }
 
 /// The parser's complaint, without its internals: the JSON line and
@@ -307,15 +319,17 @@ fn hold(held: &mut Reservation, name: &str, what: &str, bytes: u64) -> Result<()
 fn check_accessor(
     acc: &Accessor,
     buffers: &[Vec<u8>],
-    role: Role,
+    (role, quantized): (Role, bool),
     place: &str,
 ) -> Result<(), Problem> {
     let path = format!("accessors[{}] ({} of {place})", acc.index(), role.name());
-    validate::check_kind(acc, role, &path)?;
-    if acc.sparse().is_some() {
-        return Err(format!("{path}: sparse accessors are not read"));
-    }
+    validate::check_kind(acc, role, quantized, &path)?;
+    accessor::check_sparse(acc, buffers, &path)?;
     let Some(view) = acc.view() else {
+        // A sparse accessor without one starts from zeros.
+        if acc.sparse().is_some() {
+            return Ok(());
+        }
         return Err(format!("{path}: it has no bufferView"));
     };
     let have = buffers.get(view.buffer().index()).map_or(0, |b| b.len()) as u64;
@@ -349,7 +363,7 @@ fn check_accessor(
 
 fn read_primitive(
     prim: &::gltf::Primitive,
-    world: Mat4,
+    (world, quantized): (Mat4, bool),
     buffers: &[Vec<u8>],
     place: &str,
     (name, held): (&str, &mut Reservation),
@@ -364,24 +378,30 @@ fn read_primitive(
         _ => None,
     };
     for (semantic, acc) in prim.attributes() {
-        check_accessor(&acc, buffers, Role::Attribute(&semantic), place)?;
+        check_accessor(
+            &acc,
+            buffers,
+            (Role::Attribute(&semantic), quantized),
+            place,
+        )?;
     }
     if let Some(acc) = prim.indices() {
-        check_accessor(&acc, buffers, Role::Indices, place)?;
+        check_accessor(&acc, buffers, (Role::Indices, quantized), place)?;
     }
     let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
     let unreadable = |what: &str| format!("{place}: its {what} cannot be read");
-    let positions = reader
-        .read_positions()
-        .ok_or_else(|| unreadable("POSITION"))?;
-    let n = positions.len();
+    // Positions, normals, tangents and texture coordinates of any
+    // component type (KHR_mesh_quantization), sparse or not.
+    let floats = |semantic: Semantic| prim.get(&semantic).map(|a| accessor::floats(&a, buffers));
+    let positions = floats(Semantic::Positions).ok_or_else(|| unreadable("POSITION"))?;
+    let n = prim.get(&Semantic::Positions).map_or(0, |a| a.count());
     let material = prim.material();
     let sets = sampling::Sets::of(&material);
     let reading = sets.first;
     hold(held, name, "the vertices", bytes_of::<Vertex>(n as u64))?;
     let mut vertices = vec![BLANK; n];
     for (k, (v, p)) in vertices.iter_mut().zip(positions).enumerate() {
-        let p = Vec3::from(p);
+        let p = Vec4::from(p).truncate();
         if !p.is_finite() {
             return Err(format!("{place}: POSITION {k} is not a finite number"));
         }
@@ -407,25 +427,22 @@ fn read_primitive(
             return Err(format!("{place}: {len} {what} for {n} positions"));
         }
     }
-    let normals = reader.read_normals();
+    let normals = floats(Semantic::Normals);
     let has_normals = normals.is_some();
     for (v, nrm) in vertices.iter_mut().zip(normals.into_iter().flatten()) {
-        v.normal = Vec3::from(nrm);
+        v.normal = Vec4::from(nrm).truncate();
     }
-    let uvs = reader.read_tex_coords(reading.set);
+    let uvs = floats(Semantic::TexCoords(reading.set));
     let has_uvs = uvs.is_some();
-    for (v, uv) in vertices
-        .iter_mut()
-        .zip(uvs.into_iter().flat_map(|r| r.into_f32()))
-    {
-        v.uv = reading.uv(Vec2::from(uv));
+    for (v, uv) in vertices.iter_mut().zip(uvs.into_iter().flatten()) {
+        v.uv = reading.uv(Vec2::new(uv[0], uv[1]));
     }
     // The second set, read only when a map reads it (and the primitive
     // draws triangles): one array of exactly one per vertex.
     let second = sets
         .second
         .filter(|_| stroke.is_none())
-        .and_then(|r| Some((r, reader.read_tex_coords(r.set)?)));
+        .and_then(|r| Some((r, floats(Semantic::TexCoords(r.set))?)));
     let uv2 = match second {
         Some((r, coords)) => {
             hold(
@@ -435,7 +452,7 @@ fn read_primitive(
                 bytes_of::<Vec2>(n as u64),
             )?;
             let mut uv2 = Vec::with_capacity(n);
-            uv2.extend(coords.into_f32().map(|uv| r.uv(Vec2::from(uv))));
+            uv2.extend(coords.map(|uv| r.uv(Vec2::new(uv[0], uv[1]))));
             uv2
         }
         None => Vec::new(),
@@ -447,7 +464,7 @@ fn read_primitive(
     }
     let linear = Mat3::from_mat4(world);
     // The file's tangents, with its own normals, as texture axes.
-    let tangents = reader.read_tangents().filter(|_| has_normals);
+    let tangents = floats(Semantic::Tangents).filter(|_| has_normals);
     let has_axes = tangents.is_some() && stroke.is_none();
     if has_axes {
         for (v, t) in vertices.iter_mut().zip(tangents.into_iter().flatten()) {

@@ -1,9 +1,10 @@
 //! How a glTF material's textures are read (docs/models.md): the UV set,
 //! `KHR_texture_transform` and the sampler's wrap modes and filters.
 //!
-//! relief's textures always repeat, so each map is laid out for its own
-//! wrap modes when loading; its coordinate is its set through its texture
-//! transform and the layout's halving, one affine matrix (`Reading::matrix`):
+//! Each map is read with its sampler's wrap modes (repeat, mirrored
+//! repeat, clamp to edge: `texture::sample::wrap`, in the addressing, so
+//! no map is laid out larger than it is); its coordinate is its set
+//! through its texture transform, one affine matrix (`Reading::matrix`):
 //! - the material's first texture (base colour, else normal, occlusion,
 //!   emissive, metallic-roughness) decides the set stored in the vertices'
 //!   UVs, and its matrix is applied to them when loading (interpolating
@@ -14,18 +15,13 @@
 //! - a map whose matrix differs from its stored set's applies the rest
 //!   (its matrix after the inverse of the set's) where it is sampled
 //!   (`scene::map_uv`); a third set is not stored: its maps read the first;
-//! - MIRRORED_REPEAT on an axis doubles the image there with its mirror
-//!   image and halves that coordinate: repeating the doubled image is the
-//!   mirrored repeat of the original, texel for texel;
-//! - CLAMP_TO_EDGE doubles it with copies of the edge texels (half the
-//!   width each side) and halves the coordinate: exact for coordinates
-//!   within half the texture of its edges, repeating further out;
 //! - the filters become the material's filter (`MaterialTerms::filter`).
 
 use glam::{Affine2, Mat3, Vec2};
 
 use crate::scene::map_uv::{MapUv, MapUvs};
 use crate::settings::Filter;
+use crate::texture::level::{Wrap, WrapMode};
 use ::gltf::texture::{MagFilter, MinFilter, WrappingMode};
 
 /// How a material's textures are read.
@@ -127,52 +123,25 @@ impl Reading {
         }
     }
 
-    /// The matrix from a coordinate of the set to the laid-out map's: the
-    /// texture transform, then the layout's halving on each axis that
-    /// does not repeat.
+    /// The matrix from a coordinate of the set to the map's: the texture
+    /// transform.
     pub fn matrix(&self) -> Mat3 {
-        let half = |w: WrappingMode| if w == WrappingMode::Repeat { 1.0 } else { 0.5 };
-        Mat3::from_scale(Vec2::new(half(self.wrap[0]), half(self.wrap[1]))) * self.transform
+        self.transform
     }
 
-    /// A vertex's texture coordinate as relief reads the laid-out map.
+    /// A vertex's texture coordinate as relief reads the map.
     pub fn uv(&self, uv: Vec2) -> Vec2 {
-        let t = self.transform.transform_point2(uv);
-        let half = |w: WrappingMode| if w == WrappingMode::Repeat { 1.0 } else { 0.5 };
-        Vec2::new(t.x * half(self.wrap[0]), t.y * half(self.wrap[1]))
+        self.transform.transform_point2(uv)
     }
 
-    /// Whether the maps are laid out anew (a wrap mode other than REPEAT).
-    pub fn lays_out(&self) -> bool {
-        self.wrap != [WrappingMode::Repeat; 2]
-    }
-
-    /// An image of `width` × `height` items, rows top first, laid out for
-    /// the wrap modes: doubled along each axis that does not repeat.
-    pub fn lay_out<T: Copy>(
-        &self,
-        width: usize,
-        height: usize,
-        items: &[T],
-    ) -> (usize, usize, Vec<T>) {
-        let w2 = if self.wrap[0] == WrappingMode::Repeat {
-            width
-        } else {
-            2 * width
+    /// The sampler's wrap modes as the texture reads them.
+    pub fn wrap(&self) -> Wrap {
+        let mode = |w: WrappingMode| match w {
+            WrappingMode::Repeat => WrapMode::Repeat,
+            WrappingMode::MirroredRepeat => WrapMode::MirroredRepeat,
+            WrappingMode::ClampToEdge => WrapMode::ClampToEdge,
         };
-        let h2 = if self.wrap[1] == WrappingMode::Repeat {
-            height
-        } else {
-            2 * height
-        };
-        let mut out = Vec::with_capacity(w2 * h2);
-        for y in 0..h2 {
-            let sy = source(self.wrap[1], y, height);
-            for x in 0..w2 {
-                out.push(items[sy * width + source(self.wrap[0], x, width)]);
-            }
-        }
-        (w2, h2, out)
+        Wrap::new(mode(self.wrap[0]), mode(self.wrap[1]))
     }
 }
 
@@ -237,24 +206,11 @@ fn relative(r: &Reading, stored: &Reading) -> Option<Affine2> {
     rest.is_finite().then(|| Affine2::from_mat3(rest))
 }
 
-/// The source index of item `i` of an axis laid out for `wrap` (`n` items
-/// in the source).
-fn source(wrap: WrappingMode, i: usize, n: usize) -> usize {
-    match wrap {
-        WrappingMode::Repeat => i,
-        _ if i < n => i,
-        // The mirror image: item n is item n − 1, 2n − 1 is item 0.
-        WrappingMode::MirroredRepeat => 2 * n - 1 - i,
-        // The edges: the last item for the first half of the pad (past the
-        // far edge), the first for the second (before the near edge, wrapped).
-        _ if i < n + n.div_ceil(2) => n - 1,
-        _ => 0,
-    }
-}
-
-/// `KHR_texture_transform`'s matrix (offset · rotation · scale, the
-/// rotation counter-clockwise in UV space as the extension writes it) and
-/// its texCoord override. Missing or malformed numbers keep their defaults.
+/// `KHR_texture_transform`'s matrix (offset · rotation · scale) and its
+/// texCoord override. Missing or malformed numbers keep their defaults.
+/// The rotation is the extension's matrix R = [[cos, sin], [−sin, cos]] on
+/// the column (u, v): with v pointing down the picture, the image turns
+/// clockwise as the extension says.
 pub fn transform_of(json: &::gltf::json::Value) -> (Mat3, Option<u32>) {
     let num = |v: &::gltf::json::Value| v.as_f64().map(|x| x as f32).filter(|x| x.is_finite());
     let pair = |key: &str, default: Vec2| {
@@ -268,8 +224,8 @@ pub fn transform_of(json: &::gltf::json::Value) -> (Mat3, Option<u32>) {
     let scale = pair("scale", Vec2::ONE);
     let rotation = json.get("rotation").and_then(num).unwrap_or(0.0);
     let (s, c) = rotation.sin_cos();
-    // Columns: u' = c·u − s·v + offset.x, v' = s·u + c·v + offset.y.
-    let rotate = Mat3::from_cols_array(&[c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0]);
+    // u' = c·u + s·v + offset.x, v' = −s·u + c·v + offset.y (columns below).
+    let rotate = Mat3::from_cols_array(&[c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0]);
     let m = Mat3::from_translation(offset) * rotate * Mat3::from_scale(scale);
     let set = json
         .get("texCoord")
@@ -306,53 +262,68 @@ mod tests {
         }
     }
 
-    /// The item of a laid-out axis at coordinate u (nearest, repeating).
-    fn at(items: &[u32], u: f32) -> u32 {
-        let n = items.len() as f32;
-        items[((u.rem_euclid(1.0) * n).floor() as usize).min(items.len() - 1)]
+    /// The texel a nearest read of a 4 × 1 level, read with `r`'s wrap
+    /// modes, gives at u.
+    fn at(r: &Reading, u: f32) -> u32 {
+        let row = [10.0, 11.0, 12.0, 13.0].map(|x| [x / 100.0; 4]);
+        let level = crate::texture::Level::from_texels(4, 1, row.to_vec()).with_wrap(r.wrap());
+        (level.nearest(r.uv(Vec2::new(u, 0.0)).x, 0.5)[0] * 100.0).round() as u32
     }
 
     #[test]
     fn mirrored_repeat_at_1_25_reads_0_75() {
         let r = reading(WrappingMode::MirroredRepeat, WrappingMode::Repeat);
-        let row = [10, 11, 12, 13];
-        let (w, h, laid) = r.lay_out(4, 1, &row);
-        assert_eq!((w, h), (8, 1));
-        assert_eq!(laid, [10, 11, 12, 13, 13, 12, 11, 10]);
         // The mirror image of u in 1..2 is 2 − u: u = 1.25 + 0.01 reads
         // 0.75 − 0.01 (texel 2), 1.875 + 0.01 reads 0.115 (texel 0),
         // −0.24 reads 0.24 (texel 0), and 0.31 is itself (texel 1).
         for (u, want) in [(1.26, 12), (1.885, 10), (-0.24, 10), (0.31, 11)] {
-            assert_eq!(at(&laid, r.uv(Vec2::new(u, 0.0)).x), want, "u = {u}");
-            let mirrored = if u > 1.0 { 2.0 - u } else { u.abs() };
-            assert_eq!(at(&row, mirrored), want, "u = {u}");
+            assert_eq!(at(&r, u), want, "u = {u}");
         }
     }
 
     #[test]
     fn clamp_to_edge_reads_the_edge_texels_past_the_edges() {
         let r = reading(WrappingMode::ClampToEdge, WrappingMode::Repeat);
-        let row = [10, 11, 12, 13];
-        let (_, _, laid) = r.lay_out(4, 1, &row);
-        assert_eq!(laid, [10, 11, 12, 13, 13, 13, 10, 10]);
-        for (u, want) in [(1.2, 13), (1.45, 13), (-0.2, 10), (-0.45, 10), (0.6, 12)] {
-            assert_eq!(at(&laid, r.uv(Vec2::new(u, 0.0)).x), want, "u = {u}");
+        // Within half the map of its edges and far beyond (where the
+        // doubled layout used to repeat): the edge texel.
+        for (u, want) in [(1.2, 13), (1.45, 13), (1.7, 13), (9.5, 13), (-0.2, 10)] {
+            assert_eq!(at(&r, u), want, "u = {u}");
+        }
+        for (u, want) in [(-0.45, 10), (-0.8, 10), (-12.0, 10), (0.6, 12)] {
+            assert_eq!(at(&r, u), want, "u = {u}");
         }
     }
 
     #[test]
     fn a_quarter_turn_maps_a_known_texel() {
-        // rotation π/2: u' = −v, v' = u; then offset (1, 0): (0.25, 0.5)
-        // reads (1 − 0.5, 0.25) = (0.5, 0.25).
+        // The extension's example: offset (0, 1), rotation π/2, scale ½
+        // reads "only the lower left quadrant of the image, rotated
+        // clockwise 90°". By hand, R = [[0, 1], [−1, 0]]: (u, v) ↦
+        // (v/2, 1 − u/2), so the corners (0,0), (1,0), (0,1), (1,1) read
+        // (0,1), (0,½), (½,1), (½,½): inside the lower left quadrant.
         let json: ::gltf::json::Value = ::gltf::json::deserialize::from_str(
-            r#"{"rotation": 1.5707964, "offset": [1, 0], "texCoord": 1}"#,
+            r#"{"rotation": 1.57079632679, "offset": [0, 1], "scale": [0.5, 0.5], "texCoord": 1}"#,
         )
         .unwrap();
         let (m, set) = transform_of(&json);
         assert_eq!(set, Some(1));
-        let uv = m.transform_point2(Vec2::new(0.25, 0.5));
+        let corners = [(0.0, 0.0, 0.0, 1.0), (1.0, 0.0, 0.0, 0.5)];
+        let corners = corners
+            .into_iter()
+            .chain([(0.0, 1.0, 0.5, 1.0), (1.0, 1.0, 0.5, 0.5)]);
+        for (u, v, wu, wv) in corners {
+            let uv = m.transform_point2(Vec2::new(u, v));
+            assert!(
+                (uv - Vec2::new(wu, wv)).abs().max_element() < 1e-6,
+                "({u}, {v}) reads {uv}"
+            );
+        }
+        // A texel off the diagonal: (0.25, 0.5) at π/2 alone is (0.5, −0.25).
+        let json: ::gltf::json::Value =
+            ::gltf::json::deserialize::from_str(r#"{"rotation": 1.5707964}"#).unwrap();
+        let uv = transform_of(&json).0.transform_point2(Vec2::new(0.25, 0.5));
         assert!(
-            (uv - Vec2::new(0.5, 0.25)).abs().max_element() < 1e-6,
+            (uv - Vec2::new(0.5, -0.25)).abs().max_element() < 1e-6,
             "{uv}"
         );
         // Scale applies first: (0.25, 0.5) scaled by (2, 4) is (0.5, 2).

@@ -99,11 +99,22 @@ impl Role<'_> {
 
     /// The element kinds glTF 2.0 allows for it (§3.7.2.1, §3.7.2.2), as
     /// (dimensions, component types); None: any (relief does not read it).
-    fn allowed(self) -> Option<(&'static [Dimensions], &'static [DataType])> {
-        use DataType::{F32, U8, U16, U32};
+    fn allowed(self, quantized: bool) -> Option<(&'static [Dimensions], &'static [DataType])> {
+        use DataType::{F32, I8, I16, U8, U16, U32};
         use Dimensions::{Scalar, Vec2, Vec3, Vec4};
+        // KHR_mesh_quantization's table: positions and texture coordinates
+        // of any byte or short, normals and tangents of signed ones
+        // (normalized, checked in `check_kind`).
         Some(match self {
             Role::Indices => (&[Scalar], &[U8, U16, U32]),
+            Role::Attribute(Semantic::Positions) if quantized => {
+                (&[Vec3], &[F32, I8, U8, I16, U16])
+            }
+            Role::Attribute(Semantic::Normals) if quantized => (&[Vec3], &[F32, I8, I16]),
+            Role::Attribute(Semantic::Tangents) if quantized => (&[Vec4], &[F32, I8, I16]),
+            Role::Attribute(Semantic::TexCoords(_)) if quantized => {
+                (&[Vec2], &[F32, I8, U8, I16, U16])
+            }
             Role::Attribute(Semantic::Positions | Semantic::Normals) => (&[Vec3], &[F32]),
             Role::Attribute(Semantic::Tangents) => (&[Vec4], &[F32]),
             Role::Attribute(Semantic::TexCoords(_)) => (&[Vec2], &[F32, U8, U16]),
@@ -115,8 +126,13 @@ impl Role<'_> {
 
 /// The accessor's element kind is one glTF allows for `role`, and its
 /// view's stride holds a whole element.
-pub(super) fn check_kind(acc: &Accessor, role: Role, path: &str) -> Result<(), Problem> {
-    if let Some((dims, types)) = role.allowed()
+pub(super) fn check_kind(
+    acc: &Accessor,
+    role: Role,
+    quantized: bool,
+    path: &str,
+) -> Result<(), Problem> {
+    if let Some((dims, types)) = role.allowed(quantized)
         && !(dims.contains(&acc.dimensions()) && types.contains(&acc.data_type()))
     {
         return Err(format!(
@@ -128,6 +144,17 @@ pub(super) fn check_kind(acc: &Accessor, role: Role, path: &str) -> Result<(), P
     }
     if role == Role::Indices && acc.normalized() {
         return Err(format!("{path}: indices cannot be normalized"));
+    }
+    let directions = matches!(
+        role,
+        Role::Attribute(Semantic::Normals | Semantic::Tangents)
+    );
+    if directions && acc.data_type() != DataType::F32 && !acc.normalized() {
+        return Err(format!(
+            "{path}: {} of {} must be normalized",
+            role.name(),
+            type_name(acc.data_type())
+        ));
     }
     let size = acc.size();
     if let Some(stride) = acc.view().and_then(|v| v.stride())

@@ -200,6 +200,7 @@ pub fn with_height_map(color: Texture, height: &Texture) -> Result<Texture, Text
     Ok(Texture::new(
         name,
         Level {
+            wrap: Default::default(),
             width: w,
             height: h,
             texels,
@@ -637,6 +638,7 @@ fn level_from_rows(
         }
     }
     Level {
+        wrap: Default::default(),
         width,
         height,
         texels: Texels::F32(texels),
@@ -668,6 +670,7 @@ fn level_from_image(image: DynamicImage) -> Level {
                 Texels::Rgb8(buf.pixels().map(|p| pack_rgb8(p[0], p[1], p[2])).collect())
             };
             Level {
+                wrap: Default::default(),
                 width: w,
                 height: h,
                 texels: texels.widened_if_small(),
@@ -690,6 +693,7 @@ fn level_from_image(image: DynamicImage) -> Level {
                 })
                 .collect();
             Level {
+                wrap: Default::default(),
                 width: w,
                 height: h,
                 texels: Texels::Rgba16(texels).widened_if_small(),

@@ -2,6 +2,7 @@
 
 pub use super::texels::Texel;
 use super::texels::{Builder, Fetch, MipKind, Texels, with_fetch};
+pub use super::wrap::{Wrap, WrapMode};
 
 /// A `width × height` grid of texels, the picture's top row first: row `y`
 /// holds texture coordinate v in [y, y + 1) / height, so v = 0 is the top of
@@ -11,6 +12,9 @@ pub struct Level {
     pub width: usize,
     pub height: usize,
     pub texels: Texels,
+    /// How coordinates outside 0..1 read it, per axis (repeat unless a
+    /// model's sampler says otherwise).
+    pub wrap: Wrap,
 }
 
 /// Storage indices i − 1 ..= i + 2 of a bilinear 4-tap footprint's
@@ -90,6 +94,7 @@ impl Level {
     pub fn solid(width: usize, height: usize, texel: Texel) -> Self {
         let (width, height) = (width.max(1), height.max(1));
         Level {
+            wrap: Default::default(),
             width,
             height,
             texels: Texels::F32(vec![texel; width * height]),
@@ -100,6 +105,7 @@ impl Level {
     pub fn from_texels(width: usize, height: usize, texels: Vec<Texel>) -> Self {
         assert_eq!(texels.len(), width * height, "one texel per cell");
         Level {
+            wrap: Default::default(),
             width,
             height,
             texels: Texels::F32(texels),
@@ -118,15 +124,29 @@ impl Level {
             .map(|px| [px[0], px[1], px[2], px[3]].map(|c| c as f32 / 255.0))
             .collect();
         Level {
+            wrap: Default::default(),
             width,
             height,
             texels: Texels::F32(texels),
         }
     }
 
+    /// The level read with these wrap modes (mip levels made from it
+    /// inherit them).
+    pub fn with_wrap(mut self, wrap: Wrap) -> Self {
+        self.wrap = wrap;
+        self
+    }
+
     /// The texel at integer coordinates, wrapped.
     #[inline]
     pub fn texel(&self, x: i64, y: i64) -> Texel {
+        if !self.wrap.repeats() {
+            let x = self.wrap.s.index(x, self.width);
+            return self
+                .texels
+                .at(self.wrap.t.index(y, self.height) * self.width + x);
+        }
         self.texels
             .at(wrap(y, self.height) * self.width + wrap(x, self.width))
     }
@@ -134,6 +154,12 @@ impl Level {
     /// The texel that contains (u, v), wrapped.
     #[inline]
     pub fn nearest(&self, u: f32, v: f32) -> Texel {
+        if !self.wrap.repeats() {
+            let x = self.wrap.s.nearest(u, self.width);
+            return self
+                .texels
+                .at(self.wrap.t.nearest(v, self.height) * self.width + x);
+        }
         let x = (to_texel_space(u, self.width) as usize).min(self.width - 1);
         let y = (to_texel_space(v, self.height) as usize).min(self.height - 1);
         self.texels.at(y * self.width + x)
@@ -147,6 +173,11 @@ impl Level {
     #[inline(always)]
     fn neighbourhood(&self, u: f32, v: f32) -> ([usize; 4], [usize; 4], f32, f32) {
         let (w, h) = (self.width, self.height);
+        if !self.wrap.repeats() {
+            let (cols, fx) = self.wrap.s.around(u, w);
+            let (rows, fy) = self.wrap.t.around(v, h);
+            return (cols, rows.map(|r| r * w), fx, fy);
+        }
         let x = to_texel_space(u, w) - 0.5;
         let y = to_texel_space(v, h) - 0.5;
         // x lies in [−0.5, w − 0.5), so its floor is −1 ..= w − 1.
@@ -219,7 +250,7 @@ impl Level {
         let mut chain: Vec<Level> = Vec::new();
         let mut current = self;
         while current.width > 1 || current.height > 1 {
-            let next = current.downsample();
+            let next = current.downsample().with_wrap(self.wrap);
             chain.push(next);
             current = chain.last().expect("just pushed");
         }
@@ -316,6 +347,7 @@ pub(crate) fn downsample_from<F: Fetch>(t: F, w: usize, h: usize, kind: MipKind)
         }
     }
     Level {
+        wrap: Default::default(),
         width: nw,
         height: nh,
         texels: out.finish(),

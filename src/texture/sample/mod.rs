@@ -9,3 +9,4 @@ pub mod normal_map;
 pub mod sampler;
 pub mod texels;
 pub mod texture;
+pub mod wrap;

@@ -19,6 +19,7 @@ use glam::Vec2;
 use super::level::Level;
 use super::level::downsample_from;
 use super::texels::{Fetch, MipKind, Xyz16s, Xyz32s, to_snorm16, with_fetch};
+use super::wrap::Wrap;
 
 /// A map's unit normals: f32 for maps derived from f32 textures (their
 /// pictures unchanged), three signed 16-bit channels otherwise (6 bytes a
@@ -119,6 +120,9 @@ pub struct NormalMap {
     /// The slope scale the map was built with (see [`NormalMap::build`]).
     pub scale: f32,
     pub normals: Normals,
+    /// How coordinates outside 0..1 read it (a model's sampler; repeat
+    /// otherwise).
+    pub wrap: Wrap,
     /// Levels 1.. (x, y, z in the first three channels, the fourth 0),
     /// built on the first minified read; same sizes as the texture's chain.
     mips: OnceLock<Vec<Level>>,
@@ -131,6 +135,7 @@ impl PartialEq for NormalMap {
             && self.height == other.height
             && self.scale.to_bits() == other.scale.to_bits()
             && self.normals == other.normals
+            && self.wrap == other.wrap
     }
 }
 
@@ -167,6 +172,7 @@ impl NormalMap {
             height: h,
             scale: s,
             normals,
+            wrap: Wrap::REPEAT,
             mips: OnceLock::new(),
         }
     }
@@ -187,8 +193,16 @@ impl NormalMap {
             height,
             scale,
             normals,
+            wrap: Wrap::REPEAT,
             mips: OnceLock::new(),
         }
+    }
+
+    /// The map read with these wrap modes (before its chain is built).
+    pub fn with_wrap(mut self, wrap: Wrap) -> Self {
+        self.wrap = wrap;
+        self.mips = OnceLock::new();
+        self
     }
 
     /// True once the mip chain has been built (tests use it to show that
@@ -210,6 +224,7 @@ impl NormalMap {
                 Normals::F32(v) => downsample_from(Xyz32s(v), w, h, MipKind::F32),
                 Normals::Snorm16(v) => downsample_from(Xyz16s(v), w, h, MipKind::Xyz16),
             };
+            let first = first.with_wrap(self.wrap);
             let rest = first.build_chain();
             std::iter::once(first).chain(rest).collect()
         })
@@ -243,6 +258,13 @@ impl NormalMap {
     /// between texels of different normals it is a little shorter than 1.
     #[inline]
     pub fn bilinear(&self, u: f32, v: f32) -> [f32; 3] {
+        if !self.wrap.repeats() {
+            let (cols, fx) = self.wrap.s.around(u, self.width);
+            let (rows, fy) = self.wrap.t.around(v, self.height);
+            let (ra, rb) = (rows[1] * self.width, rows[2] * self.width);
+            let quad = [ra + cols[1], ra + cols[2], rb + cols[1], rb + cols[2]];
+            return self.blend(quad, fx, fy);
+        }
         let tx = |t: f32, n: usize| {
             if t.is_finite() {
                 (t - t.floor()) * n as f32 - 0.5
@@ -260,6 +282,13 @@ impl NormalMap {
         let ra = wrap(yi, self.height) * self.width;
         let rb = wrap(yi + 1, self.height) * self.width;
         let quad = [ra + xa, ra + xb, rb + xa, rb + xb];
+        self.blend(quad, fx, fy)
+    }
+
+    /// The normals at storage indices `quad` (top left, top right, bottom
+    /// left, bottom right) blended by the fractions.
+    #[inline]
+    fn blend(&self, quad: [usize; 4], fx: f32, fy: f32) -> [f32; 3] {
         let [t00, t10, t01, t11] = match &self.normals {
             Normals::F32(v) => quad.map(|i| v[i]),
             Normals::Snorm16(v) => quad.map(|i| {

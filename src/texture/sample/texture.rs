@@ -45,6 +45,15 @@ impl Texture {
         }
     }
 
+    /// The texture read with these wrap modes (a model's sampler), its
+    /// mip chain and normal map made from then on with them.
+    pub fn with_wrap(mut self, wrap: super::wrap::Wrap) -> Self {
+        self.base.wrap = wrap;
+        self.mips = OnceLock::new();
+        self.normal_map = Mutex::new(None);
+        self
+    }
+
     /// The texture holding `reservation` until it is dropped.
     pub fn holding(mut self, reservation: crate::budget::Reservation) -> Self {
         self.reservation = Some(reservation);
