@@ -41,6 +41,9 @@ pub struct MaterialTerms {
     /// A metallic-roughness material (glTF's), shaded physically in the
     /// model view (`shade::pbr`); the other views draw it as before.
     pub pbr: Option<PbrMaterial>,
+    /// Shaded as its base colour alone, no light (glTF
+    /// `KHR_materials_unlit`), in the model view.
+    pub unlit: bool,
 }
 
 /// A metallic-roughness material's own values (docs/shading.md).
@@ -127,6 +130,7 @@ impl Default for MaterialTerms {
             cutout: None,
             uvs: MapUvs::default(),
             pbr: None,
+            unlit: false,
         }
     }
 }

@@ -82,6 +82,9 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             counters.texture_samples += count;
             base = base * srgb_to_linear(colour::<V>(ctx, s.u, s.v, fp, live));
         }
+        if terms.unlit {
+            return brdf::display(base, self.physical.exposure, self.physical.tone_map);
+        }
         let (mut metallic, mut roughness) = (V::L::splat(pbr.metallic), V::L::splat(pbr.roughness));
         if pbr.roughness_map.is_some() || pbr.metallic_map.is_some() {
             let (u, v) = at.of(&terms.uvs.specular);

@@ -286,16 +286,14 @@ fn what_is_not_drawn_is_named_in_one_line() {
     let model = load(&path).unwrap();
     assert_eq!(model.warnings.len(), 1, "{:?}", model.warnings);
     let line = &model.warnings[0];
-    for part in [
-        "its camera",
-        "KHR_lights_punctual, KHR_materials_transmission",
-    ] {
+    for part in ["its camera", "the extension KHR_lights_punctual"] {
         assert!(line.contains(part), "{line}");
     }
-    assert!(
-        !line.contains("KHR_texture_transform") && !line.contains('\n'),
-        "{line}"
-    );
+    // The extensions relief reads are not named.
+    for read in ["KHR_texture_transform", "KHR_materials_transmission"] {
+        assert!(!line.contains(read), "{line}");
+    }
+    assert!(!line.contains('\n'), "{line}");
     let out = Command::new(env!("CARGO_BIN_EXE_relief"))
         .arg("render")
         .arg(&path)

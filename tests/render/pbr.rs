@@ -473,3 +473,113 @@ fn the_tone_map_and_exposure_flags_change_the_picture_as_their_curves_say() {
     assert!((with(ToneMap::Aces, 1.0) as i32 - srgb8(aces) as i32).abs() <= 1);
     assert!((with(ToneMap::None, 2.0) as i32 - srgb8(2.0 * x) as i32).abs() <= 1);
 }
+
+/// `KHR_materials_unlit`: the base colour alone, whatever the light: the
+/// linear factor (0.5, 0.25, 1) encoded to sRGB, under a light of 3 and
+/// under none.
+#[test]
+fn an_unlit_material_shows_its_base_colour_under_any_light() {
+    let base = [0.5, 0.25, 1.0];
+    let unlit = format!(
+        r#"[{{"pbrMetallicRoughness":{{"baseColorFactor":[{},{},{},1]}},"extensions":{{"KHR_materials_unlit":{{}}}}}}]"#,
+        base[0], base[1], base[2]
+    );
+    let want = base.map(srgb8);
+    for light in [3.0, 0.0] {
+        let mut scene = model("unlit", 1, &unlit, &[]);
+        head_on(&mut scene, light);
+        let got = centre(&draw(&scene, &facing(), 120, 90));
+        assert!(near(got, want, 1), "light {light}: {got:?}, want {want:?}");
+    }
+}
+
+/// `KHR_materials_transmission` as thin see-through: transmission t lets
+/// t·(1 − 0.04) of the background through, so the face is its own colour
+/// (drawn with t = 0) over the background at opacity 1 − 0.96·t.
+#[test]
+fn a_transmitting_material_shows_the_background_through_it() {
+    let with = |t: f32| {
+        format!(
+            r#"[{{"pbrMetallicRoughness":{{"baseColorFactor":[1,0.5,0.25,1],"metallicFactor":0,"roughnessFactor":1}},"extensions":{{"KHR_materials_transmission":{{"transmissionFactor":{t}}}}}}}]"#
+        )
+    };
+    let picture = |t: f32| {
+        let mut scene = model("transmission", 1, &with(t), &[]);
+        head_on(&mut scene, 1.0);
+        let background = scene.background;
+        (centre(&draw(&scene, &facing(), 120, 90)), background)
+    };
+    let (solid, background) = picture(0.0);
+    assert_ne!(solid, background);
+    for t in [0.5f32, 1.0] {
+        let a = 1.0 - 0.96 * t;
+        let want: [u8; 3] = std::array::from_fn(|k| {
+            (f32::from(background[k]) + (f32::from(solid[k]) - f32::from(background[k])) * a)
+                .round() as u8
+        });
+        let (got, _) = picture(t);
+        assert!(near(got, want, 1), "t {t}: {got:?}, want {want:?}");
+    }
+}
+
+/// The GLB `glb` with `from` replaced by `to` in its JSON chunk.
+fn edit_json(glb: &[u8], from: &str, to: &str) -> Vec<u8> {
+    let len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let json = std::str::from_utf8(&glb[20..20 + len]).unwrap();
+    assert!(json.contains(from), "{from} not in the file");
+    let mut json = json.trim_end().replace(from, to);
+    while !json.len().is_multiple_of(4) {
+        json.push(' ');
+    }
+    let bin = &glb[20 + len..];
+    let mut out = Vec::new();
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&((20 + json.len() + bin.len()) as u32).to_le_bytes());
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(json.as_bytes());
+    out.extend_from_slice(bin);
+    out
+}
+
+/// `EXT_texture_webp`: a texture given only as WebP (no `source`) draws as
+/// its PNG twin does.
+#[test]
+fn a_webp_only_texture_draws_as_its_png_twin() {
+    let rgba = [200, 120, 40, 255];
+    let img = image::RgbaImage::from_pixel(4, 4, image::Rgba(rgba));
+    let mut webp = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut webp, image::ImageFormat::WebP).unwrap();
+    let materials =
+        r#"[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0},"metallicFactor":0}}]"#;
+    let draw_file = |test: &str, glb: &[u8]| {
+        let path = write(test, glb);
+        let built = build_scene(
+            SceneKind::Cube,
+            &ModelChoice::File(path),
+            Arc::new(procedural::brick()),
+            false,
+        );
+        let mut scene = match built {
+            Ok(Built::Scene(scene)) => *scene,
+            Ok(Built::Plasma(_)) => unreachable!(),
+            Err(e) => panic!("{test}: {e}"),
+        };
+        head_on(&mut scene, 1.0);
+        draw(&scene, &facing(), 120, 90)
+    };
+    let png = draw_file("webp-twin", &quads_glb(1, materials, &[solid_png(rgba)]));
+    let only_webp = edit_json(
+        &quads_glb(1, materials, &[webp.into_inner()]),
+        r#""textures":[{"source":0}]"#,
+        r#""extensionsUsed":["EXT_texture_webp"],"extensionsRequired":["EXT_texture_webp"],"textures":[{"extensions":{"EXT_texture_webp":{"source":0}}}]"#,
+    );
+    let only_webp = edit_json(&only_webp, "image/png", "image/webp");
+    let webp = draw_file("webp-only", &only_webp);
+    assert_ne!(
+        centre(&png),
+        centre(&draw_file("webp-twin", &quads_glb(1, "[{}]", &[])))
+    );
+    assert_eq!(png.pixels(), webp.pixels());
+}

@@ -18,6 +18,7 @@ use std::sync::{Arc, Mutex};
 use glam::Vec3;
 
 use super::data::{self, Problem, Uri};
+use super::opacity;
 use super::sampling::{Kind, Reading, Sets, maps_of};
 use crate::scene::Material;
 use crate::scene::terms::{Cutout, MaterialTerms, PbrMaterial};
@@ -112,20 +113,14 @@ impl<'a> Materials<'a> {
                 .map_or(reading, Reading::of_map)
         };
         let sets = Sets::of(m);
-        // MASK draws the pixels whose alpha reaches the cutoff; BLEND
-        // composites each pixel with its alpha (and casts a shadow where it
-        // reaches 0.5).
-        let blend = m.alpha_mode() == ::gltf::material::AlphaMode::Blend;
-        let cutoff = match m.alpha_mode() {
-            ::gltf::material::AlphaMode::Opaque => None,
-            ::gltf::material::AlphaMode::Mask => Some(m.alpha_cutoff().unwrap_or(0.5)),
-            ::gltf::material::AlphaMode::Blend => Some(0.5),
-        };
+        // MASK draws the pixels whose alpha reaches the cutoff; BLEND and
+        // transmission composite each pixel with its opacity.
+        let opacity = opacity::of(m);
         let mut alpha_map = None;
         let texture = match pbr.base_color_texture() {
             Some(info) => {
                 let decoded = self.decode(&info.texture(), &read(Kind::BaseColor))?;
-                if cutoff.is_some() && decoded.has_alpha {
+                if opacity.reads_alpha && decoded.has_alpha {
                     alpha_map = Some(Arc::new(alpha_of(decoded.texture.base())));
                 }
                 Arc::new(flat_height(decoded.texture)?)
@@ -134,7 +129,7 @@ impl<'a> Materials<'a> {
         };
         let normal_map = match m.normal_texture() {
             Some(info) if info.scale() != 0.0 && info.scale().is_finite() => {
-                let image = info.texture().source();
+                let image = self.image_of(&info.texture())?;
                 let name = self.image_name(&image);
                 let reading = read(Kind::Normal);
                 let wrap = reading.wrap();
@@ -214,11 +209,12 @@ impl<'a> Materials<'a> {
             }
             _ => None,
         };
-        let factor = pbr.base_color_factor()[3];
         // A constant opacity that a mask keeps, or that a blend draws
         // whole, needs no cutout.
+        let (blend, factor) = (opacity.blend, opacity.factor);
         let whole = |c: f32| if blend { 1.0 } else { c };
-        let cutout = cutoff
+        let cutout = opacity
+            .cutoff
             .filter(|c| c.is_finite() && (alpha_map.is_some() || factor < whole(*c)))
             .map(|cutoff| Cutout {
                 factor,
@@ -235,6 +231,7 @@ impl<'a> Materials<'a> {
             map_names,
             uvs: sets.uvs,
             pbr: Some(physical),
+            unlit: m.extension_value("KHR_materials_unlit").is_some(),
             ..MaterialTerms::default()
         };
         let [r, g, b, _] = pbr.base_color_factor();
@@ -255,7 +252,7 @@ impl<'a> Materials<'a> {
 
     /// A texture's image decoded, read with the map's wrap modes.
     fn decode(&self, texture: &::gltf::Texture, reading: &Reading) -> Result<Decoded, Problem> {
-        let image = texture.source();
+        let image = self.image_of(texture)?;
         let name = self.image_name(&image);
         let bytes = self.image_bytes(&image)?;
         let has_alpha = has_alpha(&bytes);
@@ -295,7 +292,7 @@ impl<'a> Materials<'a> {
         ]
         .into_iter()
         .flatten()
-        .map(|t| t.source())
+        .filter_map(|t| self.image_of(&t).ok())
         .collect();
         images.sort_by_key(::gltf::Image::index);
         images.dedup_by_key(|i| i.index());
@@ -317,6 +314,22 @@ impl<'a> Materials<'a> {
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .extend(decoded);
+    }
+
+    /// The image `texture` reads: its WebP image when it names one
+    /// (`EXT_texture_webp`, which relief decodes), else its source.
+    fn image_of(&self, texture: &::gltf::Texture) -> Result<::gltf::Image<'a>, Problem> {
+        let webp = texture
+            .extension_value("EXT_texture_webp")
+            .and_then(|e| e.get("source"))
+            .and_then(|v| v.as_u64())
+            .and_then(|i| usize::try_from(i).ok())
+            .filter(|&i| i < self.document.images().len());
+        let index = webp.unwrap_or(texture.source().index());
+        self.document
+            .images()
+            .nth(index)
+            .ok_or_else(|| format!("textures[{}]: no image {index}", texture.index()))
     }
 
     /// The image decoded ahead, if it was and no map took it yet.

@@ -15,6 +15,7 @@
 mod accessor;
 mod data;
 mod material;
+mod opacity;
 mod sampling;
 mod skipped;
 mod tangent;

@@ -34,7 +34,27 @@ pub(super) fn before_parse(root: &mut json::Root, supported: &[&str]) -> Result<
             image.mime_type = Some(json::image::MimeType(String::new()));
         }
     }
+    // A texture given only as WebP (`EXT_texture_webp`, no fallback
+    // `source`) reads its WebP image.
+    for texture in &mut root.textures {
+        if texture.source.value() == u32::MAX as usize
+            && let Some(webp) = webp_source(texture)
+        {
+            texture.source = json::Index::new(webp);
+        }
+    }
     Ok(())
+}
+
+/// The image index `EXT_texture_webp` gives a texture, if any.
+fn webp_source(texture: &json::Texture) -> Option<u32> {
+    let ext = texture
+        .extensions
+        .as_ref()?
+        .others
+        .get("EXT_texture_webp")?;
+    let index = ext.get("source")?.as_u64()?;
+    u32::try_from(index).ok().filter(|&i| i != u32::MAX)
 }
 
 /// Every accessor index of every primitive (attributes, indices, morph
