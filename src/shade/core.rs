@@ -322,7 +322,8 @@ impl<H: Hook, const TEX: bool, const SPEC: bool> PixelShader for HookKernel<'_, 
         super::shader::cuts(ctx)
     }
     fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        super::shader::opacity_at(ctx, super::kernels::lerp2(b, &self.tri.uv))
+        let (u, v) = super::tangent::lerp2(&[b.x, b.y, b.z], &self.tri.uv);
+        super::shader::opacity_at(ctx, Vec2::new(u, v))
     }
     #[inline]
     fn shade8(

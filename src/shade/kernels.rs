@@ -38,7 +38,7 @@ fn lerp3(b: Vec3, v: &[Vec3; 3]) -> Vec3 {
 }
 
 #[inline]
-pub(super) fn lerp2(b: Vec3, v: &[Vec2; 3]) -> Vec2 {
+fn lerp2(b: Vec3, v: &[Vec2; 3]) -> Vec2 {
     v[0] * b.x + v[1] * b.y + v[2] * b.z
 }
 

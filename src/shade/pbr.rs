@@ -277,7 +277,8 @@ impl<const TEX: bool, const NMAP: bool> PixelShader for PbrKernel<'_, TEX, NMAP>
         cuts(ctx)
     }
     fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        opacity_at(ctx, super::kernels::lerp2(b, &self.tri.uv))
+        let (u, v) = super::tangent::lerp2(&[b.x, b.y, b.z], &self.tri.uv);
+        opacity_at(ctx, Vec2::new(u, v))
     }
     #[inline]
     fn shade8(
