@@ -16,6 +16,8 @@ use std::sync::{Arc, OnceLock};
 
 use glam::{Vec2, Vec3};
 
+use super::ibl::Ibl;
+use super::studio::{STUDIO_SIZE, studio};
 use super::{Level, Texture, TextureError, load_texture};
 
 /// A latitude–longitude environment: RGB read by direction.
@@ -24,6 +26,8 @@ pub struct Environment {
     /// The picture (its base level; the height channel is unused). Loaded
     /// pictures hold their memory budget here.
     texture: Texture,
+    /// Its image-based light, computed on first use (`texture::ibl`).
+    light: OnceLock<Ibl>,
 }
 
 impl PartialEq for Environment {
@@ -40,7 +44,10 @@ const SKY_SIZE: (usize, usize) = (512, 256);
 impl Environment {
     /// The texture's base level read as an equirectangular picture.
     pub fn from_texture(texture: Texture) -> Environment {
-        Environment { texture }
+        Environment {
+            texture,
+            light: OnceLock::new(),
+        }
     }
 
     /// The picture at `path` (any format the texture loader reads, within
@@ -87,6 +94,24 @@ impl Environment {
         static SKY: OnceLock<Arc<Environment>> = OnceLock::new();
         SKY.get_or_init(|| Arc::new(Environment::from_fn("sky", SKY_SIZE.0, SKY_SIZE.1, sky)))
             .clone()
+    }
+
+    /// The built-in studio, made once and shared: the model view's light
+    /// when no map is given (see [`studio`]).
+    pub fn studio() -> Arc<Environment> {
+        static STUDIO: OnceLock<Arc<Environment>> = OnceLock::new();
+        STUDIO
+            .get_or_init(|| {
+                let (w, h) = STUDIO_SIZE;
+                Arc::new(Environment::from_fn("studio", w, h, studio))
+            })
+            .clone()
+    }
+
+    /// Its image-based light: computed on the first call (a few tens of
+    /// milliseconds), then kept with the environment.
+    pub fn light(&self) -> &Ibl {
+        self.light.get_or_init(|| Ibl::new(self.texture.base()))
     }
 
     pub fn name(&self) -> &str {
