@@ -69,8 +69,6 @@ pub struct Physical {
     pub environment: Option<Arc<Environment>>,
     /// The environment's turn about +Y: its cosine and sine.
     pub turn: (f32, f32),
-    /// The environment drawn behind the model (`--backdrop`).
-    pub backdrop: bool,
 }
 
 /// The stages of one frame.
@@ -296,7 +294,6 @@ impl Plan {
                         (1.0, 0.0)
                     }
                 },
-                backdrop: settings.backdrop,
             }),
         }
     }
