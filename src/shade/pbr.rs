@@ -28,13 +28,14 @@ use super::map_uv::{Coords, carry, footprint_map};
 use super::packet::{self, LANES, V3};
 use super::shader::{PixelShader, ShadeCtx, cuts, opaque_at};
 use super::specular::view_dir;
+use super::split_sum::lut;
 use super::tangent::Surface;
 use crate::framebuffer::Rgb;
 use crate::plan::Physical;
 use crate::scene::terms::{MaterialTerms, PbrMaterial};
 use crate::stats::Counters;
 use crate::texture::filter::{Footprint, read_normal};
-use crate::texture::ibl::{Ibl, lut, sh};
+use crate::texture::ibl::Ibl;
 
 /// A metallic-roughness triangle: with or without its colour texture
 /// (`TEX`) and normal map (`NMAP`).
@@ -236,7 +237,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         });
         let specular = px.f0 * a + V::uniform(Vec3::ONE) * b;
         let one = V::uniform(Vec3::ONE);
-        let diffuse = px.diffuse * (one - specular) * sh::irradiance(&ibl.sh, n);
+        let diffuse = px.diffuse * (one - specular) * irradiance(&ibl.sh, n);
         let mut light = diffuse + specular * prefiltered;
         if let Some((map, strength)) = &self.terms.occlusion {
             let (u, v) = at.of(&self.terms.uvs.occlusion);
@@ -245,6 +246,34 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         }
         light
     }
+}
+
+/// The irradiance over π at unit normals `n` from the nine SH
+/// coefficients `c` (`texture::ibl::sh`'s basis, per lane): nine
+/// multiply-adds per channel; never below 0 (the truncated series can ring
+/// below 0 opposite a bright light).
+#[inline(always)]
+pub fn irradiance<V: Vector>(c: &[Vec3; 9], n: V) -> V {
+    let (x, y, z) = (n.x(), n.y(), n.z());
+    let k = V::L::splat;
+    let basis = [
+        k(0.282_094_8),
+        k(0.488_602_5) * y,
+        k(0.488_602_5) * z,
+        k(0.488_602_5) * x,
+        k(1.092_548_4) * x * y,
+        k(1.092_548_4) * y * z,
+        k(0.315_391_57) * (k(3.0) * z * z - V::L::ONE),
+        k(1.092_548_4) * x * z,
+        k(0.546_274_2) * (x * x - y * y),
+    ];
+    let mut sum = V::uniform(Vec3::ZERO);
+    for (ci, bi) in c.iter().zip(basis) {
+        sum = sum + V::uniform(*ci) * bi;
+    }
+    let zero = V::L::ZERO;
+    let pos = |x: V::L| V::L::select(x.gt(zero), x, zero);
+    V::new(pos(sum.x()), pos(sum.y()), pos(sum.z()))
 }
 
 /// Direction `d` in the environment's frame when the environment is

@@ -10,6 +10,7 @@
 pub mod decode;
 pub mod environment;
 pub mod ibl;
+pub mod lat_long;
 pub mod normal_map_file;
 pub mod sample;
 pub mod specular_map;

@@ -3,19 +3,15 @@
 //! environment and kept with it (`Environment::light`): its diffuse light
 //! as nine spherical-harmonic coefficients (`sh`), its specular light
 //! prefiltered by roughness into levels (`prefilter`), and the split-sum
-//! table shared by every environment (`lut`).
+//! table shared by every environment (`shade::split_sum`).
 
-pub mod lut;
 pub mod prefilter;
 pub mod sh;
 pub mod source;
 
-use std::sync::OnceLock;
-
 use glam::Vec3;
 
 use crate::texture::Level;
-use lut::Lut;
 use prefilter::{LEVELS, OctMap, oct_uv};
 use source::Source;
 
@@ -60,12 +56,6 @@ impl Ibl {
     pub fn level_texels(&self) -> impl Iterator<Item = &Vec3> {
         self.levels.iter().flat_map(|l| l.texels.iter())
     }
-}
-
-/// The split-sum table, computed on first use and shared.
-pub fn lut() -> &'static Lut {
-    static LUT: OnceLock<Lut> = OnceLock::new();
-    LUT.get_or_init(Lut::new)
 }
 
 #[cfg(test)]

@@ -12,7 +12,6 @@
 use glam::{Vec2, Vec3};
 
 use super::source::Source;
-use crate::shade::brdf::distribution;
 
 /// The roughnesses of the levels: level i is roughness i/(LEVELS − 1).
 pub const LEVELS: usize = 6;
@@ -130,4 +129,11 @@ fn lobe_mean(texels: &[(Vec3, f32, Vec3)], r: Vec3, alpha2: f32) -> Vec3 {
     } else {
         Vec3::ZERO
     }
+}
+
+/// GGX's D for α² = `alpha2` at N·H = `nh` (the formula of
+/// `shade::brdf::distribution`, which `texture` does not import).
+fn distribution(alpha2: f32, nh: f32) -> f32 {
+    let d = nh * nh * (alpha2 - 1.0) + 1.0;
+    alpha2 / (std::f32::consts::PI * d * d)
 }

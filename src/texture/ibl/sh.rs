@@ -10,7 +10,6 @@
 use glam::Vec3;
 
 use super::source::Source;
-use crate::shade::lanes::{Lanes, Vector};
 
 /// The bands' cosine-convolution factors over π, per coefficient.
 const BAND: [f32; 9] = [
@@ -27,19 +26,18 @@ const BAND: [f32; 9] = [
 
 /// The real SH basis of bands 0–2 at unit direction (x, y, z), in the
 /// order Y00, Y1−1, Y10, Y11, Y2−2, Y2−1, Y20, Y21, Y22.
-#[inline(always)]
-fn basis<L: Lanes>(x: L, y: L, z: L) -> [L; 9] {
-    let c = L::splat;
+/// (`shade::pbr::irradiance` evaluates the same polynomials per lane.)
+pub fn basis(x: f32, y: f32, z: f32) -> [f32; 9] {
     [
-        c(0.282_094_8),
-        c(0.488_602_5) * y,
-        c(0.488_602_5) * z,
-        c(0.488_602_5) * x,
-        c(1.092_548_4) * x * y,
-        c(1.092_548_4) * y * z,
-        c(0.315_391_57) * (c(3.0) * z * z - L::ONE),
-        c(1.092_548_4) * x * z,
-        c(0.546_274_2) * (x * x - y * y),
+        0.282_094_8,
+        0.488_602_5 * y,
+        0.488_602_5 * z,
+        0.488_602_5 * x,
+        1.092_548_4 * x * y,
+        1.092_548_4 * y * z,
+        0.315_391_57 * (3.0 * z * z - 1.0),
+        1.092_548_4 * x * z,
+        0.546_274_2 * (x * x - y * y),
     ]
 }
 
@@ -57,19 +55,4 @@ pub fn project(source: &Source) -> [Vec3; 9] {
         *ci *= band;
     }
     c
-}
-
-/// The irradiance over π at unit normals `n`: nine multiply-adds per
-/// channel; never below 0 (the truncated series can ring below 0 opposite
-/// a bright light).
-#[inline(always)]
-pub fn irradiance<V: Vector>(c: &[Vec3; 9], n: V) -> V {
-    let y = basis(n.x(), n.y(), n.z());
-    let mut sum = V::uniform(c[0]) * y[0];
-    for i in 1..9 {
-        sum = sum + V::uniform(c[i]) * y[i];
-    }
-    let zero = V::L::ZERO;
-    let pos = |x: V::L| V::L::select(x.gt(zero), x, zero);
-    V::new(pos(sum.x()), pos(sum.y()), pos(sum.z()))
 }

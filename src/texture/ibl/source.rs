@@ -7,7 +7,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use crate::texture::Level;
-use crate::texture::environment::{direction, lat_long};
+use crate::texture::lat_long::{direction, lat_long};
 
 /// The largest grid kept (0.7° a texel): finer detail than this is lost
 /// in every level but the mirror's, which shows it at 128² anyway.

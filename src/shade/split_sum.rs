@@ -9,7 +9,7 @@ use std::f32::consts::PI;
 
 use glam::Vec3;
 
-use crate::shade::brdf::visibility;
+use super::brdf::visibility;
 
 /// Entries along N·V and along roughness; entry i is at i/(SIZE − 1), so
 /// N·V = 1 and roughness 0 are exact entries.
@@ -112,8 +112,47 @@ impl Lut {
     }
 }
 
+/// The table, computed on first use and shared.
+pub fn lut() -> &'static Lut {
+    static LUT: std::sync::OnceLock<Lut> = std::sync::OnceLock::new();
+    LUT.get_or_init(Lut::new)
+}
+
 impl Default for Lut {
     fn default() -> Lut {
         Lut::new()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A mirror head on reflects everything it receives: A + B = 1 at N·V = 1
+    /// and roughness 0 (the sampled H is N, V = 1/4, weight 1, F weight 0).
+    #[test]
+    fn the_table_is_one_for_a_mirror_head_on_and_never_above_one() {
+        let (a, b) = split_sum(1.0, 0.0);
+        assert!((a - 1.0).abs() < 1e-6 && b.abs() < 1e-6, "{a} {b}");
+        let lut = Lut::new();
+        let (a, b) = lut.read(1.0, 0.0);
+        assert!((a + b - 1.0).abs() < 1e-6, "{a} {b}");
+        let mut worst = 0.0f32;
+        for r in 0..SIZE {
+            for c in 0..SIZE {
+                let step = 1.0 / (SIZE - 1) as f32;
+                let (a, b) = lut.read(c as f32 * step, r as f32 * step);
+                assert!(a >= 0.0 && b >= 0.0, "{c} {r}: {a} {b}");
+                worst = worst.max(a + b);
+            }
+        }
+        assert!(worst <= 1.0 + 1e-6, "{worst}");
+        // Roughness 1 (α = 1): D = 1/π and V = ½/(N·L + N·V), so head on
+        // A + B = ∫ N·L/(2π(N·L + 1)) dω = ∫₀¹ μ/(μ + 1) dμ = 1 − ln 2.
+        let (a, b) = lut.read(1.0, 1.0);
+        assert!((a + b - (1.0 - 2f32.ln())).abs() < 0.005, "{a} {b}");
+        // Grazing, Fresnel's share grows: B above A for a mirror.
+        let (a, b) = lut.read(0.0, 0.0);
+        assert!(b > a, "{a} {b}");
     }
 }
