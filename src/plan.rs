@@ -56,13 +56,19 @@ pub struct Reflection {
 
 /// The model view's physically based shading of metallic-roughness
 /// materials (docs/shading.md, "Metallic-roughness").
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Physical {
     pub tone_map: ToneMap,
     /// Multiplies the light before the tone map: finite and > 0.
     pub exposure: f32,
     /// Normal maps applied (key `b`, on by default).
     pub normal_maps: bool,
+    /// The environment that lights the materials (docs/shading.md,
+    /// "Image-based light"): `--environment-map`'s or the built-in studio;
+    /// none in a scene without ambient light.
+    pub environment: Option<Arc<Environment>>,
+    /// The environment's turn about +Y: its cosine and sine.
+    pub turn: (f32, f32),
 }
 
 /// The stages of one frame.
@@ -273,6 +279,21 @@ impl Plan {
                     1.0
                 },
                 normal_maps: settings.bump,
+                environment: (scene.ambient != Vec3::ZERO).then(|| {
+                    scene
+                        .material
+                        .environment
+                        .clone()
+                        .unwrap_or_else(Environment::studio)
+                }),
+                turn: {
+                    let a = settings.environment_turn.to_radians();
+                    if a.is_finite() {
+                        (a.cos(), a.sin())
+                    } else {
+                        (1.0, 0.0)
+                    }
+                },
             }),
         }
     }
@@ -329,7 +350,7 @@ impl Plan {
         }
         // The model view shades a metallic-roughness material physically,
         // its normal map applied on the triangles with texture coordinates.
-        if let (Some(physical), Some(pbr)) = (plan.physical, &terms.pbr)
+        if let (Some(physical), Some(pbr)) = (&plan.physical, &terms.pbr)
             && plan.display == Display::Fill
             && plan.shading == Shading::Phong
         {

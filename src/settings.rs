@@ -263,6 +263,9 @@ pub struct Settings {
     pub tone_map: ToneMap,
     /// `--exposure`: multiplies physically shaded light before the tone map.
     pub exposure: f32,
+    /// Key `J`, `--environment-turn`: the model view's environment turned
+    /// about the vertical axis, in degrees (0 ≤ turn < 360).
+    pub environment_turn: f32,
 }
 
 /// The tone map of physically shaded pixels (docs/shading.md,
@@ -316,6 +319,7 @@ impl Default for Settings {
             up: UpAxis::Y,
             tone_map: ToneMap::PbrNeutral,
             exposure: 1.0,
+            environment_turn: 0.0,
         }
     }
 }

@@ -84,22 +84,36 @@ pub struct Field {
 
 /// How a number moves under its keys: multiplied or divided by `factor`
 /// and kept in `min..=max`; with `zero_below`, a value under it goes to 0
-/// going down, and 0 comes back to it going up.
+/// going down, and 0 comes back to it going up. With `wrap` (an angle),
+/// `factor` is added or taken away instead, and the value wraps from
+/// `max` back to `min`.
 pub struct Step {
     pub factor: f32,
     pub min: f32,
     pub max: f32,
     pub zero_below: Option<f32>,
+    pub wrap: bool,
 }
 
 impl Step {
+    /// `v` brought back into `min..max` (wrapping steps).
+    fn wrapped(&self, v: f32) -> f32 {
+        let span = self.max - self.min;
+        self.min + (v - self.min).rem_euclid(span)
+    }
     pub fn up(&self, v: f32) -> f32 {
+        if self.wrap {
+            return self.wrapped(v + self.factor);
+        }
         match self.zero_below {
             Some(m) if v < m => m,
             _ => (v * self.factor).min(self.max),
         }
     }
     pub fn down(&self, v: f32) -> f32 {
+        if self.wrap {
+            return self.wrapped(v - self.factor);
+        }
         let k = v / self.factor;
         match self.zero_below {
             Some(m) if k < m => 0.0,

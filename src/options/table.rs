@@ -248,6 +248,7 @@ pub static OPTIONS: &[Opt] = &[
                 min: 0.0,
                 max: BUMP_MAX,
                 zero_below: Some(BUMP_MIN),
+                wrap: false,
             },
             show: format_strength,
             negative: true,
@@ -504,6 +505,7 @@ pub static OPTIONS: &[Opt] = &[
                 min: SHININESS_RANGE.0,
                 max: SHININESS_RANGE.1,
                 zero_below: None,
+                wrap: false,
             },
             show: format_shininess,
             negative: false,
@@ -565,6 +567,7 @@ pub static OPTIONS: &[Opt] = &[
                 min: 0.0,
                 max: 1.0,
                 zero_below: None,
+                wrap: false,
             },
             show: format_shininess,
             negative: false,
@@ -600,6 +603,7 @@ pub static OPTIONS: &[Opt] = &[
                 min: FOV_RANGE.0,
                 max: FOV_RANGE.1,
                 zero_below: None,
+                wrap: false,
             },
             show: |fov| format!("{}°", format_shininess(fov)),
             negative: false,
@@ -686,6 +690,7 @@ pub static OPTIONS: &[Opt] = &[
                 min: 0.01,
                 max: 100.0,
                 zero_below: None,
+                wrap: false,
             },
             show: format_shininess,
             negative: false,
@@ -700,6 +705,51 @@ pub static OPTIONS: &[Opt] = &[
         keys: &[],
         shows: None,
         status: None,
+        bench: Bench::None,
+    },
+    Opt {
+        name: "environment_turn",
+        title: "environment turn",
+        kind: Kind::Number {
+            parse: |text| {
+                let a = parse_finite(text)?;
+                Ok(a.rem_euclid(360.0))
+            },
+            step: Step {
+                factor: 30.0,
+                min: 0.0,
+                max: 360.0,
+                zero_below: None,
+                wrap: true,
+            },
+            show: |a| format!("{}°", format_shininess(a)),
+            negative: true,
+        },
+        field: field!(environment_turn: f32),
+        flag: Flag {
+            value_name: Some("DEGREES"),
+            ..flag(
+                "Turn of the model view's environment about the vertical axis, in degrees (docs/shading.md, \"Image-based light\")",
+            )
+        },
+        keys: &[key(
+            &['J'],
+            Press::Up,
+            "J",
+            "turn the model's environment 30° about the vertical",
+        )],
+        shows: Some(Shows {
+            when: |c| plan::environment_can_show(c.settings),
+            why: "shows on glTF materials in the model view, in Phong with fill display (m, d); unchanged",
+        }),
+        status: Some(Status {
+            shown: Some(|c| c.settings.environment_turn != 0.0),
+            ..same(
+                20,
+                |c| format!("env {}°", format_shininess(c.settings.environment_turn)),
+                Some(6),
+            )
+        }),
         bench: Bench::None,
     },
 ];

@@ -78,7 +78,7 @@ fn draw_physical<T: RasterTarget>(
     counters: &mut Counters,
 ) {
     let plan = ctx.plan;
-    let (Some(physical), Some(terms)) = (plan.physical, plan.terms.as_deref()) else {
+    let (Some(physical), Some(terms)) = (&plan.physical, plan.terms.as_deref()) else {
         return;
     };
     let Some(pbr) = terms.pbr.as_ref() else {
@@ -92,6 +92,7 @@ fn draw_physical<T: RasterTarget>(
                 terms,
                 pbr,
                 physical,
+                light: physical.environment.as_deref().map(|e| e.light()),
             };
             target.raster(tri, &k, ctx, counters)
         }};

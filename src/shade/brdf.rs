@@ -69,37 +69,6 @@ pub fn fresnel<V: Vector>(f0: V, vh: V::L) -> V {
     f0 + (V::uniform(Vec3::ONE) - f0) * w
 }
 
-/// 2^(−9.28·x) for x in 0..=1, as (2^(−1.16·x))⁸ with the inner power by
-/// its Taylor series to the fourth order (within 0.6 % before the eighth
-/// power): adds and multiplies only.
-#[inline(always)]
-fn exp2_falloff<L: Lanes>(x: L) -> L {
-    let a = L::splat(1.16 * std::f32::consts::LN_2);
-    let t = a * saturate(x);
-    let y = L::ONE
-        - t * (L::ONE - t * (L::splat(0.5) - t * (L::splat(1.0 / 6.0) - t * L::splat(1.0 / 24.0))));
-    let y2 = y * y;
-    let y4 = y2 * y2;
-    y4 * y4
-}
-
-/// The split-sum scale and bias (A, B) of the environment's specular light
-/// for a roughness and N·V, by the analytic fit of Karis ("Physically
-/// Based Shading on Mobile", 2014): the specular share of a uniform
-/// environment is F0·A + B.
-#[inline(always)]
-pub fn environment_brdf<L: Lanes>(roughness: L, nv: L) -> (L, L) {
-    let r = |c0: f32, c1: f32| roughness * L::splat(c0) + L::splat(c1);
-    let (rx, ry, rz, rw) = (
-        r(-1.0, 1.0),
-        r(-0.0275, 0.0425),
-        r(-0.572, 1.04),
-        r(0.022, -0.04),
-    );
-    let a004 = (rx * rx).min(exp2_falloff(nv)) * rx + ry;
-    (a004 * L::splat(-1.04) + rz, a004 * L::splat(1.04) + rw)
-}
-
 /// An sRGB-encoded value in 0..=1 as linear light, by the cubic fit
 /// x·(x·(0.305306·x + 0.682171) + 0.012523) (within 0.3 % of the exact
 /// curve's range; exact at 0 and 1 to 1e-6).
@@ -304,19 +273,6 @@ mod tests {
                 );
                 assert!(albedo > 0.8, "roughness {roughness} at {angle}°: {albedo}");
             }
-        }
-    }
-
-    #[test]
-    fn the_falloff_fit_follows_the_power_of_two() {
-        for i in 0..=100 {
-            let x = i as f32 / 100.0;
-            let want = (-9.28 * x).exp2();
-            let got = exp2_falloff(x);
-            assert!(
-                (got - want).abs() <= 0.06 * want + 1e-6,
-                "{x}: {got} vs {want}"
-            );
         }
     }
 }

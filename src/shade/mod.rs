@@ -20,6 +20,7 @@ pub mod parallax;
 pub mod pbr;
 pub mod shader;
 pub mod specular;
+pub mod split_sum;
 pub mod tangent;
 
 pub use shader::{GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, TriShader};

@@ -6,9 +6,10 @@
 //! blue and green; the normal map's normal in the pixel's tangent frame.
 //! Each light adds (1 − F)(1 − metallic)·base + π·F·D·V, times its colour
 //! and N·L (a light of colour 1 gives a white Lambert surface facing it 1);
-//! the ambient light stands in for an environment, with the split-sum
-//! fit for its specular part and the occlusion map on it; emission is
-//! added; then exposure, the tone map and the sRGB encoding, once.
+//! the environment adds its image-based light (spherical harmonics for the
+//! diffuse part, prefiltered levels and the split-sum table for the
+//! specular part, `texture::ibl`) with the occlusion map on it; emission
+//! is added; then exposure, the tone map and the sRGB encoding, once.
 //!
 //! One source for one pixel and eight (`shade::lanes`); texels and shadow
 //! lookups are read lane by lane where the packet read does not apply.
@@ -18,8 +19,7 @@ use wide::f32x8;
 
 use super::PhongTri;
 use super::brdf::{
-    self, DIELECTRIC_F0, MIN_ROUGHNESS, distribution, environment_brdf, fresnel, saturate,
-    srgb_to_linear, visibility,
+    self, DIELECTRIC_F0, MIN_ROUGHNESS, distribution, fresnel, saturate, srgb_to_linear, visibility,
 };
 use super::core::colour;
 use super::lanes::{Lanes, Vector};
@@ -28,12 +28,14 @@ use super::map_uv::{Coords, carry, footprint_map};
 use super::packet::{self, LANES, V3};
 use super::shader::{PixelShader, ShadeCtx, cuts, opacity_at};
 use super::specular::view_dir;
+use super::split_sum::lut;
 use super::tangent::Surface;
 use crate::framebuffer::Rgb;
 use crate::plan::Physical;
 use crate::scene::terms::{MaterialTerms, PbrMaterial};
 use crate::stats::Counters;
 use crate::texture::filter::{Footprint, read_normal};
+use crate::texture::ibl::Ibl;
 
 /// A metallic-roughness triangle: with or without its colour texture
 /// (`TEX`) and normal map (`NMAP`).
@@ -41,7 +43,9 @@ pub struct PbrKernel<'a, const TEX: bool, const NMAP: bool> {
     pub tri: &'a PhongTri,
     pub terms: &'a MaterialTerms,
     pub pbr: &'a PbrMaterial,
-    pub physical: Physical,
+    pub physical: &'a Physical,
+    /// The environment's light, when the plan has an environment.
+    pub light: Option<&'a Ibl>,
 }
 
 /// What the light loop reads at the pixels.
@@ -127,7 +131,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             f0: dielectric + (base - dielectric) * metallic,
             alpha2: alpha * alpha,
         };
-        let lit = self.lights(ctx, &px, live, counters) + self.ambient(ctx, &px, roughness, at);
+        let lit = self.lights(ctx, &px, live, counters) + self.ambient(&px, roughness, at, live);
         let lit = lit + emission(terms, at);
         brdf::display(lit, self.physical.exposure, self.physical.tone_map)
     }
@@ -214,33 +218,74 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         sum
     }
 
-    /// The ambient light as a uniform environment: Lambert's part (less
-    /// what the surface reflects) plus the specular part F0·A + B, times the
-    /// occlusion map.
+    /// The environment's light: irradiance(N)·diffuse·(1 − S) +
+    /// prefiltered(R, roughness)·S with S = F0·A + B from the split-sum
+    /// table, times the occlusion map. No environment: no light from
+    /// everywhere.
     #[inline(always)]
-    fn ambient<V: Vector>(
-        &self,
-        ctx: &ShadeCtx,
-        px: &At<V>,
-        roughness: V::L,
-        at: Coords<V::L>,
-    ) -> V {
-        let ambient = ctx.plan.ambient;
-        if ambient == Vec3::ZERO {
+    fn ambient<V: Vector>(&self, px: &At<V>, roughness: V::L, at: Coords<V::L>, live: u32) -> V {
+        let Some(ibl) = self.light else {
             return V::uniform(Vec3::ZERO);
-        }
-        let (a, b) = environment_brdf(roughness, px.nv);
+        };
+        let (c, s) = self.physical.turn;
+        let n = turned(px.n, c, s);
+        let r = turned(px.n * (px.nv + px.nv) - px.view, c, s);
+        let lut = lut();
+        let [a, b] = V::L::gather(live, 0.0, |i| {
+            let (a, b) = lut.read(px.nv.lane(i), roughness.lane(i));
+            [a, b]
+        });
+        let prefiltered = V::gather(live, |i| {
+            ibl.specular(r.lane(i).normalize_or(Vec3::Y), roughness.lane(i))
+        });
         let specular = px.f0 * a + V::uniform(Vec3::ONE) * b;
         let one = V::uniform(Vec3::ONE);
-        let reflected = px.diffuse * (one - specular) + specular;
-        let mut light = V::uniform(ambient);
+        let diffuse = px.diffuse * (one - specular) * irradiance(&ibl.sh, n);
+        let mut light = diffuse + specular * prefiltered;
         if let Some((map, strength)) = &self.terms.occlusion {
             let (u, v) = at.of(&self.terms.uvs.occlusion);
             let occ = V::L::bilinear(map, u, v)[0];
             light = light * (V::L::ONE + V::L::splat(*strength) * (occ - V::L::ONE));
         }
-        reflected * light
+        light
     }
+}
+
+/// The irradiance over π at unit normals `n` from the nine SH
+/// coefficients `c` (`texture::ibl::sh`'s basis, per lane): nine
+/// multiply-adds per channel; never below 0 (the truncated series can ring
+/// below 0 opposite a bright light).
+#[inline(always)]
+pub fn irradiance<V: Vector>(c: &[Vec3; 9], n: V) -> V {
+    let (x, y, z) = (n.x(), n.y(), n.z());
+    let k = V::L::splat;
+    let basis = [
+        k(0.282_094_8),
+        k(0.488_602_5) * y,
+        k(0.488_602_5) * z,
+        k(0.488_602_5) * x,
+        k(1.092_548_4) * x * y,
+        k(1.092_548_4) * y * z,
+        k(0.315_391_57) * (k(3.0) * z * z - V::L::ONE),
+        k(1.092_548_4) * x * z,
+        k(0.546_274_2) * (x * x - y * y),
+    ];
+    let mut sum = V::uniform(Vec3::ZERO);
+    for (ci, bi) in c.iter().zip(basis) {
+        sum = sum + V::uniform(*ci) * bi;
+    }
+    let zero = V::L::ZERO;
+    let pos = |x: V::L| V::L::select(x.gt(zero), x, zero);
+    V::new(pos(sum.x()), pos(sum.y()), pos(sum.z()))
+}
+
+/// Direction `d` in the environment's frame when the environment is
+/// turned by the angle of cosine `c` and sine `s` about +Y (so the
+/// environment turns with positive angles from +Z toward +X).
+#[inline(always)]
+pub fn turned<V: Vector>(d: V, c: f32, s: f32) -> V {
+    let (c, s) = (V::L::splat(c), V::L::splat(s));
+    V::new(c * d.x() - s * d.z(), d.y(), s * d.x() + c * d.z())
 }
 
 /// The light given off: the emissive factor (linear) times the emissive

@@ -16,6 +16,9 @@ use std::sync::{Arc, OnceLock};
 
 use glam::{Vec2, Vec3};
 
+use super::ibl::Ibl;
+pub use super::lat_long::{direction, lat_long};
+use super::studio::{STUDIO_SIZE, studio};
 use super::{Level, Texture, TextureError, load_texture};
 
 /// A latitude–longitude environment: RGB read by direction.
@@ -24,6 +27,8 @@ pub struct Environment {
     /// The picture (its base level; the height channel is unused). Loaded
     /// pictures hold their memory budget here.
     texture: Texture,
+    /// Its image-based light, computed on first use (`texture::ibl`).
+    light: OnceLock<Ibl>,
 }
 
 impl PartialEq for Environment {
@@ -40,7 +45,10 @@ const SKY_SIZE: (usize, usize) = (512, 256);
 impl Environment {
     /// The texture's base level read as an equirectangular picture.
     pub fn from_texture(texture: Texture) -> Environment {
-        Environment { texture }
+        Environment {
+            texture,
+            light: OnceLock::new(),
+        }
     }
 
     /// The picture at `path` (any format the texture loader reads, within
@@ -90,6 +98,24 @@ impl Environment {
             .clone()
     }
 
+    /// The built-in studio, made once and shared: the model view's light
+    /// when no map is given (see [`studio`]).
+    pub fn studio() -> Arc<Environment> {
+        static STUDIO: OnceLock<Arc<Environment>> = OnceLock::new();
+        STUDIO
+            .get_or_init(|| {
+                let (w, h) = STUDIO_SIZE;
+                Arc::new(Environment::from_fn("studio", w, h, studio))
+            })
+            .clone()
+    }
+
+    /// Its image-based light: computed on the first call (a few tens of
+    /// milliseconds), then kept with the environment.
+    pub fn light(&self) -> &Ibl {
+        self.light.get_or_init(|| Ibl::new(self.texture.base()))
+    }
+
     pub fn name(&self) -> &str {
         &self.texture.name
     }
@@ -131,31 +157,6 @@ impl Environment {
         let bottom = at(r1, c0) * (1.0 - fx) + at(r1, c1) * fx;
         top * (1.0 - fy) + bottom * fy
     }
-}
-
-/// The latitude–longitude coordinates of direction `d`: u in [0, 1] (0 and
-/// 1 are the same meridian, +Z), v in [0, 1] (0 straight up). Never NaN: a
-/// pole has any u, and a zero or non-finite `d` maps to the front (1/2, 1/2).
-#[inline]
-pub fn lat_long(d: Vec3) -> Vec2 {
-    let len = d.length();
-    if !(len > 0.0 && len.is_finite()) {
-        return Vec2::splat(0.5);
-    }
-    let u = 0.5 + d.x.atan2(-d.z) / TAU;
-    let v = (d.y / len).clamp(-1.0, 1.0).acos() / PI;
-    Vec2::new(u, v)
-}
-
-/// The unit direction at latitude–longitude coordinates `uv` (the inverse
-/// of [`lat_long`]).
-#[inline]
-pub fn direction(uv: Vec2) -> Vec3 {
-    let phi = (uv.x - 0.5) * TAU;
-    let theta = uv.y * PI;
-    let (sin_t, cos_t) = theta.sin_cos();
-    let (sin_p, cos_p) = phi.sin_cos();
-    Vec3::new(sin_t * sin_p, cos_t, -sin_t * cos_p)
 }
 
 /// Where the built-in sun is: above, behind and to the right of the

@@ -9,9 +9,12 @@
 
 pub mod decode;
 pub mod environment;
+pub mod ibl;
+pub mod lat_long;
 pub mod normal_map_file;
 pub mod sample;
 pub mod specular_map;
+pub mod studio;
 
 // The modules' old paths (`texture::load`, `texture::filter`, ...) stay
 // valid, so code outside `texture/` names them as before.

@@ -103,7 +103,7 @@ fn quit_keys() {
 #[test]
 fn unbound_keys_do_nothing() {
     let mut s = state();
-    for c in ['j', 'J', 'K', 'Q'] {
+    for c in ['j', 'K', 'Q'] {
         let m = if c.is_uppercase() {
             KeyModifiers::SHIFT
         } else {
@@ -808,4 +808,24 @@ fn esc_stops_a_load_first_and_the_status_line_shows_it_until_then() {
         Action::SceneBuilt(Ok((SceneKind::Cube, ModelChoice::Sphere))),
     );
     assert_eq!(s.loading, None);
+}
+
+#[test]
+fn capital_j_turns_the_environment_by_thirty_degrees_around_the_circle() {
+    let mut s = state();
+    assert_eq!(s.settings.environment_turn, 0.0);
+    ch(&mut s, 'J');
+    assert_eq!(s.settings.environment_turn, 30.0);
+    assert_eq!(s.message.as_deref(), Some("environment turn 30°"));
+    assert!(relief::app::view::status_line(&s, 300).contains("env 30°"));
+    // Twelve presses make the full turn, back to 0 and off the status line.
+    for _ in 0..11 {
+        ch(&mut s, 'J');
+    }
+    assert_eq!(s.settings.environment_turn, 0.0);
+    assert!(!relief::app::view::status_line(&s, 300).contains("env "));
+    // Outside Phong the key changes nothing and says why.
+    ch(&mut s, 'm');
+    ch(&mut s, 'J');
+    assert_eq!(s.settings.environment_turn, 0.0);
 }

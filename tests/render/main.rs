@@ -17,6 +17,7 @@ mod display;
 mod environment;
 mod flags;
 mod hard_cases;
+mod ibl;
 mod model_view;
 mod overdraw;
 mod packets;

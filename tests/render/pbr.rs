@@ -141,7 +141,7 @@ fn write(test: &str, bytes: &[u8]) -> PathBuf {
     path
 }
 
-fn model(test: &str, count: usize, materials: &str, images: &[Vec<u8>]) -> Scene {
+pub fn model(test: &str, count: usize, materials: &str, images: &[Vec<u8>]) -> Scene {
     let path = write(test, &quads_glb(count, materials, images));
     match build_scene(
         SceneKind::Cube,
@@ -157,7 +157,7 @@ fn model(test: &str, count: usize, materials: &str, images: &[Vec<u8>]) -> Scene
 
 /// The quads turned to face the model view's camera, which looks down
 /// from above: their normal is then the view's back axis.
-fn facing() -> Settings {
+pub fn facing() -> Settings {
     Settings {
         rotation: Vec3::new(-relief::scene::model_view::ELEVATION_DEGREES, 0.0, 0.0),
         tone_map: ToneMap::None,
@@ -172,18 +172,18 @@ fn head_on(scene: &mut Scene, colour: f32) {
     scene.ambient = Vec3::ZERO;
 }
 
-fn draw(scene: &Scene, settings: &Settings, w: usize, h: usize) -> Framebuffer {
+pub fn draw(scene: &Scene, settings: &Settings, w: usize, h: usize) -> Framebuffer {
     let mut fb = Framebuffer::new(w, h);
     Renderer::new().render(scene, settings, &mut fb);
     fb
 }
 
-fn centre(fb: &Framebuffer) -> [u8; 3] {
+pub fn centre(fb: &Framebuffer) -> [u8; 3] {
     fb.pixels()[fb.height() / 2 * fb.width() + fb.width() / 2]
 }
 
 /// The 8-bit sRGB value of linear light `x` (the exact curve).
-fn srgb8(x: f32) -> u8 {
+pub fn srgb8(x: f32) -> u8 {
     let e = if x <= 0.003_130_8 {
         12.92 * x
     } else {
@@ -192,11 +192,11 @@ fn srgb8(x: f32) -> u8 {
     (e.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
 }
 
-fn near(got: [u8; 3], want: [u8; 3], tolerance: i32) -> bool {
+pub fn near(got: [u8; 3], want: [u8; 3], tolerance: i32) -> bool {
     (0..3).all(|k| (got[k] as i32 - want[k] as i32).abs() <= tolerance)
 }
 
-fn material(base: [f32; 3], metallic: f32, roughness: f32) -> String {
+pub fn material(base: [f32; 3], metallic: f32, roughness: f32) -> String {
     format!(
         r#"{{"pbrMetallicRoughness":{{"baseColorFactor":[{},{},{},1],"metallicFactor":{metallic},"roughnessFactor":{roughness}}}}}"#,
         base[0], base[1], base[2]

@@ -1,0 +1,118 @@
+//! Image-based light in the model view (docs/shading.md, "Image-based
+//! light"): quads written as GLB files (`pbr`'s helpers) lit by
+//! environments made here, and pixels checked against values worked out by
+//! hand.
+
+use std::sync::Arc;
+
+use glam::Vec3;
+use relief::scene::model_view::view_axes;
+use relief::texture::environment::Environment;
+
+use crate::pbr::{centre, draw, facing, material, model, near, srgb8};
+
+/// Only the environment lights the quads.
+fn environment_only(scene: &mut relief::scene::Scene, env: Environment) {
+    scene.lights.clear();
+    scene.material.environment = Some(Arc::new(env));
+}
+
+/// A white metal of roughness 0 facing the camera reflects the direction
+/// back to the eye, R = V: the texel the eye stands in front of. Its
+/// specular share F0·A + B is 1 for F0 = 1 (the split sum of a white
+/// mirror head on), so the centre pixel is that texel's colour. Turned
+/// 180°, the environment puts the other colour there.
+#[test]
+fn a_smooth_metal_mirrors_the_environment_behind_the_eye() {
+    let [_, _, back] = view_axes();
+    let (red, blue) = (Vec3::new(0.8, 0.1, 0.05), Vec3::new(0.05, 0.2, 0.6));
+    let env = || {
+        Environment::from_fn("two colours", 256, 128, |d| {
+            if d.dot(back) > 25f32.to_radians().cos() {
+                red
+            } else {
+                blue
+            }
+        })
+    };
+    let mut scene = model(
+        "ibl-mirror",
+        1,
+        &format!("[{}]", material([1.0; 3], 1.0, 0.0)),
+        &[],
+    );
+    environment_only(&mut scene, env());
+    let fb = draw(&scene, &facing(), 120, 90);
+    let want = red.to_array().map(srgb8);
+    assert!(
+        near(centre(&fb), want, 2),
+        "{:?}, want {want:?}",
+        centre(&fb)
+    );
+
+    let turned = relief::Settings {
+        environment_turn: 180.0,
+        ..facing()
+    };
+    let fb = draw(&scene, &turned, 120, 90);
+    let want = blue.to_array().map(srgb8);
+    assert!(
+        near(centre(&fb), want, 2),
+        "{:?}, want {want:?}",
+        centre(&fb)
+    );
+}
+
+/// The white furnace: a white dielectric under a uniform environment of
+/// radiance 1 sends back at most 1 whatever its roughness and the angle it
+/// is seen at, and a rough one nearly all of it (exposure ½ keeps the
+/// result below the clamp at 1, so an excess would show).
+#[test]
+fn a_white_dielectric_in_a_white_furnace_reflects_at_most_its_input() {
+    for roughness in [0.0, 0.3, 0.6, 1.0] {
+        let mut scene = model(
+            "ibl-furnace",
+            1,
+            &format!("[{}]", material([1.0; 3], 0.0, roughness)),
+            &[],
+        );
+        environment_only(
+            &mut scene,
+            Environment::from_fn("white", 64, 32, |_| Vec3::ONE),
+        );
+        for turn in [0.0, 30.0, 50.0] {
+            let mut settings = facing();
+            settings.rotation.y = turn;
+            settings.exposure = 0.5;
+            let got = centre(&draw(&scene, &settings, 120, 90));
+            let most = srgb8(0.5) as i32 + 1;
+            assert!(
+                got.iter().all(|&c| c as i32 <= most),
+                "{roughness} {turn}: {got:?}"
+            );
+            if roughness == 1.0 {
+                let least = srgb8(0.5 * 0.95) as i32;
+                assert!(got.iter().all(|&c| c as i32 >= least), "{turn}: {got:?}");
+            }
+        }
+    }
+}
+
+/// The built-in studio with the model view's white key light: a white
+/// dielectric facing the camera stays below white with the default
+/// exposure and tone map, and brighter than mid-grey.
+#[test]
+fn a_white_dielectric_in_the_studio_does_not_blow_out() {
+    let scene = model(
+        "ibl-studio",
+        1,
+        &format!("[{}]", material([1.0; 3], 0.0, 0.5)),
+        &[],
+    );
+    let settings = relief::Settings {
+        rotation: facing().rotation,
+        ..relief::Settings::default()
+    };
+    let got = centre(&draw(&scene, &settings, 120, 90));
+    assert!(got.iter().all(|&c| (150..250).contains(&c)), "{got:?}");
+}
