@@ -32,7 +32,8 @@ pub struct MaterialTerms {
     /// Where the emissive and occlusion maps came from, for the texture
     /// panel: (which map, its name).
     pub map_names: Vec<(&'static str, String)>,
-    /// An alpha mask: pixels whose opacity is below the cutoff are not drawn.
+    /// The material's opacity: an alpha mask (pixels below the cutoff are
+    /// not drawn) or translucency (pixels composited, `Cutout::blend`).
     pub cutout: Option<Cutout>,
     /// Where the normal, specular, occlusion and emissive maps read their
     /// texture coordinates (glTF `texCoord` and `KHR_texture_transform`
