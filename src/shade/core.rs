@@ -322,8 +322,7 @@ impl<H: Hook, const TEX: bool, const SPEC: bool> PixelShader for HookKernel<'_, 
         super::shader::cuts(ctx)
     }
     fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        let (u, v) = super::tangent::lerp2(&[b.x, b.y, b.z], &self.tri.uv);
-        super::shader::opacity_at(ctx, Vec2::new(u, v))
+        super::shader::opacity_at(ctx, b, &self.tri.uv)
     }
     #[inline]
     fn shade8(

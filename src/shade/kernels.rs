@@ -102,7 +102,7 @@ impl<const SPEC: bool> PixelShader for FlatTexturedKernel<'_, SPEC> {
         cuts(ctx)
     }
     fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        opacity_at(ctx, lerp2(b, &self.0.uv))
+        opacity_at(ctx, b, &self.0.uv)
     }
     #[inline]
     fn shade8(
@@ -192,7 +192,7 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
         cuts(ctx)
     }
     fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        opacity_at(ctx, lerp2(b, &self.tri.uv))
+        opacity_at(ctx, b, &self.tri.uv)
     }
     #[inline]
     fn shade8(
@@ -262,7 +262,7 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
         cuts(ctx)
     }
     fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        opacity_at(ctx, lerp2(b, &self.tri.uv))
+        opacity_at(ctx, b, &self.tri.uv)
     }
     #[inline(always)]
     fn shade8(

@@ -322,8 +322,7 @@ impl<const TEX: bool, const NMAP: bool> PixelShader for PbrKernel<'_, TEX, NMAP>
         cuts(ctx)
     }
     fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        let (u, v) = super::tangent::lerp2(&[b.x, b.y, b.z], &self.tri.uv);
-        opacity_at(ctx, Vec2::new(u, v))
+        opacity_at(ctx, b, &self.tri.uv)
     }
     #[inline]
     fn shade8(

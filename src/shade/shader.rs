@@ -74,11 +74,12 @@ pub(crate) fn cuts(ctx: &ShadeCtx) -> bool {
     ctx.plan.terms.as_ref().is_some_and(|t| t.cutout.is_some())
 }
 
-/// The opacity of the plan's material at `uv` (1 without a cutout).
+/// The opacity of the plan's material at barycentrics `b` of a triangle
+/// whose vertices have texture coordinates `uv` (1 without a cutout).
 #[inline]
-pub(crate) fn opacity_at(ctx: &ShadeCtx, uv: Vec2) -> f32 {
+pub(crate) fn opacity_at(ctx: &ShadeCtx, b: Vec3, uv: &[Vec2; 3]) -> f32 {
     match ctx.plan.terms.as_ref().and_then(|t| t.cutout.as_ref()) {
-        Some(c) => c.opacity(uv),
+        Some(c) => c.opacity(uv[0] * b.x + uv[1] * b.y + uv[2] * b.z),
         None => 1.0,
     }
 }
