@@ -23,13 +23,15 @@ use std::time::{Duration, Instant};
 use crossterm::event::Event;
 use ratatui::Terminal;
 use ratatui::backend::Backend;
+use ratatui::buffer::Cell;
+use ratatui::layout::Rect;
 
 use super::action::{Action, FrameDone};
 use super::events::action_for_event;
 use super::frame_cost::FrameCost;
 use super::frame_watch::{FrameWatch, StatusRow};
 use super::loading::Loader;
-use super::schedule::Schedule;
+use super::schedule::{Frame as Due, Schedule};
 use super::stage::Stage;
 use super::state::{Look, State};
 use super::textures;
@@ -208,6 +210,79 @@ impl FrameClock {
     }
 }
 
+/// What the picture in the framebuffer shows: the look, its size, the
+/// textures' generation.
+type PictureKey = (Look, usize, usize, u64);
+
+/// A frame's size and places, fixed as it starts.
+struct Plan {
+    areas: view::Areas,
+    /// The framebuffer's size.
+    w: usize,
+    h: usize,
+    key: PictureKey,
+}
+
+/// A frame's write: when it started and ended, and its bytes.
+struct Written {
+    start: Instant,
+    bytes: u64,
+    done: Instant,
+}
+
+/// What a frame cost, from the times it started, its encoding started, its
+/// write started and it was done.
+fn frame_done(
+    stats: &FrameStats,
+    [start, encode_start, write_start, done]: [Instant; 4],
+    bytes: u64,
+    clock: &mut FrameClock,
+) -> Box<FrameDone> {
+    Box::new(FrameDone {
+        cost: FrameCost::new(stats, write_start - encode_start, done - write_start, bytes),
+        time: done - start,
+        bytes,
+        fps: clock.tick(done),
+    })
+}
+
+/// What the loop keeps from one frame to the next.
+struct Frames {
+    fb: Framebuffer,
+    /// The half-resolution picture of a preview, before it is enlarged.
+    coarse: Framebuffer,
+    /// What `fb` holds (`None`: nothing worth keeping).
+    rendered: Option<PictureKey>,
+    /// The terminal's modes now.
+    modes: TermModes,
+    clock: FrameClock,
+    /// The counters of the last render.
+    last_counters: Counters,
+    /// The status row's place and cells as the last frame drew them.
+    status_cells: Option<(Rect, Vec<Cell>)>,
+    /// When to draw and what (see `schedule`).
+    schedule: Schedule,
+    /// Pixel images on screen (kitty, sixel, iTerm2).
+    pixels: PixelView,
+}
+
+impl Frames {
+    fn new() -> Self {
+        Frames {
+            fb: Framebuffer::new(0, 0),
+            coarse: Framebuffer::new(0, 0),
+            rendered: None,
+            // What the guard's setup left the terminal in.
+            modes: TermModes::app(MouseReports::Drags),
+            clock: FrameClock::default(),
+            last_counters: Counters::default(),
+            status_cells: None,
+            schedule: Schedule::new(Instant::now()),
+            pixels: PixelView::new(),
+        }
+    }
+}
+
 impl<'a, W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'a, W, R> {
     /// A loop that draws with `render` and reads `rx`, with nothing else:
     /// a black background, no texture list, no stage or loader (scenes are
@@ -371,335 +446,419 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
     /// Quitting never waits for the terminal: whatever is still queued
     /// towards it is at most one frame and its query.
     pub fn run(&mut self, state: &mut State) -> io::Result<Exit> {
-        let mut fb = Framebuffer::new(0, 0);
-        // The half-resolution picture of a preview, before it is enlarged.
-        let mut coarse = Framebuffer::new(0, 0);
-        let mut rendered: Option<(Look, usize, usize, u64)> = None;
-        // What the guard's setup left the terminal in.
-        let mut modes = TermModes::app(MouseReports::Drags);
-        let mut clock = FrameClock::default();
-        let mut last_counters = Counters::default();
-        // The status row's place and cells as the last frame drew them.
-        let mut status_cells: Option<(ratatui::layout::Rect, Vec<ratatui::buffer::Cell>)> = None;
-        // When to draw and what (see `schedule`).
-        let mut schedule = Schedule::new(Instant::now());
-        // Pixel images on screen (kitty, sixel, iTerm2).
-        let mut pixels = PixelView::new();
+        let mut frames = Frames::new();
         self.report_textures(state);
         loop {
-            let now = Instant::now();
-            schedule.loading(state.loading.is_some(), now);
-            // Wait: for the frame in flight to be shown (input is applied
-            // meanwhile and folded into the next frame), not at all when a
-            // frame is due, until the exact picture or the next
-            // auto-rotation frame is due, or for as long as it takes.
-            let wait = schedule
-                .wait(&mut self.pacer, state.auto_rotate, now)
-                .until(now);
-            let first = match wait {
-                Some(at) if at <= now => self.rx.try_recv().ok(),
-                Some(at) => match self.rx.recv_timeout(at - now) {
-                    Ok(m) => Some(m),
-                    Err(RecvTimeoutError::Timeout) => None,
-                    Err(RecvTimeoutError::Disconnected) => {
-                        return Ok(Exit::InputClosed("input ended".into()));
-                    }
-                },
-                None => match self.rx.recv() {
-                    Ok(m) => Some(m),
-                    Err(_) => return Ok(Exit::InputClosed("input ended".into())),
-                },
+            let first = match self.wait(state, &mut frames.schedule) {
+                Ok(first) => first,
+                Err(exit) => return Ok(exit),
             };
             // Apply everything that is queued before drawing anything.
             let mut next = first;
             while let Some(msg) = next.take().or_else(|| self.rx.try_recv().ok()) {
-                match msg {
-                    Msg::Input(event) => {
-                        if let Some(action) = action_for_event(state, &event) {
-                            schedule.input(Instant::now());
-                            match update(state, action) {
-                                Some(Command::SavePng) => {
-                                    let (w, h) = (fb.width(), fb.height());
-                                    let result =
-                                        super::screenshot::save(state, w, h, &mut self.render);
-                                    update(state, Action::Saved(result));
-                                }
-                                Some(Command::Suspend) => {
-                                    super::suspend::suspend()?;
-                                    // A new screen: everything is drawn again.
-                                    self.terminal.clear()?;
-                                    modes = TermModes::app(MouseReports::Drags); // what reenter sets up
-                                    rendered = None;
-                                    pixels.forget();
-                                }
-                                Some(Command::CompletePath(typed)) => {
-                                    let found = super::line_edit::complete_path(&typed);
-                                    update(state, Action::PromptCompleted(found));
-                                }
-                                Some(Command::BuildScene(kind, model)) => {
-                                    self.ask_scene(state, kind, model);
-                                }
-                                Some(Command::CancelLoad) => {
-                                    if let Some(loader) = &mut self.loader {
-                                        loader.cancel();
-                                    }
-                                }
-                                Some(Command::AddPaths(text)) => {
-                                    // Model files open as the model, images join the list.
-                                    let (models, images) = split_models(&text);
-                                    if let Some(model) = models {
-                                        self.ask_scene(state, SceneKind::Cube, model);
-                                    }
-                                    if let Some(images) = images
-                                        && let Some(result) =
-                                            self.texture_command(Command::AddPaths(images))
-                                    {
-                                        update(state, Action::TextureResult(result));
-                                    }
-                                    self.report_textures(state);
-                                }
-                                Some(command) => {
-                                    if let Some(result) = self.texture_command(command) {
-                                        update(state, Action::TextureResult(result));
-                                    }
-                                    self.report_textures(state);
-                                }
-                                None => {}
-                            }
-                        }
-                    }
-                    Msg::Shown(at) => self.pacer.reply(at),
-                    Msg::Loaded(id) => {
-                        self.load_finished(state, id);
-                        schedule.redraw();
-                    }
-                    Msg::Resized => schedule.redraw(),
-                    Msg::InputClosed(why) => return Ok(Exit::InputClosed(why)),
-                    Msg::Signal(sig) => return Ok(Exit::Signal(sig)),
+                if let Some(exit) = self.on_message(state, &mut frames, msg)? {
+                    return Ok(exit);
                 }
                 if state.quit {
                     return Ok(Exit::Quit);
                 }
             }
             // A frame in flight or held: what came meanwhile waits for the next.
-            let Some(next) = schedule.next(&mut self.pacer, state.auto_rotate, Instant::now())
+            let now = Instant::now();
+            let Some(due) = frames
+                .schedule
+                .next(&mut self.pacer, state.auto_rotate, now)
             else {
                 continue;
             };
-            if next.strip {
-                // The exact picture's next strip: one write, paced like a
-                // frame, nothing rendered or drawn again.
-                if let Some(strip) = pixels.next_strip(self.pacer.throughput())? {
-                    let asks = self.pacer.asks();
-                    let backend = self.terminal.backend_mut();
-                    backend.begin_frame()?;
-                    backend.write_raw(&strip)?;
-                    let write_start = Instant::now();
-                    let trailer: &[u8] = if asks { QUERY } else { &[] };
-                    let bytes = backend.end_frame_then(trailer)?;
-                    self.pacer.sent(write_start, bytes, asks);
-                    update(
-                        state,
-                        Action::FrameEnd {
-                            link: self.pacer.info(),
-                            frame: None,
-                        },
-                    );
-                }
-                schedule.set_strips(pixels.pending());
-                continue;
+            if due.strip {
+                self.send_strip(state, &mut frames)?;
+            } else {
+                self.frame(state, &mut frames, &due)?;
             }
-            if let Some(seconds) = next.tick {
-                update(state, Action::AutoRotateTick { seconds });
-            }
-            // A load's progress as of this frame.
-            if let Some(status) = self.loader.as_ref().and_then(|l| l.status(Instant::now())) {
-                update(state, Action::Loading(status));
-            }
-            let status_only = next.status_only;
-            let cheaper = next.preview;
+        }
+    }
 
-            // Render only when what the picture depends on changed.
-            let start = Instant::now();
-            // One size for the whole frame: laid out, rendered and drawn
-            // at it, though the terminal be resized meanwhile (its signal
-            // brings the next frame).
-            let size = self.terminal.backend_mut().hold_size()?;
-            // The help cannot scroll past what this screen needs: keep the
-            // state there so the first key back moves it.
-            update(
-                state,
-                Action::HelpFits(view::help_max_scroll(size.width, size.height)),
-            );
-            update(
-                state,
-                Action::HelpPageFits(view::help_page(size.width, size.height)),
-            );
-            let areas = view::layout(
-                state,
-                ratatui::layout::Rect::new(0, 0, size.width, size.height),
-            );
-            update(
-                state,
-                Action::TexturesFit(view::texture_panel_area(areas.viewport, state)),
-            );
-            let (w, h) = PixelView::framebuffer_size(
-                &state.output,
-                areas.viewport,
-                size.height,
-                state.symbols,
-            );
-            let generation = self.textures.map_or(0, |t| t.borrow().generation());
-            let key = (state.look(), w, h, generation);
-            // A frame that only redraws the text costs no render time; the
-            // cost panel keeps the counters of the last render.
-            let mut stats = FrameStats {
-                counters: last_counters,
-                ..FrameStats::default()
-            };
-            let same = rendered.as_ref() == Some(&key);
-            // A preview is replaced by the exact picture even when nothing changed.
-            let new_picture = schedule.new_picture(&next, same);
-            // The status row as the last frame left it, should a long
-            // frame write its progress over it.
-            let status_row = areas
-                .status
-                .filter(|r| status_cells.as_ref().is_some_and(|(saved, _)| saved == r));
-            let mut progress_shown = false;
-            if new_picture {
-                let status_row = status_row.map(|r| StatusRow {
-                    row: r.y,
-                    width: r.width,
-                });
-                let render = &mut self.render;
-                let mut watched = |fb: &mut Framebuffer| match self.watch.as_mut() {
-                    Some(watch) => {
-                        let (stats, shown) = watch.watch(status_row, || render(state, fb));
-                        progress_shown |= shown;
-                        stats
+    /// Waits: for the frame in flight to be shown (input is applied
+    /// meanwhile and folded into the next frame), not at all when a frame is
+    /// due, until the exact picture or the next auto-rotation frame is due,
+    /// or for as long as it takes. The first message, if one came; the
+    /// loop's end when the input is gone.
+    fn wait(&mut self, state: &State, schedule: &mut Schedule) -> Result<Option<Msg>, Exit> {
+        let now = Instant::now();
+        schedule.loading(state.loading.is_some(), now);
+        let wait = schedule
+            .wait(&mut self.pacer, state.auto_rotate, now)
+            .until(now);
+        let ended = || Exit::InputClosed("input ended".into());
+        match wait {
+            Some(at) if at <= now => Ok(self.rx.try_recv().ok()),
+            Some(at) => match self.rx.recv_timeout(at - now) {
+                Ok(m) => Ok(Some(m)),
+                Err(RecvTimeoutError::Timeout) => Ok(None),
+                Err(RecvTimeoutError::Disconnected) => Err(ended()),
+            },
+            None => self.rx.recv().map(Some).map_err(|_| ended()),
+        }
+    }
+
+    /// Applies one message; the loop's end when it says so.
+    fn on_message(
+        &mut self,
+        state: &mut State,
+        frames: &mut Frames,
+        msg: Msg,
+    ) -> io::Result<Option<Exit>> {
+        match msg {
+            Msg::Input(event) => {
+                if let Some(action) = action_for_event(state, &event) {
+                    frames.schedule.input(Instant::now());
+                    if let Some(command) = update(state, action) {
+                        self.execute(state, frames, command)?;
                     }
-                    None => render(state, fb),
-                };
-                if cheaper {
-                    let (pw, ph) = pixels.preview_size(
-                        state.output.format(),
-                        (w, h),
-                        schedule.exact_bytes(),
-                        self.pacer.throughput(),
-                    );
-                    coarse.resize(pw, ph);
-                    stats = watched(&mut coarse);
-                    fb.resize(w, h);
-                    enlarge(&coarse, &mut fb);
-                } else {
-                    fb.resize(w, h);
-                    stats = watched(&mut fb);
-                }
-                last_counters = stats.counters;
-                // An abandoned frame (a key pressed during a long one) is
-                // drawn again once that key is applied.
-                rendered = (!stats.abandoned).then_some(key);
-                if stats.abandoned {
-                    schedule.redraw();
                 }
             }
-            // A status-only redraw comes once nothing else is due: no
-            // frames are flowing.
-            update(
-                state,
-                Action::FrameStart {
-                    preview: schedule.previewing(),
-                    idle: status_only,
-                },
-            );
-            let encode_start = Instant::now();
-            let backend = self.terminal.backend_mut();
-            // Modes follow the state: a mode left puts back what it changed.
-            let wanted = wanted_modes(state);
-            if wanted != modes {
-                let mut change = Vec::new();
-                modes.change_to(&wanted, &mut change);
-                backend.write_raw(&change)?;
-                modes = wanted;
+            Msg::Shown(at) => self.pacer.reply(at),
+            Msg::Loaded(id) => {
+                self.load_finished(state, id);
+                frames.schedule.redraw();
             }
+            Msg::Resized => frames.schedule.redraw(),
+            Msg::InputClosed(why) => return Ok(Some(Exit::InputClosed(why))),
+            Msg::Signal(sig) => return Ok(Some(Exit::Signal(sig))),
+        }
+        Ok(None)
+    }
+
+    /// Does what `update` asked for, and tells the state how it went.
+    fn execute(
+        &mut self,
+        state: &mut State,
+        frames: &mut Frames,
+        command: Command,
+    ) -> io::Result<()> {
+        match command {
+            Command::SavePng => self.save_png(state, &frames.fb),
+            Command::Suspend => self.suspend(frames)?,
+            Command::CompletePath(typed) => {
+                let found = super::line_edit::complete_path(&typed);
+                update(state, Action::PromptCompleted(found));
+            }
+            Command::BuildScene(kind, model) => self.ask_scene(state, kind, model),
+            Command::CancelLoad => {
+                if let Some(loader) = &mut self.loader {
+                    loader.cancel();
+                }
+            }
+            Command::AddPaths(text) => self.add_paths(state, &text),
+            Command::CycleTexture(_)
+            | Command::ReloadTexture
+            | Command::ListTextures
+            | Command::SelectTexture(_)
+            | Command::SetHeights(_) => {
+                if let Some(result) = self.texture_command(command) {
+                    update(state, Action::TextureResult(result));
+                }
+                self.report_textures(state);
+            }
+        }
+        Ok(())
+    }
+
+    /// `Command::SavePng`: the picture at the size of the one shown.
+    fn save_png(&mut self, state: &mut State, fb: &Framebuffer) {
+        let (w, h) = (fb.width(), fb.height());
+        let result = super::screenshot::save(state, w, h, &mut self.render);
+        update(state, Action::Saved(result));
+    }
+
+    /// `Command::Suspend`: stops until resumed, then draws everything again
+    /// on the new screen.
+    fn suspend(&mut self, frames: &mut Frames) -> io::Result<()> {
+        super::suspend::suspend()?;
+        self.terminal.clear()?;
+        frames.modes = TermModes::app(MouseReports::Drags); // what reenter sets up
+        frames.rendered = None;
+        frames.pixels.forget();
+        Ok(())
+    }
+
+    /// `Command::AddPaths`: model files open as the model, images join the list.
+    fn add_paths(&mut self, state: &mut State, text: &str) {
+        let (models, images) = split_models(text);
+        if let Some(model) = models {
+            self.ask_scene(state, SceneKind::Cube, model);
+        }
+        if let Some(images) = images
+            && let Some(result) = self.texture_command(Command::AddPaths(images))
+        {
+            update(state, Action::TextureResult(result));
+        }
+        self.report_textures(state);
+    }
+
+    /// The exact picture's next strip: one write, paced like a frame,
+    /// nothing rendered or drawn again.
+    fn send_strip(&mut self, state: &mut State, frames: &mut Frames) -> io::Result<()> {
+        if let Some(strip) = frames.pixels.next_strip(self.pacer.throughput())? {
             let asks = self.pacer.asks();
-            // The first write starts with a query of its own: its reply
-            // comes one round trip later whatever the frame's size, so a
-            // terminal that answers is known as such in time.
-            let probe = schedule.probe(asks);
-            if probe {
-                backend.write_raw(QUERY)?;
-            }
+            let backend = self.terminal.backend_mut();
             backend.begin_frame()?;
-            if progress_shown {
-                // The progress line goes: the row is drawn as ratatui
-                // believes it is.
-                if let (Some(row), Some((_, cells))) = (status_row, status_cells.as_ref()) {
-                    let cells = cells.iter().enumerate();
-                    backend.draw(cells.map(|(x, c)| (row.x + x as u16, row.y, c)))?;
-                }
+            backend.write_raw(&strip)?;
+            let write_start = Instant::now();
+            let trailer: &[u8] = if asks { QUERY } else { &[] };
+            let bytes = backend.end_frame_then(trailer)?;
+            self.pacer.sent(write_start, bytes, asks);
+            let link = self.pacer.info();
+            update(state, Action::FrameEnd { link, frame: None });
+        }
+        frames.schedule.set_strips(frames.pixels.pending());
+        Ok(())
+    }
+
+    /// One frame: laid out, rendered when what the picture depends on
+    /// changed, written, and its cost reported.
+    fn frame(&mut self, state: &mut State, frames: &mut Frames, due: &Due) -> io::Result<()> {
+        if let Some(seconds) = due.tick {
+            update(state, Action::AutoRotateTick { seconds });
+        }
+        // A load's progress as of this frame.
+        if let Some(status) = self.loader.as_ref().and_then(|l| l.status(Instant::now())) {
+            update(state, Action::Loading(status));
+        }
+        let start = Instant::now();
+        let plan = self.lay_out(state)?;
+        let same = frames.rendered.as_ref() == Some(&plan.key);
+        // A preview is replaced by the exact picture even when nothing changed.
+        let new_picture = frames.schedule.new_picture(due, same);
+        // The status row as the last frame left it, should a long frame
+        // write its progress over it.
+        let status_row = plan
+            .areas
+            .status
+            .filter(|r| (frames.status_cells.as_ref()).is_some_and(|(saved, _)| saved == r));
+        // A frame that only redraws the text costs no render time; the
+        // cost panel keeps the counters of the last render.
+        let (stats, progress_shown) = if new_picture {
+            self.render_picture(state, frames, &plan, due.preview, status_row)
+        } else {
+            let counters = frames.last_counters;
+            (
+                FrameStats {
+                    counters,
+                    ..FrameStats::default()
+                },
+                false,
+            )
+        };
+        // A status-only redraw comes once nothing else is due: no frames
+        // are flowing.
+        let preview = frames.schedule.previewing();
+        update(
+            state,
+            Action::FrameStart {
+                preview,
+                idle: due.status_only,
+            },
+        );
+        let encode_start = Instant::now();
+        let written = self.write_frame(
+            state,
+            frames,
+            &plan,
+            new_picture,
+            status_row,
+            progress_shown,
+        )?;
+        // A status-only redraw changes only the link's figures: the frame's
+        // keep describing the picture.
+        let frame = (!due.status_only).then(|| {
+            let times = [start, encode_start, written.start, written.done];
+            frame_done(&stats, times, written.bytes, &mut frames.clock)
+        });
+        let bytes = written.bytes;
+        update(
+            state,
+            Action::FrameEnd {
+                link: self.pacer.info(),
+                frame,
+            },
+        );
+        // An exact picture sent in strips costs all of them.
+        let picture_bytes = frames.pixels.take_split_bytes().unwrap_or(bytes);
+        (frames.schedule).written(due, new_picture, picture_bytes, state.auto_rotate);
+        frames.schedule.set_strips(frames.pixels.pending());
+        Ok(())
+    }
+
+    /// Fixes the frame's size and places. One size for the whole frame:
+    /// laid out, rendered and drawn at it, though the terminal be resized
+    /// meanwhile (its signal brings the next frame).
+    fn lay_out(&mut self, state: &mut State) -> io::Result<Plan> {
+        let size = self.terminal.backend_mut().hold_size()?;
+        // The help cannot scroll past what this screen needs: keep the
+        // state there so the first key back moves it.
+        let (width, height) = (size.width, size.height);
+        update(
+            state,
+            Action::HelpFits(view::help_max_scroll(width, height)),
+        );
+        update(state, Action::HelpPageFits(view::help_page(width, height)));
+        let areas = view::layout(state, Rect::new(0, 0, width, height));
+        let panel = view::texture_panel_area(areas.viewport, state);
+        update(state, Action::TexturesFit(panel));
+        let (w, h) =
+            PixelView::framebuffer_size(&state.output, areas.viewport, height, state.symbols);
+        let generation = self.textures.map_or(0, |t| t.borrow().generation());
+        let key = (state.look(), w, h, generation);
+        Ok(Plan { areas, w, h, key })
+    }
+
+    /// Renders the picture (at half resolution for a preview, then
+    /// enlarged), with a long frame's progress on the status row. Its
+    /// figures, and whether the progress was shown.
+    fn render_picture(
+        &mut self,
+        state: &State,
+        frames: &mut Frames,
+        plan: &Plan,
+        cheaper: bool,
+        status_row: Option<Rect>,
+    ) -> (FrameStats, bool) {
+        let status_row = status_row.map(|r| StatusRow {
+            row: r.y,
+            width: r.width,
+        });
+        let mut progress_shown = false;
+        let render = &mut self.render;
+        let mut watched = |fb: &mut Framebuffer| match self.watch.as_mut() {
+            Some(watch) => {
+                let (stats, shown) = watch.watch(status_row, || render(state, fb));
+                progress_shown |= shown;
+                stats
             }
-            let look = TextLook {
-                symbols: state.symbols,
-                depth: state.depth,
-                dither: state.dither,
-                pad: self.background,
-            };
-            let frame = PixelFrame {
-                output: &state.output,
-                fb: &fb,
-                preview: schedule.previewing().then_some(&coarse),
-                new_picture,
-                look,
-                throughput: self.pacer.throughput(),
-                unmeasured: self.pacer.throughput().is_none()
-                    && self.pacer.answers() != Answers::No,
-            };
-            pixels.draw(self.terminal, frame, areas.viewport, |f, pic| {
-                view::view(f, state, pic, self.background);
+            None => render(state, fb),
+        };
+        let (w, h) = (plan.w, plan.h);
+        let stats = if cheaper {
+            let (pw, ph) = frames.pixels.preview_size(
+                state.output.format(),
+                (w, h),
+                frames.schedule.exact_bytes(),
+                self.pacer.throughput(),
+            );
+            frames.coarse.resize(pw, ph);
+            let stats = watched(&mut frames.coarse);
+            frames.fb.resize(w, h);
+            enlarge(&frames.coarse, &mut frames.fb);
+            stats
+        } else {
+            frames.fb.resize(w, h);
+            watched(&mut frames.fb)
+        };
+        frames.last_counters = stats.counters;
+        // An abandoned frame (a key pressed during a long one) is drawn
+        // again once that key is applied.
+        frames.rendered = (!stats.abandoned).then_some(plan.key.clone());
+        if stats.abandoned {
+            frames.schedule.redraw();
+        }
+        (stats, progress_shown)
+    }
+
+    /// Writes the frame: the modes the state wants, the picture and the
+    /// text, then the pacing query. When the write started, its bytes, and
+    /// when it ended.
+    fn write_frame(
+        &mut self,
+        state: &State,
+        frames: &mut Frames,
+        plan: &Plan,
+        new_picture: bool,
+        status_row: Option<Rect>,
+        progress_shown: bool,
+    ) -> io::Result<Written> {
+        let backend = self.terminal.backend_mut();
+        // Modes follow the state: a mode left puts back what it changed.
+        let wanted = wanted_modes(state);
+        if wanted != frames.modes {
+            let mut change = Vec::new();
+            frames.modes.change_to(&wanted, &mut change);
+            backend.write_raw(&change)?;
+            frames.modes = wanted;
+        }
+        let asks = self.pacer.asks();
+        // The first write starts with a query of its own: its reply comes
+        // one round trip later whatever the frame's size, so a terminal
+        // that answers is known as such in time.
+        let probe = frames.schedule.probe(asks);
+        if probe {
+            backend.write_raw(QUERY)?;
+        }
+        backend.begin_frame()?;
+        if progress_shown {
+            // The progress line goes: the row is drawn as ratatui believes it is.
+            if let (Some(row), Some((_, cells))) = (status_row, frames.status_cells.as_ref()) {
+                let cells = cells.iter().enumerate();
+                backend.draw(cells.map(|(x, c)| (row.x + x as u16, row.y, c)))?;
+            }
+        }
+        self.draw_view(state, frames, plan, new_picture)?;
+        let write_start = Instant::now();
+        let trailer: &[u8] = if asks { QUERY } else { &[] };
+        let bytes = self.terminal.backend_mut().end_frame_then(trailer)?;
+        self.terminal.backend_mut().release_size();
+        let done = Instant::now();
+        if probe {
+            self.pacer.sent(write_start, 0, true);
+        }
+        self.pacer.sent(write_start, bytes, asks);
+        Ok(Written {
+            start: write_start,
+            bytes,
+            done,
+        })
+    }
+
+    /// Draws the picture (as cells or pixels) and the view around it, and
+    /// keeps the status row's cells as drawn.
+    fn draw_view(
+        &mut self,
+        state: &State,
+        frames: &mut Frames,
+        plan: &Plan,
+        new_picture: bool,
+    ) -> io::Result<()> {
+        let look = TextLook {
+            symbols: state.symbols,
+            depth: state.depth,
+            dither: state.dither,
+            pad: self.background,
+        };
+        let frame = PixelFrame {
+            output: &state.output,
+            fb: &frames.fb,
+            preview: frames.schedule.previewing().then_some(&frames.coarse),
+            new_picture,
+            look,
+            throughput: self.pacer.throughput(),
+            unmeasured: self.pacer.throughput().is_none() && self.pacer.answers() != Answers::No,
+        };
+        let status_cells = &mut frames.status_cells;
+        let background = self.background;
+        let viewport = plan.areas.viewport;
+        frames
+            .pixels
+            .draw(self.terminal, frame, viewport, |f, pic| {
+                view::view(f, state, pic, background);
                 // Only what the frame holds (the same size, as it is held).
                 let buf = f.buffer_mut();
-                status_cells = areas
+                *status_cells = plan
+                    .areas
                     .status
                     .map(|r| r.intersection(buf.area))
                     .map(|r| (r, (r.x..r.right()).map(|x| buf[(x, r.y)].clone()).collect()));
-            })?;
-            let write_start = Instant::now();
-            let trailer: &[u8] = if asks { QUERY } else { &[] };
-            let bytes = self.terminal.backend_mut().end_frame_then(trailer)?;
-            self.terminal.backend_mut().release_size();
-            let done = Instant::now();
-            if probe {
-                self.pacer.sent(write_start, 0, true);
-            }
-            self.pacer.sent(write_start, bytes, asks);
-            // A status-only redraw changes only the link's figures: the
-            // frame's keep describing the picture.
-            let frame = (!status_only).then(|| {
-                Box::new(FrameDone {
-                    cost: FrameCost::new(
-                        &stats,
-                        write_start - encode_start,
-                        done - write_start,
-                        bytes,
-                    ),
-                    time: done - start,
-                    bytes,
-                    fps: clock.tick(done),
-                })
-            });
-            update(
-                state,
-                Action::FrameEnd {
-                    link: self.pacer.info(),
-                    frame,
-                },
-            );
-            // An exact picture sent in strips costs all of them.
-            let picture_bytes = pixels.take_split_bytes().unwrap_or(bytes);
-            schedule.written(&next, new_picture, picture_bytes, state.auto_rotate);
-            schedule.set_strips(pixels.pending());
-        }
+            })
     }
 
     /// After the loop ended and the screen was restored: reads the replies
