@@ -57,15 +57,138 @@ pub fn color_depth(arg: Option<ColorDepthArg>) -> ColorDepth {
 
 /// Runs the interactive view until the user quits.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
+    let tty = open_tty()?;
+    let mut cli = cli;
+    let Start {
+        mut state,
+        textures,
+        first_load,
+        model_notes,
+    } = initial_state(&mut cli)?;
+    let stage = read_stage(&cli, &mut state, &textures, model_notes)?;
+    let stage = std::cell::RefCell::new(stage);
+    let mut stage_generation = textures.generation();
+    let textures = std::cell::RefCell::new(textures);
+
+    let (tx, rx) = mpsc::channel();
+    let loader = start_loader(tx.clone(), &stage.borrow(), &cli, first_load, &mut state);
+    let signals = spawn_signal_thread(tx.clone())?;
+    // tmux and infocmp are asked before the terminal is set up.
+    let settled = cli.color.is_none().then(depth::settled_here).flatten();
+    let clues = crate::term::format::clues_here(cli.format);
+    let guard = TerminalGuard::enter().context("cannot set up the terminal")?;
+    let typed = probe_terminal(&cli, tty.as_ref(), &mut state, settled, clues);
+    // Keys pressed are counted on their way to the loop, so a long frame
+    // can see that the user wants something else (`q` quits at once).
+    let keys = Arc::new(std::sync::atomic::AtomicU64::new(0));
+    spawn_input(tty, typed, count_keys(tx, keys.clone()));
+    let mut backend = SgrBackend::new(GuardedStdout::new()?);
+    backend.set_tolerance(cli.color_tolerance);
+    let mut terminal = Terminal::new(backend)?;
+    let (mut renderer, watch) = watched_renderer()?;
+    let mut looper = Looper {
+        terminal: &mut terminal,
+        render: |s: &State, fb: &mut crate::Framebuffer| {
+            let mut stage = stage.borrow_mut();
+            let list = textures.borrow();
+            if list.generation() != stage_generation {
+                stage.set_texture(list.texture().clone());
+                stage_generation = list.generation();
+            }
+            // Pixel images have square pixels.
+            renderer.set_pixel_aspect(if s.output.format().is_pixels() {
+                1.0
+            } else {
+                s.symbols.pixel_aspect()
+            });
+            renderer.set_cancel(Some(abandon_when_keys(keys.clone())));
+            stage.render(&mut renderer, s, fb)
+        },
+        background: crate::scene::BACKGROUND,
+        rx: &rx,
+        textures: Some(&textures),
+        stage: Some(&stage),
+        pacer: crate::term::pacing::pacer_here(cli.link),
+        loader: Some(loader),
+        watch: Some(watch),
+    };
+    let exit = looper.run(&mut state);
+    // The screen first (quitting never waits for the terminal), then the
+    // replies still on their way are read so the shell does not get them.
+    crate::term::guard::restore_screen();
+    if !matches!(exit, Ok(Exit::InputClosed(_))) {
+        looper.drain_replies(std::time::Duration::from_millis(500));
+    }
+    drop(looper);
+    drop(terminal);
+    drop(guard);
+    signals.close();
+    match exit? {
+        Exit::Quit => Ok(()),
+        Exit::InputClosed(_) => Ok(()),
+        Exit::Signal(sig) => std::process::exit(128 + sig),
+    }
+}
+
+/// The worker that loads model files, already loading `first_load` (the
+/// model file the command line names).
+fn start_loader(
+    tx: mpsc::Sender<Msg>,
+    stage: &Stage,
+    cli: &Cli,
+    first_load: Option<crate::scene::ModelChoice>,
+    state: &mut State,
+) -> Loader {
+    let mut loader = Loader::new(move |id| {
+        let _ = tx.send(Msg::Loaded(id));
+    });
+    if let Some(model) = first_load {
+        let order = stage.order(cli.view.scene, &model);
+        let status = loader.start(order, std::time::Instant::now());
+        update(state, Action::Loading(status));
+    }
+    loader
+}
+
+/// The renderer, with a long frame's progress counted by it and shown by
+/// the loop's watch.
+fn watched_renderer() -> anyhow::Result<(crate::Renderer, frame_watch::FrameWatch)> {
+    let mut renderer = crate::Renderer::new();
+    let progress = Arc::new(crate::render::FrameProgress::new());
+    renderer.set_progress(Some(progress.clone()));
+    let watch = frame_watch::FrameWatch {
+        progress,
+        out: Box::new(GuardedStdout::new()?),
+    };
+    Ok((renderer, watch))
+}
+
+/// Where keys come from: standard input when it is a terminal, else the
+/// process's terminal (`Some`). No terminal on standard output is an error.
+fn open_tty() -> anyhow::Result<Option<std::fs::File>> {
     if !std::io::stdout().is_terminal() {
         bail!("the interactive view needs a terminal on standard output (try `relief render`)");
     }
-    let tty = if std::io::stdin().is_terminal() {
+    Ok(if std::io::stdin().is_terminal() {
         None
     } else {
         Some(std::fs::File::open("/dev/tty").context("no terminal to read keys from")?)
-    };
-    let mut cli = cli;
+    })
+}
+
+/// What the view starts from, read from the flags.
+struct Start {
+    state: State,
+    textures: texture_list::TextureList,
+    /// The model file to load once the view runs (`cli`'s model is then
+    /// the cube shown meanwhile).
+    first_load: Option<crate::scene::ModelChoice>,
+    /// What reading the positional arguments as models noted.
+    model_notes: Vec<String>,
+}
+
+/// The state the flags ask for, the texture list, and the model to load.
+fn initial_state(cli: &mut Cli) -> anyhow::Result<Start> {
     let model_notes = crate::cli::models_from_positional(&mut cli.images, &mut cli.view.model);
     let settings = cli.view.settings();
     let mut state = State::new(settings, color_depth(cli.color)).with_distance(cli.view.distance);
@@ -94,9 +217,26 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     }
     state.model = cli.view.model.clone();
     state.plasma_normal = cli.view.plasma_normal;
-    // The flags' maps, read as `relief render` reads them. A normal map
-    // file that cannot be read is a message; the view goes on with the
-    // height-derived map.
+    Ok(Start {
+        state,
+        textures,
+        first_load,
+        model_notes,
+    })
+}
+
+/// The stage the view draws, with the maps the flags name. A normal map
+/// file that cannot be read is a message (the view goes on with the
+/// height-derived map); a --model file that cannot be read stops here,
+/// before the terminal is touched, then a specular or environment map that
+/// cannot.
+fn read_stage(
+    cli: &Cli,
+    state: &mut State,
+    textures: &texture_list::TextureList,
+    model_notes: Vec<String>,
+) -> anyhow::Result<Stage> {
+    // The flags' maps, read as `relief render` reads them.
     let read = crate::scene::flag_maps::FlagMaps::read(
         cli.view.specular_map.as_deref(),
         cli.view.normal_map.as_deref(),
@@ -125,8 +265,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             None
         }
     };
-    // A --model file that cannot be read stops here, before the terminal is
-    // touched; then a specular or environment map that cannot.
     let mut stage = Stage::new(
         cli.view.scene,
         &cli.view.model,
@@ -141,36 +279,28 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let mut notes = stage.take_notes();
     notes.warnings.splice(0..0, model_notes);
     if notes != crate::scene::LoadedNotes::default() {
-        update(&mut state, Action::ModelNotes(notes));
+        update(state, Action::ModelNotes(notes));
     }
-    let stage = std::cell::RefCell::new(stage);
-    let mut stage_generation = textures.generation();
-    let textures = std::cell::RefCell::new(textures);
+    Ok(stage)
+}
 
-    let (tx, rx) = mpsc::channel();
-    let wake = tx.clone();
-    let mut loader = Loader::new(move |id| {
-        let _ = wake.send(Msg::Loaded(id));
-    });
-    if let Some(model) = first_load {
-        let order = stage.borrow().order(cli.view.scene, &model);
-        let status = loader.start(order, std::time::Instant::now());
-        update(&mut state, Action::Loading(status));
-    }
-    let signals = spawn_signal_thread(tx.clone())?;
-    // tmux and infocmp are asked before the terminal is set up.
-    let settled = cli.color.is_none().then(depth::settled_here).flatten();
-    let mut clues = crate::term::format::clues_here(cli.format);
-    let guard = TerminalGuard::enter().context("cannot set up the terminal")?;
-    // Ask the terminal for 24-bit colour when neither --color nor the
-    // environment, tmux or terminfo settled it, and for its pixel formats
-    // unless one is forced: one burst of questions; keys typed meanwhile
-    // go to the decoder first.
+/// Asks the terminal for 24-bit colour when neither --color nor the
+/// environment, tmux or terminfo settled it, and for its pixel formats
+/// unless one is forced: one burst of questions. Sets the state's output
+/// and colour depth from the answers; gives back the keys typed meanwhile
+/// (they go to the decoder first).
+fn probe_terminal(
+    cli: &Cli,
+    tty: Option<&std::fs::File>,
+    state: &mut State,
+    settled: Option<depth::DepthChoice>,
+    mut clues: crate::term::format::Clues,
+) -> Vec<u8> {
     let mut typed = Vec::new();
     let ask_colour = cli.color.is_none() && settled.is_none();
     let found = (ask_colour || clues.wants_probe()).then(|| {
         let stdin = std::io::stdin();
-        let fd = match &tty {
+        let fd = match tty {
             Some(file) => file.as_fd(),
             None => stdin.as_fd(),
         };
@@ -217,68 +347,18 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         state.depth = choice.depth;
         state.depth_source = choice.source;
     }
+    typed
+}
+
+/// Reads the terminal (`tty`, else standard input) on its own thread, the
+/// keys typed during the probe first.
+fn spawn_input(tty: Option<std::fs::File>, typed: Vec<u8>, tx: mpsc::Sender<Msg>) {
     let fd = tty.as_ref().map_or(0, |file| file.as_raw_fd());
     let input: Box<dyn std::io::Read + Send> = match tty {
         Some(file) => Box::new(std::io::Cursor::new(typed).chain(file)),
         None => Box::new(std::io::Cursor::new(typed).chain(std::io::stdin())),
     };
-    // Keys pressed are counted on their way to the loop, so a long frame
-    // can see that the user wants something else (`q` quits at once).
-    let keys = Arc::new(std::sync::atomic::AtomicU64::new(0));
-    spawn_terminal_reader(input, fd, count_keys(tx, keys.clone()));
-    let mut backend = SgrBackend::new(GuardedStdout::new()?);
-    backend.set_tolerance(cli.color_tolerance);
-    let mut terminal = Terminal::new(backend)?;
-    let mut renderer = crate::Renderer::new();
-    // A long frame's progress: counted by the renderer, shown by the loop.
-    let progress = Arc::new(crate::render::FrameProgress::new());
-    renderer.set_progress(Some(progress.clone()));
-    let watch = frame_watch::FrameWatch {
-        progress,
-        out: Box::new(GuardedStdout::new()?),
-    };
-    let mut looper = Looper {
-        terminal: &mut terminal,
-        render: |s: &State, fb: &mut crate::Framebuffer| {
-            let mut stage = stage.borrow_mut();
-            let list = textures.borrow();
-            if list.generation() != stage_generation {
-                stage.set_texture(list.texture().clone());
-                stage_generation = list.generation();
-            }
-            // Pixel images have square pixels.
-            renderer.set_pixel_aspect(if s.output.format().is_pixels() {
-                1.0
-            } else {
-                s.symbols.pixel_aspect()
-            });
-            renderer.set_cancel(Some(abandon_when_keys(keys.clone())));
-            stage.render(&mut renderer, s, fb)
-        },
-        background: crate::scene::BACKGROUND,
-        rx: &rx,
-        textures: Some(&textures),
-        stage: Some(&stage),
-        pacer: crate::term::pacing::pacer_here(cli.link),
-        loader: Some(loader),
-        watch: Some(watch),
-    };
-    let exit = looper.run(&mut state);
-    // The screen first (quitting never waits for the terminal), then the
-    // replies still on their way are read so the shell does not get them.
-    crate::term::guard::restore_screen();
-    if !matches!(exit, Ok(Exit::InputClosed(_))) {
-        looper.drain_replies(std::time::Duration::from_millis(500));
-    }
-    drop(looper);
-    drop(terminal);
-    drop(guard);
-    signals.close();
-    match exit? {
-        Exit::Quit => Ok(()),
-        Exit::InputClosed(_) => Ok(()),
-        Exit::Signal(sig) => std::process::exit(128 + sig),
-    }
+    spawn_terminal_reader(input, fd, tx);
 }
 
 /// A sender whose messages reach `tx`, counting the keys among them in `keys`.
