@@ -257,7 +257,7 @@ impl ViewArgs {
         });
         s.normal_map_file = self.normal_map.is_some();
         // The environment is on by itself when a map is given.
-        if !self.options.given("environment") {
+        if !self.options.given(crate::options::OptId::Environment) {
             s.environment = self.environment_map.is_some();
         }
         s

@@ -12,7 +12,7 @@ use ratatui::layout::Rect;
 use super::frame_cost::FrameCost;
 use super::line_edit::{Completion, Edit};
 use super::textures::TextureListing;
-use crate::options::Press;
+use crate::options::{OptId, Press};
 use crate::scene::{ModelChoice, SceneKind};
 use crate::term::pacing::LinkInfo;
 
@@ -39,9 +39,9 @@ pub enum Action {
     /// Ctrl-Z: suspend (the shell's `fg` resumes).
     Suspend,
     /// A key of an option of the table ([`crate::options::OPTIONS`]):
-    /// `name` is the option, `press` what the key does to it.
+    /// `id` is the option, `press` what the key does to it.
     Option {
-        name: &'static str,
+        id: OptId,
         press: Press,
     },
     /// Arrow keys (X, Y) and PageUp/PageDown (Z): add `degrees` about `axis` (0 = X).
@@ -202,24 +202,24 @@ pub enum Action {
 }
 
 impl Action {
-    /// The key of option `name` that gives its next value (a toggle flips).
-    pub const fn next(name: &'static str) -> Action {
+    /// The key of option `id` that gives its next value (a toggle flips).
+    pub const fn next(id: OptId) -> Action {
         Action::Option {
-            name,
+            id,
             press: Press::Next,
         }
     }
-    /// The key of number option `name` that moves it a step up.
-    pub const fn up(name: &'static str) -> Action {
+    /// The key of number option `id` that moves it a step up.
+    pub const fn up(id: OptId) -> Action {
         Action::Option {
-            name,
+            id,
             press: Press::Up,
         }
     }
-    /// The key of number option `name` that moves it a step down.
-    pub const fn down(name: &'static str) -> Action {
+    /// The key of number option `id` that moves it a step down.
+    pub const fn down(id: OptId) -> Action {
         Action::Option {
-            name,
+            id,
             press: Press::Down,
         }
     }

@@ -15,7 +15,7 @@ fn three_d_only(action: &Action) -> Option<String> {
     Some(
         match action {
             // Every option of the table is one of the 3D scenes.
-            Action::Option { name, .. } => return options::find(name).map(|o| o.key_title()),
+            Action::Option { id, .. } => return Some(options::get(*id).key_title()),
             Action::RotateStep { .. } => "the arrows (rotation)",
             Action::ResetView => "r (reset the view)",
             Action::ZoomIn | Action::ZoomOut => "i I (zoom)",
@@ -40,7 +40,7 @@ pub fn refusal(state: &State, action: &Action) -> Option<String> {
         Action::TogglePlasmaNormal => {
             Some("z (plasma normal): only in the plasma scene (p)".into())
         }
-        Action::Option { name, .. } => options::find(name)?.refusal(&state.ctx()),
+        Action::Option { id, .. } => options::get(*id).refusal(&state.ctx()),
         _ => None,
     }
 }
@@ -62,7 +62,7 @@ pub fn effect_of(action: &Action) -> Option<Action> {
 /// line may not (a narrow screen cuts the figures first).
 pub fn effect(state: &State, action: &Action) -> Option<String> {
     match action {
-        Action::Option { name, .. } => options::find(name)?.shown(&state.settings),
+        Action::Option { id, .. } => options::get(*id).shown(&state.settings),
         _ => None,
     }
 }

@@ -533,7 +533,7 @@ fn option_rows() -> Vec<Binding> {
                 mode: Normal,
                 keys,
                 does: Does::Act(Action::Option {
-                    name: opt.name,
+                    id: opt.id,
                     press: k.press,
                 }),
                 help: match k.help {

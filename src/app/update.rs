@@ -166,11 +166,7 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
 /// The options of the picture and of its output.
 fn picture(state: &mut State, action: Action) {
     match action {
-        Action::Option { name, press } => {
-            if let Some(opt) = crate::options::find(name) {
-                opt.press(&mut state.settings, press);
-            }
-        }
+        Action::Option { id, press } => crate::options::get(id).press(&mut state.settings, press),
         Action::CycleSymbols => state.symbols = state.symbols.next(),
         Action::CycleFormat => {
             state.output.cycle();

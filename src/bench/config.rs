@@ -9,7 +9,7 @@
 use clap::ValueEnum;
 use glam::Vec3;
 
-use crate::options::{Bench, OPTIONS};
+use crate::options::{Bench, OPTIONS, OptId};
 use crate::scene::Scene;
 use crate::settings::{
     AntiAlias, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
@@ -172,18 +172,18 @@ pub fn full() -> Vec<Config> {
     // README's row numbers cite; an option not placed here gets its rows
     // at the end.
     let mut placed = Vec::new();
-    let mut option = |name: &'static str| {
-        placed.push(name);
-        option_rows(name)
+    let mut option = |id: OptId| {
+        placed.push(id);
+        option_rows(id)
     };
-    rows.extend(option("shading"));
-    rows.extend(option("normals"));
-    rows.extend(option("texture"));
-    rows.extend(option("filter"));
-    rows.extend(option("bump"));
-    rows.extend(option("specular"));
-    rows.extend(option("technique"));
-    rows.extend(option("height_derivative"));
+    rows.extend(option(OptId::Shading));
+    rows.extend(option(OptId::Normals));
+    rows.extend(option(OptId::Texture));
+    rows.extend(option(OptId::Filter));
+    rows.extend(option(OptId::Bump));
+    rows.extend(option(OptId::Specular));
+    rows.extend(option(OptId::Technique));
+    rows.extend(option(OptId::HeightDerivative));
     // The light vector only matters to dot3: measured there, against dot3's default.
     rows.extend(
         axis("light-vector", r.light_vector, |s, v: LightVector| {
@@ -196,9 +196,9 @@ pub fn full() -> Vec<Config> {
             ..c
         }),
     );
-    rows.extend(option("aa"));
+    rows.extend(option(OptId::Aa));
     // Work the plan leaves out: lights, and the depth buffer a convex cube does not need.
-    rows.extend(option("lights"));
+    rows.extend(option(OptId::Lights));
     rows.push(Config {
         variant: SceneVariant::ForcedDepth,
         ..Config::new("depth buffer forced", r, Threads::All)
@@ -268,23 +268,21 @@ pub fn full() -> Vec<Config> {
     });
     // The debug overlay: what drawing the tangent frames adds (last, so
     // the row numbers the README cites stay valid).
-    rows.extend(option("tangent_frames"));
-    rows.extend(option("environment"));
+    rows.extend(option(OptId::TangentFrames));
+    rows.extend(option(OptId::Environment));
     // New options: after every row above, so their numbers stay.
     for opt in OPTIONS {
-        if !placed.contains(&opt.name) {
-            rows.extend(option_rows(opt.name));
+        if !placed.contains(&opt.id) {
+            rows.extend(option_rows(opt.id));
         }
     }
     rows
 }
 
-/// The rows of option `name` ([`Bench`] of its entry): each value but
+/// The rows of option `id` ([`Bench`] of its entry): each value but
 /// the default applied to the reference setting.
-fn option_rows(name: &str) -> Vec<Config> {
-    let Some(opt) = crate::options::find(name) else {
-        return Vec::new();
-    };
+fn option_rows(id: OptId) -> Vec<Config> {
+    let opt = crate::options::get(id);
     let r = reference_setting();
     let away = opt.all_values().into_iter().filter(|&v| v != opt.get(&r));
     let row = |v, name: String| {

@@ -9,6 +9,8 @@ use crate::settings::Settings;
 /// One option of the view: everything the command line, the keys, the
 /// help, the status line, the key messages and the bench know about it.
 pub struct Opt {
+    /// What keys, messages and bench rows name it by.
+    pub id: super::OptId,
     /// The [`Settings`] field it reads and writes; the flag is this with
     /// `-` for `_` (`bump_strength` → `--bump-strength`).
     pub name: &'static str,

@@ -7,7 +7,7 @@ use clap::builder::PossibleValuesParser;
 use clap::parser::ValueSource;
 use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
 
-use super::{Form, Kind, OPTIONS, Opt, Value};
+use super::{Form, Kind, OPTIONS, Opt, OptId, Value};
 use crate::settings::Settings;
 
 /// The settings the table's flags describe, and which flags were given.
@@ -16,13 +16,13 @@ pub struct OptionArgs {
     /// The defaults with the given flags applied.
     pub settings: Settings,
     /// The options whose flag is on the command line.
-    pub given: Vec<&'static str>,
+    pub given: Vec<OptId>,
 }
 
 impl OptionArgs {
-    /// Whether `--name` was given (`name` as in the table).
-    pub fn given(&self, name: &str) -> bool {
-        self.given.contains(&name)
+    /// Whether the flag of option `id` was given.
+    pub fn given(&self, id: OptId) -> bool {
+        self.given.contains(&id)
     }
 }
 
@@ -76,7 +76,7 @@ impl FromArgMatches for OptionArgs {
         let mut given = Vec::new();
         for opt in OPTIONS {
             if m.value_source(opt.name) == Some(ValueSource::CommandLine) {
-                given.push(opt.name);
+                given.push(opt.id);
             }
             if let Some(v) = value_of(opt, m) {
                 opt.set(&mut settings, v);

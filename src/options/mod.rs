@@ -7,6 +7,7 @@
 mod entry;
 mod enums;
 pub mod flags;
+mod id;
 mod table;
 pub mod text;
 
@@ -15,4 +16,5 @@ pub use entry::{
 };
 pub use enums::{index_of, values, variant};
 pub use flags::OptionArgs;
-pub use table::{OPTIONS, find};
+pub use id::OptId;
+pub use table::{OPTIONS, get};

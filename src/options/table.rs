@@ -12,6 +12,7 @@
 //!   glyphs (`u`) and the lights `1`–`4`: they live in the app's state,
 //!   not in [`Settings`], which is what the renderer reads.
 
+use super::OptId;
 use super::entry::{
     Bench, Ctx, Field, Flag, Form, KeyHelp, Kind, Opt, OptKey, Press, Shows, Status, Step, Value,
 };
@@ -134,8 +135,12 @@ fn technique_text(c: &Ctx) -> String {
 }
 
 /// Every option, in the order of the help (and of `--help`).
-pub static OPTIONS: &[Opt] = &[
+pub static OPTIONS: &[Opt] = &TABLE;
+
+/// The table, one entry per [`OptId`] at the id's place.
+const TABLE: [Opt; OptId::ALL.len()] = [
     Opt {
+        id: OptId::Shading,
         name: "shading",
         title: "lighting",
         kind: Kind::Choice {
@@ -154,6 +159,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::Axis("shading"),
     },
     Opt {
+        id: OptId::Normals,
         name: "normals",
         title: "normals",
         kind: Kind::Choice {
@@ -173,6 +179,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::Axis("normals"),
     },
     Opt {
+        id: OptId::Texture,
         name: "texture",
         title: "texture",
         kind: Kind::Toggle,
@@ -190,6 +197,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::Axis("texture"),
     },
     Opt {
+        id: OptId::Colors,
         name: "colors",
         title: "colours",
         kind: Kind::Toggle,
@@ -207,6 +215,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::None,
     },
     Opt {
+        id: OptId::Bump,
         name: "bump",
         title: "bump",
         kind: Kind::Toggle,
@@ -239,6 +248,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::Axis("bump"),
     },
     Opt {
+        id: OptId::BumpStrength,
         name: "bump_strength",
         title: "bump strength",
         kind: Kind::Number {
@@ -268,6 +278,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::None,
     },
     Opt {
+        id: OptId::Filter,
         name: "filter",
         title: "filter",
         kind: Kind::Choice {
@@ -286,6 +297,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::Axis("filter"),
     },
     Opt {
+        id: OptId::Technique,
         name: "technique",
         title: "bump technique",
         kind: Kind::Choice {
@@ -313,6 +325,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::Axis("technique"),
     },
     Opt {
+        id: OptId::LightVector,
         name: "light_vector",
         title: "dot3 light vector",
         kind: Kind::Choice {
@@ -339,6 +352,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::None,
     },
     Opt {
+        id: OptId::HeightDerivative,
         name: "height_derivative",
         title: "height derivative",
         kind: Kind::Choice {
@@ -363,6 +377,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::Axis("derivative"),
     },
     Opt {
+        id: OptId::Aa,
         name: "aa",
         title: "anti-aliasing",
         kind: Kind::Choice {
@@ -387,6 +402,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::Axis("aa"),
     },
     Opt {
+        id: OptId::Display,
         name: "display",
         title: "display",
         kind: Kind::Choice {
@@ -406,6 +422,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::None,
     },
     Opt {
+        id: OptId::TangentFrames,
         name: "tangent_frames",
         title: "tangent frames",
         kind: Kind::Toggle,
@@ -426,6 +443,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::Row("tangent-frames"),
     },
     Opt {
+        id: OptId::Lights,
         name: "lights",
         title: "lights",
         kind: Kind::Toggle,
@@ -444,6 +462,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::Axis("lights"),
     },
     Opt {
+        id: OptId::Attenuation,
         name: "attenuation",
         title: "attenuation",
         kind: Kind::Toggle,
@@ -468,6 +487,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::None,
     },
     Opt {
+        id: OptId::Specular,
         name: "specular",
         title: "specular",
         kind: Kind::Toggle,
@@ -496,6 +516,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::Axis("specular"),
     },
     Opt {
+        id: OptId::Shininess,
         name: "shininess",
         title: "shininess",
         kind: Kind::Number {
@@ -525,6 +546,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::None,
     },
     Opt {
+        id: OptId::Environment,
         name: "environment",
         title: "environment",
         kind: Kind::Toggle,
@@ -558,6 +580,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::Axis("environment"),
     },
     Opt {
+        id: OptId::Reflectivity,
         name: "reflectivity",
         title: "reflectivity",
         kind: Kind::Number {
@@ -584,6 +607,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::None,
     },
     Opt {
+        id: OptId::Fov,
         name: "fov",
         title: "field of view",
         kind: Kind::Number {
@@ -640,6 +664,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::None,
     },
     Opt {
+        id: OptId::Up,
         name: "up",
         title: "up axis",
         kind: Kind::Choice {
@@ -659,6 +684,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::None,
     },
     Opt {
+        id: OptId::ToneMap,
         name: "tone_map",
         title: "tone map",
         kind: Kind::Choice {
@@ -674,6 +700,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::None,
     },
     Opt {
+        id: OptId::Exposure,
         name: "exposure",
         title: "exposure",
         kind: Kind::Number {
@@ -708,6 +735,7 @@ pub static OPTIONS: &[Opt] = &[
         bench: Bench::None,
     },
     Opt {
+        id: OptId::EnvironmentTurn,
         name: "environment_turn",
         title: "environment turn",
         kind: Kind::Number {
@@ -754,7 +782,24 @@ pub static OPTIONS: &[Opt] = &[
     },
 ];
 
-/// The option named `name` (its [`Settings`] field).
-pub fn find(name: &str) -> Option<&'static Opt> {
-    OPTIONS.iter().find(|o| o.name == name)
+// Each entry at its id's place, so that [`get`] is an index: a table out
+// of order does not compile.
+const _: () = {
+    let mut i = 0;
+    while i < TABLE.len() {
+        assert!(
+            TABLE[i].id as usize == i,
+            "an option's entry is not at its id's place"
+        );
+        assert!(
+            OptId::ALL[i] as usize == i,
+            "OptId::ALL is not in the ids' order"
+        );
+        i += 1;
+    }
+};
+
+/// The entry of option `id`.
+pub fn get(id: OptId) -> &'static Opt {
+    &OPTIONS[id as usize]
 }

@@ -21,6 +21,7 @@ use relief::app::texture_list::TextureList;
 use relief::app::textures::{TextureListing, TextureRow, listing};
 use relief::app::view::status_line;
 use relief::app::{Action, Command, DragButton, State, action_for_event, action_for_key, update};
+use relief::options::OptId;
 use relief::scene::{ModelChoice, SceneKind};
 use relief::settings::Settings;
 use relief::term::{ColorDepth, HalfBlocks, SgrBackend};
@@ -114,7 +115,10 @@ fn keys_move_pick_and_close() {
     update(&mut s, Action::TexturesListed(l));
     assert_eq!(key(&mut s, ch('H')), Some(Command::SetHeights(None)));
     // Keys the panel does not take act on the picture (`k` is the panel's).
-    assert_eq!(action_for_key(&s, &ch('m')), Some(Action::next("shading")));
+    assert_eq!(
+        action_for_key(&s, &ch('m')),
+        Some(Action::next(OptId::Shading))
+    );
     assert_eq!(action_for_key(&s, &ch('x')), Some(Action::NextTexture));
     assert_eq!(action_for_key(&s, &ch('k')), Some(Action::TexturesMove(-1)));
     assert_eq!(action_for_key(&s, &ch('q')), Some(Action::Quit));

@@ -9,6 +9,7 @@ use ratatui::layout::Rect;
 use relief::Framebuffer;
 use relief::app::view::{areas, framebuffer_size, help_lines, layout, status_line};
 use relief::app::{Action, State, update, view};
+use relief::options::OptId;
 use relief::settings::Settings;
 use relief::term::{ColorDepth, Symbols};
 
@@ -83,20 +84,20 @@ fn status_line_shows_every_mode_and_the_frame_cost() {
 #[test]
 fn status_line_follows_each_toggle() {
     let mut s = state();
-    update(&mut s, Action::next("shading"));
+    update(&mut s, Action::next(OptId::Shading));
     let st = status_line(&s, 200);
     assert!(st.starts_with("flat"), "{st}");
     assert!(st.contains("bump on (Phong only)"), "{st}");
-    update(&mut s, Action::next("shading"));
+    update(&mut s, Action::next(OptId::Shading));
     assert!(status_line(&s, 250).starts_with("Gouraud"));
-    update(&mut s, Action::next("normals"));
-    update(&mut s, Action::next("texture"));
-    update(&mut s, Action::next("colors"));
+    update(&mut s, Action::next(OptId::Normals));
+    update(&mut s, Action::next(OptId::Texture));
+    update(&mut s, Action::next(OptId::Colors));
     let st = status_line(&s, 250);
     for want in ["normals face", "texture off", "colours off", "(Phong only)"] {
         assert!(st.contains(want), "{want:?} in {st}");
     }
-    update(&mut s, Action::next("bump"));
+    update(&mut s, Action::next(OptId::Bump));
     let st = status_line(&s, 250);
     assert!(
         st.contains("bump off") && !st.contains("Phong only"),
@@ -111,7 +112,7 @@ fn status_line_follows_each_toggle() {
 #[test]
 fn narrow_terminals_split_modes_and_cost_over_two_lines() {
     let mut s = state();
-    update(&mut s, Action::next("shading"));
+    update(&mut s, Action::next(OptId::Shading));
     let buf = screen(&s, 40, 12);
     let status = row_text(&buf, 11);
     assert_eq!(status.trim_end(), "flat │ cube │ 24b │ +11 more │ ? help");
@@ -413,15 +414,15 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
     use relief::scene::{ModelChoice, SceneKind};
     let mut s = state();
     for a in [
-        Action::next("technique"),
-        Action::next("technique"),
-        Action::next("light_vector"),
-        Action::next("height_derivative"),
-        Action::next("aa"),
-        Action::next("display"),
+        Action::next(OptId::Technique),
+        Action::next(OptId::Technique),
+        Action::next(OptId::LightVector),
+        Action::next(OptId::HeightDerivative),
+        Action::next(OptId::Aa),
+        Action::next(OptId::Display),
         Action::ToggleLight(1),
         Action::ToggleLight(3),
-        Action::next("attenuation"),
+        Action::next(OptId::Attenuation),
         Action::SceneBuilt(Ok((SceneKind::Cube, ModelChoice::Sphere))),
     ] {
         update(&mut s, a);
@@ -460,7 +461,7 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
         at60.contains("sphere") && at60.ends_with("more │ ? help"),
         "{at60}"
     );
-    update(&mut s, Action::next("lights"));
+    update(&mut s, Action::next(OptId::Lights));
     assert!(status_line(&s, 300).contains("lights off"));
     update(
         &mut s,
@@ -637,11 +638,11 @@ fn busy_states() -> Vec<State> {
     use relief::scene::{ModelChoice, SceneKind};
     let mut changed = state();
     for a in [
-        Action::next("technique"),
-        Action::next("aa"),
-        Action::next("display"),
+        Action::next(OptId::Technique),
+        Action::next(OptId::Aa),
+        Action::next(OptId::Display),
         Action::ToggleLight(1),
-        Action::next("attenuation"),
+        Action::next(OptId::Attenuation),
         Action::ToggleAutoRotate,
         Action::ZoomIn,
     ] {

@@ -8,6 +8,7 @@ use clap::ValueEnum;
 use glam::{Mat4, Vec3};
 use relief::app::view::status_line;
 use relief::app::{Action, State, update};
+use relief::options::OptId;
 use relief::raster::frames::LENGTH_FRACTION;
 use relief::render::{Renderer, render_frame};
 use relief::scene::plane::grid;
@@ -231,9 +232,9 @@ fn a_surface_in_front_hides_the_frames_behind_it() {
 fn key_f_toggles_the_frames_and_the_status_line_says_so() {
     let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
     assert!(!status_line(&s, 300).contains("tangent frames"));
-    update(&mut s, Action::next("tangent_frames"));
+    update(&mut s, Action::next(OptId::TangentFrames));
     assert!(s.settings.tangent_frames);
     assert!(status_line(&s, 300).contains("tangent frames"));
-    update(&mut s, Action::next("tangent_frames"));
+    update(&mut s, Action::next(OptId::TangentFrames));
     assert!(!s.settings.tangent_frames);
 }
