@@ -525,8 +525,8 @@ fn key_of(key: &KeyEvent) -> Option<Key> {
 /// an entry is one row of the picture's mode.
 fn option_rows() -> Vec<Binding> {
     let mut rows = Vec::new();
-    for opt in OPTIONS {
-        for k in opt.keys {
+    for (i, opt) in OPTIONS.iter().enumerate() {
+        for (j, k) in opt.keys.iter().enumerate() {
             // Made once (see `bindings`): the keys live as long as the program.
             let keys: &'static [Key] = Vec::leak(k.keys.iter().map(|&ch| c(ch)).collect());
             rows.push(Binding {
@@ -536,8 +536,13 @@ fn option_rows() -> Vec<Binding> {
                     id: opt.id,
                     press: k.press,
                 }),
+                // Made once too: the keys shown and the text filled in
+                // from the entries.
                 help: match k.help {
-                    KeyHelp::Line(keys, text) => Line(keys, text),
+                    KeyHelp::Line { text, .. } => Line(
+                        String::leak(crate::options::help_keys(i, j)),
+                        String::leak(opt.fill(text)),
+                    ),
                     KeyHelp::Above => Above,
                 },
             });

@@ -126,7 +126,8 @@ impl Step {
 
 /// How the flag is spelled.
 pub struct Flag {
-    /// The line of `--help`.
+    /// The line of `--help`; a number's `{min}`, `{max}`, `{step}` and
+    /// `{default}` are filled in from its entry ([`Opt::fill`]).
     pub help: &'static str,
     /// The value's name in `--help` (`None`: the name in capitals).
     pub value_name: Option<&'static str>,
@@ -166,8 +167,14 @@ pub struct OptKey {
 
 /// How a key shows in the help.
 pub enum KeyHelp {
-    /// Its own line: the keys as shown, then the text.
-    Line(&'static str, &'static str),
+    /// Its own line: the text (filled in as [`Opt::fill`] does), after the
+    /// keys it describes ([`super::help_keys`]): this one, the `Above` keys
+    /// after it in the table, then `others`, keys of the app's own
+    /// (`app/keys.rs`) that share the line.
+    Line {
+        text: &'static str,
+        others: &'static str,
+    },
     /// Described by the line above.
     Above,
 }
@@ -219,6 +226,25 @@ pub enum Bench {
 }
 
 impl Opt {
+    /// `text` with a number's `{min}`, `{max}`, `{step}` (its key's step)
+    /// and `{default}` filled in from the entry, so a help line cannot
+    /// disagree with the values it states.
+    pub fn fill(&self, text: &str) -> String {
+        let Kind::Number { step, .. } = &self.kind else {
+            return text.to_string();
+        };
+        let default = self.spell(self.get(&Settings::default()));
+        text.replace("{min}", &format!("{}", step.min))
+            .replace("{max}", &format!("{}", step.max))
+            .replace("{step}", &format!("{}", step.factor))
+            .replace("{default}", &default)
+    }
+
+    /// The flag's `--help` line.
+    pub fn flag_help(&self) -> String {
+        self.fill(self.flag.help)
+    }
+
     /// The flag: the name with `-` for `_`.
     pub fn flag_name(&self) -> String {
         self.name.replace('_', "-")

@@ -28,7 +28,9 @@ impl OptionArgs {
 
 /// The flag of one entry.
 fn arg(opt: &'static Opt) -> Arg {
-    let arg = Arg::new(opt.name).long(opt.flag_name()).help(opt.flag.help);
+    let arg = Arg::new(opt.name)
+        .long(opt.flag_name())
+        .help(opt.flag_help());
     if opt.flag.form == Form::Switch {
         return arg.action(ArgAction::SetTrue);
     }

@@ -17,4 +17,4 @@ pub use entry::{
 pub use enums::{index_of, values, variant};
 pub use flags::OptionArgs;
 pub use id::OptId;
-pub use table::{OPTIONS, get};
+pub use table::{OPTIONS, get, help_keys};

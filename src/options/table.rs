@@ -48,17 +48,28 @@ macro_rules! field {
     };
 }
 
-/// A key with its own help line.
-const fn key(
+/// A key with its own help line (the keys it shows are the entries';
+/// see [`help_keys`]).
+const fn key(keys: &'static [char], press: Press, text: &'static str) -> OptKey {
+    OptKey {
+        keys,
+        press,
+        help: KeyHelp::Line { text, others: "" },
+    }
+}
+
+/// A key with its own help line shared with keys of the app's own
+/// (`app/keys.rs`), shown after the entries' keys.
+const fn key_and(
     keys: &'static [char],
     press: Press,
-    shown: &'static str,
-    help: &'static str,
+    text: &'static str,
+    others: &'static str,
 ) -> OptKey {
     OptKey {
         keys,
         press,
-        help: KeyHelp::Line(shown, help),
+        help: KeyHelp::Line { text, others },
     }
 }
 
@@ -148,12 +159,7 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         },
         field: field!(shading: Shading),
         flag: flag("Lighting: per facet, per vertex (Gouraud) or per pixel (Phong)"),
-        keys: &[key(
-            &['m'],
-            Press::Next,
-            "m",
-            "lighting: flat → Gouraud → Phong",
-        )],
+        keys: &[key(&['m'], Press::Next, "lighting: flat → Gouraud → Phong")],
         shows: None,
         status: Some(same(0, |c| c.settings.shading.label().into(), None)),
         bench: Bench::Axis("shading"),
@@ -167,7 +173,7 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         },
         field: field!(normals: Normals),
         flag: flag("Normals used by Gouraud and Phong"),
-        keys: &[key(&['n'], Press::Next, "n", "normals: vertex / face")],
+        keys: &[key(&['n'], Press::Next, "normals: vertex / face")],
         shows: None,
         status: Some(two(
             1,
@@ -185,7 +191,7 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         kind: Kind::Toggle,
         field: field!(texture: bool),
         flag: flag("Colour texture"),
-        keys: &[key(&['t'], Press::Next, "t", "texture on / off")],
+        keys: &[key(&['t'], Press::Next, "texture on / off")],
         shows: None,
         status: Some(two(
             2,
@@ -203,7 +209,7 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         kind: Kind::Toggle,
         field: field!(colors: bool),
         flag: flag("Per-vertex colours (off: white material)"),
-        keys: &[key(&['c'], Press::Next, "c", "colours on / off")],
+        keys: &[key(&['c'], Press::Next, "colours on / off")],
         shows: None,
         status: Some(two(
             3,
@@ -224,7 +230,6 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         keys: &[key(
             &['b'],
             Press::Next,
-            "b",
             "bump on / off (shows in Phong only)",
         )],
         shows: None,
@@ -266,7 +271,7 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         field: field!(bump_strength: f32),
         flag: flag("Bump strength k (Blinn); 0 means no bump"),
         keys: &[
-            key(&['+', '='], Press::Up, "+ -", "bump strength"),
+            key(&['+', '='], Press::Up, "bump strength"),
             also(&['-', '_'], Press::Down),
         ],
         shows: Some(Shows {
@@ -289,7 +294,6 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         keys: &[key(
             &['f'],
             Press::Next,
-            "f",
             "filter: nearest, bilinear, nearest-mip, trilinear, aniso",
         )],
         shows: None,
@@ -308,7 +312,6 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         keys: &[key(
             &['e'],
             Press::Next,
-            "e",
             "bump technique: Blinn → emboss → dot3 → parallax → POM",
         )],
         shows: Some(Shows {
@@ -335,12 +338,12 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         flag: flag(
             "Dot3's light vector: interpolated from the vertices (the tutorial's artefact) or per pixel",
         ),
-        keys: &[key(
+        keys: &[key_and(
             &['v'],
             Press::Next,
-            // `N` (app/keys.rs) shares this line.
-            "v N",
             "dot3: L per pixel / vertex; N: normal map file / derived",
+            // The normal map file's key (app/keys.rs).
+            "N",
         )],
         shows: Some(Shows {
             when: |c| plan::light_vector_shows(c.settings),
@@ -365,7 +368,6 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         keys: &[key(
             &['h'],
             Press::Next,
-            "h",
             "height derivative: filtered / per texel",
         )],
         shows: None,
@@ -390,7 +392,6 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         keys: &[key(
             &['a'],
             Press::Next,
-            "a",
             "anti-aliasing: off → SSAA 2x2 → SSAA 4x4 → MSAA 4",
         )],
         shows: None,
@@ -410,12 +411,12 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         },
         field: field!(display: Display),
         flag: flag("What is drawn: vertices, edges or filled triangles"),
-        keys: &[key(
+        keys: &[key_and(
             &['d'],
             Press::Next,
-            // `u` and `U` (glyphs, format; app/keys.rs) share this line.
-            "d F u U",
             "display: points → lines → fill; tangent frames; glyphs; format",
+            // The glyphs and the format (app/keys.rs).
+            "u U",
         )],
         shows: None,
         status: Some(same(9, |c| c.settings.display.label().into(), Some(9))),
@@ -449,12 +450,12 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         kind: Kind::Toggle,
         field: field!(lights: bool),
         flag: flag("All lights on or off (the ambient term stays)"),
-        keys: &[key(
+        keys: &[key_and(
             &['l'],
             Press::Next,
-            // The lights 1–4 (app/keys.rs) share this line.
-            "l 1 2 3 4",
             "all lights / the white, red, green, blue one on / off",
+            // The lights 1–4 of the app's state (app/keys.rs).
+            "1 2 3 4",
         )],
         shows: None,
         // Worded with the lights 1–4 of the app's state (app/view/status.rs).
@@ -470,12 +471,7 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         flag: flag(
             "Distance attenuation of the lights: 1/(1 + 0.01·d²), d the distance to the light",
         ),
-        keys: &[key(
-            &['L'],
-            Press::Next,
-            "L",
-            "distance attenuation on / off",
-        )],
+        keys: &[key(&['L'], Press::Next, "distance attenuation on / off")],
         shows: None,
         status: Some(two(
             12,
@@ -498,7 +494,6 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         keys: &[key(
             &['g'],
             Press::Next,
-            "g y Y E",
             "specular on/off; shininess ×2 ÷2; E environment",
         )],
         shows: None,
@@ -598,7 +593,9 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         field: field!(reflectivity: f32),
         flag: Flag {
             value_name: Some("K"),
-            ..flag("Share k of the reflection: colour = (1 − k)·lit + k·environment, k in 0..=1")
+            ..flag(
+                "Share k of the reflection: colour = (1 − k)·lit + k·environment, k in {min}..={max}",
+            )
         },
         keys: &[],
         shows: None,
@@ -636,17 +633,11 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         flag: Flag {
             value_name: Some("DEGREES"),
             ..flag(
-                "Vertical field of view of the camera in degrees, from 10 to 120 (the reference view: 60)",
+                "Vertical field of view of the camera in degrees, from {min} to {max} (the reference view: {default})",
             )
         },
         keys: &[
-            // `Z` (the up axis, next entry) shares this line.
-            key(
-                &['w'],
-                Press::Up,
-                "w W Z",
-                "field of view wider / narrower; Z: up axis Y / Z",
-            ),
+            key(&['w'], Press::Up, "field of view wider / narrower"),
             also(&['W'], Press::Down),
         ],
         shows: None,
@@ -674,7 +665,7 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         flag: flag(
             "The model's up axis: z stands Z-up files (most CAD and 3D-printing files) upright",
         ),
-        keys: &[also(&['Z'], Press::Next)],
+        keys: &[key(&['Z'], Press::Next, "up axis: Y / Z")],
         shows: None,
         // Shown only for Z-up.
         status: Some(Status {
@@ -763,8 +754,7 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         keys: &[key(
             &['J'],
             Press::Up,
-            "J",
-            "turn the model's environment 30° about the vertical",
+            "turn the model's environment {step}° about the vertical",
         )],
         shows: Some(Shows {
             when: |c| plan::environment_can_show(c.settings),
@@ -802,4 +792,79 @@ const _: () = {
 /// The entry of option `id`.
 pub fn get(id: OptId) -> &'static Opt {
     &OPTIONS[id as usize]
+}
+
+/// The keys a help line shows: the first key of entry `opt`'s press `key`,
+/// of each `Above` press after it in the table (up to the next line), then
+/// the line's `others` ("+ -", "g y Y E", "d F u U").
+pub fn help_keys(opt: usize, key: usize) -> String {
+    let presses = OPTIONS.iter().flat_map(|o| o.keys.iter());
+    let before: usize = OPTIONS[..opt].iter().map(|o| o.keys.len()).sum();
+    let mut presses = presses.skip(before + key);
+    let mut shown: Vec<String> = Vec::new();
+    let others = match presses.next().map(|k| (k, &k.help)) {
+        Some((k, KeyHelp::Line { others, .. })) => {
+            shown.extend(k.keys.first().map(char::to_string));
+            *others
+        }
+        _ => return String::new(),
+    };
+    for k in presses.take_while(|k| matches!(k.help, KeyHelp::Above)) {
+        shown.extend(k.keys.first().map(char::to_string));
+    }
+    shown.extend(others.split_whitespace().map(String::from));
+    shown.join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The keys the help line of `id`'s first press shows.
+    fn line_keys(id: OptId) -> String {
+        help_keys(id as usize, 0)
+    }
+
+    #[test]
+    fn help_lines_show_the_keys_they_describe() {
+        assert_eq!(line_keys(OptId::Shading), "m");
+        assert_eq!(line_keys(OptId::BumpStrength), "+ -");
+        assert_eq!(line_keys(OptId::LightVector), "v N");
+        assert_eq!(line_keys(OptId::Display), "d F u U");
+        assert_eq!(line_keys(OptId::Lights), "l 1 2 3 4");
+        assert_eq!(line_keys(OptId::Specular), "g y Y E");
+        assert_eq!(line_keys(OptId::Fov), "w W");
+        // The up axis has its own line, no longer the field of view's.
+        assert_eq!(line_keys(OptId::Up), "Z");
+        // A key the line above describes shows no line of its own.
+        assert_eq!(line_keys(OptId::TangentFrames), "");
+    }
+
+    #[test]
+    fn help_texts_state_the_numbers_their_entries_hold() {
+        let (min, max) = FOV_RANGE;
+        let fov = get(OptId::Fov).flag_help();
+        assert!(
+            fov.contains(&format!(
+                "from {min} to {max} (the reference view: {DEFAULT_FOV})"
+            )),
+            "{fov}"
+        );
+        assert!(!fov.contains('{'), "{fov}");
+        let k = get(OptId::Reflectivity).flag_help();
+        assert!(k.ends_with("k in 0..=1"), "{k}");
+        let KeyHelp::Line { text, .. } = &get(OptId::EnvironmentTurn).keys[0].help else {
+            panic!("the environment's turn has a help line");
+        };
+        let turn = get(OptId::EnvironmentTurn).fill(text);
+        assert_eq!(turn, "turn the model's environment 30° about the vertical");
+    }
+
+    #[test]
+    fn every_id_names_its_own_entry() {
+        for id in OptId::ALL {
+            assert_eq!(get(id).id, id);
+        }
+        assert_eq!(OPTIONS.len(), OptId::ALL.len());
+    }
 }
