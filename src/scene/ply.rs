@@ -417,87 +417,137 @@ fn read(name: &str, bytes: &[u8]) -> Result<(IndexedCorners, Reservation, Vec<St
         line: bytes[..start].iter().filter(|&&b| b == b'\n').count() + 1,
         format,
     };
-    let place = |body: &Body, problem: String| match format {
-        Format::Ascii => ObjError::Line {
-            name: name.to_string(),
-            line: body.line,
-            problem,
-        },
-        _ => ObjError::Byte {
-            name: name.to_string(),
-            offset: body.pos as u64,
-            problem,
-        },
-    };
-    // Counts against the bytes that remain, before anything is read.
-    let mut least = 0u64;
-    for e in &elements {
-        least = least.saturating_add(e.count.saturating_mul(least_item_bytes(e, format)));
-    }
-    if least > body.remaining() {
-        let e = elements
-            .iter()
-            .max_by_key(|e| e.count)
-            .map(|e| (e.name.clone(), e.count))
-            .unwrap_or_default();
-        return Err(place(
-            &body,
-            format!(
-                "the header declares {} {} items, more than the {} bytes after it can hold",
-                e.1,
-                crate::sanitize::clean(&e.0),
-                body.remaining()
-            ),
-        ));
-    }
-    // First pass: count the triangles, keeping nothing.
-    let mut triangles = 0u64;
-    {
-        let mut walk = Body { ..body };
-        for e in &elements {
-            let list = face_list(e).filter(|_| e.name == "face");
-            for _ in 0..e.count {
-                for (k, p) in e.properties.iter().enumerate() {
-                    match p.list {
-                        Some(count) => {
-                            let n = walk.length(count).map_err(|m| place(&walk, m))?;
-                            if Some(k) == list {
-                                triangles += n.saturating_sub(2) as u64;
-                            }
-                            for _ in 0..n {
-                                walk.value(p.ty).map_err(|m| place(&walk, m))?;
-                            }
-                        }
-                        None => {
-                            walk.value(p.ty).map_err(|m| place(&walk, m))?;
-                        }
-                    }
-                }
-            }
-        }
-    }
-    let vertex_count = elements[vertex_element].count;
-    if vertex_count >= NO_INDEX as u64 {
+    check_counts(name, &elements, &body)?;
+    let triangles = count_triangles(name, &elements, Body { ..body })?;
+    let vertices = &elements[vertex_element];
+    if vertices.count >= NO_INDEX as u64 {
         return Err(ObjError::Unsupported {
             name: name.to_string(),
             what: format!("more than {} vertices", NO_INDEX - 1),
         });
     }
-    // The vertices' attributes go into shared arrays (the faces index
-    // them, as an OBJ's `v` lines are): an array only for what the
-    // vertex element has.
-    let layout = vertex_layout(&elements[vertex_element]);
-    let has = |idx: &[Option<usize>]| idx.iter().all(Option::is_some);
-    let (has_normal, has_color, has_uv) =
-        (has(&layout.normal), has(&layout.color), has(&layout.uv));
+    let has = Has::of(&vertex_layout(vertices));
+    let (mut c, held) = reserve_arrays(name, vertices.count, has, triangles)?;
+    // Second pass: read.
+    for e in &elements {
+        read_element(name, e, has, &mut body, &mut c)?;
+    }
+    if c.positions.is_empty() {
+        return Err(ObjError::Empty {
+            name: name.to_string(),
+        });
+    }
+    Ok((c, held, warnings))
+}
+
+impl Body<'_> {
+    /// The error `problem` at the body's place: a line in ASCII, a byte
+    /// offset in binary.
+    fn fail(&self, name: &str, problem: String) -> ObjError {
+        match self.format {
+            Format::Ascii => ObjError::Line {
+                name: name.to_string(),
+                line: self.line,
+                problem,
+            },
+            _ => ObjError::Byte {
+                name: name.to_string(),
+                offset: self.pos as u64,
+                problem,
+            },
+        }
+    }
+}
+
+/// Checks the header's counts against the bytes that remain, before
+/// anything is read.
+fn check_counts(name: &str, elements: &[Element], body: &Body) -> Result<(), ObjError> {
+    let mut least = 0u64;
+    for e in elements {
+        least = least.saturating_add(e.count.saturating_mul(least_item_bytes(e, body.format)));
+    }
+    if least <= body.remaining() {
+        return Ok(());
+    }
+    let e = elements
+        .iter()
+        .max_by_key(|e| e.count)
+        .map(|e| (e.name.clone(), e.count))
+        .unwrap_or_default();
+    Err(body.fail(
+        name,
+        format!(
+            "the header declares {} {} items, more than the {} bytes after it can hold",
+            e.1,
+            crate::sanitize::clean(&e.0),
+            body.remaining()
+        ),
+    ))
+}
+
+/// First pass: counts the triangles the faces fan into, keeping nothing.
+fn count_triangles(name: &str, elements: &[Element], mut walk: Body) -> Result<u64, ObjError> {
+    let mut triangles = 0u64;
+    for e in elements {
+        let list = face_list(e).filter(|_| e.name == "face");
+        for _ in 0..e.count {
+            for (k, p) in e.properties.iter().enumerate() {
+                match p.list {
+                    Some(count) => {
+                        let n = walk.length(count).map_err(|m| walk.fail(name, m))?;
+                        if Some(k) == list {
+                            triangles += n.saturating_sub(2) as u64;
+                        }
+                        for _ in 0..n {
+                            walk.value(p.ty).map_err(|m| walk.fail(name, m))?;
+                        }
+                    }
+                    None => {
+                        walk.value(p.ty).map_err(|m| walk.fail(name, m))?;
+                    }
+                }
+            }
+        }
+    }
+    Ok(triangles)
+}
+
+/// Which attributes the vertex element has.
+#[derive(Clone, Copy)]
+struct Has {
+    normal: bool,
+    color: bool,
+    uv: bool,
+}
+
+impl Has {
+    fn of(layout: &VertexLayout) -> Has {
+        let has = |idx: &[Option<usize>]| idx.iter().all(Option::is_some);
+        Has {
+            normal: has(&layout.normal),
+            color: has(&layout.color),
+            uv: has(&layout.uv),
+        }
+    }
+}
+
+/// Reserves the arrays: the vertices' attributes go into shared arrays (the
+/// faces index them, as an OBJ's `v` lines are), an array only for what
+/// the vertex element has; the triangles' corners.
+fn reserve_arrays(
+    name: &str,
+    vertex_count: u64,
+    has: Has,
+    triangles: u64,
+) -> Result<(IndexedCorners, Reservation), ObjError> {
     let per_vertex = bytes_of::<Vec3>(1)
-        + if has_normal { bytes_of::<Vec3>(1) } else { 0 }
-        + if has_color {
+        + if has.normal { bytes_of::<Vec3>(1) } else { 0 }
+        + if has.color {
             bytes_of::<Option<Vec3>>(1)
         } else {
             0
         }
-        + if has_uv { bytes_of::<Vec2>(1) } else { 0 };
+        + if has.uv { bytes_of::<Vec2>(1) } else { 0 };
     let held = reserve(
         name,
         "the vertices and triangles",
@@ -506,110 +556,130 @@ fn read(name: &str, bytes: &[u8]) -> Result<(IndexedCorners, Reservation, Vec<St
             .saturating_add(bytes_of::<[u32; 3]>(triangles.saturating_mul(3))),
     )?;
     let with = |yes: bool, n: u64| if yes { n as usize } else { 0 };
-    let mut c = IndexedCorners {
+    let c = IndexedCorners {
         positions: Vec::with_capacity(vertex_count as usize),
-        colors: Vec::with_capacity(with(has_color, vertex_count)),
-        uvs: Vec::with_capacity(with(has_uv, vertex_count)),
-        normals: Vec::with_capacity(with(has_normal, vertex_count)),
+        colors: Vec::with_capacity(with(has.color, vertex_count)),
+        uvs: Vec::with_capacity(with(has.uv, vertex_count)),
+        normals: Vec::with_capacity(with(has.normal, vertex_count)),
         corners: Vec::with_capacity(triangles as usize * 3),
         part_of: Vec::new(),
     };
-    // Second pass: read.
+    Ok((c, held))
+}
+
+/// Reads every item of element `e`: a vertex into the shared arrays, a face
+/// fanned into corners; other elements are read past. `has`: what the
+/// vertex element has.
+fn read_element(
+    name: &str,
+    e: &Element,
+    has: Has,
+    body: &mut Body,
+    c: &mut IndexedCorners,
+) -> Result<(), ObjError> {
+    let is_vertex = e.name == "vertex";
+    let layout = vertex_layout(e);
+    let list = face_list(e).filter(|_| e.name == "face");
+    if is_vertex && layout.position.iter().any(Option::is_none) {
+        return Err(body.fail(name, "the vertex element has no x, y and z".into()));
+    }
     let mut polygon: Vec<usize> = Vec::new();
     let mut values: Vec<f64> = Vec::new();
-    for e in &elements {
-        let is_vertex = e.name == "vertex";
-        let layout = vertex_layout(e);
-        let list = face_list(e).filter(|_| e.name == "face");
-        if is_vertex && layout.position.iter().any(Option::is_none) {
-            return Err(place(&body, "the vertex element has no x, y and z".into()));
-        }
-        for item in 0..e.count {
-            values.clear();
-            polygon.clear();
-            for (k, p) in e.properties.iter().enumerate() {
-                match p.list {
-                    Some(count) => {
-                        let n = body.length(count).map_err(|m| place(&body, m))?;
-                        for _ in 0..n {
-                            let v = body.value(p.ty).map_err(|m| place(&body, m))?;
-                            if Some(k) == list {
-                                let read = c.positions.len();
-                                if !(v >= 0.0 && v < read as f64 && v.fract() == 0.0) {
-                                    return Err(place(
-                                        &body,
-                                        format!(
-                                            "face {}: vertex index {v} is out of range (there are {read} vertices)",
-                                            item + 1,
-                                        ),
-                                    ));
-                                }
-                                polygon.push(v as usize);
+    for item in 0..e.count {
+        values.clear();
+        polygon.clear();
+        for (k, p) in e.properties.iter().enumerate() {
+            match p.list {
+                Some(count) => {
+                    let n = body.length(count).map_err(|m| body.fail(name, m))?;
+                    for _ in 0..n {
+                        let v = body.value(p.ty).map_err(|m| body.fail(name, m))?;
+                        if Some(k) == list {
+                            let read = c.positions.len();
+                            if !(v >= 0.0 && v < read as f64 && v.fract() == 0.0) {
+                                return Err(body.fail(
+                                    name,
+                                    format!(
+                                        "face {}: vertex index {v} is out of range (there are {read} vertices)",
+                                        item + 1,
+                                    ),
+                                ));
                             }
+                            polygon.push(v as usize);
                         }
-                        values.push(0.0);
                     }
-                    None => values.push(body.value(p.ty).map_err(|m| place(&body, m))?),
+                    values.push(0.0);
                 }
-            }
-            if is_vertex {
-                let get = |i: Option<usize>| i.map(|i| values[i] as f32);
-                let three = |idx: [Option<usize>; 3]| {
-                    Some(Vec3::new(get(idx[0])?, get(idx[1])?, get(idx[2])?))
-                };
-                let position = three(layout.position).unwrap_or(Vec3::ZERO);
-                if !position.is_finite() {
-                    return Err(place(
-                        &body,
-                        format!("vertex {}: a position is not a finite number", item + 1),
-                    ));
-                }
-                c.positions.push(position);
-                if has_normal {
-                    // An unusable normal is computed, as a missing one.
-                    let normal = three(layout.normal).filter(|n| n.is_finite());
-                    c.normals.push(normal.unwrap_or(Vec3::ZERO));
-                }
-                if has_color {
-                    let scale = if e.properties[layout.color[0].unwrap_or(0)].ty.is_float() {
-                        1.0
-                    } else {
-                        1.0 / 255.0
-                    };
-                    let color = three(layout.color).map(|c| c * scale);
-                    c.colors.push(color.filter(|c| c.is_finite()));
-                }
-                if has_uv {
-                    let uv = match layout.uv {
-                        [Some(u), Some(v)] => Vec2::new(values[u] as f32, values[v] as f32),
-                        _ => Vec2::NAN,
-                    };
-                    // An unusable UV is marked, and its corners take none.
-                    c.uvs.push(if uv.is_finite() { uv } else { Vec2::NAN });
-                }
-            } else if list.is_some() {
-                let corner = |i: usize| {
-                    let uv = c.uvs.get(i).is_some_and(|t| t.is_finite());
-                    [
-                        i as u32,
-                        if uv { i as u32 } else { NO_INDEX },
-                        if has_normal { i as u32 } else { NO_INDEX },
-                    ]
-                };
-                for k in 1..polygon.len().saturating_sub(1) {
-                    for i in [polygon[0], polygon[k], polygon[k + 1]] {
-                        c.corners.push(corner(i));
-                    }
-                }
+                None => values.push(body.value(p.ty).map_err(|m| body.fail(name, m))?),
             }
         }
+        if is_vertex {
+            push_vertex(c, e, &layout, has, &values)
+                .map_err(|m| body.fail(name, format!("vertex {}: {m}", item + 1)))?;
+        } else if list.is_some() {
+            push_face(c, &polygon, has.normal);
+        }
     }
-    if c.positions.is_empty() {
-        return Err(ObjError::Empty {
-            name: name.to_string(),
-        });
+    Ok(())
+}
+
+/// One vertex's values into the shared arrays; an error for a position
+/// that is not finite.
+fn push_vertex(
+    c: &mut IndexedCorners,
+    e: &Element,
+    layout: &VertexLayout,
+    has: Has,
+    values: &[f64],
+) -> Result<(), String> {
+    let get = |i: Option<usize>| i.map(|i| values[i] as f32);
+    let three = |idx: [Option<usize>; 3]| Some(Vec3::new(get(idx[0])?, get(idx[1])?, get(idx[2])?));
+    let position = three(layout.position).unwrap_or(Vec3::ZERO);
+    if !position.is_finite() {
+        return Err("a position is not a finite number".into());
     }
-    Ok((c, held, warnings))
+    c.positions.push(position);
+    if has.normal {
+        // An unusable normal is computed, as a missing one.
+        let normal = three(layout.normal).filter(|n| n.is_finite());
+        c.normals.push(normal.unwrap_or(Vec3::ZERO));
+    }
+    if has.color {
+        let scale = if e.properties[layout.color[0].unwrap_or(0)].ty.is_float() {
+            1.0
+        } else {
+            1.0 / 255.0
+        };
+        let color = three(layout.color).map(|c| c * scale);
+        c.colors.push(color.filter(|c| c.is_finite()));
+    }
+    if has.uv {
+        let uv = match layout.uv {
+            [Some(u), Some(v)] => Vec2::new(values[u] as f32, values[v] as f32),
+            _ => Vec2::NAN,
+        };
+        // An unusable UV is marked, and its corners take none.
+        c.uvs.push(if uv.is_finite() { uv } else { Vec2::NAN });
+    }
+    Ok(())
+}
+
+/// One face, fanned into triangles, as corners indexing the shared arrays.
+fn push_face(c: &mut IndexedCorners, polygon: &[usize], has_normal: bool) {
+    let corner = |i: usize| {
+        let uv = c.uvs.get(i).is_some_and(|t| t.is_finite());
+        [
+            i as u32,
+            if uv { i as u32 } else { NO_INDEX },
+            if has_normal { i as u32 } else { NO_INDEX },
+        ]
+    };
+    for k in 1..polygon.len().saturating_sub(1) {
+        for i in [polygon[0], polygon[k], polygon[k + 1]] {
+            let corner = corner(i);
+            c.corners.push(corner);
+        }
+    }
 }
 
 /// The model of what [`read`] read: a point cloud when there are no
