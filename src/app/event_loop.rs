@@ -27,6 +27,7 @@ use ratatui::buffer::Cell;
 use ratatui::layout::Rect;
 
 use super::action::{Action, FrameDone};
+use super::command::Command;
 use super::events::action_for_event;
 use super::frame_cost::FrameCost;
 use super::frame_watch::{FrameWatch, StatusRow};
@@ -35,7 +36,7 @@ use super::schedule::{Frame as Due, Schedule};
 use super::stage::Stage;
 use super::state::{Look, State};
 use super::textures;
-use super::update::{Command, update};
+use super::update::update;
 use super::view;
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::scene::SceneKind;

@@ -2,6 +2,7 @@
 //! pure [`update`] changes the [`State`], [`view`] draws it.
 
 pub mod action;
+pub mod command;
 pub mod event_loop;
 pub mod events;
 pub mod feedback;
@@ -23,10 +24,11 @@ pub mod update;
 pub mod view;
 
 pub use action::{Action, DragButton};
+pub use command::Command;
 pub use events::action_for_event;
 pub use keys::action_for_key;
 pub use state::State;
-pub use update::{Command, update};
+pub use update::update;
 pub use view::view;
 
 use std::io::{IsTerminal, Read};

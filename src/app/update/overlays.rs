@@ -1,8 +1,8 @@
 //! The overlays' actions: the help, the cost panel, and Esc.
 
 use super::super::action::Action;
+use super::super::command::Command;
 use super::super::state::State;
-use super::Command;
 
 /// More lines than the help can ever have (the view clamps to what the
 /// screen needs; the loop clamps the state with it).

@@ -2,9 +2,9 @@
 //! fields or the texture list).
 
 use super::super::action::Action;
+use super::super::command::Command;
 use super::super::line_edit::{self, Edit};
 use super::super::state::{Panel, State};
-use super::Command;
 use crate::sanitize::clean;
 
 /// Longest path the prompt takes.
@@ -99,8 +99,10 @@ fn paste(state: &mut State, text: String) -> Option<Command> {
     let shown: String = clean(&text).chars().take(200).collect();
     match state.panel.focus {
         Some(_) => {
+            // Typed into the focused field (the paste, a key of the user,
+            // already cleared the message).
             for c in shown.chars() {
-                super::update(state, Action::PanelInput(c));
+                super::panel::apply(state, Action::PanelInput(c));
             }
             None
         }

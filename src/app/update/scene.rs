@@ -1,8 +1,8 @@
 //! The scene and model actions: switching, loading, what the load reported.
 
 use super::super::action::Action;
+use super::super::command::Command;
 use super::super::state::{Panel, State};
-use super::Command;
 use crate::sanitize::clean;
 use crate::scene::{LoadedNotes, ModelChoice, SceneKind};
 

@@ -1,8 +1,8 @@
 //! The texture actions: cycling, the texture panel, the normal map file.
 
 use super::super::action::{Action, DragButton};
+use super::super::command::Command;
 use super::super::state::State;
-use super::Command;
 use crate::sanitize::clean;
 
 /// Applies a texture action (the ones [`super::apply`] routes here).
