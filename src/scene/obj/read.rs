@@ -704,18 +704,7 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         })
         .collect();
     load_progress::check(name)?;
-    // What comes before each chunk, and the whole file's counts.
-    let mut before = Vec::with_capacity(chunks.len());
-    let mut counts = Counts::default();
-    for c in counted {
-        match c {
-            Ok(c) => {
-                before.push(counts);
-                counts = counts.add(c);
-            }
-            Err((line, problem)) => return Err(error(counts.lines + line, problem)),
-        }
-    }
+    let (before, counts) = counts_before(counted).map_err(|(l, problem)| error(l, problem))?;
     // No fixed limit: the memory budget decides, before anything is
     // allocated. The text itself is held by whoever read it.
     let need = read_bytes(&counts);
@@ -732,42 +721,18 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
     let mut positions: Vec<Vec3> = bytemuck::zeroed_vec(counts.positions);
     let mut texcoords: Vec<Vec2> = bytemuck::zeroed_vec(counts.texcoords);
     let mut normals: Vec<Vec3> = bytemuck::zeroed_vec(counts.normals);
-    let mut outs = Vec::with_capacity(chunks.len());
-    {
-        let (mut p, mut t, mut n) = (&mut positions[..], &mut texcoords[..], &mut normals[..]);
-        for (k, b) in before.iter().enumerate() {
-            let next = before.get(k + 1).copied().unwrap_or(counts);
-            let (p1, p2) = std::mem::take(&mut p).split_at_mut(next.positions - b.positions);
-            let (t1, t2) = std::mem::take(&mut t).split_at_mut(next.texcoords - b.texcoords);
-            let (n1, n2) = std::mem::take(&mut n).split_at_mut(next.normals - b.normals);
-            outs.push(Attributes {
-                positions: p1,
-                colors: Vec::new(),
-                texcoords: t1,
-                normals: n1,
-            });
-            (p, t, n) = (p2, t2, n2);
-        }
-    }
+    let outs = attribute_slices(
+        &mut positions,
+        &mut texcoords,
+        &mut normals,
+        &before,
+        counts,
+    );
     // Each chunk's triangles go to its own slices (at most what it counted),
     // closed up afterwards: no copy of the whole.
     let mut corners = vec![[0u32; 3]; counts.triangles * 3];
     let mut part_of = vec![0u32; counts.triangles];
-    let mut slots = Vec::with_capacity(chunks.len());
-    {
-        let (mut c, mut p) = (&mut corners[..], &mut part_of[..]);
-        for (k, b) in before.iter().enumerate() {
-            let next = before.get(k + 1).copied().unwrap_or(counts);
-            let n = next.triangles - b.triangles;
-            let (c1, c2) = std::mem::take(&mut c).split_at_mut(3 * n);
-            let (p1, p2) = std::mem::take(&mut p).split_at_mut(n);
-            slots.push(FaceSlots {
-                corners: c1,
-                part_of: p1,
-            });
-            (c, p) = (c2, p2);
-        }
-    }
+    let slots = face_slices(&mut corners, &mut part_of, &before, counts);
     let read: Vec<(FaceChunk, Tally)> = chunks
         .par_iter()
         .zip(before.par_iter())
@@ -791,65 +756,9 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
     {
         return Err(error(b.lines + line, problem.clone()));
     }
-
-    let mut triangles = 0;
-    let mut parts: Vec<Option<String>> = vec![None];
-    let mut part = 0u32;
-    let mut libraries = Vec::new();
-    let (mut all_uv, mut all_normals) = (true, true);
-    let (mut bad_uv, mut bad_normal, mut cut_numbers) =
-        (Tally::default(), Tally::default(), Tally::default());
-    // The chunks' colours, when any has one, one after the other (the
-    // reading reserved them once; the whole is a second copy for a moment).
-    let mut colors = Vec::new();
-    if read.iter().any(|(f, _)| !f.colors.is_empty()) {
-        hold(
-            &mut reservation,
-            name,
-            "the colours",
-            bytes_of::<Option<Vec3>>(counts.positions as u64),
-        )?;
-        colors.reserve_exact(counts.positions);
-    }
-    for (k, ((f, cut), b)) in read.into_iter().zip(&before).enumerate() {
-        if colors.capacity() > 0 {
-            let next = before.get(k + 1).copied().unwrap_or(counts);
-            let from = colors.len();
-            colors.extend(f.colors);
-            colors.resize(from + next.positions - b.positions, None);
-        }
-        // Local parts to the file's, in order of first use.
-        let mut global = vec![part];
-        for key in f.names {
-            global.push(match parts.iter().position(|p| *p == key) {
-                Some(i) => i as u32,
-                None => {
-                    parts.push(key);
-                    (parts.len() - 1) as u32
-                }
-            });
-        }
-        part = global[f.end_part as usize];
-        // A chunk whose triangles are already in place (none before it
-        // fell short of its count) and whose parts are the file's is left
-        // as it is.
-        let first = b.triangles;
-        if first != triangles {
-            corners.copy_within(3 * first..3 * (first + f.triangles), 3 * triangles);
-        }
-        if first != triangles || global.iter().enumerate().any(|(k, &g)| g as usize != k) {
-            for t in 0..f.triangles {
-                part_of[triangles + t] = global[part_of[first + t] as usize];
-            }
-        }
-        triangles += f.triangles;
-        libraries.extend(f.libraries);
-        all_uv &= f.all_uv;
-        all_normals &= f.all_normals;
-        bad_uv.merge(&f.bad_uv, b.lines);
-        bad_normal.merge(&f.bad_normal, b.lines);
-        cut_numbers.merge(&cut, b.lines);
-    }
+    let faces = (&mut corners[..], &mut part_of[..]);
+    let merged = merge_chunks(name, read, &before, counts, faces, &mut reservation)?;
+    let triangles = merged.triangles;
     if triangles == 0 {
         let name = name.to_string();
         // Faces were there, but repeated corners left none with three.
@@ -861,60 +770,253 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
     }
     corners.truncate(3 * triangles);
     part_of.truncate(triangles);
-    // UVs and normals are used when every corner has one; colours when any
-    // position has one (the others are white).
-    if !all_uv {
-        texcoords = Vec::new();
-        corners.par_iter_mut().for_each(|c| c[1] = NO_INDEX);
-    }
-    if !all_normals {
-        normals = Vec::new();
-        corners.par_iter_mut().for_each(|c| c[2] = NO_INDEX);
-    }
-    if colors.iter().any(Option::is_some) {
-        colors
-            .par_iter_mut()
-            .for_each(|c| *c = Some(c.unwrap_or(Vec3::ONE)));
-    } else {
-        colors = Vec::new();
-    }
-    let mut warnings = Vec::new();
-    for (tally, what) in [
-        (
-            &bad_uv,
-            "a texture coordinate index out of range: their UVs were dropped",
-        ),
-        (
-            &bad_normal,
-            "a normal index out of range: their normals were computed",
-        ),
-        (
-            &cut_numbers,
-            "a number followed by other text (read as the number alone, as tinyobjloader does)",
-        ),
-    ] {
-        if tally.count > 0 {
-            warnings.push(format!(
-                "model {name}, line {}: {} line(s) with {what}",
-                tally.first_line + 1,
-                tally.count
-            ));
-        }
-    }
+    let warnings = merged.warnings(name);
+    let Merged {
+        parts,
+        libraries,
+        colors,
+        all_uv,
+        all_normals,
+        ..
+    } = merged;
+    let mut corners = IndexedCorners {
+        positions,
+        colors,
+        uvs: texcoords,
+        normals,
+        corners,
+        part_of,
+    };
+    keep_used(&mut corners, all_uv, all_normals);
     Ok(ReadModel {
-        corners: IndexedCorners {
-            positions,
-            colors,
-            uvs: texcoords,
-            normals,
-            corners,
-            part_of,
-        },
+        corners,
         parts,
         libraries,
         warnings,
         reservation,
     })
+}
+
+/// UVs and normals are used when every corner has one; colours when any
+/// position has one (the others are white).
+fn keep_used(c: &mut IndexedCorners, all_uv: bool, all_normals: bool) {
+    if !all_uv {
+        c.uvs = Vec::new();
+        c.corners.par_iter_mut().for_each(|c| c[1] = NO_INDEX);
+    }
+    if !all_normals {
+        c.normals = Vec::new();
+        c.corners.par_iter_mut().for_each(|c| c[2] = NO_INDEX);
+    }
+    if c.colors.iter().any(Option::is_some) {
+        c.colors
+            .par_iter_mut()
+            .for_each(|c| *c = Some(c.unwrap_or(Vec3::ONE)));
+    } else {
+        c.colors = Vec::new();
+    }
+}
+
+/// What comes before each chunk, and the whole file's counts; the first
+/// chunk's problem with its line in the file.
+fn counts_before(
+    counted: Vec<Result<Counts, LineProblem>>,
+) -> Result<(Vec<Counts>, Counts), LineProblem> {
+    let mut before = Vec::with_capacity(counted.len());
+    let mut counts = Counts::default();
+    for c in counted {
+        match c {
+            Ok(c) => {
+                before.push(counts);
+                counts = counts.add(c);
+            }
+            Err((line, problem)) => return Err((counts.lines + line, problem)),
+        }
+    }
+    Ok((before, counts))
+}
+
+/// The `v`, `vt` and `vn` arrays cut into each chunk's slices (`before`:
+/// what comes before each chunk; `counts`: the whole file's).
+fn attribute_slices<'a>(
+    positions: &'a mut [Vec3],
+    texcoords: &'a mut [Vec2],
+    normals: &'a mut [Vec3],
+    before: &[Counts],
+    counts: Counts,
+) -> Vec<Attributes<'a>> {
+    let mut outs = Vec::with_capacity(before.len());
+    let (mut p, mut t, mut n) = (positions, texcoords, normals);
+    for (k, b) in before.iter().enumerate() {
+        let next = before.get(k + 1).copied().unwrap_or(counts);
+        let (p1, p2) = std::mem::take(&mut p).split_at_mut(next.positions - b.positions);
+        let (t1, t2) = std::mem::take(&mut t).split_at_mut(next.texcoords - b.texcoords);
+        let (n1, n2) = std::mem::take(&mut n).split_at_mut(next.normals - b.normals);
+        outs.push(Attributes {
+            positions: p1,
+            colors: Vec::new(),
+            texcoords: t1,
+            normals: n1,
+        });
+        (p, t, n) = (p2, t2, n2);
+    }
+    outs
+}
+
+/// The triangle arrays cut into each chunk's slices, sized by what it
+/// counted.
+fn face_slices<'a>(
+    corners: &'a mut [[u32; 3]],
+    part_of: &'a mut [u32],
+    before: &[Counts],
+    counts: Counts,
+) -> Vec<FaceSlots<'a>> {
+    let mut slots = Vec::with_capacity(before.len());
+    let (mut c, mut p) = (corners, part_of);
+    for (k, b) in before.iter().enumerate() {
+        let next = before.get(k + 1).copied().unwrap_or(counts);
+        let n = next.triangles - b.triangles;
+        let (c1, c2) = std::mem::take(&mut c).split_at_mut(3 * n);
+        let (p1, p2) = std::mem::take(&mut p).split_at_mut(n);
+        slots.push(FaceSlots {
+            corners: c1,
+            part_of: p1,
+        });
+        (c, p) = (c2, p2);
+    }
+    slots
+}
+
+/// The chunks merged in order: their triangles closed up, their parts
+/// made the file's, what they found added up.
+struct Merged {
+    triangles: usize,
+    parts: Vec<Option<String>>,
+    libraries: Vec<String>,
+    /// One per position when any chunk has a colour, else empty.
+    colors: Vec<Option<Vec3>>,
+    all_uv: bool,
+    all_normals: bool,
+    bad_uv: Tally,
+    bad_normal: Tally,
+    cut_numbers: Tally,
+}
+
+/// Merges the chunks' reading in order into `faces` (the triangles'
+/// corners and parts, as the chunks left them in their slices).
+fn merge_chunks(
+    name: &str,
+    read: Vec<(FaceChunk, Tally)>,
+    before: &[Counts],
+    counts: Counts,
+    (corners, part_of): (&mut [[u32; 3]], &mut [u32]),
+    reservation: &mut Reservation,
+) -> Result<Merged, ObjError> {
+    let mut m = Merged {
+        triangles: 0,
+        parts: vec![None],
+        libraries: Vec::new(),
+        colors: Vec::new(),
+        all_uv: true,
+        all_normals: true,
+        bad_uv: Tally::default(),
+        bad_normal: Tally::default(),
+        cut_numbers: Tally::default(),
+    };
+    let mut part = 0u32;
+    // The chunks' colours, when any has one, one after the other (the
+    // reading reserved them once; the whole is a second copy for a moment).
+    if read.iter().any(|(f, _)| !f.colors.is_empty()) {
+        hold(
+            reservation,
+            name,
+            "the colours",
+            bytes_of::<Option<Vec3>>(counts.positions as u64),
+        )?;
+        m.colors.reserve_exact(counts.positions);
+    }
+    for (k, ((f, cut), b)) in read.into_iter().zip(before).enumerate() {
+        if m.colors.capacity() > 0 {
+            let next = before.get(k + 1).copied().unwrap_or(counts);
+            let from = m.colors.len();
+            m.colors.extend(f.colors);
+            m.colors.resize(from + next.positions - b.positions, None);
+        }
+        let global = global_parts(&mut m.parts, part, f.names);
+        part = global[f.end_part as usize];
+        // A chunk whose triangles are already in place (none before it
+        // fell short of its count) and whose parts are the file's is left
+        // as it is.
+        let (first, triangles) = (b.triangles, m.triangles);
+        if first != triangles {
+            corners.copy_within(3 * first..3 * (first + f.triangles), 3 * triangles);
+        }
+        if first != triangles || global.iter().enumerate().any(|(k, &g)| g as usize != k) {
+            for t in 0..f.triangles {
+                part_of[triangles + t] = global[part_of[first + t] as usize];
+            }
+        }
+        m.triangles += f.triangles;
+        m.libraries.extend(f.libraries);
+        m.all_uv &= f.all_uv;
+        m.all_normals &= f.all_normals;
+        m.bad_uv.merge(&f.bad_uv, b.lines);
+        m.bad_normal.merge(&f.bad_normal, b.lines);
+        m.cut_numbers.merge(&cut, b.lines);
+    }
+    Ok(m)
+}
+
+/// A chunk's local parts as the file's, in order of first use: local part
+/// 0 is `part`, the one in effect when the chunk begins; `names` are the
+/// others, added to `parts` when new.
+fn global_parts(
+    parts: &mut Vec<Option<String>>,
+    part: u32,
+    names: Vec<Option<String>>,
+) -> Vec<u32> {
+    let mut global = vec![part];
+    for key in names {
+        global.push(match parts.iter().position(|p| *p == key) {
+            Some(i) => i as u32,
+            None => {
+                parts.push(key);
+                (parts.len() - 1) as u32
+            }
+        });
+    }
+    global
+}
+
+impl Merged {
+    /// One warning per kind of line read with something dropped or cut,
+    /// naming its first.
+    fn warnings(&self, name: &str) -> Vec<String> {
+        let mut warnings = Vec::new();
+        for (tally, what) in [
+            (
+                &self.bad_uv,
+                "a texture coordinate index out of range: their UVs were dropped",
+            ),
+            (
+                &self.bad_normal,
+                "a normal index out of range: their normals were computed",
+            ),
+            (
+                &self.cut_numbers,
+                "a number followed by other text (read as the number alone, as tinyobjloader does)",
+            ),
+        ] {
+            if tally.count > 0 {
+                warnings.push(format!(
+                    "model {name}, line {}: {} line(s) with {what}",
+                    tally.first_line + 1,
+                    tally.count
+                ));
+            }
+        }
+        warnings
+    }
 }
 
 /// What the reading allocates for a file of `counts`: the `v` (position
