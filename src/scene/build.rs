@@ -401,6 +401,7 @@ impl Scene {
             camera: Camera::default(),
             background: BACKGROUND,
             model_view: None,
+            motion: None,
         }
     }
 

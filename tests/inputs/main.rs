@@ -10,6 +10,7 @@ mod models;
 mod models_formats;
 mod models_gltf;
 mod models_gltf_accessors;
+mod models_gltf_anim;
 mod models_gltf_blend;
 mod models_gltf_hostile;
 mod models_props;
