@@ -394,7 +394,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             // frame is due, until the exact picture or the next
             // auto-rotation frame is due, or for as long as it takes.
             let wait = schedule
-                .wait(&mut self.pacer, state.auto_rotate, now)
+                .wait(&mut self.pacer, state.continuous(), now)
                 .until(now);
             let first = match wait {
                 Some(at) if at <= now => self.rx.try_recv().ok(),
@@ -482,7 +482,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 }
             }
             // A frame in flight or held: what came meanwhile waits for the next.
-            let Some(next) = schedule.next(&mut self.pacer, state.auto_rotate, Instant::now())
+            let Some(next) = schedule.next(&mut self.pacer, state.continuous(), Instant::now())
             else {
                 continue;
             };
@@ -510,7 +510,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 continue;
             }
             if let Some(seconds) = next.tick {
-                update(state, Action::AutoRotateTick { seconds });
+                update(state, Action::Tick { seconds });
             }
             // A load's progress as of this frame.
             if let Some(status) = self.loader.as_ref().and_then(|l| l.status(Instant::now())) {
@@ -697,7 +697,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             );
             // An exact picture sent in strips costs all of them.
             let picture_bytes = pixels.take_split_bytes().unwrap_or(bytes);
-            schedule.written(&next, new_picture, picture_bytes, state.auto_rotate);
+            schedule.written(&next, new_picture, picture_bytes, state.continuous());
             schedule.set_strips(pixels.pending());
         }
     }

@@ -5,6 +5,7 @@ use glam::{Vec2, Vec3};
 
 use super::action::{Action, DragButton};
 use super::line_edit::{self, Edit};
+use super::playback;
 use super::state::{
     AUTO_ROTATE_SPEED, AXES, DEG_PER_COL, DEG_PER_ROW, Drag, PAN_MAX, PAN_PER_COL, PAN_PER_ROW,
     Panel, State, ZOOM_STEP, format_angle,
@@ -70,7 +71,7 @@ fn from_user(action: &Action) -> bool {
             | Action::FrameEnd { .. }
             | Action::Resize
             | Action::Pointer { .. }
-            | Action::AutoRotateTick { .. }
+            | Action::Tick { .. }
             | Action::MouseDrag { .. }
             | Action::MouseUp
             | Action::PromptCompleted(_)
@@ -139,7 +140,11 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
             state.drag = None;
         }
         Action::ToggleAutoRotate => state.auto_rotate = !state.auto_rotate,
-        Action::AutoRotateTick { seconds } => {
+        Action::TogglePlay => playback::toggle(state),
+        Action::NextClip => playback::next_clip(state),
+        Action::StepClip(frames) => playback::step(state, frames),
+        Action::Tick { seconds } => {
+            playback::tick(state, seconds);
             if state.auto_rotate && seconds.is_finite() && seconds > 0.0 {
                 // A long stall (a slow link) is not made up for in one leap.
                 let dt = seconds.min(0.25);
@@ -291,6 +296,8 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
                 state.panel = Panel::default();
             }
             state.scene = scene;
+            // Its clips, if any, come with its notes.
+            playback::take_clips(state, Vec::new());
             // A model file opened from the prompt or a paste joins the `o` cycle.
             if let ModelChoice::File(path) = &model {
                 state.obj = Some(path.clone());
@@ -301,6 +308,7 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
             if notes.points {
                 s.display = crate::settings::Display::Points;
             }
+            playback::take_clips(state, notes.clips);
             let mut lines = notes.warnings.iter();
             if let Some(first) = lines.next() {
                 let more = lines.count();

@@ -79,6 +79,14 @@ pub struct Model {
     pub motion: Option<Motion>,
 }
 
+impl Model {
+    /// Its clips: each one's name and length in seconds.
+    pub fn clips(&self) -> Vec<(String, f32)> {
+        let clips = self.motion.iter().flat_map(|m| m.clips());
+        clips.map(|c| (c.name.clone(), c.duration)).collect()
+    }
+}
+
 impl Scene {
     /// A glTF model at the origin, turning, in the reference lighting and
     /// camera; each part with its own material. `texture` stays the
