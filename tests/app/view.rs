@@ -81,6 +81,25 @@ fn status_line_shows_every_mode_and_the_frame_cost() {
 }
 
 #[test]
+fn status_line_shows_the_clip_and_whether_it_plays() {
+    let mut s = state();
+    let notes = relief::scene::LoadedNotes {
+        clips: vec![("Walk".into(), 2.0), ("Run".into(), 1.0)],
+        ..Default::default()
+    };
+    update(&mut s, Action::ModelNotes(notes));
+    let status = row_text(&screen(&s, 250, 20), 19);
+    assert!(status.contains("clip 1/2 Walk ▶"), "{status}");
+    update(&mut s, Action::TogglePlay);
+    update(&mut s, Action::NextClip);
+    let status = row_text(&screen(&s, 250, 20), 19);
+    assert!(status.contains("clip 2/2 Run ‖"), "{status}");
+    // Narrow, the short form.
+    let status = row_text(&screen(&s, 160, 20), 19);
+    assert!(status.contains("clip ‖"), "{status}");
+}
+
+#[test]
 fn status_line_follows_each_toggle() {
     let mut s = state();
     update(&mut s, Action::next("shading"));

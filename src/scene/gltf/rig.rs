@@ -8,9 +8,10 @@ use ::gltf::animation::{Interpolation as FileInterpolation, Property};
 use ::gltf::scene::Transform;
 use glam::{Mat4, Quat, Vec3, Vec4};
 
+use super::accessor;
 use super::data::Problem;
+use super::reading::{MAX_DEPTH, bytes_of, check_accessor, hold};
 use super::validate::Role;
-use super::{MAX_DEPTH, accessor, bytes_of, check_accessor, hold};
 use crate::budget::Reservation;
 use crate::scene::anim::sampler::{Interpolation, Sampler, unit};
 use crate::scene::anim::{Channel, Clip, Influences, Local, MorphTarget, Node, Skin, Target};
