@@ -149,6 +149,12 @@ pub struct RenderArgs {
     pub height: u32,
     #[command(flatten)]
     pub view: ViewArgs,
+    /// An animated model (glTF) at this many seconds into its clip (a clip loops).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub time: Option<f32>,
+    /// Which of an animated model's clips: its index in the file's animations, from 0.
+    #[arg(long, value_name = "N")]
+    pub clip: Option<usize>,
     /// Plasma scene: the light's position in pixels, (0,0) top left (default: the centre).
     #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
     pub light: Option<Vec2>,
@@ -170,6 +176,16 @@ pub struct Cells {
 /// Largest `--cells` side: the frame stays within 16384 pixels a side for
 /// every symbol set (octants are 4 pixels tall).
 pub const MAX_CELLS: u16 = 4096;
+
+/// `--time`: a finite number of seconds, not negative.
+pub fn parse_seconds(text: &str) -> Result<f32, String> {
+    match text.trim().parse::<f32>() {
+        Ok(s) if s.is_finite() && s >= 0.0 => Ok(s),
+        _ => Err(format!(
+            "expected a number of seconds, 0 or more, got '{text}'"
+        )),
+    }
+}
 
 /// `COLSxROWS` (`80x24`), each from 1 to [`MAX_CELLS`].
 pub fn parse_cells(text: &str) -> Result<Cells, String> {

@@ -59,8 +59,15 @@ pub enum Action {
     ZoomOut,
     /// Space.
     ToggleAutoRotate,
-    /// Auto-rotation advances by `seconds` of time.
-    AutoRotateTick {
+    /// `A`: the animation plays or pauses.
+    TogglePlay,
+    /// `C`: the model's next animation, from its start.
+    NextClip,
+    /// `,` `.`: the animation paused and stepped this many frames.
+    StepClip(i32),
+    /// `seconds` of time passed while something moves by itself (the
+    /// auto-rotation, a playing animation).
+    Tick {
         seconds: f32,
     },
     /// `s`: the event loop writes the PNG and reports with `Saved`.

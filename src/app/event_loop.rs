@@ -468,7 +468,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             let now = Instant::now();
             let Some(due) = frames
                 .schedule
-                .next(&mut self.pacer, state.auto_rotate, now)
+                .next(&mut self.pacer, state.continuous(), now)
             else {
                 continue;
             };
@@ -489,7 +489,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         let now = Instant::now();
         schedule.loading(state.loading.is_some(), now);
         let wait = schedule
-            .wait(&mut self.pacer, state.auto_rotate, now)
+            .wait(&mut self.pacer, state.continuous(), now)
             .until(now);
         let ended = || Exit::InputClosed("input ended".into());
         match wait {
@@ -621,7 +621,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
     /// changed, written, and its cost reported.
     fn frame(&mut self, state: &mut State, frames: &mut Frames, due: &Due) -> io::Result<()> {
         if let Some(seconds) = due.tick {
-            update(state, Action::AutoRotateTick { seconds });
+            update(state, Action::Tick { seconds });
         }
         // A load's progress as of this frame.
         if let Some(status) = self.loader.as_ref().and_then(|l| l.status(Instant::now())) {
@@ -687,7 +687,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         );
         // An exact picture sent in strips costs all of them.
         let picture_bytes = frames.pixels.take_split_bytes().unwrap_or(bytes);
-        (frames.schedule).written(due, new_picture, picture_bytes, state.auto_rotate);
+        (frames.schedule).written(due, new_picture, picture_bytes, state.continuous());
         frames.schedule.set_strips(frames.pixels.pending());
         Ok(())
     }

@@ -227,6 +227,18 @@ pub const KEYS: &[Binding] = &[
     ),
     row(
         Normal,
+        &[c('A')],
+        Action::TogglePlay,
+        Line(
+            "A C , .",
+            "animation: play / pause; next clip; a frame back / on",
+        ),
+    ),
+    row(Normal, &[c('C')], Action::NextClip, Above),
+    row(Normal, &[c(',')], Action::StepClip(-1), Above),
+    row(Normal, &[c('.')], Action::StepClip(1), Above),
+    row(
+        Normal,
         &[c('i')],
         Action::ZoomIn,
         Line("i I wheel", "zoom: camera closer / farther"),

@@ -12,6 +12,7 @@ pub mod keys;
 pub mod line_edit;
 pub mod load_status;
 pub mod loading;
+pub mod playback;
 pub mod schedule;
 pub mod screenshot;
 pub mod stage;

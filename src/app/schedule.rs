@@ -128,8 +128,8 @@ impl Schedule {
     }
 
     /// What to wait for at `now` (the pacer applies its time-outs).
-    pub fn wait(&mut self, pacer: &mut Pacer, auto_rotate: bool, now: Instant) -> Wait {
-        let wait = self.wait_for_frames(pacer, auto_rotate, now);
+    pub fn wait(&mut self, pacer: &mut Pacer, continuous: bool, now: Instant) -> Wait {
+        let wait = self.wait_for_frames(pacer, continuous, now);
         // A load's progress comes before a later frame, or instead of none.
         match (wait, self.progress_at) {
             (Wait::Idle, Some(at)) => Wait::Progress(at),
@@ -139,7 +139,7 @@ impl Schedule {
     }
 
     /// [`Schedule::wait`] for the pictures and their figures alone.
-    fn wait_for_frames(&mut self, pacer: &mut Pacer, auto_rotate: bool, now: Instant) -> Wait {
+    fn wait_for_frames(&mut self, pacer: &mut Pacer, continuous: bool, now: Instant) -> Wait {
         let ready = pacer.ready(now);
         self.quiet = pacer.quiet();
         if self.refresh_status && !self.dirty {
@@ -151,9 +151,9 @@ impl Schedule {
             }
         } else if self.dirty || self.strips {
             Wait::Due
-        } else if self.previewing && !auto_rotate {
+        } else if self.previewing && !continuous {
             Wait::Refine(self.activity.settled_at(self.quiet).unwrap_or(now))
-        } else if auto_rotate {
+        } else if continuous {
             Wait::Rotate(self.last_tick + FRAME_INTERVAL)
         } else {
             Wait::Idle
@@ -172,14 +172,14 @@ impl Schedule {
     }
 
     /// The frame to draw at `now`, if one is due and may go.
-    pub fn next(&mut self, pacer: &mut Pacer, auto_rotate: bool, now: Instant) -> Option<Frame> {
+    pub fn next(&mut self, pacer: &mut Pacer, continuous: bool, now: Instant) -> Option<Frame> {
         let refresh_due = self.refresh_status && !self.dirty;
         if !refresh_due && !pacer.ready(now) {
             // A frame in flight: what came meanwhile waits for the next.
             return None;
         }
         let mut tick = None;
-        if auto_rotate {
+        if continuous {
             if now >= self.last_tick + FRAME_INTERVAL {
                 tick = Some(now.duration_since(self.last_tick).as_secs_f32());
                 self.last_tick = now;
@@ -188,7 +188,7 @@ impl Schedule {
         } else {
             self.last_tick = now;
         }
-        if self.previewing && !auto_rotate && !self.activity.moving(now, self.quiet) {
+        if self.previewing && !continuous && !self.activity.moving(now, self.quiet) {
             // Input stopped: the exact picture replaces the preview.
             self.dirty = true;
         }
@@ -210,7 +210,7 @@ impl Schedule {
         self.dirty = false;
         // While input keeps coming over a link too slow for the exact
         // picture at the frame rate, a cheaper one.
-        let moving = auto_rotate || self.activity.moving(now, self.quiet);
+        let moving = continuous || self.activity.moving(now, self.quiet);
         let preview = pacer.preview(moving, self.exact_bytes, FRAME_INTERVAL);
         Some(Frame {
             tick,
@@ -256,14 +256,14 @@ impl Schedule {
     }
 
     /// `frame` was written: `bytes`, a new picture or not.
-    pub fn written(&mut self, frame: &Frame, new_picture: bool, bytes: u64, auto_rotate: bool) {
+    pub fn written(&mut self, frame: &Frame, new_picture: bool, bytes: u64, continuous: bool) {
         if frame.status_only || frame.strip {
             return;
         }
         if new_picture && !self.previewing {
             self.exact_bytes = Some(bytes);
         }
-        self.refresh_status = new_picture && !self.previewing && !auto_rotate;
+        self.refresh_status = new_picture && !self.previewing && !continuous;
     }
 }
 

@@ -215,6 +215,10 @@ impl Stage {
                 if let Some(view) = &mut scene.model_view {
                     view.pose = Some(state.start_rotation);
                 }
+                if let Some(motion) = &mut scene.motion {
+                    let (clip, time) = state.playback.shown().unzip();
+                    motion.show(&mut scene.objects, clip, time.unwrap_or(0.0));
+                }
                 scene.camera.fov_y_degrees = state.settings.fov;
                 renderer.render(scene, &state.settings, fb)
             }

@@ -94,6 +94,8 @@ pub struct State {
     /// First help line shown when the help is taller than the screen.
     pub help_scroll: u16,
     pub auto_rotate: bool,
+    /// An animated model's clips and where it is in them.
+    pub playback: Playback,
     pub panel: Panel,
     pub drag: Option<Drag>,
     /// One line of feedback (errors, saved file, paste), already sanitized.
@@ -170,9 +172,50 @@ pub struct Look {
     pub distance: Option<f32>,
     pub pan: Vec2,
     pub light_turn: Vec2,
+    /// The animation's clip and instant (none: the model has none).
+    pub animation: Option<(usize, f32)>,
+}
+
+/// An animated model's clips (keys `A`, `C`, `,`, `.`): which plays, and
+/// how far in.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Playback {
+    /// Each clip's name and length in seconds (empty: nothing to play).
+    pub clips: Vec<(String, f32)>,
+    pub clip: usize,
+    /// Seconds into the clip, within its length.
+    pub time: f32,
+    pub playing: bool,
+}
+
+/// Seconds a step (`,` `.`) moves a paused animation: a frame at 30 per second.
+pub const ANIMATION_STEP: f32 = 1.0 / 30.0;
+
+impl Playback {
+    /// The clip and instant shown, when there is a clip.
+    pub fn shown(&self) -> Option<(usize, f32)> {
+        (!self.clips.is_empty()).then_some((self.clip, self.time))
+    }
+
+    /// Moves `seconds` on (or back), looping within the clip.
+    pub fn advance(&mut self, seconds: f32) {
+        let length = self.clips.get(self.clip).map_or(0.0, |c| c.1);
+        let t = self.time + seconds;
+        self.time = if length > 0.0 && t.is_finite() {
+            t.rem_euclid(length)
+        } else {
+            0.0
+        };
+    }
 }
 
 impl State {
+    /// Whether the picture moves by itself: frames come at the frame
+    /// interval (auto-rotation, or an animation playing).
+    pub fn continuous(&self) -> bool {
+        self.auto_rotate || self.playback.playing
+    }
+
     pub fn new(settings: Settings, depth: ColorDepth) -> Self {
         let mut settings = settings;
         settings.rotation = settings.rotation.to_array().map(normalize_degrees).into();
@@ -187,6 +230,7 @@ impl State {
             help: false,
             help_scroll: 0,
             auto_rotate: false,
+            playback: Playback::default(),
             panel: Panel::default(),
             drag: None,
             message: None,
@@ -228,6 +272,7 @@ impl State {
             distance: Some(self.distance).filter(|_| self.scene != SceneKind::Plasma),
             pan: self.pan,
             light_turn: self.light_turn,
+            animation: self.playback.shown(),
         }
     }
 

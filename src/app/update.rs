@@ -11,6 +11,7 @@ mod textures;
 
 use super::action::Action;
 use super::command::Command;
+use super::playback;
 use super::state::State;
 use crate::sanitize::clean;
 
@@ -32,7 +33,7 @@ fn from_user(action: &Action) -> bool {
             | Action::FrameEnd { .. }
             | Action::Resize
             | Action::Pointer { .. }
-            | Action::AutoRotateTick { .. }
+            | Action::Tick { .. }
             | Action::MouseDrag { .. }
             | Action::MouseUp
             | Action::PromptCompleted(_)
@@ -75,7 +76,6 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
         | A::ToggleLightDrag
         | A::ResetView
         | A::ToggleAutoRotate
-        | A::AutoRotateTick { .. }
         | A::MouseDown { .. }
         | A::MouseDrag { .. }
         | A::MouseUp
@@ -120,6 +120,13 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
         | A::ToggleCost
         | A::CloseHelp
         | A::Escape) => return overlays::apply(state, a),
+        A::Tick { seconds } => {
+            playback::tick(state, seconds);
+            camera::apply(state, A::Tick { seconds });
+        }
+        A::TogglePlay => playback::toggle(state),
+        A::NextClip => playback::next_clip(state),
+        A::StepClip(frames) => playback::step(state, frames),
         A::FrameStart { .. } | A::FrameEnd { .. } => frame_report(state, action),
         A::Quit => state.quit = true,
         A::Suspend => return Some(Command::Suspend),

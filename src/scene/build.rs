@@ -187,6 +187,7 @@ pub fn build_scene_noting(
                 let notes = LoadedNotes {
                     warnings: model.warnings.clone(),
                     points: false,
+                    clips: model.clips(),
                 };
                 (
                     Built::Scene(Box::new(Scene::gltf(model, texture).into_model_view())),
@@ -198,6 +199,7 @@ pub fn build_scene_noting(
                 let notes = LoadedNotes {
                     warnings: loaded.warnings.clone(),
                     points: loaded.points,
+                    clips: Vec::new(),
                 };
                 let scene = Scene::loaded(loaded, texture);
                 // A model file is shown in the model view; the built-in
@@ -224,6 +226,8 @@ pub struct LoadedNotes {
     pub warnings: Vec<String>,
     /// A point cloud: the points display shows it.
     pub points: bool,
+    /// An animated model's clips: each one's name and length in seconds.
+    pub clips: Vec<(String, f32)>,
 }
 
 /// What an MTL material adds to relief's material: `Ks` tints the
@@ -401,6 +405,7 @@ impl Scene {
             camera: Camera::default(),
             background: BACKGROUND,
             model_view: None,
+            motion: None,
         }
     }
 

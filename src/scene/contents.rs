@@ -37,6 +37,9 @@ pub struct Scene {
     /// neutral rig, its glTF materials shaded physically; `None` for the
     /// reference scenes.
     pub model_view: Option<ModelView>,
+    /// An animated model's rig and the instant its objects show
+    /// (`scene::anim`); `None` for everything else.
+    pub motion: Option<crate::scene::anim::Motion>,
 }
 
 impl Scene {

@@ -1,5 +1,6 @@
 //! What is drawn: meshes, material, lights, camera.
 
+pub mod anim;
 pub mod build;
 pub mod camera;
 pub mod casters;

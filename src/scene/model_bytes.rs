@@ -189,6 +189,7 @@ impl BytesModel {
                 let notes = LoadedNotes {
                     warnings: model.warnings.clone(),
                     points: false,
+                    clips: model.clips(),
                 };
                 (Scene::gltf(model, texture).into_model_view(), notes)
             }
@@ -196,6 +197,7 @@ impl BytesModel {
                 let notes = LoadedNotes {
                     warnings: model.warnings.clone(),
                     points: model.points,
+                    clips: Vec::new(),
                 };
                 (Scene::loaded(model, texture).into_model_view(), notes)
             }

@@ -55,6 +55,28 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     write_frame_out(args, &fb)
 }
 
+/// An animated model posed at `--time` into `--clip` (its first clip at
+/// 0 s by default); either flag for a model without animation is noted.
+fn pose(args: &RenderArgs, scene: &mut crate::scene::Scene) -> anyhow::Result<()> {
+    let Some(motion) = &mut scene.motion else {
+        if args.time.is_some() || args.clip.is_some() {
+            eprintln!("relief: the model has no animation: --time and --clip do nothing");
+        }
+        return Ok(());
+    };
+    let clips = motion.clips().len();
+    let clip = match args.clip {
+        Some(c) if c >= clips => anyhow::bail!(
+            "--clip {c}: the model has {clips} animation{} (from 0)",
+            if clips == 1 { "" } else { "s" }
+        ),
+        Some(c) => Some(c),
+        None => (clips > 0).then_some(0),
+    };
+    motion.show(&mut scene.objects, clip, args.time.unwrap_or(0.0));
+    Ok(())
+}
+
 /// The frame's size in pixels: `--width` × `--height`, or what fills
 /// `--cells` in the symbols (or, for pixel formats, the terminal's cell size).
 fn frame_size(args: &RenderArgs) -> (usize, usize) {
@@ -140,6 +162,7 @@ fn draw(
             scene.camera = scene.camera.at_distance(args.view.distance);
             scene.camera.fov_y_degrees = settings.fov;
             maps.dress(&mut scene);
+            pose(args, &mut scene)?;
             let mut renderer = Renderer::new();
             if args.ansi && !args.format.is_pixels() {
                 // The text's pixels are as tall as its symbols make them.

@@ -156,19 +156,74 @@ fn r_resets_orientation_and_stops_auto_rotation() {
 #[test]
 fn space_toggles_auto_rotation_which_turns_with_time() {
     let mut s = state();
-    update(&mut s, Action::AutoRotateTick { seconds: 0.1 });
+    update(&mut s, Action::Tick { seconds: 0.1 });
     assert_eq!(s.settings.rotation.y, 35.0, "no turning while off");
     ch(&mut s, ' ');
     assert!(s.auto_rotate);
-    update(&mut s, Action::AutoRotateTick { seconds: 0.1 });
+    update(&mut s, Action::Tick { seconds: 0.1 });
     assert!((s.settings.rotation.y - 39.0).abs() < 1e-4);
     // A long stall is capped, NaN ignored.
-    update(&mut s, Action::AutoRotateTick { seconds: 100.0 });
+    update(&mut s, Action::Tick { seconds: 100.0 });
     assert!((s.settings.rotation.y - 49.0).abs() < 1e-3);
-    update(&mut s, Action::AutoRotateTick { seconds: f32::NAN });
+    update(&mut s, Action::Tick { seconds: f32::NAN });
     assert!((s.settings.rotation.y - 49.0).abs() < 1e-3);
     ch(&mut s, ' ');
     assert!(!s.auto_rotate);
+}
+
+#[test]
+fn an_animated_model_plays_its_first_clip_and_the_keys_drive_it() {
+    let mut s = state();
+    // Without clips the keys say so and nothing moves.
+    ch(&mut s, 'A');
+    assert_eq!(s.message.as_deref(), Some("this model has no animation"));
+    assert!(!s.continuous());
+    let notes = relief::scene::LoadedNotes {
+        clips: vec![("Walk".into(), 2.0), ("Run".into(), 1.0)],
+        ..Default::default()
+    };
+    update(&mut s, Action::ModelNotes(notes));
+    assert!(s.playback.playing && s.continuous());
+    assert_eq!(s.look().animation, Some((0, 0.0)));
+    update(&mut s, Action::Tick { seconds: 0.2 });
+    assert_eq!(s.look().animation, Some((0, 0.2)));
+    // A stall is capped at a quarter second; time loops within the clip.
+    update(&mut s, Action::Tick { seconds: 9.0 });
+    assert!((s.playback.time - 0.45).abs() < 1e-5, "{}", s.playback.time);
+    for _ in 0..7 {
+        update(&mut s, Action::Tick { seconds: 0.25 });
+    }
+    assert!((s.playback.time - 0.2).abs() < 1e-5, "{}", s.playback.time);
+    // A pauses: ticks then do nothing; `.` and `,` step a 30th of a second.
+    ch(&mut s, 'A');
+    assert!(!s.playback.playing && !s.continuous());
+    update(&mut s, Action::Tick { seconds: 0.1 });
+    assert!((s.playback.time - 0.2).abs() < 1e-5);
+    ch(&mut s, '.');
+    ch(&mut s, '.');
+    ch(&mut s, ',');
+    assert!((s.playback.time - (0.2 + 1.0 / 30.0)).abs() < 1e-5);
+    // Stepping back past the start goes to the end.
+    s.playback.time = 0.0;
+    ch(&mut s, ',');
+    assert!((s.playback.time - (2.0 - 1.0 / 30.0)).abs() < 1e-5);
+    // C: the next clip from its start, then back to the first.
+    ch(&mut s, 'C');
+    assert_eq!(s.look().animation, Some((1, 0.0)));
+    let line = s.message.clone().unwrap();
+    assert!(line.contains("animation 2 of 2: Run"), "{line}");
+    ch(&mut s, 'C');
+    assert_eq!(s.playback.clip, 0);
+    // Another scene has no clips until its notes say so.
+    update(
+        &mut s,
+        Action::SceneBuilt(Ok((
+            relief::scene::SceneKind::Cube,
+            relief::scene::ModelChoice::Cube,
+        ))),
+    );
+    assert_eq!(s.look().animation, None);
+    assert!(!s.continuous());
 }
 
 #[test]

@@ -82,6 +82,25 @@ fn status_line_shows_every_mode_and_the_frame_cost() {
 }
 
 #[test]
+fn status_line_shows_the_clip_and_whether_it_plays() {
+    let mut s = state();
+    let notes = relief::scene::LoadedNotes {
+        clips: vec![("Walk".into(), 2.0), ("Run".into(), 1.0)],
+        ..Default::default()
+    };
+    update(&mut s, Action::ModelNotes(notes));
+    let status = row_text(&screen(&s, 250, 20), 19);
+    assert!(status.contains("clip 1/2 Walk ▶"), "{status}");
+    update(&mut s, Action::TogglePlay);
+    update(&mut s, Action::NextClip);
+    let status = row_text(&screen(&s, 250, 20), 19);
+    assert!(status.contains("clip 2/2 Run ‖"), "{status}");
+    // Narrow, the short form.
+    let status = row_text(&screen(&s, 160, 20), 19);
+    assert!(status.contains("clip ‖"), "{status}");
+}
+
+#[test]
 fn status_line_follows_each_toggle() {
     let mut s = state();
     update(&mut s, Action::next(OptId::Shading));
@@ -284,9 +303,9 @@ fn help_overlay_lists_every_key_and_mouse_action() {
     assert!(!all_text(&screen(&s, 100, 30)).contains("keys and mouse"));
     update(&mut s, Action::ToggleHelp);
     // One column when it fits the height, two when it fits the width.
-    // 32 rows: the smallest height that holds the help in two columns
-    // (since Z has a line of its own).
-    for (w, h) in [(160, 48), (160, 32)] {
+    // 33 rows: the smallest height that holds the help in two columns
+    // (since Z and the animation keys have lines of their own).
+    for (w, h) in [(160, 48), (160, 33)] {
         let text = all_text(&screen(&s, w, h));
         assert!(text.contains("keys and mouse"));
         for (k, t) in help_lines() {

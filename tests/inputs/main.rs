@@ -3,6 +3,8 @@
 //! One test crate per area (each file a module) so the suite links a few
 //! binaries instead of one per file.
 
+#[path = "../common/glb_writer.rs"]
+mod glb_writer;
 #[path = "../hostile/mod.rs"]
 mod hostile;
 
@@ -10,6 +12,7 @@ mod models;
 mod models_formats;
 mod models_gltf;
 mod models_gltf_accessors;
+mod models_gltf_anim;
 mod models_gltf_blend;
 mod models_gltf_hostile;
 mod models_props;

@@ -69,6 +69,7 @@ pub fn scene_of(
         camera: Camera::default(),
         background: relief::scene::BACKGROUND,
         model_view: None,
+        motion: None,
     }
 }
 

@@ -34,9 +34,7 @@ pub(super) fn apply(state: &mut State, action: Action) {
         }
         Action::ResetView => reset_view(state),
         Action::ToggleAutoRotate => state.auto_rotate = !state.auto_rotate,
-        Action::AutoRotateTick { seconds }
-            if state.auto_rotate && seconds.is_finite() && seconds > 0.0 =>
-        {
+        Action::Tick { seconds } if state.auto_rotate && seconds.is_finite() && seconds > 0.0 => {
             // A long stall (a slow link) is not made up for in one leap.
             let dt = seconds.min(0.25);
             state.rotate(Vec3::new(0.0, AUTO_ROTATE_SPEED * dt, 0.0));

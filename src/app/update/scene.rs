@@ -2,6 +2,7 @@
 
 use super::super::action::Action;
 use super::super::command::Command;
+use super::super::playback;
 use super::super::state::{Panel, State};
 use crate::sanitize::clean;
 use crate::scene::{LoadedNotes, ModelChoice, SceneKind};
@@ -48,6 +49,8 @@ fn built(state: &mut State, scene: SceneKind, model: ModelChoice) {
         state.panel = Panel::default();
     }
     state.scene = scene;
+    // Its clips, if any, come with its notes.
+    playback::take_clips(state, Vec::new());
     // A model file opened from the prompt or a paste joins the `o` cycle.
     if let ModelChoice::File(path) = &model {
         state.obj = Some(path.clone());
@@ -61,6 +64,7 @@ fn model_notes(state: &mut State, notes: &LoadedNotes) {
     if notes.points {
         state.settings.display = crate::settings::Display::Points;
     }
+    playback::take_clips(state, notes.clips.clone());
     let mut lines = notes.warnings.iter();
     if let Some(first) = lines.next() {
         let more = lines.count();

@@ -334,6 +334,7 @@ const HEIGHTS_AT: u8 = 14;
 const DISTANCE_AT: u8 = 18;
 const COST_AT: u8 = 19;
 const AUTO_AT: u8 = 20;
+const CLIP_AT: u8 = 21;
 
 /// The status fields of the option table's entries that show now, each
 /// with its place.
@@ -407,9 +408,27 @@ fn fields(state: &State) -> Vec<Field> {
     if state.auto_rotate {
         f.push((AUTO_AT, Field::same("auto", None)));
     }
+    if let Some(clip) = clip_field(&state.playback) {
+        f.push((CLIP_AT, clip));
+    }
     // Stable: fields of one place keep their order.
     f.sort_by_key(|(at, _)| *at);
     f.into_iter().map(|(_, field)| field).collect()
+}
+
+/// An animated model's clip: which of how many, its name, and ▶ while it
+/// plays or ‖ when paused (keys `A` `C` `,` `.`).
+fn clip_field(p: &crate::app::state::Playback) -> Option<Field> {
+    let (name, _) = p.clips.get(p.clip)?;
+    let mark = if p.playing { "▶" } else { "‖" };
+    let name: String = crate::sanitize::clean(name).chars().take(16).collect();
+    let long = format!("clip {}/{} {name} {mark}", p.clip + 1, p.clips.len());
+    Some(Field::new(
+        long,
+        format!("clip {mark}"),
+        9,
+        drop_rank(false, 30),
+    ))
 }
 
 /// Where the heights come from, when another texture of the list gives

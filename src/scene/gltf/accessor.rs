@@ -204,6 +204,38 @@ fn buffer_len(view: &::gltf::buffer::View, buffers: &[Vec<u8>]) -> usize {
     buffers.get(view.buffer().index()).map_or(0, Vec::len)
 }
 
+/// A MAT4 accessor's matrices (column-major, as glTF stores them), sparse
+/// substitutions not read (the caller refuses a sparse one).
+pub(super) fn matrices<'a>(
+    acc: &Accessor<'a>,
+    buffers: &'a [Vec<u8>],
+) -> impl Iterator<Item = glam::Mat4> + use<'a> {
+    let ty = acc.data_type();
+    let size = component_size(ty);
+    let columns = acc.view().map(|view| Run {
+        bytes: view_from(&view, acc.offset(), buffers),
+        stride: view.stride().unwrap_or(16 * size),
+        ty,
+        normalized: acc.normalized(),
+        width: 4,
+    });
+    (0..acc.count()).map(move |k| {
+        let Some(run) = columns else {
+            return glam::Mat4::ZERO;
+        };
+        // Column c of element k starts 4c components in: a run of four
+        // components whose element is at k·stride + 4c·size.
+        let column = |c: usize| {
+            let shifted = Run {
+                bytes: run.bytes.get(4 * c * size..).unwrap_or(&[]),
+                ..run
+            };
+            glam::Vec4::from(shifted.at(k))
+        };
+        glam::Mat4::from_cols(column(0), column(1), column(2), column(3))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

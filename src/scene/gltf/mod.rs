@@ -16,6 +16,8 @@ mod accessor;
 mod data;
 mod material;
 mod opacity;
+mod reading;
+mod rig;
 mod sampling;
 mod skipped;
 mod tangent;
@@ -24,10 +26,10 @@ mod validate;
 use std::path::Path;
 use std::sync::Arc;
 
-use ::gltf::accessor::Accessor;
 use ::gltf::mesh::Mode;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
+use super::anim::{Influences, MorphTarget, Motion, PartRig, Rig};
 use super::corners::{fit_of, fitted};
 use super::face_frame::face_frame;
 use super::mesh::{Face, Facet, Mesh, Triangle, Vertex, triangle_normal};
@@ -41,14 +43,12 @@ use crate::texture::Texture;
 
 use data::Problem;
 use material::Materials;
+use reading::{MAX_DEPTH, bytes_of, check_accessor, hold};
 use validate::Role;
 
 /// Extensions a file may require that relief draws; any other required
 /// one is refused.
 const SUPPORTED_REQUIRED: &[&str] = skipped::READ;
-
-/// Deepest node hierarchy walked (a file with a cycle would never end).
-const MAX_DEPTH: usize = 64;
 
 /// Whether `path` names a glTF file (by its extension).
 pub fn is_gltf(path: &Path) -> bool {
@@ -72,6 +72,17 @@ pub struct Model {
     pub strokes: Strokes,
     /// What the file has that is not drawn (one line each, safe to print).
     pub warnings: Vec<String>,
+    /// Its animation, when it has one (or skins, or morph weights set):
+    /// the parts are posed at the start of its first clip.
+    pub motion: Option<Motion>,
+}
+
+impl Model {
+    /// Its clips: each one's name and length in seconds.
+    pub fn clips(&self) -> Vec<(String, f32)> {
+        let clips = self.motion.iter().flat_map(|m| m.clips());
+        clips.map(|c| (c.name.clone(), c.duration)).collect()
+    }
 }
 
 impl Scene {
@@ -91,6 +102,7 @@ impl Scene {
             scene.object_terms.push(part.terms);
         }
         scene.strokes = model.strokes;
+        scene.motion = model.motion;
         scene
     }
 }
@@ -131,21 +143,43 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
     let quantized = document
         .extensions_used()
         .any(|e| e == "KHR_mesh_quantization");
+    // An animated model's parts are read in their own space, posed later.
+    let rigged = rig::wanted(&document);
     // What is built is reserved step by step, before it is allocated.
     let mut model =
         crate::budget::reserve(&format!("model {name}"), 0).map_err(|e| e.to_string())?;
     let mut materials = Materials::new(name, &document, &buffers, dir);
     let mut prims = Vec::new();
-    for (mesh, world) in &instances {
-        for prim in mesh.primitives() {
-            let place = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
-            prims.push(read_primitive(
-                &prim,
-                (*world, quantized),
-                &buffers,
-                &place,
-                (name, &mut model),
-            )?);
+    for inst in &instances {
+        for prim in inst.mesh.primitives() {
+            let place = format!("meshes[{}].primitives[{}]", inst.mesh.index(), prim.index());
+            let placing = Placing::of(
+                inst,
+                rigged && stroke_mode(prim.mode()).is_none(),
+                quantized,
+            );
+            let mut read = read_primitive(&prim, placing, &buffers, &place, (name, &mut model))?;
+            if placing.posed {
+                let joints = inst
+                    .skin
+                    .and_then(|s| document.skins().nth(s))
+                    .map(|s| s.joints().count());
+                let n = read.vertices.len();
+                let (targets, influences) = rig::part_data(
+                    &prim,
+                    (n, joints, quantized),
+                    &buffers,
+                    &place,
+                    (name, &mut model),
+                )?;
+                read.posing = Some(Posing {
+                    node: inst.node,
+                    skin: inst.skin,
+                    targets,
+                    influences,
+                });
+            }
+            prims.push(read);
         }
     }
     if prims
@@ -154,10 +188,45 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
     {
         return Err("it has no triangles, lines or points to draw".into());
     }
-    fit(&mut prims)?;
+    if !rigged {
+        fit(&mut prims)?;
+    }
+    let (mut parts, mut strokes, posings) = build_parts(prims, &mut materials, (name, &mut model))?;
+    if parts.is_empty() && strokes.is_empty() {
+        return Err("it has no triangle with an area".into());
+    }
+    let motion = if rigged {
+        let posed = (&mut parts[..], &mut strokes);
+        Some(pose_rig(
+            &document,
+            &buffers,
+            posings,
+            posed,
+            (name, &mut model),
+        )?)
+    } else {
+        None
+    };
+    let warnings = skipped::note(name, &document).into_iter().collect();
+    Ok(Model {
+        parts,
+        strokes,
+        warnings,
+        motion,
+    })
+}
+
+/// The parts (triangles, with their materials) and strokes of `prims`,
+/// and how each part is posed when the model is animated.
+fn build_parts(
+    prims: Vec<Prim>,
+    materials: &mut Materials,
+    (name, held): (&str, &mut Reservation),
+) -> Result<(Vec<Part>, Strokes, Vec<PartRig>), Problem> {
     let mut parts = Vec::with_capacity(prims.len());
     let mut strokes = Strokes::default();
-    for prim in prims {
+    let mut posings = Vec::new();
+    for mut prim in prims {
         if let Some(s) = &prim.strokes {
             let vertices: Vec<StrokeVertex> = prim
                 .vertices
@@ -171,24 +240,89 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
             continue;
         }
         let look = materials.get(prim.material)?;
-        let mesh = build_mesh(prim, &look, (name, &mut model))?;
-        if !mesh.triangles.is_empty() {
-            parts.push(Part {
-                mesh,
-                material: look.material.clone(),
-                terms: look.terms.clone(),
+        let posing = prim.posing.take();
+        let flat = !prim.has_normals;
+        let (mesh, source) = build_mesh(prim, &look, (name, &mut *held))?;
+        if mesh.triangles.is_empty() {
+            continue;
+        }
+        if let Some(p) = posing {
+            hold(
+                held,
+                name,
+                "the rest pose",
+                bytes_of::<Vertex>(mesh.vertices.len() as u64),
+            )?;
+            posings.push(PartRig {
+                node: p.node,
+                skin: p.skin,
+                rest: mesh.vertices.clone(),
+                source,
+                targets: p.targets,
+                influences: p.influences,
+                flat,
             });
         }
+        parts.push(Part {
+            mesh,
+            material: look.material.clone(),
+            terms: look.terms.clone(),
+        });
     }
-    if parts.is_empty() && strokes.is_empty() {
-        return Err("it has no triangle with an area".into());
+    Ok((parts, strokes, posings))
+}
+
+/// The animated model's rig, its parts posed at the start of its first
+/// clip and fitted, with its strokes, to the unit view there.
+fn pose_rig(
+    document: &::gltf::Document,
+    buffers: &[Vec<u8>],
+    parts_rigs: Vec<PartRig>,
+    (parts, strokes): (&mut [Part], &mut Strokes),
+    (name, held): (&str, &mut Reservation),
+) -> Result<Motion, Problem> {
+    let (nodes, order) = rig::nodes(document);
+    let skins = rig::skins(document, buffers, (name, &mut *held))?;
+    let clips = rig::clips(document, buffers, (name, held))?;
+    let mut motion = Motion::new(Rig {
+        nodes,
+        order,
+        clips,
+        skins,
+        parts: parts_rigs,
+        fit: Mat4::IDENTITY,
+    });
+    let first = (!motion.clips().is_empty()).then_some(0);
+    let mut objects: Vec<Object> = parts
+        .iter_mut()
+        .map(|p| Object {
+            mesh: std::mem::take(&mut p.mesh),
+            transform: Mat4::IDENTITY,
+            rotates: true,
+        })
+        .collect();
+    motion.show(&mut objects, first, 0.0);
+    let points = || {
+        let meshes = objects
+            .iter()
+            .flat_map(|o| o.mesh.vertices.iter().map(|v| v.position));
+        meshes.chain(strokes.vertices.iter().map(|v| v.position))
+    };
+    let (centre, scale) = fit_of(points).ok_or("all its points coincide")?;
+    let fit =
+        Mat4::from_scale(Vec3::splat(scale as f32)) * Mat4::from_translation(-centre.as_vec3());
+    for v in &mut strokes.vertices {
+        v.position = fitted(v.position, (centre, scale));
     }
-    let warnings = skipped::note(name, &document).into_iter().collect();
-    Ok(Model {
-        parts,
-        strokes,
-        warnings,
-    })
+    motion = Motion::new(Rig {
+        fit,
+        ..Arc::unwrap_or_clone(motion.rig)
+    });
+    motion.show(&mut objects, first, 0.0);
+    for (part, object) in parts.iter_mut().zip(objects) {
+        part.mesh = object.mesh;
+    }
+    Ok(motion)
 }
 
 /// The parser's complaint, without its internals: the JSON line and
@@ -218,8 +352,17 @@ fn json_error(e: ::gltf::Error) -> Problem {
     }
 }
 
+/// One mesh placed in the scene drawn.
+struct Instance<'a> {
+    mesh: ::gltf::Mesh<'a>,
+    world: Mat4,
+    /// Its node (none when the file has no scene: every mesh once).
+    node: Option<usize>,
+    skin: Option<usize>,
+}
+
 /// Every mesh instance of the scene drawn, with its world matrix.
-fn instances(document: &::gltf::Document) -> Result<Vec<(::gltf::Mesh<'_>, Mat4)>, Problem> {
+fn instances(document: &::gltf::Document) -> Result<Vec<Instance<'_>>, Problem> {
     let mut out = Vec::new();
     let roots: Vec<::gltf::Node> = match document
         .default_scene()
@@ -228,7 +371,13 @@ fn instances(document: &::gltf::Document) -> Result<Vec<(::gltf::Mesh<'_>, Mat4)
         Some(scene) => scene.nodes().collect(),
         None => {
             // No scene: every mesh once, where it is.
-            return Ok(document.meshes().map(|m| (m, Mat4::IDENTITY)).collect());
+            let once = |mesh| Instance {
+                mesh,
+                world: Mat4::IDENTITY,
+                node: None,
+                skin: None,
+            };
+            return Ok(document.meshes().map(once).collect());
         }
     };
     let mut stack: Vec<(::gltf::Node, Mat4, usize)> =
@@ -249,7 +398,12 @@ fn instances(document: &::gltf::Document) -> Result<Vec<(::gltf::Mesh<'_>, Mat4)
             ));
         }
         if let Some(mesh) = node.mesh() {
-            out.push((mesh, world));
+            out.push(Instance {
+                mesh,
+                world,
+                node: Some(node.index()),
+                skin: node.skin().map(|s| s.index()),
+            });
         }
         for child in node.children() {
             stack.push((child, world, depth + 1));
@@ -278,6 +432,57 @@ struct Prim {
     material: Option<usize>,
     /// A points or lines primitive (no triangles).
     strokes: Option<PrimStrokes>,
+    /// Keep `source` as vertices are split (the model is animated).
+    track: bool,
+    /// The file's vertex each vertex comes from, when `track` and they
+    /// were split (empty: the same index).
+    source: Vec<u32>,
+    /// How it moves, when the model is animated.
+    posing: Option<Posing>,
+}
+
+/// How an animated model's primitive moves: its node, skin, morph
+/// targets and joint weights.
+struct Posing {
+    node: Option<usize>,
+    skin: Option<usize>,
+    targets: Vec<MorphTarget>,
+    influences: Influences,
+}
+
+/// Where a primitive is read to: into `world`, its triangles turned as a
+/// `mirrored` placement needs; `posed`: in its own space, to be posed
+/// frame by frame.
+#[derive(Clone, Copy)]
+struct Placing {
+    world: Mat4,
+    mirrored: bool,
+    quantized: bool,
+    posed: bool,
+}
+
+impl Placing {
+    fn of(inst: &Instance, posed: bool, quantized: bool) -> Placing {
+        // A skinned mesh's node does not place it (glTF 2.0 §3.7.3.3).
+        let mirrored = inst.skin.is_none() && Mat3::from_mat4(inst.world).determinant() < 0.0;
+        Placing {
+            world: if posed { Mat4::IDENTITY } else { inst.world },
+            mirrored,
+            quantized,
+            posed,
+        }
+    }
+}
+
+/// What a points or lines primitive draws (none: triangles).
+fn stroke_mode(mode: Mode) -> Option<StrokeMode> {
+    match mode {
+        Mode::Points => Some(StrokeMode::Points),
+        Mode::Lines => Some(StrokeMode::Lines),
+        Mode::LineLoop => Some(StrokeMode::LineLoop),
+        Mode::LineStrip => Some(StrokeMode::LineStrip),
+        _ => None,
+    }
 }
 
 /// A vertex before anything is read into it.
@@ -303,81 +508,17 @@ struct PrimStrokes {
     factor: Vec3,
 }
 
-/// Bytes of `n` values of `T`.
-fn bytes_of<T>(n: u64) -> u64 {
-    n.saturating_mul(std::mem::size_of::<T>() as u64)
-}
-
-/// Reserves `bytes` more in `held` for `what` of model `name`, before it
-/// is allocated.
-fn hold(held: &mut Reservation, name: &str, what: &str, bytes: u64) -> Result<(), Problem> {
-    held.grow(&format!("{what} of model {name}"), bytes)
-        .map_err(|e| e.to_string())
-}
-
-/// Checks that an accessor's elements lie inside its view and the view
-/// inside its buffer.
-fn check_accessor(
-    acc: &Accessor,
-    buffers: &[Vec<u8>],
-    (role, quantized): (Role, bool),
-    place: &str,
-) -> Result<(), Problem> {
-    let path = format!("accessors[{}] ({} of {place})", acc.index(), role.name());
-    validate::check_kind(acc, role, quantized, &path)?;
-    accessor::check_sparse(acc, buffers, &path)?;
-    let Some(view) = acc.view() else {
-        // A sparse accessor without one starts from zeros.
-        if acc.sparse().is_some() {
-            return Ok(());
-        }
-        return Err(format!("{path}: it has no bufferView"));
-    };
-    let have = buffers.get(view.buffer().index()).map_or(0, |b| b.len()) as u64;
-    let (start, length) = (view.offset() as u64, view.length() as u64);
-    if start.saturating_add(length) > have {
-        return Err(format!(
-            "bufferViews[{}]: bytes {start}..{} are past the end of buffers[{}] ({have} bytes)",
-            view.index(),
-            start.saturating_add(length),
-            view.buffer().index()
-        ));
-    }
-    let size = acc.size() as u64;
-    let stride = view.stride().map_or(size, |s| s as u64);
-    let count = acc.count() as u64;
-    if count == 0 {
-        return Ok(());
-    }
-    let end = (count - 1)
-        .saturating_mul(stride)
-        .saturating_add(acc.offset() as u64)
-        .saturating_add(size);
-    if end > length {
-        return Err(format!(
-            "{path}: {count} elements reach byte {end} of bufferViews[{}], which has {length}",
-            view.index()
-        ));
-    }
-    Ok(())
-}
-
 fn read_primitive(
     prim: &::gltf::Primitive,
-    (world, quantized): (Mat4, bool),
+    placing: Placing,
     buffers: &[Vec<u8>],
     place: &str,
     (name, held): (&str, &mut Reservation),
 ) -> Result<Prim, Problem> {
     use ::gltf::Semantic;
+    let (world, quantized) = (placing.world, placing.quantized);
     let mode = prim.mode();
-    let stroke = match mode {
-        Mode::Points => Some(StrokeMode::Points),
-        Mode::Lines => Some(StrokeMode::Lines),
-        Mode::LineLoop => Some(StrokeMode::LineLoop),
-        Mode::LineStrip => Some(StrokeMode::LineStrip),
-        _ => None,
-    };
+    let stroke = stroke_mode(mode);
     for (semantic, acc) in prim.attributes() {
         check_accessor(
             &acc,
@@ -514,6 +655,9 @@ fn read_primitive(
                 corners,
                 factor: Vec3::new(r, g, b),
             }),
+            track: false,
+            source: Vec::new(),
+            posing: None,
         });
     }
     let count = match mode {
@@ -530,7 +674,7 @@ fn read_primitive(
     // The corners of a list, strip or fan, taken as they come.
     let (mut first, mut previous) = (None, None);
     let mut last = [0u32; 2];
-    let mirrored = linear.determinant() < 0.0;
+    let mirrored = placing.mirrored;
     for (at, i) in corners {
         let i = check((at, i))?;
         let indices = match mode {
@@ -577,6 +721,9 @@ fn read_primitive(
         tris,
         material: material.index(),
         strokes: None,
+        track: placing.posed,
+        source: Vec::new(),
+        posing: None,
     })
 }
 
@@ -606,12 +753,14 @@ fn fit(prims: &mut [Prim]) -> Result<(), Problem> {
 /// A primitive as a relief mesh: vertices as the file has them (split per
 /// corner where normals or tangents must be made per face), triangles with
 /// an area, tangent frames from the file, MikkTSpace or relief's own.
-/// `held` grows by what is allocated, before it is.
+/// `held` grows by what is allocated, before it is. With the mesh, the
+/// file's vertex each of its vertices comes from when tracked and split
+/// (`Prim::source`).
 fn build_mesh(
     mut prim: Prim,
     look: &material::Look,
     (name, held): (&str, &mut Reservation),
-) -> Result<Mesh, Problem> {
+) -> Result<(Mesh, Vec<u32>), Problem> {
     // No normals: flat ones, so each corner is its own vertex (glTF 2.0 §3.7.2.1).
     let flat = !prim.has_normals;
     // The normal map's tangents are those of its own coordinates (glTF 2.0
@@ -691,7 +840,7 @@ fn build_mesh(
     if let Some(uvs) = tangent_uvs {
         held.shrink(bytes_of::<Vec2>(uvs.capacity() as u64));
     }
-    Ok(mesh)
+    Ok((mesh, prim.source))
 }
 
 /// The mesh of `tris` over `vertices` whose facets' texture axes are those
@@ -746,6 +895,11 @@ fn split_corners(prim: &mut Prim, (name, held): (&str, &mut Reservation)) -> Res
     let old = bytes_of::<Vertex>(prim.vertices.capacity() as u64);
     prim.vertices = vertices;
     held.shrink(old);
+    if prim.track {
+        hold(held, name, "the corners", bytes_of::<u32>(corners as u64))?;
+        let from = |i: u32| prim.source.get(i as usize).copied().unwrap_or(i);
+        prim.source = prim.tris.iter().flat_map(|t| t.indices).map(from).collect();
+    }
     if !prim.uv2.is_empty() {
         hold(held, name, "the corners", bytes_of::<Vec2>(corners as u64))?;
         let mut uv2 = Vec::with_capacity(corners);

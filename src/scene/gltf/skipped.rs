@@ -1,7 +1,6 @@
 //! What relief draws a glTF file without, named once in one plain line
 //! (docs/models.md, "What is not drawn"): the extensions the file uses
-//! that relief does not read, its animations, skins, morph targets and
-//! cameras, and maps on a third texture coordinate set (only two are
+//! that relief does not read, its cameras, and maps on a third texture coordinate set (only two are
 //! stored per primitive: such a map reads the first).
 
 use super::sampling::{Reading, maps_of};
@@ -24,13 +23,6 @@ pub(super) fn note(name: &str, document: &::gltf::Document) -> Option<String> {
         1 => parts.push(format!("its {one}")),
         n => parts.push(format!("its {n} {many}")),
     };
-    count(document.animations().count(), "animation", "animations");
-    count(document.skins().count(), "skin", "skins");
-    let morphs = document
-        .meshes()
-        .filter(|m| m.primitives().any(|p| p.morph_targets().next().is_some()))
-        .count();
-    count(morphs, "morph targets", "meshes' morph targets");
     count(document.cameras().count(), "camera", "cameras");
     let third = document
         .materials()

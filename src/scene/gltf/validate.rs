@@ -106,6 +106,10 @@ fn accessors_count(n: usize) -> String {
 pub(super) enum Role<'a> {
     Attribute(&'a Semantic),
     Indices,
+    /// Anything else relief reads (animation keys, skins, morph
+    /// targets), named as the specification names it; its kind is
+    /// checked where it is read.
+    Data(&'static str),
 }
 
 impl Role<'_> {
@@ -114,6 +118,7 @@ impl Role<'_> {
         match self {
             Role::Attribute(s) => s.to_string(),
             Role::Indices => "indices".into(),
+            Role::Data(what) => what.into(),
         }
     }
 
@@ -139,7 +144,7 @@ impl Role<'_> {
             Role::Attribute(Semantic::Tangents) => (&[Vec4], &[F32]),
             Role::Attribute(Semantic::TexCoords(_)) => (&[Vec2], &[F32, U8, U16]),
             Role::Attribute(Semantic::Colors(_)) => (&[Vec3, Vec4], &[F32, U8, U16]),
-            Role::Attribute(_) => return None,
+            Role::Attribute(_) | Role::Data(_) => return None,
         })
     }
 }
