@@ -65,6 +65,8 @@ pub enum Action {
     NextClip,
     /// `,` `.`: the animation paused and stepped this many frames.
     StepClip(i32),
+    /// `V`: the model file's next camera, then the framing camera.
+    NextCamera,
     /// `seconds` of time passed while something moves by itself (the
     /// auto-rotation, a playing animation).
     Tick {

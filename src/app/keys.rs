@@ -239,6 +239,12 @@ pub const KEYS: &[Binding] = &[
     row(Normal, &[c('.')], Action::StepClip(1), Above),
     row(
         Normal,
+        &[c('V')],
+        Action::NextCamera,
+        Line("V", "a glTF model's own cameras, then the framing camera"),
+    ),
+    row(
+        Normal,
         &[c('i')],
         Action::ZoomIn,
         Line("i I wheel", "zoom: camera closer / farther"),

@@ -6,6 +6,7 @@ pub mod command;
 pub mod event_loop;
 pub mod events;
 pub mod feedback;
+pub mod file_cameras;
 pub mod frame_cost;
 pub mod frame_watch;
 pub mod keys;

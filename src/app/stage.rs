@@ -214,6 +214,7 @@ impl Stage {
                 // turning it does not move the camera (`r` comes back to it).
                 if let Some(view) = &mut scene.model_view {
                     view.pose = Some(state.start_rotation);
+                    view.camera = state.camera;
                 }
                 if let Some(motion) = &mut scene.motion {
                     let (clip, time) = state.playback.shown().unzip();

@@ -96,6 +96,11 @@ pub struct State {
     pub auto_rotate: bool,
     /// An animated model's clips and where it is in them.
     pub playback: Playback,
+    /// How many cameras of its own the model file has.
+    pub cameras: usize,
+    /// Key `V`: the file's camera the model is seen through (none: the
+    /// framing camera).
+    pub camera: Option<usize>,
     pub panel: Panel,
     pub drag: Option<Drag>,
     /// One line of feedback (errors, saved file, paste), already sanitized.
@@ -174,6 +179,8 @@ pub struct Look {
     pub light_turn: Vec2,
     /// The animation's clip and instant (none: the model has none).
     pub animation: Option<(usize, f32)>,
+    /// The file's camera seen through.
+    pub camera: Option<usize>,
 }
 
 /// An animated model's clips (keys `A`, `C`, `,`, `.`): which plays, and
@@ -231,6 +238,8 @@ impl State {
             help_scroll: 0,
             auto_rotate: false,
             playback: Playback::default(),
+            cameras: 0,
+            camera: None,
             panel: Panel::default(),
             drag: None,
             message: None,
@@ -273,6 +282,7 @@ impl State {
             pan: self.pan,
             light_turn: self.light_turn,
             animation: self.playback.shown(),
+            camera: self.camera,
         }
     }
 

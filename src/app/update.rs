@@ -127,6 +127,7 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
         A::TogglePlay => playback::toggle(state),
         A::NextClip => playback::next_clip(state),
         A::StepClip(frames) => playback::step(state, frames),
+        A::NextCamera => super::file_cameras::next(state),
         A::FrameStart { .. } | A::FrameEnd { .. } => frame_report(state, action),
         A::Quit => state.quit = true,
         A::Suspend => return Some(Command::Suspend),

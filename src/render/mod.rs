@@ -259,6 +259,12 @@ impl Renderer {
         let Some(view) = scene.model_view else {
             return plan;
         };
+        // The file's own camera, where the author put it.
+        if let Some(camera) = view.camera.and_then(|k| scene.cameras.get(k)) {
+            plan.camera = *camera;
+            plan.eye = camera.eye;
+            return plan;
+        }
         let aspect = width as f32 / height as f32 * self.pixel_aspect.unwrap_or(1.0);
         let pose = view.pose.unwrap_or(settings.rotation);
         let key = FrameKey {

@@ -188,6 +188,7 @@ pub fn build_scene_noting(
                     warnings: model.warnings.clone(),
                     points: false,
                     clips: model.clips(),
+                    cameras: model.cameras.len(),
                 };
                 (
                     Built::Scene(Box::new(Scene::gltf(model, texture).into_model_view())),
@@ -200,6 +201,7 @@ pub fn build_scene_noting(
                     warnings: loaded.warnings.clone(),
                     points: loaded.points,
                     clips: Vec::new(),
+                    cameras: 0,
                 };
                 let scene = Scene::loaded(loaded, texture);
                 // A model file is shown in the model view; the built-in
@@ -228,6 +230,8 @@ pub struct LoadedNotes {
     pub points: bool,
     /// An animated model's clips: each one's name and length in seconds.
     pub clips: Vec<(String, f32)>,
+    /// How many cameras of its own the model has (`V` cycles them).
+    pub cameras: usize,
 }
 
 /// What an MTL material adds to relief's material: `Ks` tints the
@@ -406,6 +410,7 @@ impl Scene {
             background: BACKGROUND,
             model_view: None,
             motion: None,
+            cameras: Vec::new(),
         }
     }
 

@@ -40,6 +40,9 @@ pub struct Scene {
     /// An animated model's rig and the instant its objects show
     /// (`scene::anim`); `None` for everything else.
     pub motion: Option<crate::scene::anim::Motion>,
+    /// A model file's own cameras (glTF), in the scene's space; the model
+    /// view shows the one its `camera` names.
+    pub cameras: Vec<Camera>,
 }
 
 impl Scene {
@@ -87,6 +90,9 @@ pub struct ModelView {
     /// interactive view sets its start rotation, so turning the model
     /// does not move the camera; `r`, a resize or another model frame it again.
     pub pose: Option<Vec3>,
+    /// Which of the scene's cameras it is seen through (`V`; none: the
+    /// framing camera).
+    pub camera: Option<usize>,
 }
 
 impl ModelView {
@@ -95,6 +101,7 @@ impl ModelView {
         ModelView {
             id: NEXT.fetch_add(1, Ordering::Relaxed),
             pose: None,
+            camera: None,
         }
     }
 }

@@ -190,6 +190,7 @@ impl BytesModel {
                     warnings: model.warnings.clone(),
                     points: false,
                     clips: model.clips(),
+                    cameras: model.cameras.len(),
                 };
                 (Scene::gltf(model, texture).into_model_view(), notes)
             }
@@ -198,6 +199,7 @@ impl BytesModel {
                     warnings: model.warnings.clone(),
                     points: model.points,
                     clips: Vec::new(),
+                    cameras: 0,
                 };
                 (Scene::loaded(model, texture).into_model_view(), notes)
             }

@@ -55,6 +55,27 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     write_frame_out(args, &fb)
 }
 
+/// `--camera N`: the model seen through the file's camera N, standing as
+/// the file places it.
+fn through_file_camera(
+    args: &RenderArgs,
+    scene: &mut crate::scene::Scene,
+    settings: &mut Settings,
+) -> anyhow::Result<()> {
+    let Some(k) = args.camera else {
+        return Ok(());
+    };
+    let n = scene.cameras.len();
+    let Some(view) = scene.model_view.as_mut().filter(|_| k < n) else {
+        anyhow::bail!("--camera {k}: the model has {n} perspective camera(s) (from 0)");
+    };
+    view.camera = Some(k);
+    if args.view.rotate.is_none() {
+        settings.rotation = glam::Vec3::ZERO;
+    }
+    Ok(())
+}
+
 /// An animated model posed at `--time` into `--clip` (its first clip at
 /// 0 s by default); either flag for a model without animation is noted.
 fn pose(args: &RenderArgs, scene: &mut crate::scene::Scene) -> anyhow::Result<()> {
@@ -163,12 +184,14 @@ fn draw(
             scene.camera.fov_y_degrees = settings.fov;
             maps.dress(&mut scene);
             pose(args, &mut scene)?;
+            let mut settings = *settings;
+            through_file_camera(args, &mut scene, &mut settings)?;
             let mut renderer = Renderer::new();
             if args.ansi && !args.format.is_pixels() {
                 // The text's pixels are as tall as its symbols make them.
                 renderer.set_pixel_aspect(args.symbols.pixel_aspect());
             }
-            renderer.render(&scene, settings, &mut fb);
+            renderer.render(&scene, &settings, &mut fb);
         }
         Built::Plasma(plasma) => {
             let centre = (fb.width() as f32 / 2.0, fb.height() as f32 / 2.0);

@@ -227,6 +227,34 @@ fn an_animated_model_plays_its_first_clip_and_the_keys_drive_it() {
 }
 
 #[test]
+fn v_cycles_the_files_cameras_then_the_framing_camera() {
+    let mut s = state();
+    ch(&mut s, 'V');
+    assert_eq!(
+        s.message.as_deref(),
+        Some("this model has no camera of its own")
+    );
+    let notes = relief::scene::LoadedNotes {
+        cameras: 2,
+        ..Default::default()
+    };
+    update(&mut s, Action::ModelNotes(notes));
+    let start = s.settings.rotation;
+    ch(&mut s, 'V');
+    assert_eq!((s.camera, s.look().camera), (Some(0), Some(0)));
+    // Through the file's camera the model stands as the file places it,
+    // and `r` comes back to that.
+    assert_eq!(s.settings.rotation, Vec3::ZERO);
+    ch(&mut s, 'r');
+    assert_eq!(s.settings.rotation, Vec3::ZERO);
+    ch(&mut s, 'V');
+    assert_eq!(s.camera, Some(1));
+    ch(&mut s, 'V');
+    assert_eq!(s.camera, None);
+    assert_eq!(s.settings.rotation, start);
+}
+
+#[test]
 fn plus_minus_change_bump_strength_within_bounds() {
     let mut s = state();
     ch(&mut s, '+');

@@ -14,6 +14,7 @@ mod models_gltf;
 mod models_gltf_accessors;
 mod models_gltf_anim;
 mod models_gltf_blend;
+mod models_gltf_cameras;
 mod models_gltf_hostile;
 mod models_props;
 mod models_render;

@@ -70,6 +70,7 @@ pub fn scene_of(
         background: relief::scene::BACKGROUND,
         model_view: None,
         motion: None,
+        cameras: Vec::new(),
     }
 }
 

@@ -53,7 +53,7 @@ pub(super) fn apply(state: &mut State, action: Action) {
 
 /// `r`: the start view back, nothing turning or held.
 fn reset_view(state: &mut State) {
-    state.settings.rotation = state.start_rotation;
+    state.settings.rotation = super::super::file_cameras::reset_rotation(state);
     state.distance = state.start_distance;
     state.pan = Vec2::ZERO;
     state.light_turn = Vec2::ZERO;

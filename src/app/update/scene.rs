@@ -49,8 +49,9 @@ fn built(state: &mut State, scene: SceneKind, model: ModelChoice) {
         state.panel = Panel::default();
     }
     state.scene = scene;
-    // Its clips, if any, come with its notes.
+    // Its clips and cameras, if any, come with its notes.
     playback::take_clips(state, Vec::new());
+    super::super::file_cameras::take(state, 0);
     // A model file opened from the prompt or a paste joins the `o` cycle.
     if let ModelChoice::File(path) = &model {
         state.obj = Some(path.clone());
@@ -65,6 +66,7 @@ fn model_notes(state: &mut State, notes: &LoadedNotes) {
         state.settings.display = crate::settings::Display::Points;
     }
     playback::take_clips(state, notes.clips.clone());
+    super::super::file_cameras::take(state, notes.cameras);
     let mut lines = notes.warnings.iter();
     if let Some(first) = lines.next() {
         let more = lines.count();

@@ -411,6 +411,10 @@ fn fields(state: &State) -> Vec<Field> {
     if let Some(clip) = clip_field(&state.playback) {
         f.push((CLIP_AT, clip));
     }
+    if let Some(k) = state.camera {
+        let long = format!("camera {}/{}", k + 1, state.cameras);
+        f.push((CLIP_AT, Field::new(long, format!("cam {}", k + 1), 9, None)));
+    }
     // Stable: fields of one place keep their order.
     f.sort_by_key(|(at, _)| *at);
     f.into_iter().map(|(_, field)| field).collect()

@@ -13,6 +13,7 @@
 //!   by the objects that use it.
 
 mod accessor;
+mod cameras;
 mod data;
 mod material;
 mod opacity;
@@ -27,7 +28,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use ::gltf::mesh::Mode;
-use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use glam::{DVec3, Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use super::anim::{Influences, MorphTarget, Motion, PartRig, Rig};
 use super::corners::{fit_of, fitted};
@@ -75,6 +76,8 @@ pub struct Model {
     /// Its animation, when it has one (or skins, or morph weights set):
     /// the parts are posed at the start of its first clip.
     pub motion: Option<Motion>,
+    /// Its perspective cameras, placed in the fitted model's space.
+    pub cameras: Vec<crate::scene::Camera>,
 }
 
 impl Model {
@@ -103,6 +106,7 @@ impl Scene {
         }
         scene.strokes = model.strokes;
         scene.motion = model.motion;
+        scene.cameras = model.cameras;
         scene
     }
 }
@@ -188,31 +192,28 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
     {
         return Err("it has no triangles, lines or points to draw".into());
     }
+    let mut fitted_by = None;
     if !rigged {
-        fit(&mut prims)?;
+        fitted_by = Some(fit(&mut prims)?);
     }
     let (mut parts, mut strokes, posings) = build_parts(prims, &mut materials, (name, &mut model))?;
     if parts.is_empty() && strokes.is_empty() {
         return Err("it has no triangle with an area".into());
     }
-    let motion = if rigged {
+    let mut motion = None;
+    if rigged {
         let posed = (&mut parts[..], &mut strokes);
-        Some(pose_rig(
-            &document,
-            &buffers,
-            posings,
-            posed,
-            (name, &mut model),
-        )?)
-    } else {
-        None
-    };
+        let (m, f) = pose_rig(&document, &buffers, posings, posed, (name, &mut model))?;
+        (motion, fitted_by) = (Some(m), Some(f));
+    }
+    let cameras = fitted_by.map_or_else(Vec::new, |f| cameras::cameras(&document, f));
     let warnings = skipped::note(name, &document).into_iter().collect();
     Ok(Model {
         parts,
         strokes,
         warnings,
         motion,
+        cameras,
     })
 }
 
@@ -280,7 +281,7 @@ fn pose_rig(
     parts_rigs: Vec<PartRig>,
     (parts, strokes): (&mut [Part], &mut Strokes),
     (name, held): (&str, &mut Reservation),
-) -> Result<Motion, Problem> {
+) -> Result<(Motion, (DVec3, f64)), Problem> {
     let (nodes, order) = rig::nodes(document);
     let skins = rig::skins(document, buffers, (name, &mut *held))?;
     let clips = rig::clips(document, buffers, (name, held))?;
@@ -322,7 +323,7 @@ fn pose_rig(
     for (part, object) in parts.iter_mut().zip(objects) {
         part.mesh = object.mesh;
     }
-    Ok(motion)
+    Ok((motion, (centre, scale)))
 }
 
 /// The parser's complaint, without its internals: the JSON line and
@@ -729,7 +730,7 @@ fn read_primitive(
 
 /// Centres the model and scales it so its farthest point is `FIT_RADIUS`
 /// away (in f64, as OBJ models are fitted).
-fn fit(prims: &mut [Prim]) -> Result<(), Problem> {
+fn fit(prims: &mut [Prim]) -> Result<(DVec3, f64), Problem> {
     // Only the points the triangles and strokes use count.
     let fit = fit_of(|| {
         prims.iter().flat_map(|p| {
@@ -747,7 +748,7 @@ fn fit(prims: &mut [Prim]) -> Result<(), Problem> {
             v.position = fitted(v.position, fit);
         }
     }
-    Ok(())
+    Ok(fit)
 }
 
 /// A primitive as a relief mesh: vertices as the file has them (split per

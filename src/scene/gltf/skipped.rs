@@ -1,6 +1,6 @@
 //! What relief draws a glTF file without, named once in one plain line
 //! (docs/models.md, "What is not drawn"): the extensions the file uses
-//! that relief does not read, its cameras, and maps on a third texture coordinate set (only two are
+//! that relief does not read, its orthographic cameras, and maps on a third texture coordinate set (only two are
 //! stored per primitive: such a map reads the first).
 
 use super::sampling::{Reading, maps_of};
@@ -23,7 +23,11 @@ pub(super) fn note(name: &str, document: &::gltf::Document) -> Option<String> {
         1 => parts.push(format!("its {one}")),
         n => parts.push(format!("its {n} {many}")),
     };
-    count(document.cameras().count(), "camera", "cameras");
+    let orthographic = document
+        .cameras()
+        .filter(|c| matches!(c.projection(), ::gltf::camera::Projection::Orthographic(_)))
+        .count();
+    count(orthographic, "orthographic camera", "orthographic cameras");
     let third = document
         .materials()
         .filter(|m| third_set(m))
