@@ -441,7 +441,12 @@ impl Renderer {
             let counters = rasterize::draw_wire(&self.wire, plan, background, fb, brush);
             return (counters, (1, 1));
         }
-        let ctx = rasterize::material_ctxs(scene, plans, shadow, &self.shader_groups);
+        let ctx = rasterize::material_ctxs(
+            scene,
+            (&plans.plans, &plans.textures),
+            shadow,
+            &self.shader_groups,
+        );
         let (width, height) = (fb.width(), fb.height());
         let (parallel, bounds) = rasterize::band_bounds(&self.tris, &self.shaders, width, height);
         let drawing = rasterize::Drawing {

@@ -2,7 +2,6 @@
 //! displays, or the filled display cut into bands of rows, with
 //! multisampling, a depth pre-pass, or neither.
 
-use super::FramePlans;
 use super::abandon::Abandon;
 use super::bands::{
     CHUNKS_PER_THREAD, MaterialCtxs, PARALLEL_MIN_WORK, RowWork, draw_bands, split_rows,
@@ -18,6 +17,7 @@ use crate::settings::Display;
 use crate::shade::{ShadeCtx, TriShader};
 use crate::shadow::Shadow;
 use crate::stats::Counters;
+use crate::texture::Texture;
 
 /// Clears `fb` and draws the points or lines display's triangles, `brush`
 /// pixels wide (the supersampling factor, so they keep their size).
@@ -45,22 +45,21 @@ pub(super) fn draw_wire(
 /// scene's material, else one per material group with each shader's group.
 pub(super) fn material_ctxs<'a>(
     scene: &'a Scene,
-    plans: &'a FramePlans,
+    (plans, textures): (&'a [Plan], &'a [&'a Texture]),
     shadow: Option<Shadow<'a>>,
     of_shader: &'a [u32],
 ) -> MaterialCtxs<'a> {
-    if plans.plans.len() == 1 {
+    if plans.len() == 1 {
         return MaterialCtxs::One(ShadeCtx {
-            plan: &plans.plans[0],
+            plan: &plans[0],
             texture: &scene.material.texture,
             shadow,
         });
     }
     MaterialCtxs::Many {
         ctxs: plans
-            .plans
             .iter()
-            .zip(&plans.textures)
+            .zip(textures)
             .map(|(plan, texture)| ShadeCtx {
                 plan,
                 texture,
