@@ -5,6 +5,7 @@ mod abandon;
 mod bands;
 mod dispatch;
 mod progress;
+mod rasterize;
 mod repeat_cache;
 mod shaders;
 mod strokes;
@@ -12,10 +13,7 @@ mod triangles;
 
 use abandon::Abandon;
 pub use abandon::CancelHook;
-use bands::{
-    CHUNKS_PER_THREAD, MaterialCtxs, PARALLEL_MIN_WORK, RowWork, depth_first_pays, draw_bands,
-    split_rows,
-};
+use bands::depth_first_pays;
 pub use dispatch::{draw_into, draw_triangle};
 pub use progress::{FrameProgress, FrameStep};
 use repeat_cache::RepeatCache;
@@ -28,21 +26,18 @@ use glam::Vec4;
 
 use crate::framebuffer::{Framebuffer, Rgb};
 use crate::plan::Plan;
-use crate::raster::aa::{
-    MSAA_REACH, MSAA_SAMPLES, MsaaBand, resolve_box, resolve_msaa, ssaa_factor,
-};
+use crate::raster::ScreenTri;
+use crate::raster::aa::{MSAA_REACH, MSAA_SAMPLES, resolve_box, ssaa_factor};
 use crate::raster::alpha::order_blended;
 use crate::raster::clip::outcode;
 use crate::raster::frames::{DepthView, draw_tangent_frames};
-use crate::raster::scan::OwnedBand;
 use crate::raster::setup::Projected;
-use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
-use crate::raster::{Band, ScreenTri};
+use crate::raster::wire::WireTri;
 use crate::scene::terms::MaterialTerms;
 use crate::scene::world::{World, fill_three_runs};
 use crate::scene::{Scene, model_view};
 use crate::settings::{AntiAlias, Display, Settings};
-use crate::shade::{ShadeCtx, TriShader};
+use crate::shade::TriShader;
 use crate::shadow::{Shadow, ShadowMap};
 use crate::stats::{Counters, FrameStats};
 
@@ -447,87 +442,32 @@ impl Renderer {
         abandon: &Abandon,
     ) -> (Counters, (usize, usize)) {
         let plan = &plans.plans[0];
-        let width = fb.width();
-        let height = fb.height();
         let background = scene.background;
         if plan.display != Display::Fill {
-            let mut counters = Counters::default();
-            fb.fill(background);
-            let mut canvas = Canvas::new(width, height, fb.pixels_mut());
-            if plan.display == Display::Points {
-                let size = point_size(width / brush, height / brush) * brush;
-                draw_points(&self.wire, size, &mut canvas, &mut counters);
-            } else {
-                draw_lines(&self.wire, brush, &mut canvas, &mut counters);
-            }
+            let counters = rasterize::draw_wire(&self.wire, plan, background, fb, brush);
             return (counters, (1, 1));
         }
-        let ctx = if plans.plans.len() == 1 {
-            MaterialCtxs::One(ShadeCtx {
-                plan,
-                texture: &scene.material.texture,
-                shadow,
-            })
-        } else {
-            MaterialCtxs::Many {
-                ctxs: plans
-                    .plans
-                    .iter()
-                    .zip(&plans.textures)
-                    .map(|(plan, texture)| ShadeCtx {
-                        plan,
-                        texture,
-                        shadow,
-                    })
-                    .collect(),
-                of_shader: &self.shader_groups,
-            }
+        let ctx = rasterize::material_ctxs(
+            scene,
+            (&plans.plans, &plans.textures),
+            shadow,
+            &self.shader_groups,
+        );
+        let (width, height) = (fb.width(), fb.height());
+        let (parallel, bounds) = rasterize::band_bounds(&self.tris, &self.shaders, width, height);
+        let drawing = rasterize::Drawing {
+            width,
+            bounds: &bounds,
+            parallel,
+            tris: &self.tris,
+            shaders: &self.shaders,
+            ctx: &ctx,
+            background,
+            abandon,
         };
-        let work = RowWork::new(&self.tris, &self.shaders, width, height);
-        let threads = rayon::current_num_threads();
-        let parallel = work.total() >= PARALLEL_MIN_WORK && threads > 1;
-        let bounds = if parallel {
-            work.split(threads * CHUNKS_PER_THREAD)
-        } else {
-            vec![0, height]
-        };
-
-        let tris = &self.tris;
-        let shaders = &self.shaders;
         if plan.aa == AntiAlias::Msaa4 {
-            self.msaa_color.clear();
-            self.msaa_color
-                .resize(width * height, [background; MSAA_SAMPLES]);
-            let mut bands: Vec<MsaaBand> = if plan.depth {
-                self.msaa_depth.clear();
-                self.msaa_depth
-                    .resize(width * height, [f32::INFINITY; MSAA_SAMPLES]);
-                split_rows(&mut self.msaa_color, width, &bounds)
-                    .zip(split_rows(&mut self.msaa_depth, width, &bounds))
-                    .map(|((y0, samples), (_, depth))| MsaaBand {
-                        y0,
-                        width,
-                        samples,
-                        depth: Some(depth),
-                    })
-                    .collect()
-            } else {
-                split_rows(&mut self.msaa_color, width, &bounds)
-                    .map(|(y0, samples)| MsaaBand {
-                        y0,
-                        width,
-                        samples,
-                        depth: None,
-                    })
-                    .collect()
-            };
-            let count = bands.len();
-            let (total, drawn) = draw_bands(
-                &mut bands, &bounds, parallel, tris, shaders, &ctx, background, abandon,
-            );
-            drop(bands);
-            resolve_msaa(&self.msaa_color, fb.pixels_mut());
-            return (total, (drawn, count));
+            let depth = plan.depth.then_some(&mut self.msaa_depth);
+            return rasterize::draw_msaa(&drawing, &mut self.msaa_color, depth, fb);
         }
         // Depth before shading, where overdraw would multiply the shading
         // (alpha masks excepted: their depth depends on the texture).
@@ -535,56 +475,11 @@ impl Renderer {
             .plans
             .iter()
             .any(|p| p.terms.as_ref().is_some_and(|t| t.cutout.is_some()));
-        if plan.depth && !cutout && depth_first_pays(tris) {
-            self.depth.clear();
-            self.depth.resize(width * height, f32::INFINITY);
-            self.owner.resize(width * height, u32::MAX);
-            let mut bands: Vec<OwnedBand> = split_rows(fb.pixels_mut(), width, &bounds)
-                .zip(split_rows(&mut self.depth, width, &bounds))
-                .zip(split_rows(&mut self.owner, width, &bounds))
-                .map(|(((y0, color), (_, depth)), (_, owner))| OwnedBand {
-                    band: Band {
-                        y0,
-                        width,
-                        color,
-                        depth: Some(depth),
-                    },
-                    owner,
-                })
-                .collect();
-            let count = bands.len();
-            let (total, drawn) = draw_bands(
-                &mut bands, &bounds, parallel, tris, shaders, &ctx, background, abandon,
-            );
-            return (total, (drawn, count));
+        if plan.depth && !cutout && depth_first_pays(&self.tris) {
+            return rasterize::draw_depth_first(&drawing, &mut self.depth, &mut self.owner, fb);
         }
-        let mut bands: Vec<Band> = if plan.depth {
-            self.depth.clear();
-            self.depth.resize(width * height, f32::INFINITY);
-            split_rows(fb.pixels_mut(), width, &bounds)
-                .zip(split_rows(&mut self.depth, width, &bounds))
-                .map(|((y0, color), (_, depth))| Band {
-                    y0,
-                    width,
-                    color,
-                    depth: Some(depth),
-                })
-                .collect()
-        } else {
-            split_rows(fb.pixels_mut(), width, &bounds)
-                .map(|(y0, color)| Band {
-                    y0,
-                    width,
-                    color,
-                    depth: None,
-                })
-                .collect()
-        };
-        let count = bands.len();
-        let (total, drawn) = draw_bands(
-            &mut bands, &bounds, parallel, tris, shaders, &ctx, background, abandon,
-        );
-        (total, (drawn, count))
+        let depth = plan.depth.then_some(&mut self.depth);
+        rasterize::draw_single_pass(&drawing, depth, fb)
     }
 }
 

@@ -148,83 +148,19 @@ fn parse_unguarded(
     dir: Option<&Path>,
     chunks: Option<usize>,
 ) -> Result<LoadedModel, ObjError> {
-    // UTF-16 is decoded to at most 3 bytes of UTF-8 for each 2 bytes.
-    let raw = file.bytes();
-    let _decoded = match raw {
-        [0xFF, 0xFE, ..] | [0xFE, 0xFF, ..] => Some(super::model_io::reserve(
-            name,
-            "the decoded text",
-            (raw.len() as u64 / 2).saturating_mul(3),
-        )?),
-        _ => None,
-    };
-    let text = utf8_text(raw);
-    // Text in any 8-bit encoding is read (names and comments are not
-    // used); a NUL byte says it is not text at all.
-    if let Some(at) = first_nul(&text) {
-        file.check(name)?;
-        return Err(ObjError::NotText {
-            name: name.to_string(),
-            at,
-        });
-    }
-    let read = match chunks {
-        Some(parts) => read::read_in_chunks(name, &text, parts),
-        None => read::read(name, &text),
-    };
-    file.check(name)?;
-    let mut model = read?;
-    drop(text);
-    drop(_decoded);
-    drop(file);
+    let mut model = read_text(name, file, chunks)?;
     let mut warnings = std::mem::take(&mut model.warnings);
     let library = match dir {
         Some(dir) => load_libraries(name, dir, &model.libraries, &mut warnings),
         None => Vec::new(),
     };
-    // Each part's material, when a library describes it.
-    let mut unknown = Vec::new();
-    let materials: Vec<Option<MaterialDesc>> = model
-        .parts
-        .iter()
-        .map(|part| {
-            let wanted = part.as_ref()?;
-            let found = library.iter().find(|m| &m.name == wanted).cloned();
-            if found.is_none() {
-                unknown.push(quote(wanted));
-            }
-            found
-        })
-        .collect();
-    if !unknown.is_empty() && dir.is_some() {
-        let more = unknown.len().saturating_sub(3);
-        unknown.truncate(3);
-        let more = if more > 0 {
-            format!(" and {more} more")
-        } else {
-            String::new()
-        };
-        warnings.push(format!(
-            "model {name}: material {}{more} in no material library (drawn with the scene's texture)",
-            unknown.join(", ")
-        ));
-    }
+    let materials = part_materials(name, &model.parts, &library, dir.is_some(), &mut warnings);
     // The scene has one texture: the first material with a diffuse map
     // that loads gives it (see docs/models.md).
     let mut own = material_maps(&materials, &mut warnings);
     let shown = own.iter().position(Option::is_some);
     let maps = shown.and_then(|i| own[i].take()).unwrap_or_default();
-    let textured: Vec<bool> = materials
-        .iter()
-        .enumerate()
-        .map(|(i, m)| match m {
-            // No material, or one whose map could not be shown: the scene's texture.
-            None => true,
-            Some(m) => {
-                Some(i) == shown || own[i].is_some() || (shown.is_none() && m.diffuse_map.is_some())
-            }
-        })
-        .collect();
+    let textured = textured_parts(&materials, &own, shown);
     // Kd is the corner colour where the file gives none.
     let part_colors: Vec<Option<Vec3>> = materials
         .iter()
@@ -234,34 +170,19 @@ fn parse_unguarded(
     let opacity: Vec<Option<Arc<crate::texture::Level>>> = materials
         .iter()
         .map(|m| {
-            let path = m.as_ref()?.opacity_map.as_ref()?.file.as_ref()?;
-            match crate::texture::specular_map::load_specular_map(path) {
-                Ok(level) => Some(Arc::new(level)),
-                Err(e) => {
-                    warnings.push(clean(&e.to_string()));
-                    None
-                }
-            }
+            grey_map(
+                m.as_ref().and_then(|m| m.opacity_map.as_ref()),
+                &mut warnings,
+            )
         })
         .collect();
     // `map_Pr` and `map_Pm`: each material's roughness and metallic, read once.
-    let grey = |path: Option<&crate::scene::loaded_model::TexturePath>,
-                warnings: &mut Vec<String>| {
-        let file = path?.file.as_ref()?;
-        match crate::texture::specular_map::load_specular_map(file) {
-            Ok(level) => Some(Arc::new(level)),
-            Err(e) => {
-                warnings.push(clean(&e.to_string()));
-                None
-            }
-        }
-    };
     let pbr_maps: Vec<crate::scene::loaded_model::PbrMaps> = materials
         .iter()
         .map(|m| match m {
             Some(m) => crate::scene::loaded_model::PbrMaps {
-                roughness: grey(m.roughness_map.as_ref(), &mut warnings),
-                metallic: grey(m.metallic_map.as_ref(), &mut warnings),
+                roughness: grey_map(m.roughness_map.as_ref(), &mut warnings),
+                metallic: grey_map(m.metallic_map.as_ref(), &mut warnings),
             },
             None => Default::default(),
         })
@@ -290,6 +211,116 @@ fn parse_unguarded(
         points: false,
         warnings,
     })
+}
+
+/// The file's text read into its model (in `chunks` pieces when given);
+/// the text, and what it holds of the memory budget, are freed on return,
+/// before the mesh is built.
+fn read_text(name: &str, file: Text, chunks: Option<usize>) -> Result<read::ReadModel, ObjError> {
+    // UTF-16 is decoded to at most 3 bytes of UTF-8 for each 2 bytes.
+    let raw = file.bytes();
+    let _decoded = match raw {
+        [0xFF, 0xFE, ..] | [0xFE, 0xFF, ..] => Some(super::model_io::reserve(
+            name,
+            "the decoded text",
+            (raw.len() as u64 / 2).saturating_mul(3),
+        )?),
+        _ => None,
+    };
+    let text = utf8_text(raw);
+    // Text in any 8-bit encoding is read (names and comments are not
+    // used); a NUL byte says it is not text at all.
+    if let Some(at) = first_nul(&text) {
+        file.check(name)?;
+        return Err(ObjError::NotText {
+            name: name.to_string(),
+            at,
+        });
+    }
+    let read = match chunks {
+        Some(parts) => read::read_in_chunks(name, &text, parts),
+        None => read::read(name, &text),
+    };
+    file.check(name)?;
+    let model = read?;
+    drop(text);
+    drop(_decoded);
+    drop(file);
+    Ok(model)
+}
+
+/// Each part's material, when a library describes it; the parts whose
+/// material none describes are a warning when libraries were looked for.
+fn part_materials(
+    name: &str,
+    parts: &[Option<String>],
+    library: &[MaterialDesc],
+    looked: bool,
+    warnings: &mut Vec<String>,
+) -> Vec<Option<MaterialDesc>> {
+    let mut unknown = Vec::new();
+    let materials: Vec<Option<MaterialDesc>> = parts
+        .iter()
+        .map(|part| {
+            let wanted = part.as_ref()?;
+            let found = library.iter().find(|m| &m.name == wanted).cloned();
+            if found.is_none() {
+                unknown.push(quote(wanted));
+            }
+            found
+        })
+        .collect();
+    if !unknown.is_empty() && looked {
+        let more = unknown.len().saturating_sub(3);
+        unknown.truncate(3);
+        let more = if more > 0 {
+            format!(" and {more} more")
+        } else {
+            String::new()
+        };
+        warnings.push(format!(
+            "model {name}: material {}{more} in no material library (drawn with the scene's texture)",
+            unknown.join(", ")
+        ));
+    }
+    materials
+}
+
+/// Which parts are drawn with the scene's texture: those with no
+/// material, the one whose map is `shown`, those with maps of their own,
+/// and, when no map loaded, those that name a diffuse map.
+fn textured_parts(
+    materials: &[Option<MaterialDesc>],
+    own: &[Option<ModelMaps>],
+    shown: Option<usize>,
+) -> Vec<bool> {
+    materials
+        .iter()
+        .enumerate()
+        .map(|(i, m)| match m {
+            // No material, or one whose map could not be shown: the scene's texture.
+            None => true,
+            Some(m) => {
+                Some(i) == shown || own[i].is_some() || (shown.is_none() && m.diffuse_map.is_some())
+            }
+        })
+        .collect()
+}
+
+/// A one-channel map (`map_d`, `map_Pr`, `map_Pm`) read from its file; one
+/// that cannot be read is a warning.
+fn grey_map(
+    path: Option<&crate::scene::loaded_model::TexturePath>,
+    warnings: &mut Vec<String>,
+) -> Option<Arc<crate::texture::Level>> {
+    let file = path?.file.as_ref()?;
+    match crate::texture::specular_map::load_specular_map(file) {
+        Ok(level) => Some(Arc::new(level)),
+        Err(e) => {
+            warnings.push(clean(&e.to_string()));
+            None
+        }
+    }
 }
 
 /// The materials of every `mtllib`, relative to the OBJ's directory; a

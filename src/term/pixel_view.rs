@@ -850,131 +850,202 @@ impl PixelView {
         covered: Vec<bool>,
     ) -> io::Result<Vec<u8>> {
         let format = frame.output.format();
-        let passthrough = frame.output.choice.passthrough;
         let same_place = self
             .shown
             .as_ref()
             .is_some_and(|s| s.area == area && s.format == format);
+        if frame.new_picture || !same_place {
+            return self.send_picture(frame, area, covered);
+        }
+        self.uncover_cells(frame, area, covered)
+    }
+
+    /// A new picture, area or format: the image kept and sent whole, over
+    /// the uncovered cells, or link-sized with its strips to follow.
+    fn send_picture(
+        &mut self,
+        frame: &PixelFrame,
+        area: Rect,
+        covered: Vec<bool>,
+    ) -> io::Result<Vec<u8>> {
+        let format = frame.output.format();
+        let passthrough = frame.output.choice.passthrough;
         let mut out = Vec::new();
         let open = rectangles(&covered, area, false);
         let any_covered = covered.contains(&true);
-        if frame.new_picture || !same_place {
-            let send = match (format, frame.preview) {
-                (Format::Kitty | Format::Iterm, Some(p)) => p,
-                _ => frame.fb,
-            };
-            let dither = frame.look.dither;
-            match (format, frame.preview) {
-                // sixel's preview: the small picture in fewer colours,
-                // mapped, then enlarged.
-                (Format::Sixels, Some(p)) => {
-                    let size = (frame.fb.width(), frame.fb.height());
-                    let mut few = p.clone();
-                    fewer_colours(&mut few, self.preview_colours);
-                    self.kept = Kept::Indexed(sixel::Quantized::enlarged(&few, dither, size));
-                }
-                _ => self.kept.keep(send, format, dither),
+        self.keep_picture(frame, format);
+        self.drop_last_picture(format, any_covered, passthrough, &mut out);
+        let cell = self.image_cell(frame, area, self.kept.size());
+        let rate = frame
+            .throughput
+            .or(frame.unmeasured.then_some(UNMEASURED_RATE));
+        let budget = rate
+            .filter(|_| frame.preview.is_none())
+            .map(|t| t * LINK_SECONDS);
+        let mut shown = Shown {
+            area,
+            format,
+            image: self.kept.size(),
+            cell,
+            covered,
+            pending: VecDeque::new(),
+            strips: Vec::new(),
+            strip_bytes: 0,
+            recut: None,
+            passthrough,
+        };
+        // The whole image: what goes when nothing covers it, and what
+        // an exact frame costs the link; not encoded when the last
+        // exact one here took clearly more than the link carries.
+        let estimate = self
+            .last_whole
+            .filter(|&(a, f, _)| a == area && f == format)
+            .map(|(_, _, bytes)| bytes);
+        let clearly_over = matches!((budget, estimate),
+            (Some(b), Some(e)) if e as f64 > 2.0 * b && strips_fit(&shown));
+        let whole = if (!any_covered || budget.is_some()) && !clearly_over {
+            Some(self.whole_picture(frame, format, area, passthrough)?)
+        } else {
+            None
+        };
+        let exact_len = whole.as_ref().map(Vec::len).or(estimate).unwrap_or(0);
+        match budget {
+            Some(budget) if exact_len as f64 > budget && strips_fit(&shown) => {
+                self.send_link_sized(frame, (exact_len, budget), &mut shown, &open, &mut out)?;
             }
-            let last = self.shown.take();
-            if let Some(last) = &last
-                && last.format == Format::Kitty
-            {
-                // The strips of the last picture go with it.
-                out.extend(last.strip_deletes());
-            }
-            let had_parts = last
-                .as_ref()
-                .is_some_and(|s| s.format == Format::Kitty && s.covered.contains(&true));
-            if format == Format::Kitty && (had_parts || any_covered) {
-                // The placements of the last image go first (kitty drops
-                // them with the image it replaces; said for any terminal).
-                push_kitty(kitty::DELETE_PLACEMENTS, passthrough, &mut out);
-            }
-            let cell = self.image_cell(frame, area, self.kept.size());
-            let rate = frame
-                .throughput
-                .or(frame.unmeasured.then_some(UNMEASURED_RATE));
-            let budget = rate
-                .filter(|_| frame.preview.is_none())
-                .map(|t| t * LINK_SECONDS);
-            let mut shown = Shown {
-                area,
-                format,
-                image: self.kept.size(),
-                cell,
-                covered,
-                pending: VecDeque::new(),
-                strips: Vec::new(),
-                strip_bytes: 0,
-                recut: None,
-                passthrough,
-            };
-            // The whole image: what goes when nothing covers it, and what
-            // an exact frame costs the link; not encoded when the last
-            // exact one here took clearly more than the link carries.
-            let estimate = self
-                .last_whole
-                .filter(|&(a, f, _)| a == area && f == format)
-                .map(|(_, _, bytes)| bytes);
-            let clearly_over = matches!((budget, estimate),
-                (Some(b), Some(e)) if e as f64 > 2.0 * b && strips_fit(&shown));
-            let whole = if (!any_covered || budget.is_some()) && !clearly_over {
-                let whole = whole_bytes(&mut self.kept, format, area, passthrough)?;
-                match (frame.preview, frame.throughput) {
-                    (None, _) => self.last_whole = Some((area, format, whole.len())),
-                    (Some(_), Some(t)) if format == Format::Sixels => {
-                        self.preview_colours = next_preview_colours(
-                            self.preview_colours,
-                            whole.len(),
-                            t / PREVIEW_RATE,
-                        );
-                    }
-                    (Some(p), _) if format != Format::Sixels => {
-                        let pixels = (p.width() * p.height()).max(1) as f64;
-                        self.preview_density = Some((format, whole.len() as f64 / pixels));
-                    }
-                    _ => {}
-                }
-                Some(whole)
-            } else {
-                None
-            };
-            let exact_len = whole.as_ref().map(Vec::len).or(estimate).unwrap_or(0);
-            match budget {
-                Some(budget) if exact_len as f64 > budget && strips_fit(&shown) => {
-                    let (mut first, bytes) = link_picture(
-                        frame.fb,
-                        format,
-                        area,
-                        exact_len,
-                        budget,
-                        dither,
-                        passthrough,
-                    )?;
-                    shown.image = first.size();
-                    if any_covered {
-                        out.extend(over_cells(&mut first, &shown, &open)?);
-                    } else {
-                        out.extend(bytes);
-                    }
-                    // Strips of about what the link carries in a
-                    // preview's frame interval.
-                    let n = strip_count(exact_len as f64, budget / LINK_SECONDS);
-                    shown.pending = super::cell_rects::strips(area, n).into();
-                    if frame.throughput.is_none() {
-                        shown.recut = Some(exact_len);
-                    }
-                    self.split_bytes = Some(exact_len as u64);
-                }
-                _ => match whole {
-                    Some(whole) if !any_covered => out.extend(whole),
-                    _ => out.extend(over_cells(&mut self.kept, &shown, &open)?),
-                },
-            }
-            set_cleanup(&shown.kitty_cleanup());
-            self.shown = Some(shown);
-            return Ok(out);
+            _ => match whole {
+                Some(whole) if !any_covered => out.extend(whole),
+                _ => out.extend(over_cells(&mut self.kept, &shown, &open)?),
+            },
         }
+        set_cleanup(&shown.kitty_cleanup());
+        self.shown = Some(shown);
+        Ok(out)
+    }
+
+    /// Keeps the frame's picture as it is sent: kitty's and iTerm2's
+    /// preview as it is, sixel's preview in fewer colours, mapped, then
+    /// enlarged; else the exact frame.
+    fn keep_picture(&mut self, frame: &PixelFrame, format: Format) {
+        let send = match (format, frame.preview) {
+            (Format::Kitty | Format::Iterm, Some(p)) => p,
+            _ => frame.fb,
+        };
+        let dither = frame.look.dither;
+        match (format, frame.preview) {
+            // sixel's preview: the small picture in fewer colours,
+            // mapped, then enlarged.
+            (Format::Sixels, Some(p)) => {
+                let size = (frame.fb.width(), frame.fb.height());
+                let mut few = p.clone();
+                fewer_colours(&mut few, self.preview_colours);
+                self.kept = Kept::Indexed(sixel::Quantized::enlarged(&few, dither, size));
+            }
+            _ => self.kept.keep(send, format, dither),
+        }
+    }
+
+    /// Forgets the last picture shown, with what of it kitty still holds
+    /// (its strips, and its placements when either picture had parts).
+    fn drop_last_picture(
+        &mut self,
+        format: Format,
+        any_covered: bool,
+        passthrough: bool,
+        out: &mut Vec<u8>,
+    ) {
+        let last = self.shown.take();
+        if let Some(last) = &last
+            && last.format == Format::Kitty
+        {
+            // The strips of the last picture go with it.
+            out.extend(last.strip_deletes());
+        }
+        let had_parts = last
+            .as_ref()
+            .is_some_and(|s| s.format == Format::Kitty && s.covered.contains(&true));
+        if format == Format::Kitty && (had_parts || any_covered) {
+            // The placements of the last image go first (kitty drops
+            // them with the image it replaces; said for any terminal).
+            push_kitty(kitty::DELETE_PLACEMENTS, passthrough, out);
+        }
+    }
+
+    /// The kept picture encoded whole, its size noted: for the next exact
+    /// frame's estimate, or to size the next preview (sixel's colours,
+    /// kitty's and iTerm2's bytes per pixel).
+    fn whole_picture(
+        &mut self,
+        frame: &PixelFrame,
+        format: Format,
+        area: Rect,
+        passthrough: bool,
+    ) -> io::Result<Vec<u8>> {
+        let whole = whole_bytes(&mut self.kept, format, area, passthrough)?;
+        match (frame.preview, frame.throughput) {
+            (None, _) => self.last_whole = Some((area, format, whole.len())),
+            (Some(_), Some(t)) if format == Format::Sixels => {
+                self.preview_colours =
+                    next_preview_colours(self.preview_colours, whole.len(), t / PREVIEW_RATE);
+            }
+            (Some(p), _) if format != Format::Sixels => {
+                let pixels = (p.width() * p.height()).max(1) as f64;
+                self.preview_density = Some((format, whole.len() as f64 / pixels));
+            }
+            _ => {}
+        }
+        Ok(whole)
+    }
+
+    /// An exact frame of `exact_len` bytes the link cannot carry in
+    /// [`LINK_SECONDS`] (its `budget`): a link-sized picture now, over the
+    /// open cells, and the exact one's strips to follow.
+    fn send_link_sized(
+        &mut self,
+        frame: &PixelFrame,
+        (exact_len, budget): (usize, f64),
+        shown: &mut Shown,
+        open: &[Rect],
+        out: &mut Vec<u8>,
+    ) -> io::Result<()> {
+        let (mut first, bytes) = link_picture(
+            frame.fb,
+            shown.format,
+            shown.area,
+            exact_len,
+            budget,
+            frame.look.dither,
+            shown.passthrough,
+        )?;
+        shown.image = first.size();
+        if shown.covered.contains(&true) {
+            out.extend(over_cells(&mut first, shown, open)?);
+        } else {
+            out.extend(bytes);
+        }
+        // Strips of about what the link carries in a
+        // preview's frame interval.
+        let n = strip_count(exact_len as f64, budget / LINK_SECONDS);
+        shown.pending = super::cell_rects::strips(shown.area, n).into();
+        if frame.throughput.is_none() {
+            shown.recut = Some(exact_len);
+        }
+        self.split_bytes = Some(exact_len as u64);
+        Ok(())
+    }
+
+    /// The same picture under other cells: kitty's placements replaced,
+    /// sixel and iTerm2 sending the cells a panel left; nothing when the
+    /// cells covered are the same.
+    fn uncover_cells(
+        &mut self,
+        frame: &PixelFrame,
+        area: Rect,
+        covered: Vec<bool>,
+    ) -> io::Result<Vec<u8>> {
+        let format = frame.output.format();
+        let passthrough = frame.output.choice.passthrough;
+        let mut out = Vec::new();
         let Some(shown) = self.shown.as_mut() else {
             return Ok(out);
         };
@@ -982,6 +1053,7 @@ impl PixelView {
             return Ok(out);
         }
         if format == Format::Kitty {
+            let open = rectangles(&covered, area, false);
             for layer in shown.layers() {
                 push_kitty(&kitty::delete_placements(layer.id), passthrough, &mut out);
                 out.extend(kitty_placements(layer, &open, passthrough)?);

@@ -509,6 +509,8 @@ struct PrimStrokes {
     factor: Vec3,
 }
 
+/// Reads one primitive into its place (`placing`): every accessor checked
+/// and every array reserved before it is read.
 fn read_primitive(
     prim: &::gltf::Primitive,
     placing: Placing,
@@ -516,10 +518,68 @@ fn read_primitive(
     place: &str,
     (name, held): (&str, &mut Reservation),
 ) -> Result<Prim, Problem> {
-    use ::gltf::Semantic;
-    let (world, quantized) = (placing.world, placing.quantized);
-    let mode = prim.mode();
-    let stroke = stroke_mode(mode);
+    check_accessors(prim, buffers, placing.quantized, place)?;
+    let stroke = stroke_mode(prim.mode());
+    let material = prim.material();
+    let sets = sampling::Sets::of(&material);
+    let mut vertices = read_positions(prim, buffers, placing.world, place, (name, held))?;
+    let n = vertices.len();
+    check_counts(prim, &sets, n, place)?;
+    let given = read_attributes(
+        prim,
+        buffers,
+        (&sets.first, stroke),
+        placing.world,
+        &mut vertices,
+    );
+    let uv2 = read_second_set(prim, buffers, (&sets, stroke), n, (name, held))?;
+    let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
+    let index_count = prim.indices().map_or(n, |a| a.count());
+    let corners: Box<dyn Iterator<Item = (usize, u32)>> = match reader.read_indices() {
+        Some(r) => Box::new(r.into_u32().enumerate()),
+        None => Box::new((0..n as u32).enumerate()),
+    };
+    if let Some(mode) = stroke {
+        hold(
+            held,
+            name,
+            "the strokes",
+            bytes_of::<u32>(index_count as u64),
+        )?;
+        let corners = corners
+            .map(|(k, i)| checked_index(k, i, n, place))
+            .collect::<Result<Vec<u32>, _>>()?;
+        return Ok(stroke_prim(vertices, &material, mode, corners));
+    }
+    let tris = read_triangles(
+        corners,
+        (prim.mode(), placing.mirrored),
+        (index_count, n, place),
+        (name, held),
+    )?;
+    Ok(Prim {
+        vertices,
+        has_normals: given.normals,
+        has_uvs: given.uvs,
+        uv2,
+        has_axes: given.axes,
+        tris,
+        material: material.index(),
+        strokes: None,
+        track: placing.posed,
+        source: Vec::new(),
+        posing: None,
+    })
+}
+
+/// Checks every attribute's and the indices' accessor against the
+/// buffers, before anything is read through them.
+fn check_accessors(
+    prim: &::gltf::Primitive,
+    buffers: &[Vec<u8>],
+    quantized: bool,
+    place: &str,
+) -> Result<(), Problem> {
     for (semantic, acc) in prim.attributes() {
         check_accessor(
             &acc,
@@ -531,16 +591,33 @@ fn read_primitive(
     if let Some(acc) = prim.indices() {
         check_accessor(&acc, buffers, (Role::Indices, quantized), place)?;
     }
-    let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
-    let unreadable = |what: &str| format!("{place}: its {what} cannot be read");
-    // Positions, normals, tangents and texture coordinates of any
-    // component type (KHR_mesh_quantization), sparse or not.
-    let floats = |semantic: Semantic| prim.get(&semantic).map(|a| accessor::floats(&a, buffers));
-    let positions = floats(Semantic::Positions).ok_or_else(|| unreadable("POSITION"))?;
+    Ok(())
+}
+
+/// One attribute's elements as floats: positions, normals, tangents and
+/// texture coordinates of any component type (KHR_mesh_quantization),
+/// sparse or not.
+fn floats<'a>(
+    prim: &::gltf::Primitive<'a>,
+    buffers: &'a [Vec<u8>],
+    semantic: ::gltf::Semantic,
+) -> Option<impl Iterator<Item = [f32; 4]> + use<'a>> {
+    prim.get(&semantic).map(|a| accessor::floats(&a, buffers))
+}
+
+/// The primitive's vertices with their positions placed by `world` (the
+/// rest blank), refused when a position is not a finite number.
+fn read_positions(
+    prim: &::gltf::Primitive,
+    buffers: &[Vec<u8>],
+    world: Mat4,
+    place: &str,
+    (name, held): (&str, &mut Reservation),
+) -> Result<Vec<Vertex>, Problem> {
+    use ::gltf::Semantic;
+    let positions = floats(prim, buffers, Semantic::Positions)
+        .ok_or_else(|| format!("{place}: its POSITION cannot be read"))?;
     let n = prim.get(&Semantic::Positions).map_or(0, |a| a.count());
-    let material = prim.material();
-    let sets = sampling::Sets::of(&material);
-    let reading = sets.first;
     hold(held, name, "the vertices", bytes_of::<Vertex>(n as u64))?;
     let mut vertices = vec![BLANK; n];
     for (k, (v, p)) in vertices.iter_mut().zip(positions).enumerate() {
@@ -550,14 +627,25 @@ fn read_primitive(
         }
         v.position = world.transform_point3(p);
     }
-    // Every attribute has one element per position (checked before reading).
+    Ok(vertices)
+}
+
+/// Checks that every attribute read has one element per position, so
+/// that each can be zipped with the vertices.
+fn check_counts(
+    prim: &::gltf::Primitive,
+    sets: &sampling::Sets,
+    n: usize,
+    place: &str,
+) -> Result<(), Problem> {
+    use ::gltf::Semantic;
     let count = |semantic: Semantic| prim.get(&semantic).map(|a| a.count());
     let second_set = sets
         .second
         .map(|r| (Semantic::TexCoords(r.set), "TEXCOORD"));
     for (semantic, what) in [
         (Semantic::Normals, "NORMAL"),
-        (Semantic::TexCoords(reading.set), "TEXCOORD"),
+        (Semantic::TexCoords(sets.first.set), "TEXCOORD"),
         (Semantic::Colors(0), "COLOR_0"),
         (Semantic::Tangents, "TANGENT"),
     ]
@@ -570,44 +658,48 @@ fn read_primitive(
             return Err(format!("{place}: {len} {what} for {n} positions"));
         }
     }
-    let normals = floats(Semantic::Normals);
+    Ok(())
+}
+
+/// Which of the optional attributes a primitive's vertices were given.
+struct Given {
+    normals: bool,
+    uvs: bool,
+    /// The file's tangents, as texture axes (triangles with normals only).
+    axes: bool,
+}
+
+/// Reads the normals, the first texture coordinates (through `reading`),
+/// the colours and the tangents into `vertices`, then turns the normals
+/// into world space.
+fn read_attributes(
+    prim: &::gltf::Primitive,
+    buffers: &[Vec<u8>],
+    (reading, stroke): (&sampling::Reading, Option<StrokeMode>),
+    world: Mat4,
+    vertices: &mut [Vertex],
+) -> Given {
+    use ::gltf::Semantic;
+    let normals = floats(prim, buffers, Semantic::Normals);
     let has_normals = normals.is_some();
     for (v, nrm) in vertices.iter_mut().zip(normals.into_iter().flatten()) {
         v.normal = Vec4::from(nrm).truncate();
     }
-    let uvs = floats(Semantic::TexCoords(reading.set));
+    let uvs = floats(prim, buffers, Semantic::TexCoords(reading.set));
     let has_uvs = uvs.is_some();
     for (v, uv) in vertices.iter_mut().zip(uvs.into_iter().flatten()) {
         v.uv = reading.uv(Vec2::new(uv[0], uv[1]));
     }
-    // The second set, read only when a map reads it (and the primitive
-    // draws triangles): one array of exactly one per vertex.
-    let second = sets
-        .second
-        .filter(|_| stroke.is_none())
-        .and_then(|r| Some((r, floats(Semantic::TexCoords(r.set))?)));
-    let uv2 = match second {
-        Some((r, coords)) => {
-            hold(
-                held,
-                name,
-                "the second texture coordinates",
-                bytes_of::<Vec2>(n as u64),
-            )?;
-            let mut uv2 = Vec::with_capacity(n);
-            uv2.extend(coords.map(|uv| r.uv(Vec2::new(uv[0], uv[1]))));
-            uv2
-        }
-        None => Vec::new(),
-    };
+    let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
     if let Some(colors) = reader.read_colors(0) {
         for (v, c) in vertices.iter_mut().zip(colors.into_rgb_f32()) {
             v.color = Vec3::from(c);
         }
     }
     let linear = Mat3::from_mat4(world);
-    // The file's tangents, with its own normals, as texture axes.
-    let tangents = floats(Semantic::Tangents).filter(|_| has_normals);
+    // The file's tangents, with its own normals, as texture axes (taken
+    // against the normals as read, before they are placed).
+    let tangents = floats(prim, buffers, Semantic::Tangents).filter(|_| has_normals);
     let has_axes = tangents.is_some() && stroke.is_none();
     if has_axes {
         for (v, t) in vertices.iter_mut().zip(tangents.into_iter().flatten()) {
@@ -618,49 +710,92 @@ fn read_primitive(
     }
     let normal_matrix = super::normal_matrix(world);
     if has_normals {
-        for v in &mut vertices {
+        for v in vertices.iter_mut() {
             v.normal = (normal_matrix * v.normal).normalize_or_zero();
         }
     }
-    let index_count = prim.indices().map_or(n, |a| a.count());
-    let check = |(k, i): (usize, u32)| {
-        if (i as usize) < n {
-            Ok(i)
-        } else {
-            Err(format!("{place}: index {k} is {i}, past the {n} vertices"))
-        }
-    };
-    let corners: Box<dyn Iterator<Item = (usize, u32)>> = match reader.read_indices() {
-        Some(r) => Box::new(r.into_u32().enumerate()),
-        None => Box::new((0..n as u32).enumerate()),
-    };
-    if let Some(mode) = stroke {
-        hold(
-            held,
-            name,
-            "the strokes",
-            bytes_of::<u32>(index_count as u64),
-        )?;
-        let corners = corners.map(check).collect::<Result<Vec<u32>, _>>()?;
-        let [r, g, b, _] = material.pbr_metallic_roughness().base_color_factor();
-        return Ok(Prim {
-            vertices,
-            has_normals: false,
-            has_uvs: false,
-            uv2: Vec::new(),
-            has_axes: false,
-            tris: Vec::new(),
-            material: material.index(),
-            strokes: Some(PrimStrokes {
-                mode,
-                corners,
-                factor: Vec3::new(r, g, b),
-            }),
-            track: false,
-            source: Vec::new(),
-            posing: None,
-        });
+    Given {
+        normals: has_normals,
+        uvs: has_uvs,
+        axes: has_axes,
     }
+}
+
+/// The second texture coordinate set, read only when a map reads it (and
+/// the primitive draws triangles): one array of exactly one per vertex,
+/// or empty.
+fn read_second_set(
+    prim: &::gltf::Primitive,
+    buffers: &[Vec<u8>],
+    (sets, stroke): (&sampling::Sets, Option<StrokeMode>),
+    n: usize,
+    (name, held): (&str, &mut Reservation),
+) -> Result<Vec<Vec2>, Problem> {
+    let second = sets.second.filter(|_| stroke.is_none()).and_then(|r| {
+        Some((
+            r,
+            floats(prim, buffers, ::gltf::Semantic::TexCoords(r.set))?,
+        ))
+    });
+    let Some((r, coords)) = second else {
+        return Ok(Vec::new());
+    };
+    hold(
+        held,
+        name,
+        "the second texture coordinates",
+        bytes_of::<Vec2>(n as u64),
+    )?;
+    let mut uv2 = Vec::with_capacity(n);
+    uv2.extend(coords.map(|uv| r.uv(Vec2::new(uv[0], uv[1]))));
+    Ok(uv2)
+}
+
+/// Index `i` (the `k`th) when it names one of the `n` vertices.
+fn checked_index(k: usize, i: u32, n: usize, place: &str) -> Result<u32, Problem> {
+    if (i as usize) < n {
+        Ok(i)
+    } else {
+        Err(format!("{place}: index {k} is {i}, past the {n} vertices"))
+    }
+}
+
+/// A points or lines primitive: its vertices drawn through `corners` in
+/// the material's base colour.
+fn stroke_prim(
+    vertices: Vec<Vertex>,
+    material: &::gltf::Material,
+    mode: StrokeMode,
+    corners: Vec<u32>,
+) -> Prim {
+    let [r, g, b, _] = material.pbr_metallic_roughness().base_color_factor();
+    Prim {
+        vertices,
+        has_normals: false,
+        has_uvs: false,
+        uv2: Vec::new(),
+        has_axes: false,
+        tris: Vec::new(),
+        material: material.index(),
+        strokes: Some(PrimStrokes {
+            mode,
+            corners,
+            factor: Vec3::new(r, g, b),
+        }),
+        track: false,
+        source: Vec::new(),
+        posing: None,
+    }
+}
+
+/// The triangles of a list, strip or fan of `index_count` corners over
+/// `n` vertices, each index checked, turned when the placement mirrors.
+fn read_triangles(
+    corners: impl Iterator<Item = (usize, u32)>,
+    (mode, mirrored): (Mode, bool),
+    (index_count, n, place): (usize, usize, &str),
+    (name, held): (&str, &mut Reservation),
+) -> Result<Vec<Triangle>, Problem> {
     let count = match mode {
         Mode::TriangleStrip | Mode::TriangleFan => index_count.saturating_sub(2),
         _ => index_count / 3,
@@ -672,40 +807,10 @@ fn read_primitive(
         bytes_of::<Triangle>(count as u64),
     )?;
     let mut tris = Vec::with_capacity(count);
-    // The corners of a list, strip or fan, taken as they come.
-    let (mut first, mut previous) = (None, None);
-    let mut last = [0u32; 2];
-    let mirrored = placing.mirrored;
+    let mut walk = CornerWalk::default();
     for (at, i) in corners {
-        let i = check((at, i))?;
-        let indices = match mode {
-            Mode::TriangleStrip => {
-                let t = (at >= 2).then(|| {
-                    if at % 2 == 0 {
-                        [last[0], last[1], i]
-                    } else {
-                        [last[1], last[0], i]
-                    }
-                });
-                last = [last[1], i];
-                t
-            }
-            Mode::TriangleFan => {
-                let t = match (first, previous) {
-                    (Some(f), Some(p)) => Some([f, p, i]),
-                    _ => None,
-                };
-                first = first.or(Some(i));
-                previous = (at >= 1).then_some(i);
-                t
-            }
-            _ => {
-                let t = (at % 3 == 2).then_some([last[0], last[1], i]);
-                last = [last[1], i];
-                t
-            }
-        };
-        if let Some(mut t) = indices {
+        let i = checked_index(at, i, n, place)?;
+        if let Some(mut t) = walk.next(mode, at, i) {
             // A mirroring transform turns counter-clockwise faces clockwise.
             if mirrored {
                 t.swap(1, 2);
@@ -713,19 +818,50 @@ fn read_primitive(
             tris.push(corners_only(t));
         }
     }
-    Ok(Prim {
-        vertices,
-        has_normals,
-        has_uvs,
-        uv2,
-        has_axes,
-        tris,
-        material: material.index(),
-        strokes: None,
-        track: placing.posed,
-        source: Vec::new(),
-        posing: None,
-    })
+    Ok(tris)
+}
+
+/// The corners of a list, strip or fan, taken as they come: what is kept
+/// of the corners before.
+#[derive(Default)]
+struct CornerWalk {
+    first: Option<u32>,
+    previous: Option<u32>,
+    last: [u32; 2],
+}
+
+impl CornerWalk {
+    /// The triangle corner `i` (the `at`th) completes, if any.
+    fn next(&mut self, mode: Mode, at: usize, i: u32) -> Option<[u32; 3]> {
+        let last = self.last;
+        match mode {
+            Mode::TriangleStrip => {
+                let t = (at >= 2).then(|| {
+                    if at.is_multiple_of(2) {
+                        [last[0], last[1], i]
+                    } else {
+                        [last[1], last[0], i]
+                    }
+                });
+                self.last = [last[1], i];
+                t
+            }
+            Mode::TriangleFan => {
+                let t = match (self.first, self.previous) {
+                    (Some(f), Some(p)) => Some([f, p, i]),
+                    _ => None,
+                };
+                self.first = self.first.or(Some(i));
+                self.previous = (at >= 1).then_some(i);
+                t
+            }
+            _ => {
+                let t = (at % 3 == 2).then_some([last[0], last[1], i]);
+                self.last = [last[1], i];
+                t
+            }
+        }
+    }
 }
 
 /// Centres the model and scales it so its farthest point is `FIT_RADIUS`

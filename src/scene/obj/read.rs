@@ -410,72 +410,34 @@ struct FaceSlots<'a> {
 fn read_chunk(
     chunk: &[u8],
     before: Counts,
-    mut out: Attributes,
-    mut slots: FaceSlots,
+    out: Attributes,
+    slots: FaceSlots,
 ) -> (FaceChunk, Tally) {
-    let mut faces = FaceChunk {
-        all_uv: true,
-        all_normals: true,
-        ..FaceChunk::default()
+    let mut walk = ChunkWalk {
+        before,
+        out,
+        slots,
+        faces: FaceChunk {
+            all_uv: true,
+            all_normals: true,
+            ..FaceChunk::default()
+        },
+        p: 0,
+        t: 0,
+        n: 0,
+        face: Vec::new(),
+        part: 0,
     };
     let mut cut_numbers = Tally::default();
-    // Items of this chunk so far; faces may use those before it too.
-    let (mut p, mut t, mut n) = (0, 0, 0);
-    let mut face: Vec<FaceCorner> = Vec::new();
-    let mut part = 0u32;
     let (mut at, mut lines) = (0, 0);
     while at < chunk.len() {
         let number = lines;
         lines += 1;
         // The usual lines in one scan; the others (or one of those the
         // scan does not take) word by word, below.
-        if let Some((kind, words)) = kind_at(chunk, at) {
-            let next = match kind {
-                Kind::Position => numbers_at::<3>(chunk, words)
-                    .filter(|&(_, len, _)| len == 3)
-                    .map(|(x, _, next)| {
-                        out.positions[p] = Vec3::from_array(x);
-                        out.add_color(p, None);
-                        p += 1;
-                        next
-                    }),
-                Kind::Texcoord => numbers_at::<3>(chunk, words)
-                    .filter(|&(_, len, _)| len >= 1)
-                    .map(|(x, _, next)| {
-                        // A missing v is 0.
-                        out.texcoords[t] = Vec2::new(x[0], x[1]);
-                        t += 1;
-                        next
-                    }),
-                Kind::Normal => numbers_at::<3>(chunk, words)
-                    .filter(|&(_, len, _)| len == 3)
-                    .map(|(x, _, next)| {
-                        out.normals[n] = Vec3::from_array(x);
-                        n += 1;
-                        next
-                    }),
-                Kind::Face => {
-                    let counts = (
-                        before.positions + p,
-                        before.texcoords + t,
-                        before.normals + n,
-                    );
-                    face_at(chunk, words, counts, &mut face).inspect(|_| {
-                        add_face(
-                            &mut faces,
-                            &mut face,
-                            (false, false),
-                            number,
-                            part,
-                            &mut slots,
-                        )
-                    })
-                }
-            };
-            if let Some(next) = next {
-                at = next;
-                continue;
-            }
+        if let Some(next) = walk.scanned_line(chunk, at, number) {
+            at = next;
+            continue;
         }
         let end = line_end(chunk, at);
         let line = &chunk[at..end];
@@ -484,72 +446,165 @@ fn read_chunk(
             continue;
         };
         let mut cut = false;
-        let problem = match keyword {
-            b"v" => match numbers(words(rest), 3, 6, "position", &mut cut) {
-                Ok((x, len)) => {
-                    let color = match len {
-                        3 => Ok(None),
-                        4 if x[3] != 0.0 => Ok(None),
-                        4 => Err("bad w '0'".to_string()),
-                        6 => Ok(Some(Vec3::new(x[3], x[4], x[5]))),
-                        k => Err(format!("position has {k} numbers")),
-                    };
-                    color.map(|color| {
-                        out.positions[p] = Vec3::new(x[0], x[1], x[2]);
-                        out.add_color(p, color);
-                        p += 1;
-                    })
-                }
-                Err(e) => Err(e),
-            },
-            b"vt" => numbers(words(rest), 1, 3, "texture coordinate", &mut cut).map(|(x, _)| {
-                // A missing v is 0.
-                out.texcoords[t] = Vec2::new(x[0], x[1]);
-                t += 1;
-            }),
-            b"vn" => numbers(words(rest), 3, 3, "normal", &mut cut).map(|(x, _)| {
-                out.normals[n] = Vec3::new(x[0], x[1], x[2]);
-                n += 1;
-            }),
-            b"mtllib" => {
-                faces.libraries.push(rest_of_line(line, b"mtllib"));
-                Ok(())
-            }
-            b"usemtl" => {
-                let material = rest_of_line(line, b"usemtl");
-                let key = (!material.is_empty()).then_some(material);
-                part = match faces.names.iter().position(|p| *p == key) {
-                    Some(i) => i as u32 + 1,
-                    None => {
-                        faces.names.push(key);
-                        faces.names.len() as u32
-                    }
-                };
-                Ok(())
-            }
-            b"f" => {
-                let counts = (
-                    before.positions + p,
-                    before.texcoords + t,
-                    before.normals + n,
-                );
-                read_face(words(rest), counts, &mut face).map(|dropped| {
-                    add_face(&mut faces, &mut face, dropped, number, part, &mut slots)
-                })
-            }
-            _ => Ok(()),
-        };
-        if let Err(problem) = problem {
-            faces.problem = Some((number, problem));
+        if let Err(problem) = walk.word_line((keyword, rest, line), number, &mut cut) {
+            walk.faces.problem = Some((number, problem));
             break;
         }
         if cut {
             cut_numbers.add(number);
         }
     }
-    faces.end_part = part;
-    faces.colors = out.colors;
-    (faces, cut_numbers)
+    walk.faces.end_part = walk.part;
+    walk.faces.colors = walk.out.colors;
+    (walk.faces, cut_numbers)
+}
+
+/// One chunk's walk over its lines: where it writes, and what it has read.
+struct ChunkWalk<'a, 'b> {
+    /// The lines and items of the chunks before it.
+    before: Counts,
+    out: Attributes<'a>,
+    slots: FaceSlots<'b>,
+    faces: FaceChunk,
+    /// Items of this chunk so far; faces may use those before it too.
+    p: usize,
+    t: usize,
+    n: usize,
+    /// The corners of the face being read (kept to reuse its capacity).
+    face: Vec<FaceCorner>,
+    /// The chunk-local part in effect.
+    part: u32,
+}
+
+impl ChunkWalk<'_, '_> {
+    /// The positions, texture coordinates and normals a face may use.
+    fn counts(&self) -> (usize, usize, usize) {
+        (
+            self.before.positions + self.p,
+            self.before.texcoords + self.t,
+            self.before.normals + self.n,
+        )
+    }
+
+    /// A usual `v`, `vt`, `vn` or `f` line at `at`, read in one scan:
+    /// where the next line starts, or `None` when the scan does not take
+    /// it (then it is read word by word).
+    fn scanned_line(&mut self, chunk: &[u8], at: usize, number: usize) -> Option<usize> {
+        let (kind, words) = kind_at(chunk, at)?;
+        match kind {
+            Kind::Position => numbers_at::<3>(chunk, words)
+                .filter(|&(_, len, _)| len == 3)
+                .map(|(x, _, next)| {
+                    self.out.positions[self.p] = Vec3::from_array(x);
+                    self.out.add_color(self.p, None);
+                    self.p += 1;
+                    next
+                }),
+            Kind::Texcoord => numbers_at::<3>(chunk, words)
+                .filter(|&(_, len, _)| len >= 1)
+                .map(|(x, _, next)| {
+                    // A missing v is 0.
+                    self.out.texcoords[self.t] = Vec2::new(x[0], x[1]);
+                    self.t += 1;
+                    next
+                }),
+            Kind::Normal => numbers_at::<3>(chunk, words)
+                .filter(|&(_, len, _)| len == 3)
+                .map(|(x, _, next)| {
+                    self.out.normals[self.n] = Vec3::from_array(x);
+                    self.n += 1;
+                    next
+                }),
+            Kind::Face => {
+                let counts = self.counts();
+                face_at(chunk, words, counts, &mut self.face).inspect(|_| {
+                    add_face(
+                        &mut self.faces,
+                        &mut self.face,
+                        (false, false),
+                        number,
+                        self.part,
+                        &mut self.slots,
+                    )
+                })
+            }
+        }
+    }
+
+    /// A line read word by word: its `keyword`, the `rest` after it, and
+    /// the whole `line`. Sets `cut` when a number had text after it.
+    fn word_line(
+        &mut self,
+        (keyword, rest, line): (&[u8], &[u8], &[u8]),
+        number: usize,
+        cut: &mut bool,
+    ) -> Result<(), String> {
+        match keyword {
+            b"v" => self.position_line(rest, cut),
+            b"vt" => numbers(words(rest), 1, 3, "texture coordinate", cut).map(|(x, _)| {
+                // A missing v is 0.
+                self.out.texcoords[self.t] = Vec2::new(x[0], x[1]);
+                self.t += 1;
+            }),
+            b"vn" => numbers(words(rest), 3, 3, "normal", cut).map(|(x, _)| {
+                self.out.normals[self.n] = Vec3::new(x[0], x[1], x[2]);
+                self.n += 1;
+            }),
+            b"mtllib" => {
+                self.faces.libraries.push(rest_of_line(line, b"mtllib"));
+                Ok(())
+            }
+            b"usemtl" => {
+                self.use_material(rest_of_line(line, b"usemtl"));
+                Ok(())
+            }
+            b"f" => {
+                let counts = self.counts();
+                read_face(words(rest), counts, &mut self.face).map(|dropped| {
+                    add_face(
+                        &mut self.faces,
+                        &mut self.face,
+                        dropped,
+                        number,
+                        self.part,
+                        &mut self.slots,
+                    )
+                })
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// A `v` line: x y z, with a w that is not 0, or with an r g b colour.
+    fn position_line(&mut self, rest: &[u8], cut: &mut bool) -> Result<(), String> {
+        let (x, len) = numbers(words(rest), 3, 6, "position", cut)?;
+        let color = match len {
+            3 => Ok(None),
+            4 if x[3] != 0.0 => Ok(None),
+            4 => Err("bad w '0'".to_string()),
+            6 => Ok(Some(Vec3::new(x[3], x[4], x[5]))),
+            k => Err(format!("position has {k} numbers")),
+        };
+        color.map(|color| {
+            self.out.positions[self.p] = Vec3::new(x[0], x[1], x[2]);
+            self.out.add_color(self.p, color);
+            self.p += 1;
+        })
+    }
+
+    /// A `usemtl` line: the faces after it are in the part of that material
+    /// (none when the name is empty), numbered in order of first use.
+    fn use_material(&mut self, material: String) {
+        let key = (!material.is_empty()).then_some(material);
+        let names = &mut self.faces.names;
+        self.part = match names.iter().position(|p| *p == key) {
+            Some(i) => i as u32 + 1,
+            None => {
+                names.push(key);
+                names.len() as u32
+            }
+        };
+    }
 }
 
 /// The corners of a face read from line `number` (`dropped`: whether a
@@ -676,12 +731,6 @@ pub(super) fn read(name: &str, bytes: &[u8]) -> Result<ReadModel, ObjError> {
 pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadModel, ObjError> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let chunks = line_chunks(bytes, parts);
-    let error = |line: usize, problem: String| ObjError::Line {
-        name: name.to_string(),
-        line: line + 1,
-        problem,
-    };
-
     // Two passes over the text: the view's progress line counts each
     // chunk's bytes as the counting finishes it and twice as the reading
     // does (it parses what it walks: the units of the three passes this
@@ -695,57 +744,10 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
             p.advance(chunk.len() as u64);
         }
     };
-    let counted: Vec<Result<Counts, LineProblem>> = chunks
-        .par_iter()
-        .map(|c| {
-            let counts = count(c);
-            passed(c);
-            counts
-        })
-        .collect();
+    let (before, counts) = count_pass(name, &chunks, &passed)?;
+    let mut reservation = reserve_model(name, counts)?;
+    let (mut arrays, read) = read_pass(&chunks, &before, counts, &passed);
     load_progress::check(name)?;
-    let (before, counts) = counts_before(counted).map_err(|(l, problem)| error(l, problem))?;
-    // No fixed limit: the memory budget decides, before anything is
-    // allocated. The text itself is held by whoever read it.
-    let need = read_bytes(&counts);
-    let mut reservation = crate::scene::model_io::reserve(name, "the triangles", need)?;
-    if counts.positions.max(counts.texcoords).max(counts.normals) >= NO_INDEX as usize {
-        return Err(ObjError::Unsupported {
-            name: name.to_string(),
-            what: format!("more than {} positions, UVs or normals", NO_INDEX - 1),
-        });
-    }
-
-    // Zeroed by the allocator as fresh pages, each first touched by the
-    // chunk that fills it.
-    let mut positions: Vec<Vec3> = bytemuck::zeroed_vec(counts.positions);
-    let mut texcoords: Vec<Vec2> = bytemuck::zeroed_vec(counts.texcoords);
-    let mut normals: Vec<Vec3> = bytemuck::zeroed_vec(counts.normals);
-    let outs = attribute_slices(
-        &mut positions,
-        &mut texcoords,
-        &mut normals,
-        &before,
-        counts,
-    );
-    // Each chunk's triangles go to its own slices (at most what it counted),
-    // closed up afterwards: no copy of the whole.
-    let mut corners = vec![[0u32; 3]; counts.triangles * 3];
-    let mut part_of = vec![0u32; counts.triangles];
-    let slots = face_slices(&mut corners, &mut part_of, &before, counts);
-    let read: Vec<(FaceChunk, Tally)> = chunks
-        .par_iter()
-        .zip(before.par_iter())
-        .zip(outs.into_par_iter().zip(slots.into_par_iter()))
-        .map(|((chunk, b), (out, slots))| {
-            let read = read_chunk(chunk, *b, out, slots);
-            passed(chunk);
-            passed(chunk);
-            read
-        })
-        .collect();
-    load_progress::check(name)?;
-
     // The first bad line of the file: that of the first chunk with one.
     if let Some((f, b)) = read
         .iter()
@@ -754,9 +756,9 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         .find(|(f, _)| f.problem.is_some())
         && let Some((line, problem)) = &f.problem
     {
-        return Err(error(b.lines + line, problem.clone()));
+        return Err(line_error(name, b.lines + line, problem.clone()));
     }
-    let faces = (&mut corners[..], &mut part_of[..]);
+    let faces = (&mut arrays.corners[..], &mut arrays.part_of[..]);
     let merged = merge_chunks(name, read, &before, counts, faces, &mut reservation)?;
     let triangles = merged.triangles;
     if triangles == 0 {
@@ -768,8 +770,8 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
             ObjError::Empty { name }
         });
     }
-    corners.truncate(3 * triangles);
-    part_of.truncate(triangles);
+    arrays.corners.truncate(3 * triangles);
+    arrays.part_of.truncate(triangles);
     let warnings = merged.warnings(name);
     let Merged {
         parts,
@@ -780,12 +782,12 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         ..
     } = merged;
     let mut corners = IndexedCorners {
-        positions,
+        positions: arrays.positions,
         colors,
-        uvs: texcoords,
-        normals,
-        corners,
-        part_of,
+        uvs: arrays.texcoords,
+        normals: arrays.normals,
+        corners: arrays.corners,
+        part_of: arrays.part_of,
     };
     keep_used(&mut corners, all_uv, all_normals);
     Ok(ReadModel {
@@ -795,6 +797,101 @@ pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadMode
         warnings,
         reservation,
     })
+}
+
+/// Bad line `line` (0-based in the file) of model `name`.
+fn line_error(name: &str, line: usize, problem: String) -> ObjError {
+    ObjError::Line {
+        name: name.to_string(),
+        line: line + 1,
+        problem,
+    }
+}
+
+/// The counting pass, over the chunks in parallel: the counts of the
+/// chunks before each, and the whole file's; its first bad line, else a
+/// cancel, is an error.
+fn count_pass(
+    name: &str,
+    chunks: &[&[u8]],
+    passed: &(impl Fn(&[u8]) + Sync),
+) -> Result<(Vec<Counts>, Counts), ObjError> {
+    let counted: Vec<Result<Counts, LineProblem>> = chunks
+        .par_iter()
+        .map(|c| {
+            let counts = count(c);
+            passed(c);
+            counts
+        })
+        .collect();
+    load_progress::check(name)?;
+    counts_before(counted).map_err(|(l, problem)| line_error(name, l, problem))
+}
+
+/// The memory budget for the model the counts describe, asked before
+/// anything of its size is allocated; too many items for an index is
+/// refused.
+fn reserve_model(name: &str, counts: Counts) -> Result<Reservation, ObjError> {
+    // No fixed limit: the memory budget decides, before anything is
+    // allocated. The text itself is held by whoever read it.
+    let need = read_bytes(&counts);
+    let reservation = crate::scene::model_io::reserve(name, "the triangles", need)?;
+    if counts.positions.max(counts.texcoords).max(counts.normals) >= NO_INDEX as usize {
+        return Err(ObjError::Unsupported {
+            name: name.to_string(),
+            what: format!("more than {} positions, UVs or normals", NO_INDEX - 1),
+        });
+    }
+    Ok(reservation)
+}
+
+/// The model's arrays, sized by the counting pass.
+struct Arrays {
+    positions: Vec<Vec3>,
+    texcoords: Vec<Vec2>,
+    normals: Vec<Vec3>,
+    corners: Vec<[u32; 3]>,
+    part_of: Vec<u32>,
+}
+
+/// The reading pass, over the chunks in parallel: each chunk fills its
+/// own slices of the arrays; what each read besides, in chunk order.
+fn read_pass(
+    chunks: &[&[u8]],
+    before: &[Counts],
+    counts: Counts,
+    passed: &(impl Fn(&[u8]) + Sync),
+) -> (Arrays, Vec<(FaceChunk, Tally)>) {
+    // Zeroed by the allocator as fresh pages, each first touched by the
+    // chunk that fills it.
+    let mut positions: Vec<Vec3> = bytemuck::zeroed_vec(counts.positions);
+    let mut texcoords: Vec<Vec2> = bytemuck::zeroed_vec(counts.texcoords);
+    let mut normals: Vec<Vec3> = bytemuck::zeroed_vec(counts.normals);
+    let outs = attribute_slices(&mut positions, &mut texcoords, &mut normals, before, counts);
+    // Each chunk's triangles go to its own slices (at most what it counted),
+    // closed up afterwards: no copy of the whole.
+    let mut corners = vec![[0u32; 3]; counts.triangles * 3];
+    let mut part_of = vec![0u32; counts.triangles];
+    let slots = face_slices(&mut corners, &mut part_of, before, counts);
+    let read: Vec<(FaceChunk, Tally)> = chunks
+        .par_iter()
+        .zip(before.par_iter())
+        .zip(outs.into_par_iter().zip(slots.into_par_iter()))
+        .map(|((chunk, b), (out, slots))| {
+            let read = read_chunk(chunk, *b, out, slots);
+            passed(chunk);
+            passed(chunk);
+            read
+        })
+        .collect();
+    let arrays = Arrays {
+        positions,
+        texcoords,
+        normals,
+        corners,
+        part_of,
+    };
+    (arrays, read)
 }
 
 /// UVs and normals are used when every corner has one; colours when any
