@@ -9,11 +9,13 @@ use std::time::Instant;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{Mat4, Quat, Vec2, Vec3};
-use relief::scene::anim::sampler::{Interpolation, Sampler};
-use relief::scene::anim::{Channel, Clip, Influences, Local, Motion, Node, PartRig, Rig, Target};
-use relief::scene::{Mesh, Triangle, Vertex};
-use relief::settings::Settings;
-use relief::{Framebuffer, Renderer, Scene};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_pipeline::render::Renderer;
+use relief_scene::Scene;
+use relief_scene::anim::sampler::{Interpolation, Sampler};
+use relief_scene::anim::{Channel, Clip, Influences, Local, Motion, Node, PartRig, Rig, Target};
+use relief_scene::{Mesh, Triangle, Vertex};
 
 const WIDTH: usize = 320;
 const HEIGHT: usize = 192;
@@ -53,7 +55,7 @@ fn tube() -> Mesh {
 /// The tube skinned to a root joint and a child at y = 0 that turns 90°
 /// about Z over 2 s; weights blend over the middle third.
 fn skinned() -> Scene {
-    let (texture, _) = relief::bench::reference::texture();
+    let (texture, _) = relief_bench::reference::texture();
     let mesh = tube();
     let rest = mesh.vertices.clone();
     let mut scene = Scene::model(mesh, texture).into_model_view();
@@ -89,7 +91,7 @@ fn skinned() -> Scene {
                 },
             }],
         }],
-        skins: vec![relief::scene::anim::Skin {
+        skins: vec![relief_scene::anim::Skin {
             joints: vec![0, 1],
             inverse_bind: vec![Mat4::IDENTITY; 2],
         }],
@@ -129,7 +131,7 @@ fn bench_frames(c: &mut Criterion, name: &str, pose_only: bool) {
         .expect("thread pool");
     let mut scene = skinned();
     let settings = Settings {
-        rotation: relief::scene::model_view::START_ROTATION,
+        rotation: relief_scene::model_view::START_ROTATION,
         ..Settings::default()
     };
     let mut renderer = Renderer::new();

@@ -19,9 +19,11 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use relief::scene::obj;
-use relief::settings::Settings;
-use relief::{Framebuffer, Renderer, Scene};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_pipeline::render::Renderer;
+use relief_scene::Scene;
+use relief_scene::obj;
 
 const RUNS: usize = 5;
 
@@ -151,7 +153,7 @@ fn overdraw(dir: &Path) {
     let loading = timed(3, || obj::load(&path).expect("loads"));
     let mesh = obj::load(&path).expect("loads");
     println!("overdraw: {} triangles", mesh.triangles.len());
-    let (texture, _) = relief::bench::reference::texture();
+    let (texture, _) = relief_bench::reference::texture();
     let mut scene = Scene::cube(texture, true);
     scene.objects[0].mesh = mesh;
     let settings = Settings::default();
@@ -214,7 +216,7 @@ fn frames(dir: &Path) {
         write_sphere(&path, rings, segments).expect("write the sphere");
         let mesh = obj::load(&path).expect("loads");
         let count = mesh.triangles.len();
-        let (texture, _) = relief::bench::reference::texture();
+        let (texture, _) = relief_bench::reference::texture();
         let mut scene = Scene::cube(texture, true);
         scene.objects[0].mesh = mesh;
         let settings = Settings::default();

@@ -9,15 +9,17 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use relief::settings::{Settings, Shading};
-use relief::{Framebuffer, Renderer, Scene};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::{Settings, Shading};
+use relief_pipeline::render::Renderer;
+use relief_scene::Scene;
 
 const WIDTH: usize = 320;
 const HEIGHT: usize = 240;
 
 /// Renders `settings` repeatedly inside a pool of `threads` threads (0: rayon's default).
 fn bench(c: &mut Criterion, name: &str, settings: Settings, threads: usize) {
-    let (texture, _) = relief::bench::reference::texture();
+    let (texture, _) = relief_bench::reference::texture();
     bench_scene(c, name, &Scene::cube(texture, true), settings, threads);
 }
 
@@ -27,12 +29,12 @@ fn bench(c: &mut Criterion, name: &str, settings: Settings, threads: usize) {
 fn model_view_cube(physical: bool) -> Scene {
     use std::sync::Arc;
 
-    use relief::scene::terms::{MaterialTerms, PbrMaterial};
-    use relief::texture::normal_map::normal_map_scale;
-    let (texture, _) = relief::bench::reference::texture();
+    use relief_scene::terms::{MaterialTerms, PbrMaterial};
+    use relief_texture::normal_map::normal_map_scale;
+    let (texture, _) = relief_bench::reference::texture();
     let mut scene = Scene::cube(texture, true).into_model_view();
     if physical {
-        let strength = relief::settings::DEFAULT_BUMP_STRENGTH;
+        let strength = relief_core::settings::DEFAULT_BUMP_STRENGTH;
         let normal = scene
             .material
             .texture
@@ -88,7 +90,7 @@ fn renderer(c: &mut Criterion) {
     bench(c, "flat_untextured_320x240/all_threads", flat, 0);
     bench(c, "flat_untextured_320x240/1_thread", flat, 1);
     let start = Settings {
-        rotation: relief::scene::model_view::START_ROTATION,
+        rotation: relief_scene::model_view::START_ROTATION,
         ..Settings::default()
     };
     for (physical, name) in [(false, "model_view_phong_bump"), (true, "model_view_pbr")] {

@@ -14,9 +14,12 @@ use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::widgets::Widget;
 use ratatui::{Terminal, TerminalOptions, Viewport};
-use relief::term::palette::Palette;
-use relief::term::{ColorDepth, HalfBlocks, SgrBackend};
-use relief::{Framebuffer, Renderer, Scene, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_pipeline::render::Renderer;
+use relief_scene::Scene;
+use relief_term::palette::Palette;
+use relief_term::{ColorDepth, HalfBlocks, SgrBackend};
 
 const W: u16 = 200;
 const H: u16 = 60;
@@ -36,7 +39,7 @@ impl Write for Count {
 }
 
 fn cube(rotation_y: f32) -> Framebuffer {
-    let scene = Scene::cube(Arc::new(relief::texture::procedural::brick()), false);
+    let scene = Scene::cube(Arc::new(relief_texture::procedural::brick()), false);
     let settings = Settings {
         rotation: glam::Vec3::new(25.0, rotation_y, 0.0),
         ..Settings::default()

@@ -5,12 +5,12 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use glam::{Vec2, Vec3};
 
-use crate::options::OptionArgs;
-pub use crate::options::text::parse_finite;
-use crate::plasma::PlasmaNormal;
-use crate::scene::{ModelChoice, SceneKind};
-use crate::settings::Settings;
-use crate::term::{Format, Symbols};
+use relief_core::settings::Settings;
+use relief_options::OptionArgs;
+pub use relief_options::text::parse_finite;
+use relief_plasma::PlasmaNormal;
+use relief_scene::{ModelChoice, SceneKind};
+use relief_term::{Format, Symbols};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -56,8 +56,8 @@ pub struct Cli {
     /// exact picture takes it longer than a frame. auto measures: by the terminal's replies,
     /// and inside tmux or GNU screen over SSH by the SSH connection's send queue
     /// (docs/ssh-tmux.md).
-    #[arg(long, value_name = "RATE", default_value = "auto", value_parser = crate::term::hold::parse_link)]
-    pub link: crate::term::hold::LinkRate,
+    #[arg(long, value_name = "RATE", default_value = "auto", value_parser = relief_term::hold::parse_link)]
+    pub link: relief_term::hold::LinkRate,
     /// Print a line of every glyph of each symbol set and exit: a set whose line shows
     /// boxes, gaps or a ragged right bar is missing from the font.
     #[arg(long)]
@@ -74,7 +74,7 @@ pub struct Cli {
 pub fn models_from_positional(files: &mut Vec<PathBuf>, model: &mut ModelChoice) -> Vec<String> {
     let (models, images): (Vec<PathBuf>, Vec<PathBuf>) = std::mem::take(files)
         .into_iter()
-        .partition(|p| crate::scene::model_file::is_model_path(p));
+        .partition(|p| relief_scene::model_file::is_model_path(p));
     *files = images;
     let mut notes = Vec::new();
     let mut models = models.into_iter();
@@ -83,7 +83,7 @@ pub fn models_from_positional(files: &mut Vec<PathBuf>, model: &mut ModelChoice)
         if rest > 0 {
             notes.push(format!(
                 "{} opened as the model; {rest} other model file(s) ignored",
-                crate::sanitize::display_path(&first)
+                relief_core::sanitize::display_path(&first)
             ));
         }
         *model = ModelChoice::File(first);
@@ -104,7 +104,7 @@ pub enum Command {
         dir: PathBuf,
     },
     /// Measure what each quality setting costs in time and accuracy (`relief bench --quick` for a smoke run).
-    Bench(crate::bench::BenchArgs),
+    Bench(relief_bench::BenchArgs),
 }
 
 #[derive(Args, Debug)]
@@ -218,7 +218,7 @@ pub enum ColorDepthArg {
 }
 
 /// What a frame shows: shared by the interactive view and `relief render`.
-/// The options of the table ([`crate::options::OPTIONS`]) come first;
+/// The options of the table ([`relief_options::OPTIONS`]) come first;
 /// the fields here are the ones the table does not hold (files, the
 /// scene, the rotation, the camera).
 #[derive(Args, Debug, Clone)]
@@ -259,7 +259,7 @@ pub struct ViewArgs {
     #[arg(long, value_enum, default_value_t = PlasmaNormal::Table)]
     pub plasma_normal: PlasmaNormal,
     /// Camera distance (zoom), 5 being the reference view; from 2.5 (closest: never inside the model) to 40.
-    #[arg(long, value_name = "D", default_value_t = crate::scene::camera::REFERENCE_DISTANCE, value_parser = parse_distance)]
+    #[arg(long, value_name = "D", default_value_t = relief_scene::camera::REFERENCE_DISTANCE, value_parser = parse_distance)]
     pub distance: f32,
 }
 
@@ -271,13 +271,13 @@ impl ViewArgs {
         let model_file =
             matches!(self.model, ModelChoice::File(_)) && self.scene == SceneKind::Cube;
         s.rotation = self.rotate.unwrap_or(if model_file {
-            crate::scene::model_view::START_ROTATION
+            relief_scene::model_view::START_ROTATION
         } else {
-            crate::settings::DEFAULT_ROTATION
+            relief_core::settings::DEFAULT_ROTATION
         });
         s.normal_map_file = self.normal_map.is_some();
         // The environment is on by itself when a map is given.
-        if !self.options.given(crate::options::OptId::Environment) {
+        if !self.options.given(relief_options::OptId::Environment) {
             s.environment = self.environment_map.is_some();
         }
         s
@@ -309,7 +309,7 @@ pub fn parse_point(text: &str) -> Result<Vec2, String> {
 }
 
 fn parse_distance(text: &str) -> Result<f32, String> {
-    use crate::scene::camera::{MAX_DISTANCE, MIN_DISTANCE};
+    use relief_scene::camera::{MAX_DISTANCE, MIN_DISTANCE};
     let d = parse_finite(text)?;
     if !(MIN_DISTANCE..=MAX_DISTANCE).contains(&d) {
         return Err(format!(
@@ -322,7 +322,7 @@ fn parse_distance(text: &str) -> Result<f32, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::settings::{AntiAlias, Display, LightVector, Technique};
+    use relief_core::settings::{AntiAlias, Display, LightVector, Technique};
 
     #[test]
     fn rotation_parses_and_refuses_garbage() {

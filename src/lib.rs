@@ -1,30 +1,11 @@
 //! relief: bump-mapped 3D scenes rendered on the CPU, shown in the terminal.
 //!
-//! Data flows one way: scene → plan → raster/shade → framebuffer → term.
+//! Data flows one way, one crate per stage: `relief-scene` → `relief-pipeline`
+//! → `relief-core`'s framebuffer → `relief-term`. This crate holds the
+//! application: its Elm-style core and runtime (`app`), the command line
+//! (`cli`) and the headless commands (`still`).
 
 pub mod app;
-pub mod bench;
-pub mod budget;
 pub mod cli;
-pub mod contain;
-pub mod framebuffer;
-pub mod options;
-pub mod plan;
-pub mod plasma;
-pub mod raster;
-pub mod render;
-pub mod sanitize;
-pub mod scene;
-pub mod settings;
-pub mod shade;
-pub mod shadow;
-pub mod stats;
+pub mod process;
 pub mod still;
-pub mod term;
-pub mod texture;
-
-pub use framebuffer::{Framebuffer, Rgb};
-pub use render::Renderer;
-pub use scene::Scene;
-pub use settings::Settings;
-pub use stats::{Counters, FrameStats};

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use clap::Parser;
 
 use relief::cli::{Cli, Command};
-use relief::sanitize::clean;
+use relief_core::sanitize::clean;
 
 /// Whether standard output is closed, noted before the Rust runtime puts
 /// `/dev/null` in its place (`relief render` refuses to write into it).
@@ -16,6 +16,7 @@ use relief::sanitize::clean;
 static RECORD_STDOUT: extern "C" fn() = relief::still::stdout::record_at_start;
 
 fn main() -> ExitCode {
+    relief::process::tune();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => return parse_failure(&e),
@@ -24,7 +25,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => relief::still::render(&args),
         Some(Command::Assets { dir }) => write_assets(&dir),
         Some(Command::Bench(args)) => {
-            relief::bench::run(&args, &mut std::io::stdout().lock(), &mut std::io::stderr())
+            relief_bench::run(&args, &mut std::io::stdout().lock(), &mut std::io::stderr())
                 .map(|_| ())
         }
         None if cli.symbols_test => symbols_test(),
@@ -51,7 +52,7 @@ fn main() -> ExitCode {
 /// user's arguments made safe to print, and the parser's exit code: it
 /// quotes arguments as they were typed, escape sequences included.
 fn parse_failure(e: &clap::Error) -> ExitCode {
-    let text = relief::sanitize::clean_lines(&e.render().to_string());
+    let text = relief_core::sanitize::clean_lines(&e.render().to_string());
     if e.use_stderr() {
         let _ = std::io::stderr().write_all(text.as_bytes());
     } else {
@@ -65,8 +66,8 @@ fn parse_failure(e: &clap::Error) -> ExitCode {
 /// `relief --symbols-test`: every glyph of each set on a line of its own.
 fn symbols_test() -> anyhow::Result<()> {
     let mut out = std::io::stdout().lock();
-    for symbols in relief::term::Symbols::ALL {
-        writeln!(out, "{}", relief::term::symbols::test_line(symbols))?;
+    for symbols in relief_term::Symbols::ALL {
+        writeln!(out, "{}", relief_term::symbols::test_line(symbols))?;
     }
     Ok(())
 }
@@ -74,8 +75,8 @@ fn symbols_test() -> anyhow::Result<()> {
 /// `relief assets DIR` (hidden): writes the built-in textures as PNGs; this
 /// is how `assets/` is made.
 fn write_assets(dir: &std::path::Path) -> anyhow::Result<()> {
-    for path in relief::texture::builtin::write_assets(dir)? {
-        println!("{}", relief::sanitize::display_path(&path));
+    for path in relief_texture::builtin::write_assets(dir)? {
+        println!("{}", relief_core::sanitize::display_path(&path));
     }
     Ok(())
 }

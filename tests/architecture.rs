@@ -1,19 +1,20 @@
-//! Data flows one way: no module of `src/` may reach back to a module that
-//! depends on it, between the top-level modules (plan, shade and shadow
-//! once formed cycles) nor between the files and folders of one folder.
+//! Data flows one way. Between crates Cargo itself refuses a cycle, and
+//! `the_crates_follow_the_data_flow` pins their order; inside each crate no
+//! module may reach back to a module that depends on it, between the
+//! top-level modules nor between the files and folders of one folder.
 //!
 //! Read from the source. Every path a file names (`crate::…`, `super::…`,
 //! `self::…`, a child module's name, and each path of a `use` tree) is
 //! followed through the `pub use` re-exports to the module that defines
-//! what it names, so `crate::Renderer` is an edge to `render` and
-//! `texture::filter` one to `texture/sample/filter.rs`. The edge joins the
-//! two modules' branches below their deepest common folder: `app/view/cost.rs`
-//! naming `term::hold` is the edge app → term of `src/`, and naming
-//! `app::state` the edge view → state of `app/`. A folder's `mod.rs` that
-//! only declares and re-exports is no node of its folder; one that defines
-//! items is (shown as the folder's name in brackets), and then everything
-//! it re-exports counts as its edges, since its items may use them.
-//! Comment lines and test modules (`#[cfg(test)]` onwards) are left out.
+//! what it names, so `crate::filter::sample` in the texture crate is an edge
+//! to `sample/filter.rs`. The edge joins the two modules' branches below
+//! their deepest common folder: `app/view/cost.rs` naming `app::state` is the
+//! edge view → state of `app/`. A folder's `mod.rs` that only declares and
+//! re-exports is no node of its folder; one that defines items is (shown as
+//! the folder's name in brackets), and then everything it re-exports counts
+//! as its edges, since its items may use them. Paths into other crates
+//! (`relief_scene::…`) are no edge inside a crate. Comment lines and test
+//! modules (`#[cfg(test)]` onwards) are left out.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -29,8 +30,26 @@ struct File {
     is_folder: bool,
 }
 
-fn src_files() -> Vec<File> {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+/// The workspace's crates, leaves first, as the data flows: each may depend
+/// only on crates before it. `.` is the root package (the application).
+const CRATES: [&str; 9] = [
+    "crates/core",
+    "crates/texture",
+    "crates/plasma",
+    "crates/scene",
+    "crates/pipeline",
+    "crates/options",
+    "crates/term",
+    "crates/bench",
+    ".",
+];
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn src_files(krate: &str) -> Vec<File> {
+    let src = root().join(krate).join("src");
     let mut files = Vec::new();
     let mut stack = vec![src.clone()];
     while let Some(dir) = stack.pop() {
@@ -245,7 +264,7 @@ fn named_paths(file: &File, modules: &BTreeSet<ModPath>) -> (Vec<ModPath>, Vec<M
     (named, exported)
 }
 
-/// The graph of one crate read from `src/`.
+/// The graph of one crate read from its `src/`.
 struct Crate {
     files: Vec<File>,
     modules: BTreeSet<ModPath>,
@@ -254,8 +273,8 @@ struct Crate {
 }
 
 impl Crate {
-    fn read() -> Crate {
-        let files = src_files();
+    fn read(krate: &str) -> Crate {
+        let files = src_files(krate);
         let modules: BTreeSet<ModPath> = files.iter().map(|f| f.module.clone()).collect();
         let mut reexports: BTreeMap<ModPath, BTreeMap<String, ModPath>> = BTreeMap::new();
         for file in &files {
@@ -401,24 +420,48 @@ fn cycles(graph: &BTreeMap<String, BTreeSet<String>>) -> BTreeSet<Vec<String>> {
     found
 }
 
+/// The `relief-*` crates a manifest depends on (not its dev-dependencies).
+fn relief_dependencies(krate: &str) -> Vec<String> {
+    let manifest = std::fs::read_to_string(root().join(krate).join("Cargo.toml")).unwrap();
+    let deps = manifest.split("[dependencies]").nth(1).unwrap_or("");
+    let deps = deps.split("\n[").next().unwrap_or("");
+    deps.lines()
+        .filter_map(|l| l.trim().strip_prefix("relief-"))
+        .map(|l| format!("crates/{}", l.split(['.', ' ', '=']).next().unwrap()))
+        .collect()
+}
+
 #[test]
-fn the_top_level_modules_form_no_cycle() {
-    let graphs = Crate::read().folder_graphs();
-    let top = &graphs[&Vec::<String>::new()];
-    assert!(top.contains_key("plan") && top.contains_key("shade"));
-    let found = cycles(top);
-    assert!(found.is_empty(), "import cycles in src/: {found:?}");
+fn the_crates_follow_the_data_flow() {
+    let manifest = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    for (i, krate) in CRATES.iter().enumerate() {
+        if *krate != "." {
+            assert!(
+                manifest.contains(&format!("\"{krate}\"")),
+                "{krate} is no member"
+            );
+        }
+        for dep in relief_dependencies(krate) {
+            let at = CRATES.iter().position(|c| *c == dep);
+            assert!(
+                at.is_some_and(|at| at < i),
+                "{krate} depends on {dep}, which is not upstream of it"
+            );
+        }
+    }
+    // The terminal knows nothing of scenes or how they are drawn.
+    assert_eq!(relief_dependencies("crates/term"), ["crates/core"]);
 }
 
 #[test]
 fn the_plan_depends_on_nothing_downstream() {
-    let graphs = Crate::read().folder_graphs();
-    let plan = &graphs[&Vec::<String>::new()]["plan"];
-    for downstream in [
-        "render", "raster", "shade", "shadow", "term", "app", "still",
-    ] {
-        assert!(!plan.contains(downstream), "plan uses {downstream}");
+    let graphs = Crate::read("crates/pipeline").folder_graphs();
+    let top = &graphs[&Vec::<String>::new()];
+    for downstream in ["render", "raster", "shade", "shadow"] {
+        let plan_uses = top.get("plan").is_some_and(|p| p.contains(downstream));
+        assert!(!plan_uses, "plan uses {downstream}");
     }
+    assert!(graphs[&Vec::<String>::new()]["render"].contains("plan"));
 }
 
 fn path(s: &str) -> ModPath {
@@ -427,52 +470,55 @@ fn path(s: &str) -> ModPath {
 
 #[test]
 fn paths_are_followed_through_reexports_to_their_module() {
-    let krate = Crate::read();
-    // A type re-exported at the root is its module's.
-    assert_eq!(krate.resolve(&path("Renderer")), path("render"));
+    let texture = Crate::read("crates/texture");
     // An old module path kept by a re-export, and an item re-exported twice.
     assert_eq!(
-        krate.resolve(&path("texture::filter::sample")),
-        path("texture::sample::filter")
+        texture.resolve(&path("filter::sample")),
+        path("sample::filter")
     );
     assert_eq!(
-        krate.resolve(&path("texture::filter::Footprint")),
-        path("texture::sample::mip")
+        texture.resolve(&path("filter::Footprint")),
+        path("sample::mip")
     );
-    assert_eq!(
-        krate.resolve(&path("texture::Texture")),
-        path("texture::sample::texture")
-    );
-    // A `use` group with `self` and a nested group, read from a file.
+    assert_eq!(texture.resolve(&path("Texture")), path("sample::texture"));
+    // A `use` group with `self` and a nested group, read from a file; a
+    // path into another crate is no edge.
     let file = File {
-        module: path("texture::decode::load"),
-        code: "use super::{xpm::{self, Xpm}, tiff_picture::Refusal};\nfn f() { crate::Renderer::new(); }\n".into(),
+        module: path("decode::load"),
+        code: "use super::{xpm::{self, Xpm}, tiff_picture::Refusal};\nfn f() { crate::Texture::new(); relief_core::budget::Budget::new(); }\n".into(),
         is_folder: false,
     };
-    let (named, _) = named_paths(&file, &krate.modules);
-    assert!(named.contains(&path("texture::decode::xpm")));
-    assert!(named.contains(&path("texture::decode::xpm::Xpm")));
-    assert!(named.contains(&path("texture::decode::tiff_picture::Refusal")));
-    assert!(named.contains(&path("Renderer::new")));
-    let graphs = krate.folder_graphs();
+    let (named, _) = named_paths(&file, &texture.modules);
+    assert!(named.contains(&path("decode::xpm")));
+    assert!(named.contains(&path("decode::xpm::Xpm")));
+    assert!(named.contains(&path("decode::tiff_picture::Refusal")));
+    assert!(named.contains(&path("Texture::new")));
+    assert_eq!(named.len(), 4, "{named:?}");
     // Edges land in the deepest common folder.
-    assert!(graphs[&path("texture::decode")]["load"].contains("xpm"));
-    assert!(graphs[&path("app")]["view"].contains("state"));
-    assert!(graphs[&Vec::new()]["app"].contains("term"));
+    assert!(texture.folder_graphs()[&path("decode")]["load"].contains("xpm"));
+    let app = Crate::read(".").folder_graphs();
+    assert!(app[&path("app")]["view"].contains("state"));
+    assert!(app[&Vec::new()]["still"].contains("app"));
 }
 
 #[test]
 fn no_folder_has_a_cycle() {
-    let graphs = Crate::read().folder_graphs();
-    assert!(graphs.len() > 10, "folders read: {}", graphs.len());
-    let found: Vec<String> = graphs
-        .iter()
-        .flat_map(|(folder, graph)| {
-            cycles(graph)
-                .into_iter()
-                .map(move |cycle| format!("{}/: {}", folder.join("/"), cycle.join(", ")))
-        })
-        .collect();
+    let mut folders = 0;
+    let mut found = Vec::new();
+    for krate in CRATES {
+        let graphs = Crate::read(krate).folder_graphs();
+        folders += graphs.len();
+        for (folder, graph) in &graphs {
+            for cycle in cycles(graph) {
+                found.push(format!(
+                    "{krate}/src/{}: {}",
+                    folder.join("/"),
+                    cycle.join(", ")
+                ));
+            }
+        }
+    }
+    assert!(folders > 20, "folders read: {folders}");
     assert!(found.is_empty(), "import cycles inside folders: {found:#?}");
 }
 

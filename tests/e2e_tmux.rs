@@ -351,7 +351,7 @@ fn a_panel_over_a_kitty_picture_and_a_resize_then_quit_restore_the_terminal() {
 #[test]
 #[ignore = "run by a_panic_restores_the_terminal in its own terminal"]
 fn panic_child_with_a_frame_in_flight() {
-    use relief::term::guard::{GuardedStdout, TerminalGuard};
+    use relief_term::guard::{GuardedStdout, TerminalGuard};
     use std::io::Write;
     let _guard = TerminalGuard::enter().expect("a terminal");
     let mut out = std::io::BufWriter::new(GuardedStdout::new().unwrap());

@@ -9,7 +9,7 @@ use std::path::Path;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use relief::budget::{self, BUDGET_BYTES};
+use relief_core::budget::{self, BUDGET_BYTES};
 
 /// The heap in use now, and its most since [`start_counting`].
 static LIVE: AtomicUsize = AtomicUsize::new(0);
@@ -244,22 +244,24 @@ const UNRESERVED: usize = 1 << 20;
 /// allocated during the load, the most reserved from the budget during it,
 /// and the heap the model holds once loaded (all beyond what was in use).
 fn load_counted(path: &Path) -> (usize, usize, usize, usize) {
+    // As the binary loads: large files mapped, freed memory kept.
+    relief::process::tune();
     let live = LIVE.load(Ordering::SeqCst);
     MOST.store(live, Ordering::SeqCst);
     budget::reset_peak();
     let reserved = budget::in_use();
-    let triangles_of = |meshes: &mut dyn Iterator<Item = &relief::scene::mesh::Mesh>| {
+    let triangles_of = |meshes: &mut dyn Iterator<Item = &relief_scene::mesh::Mesh>| {
         meshes.map(|m| m.triangles.len()).sum::<usize>()
     };
     let (triangles, allocated, most_reserved, held);
-    if relief::scene::gltf::is_gltf(path) {
-        let model = relief::scene::gltf::load(path).expect("the model loads");
+    if relief_scene::gltf::is_gltf(path) {
+        let model = relief_scene::gltf::load(path).expect("the model loads");
         allocated = MOST.load(Ordering::SeqCst) - live;
         most_reserved = (budget::peak() - reserved) as usize;
         held = LIVE.load(Ordering::SeqCst).saturating_sub(live);
         triangles = triangles_of(&mut model.parts.iter().map(|p| &p.mesh));
     } else {
-        let model = relief::scene::model_file::load(path).expect("the model loads");
+        let model = relief_scene::model_file::load(path).expect("the model loads");
         allocated = MOST.load(Ordering::SeqCst) - live;
         most_reserved = (budget::peak() - reserved) as usize;
         held = LIVE.load(Ordering::SeqCst).saturating_sub(live);
@@ -501,7 +503,7 @@ fn loading_a_model_allocates_no_more_than_it_reserved() {
     }
     // Only the mesh whose normal map reads the second set keeps it.
     let sets = |file: &str| {
-        let model = relief::scene::gltf::load(&dir.join(file)).expect("the model loads");
+        let model = relief_scene::gltf::load(&dir.join(file)).expect("the model loads");
         let mesh = &model.parts[0].mesh;
         (mesh.uv2().len(), mesh.vertices.len())
     };
@@ -571,7 +573,7 @@ fn an_indexed_mesh_holds_at_most_64_bytes_a_triangle() {
         println!("{what}: {triangles} triangles, {per:.1} bytes a triangle held");
         assert!(per <= 64.0, "{what}: {per:.1} bytes a triangle");
     }
-    let model = relief::scene::model_file::load(&sphere).expect("loads");
+    let model = relief_scene::model_file::load(&sphere).expect("loads");
     assert!(model.parts[0].mesh.convex && model.parts[0].mesh.closed);
     let _ = std::fs::remove_dir_all(dir);
 }
@@ -599,7 +601,7 @@ fn loading_a_sphere_peaks_at_150_bytes_a_triangle() {
     let ply = dir.join("sphere.ply");
     std::fs::write(
         &ply,
-        relief::bench::mesh_anchor::uv_sphere_ply(
+        relief_bench::mesh_anchor::uv_sphere_ply(
             rings as u32,
             segments as u32,
             1.0,

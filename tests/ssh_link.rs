@@ -526,7 +526,7 @@ fn keys_drag_and_quit_over_a_slow_ssh_link() {
 }
 
 /// What 1 Mbit/s carries in the hold's acknowledgement delay (40 ms):
-/// the queue a frame may join (`src/term/hold.rs`).
+/// the queue a frame may join (`crates/term/src/hold.rs`).
 const ALLOWANCE_1_MBIT: u64 = 125_000 * 40 / 1000;
 
 /// The link carried the newest frames, not a backlog of stale ones. The pacing keeps
@@ -760,7 +760,7 @@ fn images_sent(bytes: &[u8]) -> Vec<ImageSent> {
             }
             out.push(ImageSent {
                 end,
-                whole: key("i") == Some(u64::from(relief::term::kitty::IMAGE_ID)),
+                whole: key("i") == Some(u64::from(relief_term::kitty::IMAGE_ID)),
                 height: key("r").unwrap_or(0) as usize,
             });
             i = end;
@@ -772,7 +772,7 @@ fn images_sent(bytes: &[u8]) -> Vec<ImageSent> {
                     .find_map(|k| k.strip_prefix(&format!("{name}=")))
                     .and_then(|v| v.parse::<u64>().ok())
             };
-            if key("i") != Some(u64::from(relief::term::kitty::IMAGE_ID)) {
+            if key("i") != Some(u64::from(relief_term::kitty::IMAGE_ID)) {
                 out.push(ImageSent {
                     end,
                     whole: false,

@@ -13,7 +13,7 @@ run one after the other and compare as ratios. Not part of relief's build or CI.
     $PY docs/tools/llvmpipe_mesh.py compare /tmp/relief.png /tmp/llvmpipe.png
     $PY docs/tools/llvmpipe_mesh.py table relief_1m.txt llvmpipe_1m.txt [more pairs...]
 
-The view (relief's, see src/bench/mesh_anchor.rs):
+The view (relief's, see crates/bench/src/mesh_anchor.rs):
 - the model is centred on its bounding box and scaled so its farthest vertex is 1.5
   from the centre; model matrix Rz(0)·Ry(35°)·Rx(25°) (X turned first);
 - camera at (0,0,5) looking at the origin, y up, 60° vertical field of view, aspect

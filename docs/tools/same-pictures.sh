@@ -1,5 +1,5 @@
 #!/bin/sh
-# Renders every bench row (src/bench/config.rs, in `relief render` flags)
+# Renders every bench row (crates/bench/src/config.rs, in `relief render` flags)
 # on several scenes and orientations with two relief binaries and compares
 # the pictures byte for byte: a change that must not alter any picture is
 # checked by `docs/tools/same-pictures.sh OLD_RELIEF NEW_RELIEF`.

@@ -1,7 +1,7 @@
 //! What the user asked for: every key, mouse report and paste becomes an `Action`.
 //!
 //! An option's keys are [`Action::Option`], made from its entry in the
-//! option table ([`crate::options::OPTIONS`]). Another control is one
+//! option table ([`relief_options::OPTIONS`]). Another control is one
 //! `Action` variant, one row in the key table ([`super::keys::KEYS`]) and
 //! one arm in `update`.
 
@@ -12,9 +12,9 @@ use ratatui::layout::Rect;
 use super::frame_cost::FrameCost;
 use super::line_edit::{Completion, Edit};
 use super::textures::TextureListing;
-use crate::options::{OptId, Press};
-use crate::scene::{ModelChoice, SceneKind};
-use crate::term::pacing::LinkInfo;
+use relief_options::{OptId, Press};
+use relief_scene::{ModelChoice, SceneKind};
+use relief_term::pacing::LinkInfo;
 
 /// Which button drags (with its modifier), and so what the drag does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -38,7 +38,7 @@ pub enum Action {
     Escape,
     /// Ctrl-Z: suspend (the shell's `fg` resumes).
     Suspend,
-    /// A key of an option of the table ([`crate::options::OPTIONS`]):
+    /// A key of an option of the table ([`relief_options::OPTIONS`]):
     /// `id` is the option, `press` what the key does to it.
     Option {
         id: OptId,
@@ -176,7 +176,7 @@ pub enum Action {
     Loading(super::load_status::LoadStatus),
     /// What loading the shown model had to say: its warnings go to the
     /// message line, and a point cloud switches the display to points.
-    ModelNotes(crate::scene::LoadedNotes),
+    ModelNotes(relief_scene::LoadedNotes),
     /// The pointer is at a cell (the plasma's light follows it).
     Pointer {
         col: u16,

@@ -1,7 +1,7 @@
 //! What `update` asks the event loop to do: the effects a pure update
 //! cannot have itself.
 
-use crate::scene::{ModelChoice, SceneKind};
+use relief_scene::{ModelChoice, SceneKind};
 
 /// Something `update` asks the event loop to do.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -5,7 +5,7 @@
 //! [`Action`].
 //!
 //! Idle means blocked on the channel: no frame, no CPU. Frames are paced by
-//! the terminal itself (see [`crate::term::pacing`]): each one ends with a
+//! the terminal itself (see [`relief_term::pacing`]): each one ends with a
 //! query, and the next waits for its reply. Whatever arrives meanwhile
 //! (keys, drags, a storm of resizes) is applied all at once and only the
 //! latest state is rendered, so a slow link drops stale frames instead of
@@ -38,14 +38,14 @@ use super::state::{Look, State};
 use super::textures;
 use super::update::update;
 use super::view;
-use crate::framebuffer::{Framebuffer, Rgb};
-use crate::scene::SceneKind;
-use crate::stats::{Counters, FrameStats};
-use crate::term::SgrBackend;
-use crate::term::input::{Input, InputParser};
-use crate::term::modes::{MouseReports, TermModes};
-use crate::term::pacing::{Answers, Pacer, QUERY};
-use crate::term::pixel_view::{PixelFrame, PixelView, TextLook};
+use relief_core::framebuffer::{Framebuffer, Rgb};
+use relief_core::stats::{Counters, FrameStats};
+use relief_scene::SceneKind;
+use relief_term::SgrBackend;
+use relief_term::input::{Input, InputParser};
+use relief_term::modes::{MouseReports, TermModes};
+use relief_term::pacing::{Answers, Pacer, QUERY};
+use relief_term::pixel_view::{PixelFrame, PixelView, TextLook};
 
 /// The terminal modes the state wants: only the plasma asks for every
 /// pointer motion (its light follows the pointer); everything else for
@@ -156,7 +156,7 @@ fn settle(parser: &mut InputParser, fd: RawFd, events: &mut Vec<Input>) {
         } else {
             return;
         };
-        if crate::term::wait::readable_within(fd, wait).unwrap_or(false) {
+        if relief_term::wait::readable_within(fd, wait).unwrap_or(false) {
             return;
         }
         if parser.waiting() {
@@ -312,7 +312,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
     /// Asks for a scene: a model file starts loading on the worker (unless
     /// it is loading already), anything else is built at once. Either way
     /// a load under way for something else stops.
-    fn ask_scene(&mut self, state: &mut State, kind: SceneKind, model: crate::scene::ModelChoice) {
+    fn ask_scene(&mut self, state: &mut State, kind: SceneKind, model: relief_scene::ModelChoice) {
         let shown = (kind, &model) == (state.scene, &state.model);
         if let (Some(loader), Some(stage)) = (&mut self.loader, self.stage) {
             if loader.loading() == Some((kind, &model)) {
@@ -353,7 +353,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
         &self,
         state: &State,
         kind: SceneKind,
-        model: crate::scene::ModelChoice,
+        model: relief_scene::ModelChoice,
     ) -> Action {
         let result = match self.stage {
             Some(stage) if (kind, &model) != (state.scene, &state.model) => {
@@ -365,7 +365,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
     }
 
     /// Builds a scene and tells the state, with what loading the model said.
-    fn build_and_note(&self, state: &mut State, kind: SceneKind, model: crate::scene::ModelChoice) {
+    fn build_and_note(&self, state: &mut State, kind: SceneKind, model: relief_scene::ModelChoice) {
         let built = self.build_scene(state, kind, model);
         self.note_built(state, built);
     }
@@ -379,7 +379,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
             && ok
         {
             let notes = stage.borrow_mut().take_notes();
-            if notes != crate::scene::LoadedNotes::default() {
+            if notes != relief_scene::LoadedNotes::default() {
                 update(state, Action::ModelNotes(notes));
             }
         }
@@ -886,20 +886,20 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
     }
 }
 
-pub use crate::term::pixel_view::enlarge;
+pub use relief_term::pixel_view::enlarge;
 
 /// A paste or typed line split into the first model file it names (by
 /// extension) and the rest, given back as text for the texture list (paths
 /// quoted so spaces survive); none where there is nothing.
-fn split_models(text: &str) -> (Option<crate::scene::ModelChoice>, Option<String>) {
+fn split_models(text: &str) -> (Option<relief_scene::ModelChoice>, Option<String>) {
     let paths = super::texture_list::parse_paste(text);
     let (models, images): (Vec<_>, Vec<_>) = paths
         .into_iter()
-        .partition(|p| crate::scene::model_file::is_model_path(p));
+        .partition(|p| relief_scene::model_file::is_model_path(p));
     let model = models
         .into_iter()
         .next()
-        .map(crate::scene::ModelChoice::File);
+        .map(relief_scene::ModelChoice::File);
     if model.is_none() {
         // Nothing to take out: the list reads the text as it came.
         return (None, Some(text.to_string()));

@@ -7,7 +7,7 @@ use crossterm::event::{Event, KeyModifiers, MouseButton, MouseEventKind};
 use super::action::{Action, DragButton};
 use super::keys::action_for_key;
 use super::state::State;
-use crate::scene::SceneKind;
+use relief_scene::SceneKind;
 
 /// The action a terminal event asks for in this state, if any.
 pub fn action_for_event(state: &State, event: &Event) -> Option<Action> {

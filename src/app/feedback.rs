@@ -1,13 +1,13 @@
 //! What a key says when it cannot act where the user is: a key that would
 //! change something the picture does not show is refused with a message
 //! and changes nothing. The "does it show" conditions are the plan's
-//! ([`crate::plan`]), named by each option's entry
-//! ([`crate::options::OPTIONS`]); this file only words the message.
+//! ([`relief_pipeline::plan`]), named by each option's entry
+//! ([`relief_options::OPTIONS`]); this file only words the message.
 
 use super::action::Action;
 use super::state::State;
-use crate::options::{self, Press};
-use crate::scene::SceneKind;
+use relief_options::Press;
+use relief_scene::SceneKind;
 
 /// The key and what it changes, for the messages (`None`: the action
 /// acts everywhere, or is not a key of the 3D scenes).
@@ -15,7 +15,7 @@ fn three_d_only(action: &Action) -> Option<String> {
     Some(
         match action {
             // Every option of the table is one of the 3D scenes.
-            Action::Option { id, .. } => return Some(options::get(*id).key_title()),
+            Action::Option { id, .. } => return Some(relief_options::get(*id).key_title()),
             Action::RotateStep { .. } => "the arrows (rotation)",
             Action::ResetView => "r (reset the view)",
             Action::ZoomIn | Action::ZoomOut => "i I (zoom)",
@@ -40,7 +40,7 @@ pub fn refusal(state: &State, action: &Action) -> Option<String> {
         Action::TogglePlasmaNormal => {
             Some("z (plasma normal): only in the plasma scene (p)".into())
         }
-        Action::Option { id, .. } => options::get(*id).refusal(&state.ctx()),
+        Action::Option { id, .. } => relief_options::get(*id).refusal(&state.ctx()),
         _ => None,
     }
 }
@@ -62,7 +62,7 @@ pub fn effect_of(action: &Action) -> Option<Action> {
 /// line may not (a narrow screen cuts the figures first).
 pub fn effect(state: &State, action: &Action) -> Option<String> {
     match action {
-        Action::Option { id, .. } => options::get(*id).shown(&state.settings),
+        Action::Option { id, .. } => relief_options::get(*id).shown(&state.settings),
         _ => None,
     }
 }

@@ -4,7 +4,7 @@
 use std::collections::VecDeque;
 use std::time::Duration;
 
-use crate::stats::{Counters, FrameStats};
+use relief_core::stats::{Counters, FrameStats};
 
 /// Frames the panel remembers (and the sparkline shows at most).
 pub const HISTORY: usize = 120;

@@ -14,7 +14,7 @@ use std::sync::mpsc::{RecvTimeoutError, channel};
 use std::time::{Duration, Instant};
 
 use super::load_status::percent;
-use crate::render::{FrameProgress, FrameStep};
+use relief_pipeline::render::{FrameProgress, FrameStep};
 
 /// A frame running this long shows its progress (and a key pressed
 /// meanwhile abandons it: see `app::abandon_when_keys`).

@@ -5,7 +5,7 @@
 //! nor be documented without working.
 //!
 //! An option's keys are declared in its entry of the option table
-//! ([`crate::options::OPTIONS`]). Another control is one `Action` variant,
+//! ([`relief_options::OPTIONS`]). Another control is one `Action` variant,
 //! one row here and one arm in `update`.
 
 use std::sync::LazyLock;
@@ -15,7 +15,7 @@ use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use super::action::Action;
 use super::line_edit::Edit;
 use super::state::State;
-use crate::options::{KeyHelp, OPTIONS};
+use relief_options::{KeyHelp, OPTIONS};
 
 /// Who has the keyboard.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -558,7 +558,7 @@ fn option_rows() -> Vec<Binding> {
                 // from the entries.
                 help: match k.help {
                     KeyHelp::Line { text, .. } => Line(
-                        String::leak(crate::options::help_keys(i, j)),
+                        String::leak(relief_options::help_keys(i, j)),
                         String::leak(opt.fill(text)),
                     ),
                     KeyHelp::Above => Above,

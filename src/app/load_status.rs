@@ -2,7 +2,7 @@
 
 use std::time::Duration;
 
-use crate::scene::load_progress::{LoadStep, ProgressNow};
+use relief_scene::load_progress::{LoadStep, ProgressNow};
 
 /// A load under way, as the loop last read it.
 #[derive(Clone, Debug, PartialEq)]

@@ -3,7 +3,7 @@
 //!
 //! One load at a time: asking for another scene cancels the one under way
 //! (its worker stops at its next check, see
-//! [`crate::scene::load_progress`], and what it still sends is ignored).
+//! [`relief_scene::load_progress`], and what it still sends is ignored).
 //! The worker ends by calling the loop's wake-up with its load's number;
 //! the loop then takes the result with [`Loader::finished`] and shows it,
 //! or keeps the scene shown when it failed. Quitting does not wait for a
@@ -15,9 +15,9 @@ use std::time::Instant;
 
 use super::load_status::LoadStatus;
 use super::stage::{BuildOrder, Ready};
-use crate::sanitize::display_path;
-use crate::scene::load_progress::{self, LoadProgress};
-use crate::scene::{ModelChoice, SceneKind};
+use relief_core::sanitize::display_path;
+use relief_scene::load_progress::{self, LoadProgress};
+use relief_scene::{ModelChoice, SceneKind};
 
 /// Tells the loop that load number `id` is done (sends it a message).
 pub type Wake = Arc<dyn Fn(u64) + Send + Sync>;
@@ -86,7 +86,7 @@ impl Loader {
         let wake = self.wake.clone();
         std::thread::spawn(move || {
             let built = load_progress::run_with(&progress, || {
-                crate::contain::contain(|| order.build())
+                relief_core::contain::contain(|| order.build())
                     .unwrap_or_else(|cause| Err(format!("the load failed ({cause})")))
             });
             // The loop may have moved on (cancelled, or quit): then no one hears.

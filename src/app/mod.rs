@@ -41,15 +41,15 @@ use anyhow::{Context, bail};
 use ratatui::Terminal;
 
 use crate::cli::{Cli, ColorDepthArg};
-use crate::term::guard::{GuardedStdout, TerminalGuard};
-use crate::term::{ColorDepth, SgrBackend, depth, probe};
 use event_loop::{Exit, Looper, Msg, spawn_terminal_reader};
 use frame_watch::LONG_FRAME;
 use loading::Loader;
+use relief_term::guard::{GuardedStdout, TerminalGuard};
+use relief_term::{ColorDepth, SgrBackend, depth, probe};
 use stage::Stage;
 
 /// The colour depth to use: `--color` when given, else what the environment
-/// announces (the view then also asks the terminal, see [`crate::term::probe`]).
+/// announces (the view then also asks the terminal, see [`relief_term::probe`]).
 pub fn color_depth(arg: Option<ColorDepthArg>) -> ColorDepth {
     match arg {
         Some(ColorDepthArg::Truecolor) => ColorDepth::Truecolor,
@@ -79,7 +79,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let signals = spawn_signal_thread(tx.clone())?;
     // tmux and infocmp are asked before the terminal is set up.
     let settled = cli.color.is_none().then(depth::settled_here).flatten();
-    let clues = crate::term::format::clues_here(cli.format);
+    let clues = relief_term::format::clues_here(cli.format);
     let guard = TerminalGuard::enter().context("cannot set up the terminal")?;
     let typed = probe_terminal(&cli, tty.as_ref(), &mut state, settled, clues);
     // Keys pressed are counted on their way to the loop, so a long frame
@@ -92,7 +92,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let (mut renderer, watch) = watched_renderer()?;
     let mut looper = Looper {
         terminal: &mut terminal,
-        render: |s: &State, fb: &mut crate::Framebuffer| {
+        render: |s: &State, fb: &mut relief_core::framebuffer::Framebuffer| {
             let mut stage = stage.borrow_mut();
             let list = textures.borrow();
             if list.generation() != stage_generation {
@@ -108,18 +108,18 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
             renderer.set_cancel(Some(abandon_when_keys(keys.clone())));
             stage.render(&mut renderer, s, fb)
         },
-        background: crate::scene::BACKGROUND,
+        background: relief_scene::BACKGROUND,
         rx: &rx,
         textures: Some(&textures),
         stage: Some(&stage),
-        pacer: crate::term::pacing::pacer_here(cli.link),
+        pacer: relief_term::pacing::pacer_here(cli.link),
         loader: Some(loader),
         watch: Some(watch),
     };
     let exit = looper.run(&mut state);
     // The screen first (quitting never waits for the terminal), then the
     // replies still on their way are read so the shell does not get them.
-    crate::term::guard::restore_screen();
+    relief_term::guard::restore_screen();
     if !matches!(exit, Ok(Exit::InputClosed(_))) {
         looper.drain_replies(std::time::Duration::from_millis(500));
     }
@@ -140,7 +140,7 @@ fn start_loader(
     tx: mpsc::Sender<Msg>,
     stage: &Stage,
     cli: &Cli,
-    first_load: Option<crate::scene::ModelChoice>,
+    first_load: Option<relief_scene::ModelChoice>,
     state: &mut State,
 ) -> Loader {
     let mut loader = Loader::new(move |id| {
@@ -156,9 +156,10 @@ fn start_loader(
 
 /// The renderer, with a long frame's progress counted by it and shown by
 /// the loop's watch.
-fn watched_renderer() -> anyhow::Result<(crate::Renderer, frame_watch::FrameWatch)> {
-    let mut renderer = crate::Renderer::new();
-    let progress = Arc::new(crate::render::FrameProgress::new());
+fn watched_renderer() -> anyhow::Result<(relief_pipeline::render::Renderer, frame_watch::FrameWatch)>
+{
+    let mut renderer = relief_pipeline::render::Renderer::new();
+    let progress = Arc::new(relief_pipeline::render::FrameProgress::new());
     renderer.set_progress(Some(progress.clone()));
     let watch = frame_watch::FrameWatch {
         progress,
@@ -186,7 +187,7 @@ struct Start {
     textures: texture_list::TextureList,
     /// The model file to load once the view runs (`cli`'s model is then
     /// the cube shown meanwhile).
-    first_load: Option<crate::scene::ModelChoice>,
+    first_load: Option<relief_scene::ModelChoice>,
     /// What reading the positional arguments as models noted.
     model_notes: Vec<String>,
 }
@@ -203,7 +204,7 @@ fn initial_state(cli: &mut Cli) -> anyhow::Result<Start> {
         texture_list::TextureList::from_args(&cli.images, cli.view.height_map.as_deref());
     if !errors.is_empty() {
         let text: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
-        state.message = Some(crate::sanitize::clean(&text.join("; ")));
+        state.message = Some(relief_core::sanitize::clean(&text.join("; ")));
     }
     state.scene = cli.view.scene;
     // A model file loads on the worker once the view runs (with its
@@ -211,12 +212,12 @@ fn initial_state(cli: &mut Cli) -> anyhow::Result<Start> {
     // stays if the file cannot be loaded. One that cannot even be opened
     // stops here, before the terminal is touched.
     let mut first_load = None;
-    if let crate::scene::ModelChoice::File(path) = &cli.view.model {
+    if let relief_scene::ModelChoice::File(path) = &cli.view.model {
         state.obj = Some(path.clone());
         if Loader::wants(cli.view.scene, &cli.view.model) {
-            crate::scene::model_io::check_openable(path)?;
+            relief_scene::model_io::check_openable(path)?;
             first_load = Some(cli.view.model.clone());
-            cli.view.model = crate::scene::ModelChoice::Cube;
+            cli.view.model = relief_scene::ModelChoice::Cube;
         }
     }
     state.model = cli.view.model.clone();
@@ -241,7 +242,7 @@ fn read_stage(
     model_notes: Vec<String>,
 ) -> anyhow::Result<Stage> {
     // The flags' maps, read as `relief render` reads them.
-    let read = crate::scene::flag_maps::FlagMaps::read(
+    let read = relief_scene::flag_maps::FlagMaps::read(
         cli.view.specular_map.as_deref(),
         cli.view.normal_map.as_deref(),
         cli.view.environment_map.as_deref(),
@@ -250,7 +251,7 @@ fn read_stage(
         Ok(map) => {
             if let Some(map) = &map {
                 state.normal_map_file = Some(map.name.clone());
-                if !crate::plan::normal_map_file_shows(&state.settings, true) {
+                if !relief_pipeline::plan::normal_map_file_shows(&state.settings, true) {
                     state.message = Some(format!(
                         "normal map {} loaded: it shows with dot3 (N)",
                         map.name
@@ -261,7 +262,7 @@ fn read_stage(
         }
         Err(e) => {
             state.settings.normal_map_file = false;
-            let text = crate::sanitize::clean(&e.to_string());
+            let text = relief_core::sanitize::clean(&e.to_string());
             state.message = Some(match state.message.take() {
                 Some(before) => format!("{before}; {text}"),
                 None => text,
@@ -275,14 +276,14 @@ fn read_stage(
         textures.texture().clone(),
         cli.view.all_faces,
     )?
-    .with_maps(crate::scene::flag_maps::FlagMaps {
+    .with_maps(relief_scene::flag_maps::FlagMaps {
         specular: read.specular?,
         normal,
         environment: read.environment?,
     });
     let mut notes = stage.take_notes();
     notes.warnings.splice(0..0, model_notes);
-    if notes != crate::scene::LoadedNotes::default() {
+    if notes != relief_scene::LoadedNotes::default() {
         update(state, Action::ModelNotes(notes));
     }
     Ok(stage)
@@ -298,7 +299,7 @@ fn probe_terminal(
     tty: Option<&std::fs::File>,
     state: &mut State,
     settled: Option<depth::DepthChoice>,
-    mut clues: crate::term::format::Clues,
+    mut clues: relief_term::format::Clues,
 ) -> Vec<u8> {
     let mut typed = Vec::new();
     let ask_colour = cli.color.is_none() && settled.is_none();
@@ -332,7 +333,7 @@ fn probe_terminal(
         sixel_max = found.sixel_max;
         typed = found.other;
     }
-    state.output = crate::term::pixel_view::Output::from_clues(&clues, cell_reply);
+    state.output = relief_term::pixel_view::Output::from_clues(&clues, cell_reply);
     state.output.sixel_max = sixel_max;
     if state.message.is_none() {
         state.message = state.output.choice.note.clone();
@@ -383,7 +384,9 @@ fn count_keys(tx: mpsc::Sender<Msg>, keys: Arc<std::sync::atomic::AtomicU64>) ->
 
 /// The renderer's cancel hook for the frame starting now: stop once the
 /// frame has run [`LONG_FRAME`] and a key was pressed since it began.
-fn abandon_when_keys(keys: Arc<std::sync::atomic::AtomicU64>) -> crate::render::CancelHook {
+fn abandon_when_keys(
+    keys: Arc<std::sync::atomic::AtomicU64>,
+) -> relief_pipeline::render::CancelHook {
     let start = std::time::Instant::now();
     let before = keys.load(std::sync::atomic::Ordering::Relaxed);
     Arc::new(move || {
@@ -407,7 +410,7 @@ fn spawn_signal_thread(tx: mpsc::Sender<Msg>) -> anyhow::Result<signal_hook::ite
             }
             let _ = tx.send(Msg::Signal(sig));
             std::thread::sleep(std::time::Duration::from_secs(1));
-            crate::term::guard::restore();
+            relief_term::guard::restore();
             std::process::exit(128 + sig);
         }
     });

@@ -2,7 +2,7 @@
 //! step) and the clock that moves it: what `update` does with them.
 
 use super::state::{ANIMATION_STEP, Playback, State};
-use crate::sanitize::clean;
+use relief_core::sanitize::clean;
 
 /// Longest step one tick moves the animation: a stall (a slow link) is
 /// not made up for in one leap.

@@ -11,7 +11,7 @@
 
 use std::time::{Duration, Instant};
 
-use crate::term::pacing::{Activity, Pacer};
+use relief_term::pacing::{Activity, Pacer};
 
 /// Auto-rotation frame pacing.
 pub const FRAME_INTERVAL: Duration = Duration::from_millis(33);
@@ -270,7 +270,7 @@ impl Schedule {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::term::hold::{Hold, HoldBy};
+    use relief_term::hold::{Hold, HoldBy};
 
     struct Clock(Instant);
 

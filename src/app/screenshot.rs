@@ -4,9 +4,9 @@
 use std::time::{SystemTime, UNIX_EPOCH};
 
 use super::state::State;
-use crate::framebuffer::Framebuffer;
-use crate::scene::SceneKind;
-use crate::stats::FrameStats;
+use relief_core::framebuffer::Framebuffer;
+use relief_core::stats::FrameStats;
+use relief_scene::SceneKind;
 
 /// The screenshot is at least this wide: the view's picture (a pixel per
 /// column) is enlarged by a whole factor until it is.
@@ -73,9 +73,9 @@ pub fn save(
     if bw == 0 || bh == 0 {
         return Err("no picture on this screen".into());
     }
-    let _memory = crate::budget::reserve(
+    let _memory = relief_core::budget::reserve(
         &format!("a {bw}x{bh} screenshot"),
-        crate::budget::frame_bytes_for(bw, bh, state.settings.aa),
+        relief_core::budget::frame_bytes_for(bw, bh, state.settings.aa),
     )
     .map_err(|e| e.to_string())?;
     let mut fb = Framebuffer::new(bw, bh);

@@ -9,15 +9,15 @@ use std::time::Instant;
 
 use glam::Vec3;
 
-use crate::framebuffer::Framebuffer;
-use crate::render::Renderer;
-use crate::sanitize::clean;
-use crate::scene::camera::light_turn;
-use crate::scene::flag_maps::FlagMaps;
-use crate::scene::obj::ObjError;
-use crate::scene::{Built, Camera, LoadedNotes, ModelChoice, SceneKind, build_scene_noting};
-use crate::stats::FrameStats;
-use crate::texture::Texture;
+use relief_core::framebuffer::Framebuffer;
+use relief_core::sanitize::clean;
+use relief_core::stats::FrameStats;
+use relief_pipeline::render::Renderer;
+use relief_scene::camera::light_turn;
+use relief_scene::flag_maps::FlagMaps;
+use relief_scene::obj::ObjError;
+use relief_scene::{Built, Camera, LoadedNotes, ModelChoice, SceneKind, build_scene_noting};
+use relief_texture::Texture;
 
 use super::state::{State, plasma_light};
 
@@ -171,7 +171,7 @@ impl Stage {
     pub fn model_textures(&self, model: &ModelChoice) -> Vec<String> {
         match (&self.built, model) {
             (Built::Scene(scene), ModelChoice::File(_)) => {
-                crate::scene::model_textures::model_textures(scene)
+                relief_scene::model_textures::model_textures(scene)
             }
             _ => Vec::new(),
         }

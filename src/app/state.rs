@@ -9,12 +9,12 @@ use super::action::DragButton;
 use super::frame_cost::CostHistory;
 use super::load_status::LoadStatus;
 use super::textures::TexturePanel;
-use crate::plasma::PlasmaNormal;
-use crate::scene::camera::{MAX_DISTANCE, MIN_DISTANCE, REFERENCE_DISTANCE};
-use crate::scene::{ModelChoice, SceneKind};
-use crate::settings::{Settings, normalize_degrees};
-use crate::term::pacing::LinkInfo;
-use crate::term::{ColorDepth, Symbols};
+use relief_core::settings::{Settings, normalize_degrees};
+use relief_plasma::PlasmaNormal;
+use relief_scene::camera::{MAX_DISTANCE, MIN_DISTANCE, REFERENCE_DISTANCE};
+use relief_scene::{ModelChoice, SceneKind};
+use relief_term::pacing::LinkInfo;
+use relief_term::{ColorDepth, Symbols};
 
 /// Degrees per column of a drag (a column is one pixel wide).
 pub const DEG_PER_COL: f32 = 2.0;
@@ -29,7 +29,7 @@ pub const PAN_PER_COL: f32 = 0.06;
 pub const PAN_MAX: Vec2 = Vec2::splat(20.0);
 /// Auto-rotation speed about Y, degrees per second.
 pub const AUTO_ROTATE_SPEED: f32 = 40.0;
-pub use crate::settings::{BUMP_FACTOR, BUMP_MAX, BUMP_MIN};
+pub use relief_core::settings::{BUMP_FACTOR, BUMP_MAX, BUMP_MIN};
 /// A zoom step (wheel notch, `i` or `I`) divides or multiplies the camera
 /// distance by this.
 pub const ZOOM_STEP: f32 = 1.125;
@@ -82,14 +82,14 @@ pub struct State {
     pub start_rotation: Vec3,
     pub depth: ColorDepth,
     /// What decided the depth (`--color`, `COLORTERM`, tmux…: see
-    /// [`crate::term::depth`]); shown in the cost panel.
+    /// [`relief_term::depth`]); shown in the cost panel.
     pub depth_source: String,
     /// Ordered dithering in 256 and 16 colours.
     pub dither: bool,
     /// Glyphs the picture is drawn with (`u` cycles them).
     pub symbols: Symbols,
     /// Text symbols or pixel images (`U` cycles them), and why.
-    pub output: crate::term::pixel_view::Output,
+    pub output: relief_term::pixel_view::Output,
     pub help: bool,
     /// First help line shown when the help is taller than the screen.
     pub help_scroll: u16,
@@ -296,8 +296,8 @@ impl State {
     }
 
     /// What the option table's status fields and key messages read.
-    pub fn ctx(&self) -> crate::options::Ctx<'_> {
-        crate::options::Ctx {
+    pub fn ctx(&self) -> relief_options::Ctx<'_> {
+        relief_options::Ctx {
             settings: &self.settings,
             lights_on: self.light_on.iter().any(|&on| on),
             normal_map_loaded: self.normal_map_file.is_some(),

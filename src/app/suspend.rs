@@ -7,9 +7,9 @@ use std::io;
 /// Restores the terminal, stops the process, and on resuming sets the
 /// terminal up again. The caller redraws everything (the screen is new).
 pub fn suspend() -> io::Result<()> {
-    crate::term::guard::restore();
+    relief_term::guard::restore();
     // SIGTSTP has its default action here (stop): the call returns once
     // the process is continued.
     signal_hook::low_level::raise(signal_hook::consts::SIGTSTP)?;
-    crate::term::guard::reenter()
+    relief_term::guard::reenter()
 }

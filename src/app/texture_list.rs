@@ -9,10 +9,10 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::thumbnail::Preview;
-use crate::sanitize;
-use crate::texture::Texture;
-use crate::texture::decode::builtin::{Builtin, builtins};
-use crate::texture::decode::load::{TextureError, load_texture, with_height_map};
+use relief_core::sanitize;
+use relief_texture::Texture;
+use relief_texture::decode::builtin::{Builtin, builtins};
+use relief_texture::decode::load::{TextureError, load_texture, with_height_map};
 
 /// Where an entry's pixels come from.
 #[derive(Clone, Debug)]
@@ -133,7 +133,7 @@ impl TextureList {
         // decode, the generator gives the same texels.
         let texture = entries[0]
             .load()
-            .unwrap_or_else(|_| crate::texture::decode::procedural::brick());
+            .unwrap_or_else(|_| relief_texture::decode::procedural::brick());
         TextureList {
             entries,
             current: 0,

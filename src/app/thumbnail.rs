@@ -1,9 +1,9 @@
 //! A texture's preview for the texture panel: its size and a few pixels of
 //! its colour, each the mean of the texels it covers.
 
-use crate::framebuffer::Framebuffer;
-use crate::texture::Texture;
-use crate::texture::decode::resample;
+use relief_core::framebuffer::Framebuffer;
+use relief_texture::Texture;
+use relief_texture::decode::resample;
 
 /// Pixels across a thumbnail (one terminal column each).
 pub const THUMB_WIDTH: usize = 4;

@@ -13,7 +13,7 @@ use super::action::Action;
 use super::command::Command;
 use super::playback;
 use super::state::State;
-use crate::sanitize::clean;
+use relief_core::sanitize::clean;
 
 /// Whether `action` comes from the user (a key, a click, a paste), not
 /// from the loop reporting something: the user's next action clears the
@@ -147,7 +147,7 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
 /// The options of the picture and of its output.
 fn picture(state: &mut State, action: Action) {
     match action {
-        Action::Option { id, press } => crate::options::get(id).press(&mut state.settings, press),
+        Action::Option { id, press } => relief_options::get(id).press(&mut state.settings, press),
         Action::CycleSymbols => state.symbols = state.symbols.next(),
         Action::CycleFormat => {
             state.output.cycle();

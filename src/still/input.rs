@@ -4,10 +4,10 @@
 
 use std::io::{IsTerminal, Read};
 
-use crate::budget::{self, Reservation};
-use crate::sanitize::io_reason;
-use crate::scene::model_bytes::{self, BytesModel, Content};
-use crate::texture::Texture;
+use relief_core::budget::{self, Reservation};
+use relief_core::sanitize::io_reason;
+use relief_scene::model_bytes::{self, BytesModel, Content};
+use relief_texture::Texture;
 
 /// How a model from standard input is named in messages ("model from
 /// standard input, line 3: …").
@@ -29,7 +29,7 @@ pub fn read_stdin_file() -> anyhow::Result<StdinFile> {
     let (bytes, _held) = read_stdin()?;
     match model_bytes::content_of(&bytes) {
         Some(Content::Picture) => Ok(StdinFile::Picture(
-            crate::texture::load::load_texture_from_bytes(PICTURE_NAME, &bytes)?,
+            relief_texture::load::load_texture_from_bytes(PICTURE_NAME, &bytes)?,
         )),
         Some(Content::Model(format)) => Ok(StdinFile::Model(model_bytes::load_model(
             MODEL_NAME, format, &bytes,

@@ -10,13 +10,14 @@ use std::sync::Arc;
 use anyhow::Context;
 
 use crate::cli::RenderArgs;
-use crate::sanitize::clean;
-use crate::scene::build::LoadedNotes;
-use crate::scene::flag_maps::FlagMaps;
-use crate::scene::{Built, SceneKind, build_scene_noting};
-use crate::settings::Settings;
-use crate::texture::decode::size_cap;
-use crate::{Framebuffer, Renderer};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::sanitize::clean;
+use relief_core::settings::Settings;
+use relief_pipeline::render::Renderer;
+use relief_scene::build::LoadedNotes;
+use relief_scene::flag_maps::FlagMaps;
+use relief_scene::{Built, SceneKind, build_scene_noting};
+use relief_texture::decode::size_cap;
 
 pub mod input;
 pub mod out;
@@ -33,7 +34,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let (width, height) = frame_size(args);
     let mut settings = args.view.settings();
     // A preview decodes its pictures no larger than it can show them.
-    let k = crate::raster::aa::ssaa_factor(settings.aa, width, height);
+    let k = relief_pipeline::raster::aa::ssaa_factor(settings.aa, width, height);
     let cap = args
         .cells
         .map(|_| size_cap::side_for_frame(width * k, height * k));
@@ -42,14 +43,14 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     // model file named on the command line does.
     let model_view = matches!(&built, Built::Scene(s) if s.model_view.is_some());
     if model_view && args.view.rotate.is_none() {
-        settings.rotation = crate::scene::model_view::START_ROTATION;
+        settings.rotation = relief_scene::model_view::START_ROTATION;
     }
     for warning in &notes.warnings {
         eprintln!("relief: warning: {}", clean(warning));
     }
-    if notes.points && settings.display == crate::settings::Display::Fill {
+    if notes.points && settings.display == relief_core::settings::Display::Fill {
         eprintln!("relief: the model is a point cloud: drawn as points");
-        settings.display = crate::settings::Display::Points;
+        settings.display = relief_core::settings::Display::Points;
     }
     let fb = draw(args, built, &maps, &settings, (width, height))?;
     write_frame_out(args, &fb)
@@ -59,7 +60,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
 /// the file places it.
 fn through_file_camera(
     args: &RenderArgs,
-    scene: &mut crate::scene::Scene,
+    scene: &mut relief_scene::Scene,
     settings: &mut Settings,
 ) -> anyhow::Result<()> {
     let Some(k) = args.camera else {
@@ -78,7 +79,7 @@ fn through_file_camera(
 
 /// An animated model posed at `--time` into `--clip` (its first clip at
 /// 0 s by default); either flag for a model without animation is noted.
-fn pose(args: &RenderArgs, scene: &mut crate::scene::Scene) -> anyhow::Result<()> {
+fn pose(args: &RenderArgs, scene: &mut relief_scene::Scene) -> anyhow::Result<()> {
     let Some(motion) = &mut scene.motion else {
         if args.time.is_some() || args.clip.is_some() {
             eprintln!("relief: the model has no animation: --time and --clip do nothing");
@@ -105,7 +106,7 @@ fn frame_size(args: &RenderArgs) -> (usize, usize) {
         return (args.width as usize, args.height as usize);
     };
     if args.ansi && args.format.is_pixels() {
-        use crate::term::pixel_view::{cell_pixels, frame_size, window_size};
+        use relief_term::pixel_view::{cell_pixels, frame_size, window_size};
         let (cell, _) = cell_pixels(window_size(), None);
         return frame_size(cells.cols, cells.rows, cell);
     }
@@ -132,13 +133,13 @@ fn load_scene(args: &RenderArgs) -> anyhow::Result<(Built, FlagMaps, LoadedNotes
     // Errors name the file and are already free of control characters.
     let height_map = view.height_map.as_deref();
     let texture = match (picture, height_map) {
-        (Some(color), Some(path)) => crate::texture::load::with_height_map(
+        (Some(color), Some(path)) => relief_texture::load::with_height_map(
             color,
-            &crate::texture::load::load_texture(path)?,
+            &relief_texture::load::load_texture(path)?,
         )?,
         (Some(color), None) => color,
         (None, _) => {
-            crate::texture::load::load_for_view(image.first().map(PathBuf::as_path), height_map)?
+            relief_texture::load::load_for_view(image.first().map(PathBuf::as_path), height_map)?
         }
     };
     let maps = FlagMaps::read(
@@ -173,9 +174,9 @@ fn draw(
     (width, height): (usize, usize),
 ) -> anyhow::Result<Framebuffer> {
     // The frame's memory is reserved before any of it exists.
-    let _frame = crate::budget::reserve(
+    let _frame = relief_core::budget::reserve(
         &format!("a {width}x{height} frame"),
-        crate::budget::frame_bytes_for(width, height, settings.aa),
+        relief_core::budget::frame_bytes_for(width, height, settings.aa),
     )?;
     let mut fb = Framebuffer::new(width, height);
     match built {
@@ -206,10 +207,10 @@ fn draw(
 /// standard output (`--ansi`), or a picture (`--out`).
 fn write_frame_out(args: &RenderArgs, fb: &Framebuffer) -> anyhow::Result<()> {
     let depth = crate::app::color_depth(Some(args.color));
-    let pad = crate::scene::BACKGROUND;
+    let pad = relief_scene::BACKGROUND;
     if args.ansi {
         let mut out = std::io::BufWriter::new(std::io::stdout().lock());
-        return crate::term::format::write_frame(
+        return relief_term::format::write_frame(
             fb,
             args.format,
             args.symbols,
@@ -225,24 +226,24 @@ fn write_frame_out(args: &RenderArgs, fb: &Framebuffer) -> anyhow::Result<()> {
     let out = args.out.as_ref().context("--out FILE.png is required")?;
     let format = output_format(out)?;
     let out = &out_target(out)?;
-    if depth == crate::term::ColorDepth::Truecolor && args.symbols == crate::term::Symbols::Half {
+    if depth == relief_term::ColorDepth::Truecolor && args.symbols == relief_term::Symbols::Half {
         write_picture(fb, out, format)
     } else {
         // The picture a terminal with that depth shows: its cells first.
         let (w, h) = args.symbols.cells_for_pixels(fb.width(), fb.height());
-        let _cells = crate::budget::reserve(
+        let _cells = relief_core::budget::reserve(
             &format!(
                 "the {w}x{h} cells of a {}x{} frame",
                 fb.width(),
                 fb.height()
             ),
             (w * h * std::mem::size_of::<ratatui::buffer::Cell>()
-                + fb.width() * fb.height() * crate::budget::FRAME_BYTES_PER_PIXEL as usize)
+                + fb.width() * fb.height() * relief_core::budget::FRAME_BYTES_PER_PIXEL as usize)
                 as u64,
         )?;
-        let cells = crate::term::ansi::symbol_cells(fb, args.symbols, depth, args.dither, pad);
+        let cells = relief_term::ansi::symbol_cells(fb, args.symbols, depth, args.dither, pad);
         let shown =
-            crate::term::cells::shown_picture(&cells, args.symbols, fb.width(), fb.height(), pad);
+            relief_term::cells::shown_picture(&cells, args.symbols, fb.width(), fb.height(), pad);
         drop(cells);
         write_picture(&shown, out, format)
     }
@@ -251,7 +252,7 @@ fn write_frame_out(args: &RenderArgs, fb: &Framebuffer) -> anyhow::Result<()> {
 /// Things `render` was asked for that it cannot do, said on stderr before
 /// it does the rest; and what makes it stop before rendering.
 fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
-    use crate::scene::{ModelChoice, SceneKind};
+    use relief_scene::{ModelChoice, SceneKind};
     if args.ansi || args.out.as_ref().is_some_and(|o| o.as_os_str() == "-") {
         // Before any file is opened or anything rendered.
         stdout::check_open()?;
@@ -266,17 +267,17 @@ fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
             if view.scene == SceneKind::Plasma { "plasma" } else { "shadow" },
         ));
     }
-    if view.normal_map.is_some() && !crate::plan::normal_map_file_shows(&settings, true) {
+    if view.normal_map.is_some() && !relief_pipeline::plan::normal_map_file_shows(&settings, true) {
         notes.push(
             "--normal-map shows with --technique dot3 (the other techniques read the height map)"
                 .into(),
         );
     }
     let (w, h) = frame_size(args);
-    let k = crate::raster::aa::ssaa_factor(settings.aa, w, h);
+    let k = relief_pipeline::raster::aa::ssaa_factor(settings.aa, w, h);
     let wanted = match settings.aa {
-        crate::settings::AntiAlias::Ssaa2 => 2,
-        crate::settings::AntiAlias::Ssaa4 => 4,
+        relief_core::settings::AntiAlias::Ssaa2 => 2,
+        relief_core::settings::AntiAlias::Ssaa4 => 4,
         _ => 1,
     };
     if k < wanted {
@@ -287,7 +288,7 @@ fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
         };
         notes.push(format!(
             "--aa {wanted}x{wanted} falls back to {now} at {w}x{h}: the supersampled frame would exceed {} samples",
-            crate::raster::aa::MAX_SUPERSAMPLES
+            relief_pipeline::raster::aa::MAX_SUPERSAMPLES
         ));
     }
     if let Some(out) = &args.out {

@@ -5,8 +5,8 @@ use std::io::Write;
 
 use anyhow::Context;
 
-use crate::Framebuffer;
-use crate::sanitize::{clean, io_reason};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::sanitize::{clean, io_reason};
 
 /// Where `--out` writes.
 #[derive(Debug)]
@@ -27,7 +27,7 @@ const MAX_LINKS: usize = 40;
 /// replaced behind the user's back).
 pub fn out_target(out: &std::path::Path) -> anyhow::Result<OutTarget> {
     use std::io::IsTerminal;
-    let shown = crate::sanitize::display_path(out);
+    let shown = relief_core::sanitize::display_path(out);
     if out.as_os_str() == "-" {
         if std::io::stdout().is_terminal() {
             anyhow::bail!(
@@ -84,7 +84,7 @@ pub fn output_format(out: &std::path::Path) -> anyhow::Result<image::ImageFormat
         Some(f @ (F::Png | F::Jpeg | F::Bmp | F::Tga | F::Tiff | F::Qoi | F::Farbfeld)) => Ok(f),
         _ => anyhow::bail!(
             "{}: unknown picture extension (use .png, .jpg, .bmp, .tga, .tif, .ppm, .qoi or .ff)",
-            crate::sanitize::display_path(out)
+            relief_core::sanitize::display_path(out)
         ),
     }
 }
@@ -137,7 +137,7 @@ pub fn write_picture(
                 .map_err(super::stdout::write_error);
         }
     };
-    let shown = crate::sanitize::display_path(out);
+    let shown = relief_core::sanitize::display_path(out);
     // A file replaced keeps its permissions.
     let permissions = std::fs::metadata(out).ok().map(|m| m.permissions());
     let dir = match out.parent() {

@@ -6,7 +6,7 @@
 use std::io;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::sanitize::io_reason;
+use relief_core::sanitize::io_reason;
 
 /// The reader at the other end of standard output closed it (a pager
 /// quit, a file manager moved on to another file): no error for a filter,

@@ -11,9 +11,9 @@ use ratatui::Terminal;
 use relief::app::State;
 use relief::app::event_loop::{Looper, Msg};
 use relief::app::texture_list::TextureList;
-use relief::settings::Settings;
-use relief::term::{ColorDepth, SgrBackend};
-use relief::texture::load::load_texture_from_bytes;
+use relief_core::settings::Settings;
+use relief_term::{ColorDepth, SgrBackend};
+use relief_texture::load::load_texture_from_bytes;
 
 use crate::hostile;
 
@@ -26,7 +26,7 @@ fn decoder_panics_become_errors_and_leave_the_hook_silent() {
     // Stands for the terminal guard's hook: it would restore the terminal.
     let previous = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
-        if !relief::contain::is_containing() {
+        if !relief_core::contain::is_containing() {
             HOOK_CALLS.fetch_add(1, Ordering::SeqCst);
             previous(info);
         }
@@ -68,10 +68,14 @@ fn decoder_panics_become_errors_and_leave_the_hook_silent() {
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     Looper {
         textures: Some(&list),
-        ..Looper::new(&mut term, &rx, |_: &State, fb: &mut relief::Framebuffer| {
-            fb.fill([1, 2, 3]);
-            relief::FrameStats::default()
-        })
+        ..Looper::new(
+            &mut term,
+            &rx,
+            |_: &State, fb: &mut relief_core::framebuffer::Framebuffer| {
+                fb.fill([1, 2, 3]);
+                relief_core::stats::FrameStats::default()
+            },
+        )
     }
     .run(&mut state)
     .unwrap();

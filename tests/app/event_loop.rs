@@ -7,9 +7,9 @@ use crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
 use ratatui::Terminal;
 use relief::app::State;
 use relief::app::event_loop::{Exit, Looper, Msg, spawn_input_reader};
-use relief::settings::Settings;
-use relief::term::backend::BEGIN_SYNC;
-use relief::term::{ColorDepth, SgrBackend};
+use relief_core::settings::Settings;
+use relief_term::backend::BEGIN_SYNC;
+use relief_term::{ColorDepth, SgrBackend};
 
 fn key(c: char) -> Msg {
     Msg::Input(Event::Key(KeyEvent::new(
@@ -33,11 +33,15 @@ fn run(msgs: Vec<Msg>, close: bool) -> (Exit, usize, usize, State) {
     let mut term = Terminal::new(SgrBackend::with_size(Vec::new(), 40, 12)).unwrap();
     let mut renders = 0;
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
-    let exit = Looper::new(&mut term, &rx, |_: &State, fb: &mut relief::Framebuffer| {
-        renders += 1;
-        fb.fill([renders as u8 * 40, 0, 0]);
-        relief::FrameStats::default()
-    })
+    let exit = Looper::new(
+        &mut term,
+        &rx,
+        |_: &State, fb: &mut relief_core::framebuffer::Framebuffer| {
+            renders += 1;
+            fb.fill([renders as u8 * 40, 0, 0]);
+            relief_core::stats::FrameStats::default()
+        },
+    )
     .run(&mut state)
     .unwrap();
     let out = term.backend().writer();
@@ -66,7 +70,10 @@ fn queued_input_is_applied_at_once_and_rendered_once() {
         "one frame written, then its figures in the status line"
     );
     assert_eq!(state.settings.rotation.y, 70.0);
-    assert_eq!(state.settings.shading, relief::settings::Shading::Gouraud);
+    assert_eq!(
+        state.settings.shading,
+        relief_core::settings::Shading::Gouraud
+    );
     assert!(state.frame.bytes > 0, "the frame's bytes are recorded");
 }
 
@@ -123,7 +130,7 @@ use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use relief::term::pacing::{Pacer, PacingConfig, QUERY};
+use relief_term::pacing::{Pacer, PacingConfig, QUERY};
 
 /// A write of more bytes than this carries a picture (the test's pictures
 /// are noise: tens of kilobytes); smaller ones are status refreshes.
@@ -295,7 +302,7 @@ fn paced(
                 &rx,
                 // A picture that changes everywhere with the rotation: every
                 // frame costs many bytes.
-                |s: &State, fb: &mut relief::Framebuffer| {
+                |s: &State, fb: &mut relief_core::framebuffer::Framebuffer| {
                     let turn = s.settings.rotation.y as usize;
                     renders
                         .lock()
@@ -307,7 +314,7 @@ fn paced(
                             fb.set(x, y, [v as u8, (v * 3 % 256) as u8, (255 - v) as u8]);
                         }
                     }
-                    relief::FrameStats::default()
+                    relief_core::stats::FrameStats::default()
                 },
             )
         };
@@ -523,7 +530,7 @@ fn a_long_frame_shows_its_progress_and_leaves_no_trace() {
     let seen = wire.all.clone();
     let exit = Looper {
         watch: Some(FrameWatch {
-            progress: std::sync::Arc::new(relief::render::FrameProgress::new()),
+            progress: std::sync::Arc::new(relief_pipeline::render::FrameProgress::new()),
             out: Box::new(wire.clone()),
         }),
         ..Looper::new(
@@ -532,7 +539,7 @@ fn a_long_frame_shows_its_progress_and_leaves_no_trace() {
             // A key for a second frame, once the first is on screen.
             // The second frame runs until its progress shows (a minute
             // at most: then the test fails below).
-            |_: &State, fb: &mut relief::Framebuffer| {
+            |_: &State, fb: &mut relief_core::framebuffer::Framebuffer| {
                 renders += 1;
                 if renders == 1 {
                     tx.send(key('m')).unwrap();
@@ -549,7 +556,7 @@ fn a_long_frame_shows_its_progress_and_leaves_no_trace() {
                     tx.send(Msg::InputClosed("end of input".into())).unwrap();
                 }
                 fb.fill([renders as u8 * 40, 0, 0]);
-                relief::FrameStats::default()
+                relief_core::stats::FrameStats::default()
             },
         )
     }

@@ -7,9 +7,9 @@ use ratatui::Terminal;
 use ratatui::backend::Backend;
 use relief::app::State;
 use relief::app::event_loop::{Looper, Msg};
-use relief::budget::{MAX_VIEW_COLUMNS, MAX_VIEW_ROWS};
-use relief::settings::Settings;
-use relief::term::{ColorDepth, SgrBackend};
+use relief_core::budget::{MAX_VIEW_COLUMNS, MAX_VIEW_ROWS};
+use relief_core::settings::Settings;
+use relief_term::{ColorDepth, SgrBackend};
 
 #[test]
 fn a_huge_terminal_gets_a_capped_view() {
@@ -22,11 +22,15 @@ fn a_huge_terminal_gets_a_capped_view() {
     drop(tx);
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     let mut frames = Vec::new();
-    Looper::new(&mut term, &rx, |_: &State, fb: &mut relief::Framebuffer| {
-        frames.push((fb.width(), fb.height()));
-        fb.fill([200, 10, 10]);
-        relief::FrameStats::default()
-    })
+    Looper::new(
+        &mut term,
+        &rx,
+        |_: &State, fb: &mut relief_core::framebuffer::Framebuffer| {
+            frames.push((fb.width(), fb.height()));
+            fb.fill([200, 10, 10]);
+            relief_core::stats::FrameStats::default()
+        },
+    )
     .run(&mut state)
     .unwrap();
     assert!(!frames.is_empty());

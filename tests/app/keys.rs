@@ -7,11 +7,11 @@ use std::collections::HashSet;
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
-use relief::Framebuffer;
 use relief::app::keys::{Help, Key, Mode, bindings, help_lines};
 use relief::app::{Action, State, action_for_key, update, view};
-use relief::settings::Settings;
-use relief::term::ColorDepth;
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_term::ColorDepth;
 
 /// A state in `mode`.
 fn state_in(mode: Mode) -> State {

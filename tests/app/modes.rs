@@ -6,10 +6,12 @@ use std::path::PathBuf;
 use crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers, MouseEvent, MouseEventKind};
 use relief::app::state::plasma_light;
 use relief::app::{Action, Command, DragButton, State, action_for_event, update};
-use relief::plasma::PlasmaNormal;
-use relief::scene::{ModelChoice, SceneKind};
-use relief::settings::{AntiAlias, Display, HeightDerivative, LightVector, Settings, Technique};
-use relief::term::ColorDepth;
+use relief_core::settings::{
+    AntiAlias, Display, HeightDerivative, LightVector, Settings, Technique,
+};
+use relief_plasma::PlasmaNormal;
+use relief_scene::{ModelChoice, SceneKind};
+use relief_term::ColorDepth;
 
 fn state() -> State {
     State::new(Settings::default(), ColorDepth::Truecolor)

@@ -9,16 +9,16 @@ use crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 use ratatui::layout::Rect;
-use relief::Framebuffer;
 use relief::app::event_loop::{Exit, Looper, Msg};
 use relief::app::textures::{TextureListing, TextureRow};
 use relief::app::view::{areas, framebuffer_size};
 use relief::app::{Action, State, update, view};
-use relief::scene::SceneKind;
-use relief::settings::Settings;
-use relief::term::format::{Clues, Format};
-use relief::term::pixel_view::Output;
-use relief::term::{ColorDepth, SgrBackend, Symbols};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_scene::SceneKind;
+use relief_term::format::{Clues, Format};
+use relief_term::pixel_view::Output;
+use relief_term::{ColorDepth, SgrBackend, Symbols};
 
 const LONG: &str = "a message long enough to wrap over several rows of a narrow \
                     screen, with a_word_longer_than_any_narrow_line_can_hold in it";
@@ -214,12 +214,12 @@ fn run_resized_between_reads(format: Format, sizes: &[(u16, u16)], frames: usize
     let exit = Looper::new(&mut term, &rx, |_: &State, fb: &mut Framebuffer| {
         renders += 1;
         fb.fill([renders as u8, 80, 160]);
-        relief::FrameStats::default()
+        relief_core::stats::FrameStats::default()
     })
     .run(&mut state)
     .unwrap();
     assert!(matches!(exit, Exit::InputClosed(_)), "{exit:?}");
-    let _ = relief::term::pixel_view::take_cleanup();
+    let _ = relief_term::pixel_view::take_cleanup();
     renders
 }
 

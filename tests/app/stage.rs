@@ -9,13 +9,14 @@ use ratatui::Terminal;
 use relief::app::State;
 use relief::app::event_loop::{Exit, Looper, Msg};
 use relief::app::stage::Stage;
-use relief::scene::{Built, ModelChoice, SceneKind};
-use relief::settings::Settings;
-use relief::term::guard::{RESTORE, SETUP};
-use relief::term::modes::{MouseReports, MouseSemantics, TermModes};
-use relief::term::{ColorDepth, SgrBackend};
-use relief::texture::procedural::brick;
-use relief::{Framebuffer, Renderer};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_pipeline::render::Renderer;
+use relief_scene::{Built, ModelChoice, SceneKind};
+use relief_term::guard::{RESTORE, SETUP};
+use relief_term::modes::{MouseReports, MouseSemantics, TermModes};
+use relief_term::{ColorDepth, SgrBackend};
+use relief_texture::procedural::brick;
 
 fn stage() -> Stage {
     Stage::new(

@@ -12,8 +12,8 @@ use ratatui::Terminal;
 use relief::app::event_loop::{Looper, Msg};
 use relief::app::texture_list::TextureList;
 use relief::app::{Action, Command, State, action_for_key, update};
-use relief::settings::{Filter, Settings};
-use relief::term::{ColorDepth, SgrBackend};
+use relief_core::settings::{Filter, Settings};
+use relief_term::{ColorDepth, SgrBackend};
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -76,10 +76,14 @@ fn run(list: &RefCell<TextureList>, msgs: Vec<Msg>) -> State {
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     Looper {
         textures: Some(list),
-        ..Looper::new(&mut term, &rx, |_: &State, fb: &mut relief::Framebuffer| {
-            fb.fill([1, 2, 3]);
-            relief::FrameStats::default()
-        })
+        ..Looper::new(
+            &mut term,
+            &rx,
+            |_: &State, fb: &mut relief_core::framebuffer::Framebuffer| {
+                fb.fill([1, 2, 3]);
+                relief_core::stats::FrameStats::default()
+            },
+        )
     }
     .run(&mut state)
     .unwrap();

@@ -21,11 +21,12 @@ use relief::app::texture_list::TextureList;
 use relief::app::textures::{TextureListing, TextureRow, listing};
 use relief::app::view::status_line;
 use relief::app::{Action, Command, DragButton, State, action_for_event, action_for_key, update};
-use relief::options::OptId;
-use relief::scene::{ModelChoice, SceneKind};
-use relief::settings::Settings;
-use relief::term::{ColorDepth, HalfBlocks, SgrBackend};
-use relief::{Framebuffer, Renderer};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_options::OptId;
+use relief_pipeline::render::Renderer;
+use relief_scene::{ModelChoice, SceneKind};
+use relief_term::{ColorDepth, HalfBlocks, SgrBackend};
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -324,7 +325,7 @@ fn run(list: &RefCell<TextureList>, state: State, msgs: Vec<Msg>) -> State {
         textures: Some(list),
         ..Looper::new(&mut term, &rx, |_: &State, fb: &mut Framebuffer| {
             fb.fill([1, 2, 3]);
-            relief::FrameStats::default()
+            relief_core::stats::FrameStats::default()
         })
     }
     .run(&mut state)
@@ -382,7 +383,7 @@ fn the_loop_fills_the_panel_and_applies_what_it_picks() {
     assert_eq!(s.textures.listing.heights, None);
 }
 
-fn render(texture: Arc<relief::texture::Texture>) -> Framebuffer {
+fn render(texture: Arc<relief_texture::Texture>) -> Framebuffer {
     let mut stage = Stage::new(SceneKind::Cube, &ModelChoice::Cube, texture, false).unwrap();
     let state = State::new(Settings::default(), ColorDepth::Truecolor);
     let mut fb = Framebuffer::new(96, 72);
@@ -434,7 +435,7 @@ fn the_panel_lists_the_model_s_own_textures() {
     let cube = Stage::new(
         SceneKind::Cube,
         &ModelChoice::Cube,
-        Arc::new(relief::texture::procedural::brick()),
+        Arc::new(relief_texture::procedural::brick()),
         false,
     )
     .unwrap();
@@ -444,7 +445,7 @@ fn the_panel_lists_the_model_s_own_textures() {
     let stage = Stage::new(
         SceneKind::Cube,
         &model,
-        Arc::new(relief::texture::procedural::brick()),
+        Arc::new(relief_texture::procedural::brick()),
         false,
     )
     .unwrap();

@@ -6,8 +6,8 @@ use crossterm::event::{
 use glam::Vec3;
 use relief::app::state::{DEG_PER_COL, DEG_PER_ROW};
 use relief::app::{Action, Command, State, action_for_event, update};
-use relief::settings::{DEFAULT_BUMP_STRENGTH, Normals, Settings, Shading};
-use relief::term::ColorDepth;
+use relief_core::settings::{DEFAULT_BUMP_STRENGTH, Normals, Settings, Shading};
+use relief_term::ColorDepth;
 
 fn state() -> State {
     State::new(Settings::default(), ColorDepth::Truecolor)
@@ -178,7 +178,7 @@ fn an_animated_model_plays_its_first_clip_and_the_keys_drive_it() {
     ch(&mut s, 'A');
     assert_eq!(s.message.as_deref(), Some("this model has no animation"));
     assert!(!s.continuous());
-    let notes = relief::scene::LoadedNotes {
+    let notes = relief_scene::LoadedNotes {
         clips: vec![("Walk".into(), 2.0), ("Run".into(), 1.0)],
         ..Default::default()
     };
@@ -218,8 +218,8 @@ fn an_animated_model_plays_its_first_clip_and_the_keys_drive_it() {
     update(
         &mut s,
         Action::SceneBuilt(Ok((
-            relief::scene::SceneKind::Cube,
-            relief::scene::ModelChoice::Cube,
+            relief_scene::SceneKind::Cube,
+            relief_scene::ModelChoice::Cube,
         ))),
     );
     assert_eq!(s.look().animation, None);
@@ -234,7 +234,7 @@ fn v_cycles_the_files_cameras_then_the_framing_camera() {
         s.message.as_deref(),
         Some("this model has no camera of its own")
     );
-    let notes = relief::scene::LoadedNotes {
+    let notes = relief_scene::LoadedNotes {
         cameras: 2,
         ..Default::default()
     };
@@ -516,8 +516,8 @@ fn in_plasma() -> State {
     update(
         &mut s,
         Action::SceneBuilt(Ok((
-            relief::scene::SceneKind::Plasma,
-            relief::scene::ModelChoice::Cube,
+            relief_scene::SceneKind::Plasma,
+            relief_scene::ModelChoice::Cube,
         ))),
     );
     s
@@ -550,11 +550,11 @@ fn keys_of_the_3d_scene_are_refused_in_the_plasma_and_change_nothing() {
     // z acts in the plasma, and is refused elsewhere.
     let mut s = in_plasma();
     ch(&mut s, 'z');
-    assert_eq!(s.plasma_normal, relief::plasma::PlasmaNormal::Exact);
+    assert_eq!(s.plasma_normal, relief_plasma::PlasmaNormal::Exact);
     assert_eq!(s.message, None);
     let mut s = state();
     ch(&mut s, 'z');
-    assert_eq!(s.plasma_normal, relief::plasma::PlasmaNormal::Table);
+    assert_eq!(s.plasma_normal, relief_plasma::PlasmaNormal::Table);
     assert!(s.message.unwrap().contains("only in the plasma"));
 }
 
@@ -568,8 +568,8 @@ fn entering_the_plasma_stops_auto_rotation() {
         update(
             &mut t,
             Action::SceneBuilt(Ok((
-                relief::scene::SceneKind::Plasma,
-                relief::scene::ModelChoice::Cube,
+                relief_scene::SceneKind::Plasma,
+                relief_scene::ModelChoice::Cube,
             ))),
         );
         t
@@ -579,7 +579,7 @@ fn entering_the_plasma_stops_auto_rotation() {
 
 #[test]
 fn keys_whose_effect_cannot_show_say_so_and_change_nothing() {
-    use relief::settings::Technique;
+    use relief_core::settings::Technique;
     // E outside Phong.
     let mut s = state();
     ch(&mut s, 'm'); // flat
@@ -830,7 +830,7 @@ fn w_and_w_widen_and_narrow_the_field_of_view_within_its_range() {
     assert_eq!(s.settings.fov, 10.0);
     // The plasma has no camera.
     let mut p = state();
-    p.scene = relief::scene::SceneKind::Plasma;
+    p.scene = relief_scene::SceneKind::Plasma;
     ch(&mut p, 'w');
     assert_eq!(p.settings.fov, 60.0);
     assert!(
@@ -844,8 +844,8 @@ fn w_and_w_widen_and_narrow_the_field_of_view_within_its_range() {
 #[test]
 fn esc_stops_a_load_first_and_the_status_line_shows_it_until_then() {
     use relief::app::load_status::LoadStatus;
-    use relief::scene::load_progress::{LoadStep, ProgressNow};
-    use relief::scene::{ModelChoice, SceneKind};
+    use relief_scene::load_progress::{LoadStep, ProgressNow};
+    use relief_scene::{ModelChoice, SceneKind};
     let mut s = state();
     let status = |done| LoadStatus {
         name: "scan.ply".into(),

@@ -6,12 +6,12 @@ use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
-use relief::Framebuffer;
 use relief::app::view::{areas, framebuffer_size, help_lines, layout, status_line};
 use relief::app::{Action, State, update, view};
-use relief::options::OptId;
-use relief::settings::Settings;
-use relief::term::{ColorDepth, Symbols};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_options::OptId;
+use relief_term::{ColorDepth, Symbols};
 
 const BG: [u8; 3] = [16, 24, 32];
 
@@ -84,7 +84,7 @@ fn status_line_shows_every_mode_and_the_frame_cost() {
 #[test]
 fn status_line_shows_the_clip_and_whether_it_plays() {
     let mut s = state();
-    let notes = relief::scene::LoadedNotes {
+    let notes = relief_scene::LoadedNotes {
         clips: vec![("Walk".into(), 2.0), ("Run".into(), 1.0)],
         ..Default::default()
     };
@@ -430,8 +430,8 @@ fn help_on_a_narrow_screen_wraps_its_text_inside_the_border() {
 
 #[test]
 fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
-    use relief::plasma::PlasmaNormal;
-    use relief::scene::{ModelChoice, SceneKind};
+    use relief_plasma::PlasmaNormal;
+    use relief_scene::{ModelChoice, SceneKind};
     let mut s = state();
     for a in [
         Action::next(OptId::Technique),
@@ -512,8 +512,8 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
 #[test]
 fn the_path_prompt_is_shown_with_control_characters_replaced() {
     let mut s = relief::app::State::new(
-        relief::Settings::default(),
-        relief::term::ColorDepth::Truecolor,
+        relief_core::settings::Settings::default(),
+        relief_term::ColorDepth::Truecolor,
     );
     s.prompt = Some("tex/\x1b[2Jbrick.png".into());
     // The cursor at the end, as after typing.
@@ -597,7 +597,7 @@ fn the_status_line_says_dithered_when_dithering_shows() {
 
 #[test]
 fn the_plasma_shows_no_orientation_fields() {
-    use relief::scene::{ModelChoice, SceneKind};
+    use relief_scene::{ModelChoice, SceneKind};
     let mut s = state();
     assert!(row_text(&screen(&s, 160, 20), 18).contains("X "));
     update(
@@ -655,7 +655,7 @@ fn modes_in(text: &str) -> (usize, usize) {
 
 /// States with many modes away from their default, and the plasma.
 fn busy_states() -> Vec<State> {
-    use relief::scene::{ModelChoice, SceneKind};
+    use relief_scene::{ModelChoice, SceneKind};
     let mut changed = state();
     for a in [
         Action::next(OptId::Technique),

@@ -10,11 +10,12 @@ use crossterm::event::{
 use glam::Vec3;
 use relief::app::state::ZOOM_STEP;
 use relief::app::{Action, State, action_for_event, update};
-use relief::scene::camera::{MAX_DISTANCE, MIN_DISTANCE, REFERENCE_DISTANCE};
-use relief::scene::{BACKGROUND, Built, ModelChoice, SceneKind, build_scene};
-use relief::settings::Settings;
-use relief::term::ColorDepth;
-use relief::{Framebuffer, Renderer};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_pipeline::render::Renderer;
+use relief_scene::camera::{MAX_DISTANCE, MIN_DISTANCE, REFERENCE_DISTANCE};
+use relief_scene::{BACKGROUND, Built, ModelChoice, SceneKind, build_scene};
+use relief_term::ColorDepth;
 
 fn wheel(s: &mut State, kind: MouseEventKind) {
     let e = Event::Mouse(MouseEvent {
@@ -83,7 +84,7 @@ fn covered(distance: f32, size: usize) -> usize {
     let Built::Scene(mut scene) = build_scene(
         SceneKind::Cube,
         &ModelChoice::Cube,
-        Arc::new(relief::texture::procedural::brick()),
+        Arc::new(relief_texture::procedural::brick()),
         false,
     )
     .unwrap() else {
@@ -147,7 +148,7 @@ fn centre_through_stage(s: &State, size: usize) -> (f64, f64) {
     let mut stage = Stage::new(
         SceneKind::Cube,
         &ModelChoice::Cube,
-        Arc::new(relief::texture::procedural::brick()),
+        Arc::new(relief_texture::procedural::brick()),
         false,
     )
     .unwrap();
@@ -332,7 +333,7 @@ fn a_light_drag_turns_the_lights_and_r_brings_them_back() {
         let mut stage = Stage::new(
             SceneKind::Cube,
             &ModelChoice::Cube,
-            Arc::new(relief::texture::procedural::brick()),
+            Arc::new(relief_texture::procedural::brick()),
             false,
         )
         .unwrap();
@@ -351,8 +352,8 @@ fn a_light_drag_turns_the_lights_and_r_brings_them_back() {
 /// carries +Z to +Y (and −Y towards the viewer); `Z` again undoes it.
 #[test]
 fn the_up_axis_key_stands_z_up_models_upright() {
-    use relief::plan::Plan;
-    use relief::settings::UpAxis;
+    use relief_core::settings::UpAxis;
+    use relief_pipeline::plan::Plan;
     let settings = Settings {
         rotation: Vec3::ZERO,
         ..Settings::default()
@@ -361,7 +362,7 @@ fn the_up_axis_key_stands_z_up_models_upright() {
     let Built::Scene(scene) = build_scene(
         SceneKind::Cube,
         &ModelChoice::Cube,
-        Arc::new(relief::texture::procedural::brick()),
+        Arc::new(relief_texture::procedural::brick()),
         false,
     )
     .unwrap() else {

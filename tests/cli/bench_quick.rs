@@ -1,7 +1,7 @@
 //! `relief bench --quick` end to end, through the library (the binary's code
 //! path minus argument parsing), on a tiny frame so it stays fast.
 
-use relief::bench::{self, BenchArgs};
+use relief_bench::BenchArgs;
 
 #[test]
 fn quick_bench_writes_table_csv_and_plot() {
@@ -22,11 +22,11 @@ fn quick_bench_writes_table_csv_and_plot() {
         modes: false,
     };
     let (mut out, mut log) = (Vec::new(), Vec::new());
-    let report = bench::run(&args, &mut out, &mut log).unwrap();
+    let report = relief_bench::run(&args, &mut out, &mut log).unwrap();
     let out = String::from_utf8(out).unwrap();
 
     // One measured row per configuration of the quick list.
-    let configs = bench::config::quick();
+    let configs = relief_bench::config::quick();
     assert_eq!(report.rows.len(), configs.len());
     for (row, config) in report.rows.iter().zip(&configs) {
         assert_eq!(&row.config, config);
@@ -87,7 +87,7 @@ fn unwritable_outputs_are_errors_not_panics() {
         )),
         ..Default::default()
     };
-    let err = bench::run(&args, &mut Vec::new(), &mut Vec::new()).unwrap_err();
+    let err = relief_bench::run(&args, &mut Vec::new(), &mut Vec::new()).unwrap_err();
     assert!(format!("{err:#}").contains("bench.csv"));
 }
 
@@ -100,7 +100,7 @@ fn quick_anchors_bench_prints_every_variant_and_thread_count() {
         ..Default::default()
     };
     let (mut out, mut log) = (Vec::new(), Vec::new());
-    bench::run(&args, &mut out, &mut log).unwrap();
+    relief_bench::run(&args, &mut out, &mut log).unwrap();
     let out = String::from_utf8(out).unwrap();
     for variant in ["flat", "gouraud", "phong"] {
         for threads in [1, 2] {
@@ -115,7 +115,7 @@ fn quick_model_anchors_bench_times_the_file_on_each_thread_count() {
     let dir = std::env::temp_dir().join(format!("relief-bench-model-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("sphere.ply");
-    let ply = bench::mesh_anchor::uv_sphere_ply(8, 16, 1.0, glam::Vec3::ZERO);
+    let ply = relief_bench::mesh_anchor::uv_sphere_ply(8, 16, 1.0, glam::Vec3::ZERO);
     std::fs::write(&path, ply).unwrap();
     let args = BenchArgs {
         quick: true,
@@ -126,7 +126,7 @@ fn quick_model_anchors_bench_times_the_file_on_each_thread_count() {
         ..Default::default()
     };
     let (mut out, mut log) = (Vec::new(), Vec::new());
-    bench::run(&args, &mut out, &mut log).unwrap();
+    relief_bench::run(&args, &mut out, &mut log).unwrap();
     let picture = image::open(dir.join("view.png")).unwrap();
     assert_eq!((picture.width(), picture.height()), (320, 240));
     let _ = std::fs::remove_dir_all(&dir);

@@ -6,13 +6,15 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 use proptest::prelude::*;
-use relief::bench::metrics::psnr;
-use relief::bench::resolve::box_downsample;
-use relief::render::render_frame;
-use relief::scene::{Object, plane};
-use relief::settings::{Filter, HeightDerivative};
-use relief::texture::{Level, Texture};
-use relief::{Framebuffer, Scene, Settings};
+use relief_bench::metrics::psnr;
+use relief_bench::resolve::box_downsample;
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_core::settings::{Filter, HeightDerivative};
+use relief_pipeline::render::render_frame;
+use relief_scene::Scene;
+use relief_scene::{Object, plane};
+use relief_texture::{Level, Texture};
 
 /// A repeatable value in 0..1 per texel.
 pub fn noise(x: usize, y: usize) -> f32 {

@@ -5,9 +5,12 @@ use std::sync::Arc;
 
 pub mod minified;
 
-use relief::render::render_frame;
-use relief::texture::{Texture, procedural};
-use relief::{FrameStats, Framebuffer, Scene, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_core::stats::FrameStats;
+use relief_pipeline::render::render_frame;
+use relief_scene::Scene;
+use relief_texture::{Texture, procedural};
 
 /// The reference scene with the built-in brick texture.
 pub fn reference_scene(all_faces: bool) -> Scene {
@@ -16,7 +19,7 @@ pub fn reference_scene(all_faces: bool) -> Scene {
 
 /// The reference scene with a texture of uniform colour and height.
 pub fn plain_scene(texel: [f32; 4], all_faces: bool) -> Scene {
-    let level = relief::texture::Level::solid(4, 4, texel);
+    let level = relief_texture::Level::solid(4, 4, texel);
     Scene::cube(Arc::new(Texture::new("plain", level)), all_faces)
 }
 

@@ -5,12 +5,12 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
-use relief::scene::corners;
-use relief::scene::obj::{self, FIT_RADIUS, ObjError};
-use relief::scene::{
+use relief_scene::corners;
+use relief_scene::obj::{self, FIT_RADIUS, ObjError};
+use relief_scene::{
     Built, Mesh, ModelChoice, SceneKind, build_scene, cube, plane, sphere, tangents, triangle,
 };
-use relief::texture::procedural;
+use relief_texture::procedural;
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -126,7 +126,7 @@ fn flat_models_carry_the_exact_texture_axes() {
         for t in 0..mesh.triangles.len() {
             let tri = mesh.face(t);
             let uv = tri.indices.map(|i| mesh.vertices[i as usize].uv);
-            let (pu, pv) = relief::scene::mesh::triangle_tangents(positions(&mesh, t), uv).unwrap();
+            let (pu, pv) = relief_scene::mesh::triangle_tangents(positions(&mesh, t), uv).unwrap();
             assert!((pu - 2.0 * Vec3::X).length() < 1e-5, "{name}: {pu}");
             assert!((pv - 2.0 * Vec3::Y).length() < 1e-5, "{name}: {pv}");
             assert_eq!((tri.face_tangent_u, tri.face_tangent_v), (pu, pv));
@@ -667,7 +667,7 @@ fn huge_and_binary_files_are_refused() {
     // by the budget, before it is read (the file is sparse: nothing written).
     let path = temp_path("huge.obj");
     let file = std::fs::File::create(&path).unwrap();
-    file.set_len(relief::budget::BUDGET_BYTES + 1).unwrap();
+    file.set_len(relief_core::budget::BUDGET_BYTES + 1).unwrap();
     drop(file);
     let e = failure(obj::load(&path));
     assert!(matches!(e, ObjError::Budget { .. }), "{e:?}");
@@ -694,7 +694,7 @@ fn models_beyond_the_memory_budget_are_refused() {
     // More triangles than the budget holds at READ_BYTES_PER_TRIANGLE each
     // (fans of the same three corners, two bytes a triangle): refused by
     // the counting pass, before any corner is stored.
-    let triangles = (relief::budget::BUDGET_BYTES / obj::READ_BYTES_PER_TRIANGLE) as usize + 1;
+    let triangles = (relief_core::budget::BUDGET_BYTES / obj::READ_BYTES_PER_TRIANGLE) as usize + 1;
     let fan = corners::MAX_FACE_CORNERS / 3 * 3;
     let face = format!("f{}\n", " 1 2 3".repeat(fan / 3));
     text = "v 0 0 0\nv 1 0 0\nv 0 1 0\n".into();
@@ -763,17 +763,17 @@ fn shadow_scene_puts_a_still_floor_under_the_turning_cube() {
     assert!((up - Vec3::Y).length() < 1e-6, "the floor faces up");
     for v in &floor.mesh.vertices {
         let p = floor.transform.transform_point3(v.position);
-        assert!((p.y - relief::scene::build::FLOOR_Y).abs() < 1e-5);
+        assert!((p.y - relief_scene::build::FLOOR_Y).abs() < 1e-5);
     }
     // The turning cube (radius √3) never reaches the floor.
-    assert!(relief::scene::build::FLOOR_Y < -(3f32.sqrt()));
+    assert!(relief_scene::build::FLOOR_Y < -(3f32.sqrt()));
     // The shadow of the cube's centre, cast by the white light, is on the
     // floor and in view.
     let light = scene.lights[0].position;
-    let t = (light.y - relief::scene::build::FLOOR_Y) / light.y;
+    let t = (light.y - relief_scene::build::FLOOR_Y) / light.y;
     let shadow = light + t * (Vec3::ZERO - light);
-    assert!(shadow.x.abs() < relief::scene::build::FLOOR_HALF);
-    assert!(shadow.z.abs() < relief::scene::build::FLOOR_HALF);
+    assert!(shadow.x.abs() < relief_scene::build::FLOOR_HALF);
+    assert!(shadow.z.abs() < relief_scene::build::FLOOR_HALF);
     let clip = scene.camera.projection(4.0 / 3.0) * scene.camera.view() * shadow.extend(1.0);
     let ndc = clip.truncate() / clip.w;
     assert!(

@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use relief::scene::model_file::{self, LoadedModel};
-use relief::scene::{Mesh, ModelChoice};
+use relief_scene::model_file::{self, LoadedModel};
+use relief_scene::{Mesh, ModelChoice};
 
 fn data(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -281,8 +281,8 @@ fn a_ply_header_line_of_unknown_words_is_skipped_with_a_warning() {
     let mut blender = plain[..4].to_vec();
     blender.extend_from_slice(line);
     blender.extend_from_slice(&plain[4..]);
-    let with = relief::scene::ply::parse("blender.ply", &blender).unwrap();
-    let without = relief::scene::ply::parse("plain.ply", &plain).unwrap();
+    let with = relief_scene::ply::parse("blender.ply", &blender).unwrap();
+    let without = relief_scene::ply::parse("plain.ply", &plain).unwrap();
     assert_eq!(with.merged(), without.merged());
     assert_eq!(with.warnings.len(), 1, "{:?}", with.warnings);
     let w = &with.warnings[0];
@@ -292,7 +292,7 @@ fn a_ply_header_line_of_unknown_words_is_skipped_with_a_warning() {
     );
 
     let text = String::from_utf8_lossy(&plain).replacen("element face 12", "element face", 1);
-    let Err(e) = relief::scene::ply::parse("bad.ply", text.as_bytes()) else {
+    let Err(e) = relief_scene::ply::parse("bad.ply", text.as_bytes()) else {
         panic!("a malformed element line was read");
     };
     assert!(e.to_string().contains("cannot read header line"), "{e}");
@@ -564,7 +564,7 @@ fn hostile_files_are_refused_before_allocating() {
     // A GLB cut short after its magic goes to the glTF reader, which names
     // the file and the byte where it ends.
     let path = write(&dir, "scene.glb", b"glTF");
-    let Err(e) = relief::scene::gltf::load(&path) else {
+    let Err(e) = relief_scene::gltf::load(&path) else {
         panic!("a 4-byte GLB is refused");
     };
     let e = e.to_string();
@@ -579,21 +579,25 @@ fn ply_bytes_with_nan() -> Vec<u8> {
 
 #[test]
 fn a_bad_model_keeps_the_scene_shown() {
-    use relief::scene::SceneKind;
+    use relief_scene::SceneKind;
     let dir = temp_dir("stage");
     let good = write(&dir, "good.ply", ply("ascii"));
     let bad = write(&dir, "bad.stl", [0u8; 10]);
-    let texture = std::sync::Arc::new(relief::texture::procedural::brick());
+    let texture = std::sync::Arc::new(relief_texture::procedural::brick());
     let mut stage =
         relief::app::stage::Stage::new(SceneKind::Cube, &ModelChoice::File(good), texture, false)
             .unwrap();
     let state = relief::app::State::new(
-        relief::Settings::default(),
-        relief::term::ColorDepth::Truecolor,
+        relief_core::settings::Settings::default(),
+        relief_term::ColorDepth::Truecolor,
     );
     let picture = |stage: &mut relief::app::stage::Stage| {
-        let mut fb = relief::Framebuffer::new(32, 24);
-        stage.render(&mut relief::Renderer::new(), &state, &mut fb);
+        let mut fb = relief_core::framebuffer::Framebuffer::new(32, 24);
+        stage.render(
+            &mut relief_pipeline::render::Renderer::new(),
+            &state,
+            &mut fb,
+        );
         fb
     };
     let before = picture(&mut stage);
@@ -625,14 +629,14 @@ fn render_opens_a_positional_model_file() {
     let picture = image::open(&out).unwrap().to_rgb8();
     // The cube covers the middle of the picture: not the background there.
     let mid = picture.get_pixel(32, 24).0;
-    assert_ne!(mid, relief::scene::BACKGROUND);
+    assert_ne!(mid, relief_scene::BACKGROUND);
 }
 
 #[test]
 fn each_material_draws_with_its_own_texture() {
-    use relief::render::render_frame;
-    use relief::scene::{Built, SceneKind, build_scene};
-    use relief::texture::procedural;
+    use relief_pipeline::render::render_frame;
+    use relief_scene::{Built, SceneKind, build_scene};
+    use relief_texture::procedural;
     let dir = temp_dir("mtl-two");
     png(&dir.join("red.png"), [220, 0, 0], [255; 16]);
     png(&dir.join("blue.png"), [0, 0, 220], [255; 16]);
@@ -663,7 +667,7 @@ fn each_material_draws_with_its_own_texture() {
     ) else {
         panic!("the model builds a scene");
     };
-    let mut settings = relief::Settings {
+    let mut settings = relief_core::settings::Settings {
         rotation: Vec3::ZERO,
         ..Default::default()
     };
@@ -680,7 +684,7 @@ fn each_material_draws_with_its_own_texture() {
     // part's own material alone.
     let mut scene = *scene;
     scene.material.texture =
-        std::sync::Arc::new(relief::texture::load::load_texture(&dir.join("green.png")).unwrap());
+        std::sync::Arc::new(relief_texture::load::load_texture(&dir.join("green.png")).unwrap());
     let (fb, _) = render_frame(&scene, &settings, w, h);
     let (left, right) = (fb.get(w / 2 - 15, h / 2), fb.get(w / 2 + 15, h / 2));
     assert!(left[1] > 2 * left[0] && left[1] > 40, "left {left:?}");
@@ -689,9 +693,9 @@ fn each_material_draws_with_its_own_texture() {
 
 /// The highlight alone (black `Kd`, one white light in front, no
 /// attenuation) of a quad whose material has these `Ks` and `Ns` lines.
-fn highlight_picture(name: &str, mtl: &str) -> relief::Framebuffer {
-    use relief::render::render_frame;
-    use relief::scene::{Built, Light, SceneKind, build_scene};
+fn highlight_picture(name: &str, mtl: &str) -> relief_core::framebuffer::Framebuffer {
+    use relief_pipeline::render::render_frame;
+    use relief_scene::{Built, Light, SceneKind, build_scene};
     let dir = temp_dir(name);
     write(&dir, "q.mtl", format!("newmtl m\nKd 0 0 0\n{mtl}\n"));
     let obj = "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nusemtl m\nf 1 2 3 4\n";
@@ -699,7 +703,7 @@ fn highlight_picture(name: &str, mtl: &str) -> relief::Framebuffer {
     let Ok(Built::Scene(scene)) = build_scene(
         SceneKind::Cube,
         &ModelChoice::File(path),
-        std::sync::Arc::new(relief::texture::procedural::brick()),
+        std::sync::Arc::new(relief_texture::procedural::brick()),
         false,
     ) else {
         panic!("the model builds a scene");
@@ -712,7 +716,7 @@ fn highlight_picture(name: &str, mtl: &str) -> relief::Framebuffer {
         color: Vec3::ONE,
         enabled: true,
     }];
-    let settings = relief::Settings {
+    let settings = relief_core::settings::Settings {
         rotation: Vec3::ZERO,
         specular: true,
         shininess: 10.0,
@@ -763,8 +767,8 @@ fn mtl_ks_and_ns_shape_the_highlight() {
 /// right cuts the left half out.
 #[test]
 fn mtl_opacity_below_one_half_is_cut_out() {
-    use relief::render::render_frame;
-    use relief::scene::{BACKGROUND, Built, SceneKind, build_scene};
+    use relief_pipeline::render::render_frame;
+    use relief_scene::{BACKGROUND, Built, SceneKind, build_scene};
     let picture = |name: &str, mtl: &str| {
         let dir = temp_dir(name);
         let mut img = image::RgbImage::new(4, 4);
@@ -783,12 +787,12 @@ fn mtl_opacity_below_one_half_is_cut_out() {
         let Ok(Built::Scene(scene)) = build_scene(
             SceneKind::Cube,
             &ModelChoice::File(path),
-            std::sync::Arc::new(relief::texture::procedural::brick()),
+            std::sync::Arc::new(relief_texture::procedural::brick()),
             false,
         ) else {
             panic!("the model builds a scene");
         };
-        let settings = relief::Settings {
+        let settings = relief_core::settings::Settings {
             rotation: Vec3::ZERO,
             ..Default::default()
         };

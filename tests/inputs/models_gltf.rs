@@ -6,13 +6,14 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3, Vec4};
-use relief::render::render_frame;
-use relief::scene::gltf::{Model, load};
-use relief::scene::obj::FIT_RADIUS;
-use relief::scene::{Light, Scene};
-use relief::settings::{Shading, Technique};
-use relief::texture::procedural;
-use relief::{Framebuffer, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_core::settings::{Shading, Technique};
+use relief_pipeline::render::render_frame;
+use relief_scene::gltf::{Model, load};
+use relief_scene::obj::FIT_RADIUS;
+use relief_scene::{Light, Scene};
+use relief_texture::procedural;
 
 const MAGENTA: [u8; 3] = [255, 0, 255];
 const W: usize = 160;

@@ -6,8 +6,8 @@
 use std::process::Command;
 
 use glam::Vec3;
-use relief::scene::gltf::{Model, load};
-use relief::scene::obj::FIT_RADIUS;
+use relief_scene::gltf::{Model, load};
+use relief_scene::obj::FIT_RADIUS;
 
 use super::models_gltf::{glb, load_ok, refused, write};
 
@@ -315,9 +315,11 @@ fn what_is_not_drawn_is_named_in_one_line() {
 /// encoded to sRGB once: the colour is not decoded from sRGB first.
 #[test]
 fn vertex_colours_are_linear_light() {
-    use relief::scene::model_view::{ELEVATION_DEGREES, view_axes};
-    use relief::scene::{Built, Light, ModelChoice, SceneKind, build_scene};
-    use relief::{Framebuffer, Renderer, Settings};
+    use relief_core::framebuffer::Framebuffer;
+    use relief_core::settings::Settings;
+    use relief_pipeline::render::Renderer;
+    use relief_scene::model_view::{ELEVATION_DEGREES, view_axes};
+    use relief_scene::{Built, Light, ModelChoice, SceneKind, build_scene};
     let base = [1.0f32, 0.5, 0.25];
     let square = [
         [0.0, 0.0, 0.0],
@@ -339,7 +341,7 @@ fn vertex_colours_are_linear_light() {
         "",
     );
     let path = write("vertex-colour", "c.glb", &bytes);
-    let texture = std::sync::Arc::new(relief::texture::procedural::brick());
+    let texture = std::sync::Arc::new(relief_texture::procedural::brick());
     let Ok(Built::Scene(mut scene)) =
         build_scene(SceneKind::Cube, &ModelChoice::File(path), texture, false)
     else {
@@ -350,7 +352,7 @@ fn vertex_colours_are_linear_light() {
     scene.ambient = Vec3::ZERO;
     let settings = Settings {
         rotation: Vec3::new(-ELEVATION_DEGREES, 0.0, 0.0),
-        tone_map: relief::settings::ToneMap::None,
+        tone_map: relief_core::settings::ToneMap::None,
         ..Settings::default()
     };
     let mut fb = Framebuffer::new(120, 90);

@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use glam::{Mat4, Vec3};
-use relief::scene::Object;
-use relief::scene::gltf::{Model, load_bytes};
+use relief_scene::Object;
+use relief_scene::gltf::{Model, load_bytes};
 
 use crate::glb_writer::{Bin, two_joint_strip};
 

@@ -1,9 +1,11 @@
 //! glTF `alphaMode: BLEND`: translucent surfaces composited over what is
 //! behind them, far to near, whatever order the file gives them in.
 
-use relief::render::Renderer;
-use relief::settings::AntiAlias;
-use relief::{Framebuffer, Scene, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::AntiAlias;
+use relief_core::settings::Settings;
+use relief_pipeline::render::Renderer;
+use relief_scene::Scene;
 
 use super::models_gltf::{Doc, Prim, encode, face_on, load_ok, quad, scene_of, write};
 

@@ -6,10 +6,12 @@ use std::path::Path;
 use std::sync::Arc;
 
 use glam::Vec3;
-use relief::scene::Scene;
-use relief::scene::gltf::load_bytes;
-use relief::texture::procedural;
-use relief::{Framebuffer, Renderer, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_pipeline::render::Renderer;
+use relief_scene::Scene;
+use relief_scene::gltf::load_bytes;
+use relief_texture::procedural;
 
 use crate::glb_writer::Bin;
 

@@ -202,7 +202,7 @@ fn buffer_uris_stay_inside_the_models_folder() {
         let (json, _) = split_with_uri(&encode(&good()), uri);
         let path = dir.join("m.gltf");
         std::fs::write(&path, json).unwrap();
-        relief::scene::gltf::load(&path)
+        relief_scene::gltf::load(&path)
             .map(|_| ())
             .map_err(|e| e.to_string())
     };

@@ -2,7 +2,7 @@
 //! accepts is a mesh the renderer can use.
 
 use proptest::prelude::*;
-use relief::scene::obj;
+use relief_scene::obj;
 
 fn number() -> impl Strategy<Value = String> {
     prop_oneof![

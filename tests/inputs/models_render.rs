@@ -6,11 +6,12 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
-use relief::render::render_frame;
-use relief::scene::{Built, ModelChoice, Scene, SceneKind, build_scene, rotation_matrix};
-use relief::settings::{Normals, Shading};
-use relief::texture::procedural;
-use relief::{Framebuffer, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_core::settings::{Normals, Shading};
+use relief_pipeline::render::render_frame;
+use relief_scene::{Built, ModelChoice, Scene, SceneKind, build_scene, rotation_matrix};
+use relief_texture::procedural;
 
 /// A background no lit model can produce (green is at least the ambient share).
 const MAGENTA: [u8; 3] = [255, 0, 255];

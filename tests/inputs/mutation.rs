@@ -14,9 +14,9 @@ use std::sync::OnceLock;
 use proptest::prelude::*;
 use proptest::sample::Index;
 use proptest::test_runner::{Config, FileFailurePersistence};
-use relief::scene::obj;
-use relief::texture::load::load_texture_from_bytes;
-use relief::texture::xpm;
+use relief_scene::obj;
+use relief_texture::load::load_texture_from_bytes;
+use relief_texture::xpm;
 
 fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")

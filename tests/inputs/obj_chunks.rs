@@ -1,11 +1,11 @@
 //! The OBJ reader cuts big files into line-aligned chunks read in parallel
-//! (src/scene/obj/read.rs): whatever the cut, the model, its warnings and
+//! (crates/scene/src/obj/read.rs): whatever the cut, the model, its warnings and
 //! its first error must be those of one chunk. Random files with every
 //! kind of line, cut into 1 to 12 chunks so the cuts fall anywhere.
 
 use proptest::prelude::*;
-use relief::scene::model_file::LoadedModel;
-use relief::scene::obj::{ObjError, parse_in_chunks};
+use relief_scene::model_file::LoadedModel;
+use relief_scene::obj::{ObjError, parse_in_chunks};
 
 fn line() -> impl Strategy<Value = String> {
     let number = prop_oneof![
@@ -139,7 +139,7 @@ fn grid(n: usize) -> String {
 
 #[test]
 fn a_load_reports_each_pass_over_each_chunk_then_each_build_step() {
-    use relief::scene::load_progress::{LoadProgress, LoadStep, run_with};
+    use relief_scene::load_progress::{LoadProgress, LoadStep, run_with};
     let text = grid(40);
     let p = LoadProgress::new();
     let model = run_with(&p, || {
@@ -154,7 +154,7 @@ fn a_load_reports_each_pass_over_each_chunk_then_each_build_step() {
 
 #[test]
 fn a_cancelled_load_stops_with_an_error_naming_the_model() {
-    use relief::scene::load_progress::{LoadProgress, LoadStep, run_with};
+    use relief_scene::load_progress::{LoadProgress, LoadStep, run_with};
     let text = grid(40);
     let p = LoadProgress::new();
     p.cancel();

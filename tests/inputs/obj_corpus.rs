@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
-use relief::scene::Mesh;
-use relief::scene::obj;
+use relief_scene::Mesh;
+use relief_scene::obj;
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -20,7 +20,7 @@ fn load(name: &str) -> Mesh {
 /// The distinct values of `f` over the vertices, rounded to 1/1000.
 fn distinct<const N: usize>(
     mesh: &Mesh,
-    f: impl Fn(&relief::scene::Vertex) -> [f32; N],
+    f: impl Fn(&relief_scene::Vertex) -> [f32; N],
 ) -> Vec<[i32; N]> {
     let mut out: Vec<[i32; N]> = mesh
         .vertices

@@ -6,9 +6,10 @@
 use crate::techniques_scenes;
 
 use glam::{Vec2, Vec3};
-use relief::render::render_frame;
-use relief::settings::AntiAlias;
-use relief::{Renderer, Settings};
+use relief_core::settings::AntiAlias;
+use relief_core::settings::Settings;
+use relief_pipeline::render::Renderer;
+use relief_pipeline::render::render_frame;
 use techniques_scenes::*;
 
 const LEVELS: [AntiAlias; 4] = [
@@ -18,12 +19,12 @@ const LEVELS: [AntiAlias; 4] = [
     AntiAlias::Msaa4,
 ];
 
-fn plain_texture() -> relief::texture::Texture {
+fn plain_texture() -> relief_texture::Texture {
     texture_of(4, |_, _| [1.0, 1.0, 1.0, 0.5])
 }
 
 /// A white quad lit by a full ambient term alone: one colour wherever it is.
-fn white_quad_scene(half: f32, rotates: bool) -> relief::Scene {
+fn white_quad_scene(half: f32, rotates: bool) -> relief_scene::Scene {
     let mesh = quad_mesh(half, 0.0, Vec2::ZERO, Vec2::ONE, Vec3::ONE);
     let object = if rotates { turning(mesh) } else { fixed(mesh) };
     scene_of(vec![object], plain_texture(), Vec::new(), Vec3::ONE)
@@ -57,8 +58,8 @@ fn smooth_lighting_without_edges_barely_changes() {
     let scene = scene_of(
         vec![fixed(mesh)],
         plain_texture(),
-        relief::scene::light::reference_lights(),
-        relief::scene::AMBIENT,
+        relief_scene::light::reference_lights(),
+        relief_scene::AMBIENT,
     );
     let (reference, _) = render_frame(&scene, &aa(AntiAlias::Off), 96, 64);
     for level in LEVELS {
@@ -68,8 +69,8 @@ fn smooth_lighting_without_edges_barely_changes() {
 }
 
 /// Pixels strictly between the background and white in every channel.
-fn intermediate(fb: &relief::Framebuffer) -> usize {
-    let bg = relief::scene::BACKGROUND;
+fn intermediate(fb: &relief_core::framebuffer::Framebuffer) -> usize {
+    let bg = relief_scene::BACKGROUND;
     fb.pixels()
         .iter()
         .filter(|p| (0..3).all(|c| p[c] > bg[c] && p[c] < 255))
@@ -86,7 +87,7 @@ fn edge_pixels_take_intermediate_values() {
     let (off, _) = render_frame(&scene, &turned(AntiAlias::Off), 160, 120);
     assert_eq!(intermediate(&off), 0, "without AA a pixel is in or out");
     // The quad's coverage in pixels: white counts 1, background 0, blends between.
-    let coverage = |fb: &relief::Framebuffer| -> f64 {
+    let coverage = |fb: &relief_core::framebuffer::Framebuffer| -> f64 {
         fb.pixels()
             .iter()
             .map(|p| (p[0] as f64 - 16.0) / (255.0 - 16.0))
@@ -106,12 +107,12 @@ fn edge_pixels_take_intermediate_values() {
 
 #[test]
 fn supersampling_shades_every_sample_and_multisampling_once_per_pixel() {
-    let scene = relief::scene::Scene::cube(
-        std::sync::Arc::new(relief::texture::procedural::brick()),
+    let scene = relief_scene::Scene::cube(
+        std::sync::Arc::new(relief_texture::procedural::brick()),
         true,
     );
     let mut renderer = Renderer::new();
-    let mut fb = relief::Framebuffer::new(320, 240);
+    let mut fb = relief_core::framebuffer::Framebuffer::new(320, 240);
     let mut shaded = |level| renderer.render(&scene, &aa(level), &mut fb).counters;
     let off = shaded(AntiAlias::Off).pixels_shaded;
     assert_eq!(off, 11_741);
@@ -147,8 +148,8 @@ fn supersampling_shades_every_sample_and_multisampling_once_per_pixel() {
 fn supersampling_reuses_its_scratch_frame_and_resolves_into_the_output() {
     let scene = white_quad_scene(1.0, true);
     let mut renderer = Renderer::new();
-    let mut a = relief::Framebuffer::new(80, 60);
-    let mut b = relief::Framebuffer::new(80, 60);
+    let mut a = relief_core::framebuffer::Framebuffer::new(80, 60);
+    let mut b = relief_core::framebuffer::Framebuffer::new(80, 60);
     let s = Settings {
         rotation: Vec3::new(0.0, 0.0, 20.0),
         ..aa(AntiAlias::Ssaa4)

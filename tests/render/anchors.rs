@@ -8,9 +8,9 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use relief::bench::anchors;
-use relief::render::render_frame;
-use relief::texture::load_texture;
+use relief_bench::anchors;
+use relief_pipeline::render::render_frame;
+use relief_texture::load_texture;
 
 const W: usize = 320;
 const H: usize = 240;
@@ -105,14 +105,14 @@ fn the_three_way_comparison_finds_every_variant() {
 // lights, vertex colours and Lambert terms, checked here against the
 // analytic sphere they describe.
 
-use relief::Renderer;
-use relief::bench::mesh_anchor;
-use relief::framebuffer::Framebuffer;
+use relief_bench::mesh_anchor;
+use relief_core::framebuffer::Framebuffer;
+use relief_pipeline::render::Renderer;
 
 /// A UV sphere of radius 3 away from the origin (the fit must move and
 /// scale it to radius 1.5 at the origin), written as the harness writes it,
 /// rendered in the anchor view at 320×240 without shadows.
-fn sphere_frame(name: &str) -> (Framebuffer, relief::Scene) {
+fn sphere_frame(name: &str) -> (Framebuffer, relief_scene::Scene) {
     let dir = std::env::temp_dir().join(format!("relief-mesh-anchor-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{name}.ply"));
@@ -169,7 +169,7 @@ fn the_model_view_covers_the_analytic_silhouette() {
 fn the_model_view_shades_as_the_harness_computes() {
     let (fb, _) = sphere_frame("shading");
     let (w, h) = mesh_anchor::COMPARE_SIZE;
-    let rotation = relief::scene::rotation_matrix(glam::Vec3::new(25.0, 35.0, 0.0)).as_dmat4();
+    let rotation = relief_scene::rotation_matrix(glam::Vec3::new(25.0, 35.0, 0.0)).as_dmat4();
     let lights = [
         ([3.0, 4.0, 6.0], [1.0, 1.0, 1.0]),
         ([-8.0, 1.0, 3.0], [0.3, 0.0, 0.0]),

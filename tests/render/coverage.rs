@@ -7,12 +7,13 @@ use crate::common;
 use common::*;
 use glam::{Vec3, Vec4};
 use proptest::prelude::*;
-use relief::plan::Plan;
-use relief::raster::{Band, ClipVertex, ScreenTri, raster_triangle, setup};
-use relief::render::draw_triangle;
-use relief::settings::Settings;
-use relief::shade::{ShadeCtx, TriShader};
-use relief::{Counters, Renderer};
+use relief_core::settings::Settings;
+use relief_core::stats::Counters;
+use relief_pipeline::plan::Plan;
+use relief_pipeline::raster::{Band, ClipVertex, ScreenTri, raster_triangle, setup};
+use relief_pipeline::render::Renderer;
+use relief_pipeline::render::draw_triangle;
+use relief_pipeline::shade::{ShadeCtx, TriShader};
 
 const MARK: [u8; 3] = [255, 255, 255];
 

@@ -5,10 +5,12 @@ use std::sync::Arc;
 
 use glam::Vec3;
 use proptest::prelude::*;
-use relief::render::render_frame;
-use relief::settings::{AntiAlias, Display, LightVector, Normals, Shading, Technique};
-use relief::texture::procedural;
-use relief::{Framebuffer, Scene, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_core::settings::{AntiAlias, Display, LightVector, Normals, Shading, Technique};
+use relief_pipeline::render::render_frame;
+use relief_scene::Scene;
+use relief_texture::procedural;
 
 fn cube() -> Scene {
     Scene::cube(Arc::new(procedural::brick()), true)
@@ -250,11 +252,11 @@ proptest! {
         size in 1usize..5,
     ) {
         use glam::Vec4;
-        use relief::raster::wire::{Canvas, WireTri, draw_line, draw_points};
+        use relief_pipeline::raster::wire::{Canvas, WireTri, draw_line, draw_points};
         let (a, b) = (Vec4::new(a.0, a.1, a.2, a.3), Vec4::new(b.0, b.1, b.2, b.3));
         let mut px = vec![[0u8; 3]; w * h];
         let mut canvas = Canvas::new(w, h, &mut px);
-        let mut counters = relief::Counters::default();
+        let mut counters = relief_core::stats::Counters::default();
         draw_line((a, Vec3::ONE), (b, Vec3::new(0.5, 0.2, 1.0)), size, &mut canvas, &mut counters);
         let tri = WireTri { clip: [a, b, a], color: [Vec3::ONE; 3] };
         draw_points(&[tri], size, &mut canvas, &mut counters);

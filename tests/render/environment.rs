@@ -9,16 +9,17 @@ use std::sync::Arc;
 
 use clap::ValueEnum;
 use glam::{Vec2, Vec3};
-use relief::framebuffer::Rgb;
-use relief::render::render_frame;
-use relief::scene::light::Light;
-use relief::scene::plane::grid;
-use relief::scene::rotation_matrix;
-use relief::settings::{Display, Shading, Technique};
-use relief::shade::environment::reflect;
-use relief::texture::environment::{Environment, direction, lat_long};
-use relief::texture::{Level, Texture};
-use relief::{Scene, Settings};
+use relief_core::framebuffer::Rgb;
+use relief_core::settings::Settings;
+use relief_core::settings::{Display, Shading, Technique};
+use relief_pipeline::render::render_frame;
+use relief_pipeline::shade::environment::reflect;
+use relief_scene::Scene;
+use relief_scene::light::Light;
+use relief_scene::plane::grid;
+use relief_scene::rotation_matrix;
+use relief_texture::environment::{Environment, direction, lat_long};
+use relief_texture::{Level, Texture};
 
 const W: usize = 160;
 const H: usize = 120;
@@ -265,7 +266,7 @@ fn tilting_the_plane_45_degrees_turns_the_reflection_90() {
 
 #[test]
 fn bump_bends_the_reflection_and_without_it_the_plane_is_a_mirror() {
-    let texture = relief::texture::procedural::brick();
+    let texture = relief_texture::procedural::brick();
     let scene = plane_scene(compass(), texture);
     let (flat, stats) = render_frame(&scene, &settings(Vec3::ZERO, 1.0, false), W, H);
     let (bumped, _) = render_frame(&scene, &settings(Vec3::ZERO, 1.0, true), W, H);
@@ -392,6 +393,6 @@ fn a_picture_file_loads_as_an_environment_and_a_missing_one_says_so() {
     let missing = Environment::load(&dir.join("no-such-environment.png"));
     assert!(matches!(
         missing,
-        Err(relief::texture::TextureError::NotFound { .. })
+        Err(relief_texture::TextureError::NotFound { .. })
     ));
 }

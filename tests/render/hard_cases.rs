@@ -8,10 +8,12 @@ use std::sync::Arc;
 use common::*;
 use glam::{Mat4, Vec2, Vec3};
 use proptest::prelude::*;
-use relief::scene::{Camera, Face, Light, Mesh, Object, Vertex};
-use relief::settings::{AntiAlias, Filter, HeightDerivative, Normals, Settings, Shading};
-use relief::texture::{Level, Texture};
-use relief::{Framebuffer, Renderer, Scene};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::{AntiAlias, Filter, HeightDerivative, Normals, Settings, Shading};
+use relief_pipeline::render::Renderer;
+use relief_scene::Scene;
+use relief_scene::{Camera, Face, Light, Mesh, Object, Vertex};
+use relief_texture::{Level, Texture};
 
 fn front(settings: Settings) -> Settings {
     Settings {
@@ -67,7 +69,7 @@ fn vertex(p: Vec3, n: Vec3) -> Vertex {
     }
 }
 
-fn clean(stats: &relief::FrameStats) {
+fn clean(stats: &relief_core::stats::FrameStats) {
     assert_eq!(
         stats.counters.nonfinite, 0,
         "a NaN or infinite colour was shaded"
@@ -534,8 +536,8 @@ proptest! {
         closed in any::<bool>(),
         start in 0usize..5,
     ) {
-        use relief::scene::Facet;
-        use relief::scene::facing::Facing;
+        use relief_scene::Facet;
+        use relief_scene::facing::Facing;
         use std::sync::atomic::{AtomicU8, Ordering};
         let vertices: Vec<Vertex> = points.iter().map(|&p| vertex(p, Vec3::Z)).collect();
         // Mostly triangles whose facet is their own (computed from the
@@ -623,7 +625,7 @@ fn any_model() -> impl Strategy<Value = Mat4> {
                 0.0, 0.0, 0.0, 1.0,
             ]);
             Mat4::from_translation(Vec3::from(t))
-                * relief::scene::rotation_matrix(Vec3::from(angles))
+                * relief_scene::rotation_matrix(Vec3::from(angles))
                 * shear
                 * Mat4::from_scale(scale)
         })
@@ -647,8 +649,8 @@ proptest! {
         closed in any::<bool>(),
         start in 0usize..5,
     ) {
-        use relief::scene::facing::{Facing, Quick};
-        use relief::scene::{Triangle, normal_matrix};
+        use relief_scene::facing::{Facing, Quick};
+        use relief_scene::{Triangle, normal_matrix};
         use std::sync::atomic::{AtomicU8, Ordering};
         let mut points = points;
         let mut triangles: Vec<Triangle> = corners.iter().map(|&c| Triangle::new(c, true)).collect();

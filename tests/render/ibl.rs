@@ -6,13 +6,13 @@
 use std::sync::Arc;
 
 use glam::Vec3;
-use relief::scene::model_view::view_axes;
-use relief::texture::environment::Environment;
+use relief_scene::model_view::view_axes;
+use relief_texture::environment::Environment;
 
 use crate::pbr::{centre, draw, facing, material, model, near, srgb8};
 
 /// Only the environment lights the quads.
-fn environment_only(scene: &mut relief::scene::Scene, env: Environment) {
+fn environment_only(scene: &mut relief_scene::Scene, env: Environment) {
     scene.lights.clear();
     scene.material.environment = Some(Arc::new(env));
 }
@@ -50,7 +50,7 @@ fn a_smooth_metal_mirrors_the_environment_behind_the_eye() {
         centre(&fb)
     );
 
-    let turned = relief::Settings {
+    let turned = relief_core::settings::Settings {
         environment_turn: 180.0,
         ..facing()
     };
@@ -109,9 +109,9 @@ fn a_white_dielectric_in_the_studio_does_not_blow_out() {
         &format!("[{}]", material([1.0; 3], 0.0, 0.5)),
         &[],
     );
-    let settings = relief::Settings {
+    let settings = relief_core::settings::Settings {
         rotation: facing().rotation,
-        ..relief::Settings::default()
+        ..relief_core::settings::Settings::default()
     };
     let got = centre(&draw(&scene, &settings, 120, 90));
     assert!(got.iter().all(|&c| (150..250).contains(&c)), "{got:?}");

@@ -6,10 +6,12 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use glam::Vec3;
-use relief::scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
-use relief::settings::UpAxis;
-use relief::texture::procedural;
-use relief::{Framebuffer, Renderer, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_core::settings::UpAxis;
+use relief_pipeline::render::Renderer;
+use relief_scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
+use relief_texture::procedural;
 
 /// A box from `lo` to `hi` as an OBJ file (its eight corners, twelve
 /// triangles counter-clockwise from outside).
@@ -63,7 +65,7 @@ fn model_scene(path: PathBuf) -> Scene {
 /// The model file's start settings (as `relief render FILE` has them).
 fn start_view() -> Settings {
     Settings {
-        rotation: relief::scene::model_view::START_ROTATION,
+        rotation: relief_scene::model_view::START_ROTATION,
         ..Settings::default()
     }
 }
@@ -162,7 +164,7 @@ fn turning_the_model_keeps_the_start_framing() {
         Vec3::new(2.0, 0.5, 0.5),
     ));
     if let Some(view) = &mut scene.model_view {
-        view.pose = Some(relief::scene::model_view::START_ROTATION);
+        view.pose = Some(relief_scene::model_view::START_ROTATION);
     }
     let turned = Settings {
         rotation: Vec3::new(0.0, 60.0, 0.0),
@@ -196,8 +198,8 @@ fn the_built_in_models_keep_the_reference_camera_and_lights() {
             panic!("the {model} scene is built");
         };
         assert!(scene.model_view.is_none());
-        assert_eq!(scene.camera, relief::scene::Camera::default());
-        assert_eq!(scene.lights, relief::scene::light::reference_lights());
+        assert_eq!(scene.camera, relief_scene::Camera::default());
+        assert_eq!(scene.lights, relief_scene::light::reference_lights());
     }
 }
 

@@ -1,5 +1,5 @@
 //! Overdraw: a triangle that repeats an earlier one of its mesh is skipped
-//! behind the depth buffer (src/scene/repeats.rs). The picture must be the
+//! behind the depth buffer (crates/scene/src/repeats.rs). The picture must be the
 //! one the mesh without its repeats gives, and the repeats must cost no
 //! depth test and no shadow texel. Distinct layers over the same pixels are
 //! drawn depth first: the picture of one pass, each pixel shaded once.
@@ -9,17 +9,20 @@ use crate::common;
 use common::*;
 use glam::Vec3;
 use proptest::prelude::*;
-use relief::plan::Plan;
-use relief::raster::Band;
-use relief::raster::scan::{OwnedBand, depth_prepass};
-use relief::render::draw_into;
-use relief::scene::repeats::{RepeatSkipper, find_repeats};
-use relief::scene::{Mesh, Triangle, obj};
-use relief::settings::{AntiAlias, Settings, Shading};
-use relief::shade::ShadeCtx;
-use relief::shadow::{Shadow, ShadowMap};
-use relief::stats::Counters;
-use relief::{FrameStats, Framebuffer, Renderer, Scene};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::{AntiAlias, Settings, Shading};
+use relief_core::stats::Counters;
+use relief_core::stats::FrameStats;
+use relief_pipeline::plan::Plan;
+use relief_pipeline::raster::Band;
+use relief_pipeline::raster::scan::{OwnedBand, depth_prepass};
+use relief_pipeline::render::Renderer;
+use relief_pipeline::render::draw_into;
+use relief_pipeline::shade::ShadeCtx;
+use relief_pipeline::shadow::{Shadow, ShadowMap};
+use relief_scene::Scene;
+use relief_scene::repeats::{RepeatSkipper, find_repeats};
+use relief_scene::{Mesh, Triangle, obj};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -218,10 +221,10 @@ fn grid(n: usize) -> Mesh {
 }
 
 /// A frame whose cancel hook says stop after `allowed` questions.
-fn cancelled_after(allowed: usize) -> (relief::render::CancelHook, Arc<AtomicUsize>) {
+fn cancelled_after(allowed: usize) -> (relief_pipeline::render::CancelHook, Arc<AtomicUsize>) {
     let asked = Arc::new(AtomicUsize::new(0));
     let count = asked.clone();
-    let hook: relief::render::CancelHook =
+    let hook: relief_pipeline::render::CancelHook =
         Arc::new(move || count.fetch_add(1, Ordering::SeqCst) >= allowed);
     (hook, asked)
 }
@@ -294,7 +297,7 @@ fn a_cancelled_band_stops_between_triangles() {
 /// of a frame abandoned at its second question.
 #[test]
 fn a_frame_counts_its_progress_to_the_end_or_to_its_stop() {
-    use relief::render::{FrameProgress, FrameStep};
+    use relief_pipeline::render::{FrameProgress, FrameStep};
     let scene = scene_of(grid(40));
     let settings = Settings {
         rotation: Vec3::ZERO,

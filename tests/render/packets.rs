@@ -9,23 +9,24 @@ use std::sync::Arc;
 use clap::ValueEnum;
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
-use relief::framebuffer::Rgb;
-use relief::plan::Plan;
-use relief::raster::{Band, raster_triangle};
-use relief::render::Renderer;
-use relief::scene::{Built, ModelChoice, SceneKind, build_scene};
-use relief::settings::{Filter, HeightDerivative, LightVector, Normals, Shading, Technique};
-use relief::shade::core::HookKernel;
-use relief::shade::dot3::Dot3;
-use relief::shade::emboss::Emboss;
-use relief::shade::kernels::{FlatTexturedKernel, GouraudKernel, PhongKernel};
-use relief::shade::parallax::Parallax;
-use relief::shade::{PixelShader, ShadeCtx, TriShader};
-use relief::shadow::{Shadow, ShadowMap};
-use relief::stats::Counters;
-use relief::texture::Texture;
-use relief::texture::filter::Footprint;
-use relief::{Scene, Settings};
+use relief_core::framebuffer::Rgb;
+use relief_core::settings::Settings;
+use relief_core::settings::{Filter, HeightDerivative, LightVector, Normals, Shading, Technique};
+use relief_core::stats::Counters;
+use relief_pipeline::plan::Plan;
+use relief_pipeline::raster::{Band, raster_triangle};
+use relief_pipeline::render::Renderer;
+use relief_pipeline::shade::core::HookKernel;
+use relief_pipeline::shade::dot3::Dot3;
+use relief_pipeline::shade::emboss::Emboss;
+use relief_pipeline::shade::kernels::{FlatTexturedKernel, GouraudKernel, PhongKernel};
+use relief_pipeline::shade::parallax::Parallax;
+use relief_pipeline::shade::{PixelShader, ShadeCtx, TriShader};
+use relief_pipeline::shadow::{Shadow, ShadowMap};
+use relief_scene::Scene;
+use relief_scene::{Built, ModelChoice, SceneKind, build_scene};
+use relief_texture::Texture;
+use relief_texture::filter::Footprint;
 
 /// The kernel without its packet path: the one-pixel loop.
 struct OnePixel<'a, S>(&'a S);
@@ -252,7 +253,7 @@ fn specular_kernels_match_the_one_pixel_loop() {
     let mut mapped = common::reference_scene(true);
     // A grey map varying over texels, with odd sizes so lanes wrap.
     let rgba: Vec<u8> = (0..13 * 7 * 4).map(|i| (i * 37 % 256) as u8).collect();
-    let grey = relief::texture::specular_map::grey(&Texture::from_rgba8("gloss", 13, 7, &rgba));
+    let grey = relief_texture::specular_map::grey(&Texture::from_rgba8("gloss", 13, 7, &rgba));
     mapped.material.specular_map = Some(Arc::new(grey));
     for scene in [&plain, &mapped] {
         for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
@@ -271,7 +272,7 @@ fn specular_kernels_match_the_one_pixel_loop() {
                             ..Settings::default()
                         };
                         check_in(scene, s, 80, 60);
-                        let (_, stats) = relief::render::render_frame(scene, &s, 80, 60);
+                        let (_, stats) = relief_pipeline::render::render_frame(scene, &s, 80, 60);
                         assert!(stats.counters.specular_evals > 0, "{s:?}");
                     }
                 }
@@ -339,7 +340,7 @@ proptest! {
 /// one-pixel loop draws it.
 #[test]
 fn environment_kernels_match_the_one_pixel_loop() {
-    use relief::texture::environment::Environment;
+    use relief_texture::environment::Environment;
     let sky = common::reference_scene(true);
     let mut small = common::reference_scene(true);
     // Odd sizes, so the seam and the pole rows are read by some lanes.
@@ -364,7 +365,7 @@ fn environment_kernels_match_the_one_pixel_loop() {
                         ..Settings::default()
                     };
                     check_in(scene, s, 80, 60);
-                    let (_, stats) = relief::render::render_frame(scene, &s, 80, 60);
+                    let (_, stats) = relief_pipeline::render::render_frame(scene, &s, 80, 60);
                     assert!(stats.counters.env_lookups > 0, "{s:?}");
                 }
             }
@@ -376,7 +377,7 @@ fn environment_kernels_match_the_one_pixel_loop() {
 /// asks the map once per light that reaches it, as the one-pixel loop does.
 #[test]
 fn shadowed_kernels_match_the_one_pixel_loop() {
-    let texture = Arc::new(relief::texture::procedural::brick());
+    let texture = Arc::new(relief_texture::procedural::brick());
     let Built::Scene(scene) =
         build_scene(SceneKind::Shadow, &ModelChoice::Cube, texture, false).unwrap()
     else {
@@ -401,7 +402,7 @@ fn shadowed_kernels_match_the_one_pixel_loop() {
                 };
                 assert!(Plan::new(&scene, &s).shadow_light.is_some(), "{s:?}");
                 check_in(&scene, s, 96, 72);
-                let (_, stats) = relief::render::render_frame(&scene, &s, 96, 72);
+                let (_, stats) = relief_pipeline::render::render_frame(&scene, &s, 96, 72);
                 assert!(stats.counters.shadow_lookups > 0, "{s:?}");
             }
         }
@@ -414,7 +415,7 @@ fn shadowed_kernels_match_the_one_pixel_loop() {
 /// draws them.
 #[test]
 fn material_terms_match_the_one_pixel_loop() {
-    use relief::scene::terms::{Cutout, MaterialTerms};
+    use relief_scene::terms::{Cutout, MaterialTerms};
     let scene = common::reference_scene(true);
     // Odd sizes, so lanes wrap at the borders of both maps.
     let map = |w: usize, h: usize, k: usize| {
@@ -485,8 +486,8 @@ fn material_terms_match_the_one_pixel_loop() {
 #[test]
 fn map_coordinates_match_the_one_pixel_loop() {
     use glam::Affine2;
-    use relief::scene::map_uv::{MapUv, MapUvs};
-    use relief::scene::terms::MaterialTerms;
+    use relief_scene::map_uv::{MapUv, MapUvs};
+    use relief_scene::terms::MaterialTerms;
     let mut scene = common::reference_scene(true);
     // A second set that is no affine image of the first: every face's
     // Jacobian differs.
@@ -605,7 +606,7 @@ fn technique_kernels_match_the_one_pixel_loop() {
                     };
                     assert!(hooked(&Plan::new(&cube, &s)), "{s:?}");
                     check_in(&cube, s, 96, 72);
-                    let (_, stats) = relief::render::render_frame(&cube, &s, 96, 72);
+                    let (_, stats) = relief_pipeline::render::render_frame(&cube, &s, 96, 72);
                     assert!(stats.counters.bump_evals > 0, "{s:?}");
                 }
             }
@@ -625,7 +626,7 @@ fn technique_kernels_match_the_one_pixel_loop() {
         }
     }
     // Under the shadow scene's map.
-    let texture = Arc::new(relief::texture::procedural::brick());
+    let texture = Arc::new(relief_texture::procedural::brick());
     let Built::Scene(shadowed) =
         build_scene(SceneKind::Shadow, &ModelChoice::Cube, texture, false).unwrap()
     else {

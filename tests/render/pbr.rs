@@ -7,11 +7,13 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use glam::Vec3;
-use relief::scene::model_view::view_axes;
-use relief::scene::{Built, Light, ModelChoice, Scene, SceneKind, build_scene};
-use relief::settings::ToneMap;
-use relief::texture::procedural;
-use relief::{Framebuffer, Renderer, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_core::settings::ToneMap;
+use relief_pipeline::render::Renderer;
+use relief_scene::model_view::view_axes;
+use relief_scene::{Built, Light, ModelChoice, Scene, SceneKind, build_scene};
+use relief_texture::procedural;
 
 /// A GLB of quads side by side in z = 0 facing +Z, quad i spanning x from
 /// 2i to 2i + 2 and y from −1 to 1, with material i; `materials` and
@@ -159,7 +161,7 @@ pub fn model(test: &str, count: usize, materials: &str, images: &[Vec<u8>]) -> S
 /// from above: their normal is then the view's back axis.
 pub fn facing() -> Settings {
     Settings {
-        rotation: Vec3::new(-relief::scene::model_view::ELEVATION_DEGREES, 0.0, 0.0),
+        rotation: Vec3::new(-relief_scene::model_view::ELEVATION_DEGREES, 0.0, 0.0),
         tone_map: ToneMap::None,
         ..Settings::default()
     }

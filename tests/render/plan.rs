@@ -7,10 +7,11 @@ use std::sync::Arc;
 
 use common::*;
 use glam::Vec3;
-use relief::scene::Light;
-use relief::settings::{Filter, Normals, Settings, Shading};
-use relief::texture::{Level, Texture};
-use relief::{Framebuffer, Scene};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::{Filter, Normals, Settings, Shading};
+use relief_scene::Light;
+use relief_scene::Scene;
+use relief_texture::{Level, Texture};
 
 const W: usize = 160;
 const H: usize = 120;

@@ -1,7 +1,7 @@
 //! The 2D plasma bump effect (docs/plasma.md), on the raw framebuffer.
 
-use relief::Framebuffer;
-use relief::plasma::{Plasma, PlasmaNormal};
+use relief_core::framebuffer::Framebuffer;
+use relief_plasma::{Plasma, PlasmaNormal};
 
 const MODES: [PlasmaNormal; 2] = [PlasmaNormal::Table, PlasmaNormal::Exact];
 

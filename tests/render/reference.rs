@@ -7,8 +7,8 @@ use crate::common;
 use common::*;
 use glam::{DMat3, DVec2, DVec3, Vec3};
 use proptest::prelude::*;
-use relief::Scene;
-use relief::settings::{Normals, Settings, Shading};
+use relief_core::settings::{Normals, Settings, Shading};
+use relief_scene::Scene;
 
 const W: usize = 320;
 const H: usize = 240;
@@ -153,7 +153,7 @@ fn flat_shading_paints_each_untextured_face_in_one_derived_colour() {
     assert_eq!(colours.len(), 3, "{colours:?}");
     // Each is the facet colour (mean of its corners) lit at the rotated face centre.
     let r = rotation(DVec3::new(25.0, 35.0, 0.0));
-    for (n, u, v) in relief::scene::cube::FACES {
+    for (n, u, v) in relief_scene::cube::FACES {
         let [n, u, v] = [n, u, v].map(|a| a.as_dvec3());
         let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
         let mean = corners
@@ -270,14 +270,14 @@ fn ramp_scene() -> Scene {
     let texels = (0..w * 4)
         .map(|i| [0.8, 0.8, 0.8, ((i % w) as f32 + 0.5) / w as f32])
         .collect();
-    let level = relief::texture::Level {
+    let level = relief_texture::Level {
         wrap: Default::default(),
         width: w,
         height: 4,
         texels,
     };
     Scene::cube(
-        std::sync::Arc::new(relief::texture::Texture::new("ramp", level)),
+        std::sync::Arc::new(relief_texture::Texture::new("ramp", level)),
         false,
     )
 }
@@ -289,8 +289,8 @@ fn blinn_bump_on_a_ramp_tilts_the_normal_as_the_formula_says() {
     let scene = ramp_scene();
     let k = 0.25f32;
     for derivative in [
-        relief::settings::HeightDerivative::Texel,
-        relief::settings::HeightDerivative::Filtered,
+        relief_core::settings::HeightDerivative::Texel,
+        relief_core::settings::HeightDerivative::Filtered,
     ] {
         let settings = front_view(Settings {
             normals: Normals::Face,

@@ -4,16 +4,18 @@
 use std::sync::Arc;
 
 use glam::Vec3;
-use relief::plan::Plan;
-use relief::render::render_frame;
-use relief::scene::build::FLOOR_Y;
-use relief::scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
-use relief::settings::{Display, LightVector, Shading, Technique};
-use relief::shadow::ShadowMap;
-use relief::texture::procedural;
-use relief::{Counters, Framebuffer, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_core::settings::{Display, LightVector, Shading, Technique};
+use relief_core::stats::Counters;
+use relief_pipeline::plan::Plan;
+use relief_pipeline::render::render_frame;
+use relief_pipeline::shadow::ShadowMap;
+use relief_scene::build::FLOOR_Y;
+use relief_scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
+use relief_texture::procedural;
 
-fn texture() -> Arc<relief::texture::Texture> {
+fn texture() -> Arc<relief_texture::Texture> {
     Arc::new(procedural::brick())
 }
 
@@ -218,7 +220,7 @@ fn the_floor_shadow_shows_whatever_the_cubes_technique() {
 /// shaded point, and the same scene with the square moved far away.
 fn cube_under_a_caster(settings: &Settings, w: usize, h: usize) -> (Scene, (usize, usize), Scene) {
     let mut scene = Scene::cube(texture(), true);
-    let turn = relief::scene::rotation_matrix(settings.rotation);
+    let turn = relief_scene::rotation_matrix(settings.rotation);
     let to_eye = scene.camera.eye.normalize();
     let normal = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z]
         .map(|n| turn.transform_vector3(n))
@@ -229,12 +231,12 @@ fn cube_under_a_caster(settings: &Settings, w: usize, h: usize) -> (Scene, (usiz
     let light = scene.lights[0].position;
     let toward = (light - p).normalize();
     assert!(toward.dot(normal) > 0.3, "the white light faces that face");
-    let square = relief::scene::plane::grid(0.12, 1.0, 1, |_| Vec3::ONE);
+    let square = relief_scene::plane::grid(0.12, 1.0, 1, |_| Vec3::ONE);
     let place = |at: Vec3| {
         glam::Mat4::from_translation(at)
             * glam::Mat4::from_quat(glam::Quat::from_rotation_arc(Vec3::Z, toward))
     };
-    scene.objects.push(relief::scene::Object {
+    scene.objects.push(relief_scene::Object {
         mesh: square,
         transform: place(p + 0.5 * toward),
         rotates: false,
@@ -383,7 +385,7 @@ fn a_floor_lit_from_below_casts_onto_the_cube() {
     // floor (so the light stays outside the casters' bounds) shades the
     // cube's bottom from a light underneath.
     let mut s = shadow_scene();
-    s.objects[1].mesh = relief::scene::plane::grid(2.5, 1.0, 4, |_| Vec3::ONE);
+    s.objects[1].mesh = relief_scene::plane::grid(2.5, 1.0, 4, |_| Vec3::ONE);
     s.lights[0].position = Vec3::new(0.3, -9.0, 0.2);
     let plan = Plan::new(&s, &Settings::default());
     let index = plan.shadow_light.expect("a shadow pass");
@@ -415,12 +417,13 @@ fn any_size_renders_the_shadow_scene_without_trouble() {
     let s = shadow_scene();
     for (w, h) in [(1, 1), (1, 64), (64, 1), (7, 5), (2000, 30)] {
         let mut fb = Framebuffer::new(w, h);
-        let stats = relief::Renderer::new().render(&s, &Settings::default(), &mut fb);
+        let stats =
+            relief_pipeline::render::Renderer::new().render(&s, &Settings::default(), &mut fb);
         assert_eq!(stats.counters.nonfinite, 0, "{w}x{h}");
     }
     let size = ShadowMap::size_for(100_000, 3);
-    assert_eq!(size, relief::shadow::MAX_SIZE);
-    assert_eq!(ShadowMap::size_for(1, 1), relief::shadow::MIN_SIZE);
+    assert_eq!(size, relief_pipeline::shadow::MAX_SIZE);
+    assert_eq!(ShadowMap::size_for(1, 1), relief_pipeline::shadow::MIN_SIZE);
 }
 
 #[test]
@@ -484,7 +487,7 @@ fn the_shadowed_light_is_the_one_emboss_follows_even_on_a_tie() {
     let plan = Plan::new(&s, &Settings::default());
     assert_eq!(
         plan.shadow_light,
-        relief::plan::strongest_light(&plan.lights)
+        relief_pipeline::plan::strongest_light(&plan.lights)
     );
     assert_eq!(plan.shadow_light, Some(0));
 }
@@ -494,11 +497,11 @@ fn the_shadowed_light_is_the_one_emboss_follows_even_on_a_tie() {
 /// map of four texels 1, 1, 0, 0 read bilinearly with wrapping is ≥ 0.5
 /// exactly for u in [0, 0.5].
 fn masked_square_over_the_floor(masked: bool) -> Scene {
-    use relief::scene::terms::{Cutout, MaterialTerms};
-    use relief::texture::Level;
+    use relief_scene::terms::{Cutout, MaterialTerms};
+    use relief_texture::Level;
     let mut scene = shadow_scene();
-    scene.objects[0] = relief::scene::Object {
-        mesh: relief::scene::plane::plane(),
+    scene.objects[0] = relief_scene::Object {
+        mesh: relief_scene::plane::plane(),
         transform: glam::Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2),
         rotates: false,
     };
@@ -579,7 +582,7 @@ fn the_map_is_the_same_on_one_thread_and_on_several() {
         .find(|c| c.object == CUBE as usize)
         .expect("the cube casts");
     casters.retain(|c| c.object != twin);
-    casters.push(relief::scene::casters::Caster {
+    casters.push(relief_scene::casters::Caster {
         object: twin,
         ..cube
     });
@@ -630,8 +633,8 @@ fn assert_same_on_more_threads(
 /// and on several.
 #[test]
 fn a_big_caster_is_set_up_the_same_on_one_thread_and_on_several() {
-    use relief::scene::world::World;
-    use relief::scene::{Mesh, Triangle, Vertex};
+    use relief_scene::world::World;
+    use relief_scene::{Mesh, Triangle, Vertex};
     let mut scene = shadow_scene();
     let (rings, segments) = (121u32, 240u32);
     let mut vertices = Vec::new();
@@ -666,7 +669,7 @@ fn a_big_caster_is_set_up_the_same_on_one_thread_and_on_several() {
     let first: Vec<Triangle> = triangles[..500].to_vec();
     triangles.extend(first);
     assert!(triangles.len() > 3 * 16_384, "{}", triangles.len());
-    let repeats = relief::scene::repeats::find_repeats(&triangles);
+    let repeats = relief_scene::repeats::find_repeats(&triangles);
     assert_eq!(repeats.len(), 500);
     scene.objects[CUBE as usize].mesh = Mesh::of_triangles(vertices, triangles, false, true);
     let plan = Plan::new(&scene, &Settings::default());
@@ -683,7 +686,7 @@ fn a_big_caster_is_set_up_the_same_on_one_thread_and_on_several() {
             640,
             480,
             &all_repeats,
-            &relief::shadow::Unwatched,
+            &relief_pipeline::shadow::Unwatched,
         )
     };
     let one = map_on_threads(1, &draw);

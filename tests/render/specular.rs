@@ -8,14 +8,15 @@ use crate::common;
 use std::sync::Arc;
 
 use glam::Vec3;
-use relief::framebuffer::Framebuffer;
-use relief::render::render_frame;
-use relief::scene::light::Light;
-use relief::scene::plane::grid;
-use relief::settings::Shading;
-use relief::stats::FrameStats;
-use relief::texture::{Level, Texture};
-use relief::{Scene, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_core::settings::Shading;
+use relief_core::stats::FrameStats;
+use relief_pipeline::render::render_frame;
+use relief_scene::Scene;
+use relief_scene::light::Light;
+use relief_scene::plane::grid;
+use relief_texture::{Level, Texture};
 
 const W: usize = 160;
 const H: usize = 120;
@@ -342,7 +343,7 @@ fn on_sphere(x: usize, y: usize) -> Option<[f64; 3]> {
 fn sphere_highlight_peaks_on_the_mirror_point_at_the_light_grey() {
     let light = [3.0, 2.0, 4.0];
     let texture = Texture::new("white", Level::solid(4, 4, [1.0; 4]));
-    let mut scene = Scene::model(relief::scene::sphere::sphere(), Arc::new(texture));
+    let mut scene = Scene::model(relief_scene::sphere::sphere(), Arc::new(texture));
     scene.lights = vec![Light::new(
         Vec3::new(light[0] as f32, light[1] as f32, light[2] as f32),
         Vec3::splat(GREY as f32),

@@ -7,10 +7,11 @@
 use crate::techniques_scenes;
 
 use glam::{Vec2, Vec3};
-use relief::render::render_frame;
-use relief::scene::light::reference_lights;
-use relief::settings::{LightVector, Normals, Technique};
-use relief::{Renderer, Settings};
+use relief_core::settings::Settings;
+use relief_core::settings::{LightVector, Normals, Technique};
+use relief_pipeline::render::Renderer;
+use relief_pipeline::render::render_frame;
+use relief_scene::light::reference_lights;
 use techniques_scenes::*;
 
 const TECHNIQUES: [Technique; 5] = [
@@ -25,7 +26,7 @@ const TECHNIQUES: [Technique; 5] = [
 /// coloured checker; recessed texels from u = 0.75 on, so the height map is
 /// not flat (the plan would drop the bump stage) but nothing a pixel of the
 /// test quad reads is sloped.
-fn flat_where_seen() -> relief::texture::Texture {
+fn flat_where_seen() -> relief_texture::Texture {
     texture_of(32, |x, y| {
         let c = if (x / 4 + y / 4) % 2 == 0 { 0.9 } else { 0.4 };
         let h = if x >= 24 { 0.3 } else { 1.0 };
@@ -33,14 +34,14 @@ fn flat_where_seen() -> relief::texture::Texture {
     })
 }
 
-fn flat_scene(rotates: bool) -> relief::Scene {
+fn flat_scene(rotates: bool) -> relief_scene::Scene {
     let mesh = quad_mesh(1.0, 0.0, Vec2::splat(0.1), Vec2::splat(0.6), Vec3::ONE);
     let object = if rotates { turning(mesh) } else { fixed(mesh) };
     scene_of(
         vec![object],
         flat_where_seen(),
         reference_lights(),
-        relief::scene::AMBIENT,
+        relief_scene::AMBIENT,
     )
 }
 
@@ -97,7 +98,7 @@ fn flat_height_on_a_turned_quad_stays_within_one_level() {
 }
 
 /// White texture whose height rises along u by 0.5 per unit of u.
-fn ramp_scene(light: Vec3) -> relief::Scene {
+fn ramp_scene(light: Vec3) -> relief_scene::Scene {
     let n = 64;
     let texture = texture_of(n, |x, _| [1.0, 1.0, 1.0, 0.25 + 0.5 * x as f32 / n as f32]);
     // Texture coordinates 0..1 over 2 units: ∂P/∂u = 2X, ∂P/∂v = 2Y as on the cube.
@@ -223,14 +224,16 @@ fn dot3_per_vertex_light_vector_darkens_the_middle() {
     let (vertex, vs) = frame(LightVector::Vertex);
     assert_eq!(ps.counters.pixels_shaded, vs.counters.pixels_shaded);
     // Green channel: 0.6 everywhere in the texture.
-    let g = |fb: &relief::Framebuffer| fb.get(160, 120)[1] as i32;
+    let g = |fb: &relief_core::framebuffer::Framebuffer| fb.get(160, 120)[1] as i32;
     assert!(
         g(&pixel) > g(&vertex) + 30,
         "{} vs {}",
         g(&pixel),
         g(&vertex)
     );
-    let sum = |fb: &relief::Framebuffer| fb.pixels().iter().map(|p| p[1] as u64).sum::<u64>();
+    let sum = |fb: &relief_core::framebuffer::Framebuffer| {
+        fb.pixels().iter().map(|p| p[1] as u64).sum::<u64>()
+    };
     assert!(sum(&pixel) > sum(&vertex));
 }
 
@@ -238,7 +241,7 @@ fn dot3_per_vertex_light_vector_darkens_the_middle() {
 fn counters_say_what_each_technique_read() {
     let scene = ramp_scene(Vec3::new(3.0, 2.0, 10.0));
     let mut renderer = Renderer::new();
-    let mut fb = relief::Framebuffer::new(160, 120);
+    let mut fb = relief_core::framebuffer::Framebuffer::new(160, 120);
     let mut run = |t: Technique, k: f32| {
         let s = Settings {
             bump_strength: k,
@@ -295,7 +298,7 @@ fn techniques_need_phong_and_bump() {
     let scene = ramp_scene(Vec3::new(6.0, 0.0, 8.0));
     for base in [
         Settings {
-            shading: relief::settings::Shading::Gouraud,
+            shading: relief_core::settings::Shading::Gouraud,
             ..ramp_settings(Technique::Blinn)
         },
         Settings {

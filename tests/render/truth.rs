@@ -1,4 +1,4 @@
-//! The rasterizer against the bench's ray-cast truth (src/bench/truth), one
+//! The rasterizer against the bench's ray-cast truth (crates/bench/src/truth), one
 //! technique at a time, at three orientations.
 //!
 //! A rasterizer without anti-aliasing shades each pixel at its centre, so
@@ -25,11 +25,11 @@
 use std::sync::Arc;
 
 use glam::{DVec3, Vec3};
-use relief::bench::truth::{self, View, geometry::World};
-use relief::render::render_frame;
-use relief::scene::Scene;
-use relief::settings::{Filter, Settings, Technique};
-use relief::texture::{Level, Texture, load_texture};
+use relief_bench::truth::{self, View, geometry::World};
+use relief_core::settings::{Filter, Settings, Technique};
+use relief_pipeline::render::render_frame;
+use relief_scene::Scene;
+use relief_texture::{Level, Texture, load_texture};
 
 const W: usize = 160;
 const H: usize = 120;
@@ -438,7 +438,7 @@ fn trilinear_and_anisotropic_are_closer_to_the_truth_than_nearest_mip() {
         );
         let psnr = |filter| {
             let (fb, _) = render_frame(&scene, &settings(filter), w, h);
-            let mut e = relief::bench::metrics::SquaredError::default();
+            let mut e = relief_bench::metrics::SquaredError::default();
             e.add(fb.pixels(), truth.pixels());
             e.psnr()
         };

@@ -407,7 +407,7 @@ impl Session {
                 // thread-self: /proc/net follows the process's first thread.
                 let table =
                     std::fs::read_to_string("/proc/thread-self/net/tcp").unwrap_or_default();
-                let queued = relief::term::backlog::sockets(&table)
+                let queued = relief_term::backlog::sockets(&table)
                     .filter(|s| s.state == 1 && s.local == server && s.remote.ip() == client)
                     .map(|s| s.tx_queue)
                     .max()

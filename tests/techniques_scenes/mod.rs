@@ -5,9 +5,10 @@
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
-use relief::scene::{Camera, Face, Light, Material, Mesh, Object, Vertex};
-use relief::texture::{Level, Texture};
-use relief::{Framebuffer, Scene};
+use relief_core::framebuffer::Framebuffer;
+use relief_scene::Scene;
+use relief_scene::{Camera, Face, Light, Material, Mesh, Object, Vertex};
+use relief_texture::{Level, Texture};
 
 /// A square of side 2·`half` in the z = `z` plane, facing +Z (the camera),
 /// with texture coordinates running from `uv0` to `uv1` across it, white.
@@ -67,7 +68,7 @@ pub fn scene_of(
         lights,
         ambient,
         camera: Camera::default(),
-        background: relief::scene::BACKGROUND,
+        background: relief_scene::BACKGROUND,
         model_view: None,
         motion: None,
         cameras: Vec::new(),

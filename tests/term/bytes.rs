@@ -9,9 +9,9 @@ use ratatui::style::Color;
 use crate::screen::Screen;
 use ratatui::widgets::Widget;
 use ratatui::{Terminal, TerminalOptions, Viewport};
-use relief::Framebuffer;
-use relief::term::backend::{BEGIN_SYNC, END_SYNC};
-use relief::term::{ColorDepth, HalfBlocks, SgrBackend};
+use relief_core::framebuffer::Framebuffer;
+use relief_term::backend::{BEGIN_SYNC, END_SYNC};
+use relief_term::{ColorDepth, HalfBlocks, SgrBackend};
 
 const PAD: [u8; 3] = [16, 24, 32];
 
@@ -259,7 +259,7 @@ fn as_printed(text: &[u8]) -> Vec<u8> {
 
 #[test]
 fn ansi_file_text_replays_to_the_same_cells_in_a_bounded_size() {
-    use relief::term::ansi::{cells, frame_text};
+    use relief_term::ansi::{cells, frame_text};
     for depth in [
         ColorDepth::Truecolor,
         ColorDepth::Palette256,
@@ -280,12 +280,16 @@ fn ansi_file_text_replays_to_the_same_cells_in_a_bounded_size() {
     }
     // The reference frame at 160x120 pixels: timg writes 61 kB for it; the
     // former per-cell truecolor text took 338 kB.
-    let scene = relief::Scene::cube(
-        std::sync::Arc::new(relief::texture::procedural::brick()),
+    let scene = relief_scene::Scene::cube(
+        std::sync::Arc::new(relief_texture::procedural::brick()),
         false,
     );
     let mut fb = Framebuffer::new(160, 120);
-    relief::Renderer::new().render(&scene, &relief::Settings::default(), &mut fb);
+    relief_pipeline::render::Renderer::new().render(
+        &scene,
+        &relief_core::settings::Settings::default(),
+        &mut fb,
+    );
     let text = frame_text(&fb, ColorDepth::Truecolor, false, PAD).unwrap();
     let mut screen = Screen::new(160, 60);
     screen.feed(&as_printed(&text));

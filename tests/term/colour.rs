@@ -6,13 +6,16 @@
 use std::sync::Arc;
 
 use ratatui::style::Color;
-use relief::term::ColorDepth;
-use relief::term::ansi::{cells, shown_picture};
-use relief::term::color::{ANSI16, CUBE_LEVELS, nearest_16, nearest_256, shown_rgb};
-use relief::term::oklab::lab;
-use relief::{Framebuffer, Renderer, Scene, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_pipeline::render::Renderer;
+use relief_scene::Scene;
+use relief_term::ColorDepth;
+use relief_term::ansi::{cells, shown_picture};
+use relief_term::color::{ANSI16, CUBE_LEVELS, nearest_16, nearest_256, shown_rgb};
+use relief_term::oklab::lab;
 
-const BACKGROUND: [u8; 3] = relief::scene::BACKGROUND;
+const BACKGROUND: [u8; 3] = relief_scene::BACKGROUND;
 
 /// The former mapping, kept here as the baseline: per-channel rounding to
 /// the cube or the grey of the mean, whichever is closer in sRGB.
@@ -56,16 +59,16 @@ mod before {
 }
 
 fn reference_frame() -> Framebuffer {
-    let scene = Scene::cube(Arc::new(relief::texture::procedural::brick()), false);
+    let scene = Scene::cube(Arc::new(relief_texture::procedural::brick()), false);
     let mut fb = Framebuffer::new(320, 240);
     Renderer::new().render(&scene, &Settings::default(), &mut fb);
     fb
 }
 
 fn flat_frame() -> Framebuffer {
-    let scene = Scene::cube(Arc::new(relief::texture::procedural::brick()), false);
+    let scene = Scene::cube(Arc::new(relief_texture::procedural::brick()), false);
     let settings = Settings {
-        shading: relief::settings::Shading::Flat,
+        shading: relief_core::settings::Shading::Flat,
         ..Settings::default()
     };
     let mut fb = Framebuffer::new(320, 240);
@@ -312,12 +315,12 @@ fn object_delta_e(fb: &Framebuffer, pic: &Framebuffer) -> f64 {
 #[test]
 fn sixteen_colours_stay_near_the_full_colour_frame() {
     // The frames of the chafa comparison (docs/colour.md), at 160×96.
-    let brick = Arc::new(relief::texture::procedural::brick());
+    let brick = Arc::new(relief_texture::procedural::brick());
     let scenes = [
         ("cube", Scene::cube(brick.clone(), false)),
         (
             "sphere",
-            Scene::model(relief::scene::sphere::sphere(), brick),
+            Scene::model(relief_scene::sphere::sphere(), brick),
         ),
     ];
     for (model, scene) in scenes {

@@ -4,9 +4,9 @@ use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::style::Color;
 use ratatui::widgets::Widget;
-use relief::Framebuffer;
-use relief::term::color::{ANSI16, nearest_16, nearest_256};
-use relief::term::{ColorDepth, HalfBlocks};
+use relief_core::framebuffer::Framebuffer;
+use relief_term::color::{ANSI16, nearest_16, nearest_256};
+use relief_term::{ColorDepth, HalfBlocks};
 
 const PAD: [u8; 3] = [16, 24, 32];
 
@@ -216,9 +216,9 @@ fn depth_detection_reads_colorterm_then_term() {
 
 // ---- Sub-cell symbol sets -------------------------------------------------
 
-use relief::term::Symbols;
-use relief::term::cells::shown_picture;
-use relief::term::fit::{error, fit};
+use relief_term::Symbols;
+use relief_term::cells::shown_picture;
+use relief_term::fit::{error, fit};
 
 /// Fine rows of a cell in the name checks: 12 is a multiple of 2, 3 and 4.
 const FINE: usize = 12;
@@ -444,7 +444,7 @@ fn a_rendered_frame_rebuilds_the_fitted_blocks() {
             }
         }
         // The ragged last column and row of cells mix in the pad: fitted too.
-        let buf = relief::term::ansi::symbol_cells(&fb, symbols, ColorDepth::Truecolor, false, PAD);
+        let buf = relief_term::ansi::symbol_cells(&fb, symbols, ColorDepth::Truecolor, false, PAD);
         assert_eq!(
             (buf.area.width as usize, buf.area.height as usize),
             (5, 4),
@@ -492,7 +492,7 @@ fn symbol_text_has_lf_rows_and_one_cell_per_glyph() {
     }
     for symbols in Symbols::ALL {
         let mut out = Vec::new();
-        relief::term::ansi::write_symbol_text(
+        relief_term::ansi::write_symbol_text(
             &fb,
             symbols,
             ColorDepth::Truecolor,
@@ -530,7 +530,7 @@ fn symbol_text_has_lf_rows_and_one_cell_per_glyph() {
 
 // ---- Pixel formats: decode what was encoded -------------------------------
 
-use relief::term::{kitty, sixel};
+use relief_term::{kitty, sixel};
 
 /// A frame of pseudo-random pixels; `colours` distinct values at most
 /// (0: any).

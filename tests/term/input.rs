@@ -5,7 +5,7 @@ use crossterm::event::{
 };
 use std::time::{Duration, Instant};
 
-use relief::term::input::{Input, InputParser, PASTE_WAIT, SEQUENCE_WAIT};
+use relief_term::input::{Input, InputParser, PASTE_WAIT, SEQUENCE_WAIT};
 
 /// Everything decoded from `chunks`, read one after the other.
 fn decode(chunks: &[&[u8]]) -> Vec<Input> {

@@ -9,13 +9,13 @@ use base64::Engine;
 use crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
 use ratatui::Terminal;
 use ratatui::layout::Rect;
-use relief::Framebuffer;
 use relief::app::State;
 use relief::app::event_loop::{Exit, Looper, Msg};
-use relief::settings::Settings;
-use relief::term::format::{Clues, Format, TmuxPixels};
-use relief::term::pixel_view::{self, Output, PixelView};
-use relief::term::{ColorDepth, SgrBackend, kitty, sixel};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_term::format::{Clues, Format, TmuxPixels};
+use relief_term::pixel_view::{self, Output, PixelView};
+use relief_term::{ColorDepth, SgrBackend, kitty, sixel};
 
 use super::encoder::decode_sixel;
 
@@ -84,7 +84,7 @@ fn run(output: Output, msgs: Vec<Msg>) -> (Vec<u8>, Vec<(usize, usize)>, State) 
                 fb.set(x, y, pattern(x, y, w, h));
             }
         }
-        relief::FrameStats::default()
+        relief_core::stats::FrameStats::default()
     })
     .run(&mut state)
     .unwrap();
@@ -345,7 +345,7 @@ fn an_image_never_reaches_the_last_row() {
     state.output = output(Format::Sixels);
     Looper::new(&mut term, &rx, |_: &State, fb: &mut Framebuffer| {
         fb.fill([200, 10, 10]);
-        relief::FrameStats::default()
+        relief_core::stats::FrameStats::default()
     })
     .run(&mut state)
     .unwrap();
@@ -374,12 +374,7 @@ fn loop_frame() -> (usize, usize) {
     let screen = Rect::new(0, 0, 60, 14);
     let area = relief::app::view::areas(screen).viewport;
     assert_eq!((area.width, area.height), (60, 12));
-    PixelView::framebuffer_size(
-        &output(Format::Kitty),
-        area,
-        14,
-        relief::term::Symbols::Half,
-    )
+    PixelView::framebuffer_size(&output(Format::Kitty), area, 14, relief_term::Symbols::Half)
 }
 
 impl SlowLink {
@@ -503,10 +498,10 @@ fn run_slow_link(
     let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
     state.output = output(Format::Kitty);
     let exit = Looper {
-        pacer: relief::term::pacing::Pacer::default(),
+        pacer: relief_term::pacing::Pacer::default(),
         ..Looper::new(&mut term, &rx, |s: &State, fb: &mut Framebuffer| {
             render(s, fb);
-            relief::FrameStats::default()
+            relief_core::stats::FrameStats::default()
         })
     }
     .run(&mut state)
@@ -922,7 +917,7 @@ impl Replay {
 /// The bytes of each frame (from one start of a synchronized update to the
 /// next).
 fn frames(bytes: &[u8]) -> Vec<&[u8]> {
-    let mark = relief::term::backend::BEGIN_SYNC;
+    let mark = relief_term::backend::BEGIN_SYNC;
     let starts: Vec<usize> = bytes
         .windows(mark.len())
         .enumerate()
@@ -982,7 +977,7 @@ fn run_panels_with(output: Output, msgs: Vec<Msg>) -> (Vec<u8>, Framebuffer) {
             if fb.width() >= last.width() {
                 last = fb.clone();
             }
-            relief::FrameStats::default()
+            relief_core::stats::FrameStats::default()
         },
     )
     .run(&mut state)
@@ -1161,7 +1156,7 @@ fn under_a_panel_sixel_sends_only_the_cells_the_panel_leaves() {
     let width = 80 * cell.0;
     for y in 0..h {
         for x in 0..w {
-            let want = relief::term::sixel::shown(relief::term::sixel::percent(last.get(x, y)));
+            let want = relief_term::sixel::shown(relief_term::sixel::percent(last.get(x, y)));
             assert_eq!(screen.canvas[y * width + x], Some(want), "{x},{y}");
         }
     }
@@ -1429,7 +1424,7 @@ fn draw_pixels(
     d: Draw,
 ) -> Vec<u8> {
     let look = pixel_view::TextLook {
-        symbols: relief::term::Symbols::Half,
+        symbols: relief_term::Symbols::Half,
         depth: ColorDepth::Truecolor,
         dither: d.dither,
         pad: [0, 0, 0],
@@ -1446,7 +1441,7 @@ fn draw_pixels(
     term.backend_mut().begin_frame().unwrap();
     view.draw(term, frame, AREA, |f, pic| {
         f.render_widget(
-            relief::term::SymbolCells {
+            relief_term::SymbolCells {
                 fb: pic,
                 symbols: look.symbols,
                 depth: look.depth,

@@ -15,13 +15,15 @@ use std::sync::Arc;
 use clap::ValueEnum;
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
-use relief::render::{Renderer, render_frame};
-use relief::settings::{Filter, HeightDerivative, LightVector, Technique};
-use relief::texture::filter::{Footprint, read_normal};
-use relief::texture::mip::{self, AnisoPlan};
-use relief::texture::sampler::Sampler;
-use relief::texture::{NormalMap, Texture};
-use relief::{Framebuffer, Scene, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_core::settings::{Filter, HeightDerivative, LightVector, Technique};
+use relief_pipeline::render::{Renderer, render_frame};
+use relief_scene::Scene;
+use relief_texture::filter::{Footprint, read_normal};
+use relief_texture::mip::{self, AnisoPlan};
+use relief_texture::sampler::Sampler;
+use relief_texture::{NormalMap, Texture};
 
 use common::minified::{H, W, any_f32, far_cube, gains, grazing_plane, noise, texture};
 
@@ -90,7 +92,7 @@ fn default_map(scene: &Scene) -> Arc<NormalMap> {
     let (map, built) = scene
         .material
         .texture
-        .normal_map(relief::texture::normal_map::normal_map_scale(k));
+        .normal_map(relief_texture::normal_map::normal_map_scale(k));
     assert!(!built, "a frame has built it already");
     map
 }

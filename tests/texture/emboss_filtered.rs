@@ -14,12 +14,13 @@ use std::sync::Arc;
 use clap::ValueEnum;
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
-use relief::render::render_frame;
-use relief::settings::{Filter, HeightDerivative, Technique};
-use relief::texture::Texture;
-use relief::texture::filter::{Footprint, read_heights};
-use relief::texture::sampler::Sampler;
-use relief::{Scene, Settings};
+use relief_core::settings::Settings;
+use relief_core::settings::{Filter, HeightDerivative, Technique};
+use relief_pipeline::render::render_frame;
+use relief_scene::Scene;
+use relief_texture::Texture;
+use relief_texture::filter::{Footprint, read_heights};
+use relief_texture::sampler::Sampler;
 
 use common::minified::{H, W, any_f32, far_cube, gains, grazing_plane, noise, texture};
 

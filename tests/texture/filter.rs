@@ -6,12 +6,12 @@ use std::sync::OnceLock;
 use clap::ValueEnum;
 use glam::Vec2;
 use proptest::prelude::*;
-use relief::settings::{Filter, HeightDerivative};
-use relief::texture::filter::{Footprint, height_gradient, sample};
-use relief::texture::level::Texel;
-use relief::texture::mip::{AnisoPlan, MAX_ANISOTROPY, lod};
-use relief::texture::sampler::Sampler;
-use relief::texture::{Level, Texture, procedural};
+use relief_core::settings::{Filter, HeightDerivative};
+use relief_texture::filter::{Footprint, height_gradient, sample};
+use relief_texture::level::Texel;
+use relief_texture::mip::{AnisoPlan, MAX_ANISOTROPY, lod};
+use relief_texture::sampler::Sampler;
+use relief_texture::{Level, Texture, procedural};
 
 /// Every filter, so a new one is checked here too.
 fn filters() -> impl Iterator<Item = Filter> {

@@ -13,14 +13,15 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3};
 use image::{ImageBuffer, Rgb};
 use relief::app::{Action, State, update};
-use relief::render::render_frame;
-use relief::settings::{DEFAULT_BUMP_STRENGTH, Filter, Technique};
-use relief::texture::normal_map::normal_map_scale;
-use relief::texture::normal_map_file::{
-    FileNormalMap, load_normal_map, load_normal_map_from_bytes,
-};
-use relief::texture::{NormalMap, Texture};
-use relief::{Framebuffer, Renderer, Scene, Settings};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::Settings;
+use relief_core::settings::{DEFAULT_BUMP_STRENGTH, Filter, Technique};
+use relief_pipeline::render::Renderer;
+use relief_pipeline::render::render_frame;
+use relief_scene::Scene;
+use relief_texture::normal_map::normal_map_scale;
+use relief_texture::normal_map_file::{FileNormalMap, load_normal_map, load_normal_map_from_bytes};
+use relief_texture::{NormalMap, Texture};
 use techniques_scenes::*;
 
 /// Texels per side of the test maps.
@@ -225,7 +226,7 @@ fn flat_file() -> FileNormalMap {
 #[test]
 fn a_flat_file_renders_like_no_bump() {
     // The brick's own heights are anything but flat: the file replaces them.
-    let mut scene = Scene::cube(Arc::new(relief::texture::procedural::brick()), false);
+    let mut scene = Scene::cube(Arc::new(relief_texture::procedural::brick()), false);
     scene.material.normal_map = Some(Arc::new(flat_file()));
     let plain = Settings {
         bump: false,
@@ -245,8 +246,8 @@ fn a_flat_file_renders_like_no_bump() {
 #[test]
 fn a_file_map_that_is_off_costs_nothing() {
     // Each its own texture, so that neither shares the other's mip chain.
-    let base = Scene::cube(Arc::new(relief::texture::procedural::brick()), false);
-    let mut with_file = Scene::cube(Arc::new(relief::texture::procedural::brick()), false);
+    let base = Scene::cube(Arc::new(relief_texture::procedural::brick()), false);
+    let mut with_file = Scene::cube(Arc::new(relief_texture::procedural::brick()), false);
     let file = Arc::new(flat_file());
     with_file.material.normal_map = Some(file.clone());
     let mut fb_a = Framebuffer::new(120, 90);
@@ -284,7 +285,7 @@ fn a_file_map_in_use_is_built_once_per_strength_and_its_chain_once() {
     let file = write_ramp_file(Axis::U, K_FILE, false, "count.png");
     let map = Arc::new(load_normal_map(&file.0).unwrap());
     scene.material.normal_map = Some(map.clone());
-    let plan = |s: &Settings| relief::plan::Plan::new(&scene, s);
+    let plan = |s: &Settings| relief_pipeline::plan::Plan::new(&scene, s);
     assert!(plan(&dot3(DEFAULT_BUMP_STRENGTH, true)).normal_map_from_file);
     assert!(!plan(&dot3(DEFAULT_BUMP_STRENGTH, false)).normal_map_from_file);
     let mut fb = Framebuffer::new(96, 72);
@@ -317,7 +318,7 @@ fn bad_files_are_refused_with_one_line_naming_them() {
 }
 
 fn state_with_file(file: Option<&str>) -> State {
-    let mut state = State::new(Settings::default(), relief::term::ColorDepth::Truecolor);
+    let mut state = State::new(Settings::default(), relief_term::ColorDepth::Truecolor);
     state.normal_map_file = file.map(str::to_owned);
     state
 }
@@ -378,11 +379,11 @@ fn key_n_switches_between_the_file_and_the_derived_map() {
 /// otherwise checked against the map relief derives.
 #[test]
 fn the_brick_normal_asset_is_the_bricks_derived_map() {
-    let brick = relief::texture::procedural::brick();
+    let brick = relief_texture::procedural::brick();
     let derived = brick.normal_map(normal_map_scale(DEFAULT_BUMP_STRENGTH)).0;
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/brick-normal.png");
     if std::env::var_os("RELIEF_WRITE_ASSETS").is_some() {
-        let rgb = relief::texture::normal_map_file::encode_rgb8(&derived);
+        let rgb = relief_texture::normal_map_file::encode_rgb8(&derived);
         ImageBuffer::<Rgb<u8>, _>::from_raw(derived.width as u32, derived.height as u32, rgb)
             .unwrap()
             .save(&path)

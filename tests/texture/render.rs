@@ -6,10 +6,11 @@ use std::sync::Arc;
 
 use clap::ValueEnum;
 use glam::Vec3;
-use relief::render::render_frame;
-use relief::settings::{Filter, HeightDerivative};
-use relief::texture::{Texture, builtins, load_texture};
-use relief::{Scene, Settings};
+use relief_core::settings::Settings;
+use relief_core::settings::{Filter, HeightDerivative};
+use relief_pipeline::render::render_frame;
+use relief_scene::Scene;
+use relief_texture::{Texture, builtins, load_texture};
 
 /// Every filter, so a new one is checked here too.
 fn filters() -> impl Iterator<Item = Filter> {
@@ -78,7 +79,7 @@ fn the_chain_is_built_only_for_minified_textures() {
     let texels = vec![[0.5, 0.2, 0.1, 0.7]; 96 * 96];
     let small = Arc::new(Texture::new(
         "96",
-        relief::texture::Level {
+        relief_texture::Level {
             wrap: Default::default(),
             width: 96,
             height: 96,
@@ -94,7 +95,7 @@ fn the_chain_is_built_only_for_minified_textures() {
     assert!(!small.mips_built());
     let big = Arc::new(Texture::new(
         "128",
-        relief::texture::Level::solid(128, 128, [0.5, 0.2, 0.1, 0.7]),
+        relief_texture::Level::solid(128, 128, [0.5, 0.2, 0.1, 0.7]),
     ));
     render_turned(&big, Filter::Trilinear, 320, 240, Vec3::ZERO);
     assert!(big.mips_built(), "128 texels over 104 pixels is minified");
@@ -130,11 +131,11 @@ fn filters_and_height_derivatives_change_a_minified_frame() {
 /// so the mapping is perspective-correct and continuous across the diagonal.
 #[test]
 fn texture_mapping_is_perspective_correct_across_both_triangles() {
-    use relief::settings::Shading;
+    use relief_core::settings::Shading;
     // A grey ramp g = u / 2 (texel centres at (x + ½)/256), and a flat grey
     // of ½ under the same light: the ratio of the two frames is u.
     let ramp = (0..256).map(|x| [(x as f32 + 0.5) / 512.0; 4]).collect();
-    let level = |texels| relief::texture::Level {
+    let level = |texels| relief_texture::Level {
         wrap: Default::default(),
         width: 256,
         height: 1,
@@ -200,7 +201,7 @@ fn texture_mapping_is_perspective_correct_across_both_triangles() {
 }
 
 /// One quad facing +Z with its texture coordinates shifted by `dv` in v.
-fn quad(dv: f32) -> relief::scene::Mesh {
+fn quad(dv: f32) -> relief_scene::Mesh {
     let text = format!(
         "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
          vt 0 {a}\nvt 1 {a}\nvt 1 {b}\nvt 0 {b}\n\
@@ -208,7 +209,7 @@ fn quad(dv: f32) -> relief::scene::Mesh {
         a = dv,
         b = 1.0 + dv,
     );
-    relief::scene::obj::parse("quad.obj", text).unwrap()
+    relief_scene::obj::parse("quad.obj", text).unwrap()
 }
 
 /// The texture repeats, so adding a whole number to every v changes no
@@ -228,7 +229,7 @@ fn whole_number_uv_shifts_change_no_mip_filtered_pixel() {
         .collect();
     let noise = Arc::new(Texture::new(
         "noise",
-        relief::texture::Level {
+        relief_texture::Level {
             wrap: Default::default(),
             width: 256,
             height: 256,
@@ -251,7 +252,7 @@ fn whole_number_uv_shifts_change_no_mip_filtered_pixel() {
             let (a, b) = (frame(0.0), frame(3.0));
             let (mut covered, mut moved, mut worst) = (0, 0, 0);
             for (p, q) in a.pixels().iter().zip(b.pixels()) {
-                if *p == relief::scene::BACKGROUND {
+                if *p == relief_scene::BACKGROUND {
                     continue;
                 }
                 covered += 1;

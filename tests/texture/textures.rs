@@ -5,12 +5,12 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use relief::app::texture_list::{ListError, TextureList};
-use relief::texture::builtin::{builtins, write_assets};
-use relief::texture::load::{
+use relief_texture::builtin::{builtins, write_assets};
+use relief_texture::load::{
     TextureError, load_for_view, load_texture, load_texture_from_bytes, load_texture_with_height,
     load_texture_with_height_from_bytes,
 };
-use relief::texture::{Level, Texture, procedural, xpm};
+use relief_texture::{Level, Texture, procedural, xpm};
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -1095,10 +1095,11 @@ fn reservation_matches_what_a_texture_allocates() {
     }
     // An 8-bit picture's derived maps are 16-bit: 4 + 8/3 + 6 + 6/3 bytes
     // a texel, where f32 storage took 16 + 16/3 + 12 + 16/3.
-    let per_texel = relief::budget::Precision::Unorm8.bytes_per_texel();
+    let per_texel = relief_core::budget::Precision::Unorm8.bytes_per_texel();
     assert!((per_texel - (4.0 + 8.0 / 3.0 + 6.0 + 2.0)).abs() < 1e-9);
     assert_eq!(
-        relief::budget::texture_bytes_at(4096, 4096, relief::budget::Precision::Unorm8) >> 20,
+        relief_core::budget::texture_bytes_at(4096, 4096, relief_core::budget::Precision::Unorm8)
+            >> 20,
         234
     );
 }

@@ -7,9 +7,9 @@ use super::super::state::{
     AUTO_ROTATE_SPEED, DEG_PER_COL, DEG_PER_ROW, Drag, PAN_MAX, PAN_PER_COL, PAN_PER_ROW, State,
     ZOOM_STEP,
 };
-use crate::scene::SceneKind;
-use crate::scene::camera::{MAX_DISTANCE, MIN_DISTANCE, REFERENCE_DISTANCE};
-use crate::settings::normalize_degrees;
+use relief_core::settings::normalize_degrees;
+use relief_scene::SceneKind;
+use relief_scene::camera::{MAX_DISTANCE, MIN_DISTANCE, REFERENCE_DISTANCE};
 
 /// Applies a camera action (the ones [`super::apply`] routes here).
 pub(super) fn apply(state: &mut State, action: Action) {

@@ -2,9 +2,9 @@
 
 use super::super::action::Action;
 use super::super::state::{AXES, Panel, State, format_angle};
-use crate::options::text::parse_finite;
-use crate::sanitize::clean;
-use crate::settings::normalize_degrees;
+use relief_core::sanitize::clean;
+use relief_core::settings::normalize_degrees;
+use relief_options::text::parse_finite;
 
 /// Longest text an orientation field takes.
 const FIELD_MAX: usize = 24;

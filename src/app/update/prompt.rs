@@ -5,7 +5,7 @@ use super::super::action::Action;
 use super::super::command::Command;
 use super::super::line_edit::{self, Edit};
 use super::super::state::{Panel, State};
-use crate::sanitize::clean;
+use relief_core::sanitize::clean;
 
 /// Longest path the prompt takes.
 const PROMPT_MAX: usize = 4096;

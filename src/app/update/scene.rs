@@ -4,8 +4,8 @@ use super::super::action::Action;
 use super::super::command::Command;
 use super::super::playback;
 use super::super::state::{Panel, State};
-use crate::sanitize::clean;
-use crate::scene::{LoadedNotes, ModelChoice, SceneKind};
+use relief_core::sanitize::clean;
+use relief_scene::{LoadedNotes, ModelChoice, SceneKind};
 
 /// Applies a scene action (the ones [`super::apply`] routes here).
 pub(super) fn apply(state: &mut State, action: Action) -> Option<Command> {
@@ -63,7 +63,7 @@ fn built(state: &mut State, scene: SceneKind, model: ModelChoice) {
 /// first warning is shown (with how many more).
 fn model_notes(state: &mut State, notes: &LoadedNotes) {
     if notes.points {
-        state.settings.display = crate::settings::Display::Points;
+        state.settings.display = relief_core::settings::Display::Points;
     }
     playback::take_clips(state, notes.clips.clone());
     super::super::file_cameras::take(state, notes.cameras);

@@ -3,7 +3,7 @@
 use super::super::action::{Action, DragButton};
 use super::super::command::Command;
 use super::super::state::State;
-use crate::sanitize::clean;
+use relief_core::sanitize::clean;
 
 /// Applies a texture action (the ones [`super::apply`] routes here).
 pub(super) fn apply(state: &mut State, action: Action) -> Option<Command> {
@@ -75,17 +75,17 @@ fn toggle_normal_map_file(state: &mut State) {
     };
     let s = &mut state.settings;
     // Off when dot3 reads the file now; else on (switching to dot3 below).
-    s.normal_map_file = !crate::plan::normal_map_file_shows(s, true);
+    s.normal_map_file = !relief_pipeline::plan::normal_map_file_shows(s, true);
     let mut text = if s.normal_map_file {
         format!("normal map: file {}", clean(name))
     } else {
         "normal map: derived from the height map".to_string()
     };
-    if s.normal_map_file && s.technique != crate::settings::Technique::Dot3 {
-        s.technique = crate::settings::Technique::Dot3;
+    if s.normal_map_file && s.technique != relief_core::settings::Technique::Dot3 {
+        s.technique = relief_core::settings::Technique::Dot3;
         text.push_str(" (technique switched to dot3)");
     }
-    if !crate::plan::bump_can_show(s) {
+    if !relief_pipeline::plan::bump_can_show(s) {
         text.push_str("; shows in Phong with bump on (m, b)");
     }
     state.message = Some(text);

@@ -12,9 +12,9 @@ use ratatui::text::Line;
 use ratatui::widgets::{Block, Borders, Paragraph, Sparkline, Widget, Wrap};
 
 pub use crate::app::frame_cost::{CostHistory, FrameCost, HISTORY};
-use crate::stats::Counters;
-use crate::term::hold::HoldBy;
-use crate::term::pacing::{Answers, LinkInfo};
+use relief_core::stats::Counters;
+use relief_term::hold::HoldBy;
+use relief_term::pacing::{Answers, LinkInfo};
 
 /// The stages that did work in a frame, with their counts: whatever is off
 /// (or cannot show) reads as absent here.
@@ -123,8 +123,8 @@ fn reply_lines(link: &LinkInfo) -> Vec<String> {
     }
 }
 
-/// The colour depth and what decided it (see [`crate::term::depth`]).
-pub fn colour_line(depth: crate::term::ColorDepth, source: &str) -> String {
+/// The colour depth and what decided it (see [`relief_term::depth`]).
+pub fn colour_line(depth: relief_term::ColorDepth, source: &str) -> String {
     format!("{}: {source}", depth.label())
 }
 
@@ -236,7 +236,7 @@ mod tests {
         CostPanel {
             history: &h,
             link: &link,
-            colour: colour_line(crate::term::ColorDepth::Palette256, "tmux client no RGB"),
+            colour: colour_line(relief_term::ColorDepth::Palette256, "tmux client no RGB"),
             pixels: None,
         }
         .render(area, &mut buf);
@@ -302,13 +302,13 @@ mod tests {
         use crate::app::update::update;
         use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
         let mut state = State::new(
-            crate::Settings::default(),
-            crate::term::ColorDepth::Truecolor,
+            relief_core::settings::Settings::default(),
+            relief_term::ColorDepth::Truecolor,
         );
         let k = KeyEvent::new(KeyCode::Char('k'), KeyModifiers::NONE);
         assert_eq!(action_for_key(&state, &k), Some(Action::ToggleCost));
         let screen = Rect::new(0, 0, 80, 24);
-        let fb = crate::Framebuffer::new(80, 44);
+        let fb = relief_core::framebuffer::Framebuffer::new(80, 44);
         let shows = |state: &State| {
             let mut buf = Buffer::empty(screen);
             crate::app::view::draw(state, &fb, [0, 0, 0], screen, &mut buf);

@@ -16,8 +16,8 @@ use crate::app::state::{AXES, State};
 pub(super) fn prompt_line(state: &State) -> Option<Line<'static>> {
     let text = state.prompt.as_ref()?;
     let at = crate::app::line_edit::clamp(text, state.prompt_cursor);
-    let before: Vec<char> = crate::sanitize::clean(&text[..at]).chars().collect();
-    let after: Vec<char> = crate::sanitize::clean(&text[at..]).chars().collect();
+    let before: Vec<char> = relief_core::sanitize::clean(&text[..at]).chars().collect();
+    let after: Vec<char> = relief_core::sanitize::clean(&text[at..]).chars().collect();
     // The cell under the cursor shows unreversed (a blank past the end).
     let (under, rest) = match after.split_first() {
         Some((c, rest)) => (c.to_string(), rest.iter().collect::<String>()),
@@ -45,7 +45,7 @@ pub(super) fn prompt_line(state: &State) -> Option<Line<'static>> {
 pub(super) fn panel_line(state: &State, compact: bool, cost: bool) -> Line<'static> {
     let mut spans = Vec::new();
     // The plasma has no orientation: no fields.
-    let axes = if state.scene == crate::scene::SceneKind::Plasma {
+    let axes = if state.scene == relief_scene::SceneKind::Plasma {
         &AXES[..0]
     } else {
         &AXES[..]

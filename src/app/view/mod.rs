@@ -20,12 +20,12 @@ use ratatui::text::Line;
 use ratatui::widgets::{Clear, Paragraph, Widget};
 
 use super::state::State;
-use crate::framebuffer::{Framebuffer, Rgb};
-use crate::term::{SymbolCells, Symbols};
 use fields::{message_above, panel_line, prompt_line, with_message};
 use help::help;
 pub use help::{help_lines, help_max_scroll, help_page};
 use panels::cost_panel;
+use relief_core::framebuffer::{Framebuffer, Rgb};
+use relief_term::{SymbolCells, Symbols};
 use status::status_choice;
 pub use status::{HELP_HINT, cost_text, format_bytes, status_line, status_rows};
 use textures::texture_panel;

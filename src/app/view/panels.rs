@@ -9,7 +9,7 @@ use crate::app::view::cost::CostPanel;
 
 /// The sixel limit's line of the cost panel, when the terminal answered one.
 fn sixel_limit(state: &State, viewport: Rect) -> Option<String> {
-    use crate::term::pixel_view::{cell_pixels, sixel_limit_line, window_size};
+    use relief_term::pixel_view::{cell_pixels, sixel_limit_line, window_size};
     state.output.sixel_max?;
     let (cell, _) = cell_pixels(window_size(), state.output.cell_reply);
     sixel_limit_line(&state.output, viewport, cell)

@@ -8,10 +8,10 @@
 //! `? help` always stay.
 
 use crate::app::state::{LIGHT_NAMES, State, plasma_light};
-use crate::options::OPTIONS;
-pub use crate::options::text::{format_shininess, format_strength};
-use crate::scene::SceneKind;
-use crate::scene::camera::REFERENCE_DISTANCE;
+use relief_options::OPTIONS;
+pub use relief_options::text::{format_shininess, format_strength};
+use relief_scene::SceneKind;
+use relief_scene::camera::REFERENCE_DISTANCE;
 
 /// What always ends the status line.
 pub const HELP_HINT: &str = "? help";
@@ -425,7 +425,10 @@ fn fields(state: &State) -> Vec<Field> {
 fn clip_field(p: &crate::app::state::Playback) -> Option<Field> {
     let (name, _) = p.clips.get(p.clip)?;
     let mark = if p.playing { "▶" } else { "‖" };
-    let name: String = crate::sanitize::clean(name).chars().take(16).collect();
+    let name: String = relief_core::sanitize::clean(name)
+        .chars()
+        .take(16)
+        .collect();
     let long = format!("clip {}/{} {name} {mark}", p.clip + 1, p.clips.len());
     Some(Field::new(
         long,
@@ -457,7 +460,7 @@ fn heights_text(state: &State, short: bool) -> Option<String> {
 
 /// Dithering (`--dither`) changes the picture in 256 and 16 colours only.
 fn dithered(state: &State) -> bool {
-    state.dither && state.depth != crate::term::ColorDepth::Truecolor
+    state.dither && state.depth != relief_term::ColorDepth::Truecolor
 }
 
 /// The colour depth, "dithered" when dithering shows, and the symbol set
@@ -478,16 +481,16 @@ fn with_symbols(state: &State, depth: String) -> String {
         return format.name().to_string();
     }
     match state.symbols {
-        crate::term::Symbols::Half => depth,
+        relief_term::Symbols::Half => depth,
         s => format!("{depth} {}", s.name()),
     }
 }
 
 fn short_depth(state: &State) -> String {
     let depth = match state.depth {
-        crate::term::ColorDepth::Truecolor => "24b",
-        crate::term::ColorDepth::Palette256 => "256c",
-        crate::term::ColorDepth::Palette16 => "16c",
+        relief_term::ColorDepth::Truecolor => "24b",
+        relief_term::ColorDepth::Palette256 => "256c",
+        relief_term::ColorDepth::Palette16 => "16c",
     };
     let depth = if dithered(state) {
         format!("{depth}+dith")

@@ -12,7 +12,7 @@ use ratatui::widgets::{Block, Clear, Widget};
 use crate::app::state::State;
 use crate::app::textures::{ENTRY_ROWS, TEXT_COLUMN, model_area, panel_area, visible_entries};
 use crate::app::thumbnail::{THUMB_HEIGHT, THUMB_WIDTH};
-use crate::term::HalfBlocks;
+use relief_term::HalfBlocks;
 
 /// Marks the applied texture.
 pub const CURRENT_MARK: &str = "▶";

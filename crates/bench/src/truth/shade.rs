@@ -1,0 +1,310 @@
+//! The colour one ray sees, from the formulas of docs/ in f64: the
+//! technique's normal or cosine, the diffuse and highlight terms, shadow
+//! rays and the mirror reflection.
+
+use glam::{DVec2, DVec3};
+
+use super::geometry::{Hit, Ray, World};
+use super::setting::{Bump, Setting};
+use relief_scene::Scene;
+use relief_texture::Level;
+
+/// What every ray of a frame shares.
+pub struct Context<'a> {
+    pub world: &'a World,
+    pub setting: &'a Setting,
+    pub base: &'a Level,
+    pub specular_map: Option<&'a Level>,
+    pub ambient: DVec3,
+    /// Position and colour of each light that lights.
+    pub lights: Vec<(DVec3, DVec3)>,
+    /// The light emboss follows and whose shadows are drawn.
+    pub strongest: Option<usize>,
+}
+
+impl<'a> Context<'a> {
+    pub fn new(scene: &'a Scene, world: &'a World, setting: &'a Setting) -> Self {
+        let lights: Vec<(DVec3, DVec3)> = if setting.lights {
+            scene
+                .lights
+                .iter()
+                .filter(|l| l.enabled && l.color.max_element() > 0.0)
+                .filter(|l| l.position.is_finite() && l.color.is_finite())
+                .map(|l| (l.position.as_dvec3(), l.color.as_dvec3()))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        // The brightest (largest colour sum), the first of equals.
+        let mut strongest: Option<(usize, f64)> = None;
+        for (i, (_, c)) in lights.iter().enumerate() {
+            let power = c.x + c.y + c.z;
+            if strongest.is_none_or(|(_, p)| power > p) {
+                strongest = Some((i, power));
+            }
+        }
+        Context {
+            world,
+            setting,
+            base: scene.material.texture.base(),
+            specular_map: scene.material.specular_map.as_deref(),
+            ambient: scene.ambient.as_dvec3(),
+            lights,
+            strongest: strongest.map(|(i, _)| i),
+        }
+    }
+}
+
+/// The texture's continuous form at (u, v): bilinear between texel
+/// centres, repeating; texel (0, 0) is the first stored, v grows by rows.
+pub fn bilinear(level: &Level, u: f64, v: f64) -> [f64; 4] {
+    let (w, h) = (level.width as i64, level.height as i64);
+    let x = (u - u.floor()) * w as f64 - 0.5;
+    let y = (v - v.floor()) * h as f64 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let at = |i: i64, j: i64| {
+        level
+            .texels
+            .at((j.rem_euclid(h) * w + i.rem_euclid(w)) as usize)
+    };
+    let (i, j) = (x0 as i64, y0 as i64);
+    let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1));
+    std::array::from_fn(|k| {
+        let (a, b, c, d) = (a[k] as f64, b[k] as f64, c[k] as f64, d[k] as f64);
+        (a * (1.0 - fx) + b * fx) * (1.0 - fy) + (c * (1.0 - fx) + d * fx) * fy
+    })
+}
+
+/// The height F (alpha) at (u, v), continuous.
+fn height(level: &Level, uv: DVec2) -> f64 {
+    bilinear(level, uv.x, uv.y)[3]
+}
+
+/// F_u, F_v per unit of texture coordinate: central differences one texel
+/// apart on the continuous height (the derivative docs/bump-blinn.md names).
+fn gradient(level: &Level, uv: DVec2) -> (f64, f64) {
+    let (du, dv) = (1.0 / level.width as f64, 1.0 / level.height as f64);
+    let f = |u: f64, v: f64| bilinear(level, u, v)[3];
+    (
+        (f(uv.x + du, uv.y) - f(uv.x - du, uv.y)) / (2.0 * du),
+        (f(uv.x, uv.y + dv) - f(uv.x, uv.y - dv)) / (2.0 * dv),
+    )
+}
+
+/// Blinn: N' = normalise(N + k (F_u (N × P_v) − F_v (N × P_u))); k changes
+/// sign where (P_u × P_v)·N < 0 (a mirrored frame).
+fn blinn(n: DVec3, pu: DVec3, pv: DVec3, (fu, fv): (f64, f64), k: f64) -> DVec3 {
+    let k = if pu.cross(pv).dot(n) < 0.0 { -k } else { k };
+    let p = n + k * (fu * n.cross(pv) - fv * n.cross(pu));
+    if p.length_squared() > 1e-40 {
+        p.normalize()
+    } else {
+        n
+    }
+}
+
+/// The orthonormal tangent frame (T, B, N) at a point: T is P_u with its
+/// normal part taken out, B is P_v with its normal and T parts taken out
+/// (pointing along +v), N the unit normal.
+fn frame(n: DVec3, pu: DVec3, pv: DVec3) -> (DVec3, DVec3) {
+    let t = (pu - n * n.dot(pu)).normalize_or(n.any_orthonormal_vector());
+    let b = pv - n * n.dot(pv) - t * t.dot(pv);
+    let b = if b.length_squared() > 1e-30 {
+        b.normalize()
+    } else {
+        n.cross(t)
+    };
+    (t, b)
+}
+
+/// Where the ray meets the height field carved below the triangle's plane
+/// (docs/bump-parallax.md): height 1 is the plane, height 0 lies at depth
+/// D = k·|P_u × P_v| along the face normal. Marched from the plane down in
+/// steps of at most a quarter texel of travel and D/16 of depth, the
+/// crossing then bisected to 1e-12 of D: the texture coordinate there.
+pub(super) fn relief(base: &Level, ray: &Ray, hit: &Hit, k: f64) -> DVec2 {
+    let (pu, pv, nf) = (hit.tangent_u, hit.tangent_v, hit.face_normal);
+    let depth = k * pu.cross(pv).length();
+    let dir = ray.dir.normalize();
+    let c = -dir.dot(nf);
+    if depth <= 0.0 || c <= 1e-12 {
+        return hit.uv;
+    }
+    // Per unit of depth the ray moves `along` in the plane; as texture
+    // coordinates, the least-squares solution of P_u·du + P_v·dv = along.
+    let along = (dir + nf * c) / c;
+    let (a, b, d) = (pu.dot(pu), pu.dot(pv), pv.dot(pv));
+    let det = a * d - b * b;
+    if det.abs() < 1e-300 {
+        return hit.uv;
+    }
+    let (ru, rv) = (pu.dot(along), pv.dot(along));
+    let per_depth = DVec2::new(d * ru - b * rv, a * rv - b * ru) / det;
+    let uv_at = |z: f64| hit.uv + per_depth * z;
+    // Above the relief while z < D·(1 − F): f < 0.
+    let f = |z: f64| z - depth * (1.0 - height(base, uv_at(z)));
+    if f(0.0) >= 0.0 {
+        return hit.uv;
+    }
+    let texel = 1.0 / base.width.max(base.height) as f64;
+    let speed = per_depth.length();
+    let step = if speed > 0.0 {
+        (depth / 16.0).min(0.25 * texel / speed)
+    } else {
+        depth / 16.0
+    };
+    let (mut lo, mut hi) = (0.0, depth);
+    let mut z = 0.0;
+    while z < depth {
+        let next = (z + step).min(depth);
+        if f(next) >= 0.0 {
+            (lo, hi) = (z, next);
+            break;
+        }
+        z = next;
+    }
+    while hi - lo > 1e-12 * depth {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) >= 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    uv_at(hi)
+}
+
+/// The colour a latitude–longitude picture shows in direction `d`
+/// (docs/environment.md): u = 1/2 + atan2(x, −z)/2π, v = acos(y/|d|)/π,
+/// bilinear between texel centres, columns wrapping, rows clamped.
+pub fn environment(level: &Level, d: DVec3) -> DVec3 {
+    let len = d.length();
+    let (u, v) = if len > 0.0 && len.is_finite() {
+        (
+            0.5 + d.x.atan2(-d.z) / std::f64::consts::TAU,
+            (d.y / len).clamp(-1.0, 1.0).acos() / std::f64::consts::PI,
+        )
+    } else {
+        (0.5, 0.5)
+    };
+    let (w, h) = (level.width as i64, level.height as i64);
+    let x = u * w as f64 - 0.5;
+    let y = (v * h as f64 - 0.5).clamp(0.0, (h - 1) as f64);
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let at = |i: i64, j: i64| {
+        let t = level
+            .texels
+            .at((j.clamp(0, h - 1) * w + i.rem_euclid(w)) as usize);
+        DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)
+    };
+    let (i, j) = (x0 as i64, y0 as i64);
+    (at(i, j) * (1.0 - fx) + at(i + 1, j) * fx) * (1.0 - fy)
+        + (at(i, j + 1) * (1.0 - fx) + at(i + 1, j + 1) * fx) * fy
+}
+
+/// The colour the ray sees at `hit`, before clamping.
+pub fn shade(ctx: &Context, ray: &Ray, hit: &Hit) -> DVec3 {
+    let s = ctx.setting;
+    let smooth = if s.face_normals {
+        hit.face_normal
+    } else {
+        hit.normal.normalize_or(hit.face_normal)
+    };
+    let k = s.bump_strength;
+    let bump = if hit.textured { s.bump } else { Bump::None };
+    let (pu, pv) = (hit.tangent_u, hit.tangent_v);
+    let uv = match bump {
+        Bump::Relief => relief(ctx.base, ray, hit, k),
+        _ => hit.uv,
+    };
+    // The normal the technique shades with (emboss keeps the smooth one and
+    // changes the strongest light's cosine instead).
+    let n = match bump {
+        Bump::None | Bump::Emboss => smooth,
+        Bump::Blinn | Bump::Relief => blinn(smooth, pu, pv, gradient(ctx.base, uv), k),
+        Bump::Dot3 => {
+            // n = normalise(−2k·F_u, −2k·F_v, 1) in (T, B, N), taken out of
+            // tangent space: its dot with L is n · L_t.
+            let (fu, fv) = gradient(ctx.base, uv);
+            let (t, b) = frame(smooth, pu, pv);
+            let m = DVec3::new(-2.0 * k * fu, -2.0 * k * fv, 1.0).normalize();
+            (t * m.x + b * m.y + smooth * m.z).normalize()
+        }
+    };
+    let mut albedo = if s.colors { hit.color } else { DVec3::ONE };
+    if s.texture && hit.textured {
+        let t = bilinear(ctx.base, uv.x, uv.y);
+        albedo *= DVec3::new(t[0], t[1], t[2]);
+    }
+    let p = hit.position;
+    let view = (ctx.world.eye() - p).normalize_or_zero();
+    let gloss = match (ctx.specular_map, hit.textured) {
+        (Some(map), true) => {
+            let g = bilinear(map, uv.x, uv.y);
+            (g[0] + g[1] + g[2]) / 3.0
+        }
+        _ => 1.0,
+    };
+    let mut diffuse = ctx.ambient;
+    let mut highlight = DVec3::ZERO;
+    for (i, &(position, colour)) in ctx.lights.iter().enumerate() {
+        let d = position - p;
+        let len = d.length();
+        if len == 0.0 || !len.is_finite() {
+            continue;
+        }
+        let l = d / len;
+        let mut cosine = n.dot(l);
+        if bump == Bump::Emboss && Some(i) == ctx.strongest && cosine > 0.0 {
+            cosine = (cosine + emboss(ctx.base, smooth, pu, pv, uv, l, k)).max(0.0);
+        }
+        if cosine <= 0.0 {
+            continue;
+        }
+        let att = if s.attenuation {
+            1.0 / (1.0 + 0.01 * len * len)
+        } else {
+            1.0
+        };
+        let seen = if s.shadows && Some(i) == ctx.strongest && ctx.world.occluded(p, position) {
+            0.0
+        } else {
+            1.0
+        };
+        diffuse += colour * cosine.min(1.0) * att * seen;
+        if let Some(shininess) = s.shininess {
+            let h = (l + view).normalize_or_zero();
+            let power = n.dot(h).max(0.0).powf(shininess);
+            highlight += colour * gloss * (power * att).min(1.0) * seen;
+        }
+    }
+    let lit = albedo * diffuse + highlight;
+    match &s.environment {
+        Some((map, reflectivity)) => {
+            let r = n * (2.0 * n.dot(view)) - view;
+            lit * (1.0 - reflectivity) + environment(map.picture(), r) * *reflectivity
+        }
+        None => lit,
+    }
+}
+
+/// Emboss's change to N·L for the unit light direction `l`
+/// (docs/bump-emboss.md): e = F(uv) − F(uv + Δ), Δ one texel (of the larger
+/// side) along the light's tangent part weighted like Blinn's cross
+/// products, (|P_v|·L·T, |P_u|·L·B) / max(|P_u|, |P_v|), divided by that
+/// texel and scaled by k·max(|P_u|, |P_v|): to first order
+/// −k·(|P_v|·F_u·L·T + |P_u|·F_v·L·B), Blinn's change of N·L.
+fn emboss(base: &Level, n: DVec3, pu: DVec3, pv: DVec3, uv: DVec2, l: DVec3, k: f64) -> f64 {
+    let (t, b) = frame(n, pu, pv);
+    let (lu, lv) = (pu.length(), pv.length());
+    let m = lu.max(lv);
+    if m <= 0.0 {
+        return 0.0;
+    }
+    let texel = 1.0 / base.width.max(base.height) as f64;
+    let toward = DVec2::new(lv * l.dot(t), lu * l.dot(b));
+    let shifted = uv + toward * (texel / m);
+    (height(base, uv) - height(base, shifted)) * k * m / texel
+}

@@ -1,0 +1,329 @@
+//! Anti-aliasing (docs/antialiasing.md: SSAA, MSAA).
+//!
+//! - Supersampling k×k: the frame is drawn at k times the resolution into a
+//!   scratch framebuffer, then each pixel is the exact box average of its k²
+//!   samples. Every sample is shaded.
+//! - Multisampling 4: four coverage samples per pixel on a rotated grid, each
+//!   with its own depth; the shader runs once per pixel and triangle, at the
+//!   centroid of the covered samples (the pixel centre when all four are
+//!   covered, since the pattern is centred), and its colour goes to the
+//!   covered samples. A pixel is the average of its four samples.
+//!
+//! Resolves average the 8-bit values the renderer writes (the same space as
+//! every other pixel: no linear-light conversion), rounded to nearest.
+
+use super::alpha::{AlphaRule, over};
+use super::fill::fill;
+use super::scan::{
+    Band, OwnedBand, depth_prepass, pixel_setup, raster_owned, raster_triangle, shade_at,
+};
+use super::setup::{ONE, ScreenTri};
+use crate::shade::{PixelShader, ShadeCtx};
+use relief_core::framebuffer::{Framebuffer, Rgb};
+use relief_core::stats::Counters;
+
+/// Samples per pixel of multisampling.
+pub const MSAA_SAMPLES: usize = 4;
+
+/// The rotated-grid pattern, in 1/256 pixel (the rasterizer's fixed point)
+/// from the pixel centre: (−1/8, −3/8), (3/8, −1/8), (−3/8, 1/8), (1/8, 3/8).
+/// No two samples share a row or a column, and they sum to zero.
+pub const MSAA4_OFFSETS: [(i64, i64); MSAA_SAMPLES] = [(-32, -96), (96, -32), (-96, 32), (32, 96)];
+
+/// How far a sample lies from its pixel centre at most, on either axis:
+/// the triangle setup's reach for multisampling.
+pub const MSAA_REACH: i64 = 96;
+
+// The supersampling factor is a settings decision (the memory budget needs
+// it too, and sits below the rasterizer).
+pub use relief_core::settings::{MAX_SUPERSAMPLES, ssaa_factor};
+
+/// Box-filters `src` (k times `dst` in each direction) into `dst`.
+pub fn resolve_box(src: &Framebuffer, k: usize, dst: &mut Framebuffer) {
+    let (w, h) = (dst.width(), dst.height());
+    assert!(
+        src.width() == w * k && src.height() == h * k,
+        "supersampled size"
+    );
+    let n = (k * k) as u32;
+    let src_px = src.pixels();
+    let sw = src.width();
+    for (y, row) in dst.pixels_mut().chunks_mut(w.max(1)).enumerate().take(h) {
+        for (x, out) in row.iter_mut().enumerate() {
+            let mut sum = [0u32; 3];
+            for sy in y * k..(y + 1) * k {
+                for p in &src_px[sy * sw + x * k..sy * sw + (x + 1) * k] {
+                    for c in 0..3 {
+                        sum[c] += p[c] as u32;
+                    }
+                }
+            }
+            *out = sum.map(|s| ((s + n / 2) / n) as u8);
+        }
+    }
+}
+
+/// Averages each pixel's four samples into `dst`.
+pub fn resolve_msaa(samples: &[[Rgb; MSAA_SAMPLES]], dst: &mut [Rgb]) {
+    for (out, s) in dst.iter_mut().zip(samples) {
+        let mut sum = [0u32; 3];
+        for p in s {
+            for c in 0..3 {
+                sum[c] += p[c] as u32;
+            }
+        }
+        *out = sum.map(|v| ((v + 2) / 4) as u8);
+    }
+}
+
+/// What a triangle is drawn into: a band of pixels, or of samples.
+pub trait RasterTarget {
+    /// Fills the band with the background.
+    fn clear(&mut self, color: Rgb);
+    /// Draws the part of `tri` inside the band with shader `S`.
+    fn raster<S: PixelShader>(
+        &mut self,
+        tri: &ScreenTri,
+        shader: &S,
+        ctx: &ShadeCtx,
+        counters: &mut Counters,
+    );
+    /// Whether every triangle's depth is drawn ([`RasterTarget::prepass`])
+    /// before any is shaded.
+    fn depth_first(&self) -> bool {
+        false
+    }
+    /// The depth pre-pass of `tri`, for a target that draws depth first.
+    fn prepass(&mut self, _tri: &ScreenTri, _counters: &mut Counters) {}
+}
+
+impl RasterTarget for OwnedBand<'_> {
+    fn clear(&mut self, color: Rgb) {
+        fill(self.band.color, color);
+        fill(self.owner, u32::MAX);
+    }
+    #[inline]
+    fn raster<S: PixelShader>(
+        &mut self,
+        tri: &ScreenTri,
+        shader: &S,
+        ctx: &ShadeCtx,
+        counters: &mut Counters,
+    ) {
+        raster_owned(tri, shader, ctx, self, counters)
+    }
+    fn depth_first(&self) -> bool {
+        true
+    }
+    fn prepass(&mut self, tri: &ScreenTri, counters: &mut Counters) {
+        depth_prepass(tri, self, counters)
+    }
+}
+
+impl RasterTarget for Band<'_> {
+    fn clear(&mut self, color: Rgb) {
+        fill(self.color, color);
+    }
+    #[inline]
+    fn raster<S: PixelShader>(
+        &mut self,
+        tri: &ScreenTri,
+        shader: &S,
+        ctx: &ShadeCtx,
+        counters: &mut Counters,
+    ) {
+        raster_triangle(tri, shader, ctx, self, counters)
+    }
+}
+
+impl RasterTarget for MsaaBand<'_> {
+    fn clear(&mut self, color: Rgb) {
+        fill(self.samples, [color; MSAA_SAMPLES]);
+    }
+    #[inline]
+    fn raster<S: PixelShader>(
+        &mut self,
+        tri: &ScreenTri,
+        shader: &S,
+        ctx: &ShadeCtx,
+        counters: &mut Counters,
+    ) {
+        raster_triangle_msaa(tri, shader, ctx, self, counters)
+    }
+}
+
+/// A band of the multisampled frame owned by one task: four colours (and
+/// depths, when depth is on) per pixel.
+pub struct MsaaBand<'a> {
+    pub y0: usize,
+    pub width: usize,
+    pub samples: &'a mut [[Rgb; MSAA_SAMPLES]],
+    pub depth: Option<&'a mut [[f32; MSAA_SAMPLES]]>,
+}
+
+impl MsaaBand<'_> {
+    pub fn rows(&self) -> usize {
+        self.samples.len().checked_div(self.width).unwrap_or(0)
+    }
+}
+
+/// Rasterizes the part of `tri` inside `band` with four samples per pixel,
+/// shading once per covered pixel.
+pub fn raster_triangle_msaa<S: PixelShader>(
+    tri: &ScreenTri,
+    shader: &S,
+    ctx: &ShadeCtx,
+    band: &mut MsaaBand,
+    counters: &mut Counters,
+) {
+    let width = band.width;
+    let band_last = band.y0 + band.rows();
+    // The triangle was set up with the samples' reach (`MSAA_REACH`): its
+    // bounds hold every pixel with a sample inside.
+    let ya = (tri.y0 as usize).max(band.y0);
+    let yb = (tri.y1 as usize + 1).min(band_last);
+    if ya >= yb || width == 0 {
+        return;
+    }
+    let xa = tri.x0 as usize;
+    let xb = (tri.x1 as usize).min(width - 1);
+    let (footprint, inv_area, steps) = pixel_setup(tri, shader, ctx);
+    // An alpha mask drops a pixel (all its samples) at its centre; a
+    // translucent pixel is composited over each covered sample.
+    let alpha = AlphaRule::of(shader, ctx);
+    let blends = alpha.blends();
+    // Edge offsets of each sample from the pixel centre (exact integers).
+    let delta: [[i64; 3]; MSAA_SAMPLES] =
+        MSAA4_OFFSETS.map(|(ox, oy)| [0, 1, 2].map(|i| (steps[i].0 * ox + steps[i].1 * oy) / ONE));
+    let (lx, ly) = tri.lambda_steps();
+    let dz_dx = lx[0] * tri.z[0] + lx[1] * tri.z[1] + lx[2] * tri.z[2];
+    let dz_dy = ly[0] * tri.z[0] + ly[1] * tri.z[1] + ly[2] * tri.z[2];
+    let dz: [f32; MSAA_SAMPLES] =
+        MSAA4_OFFSETS.map(|(ox, oy)| (dz_dx * ox as f32 + dz_dy * oy as f32) / ONE as f32);
+    let cx = xa as i64 * ONE + ONE / 2;
+    for py in ya..yb {
+        let cy = py as i64 * ONE + ONE / 2;
+        let mut e = tri.edges(cx, cy);
+        let row = (py - band.y0) * width;
+        for px in xa..=xb {
+            let mut mask = 0u8;
+            for (s, d) in delta.iter().enumerate() {
+                if (e[0] + d[0] + tri.bias[0])
+                    | (e[1] + d[1] + tri.bias[1])
+                    | (e[2] + d[2] + tri.bias[2])
+                    >= 0
+                {
+                    mask |= 1 << s;
+                }
+            }
+            let mut opacity = 1.0;
+            if mask != 0 && alpha != AlphaRule::Opaque {
+                let l = [0, 1, 2].map(|i| e[i] as f32 * inv_area);
+                match alpha.coverage(tri, shader, ctx, l) {
+                    Some(a) => opacity = a,
+                    None => mask = 0,
+                }
+            }
+            if mask != 0
+                && let Some(depth) = band.depth.as_deref_mut()
+            {
+                let z = (e[0] as f32 * tri.z[0] + e[1] as f32 * tri.z[1] + e[2] as f32 * tri.z[2])
+                    * inv_area;
+                let slots = &mut depth[row + px];
+                for s in 0..MSAA_SAMPLES {
+                    if mask & (1 << s) != 0 {
+                        counters.depth_tests += 1;
+                        let zs = z + dz[s];
+                        if zs < slots[s] {
+                            if !blends {
+                                slots[s] = zs;
+                            }
+                        } else {
+                            mask &= !(1 << s);
+                        }
+                    }
+                }
+            }
+            if mask != 0 {
+                // Shade at the centroid of the covered samples.
+                let count = mask.count_ones() as f32;
+                let mut sum = [0i64; 3];
+                for (s, d) in delta.iter().enumerate() {
+                    if mask & (1 << s) != 0 {
+                        for i in 0..3 {
+                            sum[i] += d[i];
+                        }
+                    }
+                }
+                let l = [0, 1, 2].map(|i| (e[i] as f32 + sum[i] as f32 / count) * inv_area);
+                let color = shade_at(tri, shader, ctx, footprint.as_ref(), l, counters);
+                let slots = &mut band.samples[row + px];
+                for (s, slot) in slots.iter_mut().enumerate() {
+                    if mask & (1 << s) != 0 {
+                        *slot = if blends {
+                            over(*slot, color, opacity)
+                        } else {
+                            color
+                        };
+                    }
+                }
+            }
+            e[0] += steps[0].0;
+            e[1] += steps[1].0;
+            e[2] += steps[2].0;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use relief_core::settings::AntiAlias;
+
+    #[test]
+    fn pattern_is_a_centred_rotated_grid() {
+        let (sx, sy) = MSAA4_OFFSETS
+            .iter()
+            .fold((0, 0), |(a, b), &(x, y)| (a + x, b + y));
+        assert_eq!((sx, sy), (0, 0));
+        for (i, a) in MSAA4_OFFSETS.iter().enumerate() {
+            for b in &MSAA4_OFFSETS[i + 1..] {
+                assert!(a.0 != b.0 && a.1 != b.1);
+            }
+            assert!(a.0.abs() < ONE / 2 && a.1.abs() < ONE / 2);
+        }
+    }
+
+    #[test]
+    fn factor_drops_for_huge_frames() {
+        assert_eq!(ssaa_factor(AntiAlias::Ssaa4, 320, 240), 4);
+        assert_eq!(ssaa_factor(AntiAlias::Ssaa2, 320, 240), 2);
+        assert_eq!(ssaa_factor(AntiAlias::Msaa4, 320, 240), 1);
+        assert_eq!(ssaa_factor(AntiAlias::Ssaa4, 2048, 2048), 2);
+        assert_eq!(ssaa_factor(AntiAlias::Ssaa4, 16384, 16384), 1);
+        assert_eq!(ssaa_factor(AntiAlias::Ssaa4, usize::MAX, 3), 1);
+    }
+
+    #[test]
+    fn box_resolve_is_the_rounded_mean() {
+        let mut src = Framebuffer::new(4, 2);
+        src.fill([10, 20, 30]);
+        src.set(0, 0, [0, 0, 0]);
+        src.set(1, 1, [255, 255, 255]);
+        let mut dst = Framebuffer::new(2, 1);
+        resolve_box(&src, 2, &mut dst);
+        // (0 + 10 + 10 + 255) / 4 = 68.75 → 69; (0 + 20 + 20 + 255) / 4 = 73.75 → 74.
+        assert_eq!(dst.get(0, 0), [69, 74, 79]);
+        assert_eq!(dst.get(1, 0), [10, 20, 30]);
+    }
+
+    #[test]
+    fn msaa_resolve_is_the_rounded_mean() {
+        let mut out = [[0u8; 3]; 2];
+        resolve_msaa(
+            &[[[0; 3], [0; 3], [255; 3], [255; 3]], [[7; 3]; 4]],
+            &mut out,
+        );
+        assert_eq!(out, [[128; 3], [7; 3]]);
+    }
+}

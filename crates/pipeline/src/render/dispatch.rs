@@ -1,0 +1,201 @@
+//! Which kernel draws a triangle: chosen once per triangle from its shader
+//! and the plan, so no pixel tests what its triangle needs.
+
+use crate::raster::aa::RasterTarget;
+use crate::raster::{Band, ScreenTri};
+use crate::shade::core::{Hook, HookKernel};
+use crate::shade::dot3::Dot3;
+use crate::shade::emboss::Emboss;
+use crate::shade::kernels::{FlatTexturedKernel, GouraudKernel, PhongKernel};
+use crate::shade::parallax::Parallax;
+use crate::shade::pbr::PbrKernel;
+use crate::shade::{PhongTri, ShadeCtx, TriShader};
+use relief_core::settings::{LightVector, Technique};
+use relief_core::stats::Counters;
+
+/// Runs the pixel loop monomorphised for the triangle's kernel.
+pub fn draw_triangle(
+    tri: &ScreenTri,
+    shader: &TriShader,
+    ctx: &ShadeCtx,
+    band: &mut Band,
+    counters: &mut Counters,
+) {
+    draw_into(tri, shader, ctx, band, counters)
+}
+
+/// The kernel dispatch, for any raster target (plain or multisampled):
+/// each triangle's kernel is chosen here, once, so no pixel tests what its
+/// triangle needs.
+pub fn draw_into<T: RasterTarget>(
+    tri: &ScreenTri,
+    shader: &TriShader,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
+    let spec = ctx.plan.specular.is_some();
+    match shader {
+        TriShader::Solid(color) => target.raster(tri, color, ctx, counters),
+        TriShader::FlatTextured(s) if spec => {
+            target.raster(tri, &FlatTexturedKernel::<true>(s), ctx, counters)
+        }
+        TriShader::FlatTextured(s) => {
+            target.raster(tri, &FlatTexturedKernel::<false>(s), ctx, counters)
+        }
+        TriShader::Gouraud(s) => match (s.textured, spec) {
+            (true, true) => target.raster(tri, &GouraudKernel::<true, true>::new(s), ctx, counters),
+            (true, false) => {
+                target.raster(tri, &GouraudKernel::<true, false>::new(s), ctx, counters)
+            }
+            (false, true) => {
+                target.raster(tri, &GouraudKernel::<false, true>::new(s), ctx, counters)
+            }
+            (false, false) => {
+                target.raster(tri, &GouraudKernel::<false, false>::new(s), ctx, counters)
+            }
+        },
+        TriShader::Phong(s) if physical(ctx) => draw_physical(tri, s, ctx, target, counters),
+        TriShader::Phong(s) if s.bumped => draw_bumped(tri, s, ctx, target, counters),
+        TriShader::Phong(s) => phong::<T, false>(tri, s, ctx, target, counters),
+    }
+}
+
+/// Whether the plan shades its material physically (the model view's
+/// metallic-roughness materials).
+fn physical(ctx: &ShadeCtx) -> bool {
+    let plan = ctx.plan;
+    plan.physical.is_some() && plan.terms.as_ref().is_some_and(|t| t.pbr.is_some())
+}
+
+/// A metallic-roughness triangle, with or without its colour texture and
+/// normal map.
+fn draw_physical<T: RasterTarget>(
+    tri: &ScreenTri,
+    s: &PhongTri,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
+    let plan = ctx.plan;
+    let (Some(physical), Some(terms)) = (&plan.physical, plan.terms.as_deref()) else {
+        return;
+    };
+    let Some(pbr) = terms.pbr.as_ref() else {
+        return;
+    };
+    let mapped = s.bumped && pbr.normal.is_some();
+    macro_rules! kernel {
+        ($tex:literal, $nmap:literal) => {{
+            let k = PbrKernel::<$tex, $nmap> {
+                tri: s,
+                terms,
+                pbr,
+                physical,
+                light: physical.environment.as_deref().map(|e| e.light()),
+            };
+            target.raster(tri, &k, ctx, counters)
+        }};
+    }
+    match (s.textured, mapped) {
+        (true, true) => kernel!(true, true),
+        (true, false) => kernel!(true, false),
+        (false, true) => kernel!(false, true),
+        (false, false) => kernel!(false, false),
+    }
+}
+
+/// Plain Phong (`BUMP` false) or Blinn's bump, with or without its colour
+/// texture and highlights.
+fn phong<T: RasterTarget, const BUMP: bool>(
+    tri: &ScreenTri,
+    s: &PhongTri,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
+    // The kernel is made per triangle: Blinn's axes of a flat facet once.
+    let k = ctx.plan.bump_strength;
+    match (s.textured, ctx.plan.specular.is_some()) {
+        (true, true) => {
+            let kernel = PhongKernel::<true, BUMP, true>::new(s, k);
+            target.raster(tri, &kernel, ctx, counters)
+        }
+        (true, false) => {
+            let kernel = PhongKernel::<true, BUMP, false>::new(s, k);
+            target.raster(tri, &kernel, ctx, counters)
+        }
+        (false, true) => {
+            let kernel = PhongKernel::<false, BUMP, true>::new(s, k);
+            target.raster(tri, &kernel, ctx, counters)
+        }
+        (false, false) => {
+            let kernel = PhongKernel::<false, BUMP, false>::new(s, k);
+            target.raster(tri, &kernel, ctx, counters)
+        }
+    }
+}
+
+/// A bumped Phong triangle, drawn with the plan's technique: the shading
+/// core (`shade::core`) with the technique's hook, eight pixels at a time
+/// where the rasterizer can. A new technique is one arm.
+fn draw_bumped<T: RasterTarget>(
+    tri: &ScreenTri,
+    s: &PhongTri,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
+    let plan = ctx.plan;
+    let eye = plan.eye;
+    match (plan.technique, plan.normal_map.as_deref()) {
+        (Technique::Emboss, _) => with_hook(tri, s, Emboss::new(ctx), ctx, target, counters),
+        (Technique::Dot3, Some(map)) => match plan.light_vector {
+            LightVector::Pixel => {
+                let hook = Dot3::<true>::new(s, map, ctx);
+                with_hook(tri, s, hook, ctx, target, counters)
+            }
+            LightVector::Vertex => {
+                let hook = Dot3::<false>::new(s, map, ctx);
+                with_hook(tri, s, hook, ctx, target, counters)
+            }
+        },
+        (Technique::Parallax, _) => {
+            with_hook(tri, s, Parallax::<false> { eye }, ctx, target, counters)
+        }
+        (Technique::Pom, _) => with_hook(tri, s, Parallax::<true> { eye }, ctx, target, counters),
+        // Blinn, and dot3 without its map (the plan builds one whenever dot3
+        // runs): the packet kernel.
+        (Technique::Blinn | Technique::Dot3, _) => phong::<T, true>(tri, s, ctx, target, counters),
+    }
+}
+
+/// A bumped triangle through the shading core with the technique `hook`:
+/// with or without its colour texture and highlights.
+fn with_hook<T: RasterTarget, H: Hook>(
+    tri: &ScreenTri,
+    s: &PhongTri,
+    hook: H,
+    ctx: &ShadeCtx,
+    target: &mut T,
+    counters: &mut Counters,
+) {
+    match (s.textured, ctx.plan.specular.is_some()) {
+        (true, true) => {
+            let k = HookKernel::<H, true, true> { tri: s, hook };
+            target.raster(tri, &k, ctx, counters)
+        }
+        (true, false) => {
+            let k = HookKernel::<H, true, false> { tri: s, hook };
+            target.raster(tri, &k, ctx, counters)
+        }
+        (false, true) => {
+            let k = HookKernel::<H, false, true> { tri: s, hook };
+            target.raster(tri, &k, ctx, counters)
+        }
+        (false, false) => {
+            let k = HookKernel::<H, false, false> { tri: s, hook };
+            target.raster(tri, &k, ctx, counters)
+        }
+    }
+}

@@ -1,0 +1,339 @@
+//! The metallic-roughness kernel (docs/shading.md, "Metallic-roughness"):
+//! a model's glTF material in the model view, per pixel, in linear light.
+//!
+//! Base colour = vertex colour × factor (linear) × the colour texture
+//! decoded from sRGB; metallic and roughness = their factors × the map's
+//! blue and green; the normal map's normal in the pixel's tangent frame.
+//! Each light adds (1 − F)(1 − metallic)·base + π·F·D·V, times its colour
+//! and N·L (a light of colour 1 gives a white Lambert surface facing it 1);
+//! the environment adds its image-based light (spherical harmonics for the
+//! diffuse part, prefiltered levels and the split-sum table for the
+//! specular part, `texture::ibl`) with the occlusion map on it; emission
+//! is added; then exposure, the tone map and the sRGB encoding, once.
+//!
+//! One source for one pixel and eight (`shade::lanes`); texels and shadow
+//! lookups are read lane by lane where the packet read does not apply.
+
+use glam::{Vec2, Vec3};
+use wide::f32x8;
+
+use super::PhongTri;
+use super::brdf::{
+    self, DIELECTRIC_F0, MIN_ROUGHNESS, distribution, fresnel, saturate, srgb_to_linear, visibility,
+};
+use super::core::colour;
+use super::lanes::{Lanes, Vector};
+use super::lighting::{ATTENUATION_QUADRATIC, finish};
+use super::map_uv::{Coords, carry, footprint_map};
+use super::packet::{self, LANES, V3};
+use super::shader::{PixelShader, ShadeCtx, cuts, opacity_at};
+use super::specular::view_dir;
+use super::split_sum::lut;
+use super::tangent::Surface;
+use crate::plan::Physical;
+use relief_core::framebuffer::Rgb;
+use relief_core::stats::Counters;
+use relief_scene::terms::{MaterialTerms, PbrMaterial};
+use relief_texture::filter::{Footprint, read_normal};
+use relief_texture::ibl::Ibl;
+
+/// A metallic-roughness triangle: with or without its colour texture
+/// (`TEX`) and normal map (`NMAP`).
+pub struct PbrKernel<'a, const TEX: bool, const NMAP: bool> {
+    pub tri: &'a PhongTri,
+    pub terms: &'a MaterialTerms,
+    pub pbr: &'a PbrMaterial,
+    pub physical: &'a Physical,
+    /// The environment's light, when the plan has an environment.
+    pub light: Option<&'a Ibl>,
+}
+
+/// What the light loop reads at the pixels.
+struct At<V: Vector> {
+    p: V,
+    n: V,
+    view: V,
+    nv: V::L,
+    /// Lambert's colour: (1 − metallic)·base.
+    diffuse: V,
+    f0: V,
+    alpha2: V::L,
+}
+
+impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
+    /// The colour of the pixels at barycentrics `b`, encoded for display
+    /// (before quantising).
+    #[inline(always)]
+    fn shade_lanes<V: Vector>(
+        &self,
+        ctx: &ShadeCtx,
+        b: [V::L; 3],
+        fp: &[Footprint],
+        live: u32,
+        counters: &mut Counters,
+    ) -> V {
+        let (tri, terms, pbr) = (self.tri, self.terms, self.pbr);
+        let s = Surface::<V>::at(tri, &b);
+        let count = live.count_ones() as u64;
+        counters.pixels_shaded += count;
+        let at = Coords {
+            uv: (s.u, s.v),
+            b: &b,
+            uv2: &tri.uv2,
+        };
+        let mut base = s.albedo;
+        if TEX {
+            counters.texture_samples += count;
+            base = base * srgb_to_linear(colour::<V>(ctx, s.u, s.v, fp, live));
+        }
+        if terms.unlit {
+            return brdf::display(base, self.physical.exposure, self.physical.tone_map);
+        }
+        let (mut metallic, mut roughness) = (V::L::splat(pbr.metallic), V::L::splat(pbr.roughness));
+        if pbr.roughness_map.is_some() || pbr.metallic_map.is_some() {
+            let (u, v) = at.of(&terms.uvs.specular);
+            match (&pbr.roughness_map, &pbr.metallic_map) {
+                // glTF's one map: one read for both.
+                (Some((a, r)), Some((b, m))) if std::sync::Arc::ptr_eq(a, b) => {
+                    let t = V::L::bilinear(a, u, v);
+                    roughness = roughness * t[*r];
+                    metallic = metallic * t[*m];
+                }
+                (r, m) => {
+                    if let Some((map, c)) = r {
+                        roughness = roughness * V::L::bilinear(map, u, v)[*c];
+                    }
+                    if let Some((map, c)) = m {
+                        metallic = metallic * V::L::bilinear(map, u, v)[*c];
+                    }
+                }
+            }
+        }
+        let metallic = saturate(metallic);
+        let roughness = brdf::max(saturate(roughness), V::L::splat(MIN_ROUGHNESS));
+        let n = if NMAP {
+            self.mapped_normal(ctx, &s, at, fp, live, counters)
+        } else {
+            s.n
+        };
+        let view = view_dir(ctx.plan.eye, s.p);
+        // A normal turned away from the eye (interpolated or mapped) is lit
+        // as if grazing, not from behind.
+        let nv = brdf::max(n.dot(view), V::L::splat(1e-4)).min(V::L::ONE);
+        let dielectric = V::uniform(Vec3::splat(DIELECTRIC_F0));
+        let alpha = roughness * roughness;
+        let px = At {
+            p: s.p,
+            n,
+            view,
+            nv,
+            diffuse: base * (V::L::ONE - metallic),
+            f0: dielectric + (base - dielectric) * metallic,
+            alpha2: alpha * alpha,
+        };
+        let lit = self.lights(ctx, &px, live, counters) + self.ambient(&px, roughness, at, live);
+        let lit = lit + emission(terms, at);
+        brdf::display(lit, self.physical.exposure, self.physical.tone_map)
+    }
+
+    /// The normal map's normal at the pixels, in their tangent frame.
+    #[inline(always)]
+    fn mapped_normal<V: Vector>(
+        &self,
+        ctx: &ShadeCtx,
+        s: &Surface<V>,
+        at: Coords<V::L>,
+        fp: &[Footprint],
+        live: u32,
+        counters: &mut Counters,
+    ) -> V {
+        let Some(map) = self.pbr.normal.as_deref() else {
+            return s.n;
+        };
+        counters.bump_evals += live.count_ones() as u64;
+        let plan = ctx.plan;
+        let m = &self.terms.uvs.normal;
+        let (u, v) = at.of(m);
+        let to = footprint_map(m, &self.tri.uv, &self.tri.uv2);
+        let t = V::gather(live, |i| {
+            let uv = Vec2::new(u.lane(i), v.lane(i));
+            let f = carry(fp.get(i).copied().unwrap_or_default(), to);
+            Vec3::from(read_normal(map, plan.height_derivative, plan.filter, uv, f))
+        });
+        let f = s.frame();
+        (f.t * t.x() + f.b * t.y() + f.n * t.z()).normalize_or(s.n)
+    }
+
+    /// Σ over the lights of colour × N·L × ((1 − F)·diffuse + π·F·D·V),
+    /// each scaled by its attenuation and shadow.
+    #[inline(always)]
+    fn lights<V: Vector>(
+        &self,
+        ctx: &ShadeCtx,
+        px: &At<V>,
+        live: u32,
+        counters: &mut Counters,
+    ) -> V {
+        let plan = ctx.plan;
+        let zero = V::L::ZERO;
+        let mut sum = V::uniform(Vec3::ZERO);
+        counters.light_evals += live.count_ones() as u64 * plan.lights.len() as u64;
+        for (i, light) in plan.lights.iter().enumerate() {
+            let d = V::uniform(light.position) - px.p;
+            let len2 = d.dot(d);
+            let l = d * (V::L::ONE / len2.sqrt());
+            let nl = px.n.dot(l);
+            let inf = V::L::splat(f32::INFINITY);
+            let reached = V::L::both(nl.gt(zero), || V::L::both(len2.gt(zero), || len2.lt(inf)));
+            if V::L::skips(reached) || V::L::none(reached) {
+                continue;
+            }
+            let h = (l + px.view).normalize_or(px.n);
+            let nh = saturate(px.n.dot(h));
+            let vh = saturate(px.view.dot(h));
+            let nl = saturate(nl);
+            let f = fresnel(px.f0, vh);
+            let specular = distribution(px.alpha2, nh)
+                * visibility(px.alpha2, nl, px.nv)
+                * V::L::splat(std::f32::consts::PI);
+            let one = V::uniform(Vec3::ONE);
+            let brdf = (one - f) * px.diffuse + f * specular;
+            let mut k = nl;
+            if plan.attenuation {
+                k = k / (V::L::ONE + V::L::splat(ATTENUATION_QUADRATIC) * len2);
+            }
+            if let Some(sh) = ctx.shadow
+                && sh.light == i
+            {
+                let lanes = V::L::bits(reached) & live;
+                let [seen] = V::L::gather(lanes, 1.0, |lane| {
+                    let p = px.p.lane(lane);
+                    [sh.factor(i, p, self.tri.face_normal, self.tri.object, counters)]
+                });
+                k = k * seen;
+            }
+            let add = brdf * V::uniform(light.color) * k;
+            sum = sum + V::select(reached, add, V::uniform(Vec3::ZERO));
+        }
+        sum
+    }
+
+    /// The environment's light: irradiance(N)·diffuse·(1 − S) +
+    /// prefiltered(R, roughness)·S with S = F0·A + B from the split-sum
+    /// table, times the occlusion map. No environment: no light from
+    /// everywhere.
+    #[inline(always)]
+    fn ambient<V: Vector>(&self, px: &At<V>, roughness: V::L, at: Coords<V::L>, live: u32) -> V {
+        let Some(ibl) = self.light else {
+            return V::uniform(Vec3::ZERO);
+        };
+        let (c, s) = self.physical.turn;
+        let n = turned(px.n, c, s);
+        let r = turned(px.n * (px.nv + px.nv) - px.view, c, s);
+        let lut = lut();
+        let [a, b] = V::L::gather(live, 0.0, |i| {
+            let (a, b) = lut.read(px.nv.lane(i), roughness.lane(i));
+            [a, b]
+        });
+        let prefiltered = V::gather(live, |i| {
+            ibl.specular(r.lane(i).normalize_or(Vec3::Y), roughness.lane(i))
+        });
+        let specular = px.f0 * a + V::uniform(Vec3::ONE) * b;
+        let one = V::uniform(Vec3::ONE);
+        let diffuse = px.diffuse * (one - specular) * irradiance(&ibl.sh, n);
+        let mut light = diffuse + specular * prefiltered;
+        if let Some((map, strength)) = &self.terms.occlusion {
+            let (u, v) = at.of(&self.terms.uvs.occlusion);
+            let occ = V::L::bilinear(map, u, v)[0];
+            light = light * (V::L::ONE + V::L::splat(*strength) * (occ - V::L::ONE));
+        }
+        light
+    }
+}
+
+/// The irradiance over π at unit normals `n` from the nine SH
+/// coefficients `c` (`texture::ibl::sh`'s basis, per lane): nine
+/// multiply-adds per channel; never below 0 (the truncated series can ring
+/// below 0 opposite a bright light).
+#[inline(always)]
+pub fn irradiance<V: Vector>(c: &[Vec3; 9], n: V) -> V {
+    let (x, y, z) = (n.x(), n.y(), n.z());
+    let k = V::L::splat;
+    let basis = [
+        k(0.282_094_8),
+        k(0.488_602_5) * y,
+        k(0.488_602_5) * z,
+        k(0.488_602_5) * x,
+        k(1.092_548_4) * x * y,
+        k(1.092_548_4) * y * z,
+        k(0.315_391_57) * (k(3.0) * z * z - V::L::ONE),
+        k(1.092_548_4) * x * z,
+        k(0.546_274_2) * (x * x - y * y),
+    ];
+    let mut sum = V::uniform(Vec3::ZERO);
+    for (ci, bi) in c.iter().zip(basis) {
+        sum = sum + V::uniform(*ci) * bi;
+    }
+    let zero = V::L::ZERO;
+    let pos = |x: V::L| V::L::select(x.gt(zero), x, zero);
+    V::new(pos(sum.x()), pos(sum.y()), pos(sum.z()))
+}
+
+/// Direction `d` in the environment's frame when the environment is
+/// turned by the angle of cosine `c` and sine `s` about +Y (so the
+/// environment turns with positive angles from +Z toward +X).
+#[inline(always)]
+pub fn turned<V: Vector>(d: V, c: f32, s: f32) -> V {
+    let (c, s) = (V::L::splat(c), V::L::splat(s));
+    V::new(c * d.x() - s * d.z(), d.y(), s * d.x() + c * d.z())
+}
+
+/// The light given off: the emissive factor (linear) times the emissive
+/// map decoded from sRGB.
+#[inline(always)]
+fn emission<V: Vector>(terms: &MaterialTerms, at: Coords<V::L>) -> V {
+    if terms.emissive == Vec3::ZERO {
+        return V::uniform(Vec3::ZERO);
+    }
+    match &terms.emissive_map {
+        Some(map) => {
+            let (u, v) = at.of(&terms.uvs.emissive);
+            let [r, g, b] = V::L::bilinear(map, u, v);
+            V::uniform(terms.emissive) * srgb_to_linear(V::new(r, g, b))
+        }
+        None => V::uniform(terms.emissive),
+    }
+}
+
+impl<const TEX: bool, const NMAP: bool> PixelShader for PbrKernel<'_, TEX, NMAP> {
+    const SAMPLES_TEXTURE: bool = true;
+    #[inline]
+    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
+        let c: Vec3 = self.shade_lanes(ctx, [b.x, b.y, b.z], &[fp], 1, counters);
+        finish(c, counters)
+    }
+    fn uvs(&self) -> Option<&[Vec2; 3]> {
+        Some(&self.tri.uv)
+    }
+    fn packets(&self, _: &ShadeCtx) -> bool {
+        true
+    }
+    fn cutout(&self, ctx: &ShadeCtx) -> bool {
+        cuts(ctx)
+    }
+    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
+        opacity_at(ctx, b, &self.tri.uv)
+    }
+    #[inline]
+    fn shade8(
+        &self,
+        ctx: &ShadeCtx,
+        b: [f32x8; 3],
+        fp: &[Footprint; LANES],
+        live: u32,
+        counters: &mut Counters,
+    ) -> [Rgb; LANES] {
+        let c: V3 = self.shade_lanes(ctx, b, fp, live, counters);
+        packet::finish(c, live, counters)
+    }
+}

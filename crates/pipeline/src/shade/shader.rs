@@ -1,0 +1,150 @@
+//! A triangle's shader as the rasterizer sees it: the per-triangle data of
+//! each kernel family, what every kernel reads besides its triangle, and
+//! the [`PixelShader`] trait the kernels (`shade::kernels`) implement.
+
+use glam::{Vec2, Vec3};
+use wide::f32x8;
+
+use super::packet::LANES;
+use crate::plan::Plan;
+use crate::shadow::Shadow;
+use relief_core::framebuffer::Rgb;
+use relief_core::stats::Counters;
+use relief_texture::Texture;
+use relief_texture::filter::Footprint;
+
+/// What every kernel reads besides its triangle.
+pub struct ShadeCtx<'a> {
+    pub plan: &'a Plan,
+    pub texture: &'a Texture,
+    /// The shadow map of `plan.shadow_light`, when the plan asked for one.
+    pub shadow: Option<Shadow<'a>>,
+}
+
+/// One pixel's colour from the barycentric coordinates `b` of the pixel
+/// centre in the *source* triangle (perspective-correct, summing to 1).
+pub trait PixelShader {
+    /// Whether the kernel reads the texture (and so may want a footprint).
+    const SAMPLES_TEXTURE: bool;
+    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb;
+    /// Texture coordinates at the source triangle's vertices, for footprints.
+    fn uvs(&self) -> Option<&[Vec2; 3]> {
+        None
+    }
+    /// Whether `shade8` shades this triangle under this plan (bit for bit
+    /// as `shade` would).
+    fn packets(&self, _ctx: &ShadeCtx) -> bool {
+        false
+    }
+    /// Whether this triangle's pixels may be cut out by an alpha mask
+    /// (asked once per triangle; then `opaque` once per covered pixel,
+    /// before its depth test).
+    fn cutout(&self, _ctx: &ShadeCtx) -> bool {
+        false
+    }
+    /// The material's opacity at barycentrics `b` of the source triangle
+    /// (asked only when `cutout` said yes).
+    fn opacity(&self, _ctx: &ShadeCtx, _b: Vec3) -> f32 {
+        1.0
+    }
+    /// The one colour of every pixel, for a kernel that has one: its rows
+    /// are filled, not shaded.
+    fn solid(&self) -> Option<Rgb> {
+        None
+    }
+    /// Eight pixels of a row at once, from their perspective-correct
+    /// barycentrics and (when the plan wants them) texture footprints;
+    /// `live` has a bit per covered lane (the others are computed and
+    /// thrown away, and not counted).
+    fn shade8(
+        &self,
+        _ctx: &ShadeCtx,
+        _b: [f32x8; 3],
+        _fp: &[Footprint; LANES],
+        _live: u32,
+        _counters: &mut Counters,
+    ) -> [Rgb; LANES] {
+        unreachable!("shade8 runs only where packets() said yes")
+    }
+}
+
+/// Whether the plan's material has an alpha mask.
+#[inline]
+pub(crate) fn cuts(ctx: &ShadeCtx) -> bool {
+    ctx.plan.terms.as_ref().is_some_and(|t| t.cutout.is_some())
+}
+
+/// The opacity of the plan's material at barycentrics `b` of a triangle
+/// whose vertices have texture coordinates `uv` (1 without a cutout).
+#[inline]
+pub(crate) fn opacity_at(ctx: &ShadeCtx, b: Vec3, uv: &[Vec2; 3]) -> f32 {
+    match ctx.plan.terms.as_ref().and_then(|t| t.cutout.as_ref()) {
+        Some(c) => c.opacity(uv[0] * b.x + uv[1] * b.y + uv[2] * b.z),
+        None => 1.0,
+    }
+}
+
+/// Per-triangle shading data, one variant per kernel family.
+#[derive(Clone, Debug)]
+pub enum TriShader {
+    /// Flat without texture: the whole triangle is one colour.
+    Solid(Rgb),
+    FlatTextured(TexturedFlatTri),
+    Gouraud(GouraudTri),
+    Phong(PhongTri),
+}
+
+/// Flat lighting, textured: the facet's lit colour times the texel.
+#[derive(Clone, Debug)]
+pub struct TexturedFlatTri {
+    pub lit: Vec3,
+    pub uv: [Vec2; 3],
+    /// The facet's highlight (zero when specular is off), added after the texel.
+    pub highlight: Vec3,
+}
+
+/// Gouraud: light computed at the vertices, interpolated with the albedo.
+#[derive(Clone, Debug)]
+pub struct GouraudTri {
+    pub light: [Vec3; 3],
+    /// The highlights at the vertices (zero when specular is off), added
+    /// after the albedo.
+    pub highlight: [Vec3; 3],
+    pub color: [Vec3; 3],
+    pub uv: [Vec2; 3],
+    /// Where the specular map is read at the vertices: `uv`, unless a
+    /// model's map reads its own set or transform (`scene::map_uv`; both
+    /// are affine, so interpolating them is exact).
+    pub gloss_uv: [Vec2; 3],
+    pub textured: bool,
+    /// The plan's specular map scales the highlight (the triangle has UVs).
+    pub glossy: bool,
+}
+
+/// Phong: normal, position and albedo interpolated; lighting per pixel.
+#[derive(Clone, Debug)]
+pub struct PhongTri {
+    pub position: [Vec3; 3],
+    /// Vertex normals, or three copies of the facet normal.
+    pub normal: [Vec3; 3],
+    /// The facet normal: used as is for face normals, and as the fallback
+    /// when interpolated normals cancel out.
+    pub face_normal: Vec3,
+    pub smooth: bool,
+    pub color: [Vec3; 3],
+    pub uv: [Vec2; 3],
+    /// The mesh's second texture coordinate set at the vertices (zero when
+    /// it has none), for the maps that read it (`scene::map_uv`).
+    pub uv2: [Vec2; 3],
+    /// ∂P/∂u and ∂P/∂v at the vertices (equal on a flat cube face).
+    pub tangent_u: [Vec3; 3],
+    pub tangent_v: [Vec3; 3],
+    /// The three vertex tangents are the same: skip interpolating them.
+    pub uniform_tangents: bool,
+    pub textured: bool,
+    pub bumped: bool,
+    /// The plan's specular map scales the highlight (the triangle has UVs).
+    pub glossy: bool,
+    /// Index of the object in the scene (whose own shadow a convex one ignores).
+    pub object: u32,
+}

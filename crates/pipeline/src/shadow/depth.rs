@@ -1,0 +1,422 @@
+//! The depth-only rasterizer of the shadow pass: no colour, no attributes,
+//! just the nearest distance along the light's axis per texel.
+//!
+//! The casters' triangles are set up once (corners in texels, the rows
+//! they cover), then filled in bands of rows, in parallel when the map has
+//! enough to fill. Every band goes through its triangles in the casters'
+//! order and a texel is in one band only, so each texel sees the same
+//! depths in the same order whatever the bands: the nearest wins, and of
+//! equal ones the first, as with one band.
+
+use glam::{Mat4, Vec2, Vec3};
+use rayon::prelude::*;
+use wide::f32x8;
+
+use relief_scene::Mesh;
+use relief_scene::repeats::RepeatSkipper;
+use relief_scene::terms::Cutout;
+use relief_scene::world::Placed;
+
+/// What the pass draws into: the map's texels (`size × size`, row 0 at the
+/// top) and the light's view (the map keeps them; the pass needs no more).
+pub(super) struct Target<'a> {
+    pub size: usize,
+    /// Distance along the light's axis of the nearest caster, per texel.
+    pub depth: &'a mut [f32],
+    /// Which object that nearest caster is, per texel.
+    pub owner: &'a mut [u32],
+    pub view_proj: Mat4,
+    pub light: Vec3,
+    pub near: f32,
+}
+
+/// Triangles set up, or visited by a band, between two questions to the
+/// pass's [`Watch`].
+pub const CHECK_EVERY: usize = 4096;
+
+/// Bands per thread: a few, so a thread that finishes early takes another.
+const BANDS_PER_THREAD: usize = 8;
+
+/// Below this many texels to test (the triangles' areas) one thread fills
+/// the map faster than several.
+const PARALLEL_MIN_TEXELS: f64 = 32_768.0;
+
+/// Texel tests a band spends on a triangle's row besides its texels
+/// (finding its bounds), for sharing the rows out.
+const ROW_SETUP_TEXELS: f64 = 4.0;
+
+/// How the pass reports to whoever waits for it. Asked from the threads
+/// that fill the bands, so it must be cheap and thread-safe.
+pub trait Watch: Sync {
+    /// The fills start: they will make `visits` triangle visits (a
+    /// triangle is visited once by each band of rows it crosses).
+    fn start(&self, visits: u64);
+    /// `visits` more triangle visits made.
+    fn advance(&self, visits: usize);
+    /// Whether to stop now (the map is then incomplete). Asked every
+    /// [`CHECK_EVERY`] triangles set up and every [`CHECK_EVERY`] visits
+    /// of a band.
+    fn stop(&self) -> bool;
+}
+
+/// A watch that never stops and counts nothing.
+pub struct Unwatched;
+
+impl Watch for Unwatched {
+    fn start(&self, _: u64) {}
+    fn advance(&self, _: usize) {}
+    fn stop(&self) -> bool {
+        false
+    }
+}
+
+/// A caster triangle ready to fill (56 bytes).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Setup {
+    /// Corners: texel coordinates and 1/w.
+    corners: [(f32, f32, f32); 3],
+    /// Twice the signed area in texels (either winding).
+    area: f32,
+    /// The rows and columns of its bounding box, clipped to the map (whose
+    /// side fits in u16: `shadow::MAX_SIZE`).
+    rows: (u16, u16),
+    columns: (u16, u16),
+    /// Its object (index in `Scene::objects`) and its index in that
+    /// object's mesh (for the alpha mask's UVs).
+    object: u32,
+    triangle: u32,
+}
+
+// A triangle set up takes 56 bytes.
+const _: () = assert!(std::mem::size_of::<Setup>() == 56);
+
+/// The casters' alpha masks by object, with their meshes (for the UVs).
+pub(super) type Masks<'a> = [Option<(&'a Cutout, &'a Mesh)>];
+
+/// Triangles per task of the set-up: a big mesh is set up in chunks of
+/// consecutive triangles, in parallel, then joined in triangle order.
+const SETUP_CHUNK: usize = 16_384;
+
+/// Sets up `mesh` (object `object`) placed as `placed` into `out`, but for
+/// the triangles `repeats` (its repeated triangles) skips, the faces
+/// second-depth drops, and those that cover no texel centre's box; stops
+/// (returning false) as soon as `watch` says so. A big mesh is set up in
+/// chunks on the threads, each into its own buffer of `chunks` (kept from
+/// frame to frame), then joined in order: the same setups in the same
+/// order as on one thread.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn set_up_mesh(
+    map: &Target,
+    mesh: &Mesh,
+    placed: &Placed,
+    object: u32,
+    repeats: &[(u32, u32)],
+    watch: &dyn Watch,
+    out: &mut Vec<Setup>,
+    chunks: &mut Vec<Vec<Setup>>,
+) -> bool {
+    let size = map.size as f32;
+    // Per vertex: texel coordinates and 1/w (None when too near the light).
+    let project = |&world: &Vec3| {
+        let clip = map.view_proj * world.extend(1.0);
+        (clip.w > map.near * 0.5 && clip.is_finite()).then(|| {
+            let inv_w = 1.0 / clip.w;
+            let x = (clip.x * inv_w * 0.5 + 0.5) * size;
+            let y = (0.5 - clip.y * inv_w * 0.5) * size;
+            (x, y, inv_w, world)
+        })
+    };
+    let projected: Vec<Option<(f32, f32, f32, Vec3)>> = if placed.positions.len() < SETUP_CHUNK {
+        placed.positions.iter().map(project).collect()
+    } else {
+        placed.positions.par_iter().map(project).collect()
+    };
+    let triangles = &mesh.triangles;
+    let run = |range: std::ops::Range<usize>, out: &mut Vec<Setup>| -> bool {
+        let first = repeats.partition_point(|&(r, _)| (r as usize) < range.start);
+        let mut repeats = RepeatSkipper::new(&repeats[first..]);
+        for i in range {
+            if repeats.skip(i, triangles) {
+                continue;
+            }
+            if i % CHECK_EVERY == CHECK_EVERY - 1 && watch.stop() {
+                return false;
+            }
+            let [a, b, c] = triangles[i]
+                .indices
+                .map(|i| projected.get(i as usize).copied().flatten());
+            let (Some(a), Some(b), Some(c)) = (a, b, c) else {
+                continue;
+            };
+            if mesh.closed {
+                // Second depth: keep the faces turned away from the light.
+                let n = placed.facet(mesh, i);
+                if n.dot(map.light - a.3) > 0.0 {
+                    continue;
+                }
+            }
+            let corners = [a, b, c].map(|(x, y, q, _)| (x, y, q));
+            if let Some(s) = set_up(map.size, corners, object, i as u32) {
+                out.push(s);
+            }
+        }
+        true
+    };
+    let n = triangles.len();
+    let count = n.div_ceil(SETUP_CHUNK);
+    if count <= 1 || rayon::current_num_threads() == 1 {
+        return run(0..n, out);
+    }
+    if chunks.len() < count {
+        chunks.resize_with(count, Vec::new);
+    }
+    let whole = chunks[..count]
+        .par_iter_mut()
+        .enumerate()
+        .map(|(c, chunk)| {
+            chunk.clear();
+            run(c * SETUP_CHUNK..((c + 1) * SETUP_CHUNK).min(n), chunk)
+        })
+        .all(|whole| whole);
+    if whole {
+        for chunk in &chunks[..count] {
+            out.extend_from_slice(chunk);
+        }
+    }
+    whole
+}
+
+/// One triangle's setup, or None if it covers no texel centre's box (or
+/// has no area, or NaN corners).
+fn set_up(size: usize, corners: [(f32, f32, f32); 3], object: u32, triangle: u32) -> Option<Setup> {
+    let [(x0, y0, _), (x1, y1, _), (x2, y2, _)] = corners;
+    let area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
+    // Also refuses NaN.
+    if area.abs().partial_cmp(&1e-12) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let lo_x = x0.min(x1).min(x2).floor().max(0.0) as usize;
+    let hi_x = (x0.max(x1).max(x2).ceil().min(size as f32)) as usize;
+    let lo_y = y0.min(y1).min(y2).floor().max(0.0) as usize;
+    let hi_y = (y0.max(y1).max(y2).ceil().min(size as f32)) as usize;
+    (lo_x < hi_x && lo_y < hi_y).then_some(Setup {
+        corners,
+        area,
+        rows: (lo_y as u16, hi_y as u16),
+        columns: (lo_x as u16, hi_x as u16),
+        object,
+        triangle,
+    })
+}
+
+/// Fills the set-up triangles `tris` into the map, in parallel bands of
+/// rows when there is enough to fill and more than one thread, keeping
+/// per texel the nearest depth (the first of equal ones) and its object;
+/// `bins` is scratch. Tells `watch` the visits to come, counts them and
+/// stops when it says so. Returns the texels written.
+pub(super) fn fill_all(
+    map: &mut Target,
+    tris: &[Setup],
+    masks: &Masks,
+    bins: &mut Vec<Vec<u32>>,
+    watch: &dyn Watch,
+) -> u64 {
+    let size = map.size;
+    let threads = rayon::current_num_threads();
+    let bounds = if threads > 1 {
+        split(tris, size, threads * BANDS_PER_THREAD)
+    } else {
+        vec![0, size]
+    };
+    let bands = bounds.len() - 1;
+    if bands == 1 {
+        watch.start(tris.len() as u64);
+        let all = 0..tris.len() as u32;
+        return fill_band(map.depth, map.owner, size, 0, tris, all, masks, watch);
+    }
+    // Each band's triangles, in the casters' order.
+    bins.resize_with(bands, Vec::new);
+    for bin in bins.iter_mut() {
+        bin.clear();
+    }
+    for (k, t) in tris.iter().enumerate() {
+        let (lo, hi) = (t.rows.0 as usize, t.rows.1 as usize);
+        let mut band = bounds.partition_point(|&b| b <= lo) - 1;
+        while band < bands && bounds[band] < hi {
+            bins[band].push(k as u32);
+            band += 1;
+        }
+    }
+    watch.start(bins.iter().map(|b| b.len() as u64).sum());
+    let mut depth: &mut [f32] = map.depth;
+    let mut owner: &mut [u32] = map.owner;
+    let mut jobs = Vec::with_capacity(bands);
+    for (b, bin) in bounds.windows(2).zip(bins.iter()) {
+        let rows = (b[1] - b[0]) * size;
+        let (d, rest_d) = std::mem::take(&mut depth).split_at_mut(rows);
+        let (o, rest_o) = std::mem::take(&mut owner).split_at_mut(rows);
+        (depth, owner) = (rest_d, rest_o);
+        jobs.push((b[0], d, o, bin));
+    }
+    jobs.par_iter_mut()
+        .with_max_len(1)
+        .map(|(y0, d, o, bin)| {
+            let which = bin.iter().copied();
+            fill_band(d, o, size, *y0, tris, which, masks, watch)
+        })
+        .sum()
+}
+
+/// Row bounds of at most `parts` bands of about equal filling work, from 0
+/// to `size`; one band when the whole is too little to share.
+fn split(tris: &[Setup], size: usize, parts: usize) -> Vec<usize> {
+    // A triangle's area spread evenly over its rows, plus a setup per row.
+    let mut delta = vec![0.0f64; size + 1];
+    let mut texels = 0.0;
+    for t in tris {
+        let (lo, hi) = (t.rows.0 as usize, t.rows.1 as usize);
+        let half = 0.5 * f64::from(t.area.abs());
+        texels += half;
+        let per_row = half / (hi - lo) as f64 + ROW_SETUP_TEXELS;
+        delta[lo] += per_row;
+        delta[hi] -= per_row;
+    }
+    if texels < PARALLEL_MIN_TEXELS {
+        return vec![0, size];
+    }
+    let mut before = Vec::with_capacity(size + 1);
+    let (mut sum, mut rate) = (0.0, 0.0);
+    before.push(0.0);
+    for d in &delta[..size] {
+        rate += d;
+        sum += f64::max(rate, 0.0);
+        before.push(sum);
+    }
+    let mut bounds = vec![0];
+    let mut y = 0;
+    for k in 1..parts {
+        let goal = sum * k as f64 / parts as f64;
+        while y < size && before[y] < goal {
+            y += 1;
+        }
+        if y > *bounds.last().unwrap_or(&0) && y < size {
+            bounds.push(y);
+        }
+    }
+    bounds.push(size);
+    bounds
+}
+
+/// Fills triangles `which` of `tris` into the band of rows starting at
+/// `y0` (`depth` and `owner` hold its rows), asking `watch` every
+/// [`CHECK_EVERY`] of them. Returns the texels written.
+#[allow(clippy::too_many_arguments)]
+fn fill_band(
+    depth: &mut [f32],
+    owner: &mut [u32],
+    size: usize,
+    y0: usize,
+    tris: &[Setup],
+    which: impl ExactSizeIterator<Item = u32>,
+    masks: &Masks,
+    watch: &dyn Watch,
+) -> u64 {
+    let y1 = y0 + depth.len() / size;
+    let visits = which.len();
+    let mut written = 0;
+    for (n, k) in which.enumerate() {
+        if n % CHECK_EVERY == CHECK_EVERY - 1 && {
+            watch.advance(CHECK_EVERY);
+            watch.stop()
+        } {
+            return written;
+        }
+        let t = &tris[k as usize];
+        let mask = masks[t.object as usize].map(|(cutout, mesh)| {
+            let indices = mesh.triangles[t.triangle as usize].indices;
+            (cutout, indices.map(|i| mesh.vertices[i as usize].uv))
+        });
+        let rows = (t.rows.0 as usize).max(y0)..(t.rows.1 as usize).min(y1);
+        written += fill(depth, owner, size, y0, rows, t, mask);
+    }
+    watch.advance(visits % CHECK_EVERY);
+    written
+}
+
+/// Fills `rows` of one triangle (texel centres inside, either winding),
+/// keeping the nearest depth; `depth` and `owner` hold the rows from `y0`.
+/// `q` is 1/w, which is linear across the projected triangle. With a
+/// `mask` (the alpha mask and the corners' UVs), a texel whose point it
+/// cuts out is left as it is; its UV is perspective-correct (uv·q is
+/// linear too), as the main pass reads it. Eight texels of a row at a
+/// time: each lane's weights and depth are the same operations on the same
+/// numbers as one texel's, so the same bits.
+fn fill(
+    depth: &mut [f32],
+    owner: &mut [u32],
+    size: usize,
+    y0: usize,
+    rows: std::ops::Range<usize>,
+    t: &Setup,
+    mask: Option<(&Cutout, [Vec2; 3])>,
+) -> u64 {
+    let [(x0, y0f, q0), (x1, y1f, q1), (x2, y2f, q2)] = t.corners;
+    let (lo_x, hi_x) = (t.columns.0 as usize, t.columns.1 as usize);
+    let object = t.object;
+    let inv_area = f32x8::splat(1.0 / t.area);
+    let [x0, x1, x2, q0, q1, q2] = [x0, x1, x2, q0, q1, q2].map(f32x8::splat);
+    let lane_offset = f32x8::from(std::array::from_fn::<f32, 8, _>(|k| k as f32));
+    let mut written = 0;
+    for ty in rows {
+        let py = ty as f32 + 0.5;
+        let [dy0, dy1, dy2] = [y0f - py, y1f - py, y2f - py].map(f32x8::splat);
+        let at = (ty - y0) * size;
+        let row = &mut depth[at..at + size];
+        let owners = &mut owner[at..at + size];
+        let mut tx = lo_x;
+        while tx < hi_x {
+            let lanes = (hi_x - tx).min(8);
+            // Texel centres tx + k + 0.5, exact in f32 (below 2^23).
+            let px = f32x8::splat(tx as f32 + 0.5) + lane_offset;
+            // Barycentric weights, positive inside for either winding.
+            let b0 = ((x1 - px) * dy2 - (x2 - px) * dy1) * inv_area;
+            let b1 = ((x2 - px) * dy0 - (x0 - px) * dy2) * inv_area;
+            let b2 = f32x8::ONE - b0 - b1;
+            let outside =
+                b0.simd_lt(f32x8::ZERO) | b1.simd_lt(f32x8::ZERO) | b2.simd_lt(f32x8::ZERO);
+            let inside = !outside.to_bitmask() & ((1 << lanes) - 1);
+            if inside != 0 {
+                let q = b0 * q0 + b1 * q1 + b2 * q2;
+                let d = f32x8::ONE / q;
+                // The lanes inside and nearer than their texel.
+                let mut nearer = if lanes == 8 {
+                    let texels: [f32; 8] = row[tx..tx + 8].try_into().unwrap_or([0.0; 8]);
+                    inside & d.simd_lt(f32x8::from(texels)).to_bitmask()
+                } else {
+                    let d = d.as_array();
+                    (0..lanes)
+                        .filter(|&k| inside & (1 << k) != 0 && d[k] < row[tx + k])
+                        .fold(0, |m, k| m | 1 << k)
+                };
+                let d = d.as_array();
+                while nearer != 0 {
+                    let k = nearer.trailing_zeros() as usize;
+                    nearer &= nearer - 1;
+                    if let Some((cutout, uv)) = &mask {
+                        let [b0, b1, b2, q0, q1, q2] =
+                            [b0, b1, b2, q0, q1, q2].map(|v| v.as_array()[k]);
+                        let uv = (uv[0] * (b0 * q0) + uv[1] * (b1 * q1) + uv[2] * (b2 * q2)) * d[k];
+                        if !cutout.opaque(uv) {
+                            continue;
+                        }
+                    }
+                    row[tx + k] = d[k];
+                    owners[tx + k] = object;
+                    written += 1;
+                }
+            }
+            tx += 8;
+        }
+    }
+    written
+}

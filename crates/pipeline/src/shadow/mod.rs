@@ -1,0 +1,289 @@
+//! Shadow mapping in two passes (docs/shadows.md): the depth of the casters seen
+//! from the strong light, then a lookup per shaded point that darkens that
+//! light's contribution only.
+//!
+//! - Which light: the strongest enabled one (the reference scene's white light).
+//! - When: only if something can cast onto something else (the plan's
+//!   `shadow_light`, from `scene::casters`):
+//!   never for a lone convex object, nor for a flat object with the light
+//!   and everything else on its front side (a floor lit from above).
+//! - The map: a perspective view from the light toward the casters, fitted
+//!   to their bounding sphere, so its texels are spent on them; a point
+//!   outside that cone, or nearer the light than its near plane, cannot be
+//!   behind a caster and is lit. It stores the distance along the light's
+//!   axis (w), interpolated as 1/w so it is exact on every triangle.
+//! - Closed casters are drawn by their faces turned away from the light
+//!   (second-depth shadow mapping): the lit side is never compared against
+//!   itself, so it cannot self-shadow ("acne"). Open casters draw both sides.
+//!   A point on a face turned away from the light is in shadow without a
+//!   lookup (its smoothed normal may light it; its own surface blocks).
+//! - A caster with an alpha mask (glTF MASK, MTL `d`/`map_d`) writes only
+//!   the texels whose point the mask keeps, as the main pass draws it.
+//! - The lookup compares with a slope-scaled bias (one texel plus twice
+//!   tan θ texels, θ between the surface and the light) over a 3×3
+//!   percentage-closer filter: 9 depth compares, soft one-texel edges.
+
+mod depth;
+pub use depth::{CHECK_EVERY, Unwatched, Watch};
+
+use glam::{Mat4, Vec3};
+
+use relief_core::stats::Counters;
+use relief_scene::Scene;
+use relief_scene::casters::{Caster, enclose};
+use relief_scene::world::World;
+
+/// Smallest and largest shadow map side, in texels.
+pub const MIN_SIZE: usize = 256;
+pub const MAX_SIZE: usize = 2048;
+// The fill's set-up triangles keep their rows and columns in u16.
+const _: () = assert!(MAX_SIZE <= u16::MAX as usize);
+
+/// Texels per framebuffer pixel along the frame's longer side.
+const SIZE_PER_PIXEL: f32 = 1.5;
+
+/// The depth of the casters seen from one light, reused from frame to frame.
+#[derive(Clone, Debug, Default)]
+pub struct ShadowMap {
+    size: usize,
+    /// Distance along the light's axis of the nearest caster, per texel
+    /// (row 0 at the top); infinity where no caster is.
+    depth: Vec<f32>,
+    /// Which object (index in `Scene::objects`) that nearest caster is.
+    owner: Vec<u32>,
+    /// Per object: whether it may shade itself (not convex).
+    self_shadowing: Vec<bool>,
+    view_proj: Mat4,
+    light: Vec3,
+    near: f32,
+    /// Width of one texel at unit distance along the axis.
+    texel_per_depth: f32,
+    /// Scratch of the pass, kept for the next frame: the casters'
+    /// triangles set up, and each band's share of them.
+    setups: Vec<depth::Setup>,
+    /// Per chunk of a big mesh's triangles, its setups, before they are
+    /// joined into `setups` (kept from frame to frame).
+    setup_chunks: Vec<Vec<depth::Setup>>,
+    bins: Vec<Vec<u32>>,
+}
+
+/// The shadow of one of the plan's lights, as the shaders see it.
+#[derive(Clone, Copy, Debug)]
+pub struct Shadow<'a> {
+    /// Index of the shadowed light in `Plan::lights`.
+    pub light: usize,
+    pub map: &'a ShadowMap,
+}
+
+impl Shadow<'_> {
+    /// The factor of light `index` at point `p` of object `object` with
+    /// geometric normal `normal`: 1 for the other lights; for the shadowed
+    /// one, the lit fraction (one lookup).
+    #[inline]
+    pub fn factor(
+        &self,
+        index: usize,
+        p: Vec3,
+        normal: Vec3,
+        object: u32,
+        counters: &mut Counters,
+    ) -> f32 {
+        if index != self.light {
+            return 1.0;
+        }
+        counters.shadow_lookups += 1;
+        self.map.visibility(p, normal, object)
+    }
+}
+
+impl ShadowMap {
+    pub fn new() -> Self {
+        ShadowMap::default()
+    }
+
+    /// The map's side in texels for a frame of `width × height` pixels.
+    pub fn size_for(width: usize, height: usize) -> usize {
+        ((width.max(height) as f32 * SIZE_PER_PIXEL) as usize).clamp(MIN_SIZE, MAX_SIZE)
+    }
+
+    pub fn size(&self) -> usize {
+        self.size
+    }
+
+    /// Per texel (row 0 at the top): the distance along the light's axis of
+    /// the nearest caster (infinity where none is), and which object that is.
+    pub fn texels(&self) -> (&[f32], &[u32]) {
+        (&self.depth, &self.owner)
+    }
+
+    /// Pass 1: the depth of `casters` (the plan's, found for this light)
+    /// seen from `light`, the user's rotation being `rotation`, for a frame
+    /// of `width × height`. Returns the counters (texels written).
+    pub fn render(
+        &mut self,
+        scene: &Scene,
+        rotation: Mat4,
+        light: Vec3,
+        casters: &[Caster],
+        width: usize,
+        height: usize,
+    ) -> Counters {
+        let world = World::of(scene, rotation);
+        let watch = &Unwatched;
+        self.render_placed(scene, &world, light, casters, width, height, &[], watch)
+    }
+
+    /// [`ShadowMap::render`] of the scene placed as `world` (the frame's
+    /// world-space vertices), skipping the repeated triangles of each object
+    /// (`scene::repeats`: the pairs of object `i` are `repeats[i]`, none
+    /// past the end), which cannot change a texel, telling `watch` how far
+    /// it has come and stopping (the map incomplete) as soon as it says so,
+    /// asked every few thousand triangles. The map is filled in bands of
+    /// rows on the current thread pool; the texels are the same whatever
+    /// the bands (docs/shadows.md).
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_placed(
+        &mut self,
+        scene: &Scene,
+        world: &World,
+        light: Vec3,
+        casters: &[Caster],
+        width: usize,
+        height: usize,
+        repeats: &[&[(u32, u32)]],
+        watch: &dyn Watch,
+    ) -> Counters {
+        let mut counters = Counters::default();
+        let size = Self::size_for(width, height);
+        self.size = size;
+        self.light = light;
+        self.depth.clear();
+        self.depth.resize(size * size, f32::INFINITY);
+        self.owner.clear();
+        self.owner.resize(size * size, u32::MAX);
+        self.self_shadowing.clear();
+        self.self_shadowing
+            .extend(scene.objects.iter().map(|o| !o.mesh.convex));
+        let Some((centre, radius)) = enclose(casters) else {
+            self.view_proj = Mat4::ZERO;
+            return counters;
+        };
+        let distance = light.distance(centre);
+        if distance.is_nan() || distance <= radius * 1.01 {
+            self.view_proj = Mat4::ZERO;
+            return counters;
+        }
+        let to_centre = (centre - light) / distance;
+        let up = if to_centre.cross(Vec3::Y).length_squared() > 1e-6 {
+            Vec3::Y
+        } else {
+            Vec3::X
+        };
+        // A small margin so silhouettes do not touch the border.
+        let half_angle = ((radius / distance).min(1.0).asin() * 1.05).min(80f32.to_radians());
+        self.near = (distance - radius) * 0.9;
+        let far = distance + radius;
+        let proj = Mat4::perspective_rh_gl(2.0 * half_angle, 1.0, self.near, far);
+        self.view_proj = proj * Mat4::look_at_rh(light, centre, up);
+        self.texel_per_depth = 2.0 * half_angle.tan() / size as f32;
+
+        let mut target = depth::Target {
+            size,
+            depth: &mut self.depth,
+            owner: &mut self.owner,
+            view_proj: self.view_proj,
+            light: self.light,
+            near: self.near,
+        };
+        let mut setups = std::mem::take(&mut self.setups);
+        setups.clear();
+        let mut masks = vec![None; scene.objects.len()];
+        let mut whole = true;
+        for caster in casters {
+            let i = caster.object;
+            let mesh = &scene.objects[i].mesh;
+            // A texel its alpha mask cuts out casts nothing.
+            let cutout = scene.own_terms(i).and_then(|t| t.cutout.as_ref());
+            masks[i] = cutout.map(|c| (c, mesh));
+            whole = depth::set_up_mesh(
+                &target,
+                mesh,
+                world.object(i),
+                i as u32,
+                repeats.get(i).copied().unwrap_or(&[]),
+                watch,
+                &mut setups,
+                &mut self.setup_chunks,
+            );
+            if !whole {
+                break;
+            }
+        }
+        if whole {
+            counters.shadow_texels +=
+                depth::fill_all(&mut target, &setups, &masks, &mut self.bins, watch);
+        }
+        self.setups = setups;
+        counters
+    }
+
+    /// Pass 2: the lit fraction (0..1) of the point `p` of object `object`
+    /// whose geometric normal is `normal` (turned to the side seen), for
+    /// the light the map was drawn from. A point whose geometric normal
+    /// turns away from the light is in shadow (0): smoothed vertex normals
+    /// can light it, but a ray from it to the light enters its own surface.
+    /// Otherwise a convex object's own texels never shade it: it cannot
+    /// cast onto itself.
+    pub fn visibility(&self, p: Vec3, normal: Vec3, object: u32) -> f32 {
+        let size = self.size;
+        if size == 0 {
+            return 1.0;
+        }
+        // A surface whose own normal turns away from the light is behind
+        // itself: in shadow, whatever its smoothed normal says (the map
+        // holds such faces, so it would compare a point with its own depth).
+        if normal.dot(self.light - p) < 0.0 {
+            return 0.0;
+        }
+        let clip = self.view_proj * p.extend(1.0);
+        let w = clip.w;
+        if !w.is_finite() || w <= self.near {
+            return 1.0;
+        }
+        let (nx, ny) = (clip.x / w, clip.y / w);
+        if nx.is_nan() || ny.is_nan() || nx.abs() > 1.0 || ny.abs() > 1.0 {
+            return 1.0;
+        }
+        let tx = ((nx * 0.5 + 0.5) * size as f32) as i64;
+        let ty = ((0.5 - ny * 0.5) * size as f32) as i64;
+        // Slope-scaled bias: one texel, plus the depth change across two
+        // texels of a surface at angle θ to the light.
+        let to_light = (self.light - p).normalize_or_zero();
+        let cos = normal.normalize_or_zero().dot(to_light).abs().max(0.1);
+        let tan = (1.0 - cos * cos).max(0.0).sqrt() / cos;
+        let bias = w * self.texel_per_depth * (1.0 + 2.0 * tan);
+        let limit = w - bias;
+        let own_texels_count = self
+            .self_shadowing
+            .get(object as usize)
+            .copied()
+            .unwrap_or(true);
+        let mut lit = 0u32;
+        for dy in -1..=1 {
+            for dx in -1..=1 {
+                let (x, y) = (tx + dx, ty + dy);
+                let inside = x >= 0 && y >= 0 && (x as usize) < size && (y as usize) < size;
+                let at = if inside {
+                    y as usize * size + x as usize
+                } else {
+                    0
+                };
+                let blocked = inside
+                    && self.depth[at] < limit
+                    && (own_texels_count || self.owner[at] != object);
+                lit += u32::from(!blocked);
+            }
+        }
+        lit as f32 / 9.0
+    }
+}

@@ -1,0 +1,212 @@
+//! The model view (docs/models.md, "The model view"): what a model file
+//! is shown with, as a glTF viewer shows it. The camera frames the model's
+//! points so they fill `FILL` of the picture in the start view, from a
+//! front three-quarter view (the camera `ELEVATION_DEGREES` above, the
+//! model turned by `START_ROTATION`), and a neutral rig of white lights
+//! replaces the reference cube's coloured ones. The reference cube scene
+//! keeps its own camera and lights.
+
+use glam::{Mat4, Vec2, Vec3};
+
+use super::camera::{Camera, REFERENCE_DISTANCE};
+pub use super::contents::ModelView;
+use super::light::Light;
+use super::{Scene, rotation_matrix};
+use relief_core::settings::UpAxis;
+
+/// Share of the picture's limiting side the framed model spans (each
+/// side keeps (1 − FILL)/2 of margin).
+pub const FILL: f32 = 0.9;
+/// How far above the model's horizon the camera looks down, in degrees.
+pub const ELEVATION_DEGREES: f32 = 20.0;
+/// The start rotation of a model file (degrees about X, Y, Z): its front
+/// (+Z) turned 35° to the viewer's left, so its own left side (+X) shows too.
+pub const START_ROTATION: Vec3 = Vec3::new(0.0, -35.0, 0.0);
+/// The soft light from everywhere that stands in for an environment.
+pub const AMBIENT: Vec3 = Vec3::splat(0.22);
+
+/// The neutral rig, in world space about the model's centre: a white key
+/// light above, left and in front; a weaker fill from the right; a rim
+/// light from behind and above, which outlines the silhouette.
+pub fn neutral_lights() -> Vec<Light> {
+    vec![
+        Light::new(Vec3::new(-4.0, 6.0, 7.0), Vec3::splat(0.85)),
+        Light::new(Vec3::new(7.0, 1.0, 4.0), Vec3::splat(0.3)),
+        Light::new(Vec3::new(1.0, 5.0, -8.0), Vec3::splat(0.25)),
+    ]
+}
+
+impl Scene {
+    /// This scene shown in the model view: the neutral rig and the framing
+    /// camera (a model file's scene; the built-in models keep the
+    /// reference scene's).
+    pub fn into_model_view(mut self) -> Scene {
+        self.lights = neutral_lights();
+        self.ambient = AMBIENT;
+        self.model_view = Some(ModelView::new());
+        self
+    }
+
+    /// This scene in the reference camera and lights, its materials drawn
+    /// as the reference scenes draw them (the llvmpipe comparison's view).
+    pub fn into_reference_view(mut self) -> Scene {
+        if self.model_view.take().is_some() {
+            self.lights = super::light::reference_lights();
+            self.ambient = super::light::AMBIENT;
+        }
+        self
+    }
+}
+
+/// The camera axes of the model view: right, up, and back toward the eye
+/// (unit, orthogonal), for a camera `ELEVATION_DEGREES` above the horizon.
+pub fn view_axes() -> [Vec3; 3] {
+    let e = ELEVATION_DEGREES.to_radians();
+    let back = Vec3::new(0.0, e.sin(), e.cos());
+    let right = Vec3::X;
+    [right, back.cross(right), back]
+}
+
+/// Where the framing camera stands, in the view axes: the point it looks
+/// at is `centre` along right and up, and the eye `distance` back from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fit {
+    pub centre: Vec2,
+    pub distance: f32,
+}
+
+/// The fit of `points` (world space) for tangents of the half field of
+/// view `tan_x`, `tan_y` already shrunk to the share to fill: the camera,
+/// looking along −back, that sees every point within them, as close as
+/// it can be and with equal margins on either side of the limiting axis.
+///
+/// A point (x, y, z) in view axes is inside the horizontal half-angle of
+/// an eye at (cx, ·, d) when |x − cx| ≤ tan_x·(d − z), i.e. when
+/// d ≥ z + (x − cx)/tan_x and d ≥ z − (x − cx)/tan_x. With
+/// A = max(z + x/tan_x) and B = max(z − x/tan_x) over the points, the
+/// smallest d is (A + B)/2 at cx = tan_x·(A − B)/2, where the two outer
+/// points lie on the two edges; the same holds vertically. `None` when
+/// there is no finite point.
+pub fn fit(points: impl Iterator<Item = Vec3>, tan_x: f32, tan_y: f32) -> Option<Fit> {
+    let [right, up, back] = view_axes();
+    let (sx, sy) = (1.0 / tan_x as f64, 1.0 / tan_y as f64);
+    let mut m = [f64::NEG_INFINITY; 5];
+    for p in points.filter(|p| p.is_finite()) {
+        let (x, y, z) = (p.dot(right) as f64, p.dot(up) as f64, p.dot(back) as f64);
+        m[0] = m[0].max(z + x * sx);
+        m[1] = m[1].max(z - x * sx);
+        m[2] = m[2].max(z + y * sy);
+        m[3] = m[3].max(z - y * sy);
+        m[4] = m[4].max(z);
+    }
+    if !m.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let (dx, dy) = ((m[0] + m[1]) / 2.0, (m[2] + m[3]) / 2.0);
+    // The eye keeps clear of the nearest point (a flat model seen edge on
+    // has no extent to frame).
+    let distance = dx.max(dy).max(m[4] + MIN_CLEARANCE as f64);
+    let centre = Vec2::new(
+        ((m[0] - m[1]) / 2.0 / sx) as f32,
+        ((m[2] - m[3]) / 2.0 / sy) as f32,
+    );
+    Some(Fit {
+        centre,
+        distance: distance as f32,
+    })
+}
+
+/// Closest the framing camera comes to the model's nearest point.
+const MIN_CLEARANCE: f32 = 0.5;
+
+/// The fit of `scene`'s objects turned by `pose` (degrees, with the
+/// model's `up` axis) for a picture of `aspect` (width over height) and a
+/// vertical field of view of `fov_degrees`.
+pub fn fit_scene(
+    scene: &Scene,
+    pose: Vec3,
+    up: UpAxis,
+    fov_degrees: f32,
+    aspect: f32,
+) -> Option<Fit> {
+    let rotation = view_rotation(pose, up);
+    let tan_y = (fov_degrees.to_radians() / 2.0).tan() * FILL;
+    let tan_x = tan_y * aspect;
+    if !(tan_x.is_finite() && tan_y.is_finite() && tan_x > 0.0 && tan_y > 0.0) {
+        return None;
+    }
+    let objects = scene.objects.iter().flat_map(|o| {
+        let model = o.model_matrix(rotation);
+        o.mesh
+            .vertices
+            .iter()
+            .map(move |v| model.transform_point3(v.position))
+    });
+    let strokes = scene
+        .strokes
+        .vertices
+        .iter()
+        .map(|v| rotation.transform_point3(v.position));
+    fit(objects.chain(strokes), tan_x, tan_y)
+}
+
+/// The user's rotation `degrees` of a model whose `up` axis is given: a
+/// Z-up model is first turned so +Z is up.
+pub fn view_rotation(degrees: Vec3, up: UpAxis) -> Mat4 {
+    match up {
+        UpAxis::Y => rotation_matrix(degrees),
+        UpAxis::Z => rotation_matrix(degrees) * Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2),
+    }
+}
+
+/// The framing camera, with the user's zoom and pan of `user` (the
+/// reference camera moved by `Camera::at_distance` and `Camera::panned`):
+/// its distance scales the fit's as it scales the reference one, its pan
+/// moves the point looked at along the view's right and up.
+pub fn framed_camera(user: &Camera, fit: Fit) -> Camera {
+    let [right, up, back] = view_axes();
+    let zoom = (user.eye - user.target).length() / REFERENCE_DISTANCE;
+    let zoom = if zoom.is_finite() && zoom > 0.0 {
+        zoom
+    } else {
+        1.0
+    };
+    let centre = fit.centre + Vec2::new(user.target.x, user.target.y);
+    let target = right * centre.x + up * centre.y;
+    Camera {
+        eye: target + back * (fit.distance * zoom),
+        target,
+        up: Vec3::Y,
+        ..*user
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_point_pair_is_fitted_to_the_edges() {
+        // Two points 2 apart across at depth 0: seen with tan 0.5, the eye
+        // stands 2 back, centred between them.
+        let [right, _, _] = view_axes();
+        let pts = [right * 3.0, right * 5.0];
+        let f = fit(pts.into_iter(), 0.5, 0.5).unwrap();
+        assert!((f.centre.x - 4.0).abs() < 1e-5, "{f:?}");
+        assert!((f.distance - 2.0).abs() < 1e-5, "{f:?}");
+    }
+
+    #[test]
+    fn no_finite_point_has_no_fit() {
+        assert_eq!(fit([Vec3::NAN].into_iter(), 0.5, 0.5), None);
+        assert_eq!(fit(std::iter::empty(), 0.5, 0.5), None);
+    }
+
+    #[test]
+    fn the_view_axes_are_orthonormal_and_look_down() {
+        let [r, u, b] = view_axes();
+        assert!(r.dot(u).abs() < 1e-6 && u.dot(b).abs() < 1e-6 && r.dot(b).abs() < 1e-6);
+        assert!(b.y > 0.0, "the eye is above the horizon");
+        assert!((r.cross(u) - b).length() < 1e-6, "right-handed");
+    }
+}

@@ -1,0 +1,176 @@
+//! What a loaded model's material adds to a Phong-family pixel beyond
+//! relief's own material (docs/models.md): light it gives off (glTF
+//! emissive), an ambient occlusion map, a specular colour and exponent
+//! (MTL `Ks`, `Ns`), the filter its sampler asks for (glTF). The plan
+//! carries the terms only for the objects whose material has them and only
+//! when they change the picture, so every other pixel runs as before.
+
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
+
+use super::map_uv::MapUvs;
+use relief_core::settings::Filter;
+use relief_texture::Level;
+
+/// A model material's extra terms.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaterialTerms {
+    /// Added to the shaded colour (glTF `emissiveFactor` × the
+    /// `KHR_materials_emissive_strength`), times `emissive_map`'s RGB.
+    pub emissive: Vec3,
+    pub emissive_map: Option<Arc<Level>>,
+    /// Ambient occlusion: the map's red channel and the strength s; the
+    /// ambient term is scaled by 1 + s·(red − 1).
+    pub occlusion: Option<(Arc<Level>, f32)>,
+    /// Multiplies the highlight (MTL `Ks`; white: the highlight as it is).
+    pub specular_color: Vec3,
+    /// The highlight's exponent instead of `--shininess` (MTL `Ns`).
+    pub shininess: Option<f32>,
+    /// The filter the model's sampler asks for instead of the view's.
+    pub filter: Option<Filter>,
+    /// Where the emissive and occlusion maps came from, for the texture
+    /// panel: (which map, its name).
+    pub map_names: Vec<(&'static str, String)>,
+    /// The material's opacity: an alpha mask (pixels below the cutoff are
+    /// not drawn) or translucency (pixels composited, `Cutout::blend`).
+    pub cutout: Option<Cutout>,
+    /// Where the normal, specular, occlusion and emissive maps read their
+    /// texture coordinates (glTF `texCoord` and `KHR_texture_transform`
+    /// per map; all the vertices' `uv` for every other material).
+    pub uvs: MapUvs,
+    /// A metallic-roughness material (glTF's), shaded physically in the
+    /// model view (`shade::pbr`); the other views draw it as before.
+    pub pbr: Option<PbrMaterial>,
+    /// Shaded as its base colour alone, no light (glTF
+    /// `KHR_materials_unlit`), in the model view.
+    pub unlit: bool,
+}
+
+/// A metallic-roughness material's own values (docs/shading.md).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PbrMaterial {
+    /// `metallicFactor`: 0 dielectric, 1 metal.
+    pub metallic: f32,
+    /// `roughnessFactor`: 0 mirror-smooth, 1 rough.
+    pub roughness: f32,
+    /// The roughness map and the channel read (glTF's metallic-roughness
+    /// map: green; MTL `map_Pr`: grey), multiplied into the factor; read
+    /// with the specular map's coordinates.
+    pub roughness_map: Option<(Arc<Level>, usize)>,
+    /// The metallic map and its channel (glTF's: blue; MTL `map_Pm`: grey).
+    pub metallic_map: Option<(Arc<Level>, usize)>,
+    /// The tangent-space normal map (its `scale` applied), read with the
+    /// normal map's coordinates.
+    pub normal: Option<Arc<relief_texture::NormalMap>>,
+}
+
+impl PbrMaterial {
+    /// glTF's default material: white, fully metallic, fully rough.
+    pub fn gltf_default() -> Self {
+        PbrMaterial {
+            metallic: 1.0,
+            roughness: 1.0,
+            roughness_map: None,
+            metallic_map: None,
+            normal: None,
+        }
+    }
+}
+
+/// A material's opacity: an alpha mask (glTF `alphaMode` MASK; MTL
+/// `d`/`Tr` and `map_d` at 0.5), or translucency composited over what is
+/// behind (glTF BLEND; docs/models.md, "Transparency").
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cutout {
+    /// The constant opacity (glTF base colour factor's alpha, MTL `d`).
+    pub factor: f32,
+    /// Opacity per texel in the red channel (glTF base colour alpha, MTL
+    /// `map_d`'s grey), read bilinearly; none: `factor` everywhere.
+    pub map: Option<Arc<Level>>,
+    /// Opacity below this is not drawn (a mask), or casts no shadow (a
+    /// blend).
+    pub cutoff: f32,
+    /// Composited with its opacity, behind the opaque surfaces' depth and
+    /// far to near, instead of cut at `cutoff`.
+    pub blend: bool,
+}
+
+/// Below this opacity a blended pixel would change no 8-bit channel by a
+/// whole step: it is not drawn.
+pub const BLEND_MIN_OPACITY: f32 = 0.5 / 255.0;
+
+impl Cutout {
+    /// The opacity at `uv`, 0 to 1 (or beyond, as the factor gives).
+    #[inline]
+    pub fn opacity(&self, uv: Vec2) -> f32 {
+        match &self.map {
+            Some(map) => self.factor * map.bilinear(uv.x, uv.y)[0],
+            None => self.factor,
+        }
+    }
+
+    /// Whether the point at `uv` is solid: drawn by a mask, casting a
+    /// shadow for both kinds.
+    #[inline]
+    pub fn opaque(&self, uv: Vec2) -> bool {
+        self.opacity(uv) >= self.cutoff
+    }
+}
+
+impl Default for MaterialTerms {
+    fn default() -> Self {
+        MaterialTerms {
+            emissive: Vec3::ZERO,
+            emissive_map: None,
+            occlusion: None,
+            specular_color: Vec3::ONE,
+            shininess: None,
+            filter: None,
+            map_names: Vec::new(),
+            cutout: None,
+            uvs: MapUvs::default(),
+            pbr: None,
+            unlit: false,
+        }
+    }
+}
+
+impl MaterialTerms {
+    /// Whether these terms change a pixel lit by `ambient`, with highlights
+    /// drawn or not: otherwise the plan leaves them out.
+    pub fn shade(&self, ambient: Vec3, specular: bool) -> bool {
+        self.cutout.is_some()
+            || self.emissive.max_element() > 0.0
+            || self
+                .occlusion
+                .as_ref()
+                .is_some_and(|(_, s)| *s != 0.0 && ambient.max_element() > 0.0)
+            || (specular && self.specular_color != Vec3::ONE)
+            || !self.uvs.normal.is_vertex_uv()
+            || (specular && !self.uvs.specular.is_vertex_uv())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn terms_that_change_nothing_are_left_out() {
+        let none = MaterialTerms::default();
+        assert!(!none.shade(Vec3::splat(0.2), true));
+        let occluded = MaterialTerms {
+            occlusion: Some((Arc::new(Level::solid(1, 1, [0.0; 4])), 1.0)),
+            ..Default::default()
+        };
+        assert!(occluded.shade(Vec3::splat(0.2), false));
+        assert!(!occluded.shade(Vec3::ZERO, false), "no ambient to occlude");
+        let tinted = MaterialTerms {
+            specular_color: Vec3::new(1.0, 0.5, 0.5),
+            ..Default::default()
+        };
+        assert!(tinted.shade(Vec3::ZERO, true));
+        assert!(!tinted.shade(Vec3::ZERO, false), "no highlight to tint");
+    }
+}
