@@ -7,14 +7,13 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use glam::Vec3;
-
 use relief_core::framebuffer::Framebuffer;
 use relief_core::sanitize::clean;
 use relief_core::stats::FrameStats;
 use relief_pipeline::render::Renderer;
 use relief_scene::camera::light_turn;
 use relief_scene::flag_maps::FlagMaps;
+use relief_scene::light::Light;
 use relief_scene::obj::ObjError;
 use relief_scene::{Built, Camera, LoadedNotes, ModelChoice, SceneKind, build_scene_noting};
 use relief_texture::Texture;
@@ -71,15 +70,15 @@ pub struct Stage {
     /// The scene's own camera, which the zoom moves along its line of sight.
     camera: Camera,
     /// Where the scene's lights were built: a light drag turns them from here.
-    light_positions: Vec<Vec3>,
+    light_places: Vec<Light>,
     /// What the last model load had to say, until taken.
     notes: LoadedNotes,
 }
 
-/// Where a built scene's lights are (the plasma has none).
-fn lights_of(built: &Built) -> Vec<Vec3> {
+/// A built scene's lights as built, before any turn (the plasma has none).
+fn lights_of(built: &Built) -> Vec<Light> {
     match built {
-        Built::Scene(scene) => scene.lights.iter().map(|l| l.position).collect(),
+        Built::Scene(scene) => scene.lights.clone(),
         Built::Plasma(_) => Vec::new(),
     }
 }
@@ -104,7 +103,7 @@ impl Stage {
         Ok(Stage {
             notes,
             camera: camera_of(&built),
-            light_positions: lights_of(&built),
+            light_places: lights_of(&built),
             built,
             texture,
             all_faces,
@@ -161,7 +160,7 @@ impl Stage {
         }
         self.notes = notes;
         self.camera = camera_of(&built);
-        self.light_positions = lights_of(&built);
+        self.light_places = lights_of(&built);
         self.built = built;
     }
 
@@ -206,8 +205,11 @@ impl Stage {
                     light.enabled = on;
                 }
                 let turn = light_turn(state.light_turn);
-                for (light, at) in scene.lights.iter_mut().zip(&self.light_positions) {
-                    light.position = turn * *at;
+                for (light, built) in scene.lights.iter_mut().zip(&self.light_places) {
+                    *light = Light {
+                        enabled: light.enabled,
+                        ..built.moved(turn)
+                    };
                 }
                 scene.camera = self.camera.at_distance(state.distance).panned(state.pan);
                 // The model view frames the model at the start rotation, so

@@ -16,6 +16,7 @@ mod models_gltf_anim;
 mod models_gltf_blend;
 mod models_gltf_cameras;
 mod models_gltf_hostile;
+mod models_gltf_lights;
 mod models_props;
 mod models_render;
 mod mutation;

@@ -711,11 +711,7 @@ fn highlight_picture(name: &str, mtl: &str) -> relief_core::framebuffer::Framebu
     // The Blinn-Phong highlight of the reference view (the model view
     // reads the material as metallic-roughness: tests/render/pbr.rs).
     let mut scene = (*scene).into_reference_view();
-    scene.lights = vec![Light {
-        position: Vec3::new(0.4, 0.3, 3.0),
-        color: Vec3::ONE,
-        enabled: true,
-    }];
+    scene.lights = vec![Light::new(Vec3::new(0.4, 0.3, 3.0), Vec3::ONE)];
     let settings = relief_core::settings::Settings {
         rotation: Vec3::ZERO,
         specular: true,

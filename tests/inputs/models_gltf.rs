@@ -345,11 +345,7 @@ pub(super) fn dot3() -> Settings {
 
 /// One white light straight in front of the seam at x = 0.
 fn light_on_seam(scene: &mut Scene) {
-    scene.lights = vec![Light {
-        position: Vec3::new(0.0, 0.0, 2.0),
-        color: Vec3::ONE,
-        enabled: true,
-    }];
+    scene.lights = vec![Light::new(Vec3::new(0.0, 0.0, 2.0), Vec3::ONE)];
 }
 
 pub(super) fn materials_with_normal(scale: Option<f32>) -> String {

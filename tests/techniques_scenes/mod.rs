@@ -72,6 +72,7 @@ pub fn scene_of(
         model_view: None,
         motion: None,
         cameras: Vec::new(),
+        file_lights: Vec::new(),
     }
 }
 

@@ -3,13 +3,14 @@
 
 use std::sync::Arc;
 
-use glam::{Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec3};
 
 use relief_core::settings::{
     AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
     ToneMap,
 };
 use relief_scene::casters::{Caster, casters, enclose};
+use relief_scene::light::{Falloff, Light};
 use relief_scene::terms::MaterialTerms;
 use relief_scene::{Material, Scene};
 use relief_texture::environment::Environment;
@@ -21,6 +22,32 @@ use relief_texture::{Level, NormalMap};
 pub struct ActiveLight {
     pub position: Vec3,
     pub color: Vec3,
+    /// How its strength falls off on the way to a point (`Setting`: as the
+    /// plan's `attenuation` says).
+    pub falloff: Falloff,
+}
+
+/// The lights that contribute (on, not black, at a finite place), a model
+/// file's own carried by the model's `rotation`.
+fn active_lights(lights: &[Light], rotation: Mat4) -> Vec<ActiveLight> {
+    let turn = Mat3::from_mat4(rotation);
+    lights
+        .iter()
+        .filter(|l| l.enabled && l.color.max_element() > 0.0)
+        .map(|l| {
+            if l.turns_with_model {
+                l.moved(turn)
+            } else {
+                *l
+            }
+        })
+        .filter(|l| l.position.is_finite() && l.color.is_finite())
+        .map(|l| ActiveLight {
+            position: l.position,
+            color: l.color,
+            falloff: l.falloff,
+        })
+        .collect()
 }
 
 /// The brightest active light (the first on ties), or `None` when no light
@@ -202,17 +229,10 @@ impl Plan {
             .any(|o| o.mesh.triangles.iter().any(|t| t.textured));
         let stages = MaterialStages::new(&scene.material, any_textured, settings, false);
         let depth = scene.objects.len() > 1 || scene.objects.iter().any(|o| !o.mesh.convex);
+        // A Z-up model is first turned so +Z is up, then the user's rotation.
+        let rotation = relief_scene::model_view::view_rotation(settings.rotation, settings.up);
         let lights = if settings.lights {
-            scene
-                .lights
-                .iter()
-                .filter(|l| l.enabled && l.color.max_element() > 0.0)
-                .filter(|l| l.position.is_finite() && l.color.is_finite())
-                .map(|l| ActiveLight {
-                    position: l.position,
-                    color: l.color,
-                })
-                .collect()
+            active_lights(&scene.lights, rotation)
         } else {
             Vec::new()
         };
@@ -221,8 +241,6 @@ impl Plan {
         } else {
             settings.aa
         };
-        // A Z-up model is first turned so +Z is up, then the user's rotation.
-        let rotation = relief_scene::model_view::view_rotation(settings.rotation, settings.up);
         let (shadow_light, shadow_casters) =
             shadow_light(scene, settings.display, rotation, &lights).unzip();
         let specular = (settings.specular
@@ -463,6 +481,7 @@ mod tests {
         ActiveLight {
             position: Vec3::ONE,
             color: Vec3::splat(c),
+            falloff: relief_scene::light::Falloff::Setting,
         }
     }
 

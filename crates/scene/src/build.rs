@@ -411,6 +411,7 @@ impl Scene {
             model_view: None,
             motion: None,
             cameras: Vec::new(),
+            file_lights: Vec::new(),
         }
     }
 

@@ -43,6 +43,9 @@ pub struct Scene {
     /// A model file's own cameras (glTF), in the scene's space; the model
     /// view shows the one its `camera` names.
     pub cameras: Vec<Camera>,
+    /// A model file's own lights (glTF KHR_lights_punctual), in the scene's
+    /// space: the model view lights the model with them instead of its rig.
+    pub file_lights: Vec<Light>,
 }
 
 impl Scene {

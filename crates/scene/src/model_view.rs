@@ -37,11 +37,15 @@ pub fn neutral_lights() -> Vec<Light> {
 }
 
 impl Scene {
-    /// This scene shown in the model view: the neutral rig and the framing
-    /// camera (a model file's scene; the built-in models keep the
-    /// reference scene's).
+    /// This scene shown in the model view: the file's own lights, else the
+    /// neutral rig, and the framing camera (a model file's scene; the
+    /// built-in models keep the reference scene's).
     pub fn into_model_view(mut self) -> Scene {
-        self.lights = neutral_lights();
+        self.lights = if self.file_lights.is_empty() {
+            neutral_lights()
+        } else {
+            self.file_lights.clone()
+        };
         self.ambient = AMBIENT;
         self.model_view = Some(ModelView::new());
         self

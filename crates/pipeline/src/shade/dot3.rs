@@ -223,6 +223,7 @@ mod tests {
         let light = ActiveLight {
             position: Vec3::new(1.0, -1.0, 5.0),
             color: Vec3::ONE,
+            falloff: relief_scene::light::Falloff::Setting,
         };
         let vl = VertexLights::new(&quad_tri(), &[light]);
         let out = vl.light(0);
@@ -239,6 +240,7 @@ mod tests {
         let light = ActiveLight {
             position: Vec3::new(-1.0, -1.0, 0.0),
             color: Vec3::ONE,
+            falloff: relief_scene::light::Falloff::Setting,
         };
         let vl = VertexLights::new(&quad_tri(), &[light]);
         assert_eq!(vl.light(0)[0], Vec3::ZERO);
@@ -251,6 +253,7 @@ mod tests {
             .map(|i| ActiveLight {
                 position: Vec3::new(i as f32, 2.0, 3.0),
                 color: Vec3::ONE,
+                falloff: relief_scene::light::Falloff::Setting,
             })
             .collect();
         let many = VertexLights::new(&quad_tri(), &lights);

@@ -3,14 +3,40 @@
 
 use glam::Vec3;
 
+use super::brdf::saturate;
 use super::lanes::{Lanes, Vector};
 use super::specular::blinn_phong;
 use crate::plan::{ActiveLight, Plan};
 use relief_core::stats::Counters;
+use relief_scene::light::Falloff;
 
 /// Distance attenuation 1 / (1 + c·d²); c keeps the reference scene readable
 /// (about 0.6 at the white light's distance).
 pub const ATTENUATION_QUADRATIC: f32 = 0.01;
+
+/// The share of a glTF light's intensity that reaches a point `d` from it
+/// (`len2` = |d|²): 1 / d², brought to zero at its range by
+/// (1 − (d / range)⁴) clamped to 0…1, times a spot's cone t², t = cos θ ·
+/// scale + offset clamped to 0…1 (KHR_lights_punctual's recommended
+/// falloff). 1 for any other light (the caller applies the setting's).
+#[inline(always)]
+pub fn physical_falloff<V: Vector>(falloff: Falloff, d: V, len2: V::L) -> V::L {
+    let Falloff::InverseSquare { range, cone } = falloff else {
+        return V::L::ONE;
+    };
+    let mut fall = V::L::ONE / len2;
+    if range.is_finite() {
+        let x = len2 * V::L::splat(1.0 / (range * range));
+        fall = fall * saturate(V::L::ONE - x * x);
+    }
+    if let Some(cone) = cone {
+        // d runs from the point to the light: the light shines along −d.
+        let cos = (V::L::ZERO - d.dot(V::uniform(cone.axis))) / len2.sqrt();
+        let t = saturate(cos * V::L::splat(cone.scale) + V::L::splat(cone.offset));
+        fall = fall * t * t;
+    }
+    fall
+}
 
 /// The light reaching a point `p` with unit normal `n` (RGB, not clamped),
 /// at one point or eight (no shadows, nothing counted).
@@ -148,11 +174,21 @@ pub fn light_lanes<V: Vector, const SPEC: bool>(
         } else {
             zero
         };
-        if set.attenuation {
-            let fall = V::L::ONE + V::L::splat(ATTENUATION_QUADRATIC) * len2;
-            k = k / fall;
-            if SPEC {
-                ks = ks / fall;
+        match light.falloff {
+            Falloff::Setting if set.attenuation => {
+                let fall = V::L::ONE + V::L::splat(ATTENUATION_QUADRATIC) * len2;
+                k = k / fall;
+                if SPEC {
+                    ks = ks / fall;
+                }
+            }
+            Falloff::Setting | Falloff::None => {}
+            falloff @ Falloff::InverseSquare { .. } => {
+                let fall = physical_falloff(falloff, d, len2);
+                k = k * fall;
+                if SPEC {
+                    ks = ks * fall;
+                }
             }
         }
         let seen = visibility(i, reached, counters);
@@ -193,7 +229,67 @@ mod tests {
         ActiveLight {
             position: p,
             color: Vec3::ONE,
+            falloff: relief_scene::light::Falloff::Setting,
         }
+    }
+
+    use relief_scene::light::{Cone, Falloff};
+
+    fn falloff_at(falloff: Falloff, d: Vec3) -> f32 {
+        physical_falloff(falloff, d, d.dot(d))
+    }
+
+    #[test]
+    fn a_point_light_falls_off_as_the_inverse_square_within_its_range() {
+        let endless = Falloff::InverseSquare {
+            range: f32::INFINITY,
+            cone: None,
+        };
+        assert_eq!(falloff_at(endless, Vec3::new(0.0, 2.0, 0.0)), 0.25);
+        // At half its range: 1 − (1/2)⁴ = 15/16 of 1/4.
+        let ranged = Falloff::InverseSquare {
+            range: 4.0,
+            cone: None,
+        };
+        let half = falloff_at(ranged, Vec3::new(0.0, 0.0, 2.0));
+        assert!((half - 15.0 / 64.0).abs() < 1e-6, "{half}");
+        assert_eq!(falloff_at(ranged, Vec3::new(0.0, 0.0, 4.0)), 0.0);
+        assert_eq!(falloff_at(ranged, Vec3::new(0.0, 5.0, 0.0)), 0.0);
+        // Directional lights and the setting's lights are not changed here.
+        assert_eq!(falloff_at(Falloff::None, Vec3::splat(3.0)), 1.0);
+        assert_eq!(falloff_at(Falloff::Setting, Vec3::splat(3.0)), 1.0);
+    }
+
+    #[test]
+    fn a_spot_lights_cone_is_full_inside_dark_outside_and_smooth_between() {
+        // Pointing down −Z, inner 30°, outer 45°, the point 1 away (1/d² = 1).
+        let spot = Falloff::InverseSquare {
+            range: f32::INFINITY,
+            cone: Some(Cone::new(
+                Vec3::NEG_Z,
+                30f32.to_radians(),
+                45f32.to_radians(),
+            )),
+        };
+        // d runs from the point to the light, which is above it.
+        let at = |deg: f32| {
+            let r = deg.to_radians();
+            falloff_at(spot, -Vec3::new(r.sin(), 0.0, -r.cos()))
+        };
+        assert!((at(0.0) - 1.0).abs() < 1e-6);
+        assert!((at(29.0) - 1.0).abs() < 1e-6);
+        assert_eq!(at(46.0), 0.0);
+        assert_eq!(at(90.0), 0.0);
+        // 40°: t = (cos 40° − cos 45°) / (cos 30° − cos 45°) = 0.3708.
+        let t = (40f32.to_radians().cos() - 45f32.to_radians().cos())
+            / (30f32.to_radians().cos() - 45f32.to_radians().cos());
+        assert!((t - 0.3708).abs() < 1e-3);
+        assert!((at(40.0) - t * t).abs() < 1e-5, "{}", at(40.0));
+        // Lanes give what one point gives.
+        let d = -Vec3::new(40f32.to_radians().sin(), 0.0, -40f32.to_radians().cos());
+        let v = <crate::shade::packet::V3 as Vector>::uniform(d);
+        let lanes = physical_falloff(spot, v, v.dot(v)).to_array();
+        assert!(lanes.iter().all(|&l| (l - t * t).abs() < 1e-5), "{lanes:?}");
     }
 
     #[test]

@@ -23,7 +23,7 @@ use super::brdf::{
 };
 use super::core::colour;
 use super::lanes::{Lanes, Vector};
-use super::lighting::{ATTENUATION_QUADRATIC, finish};
+use super::lighting::{ATTENUATION_QUADRATIC, finish, physical_falloff};
 use super::map_uv::{Coords, carry, footprint_map};
 use super::packet::{self, LANES, V3};
 use super::shader::{PixelShader, ShadeCtx, cuts, opacity_at};
@@ -33,6 +33,7 @@ use super::tangent::Surface;
 use crate::plan::Physical;
 use relief_core::framebuffer::Rgb;
 use relief_core::stats::Counters;
+use relief_scene::light::Falloff;
 use relief_scene::terms::{MaterialTerms, PbrMaterial};
 use relief_texture::filter::{Footprint, read_normal};
 use relief_texture::ibl::Ibl;
@@ -199,8 +200,14 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             let one = V::uniform(Vec3::ONE);
             let brdf = (one - f) * px.diffuse + f * specular;
             let mut k = nl;
-            if plan.attenuation {
-                k = k / (V::L::ONE + V::L::splat(ATTENUATION_QUADRATIC) * len2);
+            match light.falloff {
+                Falloff::Setting if plan.attenuation => {
+                    k = k / (V::L::ONE + V::L::splat(ATTENUATION_QUADRATIC) * len2);
+                }
+                Falloff::Setting | Falloff::None => {}
+                falloff @ Falloff::InverseSquare { .. } => {
+                    k = k * physical_falloff(falloff, d, len2);
+                }
             }
             if let Some(sh) = ctx.shadow
                 && sh.light == i

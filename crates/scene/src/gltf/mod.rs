@@ -15,6 +15,7 @@
 mod accessor;
 mod cameras;
 mod data;
+mod lights;
 mod material;
 mod opacity;
 mod reading;
@@ -78,6 +79,8 @@ pub struct Model {
     pub motion: Option<Motion>,
     /// Its perspective cameras, placed in the fitted model's space.
     pub cameras: Vec<crate::Camera>,
+    /// Its own lights (KHR_lights_punctual), placed likewise.
+    pub lights: Vec<crate::Light>,
 }
 
 impl Model {
@@ -107,6 +110,7 @@ impl Scene {
         scene.strokes = model.strokes;
         scene.motion = model.motion;
         scene.cameras = model.cameras;
+        scene.file_lights = model.lights;
         scene
     }
 }
@@ -207,6 +211,7 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
         (motion, fitted_by) = (Some(m), Some(f));
     }
     let cameras = fitted_by.map_or_else(Vec::new, |f| cameras::cameras(&document, f));
+    let lights = fitted_by.map_or_else(Vec::new, |f| lights::lights(&document, f));
     let warnings = skipped::note(name, &document).into_iter().collect();
     Ok(Model {
         parts,
@@ -214,6 +219,7 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
         warnings,
         motion,
         cameras,
+        lights,
     })
 }
 

@@ -8,6 +8,7 @@ use super::sampling::{Reading, maps_of};
 /// The extensions relief reads when a file uses them.
 pub(super) const READ: &[&str] = &[
     "EXT_texture_webp",
+    "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "KHR_materials_transmission",
     "KHR_materials_unlit",
