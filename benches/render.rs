@@ -30,7 +30,7 @@ fn model_view_cube(physical: bool) -> Scene {
     use std::sync::Arc;
 
     use relief_scene::terms::{MaterialTerms, PbrMaterial};
-    use relief_texture::normal_map::normal_map_scale;
+    use relief_texture::sample::normal_map::normal_map_scale;
     let (texture, _) = relief_bench::reference::texture();
     let mut scene = Scene::cube(texture, true).into_model_view();
     if physical {

@@ -39,7 +39,7 @@ impl Write for Count {
 }
 
 fn cube(rotation_y: f32) -> Framebuffer {
-    let scene = Scene::cube(Arc::new(relief_texture::procedural::brick()), false);
+    let scene = Scene::cube(Arc::new(relief_texture::decode::procedural::brick()), false);
     let settings = Settings {
         rotation: glam::Vec3::new(25.0, rotation_y, 0.0),
         ..Settings::default()

@@ -75,7 +75,7 @@ fn symbols_test() -> anyhow::Result<()> {
 /// `relief assets DIR` (hidden): writes the built-in textures as PNGs; this
 /// is how `assets/` is made.
 fn write_assets(dir: &std::path::Path) -> anyhow::Result<()> {
-    for path in relief_texture::builtin::write_assets(dir)? {
+    for path in relief_texture::decode::builtin::write_assets(dir)? {
         println!("{}", relief_core::sanitize::display_path(&path));
     }
     Ok(())

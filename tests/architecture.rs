@@ -6,8 +6,8 @@
 //! Read from the source. Every path a file names (`crate::…`, `super::…`,
 //! `self::…`, a child module's name, and each path of a `use` tree) is
 //! followed through the `pub use` re-exports to the module that defines
-//! what it names, so `crate::filter::sample` in the texture crate is an edge
-//! to `sample/filter.rs`. The edge joins the two modules' branches below
+//! what it names, so `crate::Texture` in the texture crate is an edge
+//! to `sample/texture.rs`. The edge joins the two modules' branches below
 //! their deepest common folder: `app/view/cost.rs` naming `app::state` is the
 //! edge view → state of `app/`. A folder's `mod.rs` that only declares and
 //! re-exports is no node of its folder; one that defines items is (shown as
@@ -471,16 +471,13 @@ fn path(s: &str) -> ModPath {
 #[test]
 fn paths_are_followed_through_reexports_to_their_module() {
     let texture = Crate::read("crates/texture");
-    // An old module path kept by a re-export, and an item re-exported twice.
+    // An item re-exported at the crate's root, and a module's own item.
+    assert_eq!(texture.resolve(&path("Texture")), path("sample::texture"));
+    assert_eq!(texture.resolve(&path("Level")), path("sample::level"));
     assert_eq!(
-        texture.resolve(&path("filter::sample")),
+        texture.resolve(&path("sample::filter::sample")),
         path("sample::filter")
     );
-    assert_eq!(
-        texture.resolve(&path("filter::Footprint")),
-        path("sample::mip")
-    );
-    assert_eq!(texture.resolve(&path("Texture")), path("sample::texture"));
     // A `use` group with `self` and a nested group, read from a file; a
     // path into another crate is no edge.
     let file = File {

@@ -29,7 +29,7 @@ pub fn read_stdin_file() -> anyhow::Result<StdinFile> {
     let (bytes, _held) = read_stdin()?;
     match model_bytes::content_of(&bytes) {
         Some(Content::Picture) => Ok(StdinFile::Picture(
-            relief_texture::load::load_texture_from_bytes(PICTURE_NAME, &bytes)?,
+            relief_texture::decode::load::load_texture_from_bytes(PICTURE_NAME, &bytes)?,
         )),
         Some(Content::Model(format)) => Ok(StdinFile::Model(model_bytes::load_model(
             MODEL_NAME, format, &bytes,

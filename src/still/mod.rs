@@ -133,14 +133,15 @@ fn load_scene(args: &RenderArgs) -> anyhow::Result<(Built, FlagMaps, LoadedNotes
     // Errors name the file and are already free of control characters.
     let height_map = view.height_map.as_deref();
     let texture = match (picture, height_map) {
-        (Some(color), Some(path)) => relief_texture::load::with_height_map(
+        (Some(color), Some(path)) => relief_texture::decode::load::with_height_map(
             color,
-            &relief_texture::load::load_texture(path)?,
+            &relief_texture::decode::load::load_texture(path)?,
         )?,
         (Some(color), None) => color,
-        (None, _) => {
-            relief_texture::load::load_for_view(image.first().map(PathBuf::as_path), height_map)?
-        }
+        (None, _) => relief_texture::decode::load::load_for_view(
+            image.first().map(PathBuf::as_path),
+            height_map,
+        )?,
     };
     let maps = FlagMaps::read(
         view.specular_map.as_deref(),

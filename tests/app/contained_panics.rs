@@ -13,7 +13,7 @@ use relief::app::event_loop::{Looper, Msg};
 use relief::app::texture_list::TextureList;
 use relief_core::settings::Settings;
 use relief_term::{ColorDepth, SgrBackend};
-use relief_texture::load::load_texture_from_bytes;
+use relief_texture::decode::load::load_texture_from_bytes;
 
 use crate::hostile;
 

@@ -16,7 +16,7 @@ use relief_scene::{Built, ModelChoice, SceneKind};
 use relief_term::guard::{RESTORE, SETUP};
 use relief_term::modes::{MouseReports, MouseSemantics, TermModes};
 use relief_term::{ColorDepth, SgrBackend};
-use relief_texture::procedural::brick;
+use relief_texture::decode::procedural::brick;
 
 fn stage() -> Stage {
     Stage::new(

@@ -435,7 +435,7 @@ fn the_panel_lists_the_model_s_own_textures() {
     let cube = Stage::new(
         SceneKind::Cube,
         &ModelChoice::Cube,
-        Arc::new(relief_texture::procedural::brick()),
+        Arc::new(relief_texture::decode::procedural::brick()),
         false,
     )
     .unwrap();
@@ -445,7 +445,7 @@ fn the_panel_lists_the_model_s_own_textures() {
     let stage = Stage::new(
         SceneKind::Cube,
         &model,
-        Arc::new(relief_texture::procedural::brick()),
+        Arc::new(relief_texture::decode::procedural::brick()),
         false,
     )
     .unwrap();

@@ -84,7 +84,7 @@ fn covered(distance: f32, size: usize) -> usize {
     let Built::Scene(mut scene) = build_scene(
         SceneKind::Cube,
         &ModelChoice::Cube,
-        Arc::new(relief_texture::procedural::brick()),
+        Arc::new(relief_texture::decode::procedural::brick()),
         false,
     )
     .unwrap() else {
@@ -148,7 +148,7 @@ fn centre_through_stage(s: &State, size: usize) -> (f64, f64) {
     let mut stage = Stage::new(
         SceneKind::Cube,
         &ModelChoice::Cube,
-        Arc::new(relief_texture::procedural::brick()),
+        Arc::new(relief_texture::decode::procedural::brick()),
         false,
     )
     .unwrap();
@@ -333,7 +333,7 @@ fn a_light_drag_turns_the_lights_and_r_brings_them_back() {
         let mut stage = Stage::new(
             SceneKind::Cube,
             &ModelChoice::Cube,
-            Arc::new(relief_texture::procedural::brick()),
+            Arc::new(relief_texture::decode::procedural::brick()),
             false,
         )
         .unwrap();
@@ -362,7 +362,7 @@ fn the_up_axis_key_stands_z_up_models_upright() {
     let Built::Scene(scene) = build_scene(
         SceneKind::Cube,
         &ModelChoice::Cube,
-        Arc::new(relief_texture::procedural::brick()),
+        Arc::new(relief_texture::decode::procedural::brick()),
         false,
     )
     .unwrap() else {

@@ -10,7 +10,8 @@ use relief_core::settings::Settings;
 use relief_core::stats::FrameStats;
 use relief_pipeline::render::render_frame;
 use relief_scene::Scene;
-use relief_texture::{Texture, procedural};
+use relief_texture::Texture;
+use relief_texture::decode::procedural;
 
 /// The reference scene with the built-in brick texture.
 pub fn reference_scene(all_faces: bool) -> Scene {

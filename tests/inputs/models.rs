@@ -10,7 +10,7 @@ use relief_scene::obj::{self, FIT_RADIUS, ObjError};
 use relief_scene::{
     Built, Mesh, ModelChoice, SceneKind, build_scene, cube, plane, sphere, tangents, triangle,
 };
-use relief_texture::procedural;
+use relief_texture::decode::procedural;
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

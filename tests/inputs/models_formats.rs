@@ -583,7 +583,7 @@ fn a_bad_model_keeps_the_scene_shown() {
     let dir = temp_dir("stage");
     let good = write(&dir, "good.ply", ply("ascii"));
     let bad = write(&dir, "bad.stl", [0u8; 10]);
-    let texture = std::sync::Arc::new(relief_texture::procedural::brick());
+    let texture = std::sync::Arc::new(relief_texture::decode::procedural::brick());
     let mut stage =
         relief::app::stage::Stage::new(SceneKind::Cube, &ModelChoice::File(good), texture, false)
             .unwrap();
@@ -636,7 +636,7 @@ fn render_opens_a_positional_model_file() {
 fn each_material_draws_with_its_own_texture() {
     use relief_pipeline::render::render_frame;
     use relief_scene::{Built, SceneKind, build_scene};
-    use relief_texture::procedural;
+    use relief_texture::decode::procedural;
     let dir = temp_dir("mtl-two");
     png(&dir.join("red.png"), [220, 0, 0], [255; 16]);
     png(&dir.join("blue.png"), [0, 0, 220], [255; 16]);
@@ -683,8 +683,9 @@ fn each_material_draws_with_its_own_texture() {
     // Changing the scene's texture (the `x` key's job) leaves the blue
     // part's own material alone.
     let mut scene = *scene;
-    scene.material.texture =
-        std::sync::Arc::new(relief_texture::load::load_texture(&dir.join("green.png")).unwrap());
+    scene.material.texture = std::sync::Arc::new(
+        relief_texture::decode::load::load_texture(&dir.join("green.png")).unwrap(),
+    );
     let (fb, _) = render_frame(&scene, &settings, w, h);
     let (left, right) = (fb.get(w / 2 - 15, h / 2), fb.get(w / 2 + 15, h / 2));
     assert!(left[1] > 2 * left[0] && left[1] > 40, "left {left:?}");
@@ -703,7 +704,7 @@ fn highlight_picture(name: &str, mtl: &str) -> relief_core::framebuffer::Framebu
     let Ok(Built::Scene(scene)) = build_scene(
         SceneKind::Cube,
         &ModelChoice::File(path),
-        std::sync::Arc::new(relief_texture::procedural::brick()),
+        std::sync::Arc::new(relief_texture::decode::procedural::brick()),
         false,
     ) else {
         panic!("the model builds a scene");
@@ -783,7 +784,7 @@ fn mtl_opacity_below_one_half_is_cut_out() {
         let Ok(Built::Scene(scene)) = build_scene(
             SceneKind::Cube,
             &ModelChoice::File(path),
-            std::sync::Arc::new(relief_texture::procedural::brick()),
+            std::sync::Arc::new(relief_texture::decode::procedural::brick()),
             false,
         ) else {
             panic!("the model builds a scene");

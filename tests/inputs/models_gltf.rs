@@ -13,7 +13,7 @@ use relief_pipeline::render::render_frame;
 use relief_scene::gltf::{Model, load};
 use relief_scene::obj::FIT_RADIUS;
 use relief_scene::{Light, Scene};
-use relief_texture::procedural;
+use relief_texture::decode::procedural;
 
 const MAGENTA: [u8; 3] = [255, 0, 255];
 const W: usize = 160;

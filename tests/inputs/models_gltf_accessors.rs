@@ -348,7 +348,7 @@ fn vertex_colours_are_linear_light() {
         "",
     );
     let path = write("vertex-colour", "c.glb", &bytes);
-    let texture = std::sync::Arc::new(relief_texture::procedural::brick());
+    let texture = std::sync::Arc::new(relief_texture::decode::procedural::brick());
     let Ok(Built::Scene(mut scene)) =
         build_scene(SceneKind::Cube, &ModelChoice::File(path), texture, false)
     else {

@@ -11,7 +11,7 @@ use relief_core::settings::Settings;
 use relief_pipeline::render::Renderer;
 use relief_scene::Scene;
 use relief_scene::gltf::load_bytes;
-use relief_texture::procedural;
+use relief_texture::decode::procedural;
 
 use crate::glb_writer::Bin;
 

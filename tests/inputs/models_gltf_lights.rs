@@ -12,7 +12,7 @@ use relief_pipeline::render::Renderer;
 use relief_scene::Scene;
 use relief_scene::gltf::load_bytes;
 use relief_scene::light::{Cone, DIRECTIONAL_DISTANCE, Falloff};
-use relief_texture::procedural;
+use relief_texture::decode::procedural;
 
 use crate::glb_writer::Bin;
 

@@ -11,7 +11,7 @@ use relief_core::settings::Settings;
 use relief_core::settings::{Normals, Shading};
 use relief_pipeline::render::render_frame;
 use relief_scene::{Built, ModelChoice, Scene, SceneKind, build_scene, rotation_matrix};
-use relief_texture::procedural;
+use relief_texture::decode::procedural;
 
 /// A background no lit model can produce (green is at least the ambient share).
 const MAGENTA: [u8; 3] = [255, 0, 255];

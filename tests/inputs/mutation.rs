@@ -15,8 +15,8 @@ use proptest::prelude::*;
 use proptest::sample::Index;
 use proptest::test_runner::{Config, FileFailurePersistence};
 use relief_scene::obj;
-use relief_texture::load::load_texture_from_bytes;
-use relief_texture::xpm;
+use relief_texture::decode::load::load_texture_from_bytes;
+use relief_texture::decode::xpm;
 
 fn data() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")

@@ -108,7 +108,7 @@ fn edge_pixels_take_intermediate_values() {
 #[test]
 fn supersampling_shades_every_sample_and_multisampling_once_per_pixel() {
     let scene = relief_scene::Scene::cube(
-        std::sync::Arc::new(relief_texture::procedural::brick()),
+        std::sync::Arc::new(relief_texture::decode::procedural::brick()),
         true,
     );
     let mut renderer = Renderer::new();

@@ -10,7 +10,7 @@ use relief_core::settings::Settings;
 use relief_core::settings::{AntiAlias, Display, LightVector, Normals, Shading, Technique};
 use relief_pipeline::render::render_frame;
 use relief_scene::Scene;
-use relief_texture::procedural;
+use relief_texture::decode::procedural;
 
 fn cube() -> Scene {
     Scene::cube(Arc::new(procedural::brick()), true)

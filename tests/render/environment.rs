@@ -266,7 +266,7 @@ fn tilting_the_plane_45_degrees_turns_the_reflection_90() {
 
 #[test]
 fn bump_bends_the_reflection_and_without_it_the_plane_is_a_mirror() {
-    let texture = relief_texture::procedural::brick();
+    let texture = relief_texture::decode::procedural::brick();
     let scene = plane_scene(compass(), texture);
     let (flat, stats) = render_frame(&scene, &settings(Vec3::ZERO, 1.0, false), W, H);
     let (bumped, _) = render_frame(&scene, &settings(Vec3::ZERO, 1.0, true), W, H);

@@ -11,7 +11,7 @@ use relief_core::settings::Settings;
 use relief_core::settings::UpAxis;
 use relief_pipeline::render::Renderer;
 use relief_scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
-use relief_texture::procedural;
+use relief_texture::decode::procedural;
 
 /// A box from `lo` to `hi` as an OBJ file (its eight corners, twelve
 /// triangles counter-clockwise from outside).

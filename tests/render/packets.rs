@@ -26,7 +26,7 @@ use relief_pipeline::shadow::{Shadow, ShadowMap};
 use relief_scene::Scene;
 use relief_scene::{Built, ModelChoice, SceneKind, build_scene};
 use relief_texture::Texture;
-use relief_texture::filter::Footprint;
+use relief_texture::sample::filter::Footprint;
 
 /// The kernel without its packet path: the one-pixel loop.
 struct OnePixel<'a, S>(&'a S);
@@ -377,7 +377,7 @@ fn environment_kernels_match_the_one_pixel_loop() {
 /// asks the map once per light that reaches it, as the one-pixel loop does.
 #[test]
 fn shadowed_kernels_match_the_one_pixel_loop() {
-    let texture = Arc::new(relief_texture::procedural::brick());
+    let texture = Arc::new(relief_texture::decode::procedural::brick());
     let Built::Scene(scene) =
         build_scene(SceneKind::Shadow, &ModelChoice::Cube, texture, false).unwrap()
     else {
@@ -626,7 +626,7 @@ fn technique_kernels_match_the_one_pixel_loop() {
         }
     }
     // Under the shadow scene's map.
-    let texture = Arc::new(relief_texture::procedural::brick());
+    let texture = Arc::new(relief_texture::decode::procedural::brick());
     let Built::Scene(shadowed) =
         build_scene(SceneKind::Shadow, &ModelChoice::Cube, texture, false).unwrap()
     else {

@@ -13,7 +13,7 @@ use relief_core::settings::ToneMap;
 use relief_pipeline::render::Renderer;
 use relief_scene::model_view::view_axes;
 use relief_scene::{Built, Light, ModelChoice, Scene, SceneKind, build_scene};
-use relief_texture::procedural;
+use relief_texture::decode::procedural;
 
 /// A GLB of quads side by side in z = 0 facing +Z, quad i spanning x from
 /// 2i to 2i + 2 and y from −1 to 1, with material i; `materials` and

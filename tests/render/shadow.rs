@@ -13,7 +13,7 @@ use relief_pipeline::render::render_frame;
 use relief_pipeline::shadow::ShadowMap;
 use relief_scene::build::FLOOR_Y;
 use relief_scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
-use relief_texture::procedural;
+use relief_texture::decode::procedural;
 
 fn texture() -> Arc<relief_texture::Texture> {
     Arc::new(procedural::brick())

@@ -281,7 +281,7 @@ fn ansi_file_text_replays_to_the_same_cells_in_a_bounded_size() {
     // The reference frame at 160x120 pixels: timg writes 61 kB for it; the
     // former per-cell truecolor text took 338 kB.
     let scene = relief_scene::Scene::cube(
-        std::sync::Arc::new(relief_texture::procedural::brick()),
+        std::sync::Arc::new(relief_texture::decode::procedural::brick()),
         false,
     );
     let mut fb = Framebuffer::new(160, 120);

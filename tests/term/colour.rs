@@ -59,14 +59,14 @@ mod before {
 }
 
 fn reference_frame() -> Framebuffer {
-    let scene = Scene::cube(Arc::new(relief_texture::procedural::brick()), false);
+    let scene = Scene::cube(Arc::new(relief_texture::decode::procedural::brick()), false);
     let mut fb = Framebuffer::new(320, 240);
     Renderer::new().render(&scene, &Settings::default(), &mut fb);
     fb
 }
 
 fn flat_frame() -> Framebuffer {
-    let scene = Scene::cube(Arc::new(relief_texture::procedural::brick()), false);
+    let scene = Scene::cube(Arc::new(relief_texture::decode::procedural::brick()), false);
     let settings = Settings {
         shading: relief_core::settings::Shading::Flat,
         ..Settings::default()
@@ -315,7 +315,7 @@ fn object_delta_e(fb: &Framebuffer, pic: &Framebuffer) -> f64 {
 #[test]
 fn sixteen_colours_stay_near_the_full_colour_frame() {
     // The frames of the chafa comparison (docs/colour.md), at 160×96.
-    let brick = Arc::new(relief_texture::procedural::brick());
+    let brick = Arc::new(relief_texture::decode::procedural::brick());
     let scenes = [
         ("cube", Scene::cube(brick.clone(), false)),
         (

@@ -20,9 +20,9 @@ use relief_core::settings::Settings;
 use relief_core::settings::{Filter, HeightDerivative, LightVector, Technique};
 use relief_pipeline::render::{Renderer, render_frame};
 use relief_scene::Scene;
-use relief_texture::filter::{Footprint, read_normal};
-use relief_texture::mip::{self, AnisoPlan};
-use relief_texture::sampler::Sampler;
+use relief_texture::sample::filter::{Footprint, read_normal};
+use relief_texture::sample::mip::{self, AnisoPlan};
+use relief_texture::sample::sampler::Sampler;
 use relief_texture::{NormalMap, Texture};
 
 use common::minified::{H, W, any_f32, far_cube, gains, grazing_plane, noise, texture};
@@ -92,7 +92,7 @@ fn default_map(scene: &Scene) -> Arc<NormalMap> {
     let (map, built) = scene
         .material
         .texture
-        .normal_map(relief_texture::normal_map::normal_map_scale(k));
+        .normal_map(relief_texture::sample::normal_map::normal_map_scale(k));
     assert!(!built, "a frame has built it already");
     map
 }

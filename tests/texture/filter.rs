@@ -7,11 +7,12 @@ use clap::ValueEnum;
 use glam::Vec2;
 use proptest::prelude::*;
 use relief_core::settings::{Filter, HeightDerivative};
-use relief_texture::filter::{Footprint, height_gradient, sample};
-use relief_texture::level::Texel;
-use relief_texture::mip::{AnisoPlan, MAX_ANISOTROPY, lod};
-use relief_texture::sampler::Sampler;
-use relief_texture::{Level, Texture, procedural};
+use relief_texture::decode::procedural;
+use relief_texture::sample::filter::{Footprint, height_gradient, sample};
+use relief_texture::sample::level::Texel;
+use relief_texture::sample::mip::{AnisoPlan, MAX_ANISOTROPY, lod};
+use relief_texture::sample::sampler::Sampler;
+use relief_texture::{Level, Texture};
 
 /// Every filter, so a new one is checked here too.
 fn filters() -> impl Iterator<Item = Filter> {

@@ -19,8 +19,8 @@ use relief_core::settings::{DEFAULT_BUMP_STRENGTH, Filter, Technique};
 use relief_pipeline::render::Renderer;
 use relief_pipeline::render::render_frame;
 use relief_scene::Scene;
-use relief_texture::normal_map::normal_map_scale;
 use relief_texture::normal_map_file::{FileNormalMap, load_normal_map, load_normal_map_from_bytes};
+use relief_texture::sample::normal_map::normal_map_scale;
 use relief_texture::{NormalMap, Texture};
 use techniques_scenes::*;
 
@@ -226,7 +226,7 @@ fn flat_file() -> FileNormalMap {
 #[test]
 fn a_flat_file_renders_like_no_bump() {
     // The brick's own heights are anything but flat: the file replaces them.
-    let mut scene = Scene::cube(Arc::new(relief_texture::procedural::brick()), false);
+    let mut scene = Scene::cube(Arc::new(relief_texture::decode::procedural::brick()), false);
     scene.material.normal_map = Some(Arc::new(flat_file()));
     let plain = Settings {
         bump: false,
@@ -246,8 +246,8 @@ fn a_flat_file_renders_like_no_bump() {
 #[test]
 fn a_file_map_that_is_off_costs_nothing() {
     // Each its own texture, so that neither shares the other's mip chain.
-    let base = Scene::cube(Arc::new(relief_texture::procedural::brick()), false);
-    let mut with_file = Scene::cube(Arc::new(relief_texture::procedural::brick()), false);
+    let base = Scene::cube(Arc::new(relief_texture::decode::procedural::brick()), false);
+    let mut with_file = Scene::cube(Arc::new(relief_texture::decode::procedural::brick()), false);
     let file = Arc::new(flat_file());
     with_file.material.normal_map = Some(file.clone());
     let mut fb_a = Framebuffer::new(120, 90);
@@ -379,7 +379,7 @@ fn key_n_switches_between_the_file_and_the_derived_map() {
 /// otherwise checked against the map relief derives.
 #[test]
 fn the_brick_normal_asset_is_the_bricks_derived_map() {
-    let brick = relief_texture::procedural::brick();
+    let brick = relief_texture::decode::procedural::brick();
     let derived = brick.normal_map(normal_map_scale(DEFAULT_BUMP_STRENGTH)).0;
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/brick-normal.png");
     if std::env::var_os("RELIEF_WRITE_ASSETS").is_some() {

@@ -5,12 +5,14 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use relief::app::texture_list::{ListError, TextureList};
-use relief_texture::builtin::{builtins, write_assets};
-use relief_texture::load::{
+use relief_texture::decode::builtin::{builtins, write_assets};
+use relief_texture::decode::load::{
     TextureError, load_for_view, load_texture, load_texture_from_bytes, load_texture_with_height,
     load_texture_with_height_from_bytes,
 };
-use relief_texture::{Level, Texture, procedural, xpm};
+use relief_texture::decode::procedural;
+use relief_texture::decode::xpm;
+use relief_texture::{Level, Texture};
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

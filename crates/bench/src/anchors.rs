@@ -395,7 +395,7 @@ pub fn run(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use relief_texture::procedural;
+    use relief_texture::decode::procedural;
 
     #[test]
     fn every_variant_covers_the_same_pixels_and_reports_them() {

@@ -14,8 +14,8 @@ use relief_core::settings::{
 };
 use relief_options::{Bench, OPTIONS, OptId};
 use relief_scene::Scene;
-use relief_texture::normal_map::normal_map_scale;
 use relief_texture::normal_map_file::{FileNormalMap, decode_level, encode_rgb8};
+use relief_texture::sample::normal_map::normal_map_scale;
 use relief_texture::{Level, NormalMap};
 
 /// How many threads a row renders with.
@@ -441,7 +441,7 @@ mod tests {
     #[test]
     fn forced_depth_changes_only_the_convex_flag() {
         let scene = Scene::cube(
-            std::sync::Arc::new(relief_texture::procedural::brick()),
+            std::sync::Arc::new(relief_texture::decode::procedural::brick()),
             true,
         );
         let forced = SceneVariant::ForcedDepth.apply(&scene);
@@ -457,7 +457,7 @@ mod tests {
     #[test]
     fn the_normal_map_file_row_reads_an_8_bit_copy_of_the_derived_map() {
         let scene = Scene::cube(
-            std::sync::Arc::new(relief_texture::procedural::brick()),
+            std::sync::Arc::new(relief_texture::decode::procedural::brick()),
             false,
         );
         let with_file = SceneVariant::NormalMapFile.apply(&scene);

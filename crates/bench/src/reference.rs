@@ -16,7 +16,9 @@ use relief_core::framebuffer::Framebuffer;
 use relief_core::settings::Settings;
 use relief_pipeline::render::Renderer;
 use relief_scene::Scene;
-use relief_texture::{Texture, load, procedural};
+use relief_texture::Texture;
+use relief_texture::decode::load;
+use relief_texture::decode::procedural;
 
 /// The reference frame at `rotation`, `width × height`, supersampled `factor × factor`.
 pub fn render(

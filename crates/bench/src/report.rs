@@ -320,7 +320,7 @@ mod tests {
         use relief_pipeline::plan::Plan;
         use relief_pipeline::shade::kernels::one_pixel_reason;
         let scene = relief_scene::Scene::cube(
-            std::sync::Arc::new(relief_texture::procedural::brick()),
+            std::sync::Arc::new(relief_texture::decode::procedural::brick()),
             true,
         );
         let reason = |s: Settings| one_pixel_reason(&Plan::new(&scene, &s));

@@ -14,7 +14,7 @@ use relief_scene::light::{Falloff, Light};
 use relief_scene::terms::MaterialTerms;
 use relief_scene::{Material, Scene};
 use relief_texture::environment::Environment;
-use relief_texture::normal_map::normal_map_scale;
+use relief_texture::sample::normal_map::normal_map_scale;
 use relief_texture::{Level, NormalMap};
 
 /// A light that can change a pixel: enabled, with a non-black colour.

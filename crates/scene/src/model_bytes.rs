@@ -34,7 +34,7 @@ pub fn content_of(bytes: &[u8]) -> Option<Content> {
         return Some(Content::Model(Gltf));
     }
     if image::guess_format(bytes).is_ok()
-        || relief_texture::xpm::looks_like_xpm(bytes)
+        || relief_texture::decode::xpm::looks_like_xpm(bytes)
         || is_tga_2(bytes)
     {
         return Some(Content::Picture);

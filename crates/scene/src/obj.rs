@@ -383,7 +383,7 @@ fn material_maps(
 
 /// One material's maps, or none when it has no colour map that loads.
 fn maps_of(m: &MaterialDesc, warnings: &mut Vec<String>) -> Option<ModelMaps> {
-    use relief_texture::load;
+    use relief_texture::decode::load;
     {
         let color = m.diffuse_map.as_ref().and_then(|t| t.file.as_ref())?;
         let texture = match load::load_texture(color) {
@@ -401,7 +401,7 @@ fn maps_of(m: &MaterialDesc, warnings: &mut Vec<String>) -> Option<ModelMaps> {
                 Err(e) => {
                     warnings.push(clean(&e.to_string()));
                     load::load_texture(color)
-                        .unwrap_or_else(|_| relief_texture::procedural::brick())
+                        .unwrap_or_else(|_| relief_texture::decode::procedural::brick())
                 }
             },
             None => texture,

@@ -18,11 +18,8 @@ pub mod studio;
 
 // The modules' old paths (`texture::load`, `texture::filter`, ...) stay
 // valid, so code outside `texture/` names them as before.
-pub use decode::{builtin, load, procedural, resample, tiff_samples, tiff_strips, variants, xpm};
-pub use sample::{filter, level, mip, normal_map, sampler, texels};
-
-pub use builtin::{Builtin, builtins};
-pub use level::Level;
-pub use load::{TextureError, load_texture, load_texture_with_height};
-pub use normal_map::NormalMap;
+pub use decode::builtin::{Builtin, builtins};
+pub use decode::load::{TextureError, load_texture, load_texture_with_height};
+pub use sample::level::Level;
+pub use sample::normal_map::NormalMap;
 pub use sample::texture::Texture;

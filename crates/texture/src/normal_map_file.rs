@@ -21,9 +21,9 @@ use std::sync::{Arc, Mutex};
 
 use glam::Vec3;
 
-use super::load::load_texture_from_bytes;
-use super::normal_map::Normals;
 use super::{Level, NormalMap, Texture, TextureError, load_texture};
+use crate::decode::load::load_texture_from_bytes;
+use crate::sample::normal_map::Normals;
 use relief_core::budget::{self, Reservation};
 use relief_core::settings::DEFAULT_BUMP_STRENGTH;
 

@@ -5,8 +5,8 @@
 
 use std::path::Path;
 
-use super::texels::{Texels, pack_grey8, to_unorm16};
 use super::{Level, Texture, TextureError, load_texture};
+use crate::sample::texels::{Texels, pack_grey8, to_unorm16};
 
 /// The picture at `path` as a specular map (see [`grey`]).
 pub fn load_specular_map(path: &Path) -> Result<Level, TextureError> {

@@ -28,7 +28,7 @@ use super::tangent::Surface;
 use relief_core::framebuffer::Rgb;
 use relief_core::settings::{Filter, HeightDerivative};
 use relief_core::stats::Counters;
-use relief_texture::filter::{Footprint, height_gradient, sample};
+use relief_texture::sample::filter::{Footprint, height_gradient, sample};
 
 /// What a technique decided at one pixel (or eight).
 #[derive(Clone, Copy, Debug)]

@@ -35,7 +35,7 @@ use super::tangent::{Frame, lerp3};
 use crate::plan::ActiveLight;
 use relief_core::stats::Counters;
 use relief_texture::NormalMap;
-use relief_texture::filter::read_normal;
+use relief_texture::sample::filter::read_normal;
 
 /// Lights whose per-vertex vectors are kept inline (more spill to the heap).
 const INLINE_LIGHTS: usize = 8;

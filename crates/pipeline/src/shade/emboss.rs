@@ -28,7 +28,7 @@ use super::shader::ShadeCtx;
 use crate::plan::strongest_light;
 use relief_core::stats::Counters;
 use relief_texture::Level;
-use relief_texture::filter::read_heights;
+use relief_texture::sample::filter::read_heights;
 
 /// Emboss for the shading core: the strongest light's N·L gets the term.
 pub struct Emboss {

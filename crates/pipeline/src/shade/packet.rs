@@ -14,8 +14,8 @@ use wide::{f32x4, f32x8, i32x8};
 use relief_core::framebuffer::Rgb;
 use relief_core::stats::Counters;
 use relief_texture::Level;
-use relief_texture::level::around;
-use relief_texture::texels::Fetch;
+use relief_texture::sample::level::around;
+use relief_texture::sample::texels::Fetch;
 use relief_texture::with_fetch;
 
 /// Pixels per packet.

@@ -18,8 +18,8 @@ use super::lanes::{Lanes, Vector};
 use super::shader::ShadeCtx;
 use super::tangent::Surface;
 use relief_core::stats::Counters;
-use relief_texture::filter::height_sampler;
-use relief_texture::sampler::Sampler;
+use relief_texture::sample::filter::height_sampler;
+use relief_texture::sample::sampler::Sampler;
 
 /// The view's normal component is clamped to this (about 84°) so grazing
 /// views cannot throw the coordinate across the texture.

@@ -22,8 +22,8 @@ use super::opacity;
 use super::sampling::{Kind, Reading, Sets, maps_of};
 use crate::Material;
 use crate::terms::{Cutout, MaterialTerms, PbrMaterial};
+use relief_texture::decode::load::load_texture_from_bytes;
 use relief_texture::decode::size_cap;
-use relief_texture::load::load_texture_from_bytes;
 use relief_texture::normal_map_file::{FileNormalMap, tilt};
 use relief_texture::{Level, Texture};
 

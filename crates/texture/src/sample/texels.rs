@@ -298,32 +298,33 @@ fn grey8_value(code: u16) -> f32 {
 macro_rules! with_fetch {
     ($texels:expr, $f:ident => $body:expr) => {
         match $texels {
-            $crate::texels::Texels::F32(v) | $crate::texels::Texels::Widened(_, v) => {
-                let $f = $crate::texels::F32s(&v[..]);
+            $crate::sample::texels::Texels::F32(v)
+            | $crate::sample::texels::Texels::Widened(_, v) => {
+                let $f = $crate::sample::texels::F32s(&v[..]);
                 $body
             }
-            $crate::texels::Texels::Rgba8(v) => {
-                let $f = $crate::texels::Rgba8s(&v[..]);
+            $crate::sample::texels::Texels::Rgba8(v) => {
+                let $f = $crate::sample::texels::Rgba8s(&v[..]);
                 $body
             }
-            $crate::texels::Texels::Rgb8(v) => {
-                let $f = $crate::texels::Rgb8s(&v[..]);
+            $crate::sample::texels::Texels::Rgb8(v) => {
+                let $f = $crate::sample::texels::Rgb8s(&v[..]);
                 $body
             }
-            $crate::texels::Texels::Rgba16(v) => {
-                let $f = $crate::texels::Rgba16s(&v[..]);
+            $crate::sample::texels::Texels::Rgba16(v) => {
+                let $f = $crate::sample::texels::Rgba16s(&v[..]);
                 $body
             }
-            $crate::texels::Texels::Xyz16(v) => {
-                let $f = $crate::texels::Xyz16s(&v[..]);
+            $crate::sample::texels::Texels::Xyz16(v) => {
+                let $f = $crate::sample::texels::Xyz16s(&v[..]);
                 $body
             }
-            $crate::texels::Texels::Grey8(v) => {
-                let $f = $crate::texels::Grey8s(&v[..]);
+            $crate::sample::texels::Texels::Grey8(v) => {
+                let $f = $crate::sample::texels::Grey8s(&v[..]);
                 $body
             }
-            $crate::texels::Texels::Grey16(v) => {
-                let $f = $crate::texels::Grey16s(&v[..]);
+            $crate::sample::texels::Texels::Grey16(v) => {
+                let $f = $crate::sample::texels::Grey16s(&v[..]);
                 $body
             }
         }
