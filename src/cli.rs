@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3};
 
 use relief_core::settings::Settings;
 use relief_options::OptionArgs;
-pub use relief_options::text::parse_finite;
+use relief_options::text::parse_finite;
 use relief_plasma::PlasmaNormal;
 use relief_scene::{ModelChoice, SceneKind};
 use relief_term::{Format, Symbols};

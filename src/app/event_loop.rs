@@ -58,8 +58,6 @@ pub fn wanted_modes(state: &State) -> TermModes {
     })
 }
 
-pub use super::schedule::FRAME_INTERVAL;
-
 /// What reaches the loop from the input and signal threads.
 #[derive(Debug)]
 pub enum Msg {
@@ -886,7 +884,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
     }
 }
 
-pub use relief_term::pixel_view::enlarge;
+use relief_term::pixel_view::enlarge;
 
 /// A paste or typed line split into the first model file it names (by
 /// extension) and the rest, given back as text for the texture list (paths

@@ -14,7 +14,7 @@ use relief_pipeline::render::Renderer;
 use relief_scene::camera::light_turn;
 use relief_scene::flag_maps::FlagMaps;
 use relief_scene::light::Light;
-use relief_scene::obj::ObjError;
+use relief_scene::model_error::ObjError;
 use relief_scene::{Built, Camera, LoadedNotes, ModelChoice, SceneKind, build_scene_noting};
 use relief_texture::Texture;
 

@@ -29,7 +29,6 @@ pub const PAN_PER_COL: f32 = 0.06;
 pub const PAN_MAX: Vec2 = Vec2::splat(20.0);
 /// Auto-rotation speed about Y, degrees per second.
 pub const AUTO_ROTATE_SPEED: f32 = 40.0;
-pub use relief_core::settings::{BUMP_FACTOR, BUMP_MAX, BUMP_MIN};
 /// A zoom step (wheel notch, `i` or `I`) divides or multiplies the camera
 /// distance by this.
 pub const ZOOM_STEP: f32 = 1.125;

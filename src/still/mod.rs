@@ -34,7 +34,7 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let (width, height) = frame_size(args);
     let mut settings = args.view.settings();
     // A preview decodes its pictures no larger than it can show them.
-    let k = relief_pipeline::raster::aa::ssaa_factor(settings.aa, width, height);
+    let k = relief_core::settings::ssaa_factor(settings.aa, width, height);
     let cap = args
         .cells
         .map(|_| size_cap::side_for_frame(width * k, height * k));
@@ -275,7 +275,7 @@ fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
         );
     }
     let (w, h) = frame_size(args);
-    let k = relief_pipeline::raster::aa::ssaa_factor(settings.aa, w, h);
+    let k = relief_core::settings::ssaa_factor(settings.aa, w, h);
     let wanted = match settings.aa {
         relief_core::settings::AntiAlias::Ssaa2 => 2,
         relief_core::settings::AntiAlias::Ssaa4 => 4,
@@ -289,7 +289,7 @@ fn check_render_flags(args: &RenderArgs) -> anyhow::Result<Vec<String>> {
         };
         notes.push(format!(
             "--aa {wanted}x{wanted} falls back to {now} at {w}x{h}: the supersampled frame would exceed {} samples",
-            relief_pipeline::raster::aa::MAX_SUPERSAMPLES
+            relief_core::settings::MAX_SUPERSAMPLES
         ));
     }
     if let Some(out) = &args.out {

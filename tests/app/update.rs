@@ -617,7 +617,7 @@ fn keys_whose_effect_cannot_show_say_so_and_change_nothing() {
     // + and - say the strength they set; outside Phong they are refused.
     let mut s = state();
     ch(&mut s, '+');
-    let k = DEFAULT_BUMP_STRENGTH * relief::app::state::BUMP_FACTOR;
+    let k = DEFAULT_BUMP_STRENGTH * relief_core::settings::BUMP_FACTOR;
     assert!((s.settings.bump_strength - k).abs() < 1e-9);
     assert!(
         s.message

@@ -130,7 +130,7 @@ fn color_flag_writes_the_picture_a_palette_terminal_shows() {
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let img = image::open(&out).unwrap().to_rgb8();
-    let ansi: Vec<[u8; 3]> = relief_term::color::ANSI16.iter().map(|c| c.0).collect();
+    let ansi: Vec<[u8; 3]> = relief_term::palette::ANSI16.iter().map(|c| c.0).collect();
     assert!(
         img.pixels().all(|p| ansi.contains(&p.0)),
         "only the 16 colours"

@@ -6,7 +6,9 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use relief_scene::corners;
-use relief_scene::obj::{self, FIT_RADIUS, ObjError};
+use relief_scene::corners::FIT_RADIUS;
+use relief_scene::model_error::ObjError;
+use relief_scene::obj;
 use relief_scene::{
     Built, Mesh, ModelChoice, SceneKind, build_scene, cube, plane, sphere, tangents, triangle,
 };
@@ -126,7 +128,8 @@ fn flat_models_carry_the_exact_texture_axes() {
         for t in 0..mesh.triangles.len() {
             let tri = mesh.face(t);
             let uv = tri.indices.map(|i| mesh.vertices[i as usize].uv);
-            let (pu, pv) = relief_scene::mesh::triangle_tangents(positions(&mesh, t), uv).unwrap();
+            let (pu, pv) =
+                relief_scene::face_frame::triangle_tangents(positions(&mesh, t), uv).unwrap();
             assert!((pu - 2.0 * Vec3::X).length() < 1e-5, "{name}: {pu}");
             assert!((pv - 2.0 * Vec3::Y).length() < 1e-5, "{name}: {pv}");
             assert_eq!((tri.face_tangent_u, tri.face_tangent_v), (pu, pv));
@@ -304,7 +307,7 @@ fn zero_uv_determinant_falls_back_to_a_frame_from_the_normal() {
             assert!((v.tangent_u.length() - 1.0).abs() < 1e-5);
             assert!((v.tangent_u.cross(v.tangent_v) - v.normal).length() < 1e-5);
         }
-        let frame = tangents::face_frame(
+        let frame = relief_scene::face_frame::face_frame(
             positions(&mesh, 0),
             mesh.triangles[0]
                 .indices
@@ -694,7 +697,8 @@ fn models_beyond_the_memory_budget_are_refused() {
     // More triangles than the budget holds at READ_BYTES_PER_TRIANGLE each
     // (fans of the same three corners, two bytes a triangle): refused by
     // the counting pass, before any corner is stored.
-    let triangles = (relief_core::budget::BUDGET_BYTES / obj::READ_BYTES_PER_TRIANGLE) as usize + 1;
+    let triangles =
+        (relief_core::budget::BUDGET_BYTES / obj::read::READ_BYTES_PER_TRIANGLE) as usize + 1;
     let fan = corners::MAX_FACE_CORNERS / 3 * 3;
     let face = format!("f{}\n", " 1 2 3".repeat(fan / 3));
     text = "v 0 0 0\nv 1 0 0\nv 0 1 0\n".into();

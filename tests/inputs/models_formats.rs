@@ -6,7 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use relief_scene::model_file::{self, LoadedModel};
+use relief_scene::loaded_model::LoadedModel;
+use relief_scene::model_file;
 use relief_scene::{Mesh, ModelChoice};
 
 fn data(path: &str) -> PathBuf {

@@ -10,8 +10,8 @@ use relief_core::framebuffer::Framebuffer;
 use relief_core::settings::Settings;
 use relief_core::settings::{Shading, Technique};
 use relief_pipeline::render::render_frame;
+use relief_scene::corners::FIT_RADIUS;
 use relief_scene::gltf::{Model, load};
-use relief_scene::obj::FIT_RADIUS;
 use relief_scene::{Light, Scene};
 use relief_texture::decode::procedural;
 

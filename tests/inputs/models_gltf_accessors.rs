@@ -6,8 +6,8 @@
 use std::process::Command;
 
 use glam::Vec3;
+use relief_scene::corners::FIT_RADIUS;
 use relief_scene::gltf::{Model, load};
-use relief_scene::obj::FIT_RADIUS;
 
 use super::models_gltf::{glb, load_ok, refused, write};
 

@@ -113,7 +113,7 @@ fn check(text: &str) -> Result<(), TestCaseError> {
                 prop_assert!(v.position.is_finite() && v.normal.is_finite());
                 prop_assert!(v.tangent_u.is_finite() && v.tangent_v.is_finite());
                 prop_assert!(v.uv.is_finite() && v.color.is_finite());
-                prop_assert!(v.position.length() <= obj::FIT_RADIUS * 1.0001);
+                prop_assert!(v.position.length() <= relief_scene::corners::FIT_RADIUS * 1.0001);
                 prop_assert!((v.normal.length() - 1.0).abs() < 1e-3);
                 prop_assert!(v.tangent_u.length() > 0.0 && v.tangent_v.length() > 0.0);
             }

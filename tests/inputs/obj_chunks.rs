@@ -4,8 +4,9 @@
 //! kind of line, cut into 1 to 12 chunks so the cuts fall anywhere.
 
 use proptest::prelude::*;
-use relief_scene::model_file::LoadedModel;
-use relief_scene::obj::{ObjError, parse_in_chunks};
+use relief_scene::loaded_model::LoadedModel;
+use relief_scene::model_error::ObjError;
+use relief_scene::obj::parse_in_chunks;
 
 fn line() -> impl Strategy<Value = String> {
     let number = prop_oneof![

@@ -18,7 +18,8 @@ use relief_scene::Scene;
 use relief_scene::light::Light;
 use relief_scene::plane::grid;
 use relief_scene::rotation_matrix;
-use relief_texture::environment::{Environment, direction, lat_long};
+use relief_texture::environment::Environment;
+use relief_texture::lat_long::{direction, lat_long};
 use relief_texture::{Level, Texture};
 
 const W: usize = 160;

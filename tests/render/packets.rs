@@ -26,7 +26,7 @@ use relief_pipeline::shadow::{Shadow, ShadowMap};
 use relief_scene::Scene;
 use relief_scene::{Built, ModelChoice, SceneKind, build_scene};
 use relief_texture::Texture;
-use relief_texture::sample::filter::Footprint;
+use relief_texture::sample::mip::Footprint;
 
 /// The kernel without its packet path: the one-pixel loop.
 struct OnePixel<'a, S>(&'a S);

@@ -12,8 +12,9 @@ use relief_pipeline::render::Renderer;
 use relief_scene::Scene;
 use relief_term::ColorDepth;
 use relief_term::ansi::{cells, shown_picture};
-use relief_term::color::{ANSI16, CUBE_LEVELS, nearest_16, nearest_256, shown_rgb};
+use relief_term::color::{nearest_16, nearest_256, shown_rgb};
 use relief_term::oklab::lab;
+use relief_term::palette::{ANSI16, CUBE_LEVELS};
 
 const BACKGROUND: [u8; 3] = relief_scene::BACKGROUND;
 

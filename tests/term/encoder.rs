@@ -5,7 +5,8 @@ use ratatui::layout::Rect;
 use ratatui::style::Color;
 use ratatui::widgets::Widget;
 use relief_core::framebuffer::Framebuffer;
-use relief_term::color::{ANSI16, nearest_16, nearest_256};
+use relief_term::color::{nearest_16, nearest_256};
+use relief_term::palette::ANSI16;
 use relief_term::{ColorDepth, HalfBlocks};
 
 const PAD: [u8; 3] = [16, 24, 32];

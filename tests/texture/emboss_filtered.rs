@@ -19,7 +19,8 @@ use relief_core::settings::{Filter, HeightDerivative, Technique};
 use relief_pipeline::render::render_frame;
 use relief_scene::Scene;
 use relief_texture::Texture;
-use relief_texture::sample::filter::{Footprint, read_heights};
+use relief_texture::sample::filter::read_heights;
+use relief_texture::sample::mip::Footprint;
 use relief_texture::sample::sampler::Sampler;
 
 use common::minified::{H, W, any_f32, far_cube, gains, grazing_plane, noise, texture};

@@ -8,10 +8,11 @@ use glam::Vec2;
 use proptest::prelude::*;
 use relief_core::settings::{Filter, HeightDerivative};
 use relief_texture::decode::procedural;
-use relief_texture::sample::filter::{Footprint, height_gradient, sample};
-use relief_texture::sample::level::Texel;
+use relief_texture::sample::filter::{height_gradient, sample};
+use relief_texture::sample::mip::Footprint;
 use relief_texture::sample::mip::{AnisoPlan, MAX_ANISOTROPY, lod};
 use relief_texture::sample::sampler::Sampler;
+use relief_texture::sample::texels::Texel;
 use relief_texture::{Level, Texture};
 
 /// Every filter, so a new one is checked here too.

@@ -10,12 +10,15 @@ use std::sync::Arc;
 use clap::ValueEnum;
 use glam::{Mat4, Vec3};
 
-use super::model_file::{self, LoadedModel, ModelMaps, ModelPart};
-use super::obj::ObjError;
-use super::obj::mtl::MaterialDesc;
+use super::model_file;
 use super::{AMBIENT, BACKGROUND, Camera, Material, Mesh, Object, Scene, cube, light, plane};
 use super::{sphere, triangle};
+use crate::loaded_model::LoadedModel;
+use crate::loaded_model::MaterialDesc;
+use crate::loaded_model::ModelMaps;
+use crate::loaded_model::ModelPart;
 use crate::loaded_model::PbrMaps;
+use crate::model_error::ObjError;
 use crate::terms::{Cutout, MaterialTerms, PbrMaterial};
 use relief_core::sanitize::display_path;
 use relief_plasma::Plasma;

@@ -30,7 +30,8 @@ use super::load_progress::{self, LoadStep};
 use super::mesh::{Facet, Mesh, Triangle, Vertex};
 use super::model_error::ObjError;
 use super::point_lists::PointLists;
-use super::tangents::{accumulate, face_frame, sum_bytes};
+use super::tangents::{accumulate, sum_bytes};
+use crate::face_frame::face_frame;
 use relief_core::budget::Reservation;
 
 /// Most corners one face may have: a polygon is split into a fan, and a

@@ -3,7 +3,6 @@
 use glam::{Vec2, Vec3};
 
 use super::face_frame::face_frame;
-pub use super::face_frame::{any_perpendicular, triangle_tangents};
 
 /// One vertex. Vertices are split wherever a face needs its own UVs or
 /// tangents (a cube has 24), so hard edges stay hard.

@@ -17,8 +17,7 @@ use super::model_io::read_model_file;
 use super::obj;
 use relief_core::sanitize::display_path;
 
-pub use super::loaded_model::{LoadedModel, MaterialDesc, ModelMaps, ModelPart};
-pub use super::model_io::resolve_beside;
+use super::loaded_model::LoadedModel;
 
 /// The formats a model file may have.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -9,7 +9,7 @@
 use glam::{Mat4, Vec2, Vec3};
 
 use super::camera::{Camera, REFERENCE_DISTANCE};
-pub use super::contents::ModelView;
+use super::contents::ModelView;
 use super::light::Light;
 use super::{Scene, rotation_matrix};
 use relief_core::settings::UpAxis;

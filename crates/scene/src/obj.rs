@@ -9,7 +9,7 @@
 
 pub mod mtl;
 mod plain_lines;
-mod read;
+pub mod read;
 
 use std::path::Path;
 use std::sync::Arc;
@@ -25,9 +25,7 @@ use super::model_io::{FileBytes, read_model_file};
 use relief_core::budget::Reservation;
 use relief_core::sanitize::{clean, display_path};
 
-pub use super::corners::FIT_RADIUS;
-pub use super::model_error::ObjError;
-pub use read::READ_BYTES_PER_TRIANGLE;
+use super::model_error::ObjError;
 
 /// Loads an OBJ file as one mesh fitted to the unit view (all its parts
 /// together; warnings are dropped: see [`load_model`]).
@@ -336,12 +334,12 @@ fn load_libraries(
     let mut out = Vec::new();
     for line in libraries {
         // One name with spaces, or several names.
-        let files: Vec<String> = match super::model_file::resolve_beside(dir, line) {
+        let files: Vec<String> = match super::model_io::resolve_beside(dir, line) {
             Some(_) => vec![line.clone()],
             None => line.split_whitespace().map(str::to_string).collect(),
         };
         for file in files {
-            let Some(path) = super::model_file::resolve_beside(dir, &file) else {
+            let Some(path) = super::model_io::resolve_beside(dir, &file) else {
                 warnings.push(format!(
                     "model {name}: material library {} not found",
                     quote(&file)

@@ -19,7 +19,7 @@ use glam::{Vec2, Vec3};
 
 use super::cube::corner_color;
 use super::mesh::{Face, Mesh, Vertex};
-use super::tangents::face_frame;
+use crate::face_frame::face_frame;
 
 /// Columns around (longitude).
 pub const SEGMENTS: u32 = 32;

@@ -8,7 +8,7 @@
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-pub use super::face_frame::{FaceFrame, face_frame, frame_from_normal};
+use super::face_frame::{face_frame, frame_from_normal};
 use super::mesh::Mesh;
 
 /// `v` with its component along unit `n` removed, or `None` when nothing is left.

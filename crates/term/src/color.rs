@@ -2,8 +2,8 @@
 
 use ratatui::style::Color;
 
+use super::palette::ANSI16;
 use super::palette::Palette;
-pub use super::palette::{ANSI16, CUBE_LEVELS};
 use relief_core::framebuffer::Rgb;
 
 /// How many colours the terminal is sent.

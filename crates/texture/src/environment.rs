@@ -17,7 +17,7 @@ use std::sync::{Arc, OnceLock};
 use glam::{Vec2, Vec3};
 
 use super::ibl::Ibl;
-pub use super::lat_long::{direction, lat_long};
+use super::lat_long::{direction, lat_long};
 use super::studio::{STUDIO_SIZE, studio};
 use super::{Level, Texture, TextureError, load_texture};
 

@@ -11,7 +11,7 @@ use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::Line;
 use ratatui::widgets::{Block, Borders, Paragraph, Sparkline, Widget, Wrap};
 
-pub use crate::app::frame_cost::{CostHistory, FrameCost, HISTORY};
+use crate::app::frame_cost::CostHistory;
 use relief_core::stats::Counters;
 use relief_term::hold::HoldBy;
 use relief_term::pacing::{Answers, LinkInfo};
@@ -176,6 +176,7 @@ impl Widget for CostPanel<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::app::frame_cost::{FrameCost, HISTORY};
 
     fn frame(ms: u64) -> FrameCost {
         FrameCost {

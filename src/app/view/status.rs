@@ -9,7 +9,6 @@
 
 use crate::app::state::{LIGHT_NAMES, State, plasma_light};
 use relief_options::OPTIONS;
-pub use relief_options::text::{format_shininess, format_strength};
 use relief_scene::SceneKind;
 use relief_scene::camera::REFERENCE_DISTANCE;
 

@@ -36,7 +36,6 @@ pub const MSAA_REACH: i64 = 96;
 
 // The supersampling factor is a settings decision (the memory budget needs
 // it too, and sits below the rasterizer).
-pub use relief_core::settings::{MAX_SUPERSAMPLES, ssaa_factor};
 
 /// Box-filters `src` (k times `dst` in each direction) into `dst`.
 pub fn resolve_box(src: &Framebuffer, k: usize, dst: &mut Framebuffer) {
@@ -279,6 +278,7 @@ pub fn raster_triangle_msaa<S: PixelShader>(
 mod tests {
     use super::*;
     use relief_core::settings::AntiAlias;
+    use relief_core::settings::ssaa_factor;
 
     #[test]
     fn pattern_is_a_centred_rotated_grid() {

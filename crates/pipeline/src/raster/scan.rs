@@ -10,7 +10,7 @@ use crate::shade::packet::{self, LANES};
 use crate::shade::{PixelShader, ShadeCtx};
 use relief_core::framebuffer::Rgb;
 use relief_core::stats::Counters;
-use relief_texture::sample::filter::Footprint;
+use relief_texture::sample::mip::Footprint;
 use wide::f32x8;
 
 /// A horizontal band of the framebuffer (and depth buffer) owned by one task.

@@ -26,7 +26,7 @@ use glam::Vec4;
 
 use crate::plan::Plan;
 use crate::raster::ScreenTri;
-use crate::raster::aa::{MSAA_REACH, MSAA_SAMPLES, resolve_box, ssaa_factor};
+use crate::raster::aa::{MSAA_REACH, MSAA_SAMPLES, resolve_box};
 use crate::raster::alpha::order_blended;
 use crate::raster::clip::outcode;
 use crate::raster::frames::{DepthView, draw_tangent_frames};
@@ -35,6 +35,7 @@ use crate::raster::wire::WireTri;
 use crate::shade::TriShader;
 use crate::shadow::{Shadow, ShadowMap};
 use relief_core::framebuffer::{Framebuffer, Rgb};
+use relief_core::settings::ssaa_factor;
 use relief_core::settings::{AntiAlias, Display, Settings};
 use relief_core::stats::{Counters, FrameStats};
 use relief_scene::terms::MaterialTerms;

@@ -28,7 +28,8 @@ use super::tangent::Surface;
 use relief_core::framebuffer::Rgb;
 use relief_core::settings::{Filter, HeightDerivative};
 use relief_core::stats::Counters;
-use relief_texture::sample::filter::{Footprint, height_gradient, sample};
+use relief_texture::sample::filter::{height_gradient, sample};
+use relief_texture::sample::mip::Footprint;
 
 /// What a technique decided at one pixel (or eight).
 #[derive(Clone, Copy, Debug)]

@@ -15,7 +15,8 @@ use super::specular::gloss;
 use crate::plan::Plan;
 use relief_core::framebuffer::Rgb;
 use relief_core::stats::Counters;
-use relief_texture::sample::filter::{Footprint, sample};
+use relief_texture::sample::filter::sample;
+use relief_texture::sample::mip::Footprint;
 
 /// Why a frame of `plan` shades one pixel at a time, or `None` when its
 /// triangles go through the eight-pixel packets (all but those cut by the

@@ -10,7 +10,7 @@ use glam::Vec2;
 
 use super::lanes::Lanes;
 use relief_scene::map_uv::{MapUv, second_set_jacobian};
-use relief_texture::sample::filter::Footprint;
+use relief_texture::sample::mip::Footprint;
 
 /// The coordinate at barycentrics `b` from the vertices' `v`, as glam's
 /// `lerp2` on `Vec2` (kept here, so map coordinates depend on no kernel).

@@ -36,7 +36,8 @@ use relief_core::stats::Counters;
 use relief_scene::light::Falloff;
 use relief_scene::terms::{MaterialTerms, PbrMaterial};
 use relief_texture::ibl::Ibl;
-use relief_texture::sample::filter::{Footprint, read_normal};
+use relief_texture::sample::filter::read_normal;
+use relief_texture::sample::mip::Footprint;
 
 /// A metallic-roughness triangle: with or without its colour texture
 /// (`TEX`) and normal map (`NMAP`).

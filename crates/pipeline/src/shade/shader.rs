@@ -11,7 +11,7 @@ use crate::shadow::Shadow;
 use relief_core::framebuffer::Rgb;
 use relief_core::stats::Counters;
 use relief_texture::Texture;
-use relief_texture::sample::filter::Footprint;
+use relief_texture::sample::mip::Footprint;
 
 /// What every kernel reads besides its triangle.
 pub struct ShadeCtx<'a> {

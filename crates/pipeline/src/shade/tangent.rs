@@ -11,7 +11,7 @@ use glam::{Vec2, Vec3};
 
 use super::PhongTri;
 use super::lanes::{Lanes, Vector};
-use relief_scene::mesh::any_perpendicular;
+use relief_scene::face_frame::any_perpendicular;
 
 /// An orthonormal tangent frame, plus the lengths of ∂P/∂u and ∂P/∂v
 /// (world units per unit of texture coordinate) for converting tangent

@@ -22,7 +22,7 @@ use glam::{Affine2, Mat3, Vec2};
 use crate::map_uv::{MapUv, MapUvs};
 use ::gltf::texture::{MagFilter, MinFilter, WrappingMode};
 use relief_core::settings::Filter;
-use relief_texture::sample::level::{Wrap, WrapMode};
+use relief_texture::sample::wrap::{Wrap, WrapMode};
 
 /// How a material's textures are read.
 #[derive(Clone, Copy, Debug, PartialEq)]

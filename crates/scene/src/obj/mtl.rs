@@ -21,7 +21,7 @@ use glam::Vec3;
 use crate::model_io::resolve_beside;
 use relief_core::sanitize::clean;
 
-pub use crate::loaded_model::{MaterialDesc, TexturePath};
+use crate::loaded_model::{MaterialDesc, TexturePath};
 
 /// Map options and how many numbers (or words) follow each.
 const OPTIONS: &[(&str, usize, usize)] = &[

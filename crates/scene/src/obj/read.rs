@@ -728,7 +728,11 @@ pub(super) fn read(name: &str, bytes: &[u8]) -> Result<ReadModel, ObjError> {
 /// knows where its own start; a face may use any item before its line,
 /// whose numbers another chunk may be reading at the same time). Parts, warnings and errors are merged in chunk
 /// order, so the first line in the file wins as it does when read in one go.
-pub fn read_in_chunks(name: &str, bytes: &[u8], parts: usize) -> Result<ReadModel, ObjError> {
+pub(super) fn read_in_chunks(
+    name: &str,
+    bytes: &[u8],
+    parts: usize,
+) -> Result<ReadModel, ObjError> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let chunks = line_chunks(bytes, parts);
     // Two passes over the text: the view's progress line counts each

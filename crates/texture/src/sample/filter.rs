@@ -2,10 +2,11 @@
 
 use glam::Vec2;
 
-use super::level::{Level, Texel};
-pub use super::mip::Footprint;
+use super::level::Level;
+use super::mip::Footprint;
 use super::normal_map::NormalMap;
 use super::sampler::Sampler;
+use super::texels::Texel;
 use super::texture::Texture;
 use relief_core::settings::{Filter, HeightDerivative};
 

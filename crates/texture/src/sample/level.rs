@@ -1,8 +1,8 @@
 //! One image level: storage, wrapping and the nearest / bilinear reads.
 
-pub use super::texels::Texel;
+use super::texels::Texel;
 use super::texels::{Builder, Fetch, MipKind, Texels};
-pub use super::wrap::{Wrap, WrapMode};
+use super::wrap::Wrap;
 use crate::with_fetch;
 
 /// A `width × height` grid of texels, the picture's top row first: row `y`

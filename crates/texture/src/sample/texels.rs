@@ -47,7 +47,7 @@ pub enum Texels {
 
 /// The most texels a level may have to be [`Texels::Widened`] (the budget
 /// counts the copy, so the limit lives there).
-pub use relief_core::budget::WIDE_TEXELS;
+use relief_core::budget::WIDE_TEXELS;
 
 /// The bits of `s / 765` as f32, for every sum of three bytes.
 static MEAN_OF_SUM: [u32; 766] = {
