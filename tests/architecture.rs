@@ -520,6 +520,35 @@ fn no_folder_has_a_cycle() {
 }
 
 #[test]
+fn only_indexes_re_export() {
+    // A file imports an item from the file that defines it: only a folder's
+    // `mod.rs` or a crate's `lib.rs` names its children's items (its face).
+    let mut found = Vec::new();
+    let mut files = 0;
+    for krate in CRATES {
+        for file in src_files(krate) {
+            files += 1;
+            if file.is_folder {
+                continue;
+            }
+            for line in file
+                .code
+                .lines()
+                .filter(|l| l.trim_start().starts_with("pub use "))
+            {
+                found.push(format!(
+                    "{krate}/src/{}: {}",
+                    file.module.join("/"),
+                    line.trim()
+                ));
+            }
+        }
+    }
+    assert!(files > 200, "files read: {files}");
+    assert!(found.is_empty(), "re-exports outside an index: {found:#?}");
+}
+
+#[test]
 fn a_cycle_is_found() {
     // The check itself: two files naming each other form one cycle, a
     // third that only names them is outside it.
