@@ -6,41 +6,23 @@
 
 use glam::{DVec3, Mat3, Mat4, Vec3};
 
-use super::reading::MAX_DEPTH;
+use super::fitted_nodes::fitted_nodes;
 use crate::Camera;
 
 /// Every perspective camera of the scene drawn, in the order its nodes
 /// are met (depth first, in the file's order), with the model's fit
 /// (centre and scale) applied.
-pub(super) fn cameras(document: &::gltf::Document, (centre, scale): (DVec3, f64)) -> Vec<Camera> {
-    let Some(scene) = document
-        .default_scene()
-        .or_else(|| document.scenes().next())
-    else {
-        return Vec::new();
-    };
-    let fit =
-        Mat4::from_scale(Vec3::splat(scale as f32)) * Mat4::from_translation(-centre.as_vec3());
-    let mut out = Vec::new();
-    let mut stack: Vec<(::gltf::Node, Mat4, usize)> =
-        scene.nodes().map(|n| (n, Mat4::IDENTITY, 0)).collect();
-    // Popped from the end: the first root first.
-    stack.reverse();
-    while let Some((node, parent, depth)) = stack.pop() {
-        if depth > MAX_DEPTH {
-            continue;
-        }
-        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        if let Some(camera) = node.camera()
-            && let ::gltf::camera::Projection::Perspective(p) = camera.projection()
-            && let Some(c) = placed(fit * world, p.yfov(), (p.znear(), p.zfar()), scale as f32)
-        {
-            out.push(c);
-        }
-        let children: Vec<_> = node.children().collect();
-        stack.extend(children.into_iter().rev().map(|c| (c, world, depth + 1)));
-    }
-    out
+pub(super) fn cameras(document: &::gltf::Document, fit: (DVec3, f64)) -> Vec<Camera> {
+    let scale = fit.1 as f32;
+    fitted_nodes(document, fit)
+        .into_iter()
+        .filter_map(|(node, place)| match node.camera()?.projection() {
+            ::gltf::camera::Projection::Perspective(p) => {
+                placed(place, p.yfov(), (p.znear(), p.zfar()), scale)
+            }
+            ::gltf::camera::Projection::Orthographic(_) => None,
+        })
+        .collect()
 }
 
 /// The camera at `place` (looking down its −Z, +Y up) with a vertical

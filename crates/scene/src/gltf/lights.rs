@@ -6,40 +6,18 @@
 
 use glam::{DVec3, Mat3, Mat4, Vec3};
 
-use super::reading::MAX_DEPTH;
+use super::fitted_nodes::fitted_nodes;
 use crate::light::{Cone, DIRECTIONAL_DISTANCE, Falloff, Light};
 
 /// Every light of the scene drawn, in the order its nodes are met (depth
 /// first, in the file's order), with the model's fit (centre and scale)
 /// applied; the lights of an animated model at their rest place.
-pub(super) fn lights(document: &::gltf::Document, (centre, scale): (DVec3, f64)) -> Vec<Light> {
-    let Some(scene) = document
-        .default_scene()
-        .or_else(|| document.scenes().next())
-    else {
-        return Vec::new();
-    };
-    let fit =
-        Mat4::from_scale(Vec3::splat(scale as f32)) * Mat4::from_translation(-centre.as_vec3());
-    let mut out = Vec::new();
-    let mut stack: Vec<(::gltf::Node, Mat4, usize)> =
-        scene.nodes().map(|n| (n, Mat4::IDENTITY, 0)).collect();
-    stack.reverse();
-    while let Some((node, parent, depth)) = stack.pop() {
-        if depth > MAX_DEPTH {
-            continue;
-        }
-        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        if let Some(light) = node
-            .light()
-            .and_then(|l| placed(&l, fit * world, scale as f32))
-        {
-            out.push(light);
-        }
-        let children: Vec<_> = node.children().collect();
-        stack.extend(children.into_iter().rev().map(|c| (c, world, depth + 1)));
-    }
-    out
+pub(super) fn lights(document: &::gltf::Document, fit: (DVec3, f64)) -> Vec<Light> {
+    let scale = fit.1 as f32;
+    fitted_nodes(document, fit)
+        .into_iter()
+        .filter_map(|(node, place)| placed(&node.light()?, place, scale))
+        .collect()
 }
 
 /// `light` at `place` (shining down its −Z), in a model fitted by `scale`;

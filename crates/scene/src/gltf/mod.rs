@@ -15,6 +15,7 @@
 mod accessor;
 mod cameras;
 mod data;
+mod fitted_nodes;
 mod lights;
 mod material;
 mod opacity;
