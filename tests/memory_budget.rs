@@ -1,6 +1,8 @@
 //! Tiny files that ask for huge memory stay under relief's memory budget:
 //! each case runs the binary and reads its peak resident memory.
 
+#[path = "common/glb_writer.rs"]
+mod glb_writer;
 mod hostile;
 
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -233,6 +235,71 @@ fn bad_inputs_stay_under_the_budget() {
             "{err}"
         );
     }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// What a model with four 4096² maps may reach, loaded and drawn (issue
+/// 38's target for the texture sets that Blender and scanners write).
+const FOUR_MAPS_PEAK: u64 = 400_000_000;
+
+/// A picture's RGB at (x, y).
+type Texel = fn(u32, u32) -> [u8; 3];
+
+/// A quad whose material reads four 4096² pictures beside it: base colour,
+/// metallic-roughness, normal and occlusion, each a PNG of its own.
+fn write_four_map_model(dir: &Path) -> std::path::PathBuf {
+    let n = 4096;
+    let pictures: [(&str, Texel); 4] = [
+        ("colour.png", |x, y| {
+            [(x / 16) as u8, (y / 16) as u8, ((x ^ y) / 16) as u8]
+        }),
+        ("metal_rough.png", |x, y| {
+            [0, (x / 16) as u8, (y / 16) as u8]
+        }),
+        ("normal.png", |x, y| {
+            [128 + (x % 64) as u8, 128 + (y % 64) as u8, 240]
+        }),
+        ("occlusion.png", |x, y| [255 - ((x + y) / 64) as u8, 0, 0]),
+    ];
+    for (name, texel) in pictures {
+        image::RgbImage::from_fn(n, n, |x, y| image::Rgb(texel(x, y)))
+            .save(dir.join(name))
+            .unwrap();
+    }
+    let mut bin = glb_writer::Bin::default();
+    let positions = bin.positions(&[
+        -1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 1.0, 1.0, 0.0, -1.0, 1.0, 0.0,
+    ]);
+    let normals = bin.floats(&[0.0, 0.0, 1.0].repeat(4), "VEC3");
+    let uvs = bin.floats(&[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0], "VEC2");
+    let indices = bin.shorts(&[0, 1, 2, 0, 2, 3], "SCALAR");
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{positions},"NORMAL":{normals},"TEXCOORD_0":{uvs}}},"indices":{indices},"material":0}}]}}],"materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}},"metallicRoughnessTexture":{{"index":1}}}},"normalTexture":{{"index":2}},"occlusionTexture":{{"index":3}}}}],"textures":[{{"source":0}},{{"source":1}},{{"source":2}},{{"source":3}}],"images":[{{"uri":"colour.png"}},{{"uri":"metal_rough.png"}},{{"uri":"normal.png"}},{{"uri":"occlusion.png"}}]"#
+    );
+    let path = dir.join("four_maps.glb");
+    std::fs::write(&path, bin.glb(&json)).unwrap();
+    path
+}
+
+#[test]
+fn a_model_with_four_4096_maps_peaks_under_400_mb() {
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let dir = hostile::scratch("four-maps");
+    let model = write_four_map_model(&dir);
+    let out = dir.join("out.png");
+    let (model, out) = (model.to_str().unwrap(), out.to_str().unwrap());
+    let (code, err, peak) = case_peak(
+        "four 4096x4096 maps",
+        &[
+            "render", "--width", "640", "--height", "480", "--out", out, model,
+        ],
+    );
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        peak <= FOUR_MAPS_PEAK,
+        "{} MB resident at most",
+        peak / 1_000_000
+    );
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -41,10 +41,11 @@ pub struct Bin {
 
 impl Bin {
     /// An accessor of `values` floats as elements of `ty` (`SCALAR`,
-    /// `VEC3`, `VEC4`, `MAT4`); its index.
+    /// `VEC2`, `VEC3`, `VEC4`, `MAT4`); its index.
     pub fn floats(&mut self, values: &[f32], ty: &str) -> usize {
         let width = match ty {
             "SCALAR" => 1,
+            "VEC2" => 2,
             "VEC3" => 3,
             "VEC4" => 4,
             "MAT4" => 16,

@@ -25,6 +25,7 @@ use crate::terms::{Cutout, MaterialTerms, PbrMaterial};
 use relief_texture::decode::load::load_texture_from_bytes;
 use relief_texture::decode::size_cap;
 use relief_texture::normal_map_file::{FileNormalMap, tilt};
+use relief_texture::sample::wrap::Wrap;
 use relief_texture::{Level, Texture};
 
 /// What a primitive takes from its material.
@@ -52,6 +53,75 @@ pub(super) struct Materials<'a> {
     /// Images decoded ahead ([`Materials::decode_ahead`]), by index, each
     /// taken by the first map that reads it.
     ready: Mutex<HashMap<usize, Texture>>,
+    /// The maps made so far: materials that read an image alike share
+    /// one copy of its map.
+    made: Mutex<HashMap<MapKey, Made>>,
+}
+
+/// What a map is made for from its image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Product {
+    /// The colour texture, heights flat.
+    Colour,
+    /// The colour picture's alpha, as opacity.
+    Alpha,
+    /// The normal map at a `scale` (its bits).
+    Normal(u32),
+    /// The picture as it is, one level (metallic-roughness, emissive, and
+    /// occlusion from a picture read whole already).
+    Plain,
+    /// The red channel alone (occlusion).
+    Red,
+}
+
+/// A made map's image, wrap modes and product.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct MapKey {
+    image: usize,
+    wrap: Wrap,
+    product: Product,
+}
+
+/// A made map.
+#[derive(Clone)]
+enum Made {
+    Colour(Arc<Texture>),
+    Normal(Arc<FileNormalMap>),
+    Level(Arc<Level>),
+}
+
+impl Made {
+    fn into_level(self) -> Option<Arc<Level>> {
+        match self {
+            Made::Level(level) => Some(level),
+            _ => None,
+        }
+    }
+}
+
+/// How a material reads each of its maps: each map with its own sampler's
+/// wrap modes and transform, else the material's first reading.
+struct Readings<'a> {
+    material: Reading,
+    maps: Vec<super::sampling::MapRef<'a>>,
+    sets: Sets,
+}
+
+impl<'a> Readings<'a> {
+    fn new(m: &::gltf::Material<'a>) -> Self {
+        Readings {
+            material: Reading::of(m),
+            maps: maps_of(m),
+            sets: Sets::of(m),
+        }
+    }
+
+    fn of(&self, kind: Kind) -> Reading {
+        self.maps
+            .iter()
+            .find(|r| r.kind == kind)
+            .map_or(self.material, Reading::of_map)
+    }
 }
 
 impl<'a> Materials<'a> {
@@ -68,6 +138,7 @@ impl<'a> Materials<'a> {
             dir,
             looks: HashMap::new(),
             ready: Mutex::new(HashMap::new()),
+            made: Mutex::new(HashMap::new()),
         }
     }
 
@@ -103,75 +174,39 @@ impl<'a> Materials<'a> {
 
     fn build(&self, m: &::gltf::Material) -> Result<Look, Problem> {
         self.decode_ahead(m);
+        let look = self.build_look(m);
+        // What was decoded ahead and not taken (a map made already) goes now.
+        self.ready.lock().unwrap_or_else(|e| e.into_inner()).clear();
+        look
+    }
+
+    fn build_look(&self, m: &::gltf::Material) -> Result<Look, Problem> {
         let pbr = m.pbr_metallic_roughness();
-        let reading = Reading::of(m);
-        // Each map read with its own sampler's wrap modes.
-        let maps = maps_of(m);
-        let read = |kind: Kind| {
-            maps.iter()
-                .find(|r| r.kind == kind)
-                .map_or(reading, Reading::of_map)
-        };
-        let sets = Sets::of(m);
-        // MASK draws the pixels whose alpha reaches the cutoff; BLEND and
-        // transmission composite each pixel with its opacity.
-        let opacity = opacity::of(m);
-        let mut alpha_map = None;
-        let texture = match pbr.base_color_texture() {
-            Some(info) => {
-                let decoded = self.decode(&info.texture(), &read(Kind::BaseColor))?;
-                if opacity.reads_alpha && decoded.has_alpha {
-                    alpha_map = Some(Arc::new(alpha_of(decoded.texture.base())));
-                }
-                Arc::new(flat_height(decoded.texture)?)
-            }
-            None => white(format!("{} material {}", self.name, m.index().unwrap_or(0))),
-        };
-        let normal_map = match m.normal_texture() {
-            Some(info) if info.scale() != 0.0 && info.scale().is_finite() => {
-                let image = self.image_of(&info.texture())?;
-                let name = self.image_name(&image);
-                let reading = read(Kind::Normal);
-                let wrap = reading.wrap();
-                let texture = match self.take_ready(&image) {
-                    Some(t) => t,
-                    None => load_texture_from_bytes(&name, &self.image_bytes(&image)?)
-                        .map_err(|e| e.to_string())?,
-                };
-                let map = FileNormalMap::from_texture(texture.with_wrap(wrap))
-                    .map_err(|e| e.to_string())?;
-                Some(Arc::new(if info.scale() == 1.0 {
-                    map
-                } else {
-                    FileNormalMap::new(name, tilt(map.given(), info.scale()))
-                }))
-            }
-            _ => None,
-        };
-        let roughness = finite_unit(pbr.roughness_factor());
+        let readings = Readings::new(m);
+        // The maps read as they are come first and the normal map last: a
+        // normal map is made beside its picture, and by then the pictures
+        // decoded ahead for the others are maps of their final size.
         let metal_rough = match pbr.metallic_roughness_texture() {
             Some(info) => {
-                let t = self
-                    .decode(&info.texture(), &read(Kind::MetallicRoughness))?
-                    .texture;
-                Some(Arc::new(t.base().clone()))
+                let reading = readings.of(Kind::MetallicRoughness);
+                Some(self.plain_map(&info.texture(), &reading)?)
             }
             None => None,
         };
-        // The highlight's map where the material is not shaded physically.
-        let specular_map = match &metal_rough {
-            Some(base) => Level {
-                wrap: base.wrap,
-                width: base.width,
-                height: base.height,
-                texels: base
-                    .texels
-                    .iter()
-                    .map(|t| [gloss(roughness * t[1]); 4])
-                    .collect(),
-            },
+        let mut map_names = Vec::new();
+        let occlusion = self.occlusion_map(m, &readings, &mut map_names)?;
+        let emissive = emission(m);
+        let emissive_map = self.emissive_map(m, emissive, &readings, &mut map_names)?;
+        // MASK draws the pixels whose alpha reaches the cutoff; BLEND and
+        // transmission composite each pixel with its opacity.
+        let opacity = opacity::of(m);
+        let (texture, alpha_map) = self.colour_map(m, &readings, opacity.reads_alpha)?;
+        let normal_map = self.normal_map(m, &readings)?;
+        let roughness = finite_unit(pbr.roughness_factor());
+        let specular_map = Arc::new(match &metal_rough {
+            Some(base) => gloss_map(base, roughness),
             None => Level::solid(1, 1, [gloss(roughness); 4]),
-        };
+        });
         let physical = PbrMaterial {
             metallic: finite_unit(pbr.metallic_factor()),
             roughness,
@@ -179,57 +214,14 @@ impl<'a> Materials<'a> {
             metallic_map: metal_rough.map(|m| (m, 2)),
             normal: normal_map.as_ref().map(|m| m.given().clone()),
         };
-        let mut map_names = Vec::new();
-        let occlusion = match m.occlusion_texture() {
-            Some(info) if info.strength().is_finite() && info.strength() != 0.0 => {
-                let t = self
-                    .decode(&info.texture(), &read(Kind::Occlusion))?
-                    .texture;
-                map_names.push(("occlusion", t.name.clone()));
-                Some((Arc::new(t.base().clone()), info.strength().clamp(0.0, 1.0)))
-            }
-            _ => None,
-        };
-        let strength = m
-            .extension_value("KHR_materials_emissive_strength")
-            .and_then(|e| e.get("emissiveStrength"))
-            .and_then(|v| v.as_f64())
-            .map_or(1.0, |v| v as f32);
-        let emissive = Vec3::from(m.emissive_factor()) * strength;
-        let emissive = if emissive.is_finite() {
-            emissive.max(Vec3::ZERO)
-        } else {
-            Vec3::ZERO
-        };
-        let emissive_map = match m.emissive_texture() {
-            Some(info) if emissive.max_element() > 0.0 => {
-                let t = self.decode(&info.texture(), &read(Kind::Emissive))?.texture;
-                map_names.push(("emissive", t.name.clone()));
-                Some(Arc::new(t.base().clone()))
-            }
-            _ => None,
-        };
-        // A constant opacity that a mask keeps, or that a blend draws
-        // whole, needs no cutout.
-        let (blend, factor) = (opacity.blend, opacity.factor);
-        let whole = |c: f32| if blend { 1.0 } else { c };
-        let cutout = opacity
-            .cutoff
-            .filter(|c| c.is_finite() && (alpha_map.is_some() || factor < whole(*c)))
-            .map(|cutoff| Cutout {
-                factor,
-                map: alpha_map,
-                cutoff,
-                blend,
-            });
         let terms = MaterialTerms {
-            cutout,
+            cutout: cutout(&opacity, alpha_map),
             emissive,
             emissive_map,
             occlusion,
-            filter: reading.filter,
+            filter: readings.material.filter,
             map_names,
-            uvs: sets.uvs,
+            uvs: readings.sets.uvs,
             pbr: Some(physical),
             unlit: m.extension_value("KHR_materials_unlit").is_some(),
             ..MaterialTerms::default()
@@ -239,15 +231,249 @@ impl<'a> Materials<'a> {
             normal_mapped: normal_map.is_some(),
             material: Arc::new(Material {
                 texture,
-                specular_map: Some(Arc::new(specular_map)),
+                specular_map: Some(specular_map),
                 normal_map,
                 environment: None,
             }),
             base_color: Vec3::new(r, g, b),
             double_sided: m.double_sided(),
-            sets,
+            sets: readings.sets,
             terms: (terms != MaterialTerms::default()).then(|| Arc::new(terms)),
         })
+    }
+
+    /// The colour texture (heights flat: glTF's alpha is opacity) and, when
+    /// the material reads opacity from it, its alpha.
+    fn colour_map(
+        &self,
+        m: &::gltf::Material,
+        readings: &Readings,
+        reads_alpha: bool,
+    ) -> Result<(Arc<Texture>, Option<Arc<Level>>), Problem> {
+        let Some(info) = m.pbr_metallic_roughness().base_color_texture() else {
+            let name = format!("{} material {}", self.name, m.index().unwrap_or(0));
+            return Ok((white(name), None));
+        };
+        let texture = info.texture();
+        let reading = readings.of(Kind::BaseColor);
+        let key = self.key(&texture, &reading, Product::Colour)?;
+        let alpha_key = MapKey {
+            product: Product::Alpha,
+            ..key
+        };
+        let made_colour = self.made(key);
+        let made_alpha = self.made(alpha_key);
+        if let Some(Made::Colour(colour)) = &made_colour
+            && (!reads_alpha || made_alpha.is_some())
+        {
+            return Ok((colour.clone(), made_alpha.and_then(Made::into_level)));
+        }
+        let decoded = self.decode(&texture, &reading)?;
+        let alpha = match made_alpha {
+            Some(made) => made.into_level(),
+            None if reads_alpha && decoded.has_alpha => {
+                let base = decoded.texture.base();
+                let alpha = Arc::new(Level {
+                    wrap: base.wrap,
+                    width: base.width,
+                    height: base.height,
+                    texels: base.texels.fourth_everywhere(),
+                });
+                Some(
+                    self.keep(alpha_key, Made::Level(alpha))
+                        .into_level()
+                        .expect("a level"),
+                )
+            }
+            None => None,
+        };
+        let colour = match made_colour {
+            Some(Made::Colour(colour)) => colour,
+            _ => match self.keep(
+                key,
+                Made::Colour(Arc::new(decoded.texture.without_height())),
+            ) {
+                Made::Colour(colour) => colour,
+                _ => unreachable!("kept as a colour map just above"),
+            },
+        };
+        Ok((colour, alpha))
+    }
+
+    /// The file's normal map with its `scale` applied (scale 0: none).
+    fn normal_map(
+        &self,
+        m: &::gltf::Material,
+        readings: &Readings,
+    ) -> Result<Option<Arc<FileNormalMap>>, Problem> {
+        let Some(info) = m.normal_texture() else {
+            return Ok(None);
+        };
+        let scale = info.scale();
+        if scale == 0.0 || !scale.is_finite() {
+            return Ok(None);
+        }
+        let texture = info.texture();
+        let reading = readings.of(Kind::Normal);
+        let key = self.key(&texture, &reading, Product::Normal(scale.to_bits()))?;
+        if let Some(Made::Normal(map)) = self.made(key) {
+            return Ok(Some(map));
+        }
+        let image = self.image_of(&texture)?;
+        let name = self.image_name(&image);
+        let decoded = match self.take_ready(&image) {
+            Some(t) => t,
+            None => load_texture_from_bytes(&name, &self.image_bytes(&image)?)
+                .map_err(|e| e.to_string())?
+                .read_as_map(),
+        };
+        let map = FileNormalMap::from_texture(decoded.with_wrap(reading.wrap()))
+            .map_err(|e| e.to_string())?;
+        let map = if scale == 1.0 {
+            map
+        } else {
+            FileNormalMap::new(name, tilt(map.given(), scale))
+        };
+        match self.keep(key, Made::Normal(Arc::new(map))) {
+            Made::Normal(map) => Ok(Some(map)),
+            _ => unreachable!("kept as a normal map just above"),
+        }
+    }
+
+    /// The occlusion map and its strength (strength 0: none), named for the
+    /// texture panel.
+    fn occlusion_map(
+        &self,
+        m: &::gltf::Material,
+        readings: &Readings,
+        names: &mut Vec<(&'static str, String)>,
+    ) -> Result<Option<(Arc<Level>, f32)>, Problem> {
+        let Some(info) = m.occlusion_texture() else {
+            return Ok(None);
+        };
+        let strength = info.strength();
+        if !strength.is_finite() || strength == 0.0 {
+            return Ok(None);
+        }
+        let texture = info.texture();
+        let reading = readings.of(Kind::Occlusion);
+        // Only the red channel counts, unless the picture is a map read
+        // whole already (an occlusion-roughness-metallic picture).
+        let whole = self.key(&texture, &reading, Product::Plain)?;
+        let map = match self.made(whole).and_then(Made::into_level) {
+            Some(level) => level,
+            None => self.red_map(&texture, &reading)?,
+        };
+        names.push(("occlusion", self.map_name(&texture)?));
+        Ok(Some((map, strength.clamp(0.0, 1.0))))
+    }
+
+    /// The emissive map, read only where the material emits.
+    fn emissive_map(
+        &self,
+        m: &::gltf::Material,
+        emissive: Vec3,
+        readings: &Readings,
+        names: &mut Vec<(&'static str, String)>,
+    ) -> Result<Option<Arc<Level>>, Problem> {
+        let Some(info) = m
+            .emissive_texture()
+            .filter(|_| emissive.max_element() > 0.0)
+        else {
+            return Ok(None);
+        };
+        let texture = info.texture();
+        let map = self.plain_map(&texture, &readings.of(Kind::Emissive))?;
+        names.push(("emissive", self.map_name(&texture)?));
+        Ok(Some(map))
+    }
+
+    /// A map read at one level as the picture is (metallic-roughness,
+    /// occlusion, emissive): one copy for every map and material that reads
+    /// the image with the same wrap modes (an ORM picture is one map).
+    fn plain_map(
+        &self,
+        texture: &::gltf::Texture,
+        reading: &Reading,
+    ) -> Result<Arc<Level>, Problem> {
+        let key = self.key(texture, reading, Product::Plain)?;
+        if let Some(level) = self.made(key).and_then(Made::into_level) {
+            return Ok(level);
+        }
+        let level = Arc::new(self.decode(texture, reading)?.texture.into_base());
+        Ok(self
+            .keep(key, Made::Level(level))
+            .into_level()
+            .expect("a level"))
+    }
+
+    /// The name a map of `texture` shows in the texture panel: its
+    /// image's, as the decoded picture carries it.
+    fn map_name(&self, texture: &::gltf::Texture) -> Result<String, Problem> {
+        Ok(relief_core::sanitize::clean(
+            &self.image_name(&self.image_of(texture)?),
+        ))
+    }
+
+    /// A picture's red channel alone, in 16 bits: an 8-bit red k is kept as
+    /// 257·k, which reads back as k / 255 exactly.
+    fn red_map(&self, texture: &::gltf::Texture, reading: &Reading) -> Result<Arc<Level>, Problem> {
+        let key = self.key(texture, reading, Product::Red)?;
+        if let Some(level) = self.made(key).and_then(Made::into_level) {
+            return Ok(level);
+        }
+        let base = self.decode(texture, reading)?.texture.into_base();
+        let red = Level {
+            wrap: base.wrap,
+            width: base.width,
+            height: base.height,
+            texels: base.texels.first_channel_grey(),
+        };
+        drop(base);
+        Ok(self
+            .keep(key, Made::Level(Arc::new(red)))
+            .into_level()
+            .expect("a level"))
+    }
+
+    /// Where a map made from `texture` read this way is kept.
+    fn key(
+        &self,
+        texture: &::gltf::Texture,
+        reading: &Reading,
+        product: Product,
+    ) -> Result<MapKey, Problem> {
+        Ok(MapKey {
+            image: self.image_of(texture)?.index(),
+            wrap: reading.wrap(),
+            product,
+        })
+    }
+
+    /// Whether a map was made from image `index` (the next that reads it
+    /// may not need it decoded).
+    fn any_made_from(&self, index: usize) -> bool {
+        let made = self.made.lock().unwrap_or_else(|e| e.into_inner());
+        made.keys().any(|k| k.image == index)
+    }
+
+    /// The map made already for `key`, if any.
+    fn made(&self, key: MapKey) -> Option<Made> {
+        self.made
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&key)
+            .cloned()
+    }
+
+    /// Keeps `made` for the maps after this one that read the same image
+    /// the same way, and gives it back.
+    fn keep(&self, key: MapKey, made: Made) -> Made {
+        self.made
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(key, made.clone());
+        made
     }
 
     /// A texture's image decoded, read with the map's wrap modes.
@@ -258,7 +484,9 @@ impl<'a> Materials<'a> {
         let has_alpha = has_alpha(&bytes);
         let decoded = match self.take_ready(&image) {
             Some(t) => t,
-            None => load_texture_from_bytes(&name, &bytes).map_err(|e| e.to_string())?,
+            None => load_texture_from_bytes(&name, &bytes)
+                .map_err(|e| e.to_string())?
+                .read_as_map(),
         };
         // The sampler's wrap modes are read where the map is addressed:
         // the map is kept at its own size.
@@ -293,6 +521,7 @@ impl<'a> Materials<'a> {
         .into_iter()
         .flatten()
         .filter_map(|t| self.image_of(&t).ok())
+        .filter(|image| !self.any_made_from(image.index()))
         .collect();
         images.sort_by_key(::gltf::Image::index);
         images.dedup_by_key(|i| i.index());
@@ -307,7 +536,7 @@ impl<'a> Materials<'a> {
                 let name = self.image_name(image);
                 size_cap::with_max_side(cap, || load_texture_from_bytes(&name, &bytes))
                     .ok()
-                    .map(|t| (image.index(), t))
+                    .map(|t| (image.index(), t.read_as_map()))
             })
             .collect();
         self.ready
@@ -409,16 +638,6 @@ fn has_alpha(bytes: &[u8]) -> bool {
         .is_some_and(|d| d.color_type().has_alpha())
 }
 
-/// A level's alpha as opacity in every channel.
-fn alpha_of(level: &Level) -> Level {
-    Level {
-        wrap: level.wrap,
-        width: level.width,
-        height: level.height,
-        texels: level.texels.iter().map(|t| [t[3]; 4]).collect(),
-    }
-}
-
 /// A name ending for an image's MIME type, so the decoder knows the format.
 fn mime_ext(mime: &str) -> &'static str {
     match mime {
@@ -448,14 +667,51 @@ fn white(name: String) -> Arc<Texture> {
     Arc::new(Texture::new(name, Level::solid(1, 1, [1.0, 1.0, 1.0, 0.0])))
 }
 
-/// The texture with every height 0 (glTF's alpha is opacity, not height),
-/// its memory reserved before the decoded copy is given back.
-fn flat_height(decoded: Texture) -> Result<Texture, Problem> {
-    let mut level = decoded.base().clone();
-    for t in &mut level.texels {
-        t[3] = 0.0;
+/// The highlight's map where the material is not shaded physically: gloss
+/// from the metallic-roughness map's green channel times the factor, in 16
+/// bits (one channel).
+fn gloss_map(metal_rough: &Level, roughness: f32) -> Level {
+    Level {
+        wrap: metal_rough.wrap,
+        width: metal_rough.width,
+        height: metal_rough.height,
+        texels: relief_texture::sample::texels::Texels::Grey16(
+            metal_rough
+                .texels
+                .iter()
+                .map(|t| relief_texture::sample::texels::to_unorm16(gloss(roughness * t[1])))
+                .collect(),
+        ),
     }
-    let bytes = relief_core::budget::texture_bytes(level.width as u64, level.height as u64);
-    let held = relief_core::budget::reserve(&decoded.name, bytes).map_err(|e| e.to_string())?;
-    Ok(Texture::new(decoded.name.clone(), level).holding(held))
+}
+
+/// The emissive factor times `KHR_materials_emissive_strength` (not finite: none).
+fn emission(m: &::gltf::Material) -> Vec3 {
+    let strength = m
+        .extension_value("KHR_materials_emissive_strength")
+        .and_then(|e| e.get("emissiveStrength"))
+        .and_then(|v| v.as_f64())
+        .map_or(1.0, |v| v as f32);
+    let emissive = Vec3::from(m.emissive_factor()) * strength;
+    if emissive.is_finite() {
+        emissive.max(Vec3::ZERO)
+    } else {
+        Vec3::ZERO
+    }
+}
+
+/// The cutout a material's opacity needs: none for a constant opacity that
+/// a mask keeps, or that a blend draws whole.
+fn cutout(opacity: &opacity::Opacity, map: Option<Arc<Level>>) -> Option<Cutout> {
+    let (blend, factor) = (opacity.blend, opacity.factor);
+    let whole = |c: f32| if blend { 1.0 } else { c };
+    opacity
+        .cutoff
+        .filter(|c| c.is_finite() && (map.is_some() || factor < whole(*c)))
+        .map(|cutoff| Cutout {
+            factor,
+            map,
+            cutoff,
+            blend,
+        })
 }

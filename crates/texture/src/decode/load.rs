@@ -427,6 +427,17 @@ fn decode_image(
     check_size(file, width, height)?;
     let precision = precision_of(decoder.color_type());
     let held = reserve_texture(file, width as usize, height as usize, precision)?;
+    let whole = super::size_cap::max_side().is_none_or(|side| width.max(height) <= side);
+    if whole && let Some(texels) = eight_bit_texels(decoder.color_type(), width, height) {
+        let texels = read_into(decoder, texels).map_err(image_error)?;
+        let level = Level {
+            wrap: Default::default(),
+            width: width as usize,
+            height: height as usize,
+            texels: texels.widened_if_small(),
+        };
+        return Ok((level, held));
+    }
     let image = DynamicImage::from_decoder(decoder).map_err(image_error)?;
     // A frame that needs less detail gets a smaller copy (`size_cap`), and
     // the budget the whole picture would have held is given back.
@@ -654,6 +665,47 @@ fn precision_of(color: image::ColorType) -> Precision {
     }
 }
 
+/// The storage an 8-bit RGB or RGBA picture is decoded straight into, at
+/// its final size (`None`: any other picture).
+fn eight_bit_texels(color: image::ColorType, width: u32, height: u32) -> Option<Texels> {
+    let n = width as usize * height as usize;
+    match color {
+        image::ColorType::Rgba8 => Some(Texels::Rgba8(vec![[0; 4]; n])),
+        image::ColorType::Rgb8 => Some(Texels::Rgb8(vec![[0; 4]; n])),
+        _ => None,
+    }
+}
+
+/// Decodes into `texels`' own memory: no decoder buffer beside the level
+/// (a 4096² picture's 48 to 64 MiB). RGB is decoded into the first three
+/// quarters and spread to four bytes a texel from the end, where each
+/// texel's bytes are read before anything is written over them.
+fn read_into(decoder: impl ImageDecoder, mut texels: Texels) -> Result<Texels, ImageError> {
+    match &mut texels {
+        Texels::Rgba8(v) => decoder.read_image(v.as_flattened_mut())?,
+        Texels::Rgb8(v) => {
+            let n = v.len();
+            decoder.read_image(&mut v.as_flattened_mut()[..3 * n])?;
+            let bytes = v.as_flattened_mut();
+            for i in (0..n).rev() {
+                let (r, g, b) = (bytes[3 * i], bytes[3 * i + 1], bytes[3 * i + 2]);
+                bytes[4 * i..4 * i + 4].copy_from_slice(&pack_rgb8(r, g, b));
+            }
+        }
+        _ => unreachable!("made by eight_bit_texels"),
+    }
+    Ok(texels)
+}
+
+/// RGBA bytes as texels, in the same allocation when its size allows.
+fn rgba_texels(raw: Vec<u8>) -> Vec<[u8; 4]> {
+    bytemuck::allocation::try_cast_vec(raw).unwrap_or_else(|(_, raw)| {
+        raw.chunks_exact(4)
+            .map(|p| [p[0], p[1], p[2], p[3]])
+            .collect()
+    })
+}
+
 /// 8-bit pictures are kept in 8 bits (they read as k / 255, as
 /// `Level::from_rgba8_top_down` does, so a PNG of a generated texture gives
 /// back the same texels), 16-bit ones in 16 bits, float ones as floats.
@@ -663,11 +715,24 @@ fn level_from_image(image: DynamicImage) -> Level {
     let has_alpha = color.has_alpha();
     match precision_of(color) {
         Precision::Unorm8 => {
-            let buf = image.into_rgba8();
-            let texels = if has_alpha {
-                Texels::Rgba8(buf.pixels().map(|p| p.0).collect())
-            } else {
-                Texels::Rgb8(buf.pixels().map(|p| pack_rgb8(p[0], p[1], p[2])).collect())
+            // RGB and RGBA pictures straight from the decoder's buffer: no
+            // RGBA copy beside it (a 4096² picture's 64 MiB).
+            let texels = match image {
+                DynamicImage::ImageRgba8(buf) => Texels::Rgba8(rgba_texels(buf.into_raw())),
+                DynamicImage::ImageRgb8(buf) => Texels::Rgb8(
+                    buf.as_raw()
+                        .chunks_exact(3)
+                        .map(|p| pack_rgb8(p[0], p[1], p[2]))
+                        .collect(),
+                ),
+                other if has_alpha => Texels::Rgba8(rgba_texels(other.into_rgba8().into_raw())),
+                other => Texels::Rgb8(
+                    other
+                        .into_rgba8()
+                        .pixels()
+                        .map(|p| pack_rgb8(p[0], p[1], p[2]))
+                        .collect(),
+                ),
             };
             Level {
                 wrap: Default::default(),

@@ -413,6 +413,52 @@ impl Texels {
         Texels::Widened(Box::new(self), wide)
     }
 
+    /// These texels with every height 0, kept at their precision: an 8-bit
+    /// picture without alpha (height from its colours) becomes RGBA with
+    /// alpha 0, its colours read as before.
+    pub fn without_height(self) -> Texels {
+        match self {
+            Texels::F32(mut v) => {
+                v.iter_mut().for_each(|t| t[3] = 0.0);
+                Texels::F32(v)
+            }
+            Texels::Rgba8(mut v) | Texels::Rgb8(mut v) => {
+                v.iter_mut().for_each(|t| t[3] = 0);
+                Texels::Rgba8(v)
+            }
+            Texels::Rgba16(mut v) => {
+                v.iter_mut().for_each(|t| t[3] = 0);
+                Texels::Rgba16(v)
+            }
+            Texels::Widened(compact, _) => compact.without_height().widened_if_small(),
+            other => Texels::F32(other.iter().map(|[r, g, b, _]| [r, g, b, 0.0]).collect()),
+        }
+    }
+
+    /// Each texel's fourth channel (an RGBA picture's alpha) in all four,
+    /// kept at its precision: every read gives what `at(i)[3]` gives.
+    pub fn fourth_everywhere(&self) -> Texels {
+        match self.compact() {
+            Texels::Rgba8(v) => Texels::Rgba8(v.iter().map(|t| [t[3]; 4]).collect()),
+            Texels::Rgba16(v) => Texels::Rgba16(v.iter().map(|t| [t[3]; 4]).collect()),
+            other => Texels::F32(other.iter().map(|t| [t[3]; 4]).collect()),
+        }
+        .widened_if_small()
+    }
+
+    /// Each texel's first channel (a picture's red) alone, in 16 bits: an
+    /// 8-bit red k is kept as 257·k, which reads back as k / 255 exactly.
+    pub fn first_channel_grey(&self) -> Texels {
+        match self.compact() {
+            Texels::Rgba8(v) | Texels::Rgb8(v) => {
+                Texels::Grey16(v.iter().map(|t| u16::from(t[0]) * 257).collect())
+            }
+            Texels::Rgba16(v) => Texels::Grey16(v.iter().map(|t| t[0]).collect()),
+            other => Texels::F32(other.iter().map(|t| [t[0]; 4]).collect()),
+        }
+        .widened_if_small()
+    }
+
     /// The storage that decides what the texels are: the compact texels of
     /// a widened level, else these.
     pub fn compact(&self) -> &Texels {
@@ -534,6 +580,31 @@ mod tests {
             let want = [k, 255 - k, k / 3, k.wrapping_mul(7)].map(|c| c as f32 / 255.0);
             assert_eq!(t.map(f32::to_bits), want.map(f32::to_bits), "byte {k}");
         }
+    }
+
+    #[test]
+    fn maps_kept_compact_read_as_the_picture_did() {
+        let picture: Vec<[u8; 4]> = (0..=255u8).map(|k| [k, 255 - k, k / 3, k ^ 0x5a]).collect();
+        let rgba = Texels::Rgba8(picture.clone());
+        // The red channel alone in 16 bits: the same floats, bit for bit.
+        let red = rgba.first_channel_grey();
+        // The alpha in every channel, and the colours with no height.
+        let alpha = rgba.fourth_everywhere();
+        let flat = Texels::Rgb8(
+            picture
+                .iter()
+                .map(|t| pack_rgb8(t[0], t[1], t[2]))
+                .collect(),
+        )
+        .without_height();
+        for (i, t) in picture.iter().enumerate() {
+            let want = t.map(|c| c as f32 / 255.0);
+            assert_eq!(red.at(i)[0].to_bits(), want[0].to_bits(), "red {t:?}");
+            assert_eq!(alpha.at(i), [want[3]; 4], "alpha {t:?}");
+            assert_eq!(flat.at(i), [want[0], want[1], want[2], 0.0], "flat {t:?}");
+        }
+        assert!(matches!(red.compact(), Texels::Grey16(_)));
+        assert!(matches!(flat.compact(), Texels::Rgba8(_)));
     }
 
     #[test]

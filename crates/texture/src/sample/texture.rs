@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::level::Level;
 use super::normal_map::NormalMap;
-use super::texels::Fetch;
+use super::texels::{Fetch, Texels};
 use crate::with_fetch;
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -74,6 +74,41 @@ impl Texture {
 
     pub fn into_arc(self) -> Arc<Texture> {
         Arc::new(self)
+    }
+
+    /// This texture with every height 0 (a glTF colour map, whose alpha is
+    /// opacity), converted in place at its precision: its reservation
+    /// still covers it.
+    pub fn without_height(mut self) -> Self {
+        let texels = std::mem::replace(&mut self.base.texels, Texels::F32(Vec::new()));
+        self.base.texels = texels.without_height();
+        self.flat_height = true;
+        self.mips = OnceLock::new();
+        self.normal_map = Mutex::new(None);
+        self
+    }
+
+    /// This texture held against the budget for its base level and mip
+    /// chain only: for a map whose texels are read as they are (a model's
+    /// colour, normal or metallic-roughness picture), never made into a
+    /// normal map from its heights.
+    pub fn read_as_map(mut self) -> Self {
+        let texels = self.base.texels.len() as f64;
+        let mip = match self.base.texels.mip_kind() {
+            super::texels::MipKind::F32 => 16.0,
+            super::texels::MipKind::Rgba16 => 8.0,
+            super::texels::MipKind::Xyz16 => 6.0,
+        } / 3.0;
+        let needed = (texels * (self.base.texels.bytes_per_texel() as f64 + mip)).ceil() as u64;
+        if let Some(held) = &mut self.reservation {
+            held.shrink(held.bytes().saturating_sub(needed));
+        }
+        self
+    }
+
+    /// The full-resolution level, moved out (for a map read one level only).
+    pub fn into_base(self) -> Level {
+        self.base
     }
 
     /// The full-resolution level.

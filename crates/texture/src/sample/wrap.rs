@@ -4,7 +4,7 @@
 //! coordinate into texel indices, so no map is laid out larger than it is.
 
 /// One axis's wrap mode.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum WrapMode {
     #[default]
     Repeat,
@@ -15,7 +15,7 @@ pub enum WrapMode {
 }
 
 /// The wrap modes of the S (u) and T (v) axes.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Wrap {
     pub s: WrapMode,
     pub t: WrapMode,
