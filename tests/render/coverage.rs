@@ -52,6 +52,7 @@ fn counting_ctx<R>(f: impl FnOnce(&ShadeCtx) -> R) -> R {
         plan: &plan,
         texture: &scene.material.texture,
         shadow: None,
+        packets: true,
     };
     f(&ctx)
 }
@@ -88,6 +89,7 @@ fn every_cube_triangle_is_drawn_through_the_shader_dispatch() {
         plan: &plan,
         texture: &scene.material.texture,
         shadow: None,
+        packets: true,
     };
     let mut color = vec![scene.background; w * h];
     let mut band = Band {

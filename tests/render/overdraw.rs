@@ -17,7 +17,7 @@ use relief_pipeline::plan::Plan;
 use relief_pipeline::raster::Band;
 use relief_pipeline::raster::scan::{OwnedBand, depth_prepass};
 use relief_pipeline::render::Renderer;
-use relief_pipeline::render::draw_into;
+use relief_pipeline::render::{draw_owned_triangle, draw_triangle};
 use relief_pipeline::shade::ShadeCtx;
 use relief_pipeline::shadow::{Shadow, ShadowMap};
 use relief_scene::Scene;
@@ -400,6 +400,7 @@ fn one_pass_and_depth_first(
         plan: &plan,
         texture: &scene.material.texture,
         shadow: plan.shadow_light.map(|light| Shadow { light, map: &map }),
+        packets: true,
     };
     let mut one = (vec![scene.background; w * h], vec![f32::INFINITY; w * h]);
     let mut first = one.clone();
@@ -412,7 +413,7 @@ fn one_pass_and_depth_first(
         depth: Some(&mut one.1),
     };
     for tri in tris {
-        draw_into(
+        draw_triangle(
             tri,
             &shaders[tri.shader as usize],
             &ctx,
@@ -434,7 +435,7 @@ fn one_pass_and_depth_first(
         depth_prepass(tri, &mut owned, &mut counters);
     }
     for tri in tris {
-        draw_into(
+        draw_owned_triangle(
             tri,
             &shaders[tri.shader as usize],
             &ctx,

@@ -1,6 +1,6 @@
 //! Packet shading gives the very bits of the one-pixel loop: every triangle
-//! of a frame drawn with the kernel as it is (eight pixels at a time where
-//! the kernel can) and through a wrapper that hides its packet path.
+//! of a frame drawn through the renderer's own dispatch twice, eight pixels
+//! at a time where the kernel can, and with packets off (`ShadeCtx::packets`).
 
 use crate::common;
 
@@ -14,41 +14,16 @@ use relief_core::settings::Settings;
 use relief_core::settings::{Filter, HeightDerivative, LightVector, Normals, Shading, Technique};
 use relief_core::stats::Counters;
 use relief_pipeline::plan::Plan;
-use relief_pipeline::raster::{Band, raster_triangle};
-use relief_pipeline::render::Renderer;
-use relief_pipeline::shade::core::HookKernel;
-use relief_pipeline::shade::dot3::Dot3;
-use relief_pipeline::shade::emboss::Emboss;
-use relief_pipeline::shade::kernels::{FlatTexturedKernel, GouraudKernel, PhongKernel};
-use relief_pipeline::shade::parallax::Parallax;
-use relief_pipeline::shade::{PixelShader, ShadeCtx, TriShader};
+use relief_pipeline::raster::Band;
+use relief_pipeline::render::{Renderer, draw_triangle};
+use relief_pipeline::shade::ShadeCtx;
 use relief_pipeline::shadow::{Shadow, ShadowMap};
 use relief_scene::Scene;
 use relief_scene::{Built, ModelChoice, SceneKind, build_scene};
 use relief_texture::Texture;
-use relief_texture::sample::mip::Footprint;
-
-/// The kernel without its packet path: the one-pixel loop.
-struct OnePixel<'a, S>(&'a S);
-
-impl<S: PixelShader> PixelShader for OnePixel<'_, S> {
-    const SAMPLES_TEXTURE: bool = S::SAMPLES_TEXTURE;
-    fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
-        self.0.shade(ctx, b, fp, counters)
-    }
-    fn uvs(&self) -> Option<&[Vec2; 3]> {
-        self.0.uvs()
-    }
-    fn cutout(&self, ctx: &ShadeCtx) -> bool {
-        self.0.cutout(ctx)
-    }
-    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        self.0.opacity(ctx, b)
-    }
-}
 
 /// Draws every triangle of the frame twice, with and without packets, and
-/// returns both pictures, their counters, and how many triangles could use packets.
+/// returns both pictures, their counters, and how many triangles used packets.
 fn both(
     scene: &Scene,
     settings: &Settings,
@@ -75,92 +50,33 @@ fn both_planned(
         let at = plan.lights[light].position;
         map.render(scene, plan.rotation, at, &plan.shadow_casters, w, h);
     }
-    let ctx = ShadeCtx {
+    let ctx = |packets| ShadeCtx {
         plan: &plan,
         texture: &scene.material.texture,
         shadow: plan.shadow_light.map(|light| Shadow { light, map: &map }),
+        packets,
     };
+    let (with, without) = (ctx(true), ctx(false));
     let mut a = vec![[0u8; 3]; w * h];
     let mut b = vec![[0u8; 3]; w * h];
     let (mut ca, mut cb) = (Counters::default(), Counters::default());
     let mut packed = 0;
     for tri in tris {
-        let mut band_a = Band {
+        let band = |color| Band {
             y0: 0,
             width: w,
-            color: &mut a,
+            color,
             depth: None,
         };
-        let mut band_b = Band {
-            y0: 0,
-            width: w,
-            color: &mut b,
-            depth: None,
-        };
-        macro_rules! draw {
-            ($k:expr) => {{
-                let k = $k;
-                if k.packets(&ctx) && tri.unclipped {
-                    packed += 1;
-                }
-                raster_triangle(tri, &k, &ctx, &mut band_a, &mut ca);
-                raster_triangle(tri, &OnePixel(&k), &ctx, &mut band_b, &mut cb);
-            }};
-        }
-        let spec = plan.specular.is_some();
-        let k = plan.bump_strength;
-        match &shaders[tri.shader as usize] {
-            TriShader::Solid(c) => draw!(*c),
-            TriShader::FlatTextured(s) if spec => draw!(FlatTexturedKernel::<true>(s)),
-            TriShader::FlatTextured(s) => draw!(FlatTexturedKernel::<false>(s)),
-            TriShader::Gouraud(s) => match (s.textured, spec) {
-                (true, true) => draw!(GouraudKernel::<true, true>::new(s)),
-                (true, false) => draw!(GouraudKernel::<true, false>::new(s)),
-                (false, true) => draw!(GouraudKernel::<false, true>::new(s)),
-                (false, false) => draw!(GouraudKernel::<false, false>::new(s)),
-            },
-            // The other techniques, as the dispatch picks them.
-            TriShader::Phong(s) if s.bumped && hooked(&plan) => {
-                macro_rules! hook {
-                    ($h:expr) => {
-                        match (s.textured, spec) {
-                            (true, true) => draw!(HookKernel::<_, true, true> { tri: s, hook: $h }),
-                            (true, false) => {
-                                draw!(HookKernel::<_, true, false> { tri: s, hook: $h })
-                            }
-                            (false, true) => {
-                                draw!(HookKernel::<_, false, true> { tri: s, hook: $h })
-                            }
-                            (false, false) => {
-                                draw!(HookKernel::<_, false, false> { tri: s, hook: $h })
-                            }
-                        }
-                    };
-                }
-                let eye = plan.eye;
-                match (plan.technique, plan.normal_map.as_deref()) {
-                    (Technique::Emboss, _) => hook!(Emboss::new(&ctx)),
-                    (Technique::Dot3, Some(map)) if plan.light_vector == LightVector::Pixel => {
-                        hook!(Dot3::<true>::new(s, map, &ctx))
-                    }
-                    (Technique::Dot3, Some(map)) => hook!(Dot3::<false>::new(s, map, &ctx)),
-                    (Technique::Parallax, _) => hook!(Parallax::<false> { eye }),
-                    (Technique::Pom, _) => hook!(Parallax::<true> { eye }),
-                    _ => unreachable!(),
-                }
-            }
-            TriShader::Phong(s) => match (s.textured, s.bumped, spec) {
-                (true, true, true) => draw!(PhongKernel::<true, true, true>::new(s, k)),
-                (true, false, true) => draw!(PhongKernel::<true, false, true>::new(s, k)),
-                (false, true, true) => draw!(PhongKernel::<false, true, true>::new(s, k)),
-                (false, false, true) => draw!(PhongKernel::<false, false, true>::new(s, k)),
-                (true, true, false) => draw!(PhongKernel::<true, true, false>::new(s, k)),
-                (true, false, false) => draw!(PhongKernel::<true, false, false>::new(s, k)),
-                (false, true, false) => draw!(PhongKernel::<false, true, false>::new(s, k)),
-                (false, false, false) => draw!(PhongKernel::<false, false, false>::new(s, k)),
-            },
-        }
+        let shader = &shaders[tri.shader as usize];
+        let before = ca.packet_pixels;
+        draw_triangle(tri, shader, &with, &mut band(&mut a), &mut ca);
+        draw_triangle(tri, shader, &without, &mut band(&mut b), &mut cb);
+        packed += usize::from(ca.packet_pixels > before);
     }
+    // The one-pixel loop shades no packet; every other count is the same.
+    assert_eq!(cb.packet_pixels, 0);
+    cb.packet_pixels = ca.packet_pixels;
     (a, b, ca, cb, packed)
 }
 

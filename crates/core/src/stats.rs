@@ -37,6 +37,9 @@ pub struct Counters {
     pub frame_lines: u64,
     /// Colours that were NaN or infinite before quantisation (must stay 0).
     pub nonfinite: u64,
+    /// Of `pixels_shaded`, those shaded or filled eight at a time (a
+    /// packet's live lanes); the rest went through the one-pixel loop.
+    pub packet_pixels: u64,
 }
 
 impl AddAssign for Counters {
@@ -56,6 +59,7 @@ impl AddAssign for Counters {
         self.shadow_lookups += o.shadow_lookups;
         self.frame_lines += o.frame_lines;
         self.nonfinite += o.nonfinite;
+        self.packet_pixels += o.packet_pixels;
     }
 }
 

@@ -227,7 +227,7 @@ fn raster_rows<S: PixelShader>(
         return;
     }
     let alpha = AlphaRule::of(shader, ctx);
-    if tri.unclipped && shader.packets(ctx) && !alpha.blends() {
+    if tri.unclipped && ctx.packets && shader.packets(ctx) && !alpha.blends() {
         return raster_packets(tri, shader, ctx, band, counters, ya..yb);
     }
     let (footprint, inv_area, steps) = pixel_setup(tri, shader, ctx);
@@ -321,6 +321,7 @@ fn raster_packets<S: PixelShader>(
         if let (Some(color), true) = (shader.solid(), no_depth) {
             fill(&mut band.color[row + first..=row + last], color);
             counters.pixels_shaded += (last + 1 - first) as u64;
+            counters.packet_pixels += (last + 1 - first) as u64;
             continue;
         }
         let mut px = first;
@@ -369,6 +370,7 @@ fn raster_packets<S: PixelShader>(
                     }
                 }
                 let colors = shader.shade8(ctx, b, &fp, live, counters);
+                counters.packet_pixels += u64::from(live.count_ones());
                 let out = &mut band.color[row + px..row + px + lanes];
                 if live == (1 << LANES) - 1 {
                     // A whole packet: a store of known size (a slice copy

@@ -2,6 +2,7 @@
 //! and the plan, so no pixel tests what its triangle needs.
 
 use crate::raster::aa::RasterTarget;
+use crate::raster::scan::OwnedBand;
 use crate::raster::{Band, ScreenTri};
 use crate::shade::core::{Hook, HookKernel};
 use crate::shade::dot3::Dot3;
@@ -13,7 +14,9 @@ use crate::shade::{PhongTri, ShadeCtx, TriShader};
 use relief_core::settings::{LightVector, Technique};
 use relief_core::stats::Counters;
 
-/// Runs the pixel loop monomorphised for the triangle's kernel.
+/// Runs the pixel loop monomorphised for the triangle's kernel. This and
+/// [`draw_owned_triangle`] are not generic, so a crate that calls them
+/// (the tests) does not compile every kernel again.
 pub fn draw_triangle(
     tri: &ScreenTri,
     shader: &TriShader,
@@ -24,10 +27,22 @@ pub fn draw_triangle(
     draw_into(tri, shader, ctx, band, counters)
 }
 
+/// [`draw_triangle`] over a band whose depth was drawn first: only the
+/// pixels the triangle owns are shaded.
+pub fn draw_owned_triangle(
+    tri: &ScreenTri,
+    shader: &TriShader,
+    ctx: &ShadeCtx,
+    band: &mut OwnedBand,
+    counters: &mut Counters,
+) {
+    draw_into(tri, shader, ctx, band, counters)
+}
+
 /// The kernel dispatch, for any raster target (plain or multisampled):
 /// each triangle's kernel is chosen here, once, so no pixel tests what its
 /// triangle needs.
-pub fn draw_into<T: RasterTarget>(
+pub(crate) fn draw_into<T: RasterTarget>(
     tri: &ScreenTri,
     shader: &TriShader,
     ctx: &ShadeCtx,

@@ -14,7 +14,7 @@ mod triangles;
 use abandon::Abandon;
 pub use abandon::CancelHook;
 use bands::depth_first_pays;
-pub use dispatch::{draw_into, draw_triangle};
+pub use dispatch::{draw_owned_triangle, draw_triangle};
 pub use progress::{FrameProgress, FrameStep};
 use repeat_cache::RepeatCache;
 use triangles::{ObjectView, TriChunk, run_chunks};

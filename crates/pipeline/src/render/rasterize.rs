@@ -54,6 +54,7 @@ pub(super) fn material_ctxs<'a>(
             plan: &plans[0],
             texture: &scene.material.texture,
             shadow,
+            packets: true,
         });
     }
     MaterialCtxs::Many {
@@ -64,6 +65,7 @@ pub(super) fn material_ctxs<'a>(
                 plan,
                 texture,
                 shadow,
+                packets: true,
             })
             .collect(),
         of_shader,

@@ -19,6 +19,10 @@ pub struct ShadeCtx<'a> {
     pub texture: &'a Texture,
     /// The shadow map of `plan.shadow_light`, when the plan asked for one.
     pub shadow: Option<Shadow<'a>>,
+    /// Whether kernels that can shade eight pixels at a time do (false: every
+    /// pixel through the one-pixel loop, which the packets must match bit
+    /// for bit; tests compare the two through the renderer's own dispatch).
+    pub packets: bool,
 }
 
 /// One pixel's colour from the barycentric coordinates `b` of the pixel
