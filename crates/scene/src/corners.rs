@@ -337,6 +337,8 @@ fn color_of(c: &IndexedCorners, part_colors: &[Option<Vec3>], t: usize, k: usize
 /// tangent sums come after the last.
 const BUILD_STEPS: u64 = 6;
 
+/// Builds one mesh of all the parts, step by step (each named below), and
+/// returns it with each triangle's part (empty: all in part 0).
 fn build(
     name: &str,
     mut c: IndexedCorners,
@@ -344,19 +346,92 @@ fn build(
     textured: &[bool],
     held: &mut Reservation,
 ) -> Result<(Mesh, Vec<u32>), ObjError> {
-    let degenerate = || ObjError::Degenerate {
-        name: name.to_string(),
-    };
     // The view's progress line counts the steps below; a cancel stops
     // the build between them.
     load_progress::check(name)?;
     load_progress::begin(LoadStep::Building, BUILD_STEPS);
-    let step_done = || {
-        if let Some(p) = load_progress::current() {
-            p.advance(1);
-        }
-        load_progress::check(name)
-    };
+    let keep_normals = normalise_and_fit(name, &mut c, held)?;
+    let all = c.corners.len() / 3;
+    let (mut face_normals, mut flags) = face_normals_and_flags(name, &c, keep_normals, held)?;
+    // A model of one part keeps no part numbers.
+    if c.part_of.len() != all || c.part_of.iter().all(|&p| p == 0) {
+        let_go(held, std::mem::take(&mut c.part_of));
+    }
+    let kept = keep_triangles_with_area(&mut c, &mut flags, &mut face_normals, keep_normals);
+    step_done(name)?;
+    if kept == 0 {
+        return Err(degenerate(name));
+    }
+    c.corners.truncate(3 * kept);
+    flags.truncate(kept);
+    face_normals.truncate(kept);
+    c.part_of.truncate(kept);
+    let (position_id, ids) = held_position_ids(name, &c.positions, held)?;
+    let missing = keep_normals && any_of(&c.corners, |k| lacks_normal(&c.normals, k));
+    if missing {
+        fill_normals(name, &mut c, &face_normals, &position_id, ids, held)?;
+    }
+    // The face normals go: what needs one again computes the same bits
+    // from the corners.
+    let_go(held, face_normals);
+    step_done(name)?;
+    // Each corner's vertex: one per distinct key, in order of first use.
+    let (vertex_of, firsts) = split_vertices(name, &c, &flags, (&position_id, ids), held)?;
+    step_done(name)?;
+    let closed = is_closed(name, &c.corners, &position_id, held)?;
+    let convex = closed && convex_within_budget(name, &c, kept, (&position_id, ids), held);
+    let_go(held, position_id);
+    step_done(name)?;
+    let triangles = make_triangles(name, &c, kept, vertex_of, textured, held)?;
+    let sources = vertex_sources(name, &c, part_colors, &flags, firsts, held)?;
+    let side = side_facets(name, &c, part_colors, flags, &triangles, &sources, held)?;
+    step_done(name)?;
+    let (vertices, tri_parts) = make_vertices(name, &mut c, sources, held)?;
+    let mut mesh = Mesh::with_side_facets(vertices, triangles, &side, convex, closed);
+    let_go(held, side);
+    hold(
+        held,
+        name,
+        "the tangent sums",
+        sum_bytes(mesh.vertices.len() as u64, mesh.triangles.len() as u64),
+    )?;
+    step_done(name)?;
+    accumulate(&mut mesh);
+    Ok((mesh, tri_parts))
+}
+
+/// The error of a model with nothing to draw: no extent, or no triangle
+/// with an area.
+fn degenerate(name: &str) -> ObjError {
+    ObjError::Degenerate {
+        name: name.to_string(),
+    }
+}
+
+/// Counts one of the [`BUILD_STEPS`] on the progress line; a cancel stops
+/// the build here.
+fn step_done(name: &str) -> Result<(), ObjError> {
+    if let Some(p) = load_progress::current() {
+        p.advance(1);
+    }
+    load_progress::check(name)
+}
+
+/// Whether corner `k` has no usable normal in the file (`normals` once
+/// normalised, an unusable one zero), so its normal is computed.
+fn lacks_normal(normals: &[Vec3], k: &[u32; 3]) -> bool {
+    k[2] == NO_INDEX || normals[k[2] as usize] == Vec3::ZERO
+}
+
+/// The first step of [`build`]: lets go of colours no point has,
+/// normalises the file's normals and fits the positions
+/// ([`fit_of_corners`]). Returns whether the face normals are to be kept,
+/// that is whether any corner lacks a normal or a UV.
+fn normalise_and_fit(
+    name: &str,
+    c: &mut IndexedCorners,
+    held: &mut Reservation,
+) -> Result<bool, ObjError> {
     // Colours no point has are not kept.
     if c.colors.iter().all(Option::is_none) {
         let_go(held, std::mem::take(&mut c.colors));
@@ -365,61 +440,83 @@ fn build(
     c.normals
         .par_iter_mut()
         .for_each(|n| *n = n.try_normalize().unwrap_or(Vec3::ZERO));
-    let lacks_normal = |k: &[u32; 3]| k[2] == NO_INDEX || c.normals[k[2] as usize] == Vec3::ZERO;
     // The face normals are kept only for what needs them again: computed
     // normals, and UVs made by projection (a box side). Otherwise they only
     // say which triangles have an area, computed where asked. Whether any
     // corner needs them is asked in the walk that bounds the points.
     let (fit, keep_normals) = fit_of_corners(&c.positions, &c.corners, |k| {
-        lacks_normal(k) || k[1] == NO_INDEX
+        lacks_normal(&c.normals, k) || k[1] == NO_INDEX
     });
-    let fit = fit.ok_or_else(degenerate)?;
+    let fit = fit.ok_or_else(|| degenerate(name))?;
     c.positions
         .par_iter_mut()
         .for_each(|p| *p = fitted(*p, fit));
-    // Each triangle's flags, in the pass that finds which have an area
-    // (and so a normal): its box side (for UVs made by projection), whether
-    // its texture axes are mirrored (its corners' vertices are told apart by
-    // it) and whether its UVs are projected; `DROPPED` when it has no area.
-    const DROPPED: u8 = u8::MAX;
-    let flag_of = |t: usize, normal: Vec3| -> u8 {
-        if normal == Vec3::ZERO {
-            return DROPPED;
-        }
-        // The side only matters to a triangle without the file's UVs.
-        let (side, projected) = if has_file_uvs(&c, t) {
-            (0, 0)
-        } else {
-            (box_side(normal), PROJECTED)
-        };
-        let mirrored = uv_mirrored(uvs_of(&c, t, side));
-        side | projected | if mirrored { MIRRORED } else { 0 }
+    Ok(keep_normals)
+}
+
+/// A triangle's flags, [`DROPPED`] when it has no area.
+const DROPPED: u8 = u8::MAX;
+
+/// The flags of triangle `t` of unit normal `normal`: its box side (for
+/// UVs made by projection), whether its texture axes are mirrored (its
+/// corners' vertices are told apart by it) and whether its UVs are
+/// projected; [`DROPPED`] when it has no area (a zero normal).
+fn triangle_flags(c: &IndexedCorners, t: usize, normal: Vec3) -> u8 {
+    if normal == Vec3::ZERO {
+        return DROPPED;
+    }
+    // The side only matters to a triangle without the file's UVs.
+    let (side, projected) = if has_file_uvs(c, t) {
+        (0, 0)
+    } else {
+        (box_side(normal), PROJECTED)
     };
+    let mirrored = uv_mirrored(uvs_of(c, t, side));
+    side | projected | if mirrored { MIRRORED } else { 0 }
+}
+
+/// Each triangle's flags ([`triangle_flags`]), in the pass that finds
+/// which have an area (and so a normal), with the face normals when
+/// `keep_normals` (else none). `held` grows by both before they are made.
+fn face_normals_and_flags(
+    name: &str,
+    c: &IndexedCorners,
+    keep_normals: bool,
+    held: &mut Reservation,
+) -> Result<(Vec<Vec3>, Vec<u8>), ObjError> {
     let all = c.corners.len() / 3;
     hold(held, name, "the triangle flags", bytes_of::<u8>(all as u64))?;
-    let (mut face_normals, mut flags): (Vec<Vec3>, Vec<u8>) = if keep_normals {
+    if keep_normals {
         hold(held, name, "the face normals", bytes_of::<Vec3>(all as u64))?;
-        (0..all)
+        let (face_normals, flags): (Vec<Vec3>, Vec<u8>) = (0..all)
             .into_par_iter()
             .map(|t| {
-                let normal = normal_of(&c, t);
-                (normal, flag_of(t, normal))
+                let normal = normal_of(c, t);
+                (normal, triangle_flags(c, t, normal))
             })
-            .unzip()
+            .unzip();
+        Ok((face_normals, flags))
     } else {
         let flags = (0..all)
             .into_par_iter()
-            .map(|t| flag_of(t, normal_of(&c, t)))
+            .map(|t| triangle_flags(c, t, normal_of(c, t)))
             .collect();
-        (Vec::new(), flags)
-    };
-    // A model of one part keeps no part numbers.
-    if c.part_of.len() != all || c.part_of.iter().all(|&p| p == 0) {
-        let_go(held, std::mem::take(&mut c.part_of));
+        Ok((Vec::new(), flags))
     }
-    // The triangles with an area are kept; up to the first without one,
-    // each stays where it is.
-    let first_dropped = memchr::memchr(DROPPED, &flags).unwrap_or(all);
+}
+
+/// Moves the triangles with an area (not [`DROPPED`]) down over the
+/// others, with their flags, face normals (when `keep_normals`) and parts,
+/// and returns how many there are; up to the first without an area, each
+/// stays where it is. The arrays keep their lengths (the caller truncates).
+fn keep_triangles_with_area(
+    c: &mut IndexedCorners,
+    flags: &mut [u8],
+    face_normals: &mut [Vec3],
+    keep_normals: bool,
+) -> usize {
+    let all = c.corners.len() / 3;
+    let first_dropped = memchr::memchr(DROPPED, flags).unwrap_or(all);
     let mut kept = first_dropped;
     for t in first_dropped..all {
         if flags[t] != DROPPED {
@@ -434,56 +531,64 @@ fn build(
             kept += 1;
         }
     }
-    step_done()?;
-    if kept == 0 {
-        return Err(degenerate());
-    }
-    c.corners.truncate(3 * kept);
-    flags.truncate(kept);
-    face_normals.truncate(kept);
-    c.part_of.truncate(kept);
-    // Equal points get one id, in order of first appearance.
-    let table = bytes_of::<u128>(c.positions.len() as u64);
+    kept
+}
+
+/// [`position_ids`] (equal points get one id, in order of first
+/// appearance), `held` growing first by the table it sorts (given back once
+/// sorted) and the ids it keeps.
+fn held_position_ids(
+    name: &str,
+    positions: &[Vec3],
+    held: &mut Reservation,
+) -> Result<(Vec<u32>, usize), ObjError> {
+    let table = bytes_of::<u128>(positions.len() as u64);
     hold(
         held,
         name,
         "the position ids",
-        table + bytes_of::<u32>(c.positions.len() as u64),
+        table + bytes_of::<u32>(positions.len() as u64),
     )?;
-    let (position_id, ids) = position_ids(&c.positions);
+    let ids = position_ids(positions);
     held.shrink(table);
-    let missing = keep_normals && any_of(&c.corners, lacks_normal);
-    if missing {
-        fill_normals(name, &mut c, &face_normals, &position_id, ids, held)?;
-    }
-    // The face normals go: what needs one again computes the same bits
-    // from the corners.
-    let_go(held, face_normals);
-    step_done()?;
-    // Each corner's vertex: one per distinct key, in order of first use.
-    let (vertex_of, firsts) = split_vertices(name, &c, &flags, (&position_id, ids), held)?;
-    step_done()?;
-    let closed = is_closed(name, &c.corners, &position_id, held)?;
-    // The convexity test only saves the depth buffer: a model whose test
-    // would not fit the budget is drawn with one.
-    let convex = closed && {
-        let bytes = convex::scratch_bytes(kept, ids);
-        held.grow(&format!("the convexity test of model {name}"), bytes)
-            .is_ok()
-            && {
-                let convex = convex::is_convex(
-                    kept,
-                    ids,
-                    &|t| [0, 1, 2].map(|k| position_id[c.corners[3 * t + k][0] as usize]),
-                    &|t| positions_of(&c, t),
-                );
-                held.shrink(bytes);
-                convex
-            }
-    };
-    let_go(held, position_id);
-    step_done()?;
-    // The triangles, from each corner's vertex.
+    Ok(ids)
+}
+
+/// Whether the closed model of the `kept` triangles of `c` is convex. The
+/// convexity test only saves the depth buffer: a model whose test would
+/// not fit the budget is drawn with one (false).
+fn convex_within_budget(
+    name: &str,
+    c: &IndexedCorners,
+    kept: usize,
+    (position_id, ids): (&[u32], usize),
+    held: &mut Reservation,
+) -> bool {
+    let bytes = convex::scratch_bytes(kept, ids);
+    held.grow(&format!("the convexity test of model {name}"), bytes)
+        .is_ok()
+        && {
+            let convex = convex::is_convex(
+                kept,
+                ids,
+                &|t| [0, 1, 2].map(|k| position_id[c.corners[3 * t + k][0] as usize]),
+                &|t| positions_of(c, t),
+            );
+            held.shrink(bytes);
+            convex
+        }
+}
+
+/// The `kept` triangles, from each corner's vertex (`vertex_of`, let go
+/// once read), each textured as its part says.
+fn make_triangles(
+    name: &str,
+    c: &IndexedCorners,
+    kept: usize,
+    vertex_of: Vec<u32>,
+    textured: &[bool],
+    held: &mut Reservation,
+) -> Result<Vec<Triangle>, ObjError> {
     hold(
         held,
         name,
@@ -494,13 +599,24 @@ fn build(
         .par_chunks_exact(3)
         .enumerate()
         .map(|(t, v)| {
-            let textured = textured.get(part(&c, t) as usize).copied().unwrap_or(true);
+            let textured = textured.get(part(c, t) as usize).copied().unwrap_or(true);
             Triangle::new([v[0], v[1], v[2]], textured)
         })
         .collect();
     let_go(held, vertex_of);
-    // What each vertex takes from its first corner, so the corners can go
-    // before the vertices are made.
+    Ok(triangles)
+}
+
+/// What each vertex takes from its first corner (`firsts`, let go once
+/// read), so the corners can go before the vertices are made.
+fn vertex_sources(
+    name: &str,
+    c: &IndexedCorners,
+    part_colors: &[Option<Vec3>],
+    flags: &[u8],
+    firsts: Vec<u32>,
+    held: &mut Reservation,
+) -> Result<Vec<Source>, ObjError> {
     let count = firsts.len() as u64;
     hold(
         held,
@@ -516,47 +632,94 @@ fn build(
             Source {
                 position: corner[0],
                 normal: corner[2],
-                uv: uv_of(&c, t, k, flags[t] & SIDE),
-                color: color_of(&c, part_colors, t, k),
+                uv: uv_of(c, t, k, flags[t] & SIDE),
+                color: color_of(c, part_colors, t, k),
             }
         })
         .collect();
     let_go(held, firsts);
-    // The facets the vertices would not give again bit for bit (a point
-    // at −0 and +0, a colour its vertex does not keep) are kept beside
-    // the triangles; there are usually none.
-    let drawn = |t: usize| {
-        let v = triangles[t]
+    Ok(sources)
+}
+
+/// What tells a triangle's facet as its corners give it from the facet
+/// its vertices give when drawn (see [`side_facets`]).
+struct FacetCheck<'a> {
+    c: &'a IndexedCorners,
+    part_colors: &'a [Option<Vec3>],
+    flags: &'a [u8],
+    triangles: &'a [Triangle],
+    sources: &'a [Source],
+}
+
+impl FacetCheck<'_> {
+    /// Triangle `t`'s facet as its corners give it ([`read_facet`]).
+    fn read(&self, t: usize) -> Facet {
+        read_facet(self.c, self.part_colors, t, self.flags[t] & SIDE)
+    }
+
+    /// Triangle `t`'s facet as its vertices give it when drawn.
+    fn drawn(&self, t: usize) -> Facet {
+        let v = self.triangles[t]
             .indices
-            .map(|i| sources[i as usize].facet_vertex(&c.positions));
+            .map(|i| self.sources[i as usize].facet_vertex(&self.c.positions));
         Facet::of_triangle([&v[0], &v[1], &v[2]])
-    };
-    // A facet is computed from its corners' positions, UVs and colours
-    // alone, by the same expressions here and when drawn: a triangle whose
-    // vertices give those bit for bit (nearly always) has its facet again.
-    // A vertex made from a corner of the same position gives all three
-    // (the UV's bits and the part, which colours it, are in its key).
-    let same_inputs = |t: usize| {
-        let side = flags[t] & SIDE;
+    }
+
+    /// Whether triangle `t`'s vertices have its corners' inputs bit for
+    /// bit. A facet is computed from its corners' positions, UVs and
+    /// colours alone, by the same expressions here and when drawn: a
+    /// triangle whose vertices give those bit for bit (nearly always) has
+    /// its facet again. A vertex made from a corner of the same position
+    /// gives all three (the UV's bits and the part, which colours it, are
+    /// in its key).
+    fn same_inputs(&self, t: usize) -> bool {
+        let c = self.c;
+        let side = self.flags[t] & SIDE;
         (0..3).all(|k| {
             let i = 3 * t + k;
-            let s = &sources[triangles[t].indices[k] as usize];
+            let s = &self.sources[self.triangles[t].indices[k] as usize];
             let bits = |v: Vec3| v.to_array().map(f32::to_bits);
             s.position == c.corners[i][0]
                 || (bits(c.positions[s.position as usize])
                     == bits(c.positions[c.corners[i][0] as usize])
                     && s.uv.to_array().map(f32::to_bits)
-                        == uv_of(&c, t, k, side).to_array().map(f32::to_bits)
-                    && bits(s.color) == bits(color_of(&c, part_colors, t, k)))
+                        == uv_of(c, t, k, side).to_array().map(f32::to_bits)
+                    && bits(s.color) == bits(color_of(c, self.part_colors, t, k)))
         })
+    }
+
+    /// Whether triangle `t`'s facet is not given again, bit for bit, by
+    /// its vertices, and so is kept beside the triangles.
+    fn differs(&self, t: usize) -> bool {
+        !self.same_inputs(t) && self.read(t).bits() != self.drawn(t).bits()
+    }
+}
+
+/// The facets the vertices would not give again bit for bit (a point at
+/// −0 and +0, a colour its vertex does not keep), kept beside the
+/// triangles; there are usually none. The triangles' `flags` are let go
+/// once read.
+fn side_facets(
+    name: &str,
+    c: &IndexedCorners,
+    part_colors: &[Option<Vec3>],
+    flags: Vec<u8>,
+    triangles: &[Triangle],
+    sources: &[Source],
+    held: &mut Reservation,
+) -> Result<Vec<(u32, Facet)>, ObjError> {
+    let check = FacetCheck {
+        c,
+        part_colors,
+        flags: &flags,
+        triangles,
+        sources,
     };
+    let kept = triangles.len();
     hold(held, name, "the side flags", bytes_of::<bool>(kept as u64))?;
     let differs: Vec<bool> = (0..kept)
         .into_par_iter()
-        .map(|t| {
-            !same_inputs(t)
-                && read_facet(&c, part_colors, t, flags[t] & SIDE).bits() != drawn(t).bits()
-        })
+        .map(|t| check.differs(t))
         .collect();
     let side_count = differs.iter().filter(|&&d| d).count() as u64;
     hold(
@@ -567,18 +730,29 @@ fn build(
     )?;
     let side: Vec<(u32, Facet)> = (0..kept)
         .filter(|&t| differs[t])
-        .map(|t| (t as u32, read_facet(&c, part_colors, t, flags[t] & SIDE)))
+        .map(|t| (t as u32, check.read(t)))
         .collect();
     let_go(held, differs);
     let_go(held, flags);
-    step_done()?;
-    // The corners go; the vertices are made from their sources.
+    Ok(side)
+}
+
+/// The vertices, made from their `sources` (let go once read) after the
+/// corners go, and the triangles' parts, taken from `c`: all its arrays
+/// are let go.
+fn make_vertices(
+    name: &str,
+    c: &mut IndexedCorners,
+    sources: Vec<Source>,
+    held: &mut Reservation,
+) -> Result<(Vec<Vertex>, Vec<u32>), ObjError> {
     let tri_parts = std::mem::take(&mut c.part_of);
     let positions = std::mem::take(&mut c.positions);
     let normals = std::mem::take(&mut c.normals);
     let_go(held, std::mem::take(&mut c.corners));
     let_go(held, std::mem::take(&mut c.uvs));
     let_go(held, std::mem::take(&mut c.colors));
+    let count = sources.len() as u64;
     hold(held, name, "the vertices", bytes_of::<Vertex>(count))?;
     let vertices: Vec<Vertex> = sources
         .par_iter()
@@ -594,17 +768,7 @@ fn build(
     let_go(held, sources);
     let_go(held, positions);
     let_go(held, normals);
-    let mut mesh = Mesh::with_side_facets(vertices, triangles, &side, convex, closed);
-    let_go(held, side);
-    hold(
-        held,
-        name,
-        "the tangent sums",
-        sum_bytes(mesh.vertices.len() as u64, mesh.triangles.len() as u64),
-    )?;
-    step_done()?;
-    accumulate(&mut mesh);
-    Ok((mesh, tri_parts))
+    Ok((vertices, tri_parts))
 }
 
 /// What a vertex takes from the first corner of its key.
@@ -710,32 +874,88 @@ fn split_vertices(
         "the points' first corners",
         heads.saturating_add(bytes_of::<u32>(corners as u64)),
     )?;
-    let point = |i: usize| position_id[c.corners[i][0] as usize] as usize;
-    let key = |i: usize| vertex_key(c, flags, i);
-    // Corners of the same point with the same indices, flags and part have
-    // the same key (their UVs are read or projected alike).
-    let alike = |i: usize, h: usize| {
+    let keys = CornerKeys {
+        c,
+        flags,
+        position_id,
+    };
+    let piece = corners.div_ceil(4 * rayon::current_num_threads()).max(1);
+    let head = first_corners_of_points(&keys, ids, piece);
+    let (mut first, odd) = match_point_firsts(&keys, &head, piece);
+    drop(head);
+    held.shrink(heads);
+    if odd > 0 {
+        // The odd corners, listed per point and matched among themselves.
+        // Besides the lists: the odd corners and what each matches.
+        let lists = PointLists::bytes(odd as u64, ids as u64)
+            .saturating_add(bytes_of::<u32>(odd as u64).saturating_mul(2));
+        hold(held, name, "the vertex lists", lists)?;
+        match_odd_corners(&keys, &mut first, odd, ids);
+        held.shrink(lists);
+    }
+    number_vertices(name, first, held)
+}
+
+/// What [`split_vertices`] reads of each corner: its point and its key.
+struct CornerKeys<'a> {
+    c: &'a IndexedCorners,
+    flags: &'a [u8],
+    position_id: &'a [u32],
+}
+
+impl CornerKeys<'_> {
+    /// Corner `i`'s point (its position's id).
+    fn point(&self, i: usize) -> usize {
+        self.position_id[self.c.corners[i][0] as usize] as usize
+    }
+
+    /// Corner `i`'s key besides its point ([`vertex_key`]).
+    fn key(&self, i: usize) -> VertexKey {
+        vertex_key(self.c, self.flags, i)
+    }
+
+    /// Whether corners `i` and `h` have the same key for want of
+    /// difference: corners of the same point with the same indices, flags
+    /// and part have the same key (their UVs are read or projected alike).
+    fn alike(&self, i: usize, h: usize) -> bool {
+        let (c, flags) = (self.c, self.flags);
         let (t, u) = (i / 3, h / 3);
         c.corners[i] == c.corners[h] && flags[t] == flags[u] && part(c, t) == part(c, u)
-    };
-    // Each point's first corner: the least of its corners, however the
-    // threads meet them (zeroed pages, read as `u32::MAX - 0`).
+    }
+}
+
+/// The corner a point's head from [`first_corners_of_points`] holds,
+/// stored as `u32::MAX - corner` (a zeroed head reads as `u32::MAX`, no
+/// corner yet), so the least corner is the greatest value.
+fn least(h: &AtomicU32) -> u32 {
+    u32::MAX - h.load(Ordering::Relaxed)
+}
+
+/// Each of the `ids` points' first corner (see [`least`]): the least of
+/// its corners, however the threads meet them (zeroed pages, read as
+/// `u32::MAX - 0`). The corners are walked `piece` at a time.
+fn first_corners_of_points(keys: &CornerKeys, ids: usize, piece: usize) -> Vec<AtomicU32> {
     let head: Vec<AtomicU32> = bytemuck::zeroed_vec(ids);
-    let least = |h: &AtomicU32| u32::MAX - h.load(Ordering::Relaxed);
-    let piece = corners.div_ceil(4 * rayon::current_num_threads()).max(1);
-    (0..corners)
+    (0..keys.c.corners.len())
         .into_par_iter()
         .with_min_len(piece)
         .for_each(|i| {
-            let h = &head[point(i)];
+            let h = &head[keys.point(i)];
             if least(h) > i as u32 {
                 h.fetch_max(u32::MAX - i as u32, Ordering::Relaxed);
             }
         });
-    // Each corner's first corner of the same key (itself when it is the
-    // first); `ODD` where that is not its point's first.
-    const ODD: u32 = u32::MAX;
-    let mut first: Vec<u32> = bytemuck::zeroed_vec(corners);
+    head
+}
+
+/// A corner whose key is not its point's first corner's.
+const ODD: u32 = u32::MAX;
+
+/// Each corner's first corner of the same key (itself when it is the
+/// first) where that is its point's first corner (`head`), else [`ODD`];
+/// and how many are odd. Written `piece` corners at a time.
+fn match_point_firsts(keys: &CornerKeys, head: &[AtomicU32], piece: usize) -> (Vec<u32>, usize) {
+    let mut first: Vec<u32> = bytemuck::zeroed_vec(keys.c.corners.len());
     let odd = first
         .par_chunks_mut(piece)
         .enumerate()
@@ -743,8 +963,11 @@ fn split_vertices(
             let mut odd = 0usize;
             for (j, f) in out.iter_mut().enumerate() {
                 let i = k * piece + j;
-                let h = least(&head[point(i)]);
-                *f = if h as usize == i || alike(i, h as usize) || key(i) == key(h as usize) {
+                let h = least(&head[keys.point(i)]);
+                *f = if h as usize == i
+                    || keys.alike(i, h as usize)
+                    || keys.key(i) == keys.key(h as usize)
+                {
                     h
                 } else {
                     odd += 1;
@@ -754,56 +977,70 @@ fn split_vertices(
             odd
         })
         .sum::<usize>();
-    drop(head);
-    held.shrink(heads);
-    if odd > 0 {
-        // The odd corners, listed per point and matched among themselves.
-        // Besides the lists: the odd corners and what each matches.
-        let lists = PointLists::bytes(odd as u64, ids as u64)
-            .saturating_add(bytes_of::<u32>(odd as u64).saturating_mul(2));
-        hold(held, name, "the vertex lists", lists)?;
-        let odds: Vec<u32> = (0..corners as u32)
-            .into_par_iter()
-            .filter(|&i| first[i as usize] == ODD)
-            .collect();
-        let around = PointLists::new(odd, ids, |j| point(odds[j] as usize));
-        let found: Vec<AtomicU32> = bytemuck::zeroed_vec(odd);
-        let runs = (4 * rayon::current_num_threads()).min(ids.max(1));
-        (0..runs)
-            .into_par_iter()
-            .for_each_init(Vec::new, |keys, r| {
-                let (from, to) = (r * ids / runs, (r + 1) * ids / runs);
-                for p in from..to {
-                    keys.clear();
-                    keys.extend(around.at(p).iter().map(|&j| {
-                        let i = odds[j as usize];
-                        (key(i as usize), j, i)
-                    }));
-                    if keys.len() <= CROWDED {
-                        for (e, &(k, j, i)) in keys.iter().enumerate() {
-                            let at = keys[..e].iter().find(|f| f.0 == k).map_or(i, |f| f.2);
-                            found[j as usize].store(at, Ordering::Relaxed);
-                        }
-                    } else {
-                        // Too many to compare pairwise: sorted, the first of each run.
-                        keys.sort_unstable();
-                        let mut at = 0;
-                        for e in 0..keys.len() {
-                            if keys[e].0 != keys[at].0 {
-                                at = e;
-                            }
-                            found[keys[e].1 as usize].store(keys[at].2, Ordering::Relaxed);
-                        }
-                    }
-                }
-            });
-        drop(around);
-        for (&i, f) in odds.iter().zip(found) {
-            first[i as usize] = f.into_inner();
-        }
-        held.shrink(lists);
+    (first, odd)
+}
+
+/// Gives each of the `odd` corners marked [`ODD`] in `first` the first
+/// corner of its key among the odd corners of its point: they are listed
+/// per point (of `ids`) and the points, cut into runs, matched in parallel.
+fn match_odd_corners(keys: &CornerKeys, first: &mut [u32], odd: usize, ids: usize) {
+    let odds: Vec<u32> = (0..first.len() as u32)
+        .into_par_iter()
+        .filter(|&i| first[i as usize] == ODD)
+        .collect();
+    let around = PointLists::new(odd, ids, |j| keys.point(odds[j] as usize));
+    let found: Vec<AtomicU32> = bytemuck::zeroed_vec(odd);
+    let runs = (4 * rayon::current_num_threads()).min(ids.max(1));
+    (0..runs)
+        .into_par_iter()
+        .for_each_init(Vec::new, |point_keys, r| {
+            let (from, to) = (r * ids / runs, (r + 1) * ids / runs);
+            for p in from..to {
+                point_keys.clear();
+                point_keys.extend(around.at(p).iter().map(|&j| {
+                    let i = odds[j as usize];
+                    (keys.key(i as usize), j, i)
+                }));
+                match_keys_at_point(point_keys, &found);
+            }
+        });
+    drop(around);
+    for (&i, f) in odds.iter().zip(found) {
+        first[i as usize] = f.into_inner();
     }
-    // Each corner's vertex: first corners numbered in corner order.
+}
+
+/// Stores in `found`, for each odd corner of one point (its key, its
+/// number among the odd corners, its index), the first of them with its
+/// key: compared pairwise when they are few, else sorted, the first of
+/// each run.
+fn match_keys_at_point(keys: &mut [(VertexKey, u32, u32)], found: &[AtomicU32]) {
+    if keys.len() <= CROWDED {
+        for (e, &(k, j, i)) in keys.iter().enumerate() {
+            let at = keys[..e].iter().find(|f| f.0 == k).map_or(i, |f| f.2);
+            found[j as usize].store(at, Ordering::Relaxed);
+        }
+    } else {
+        // Too many to compare pairwise: sorted, the first of each run.
+        keys.sort_unstable();
+        let mut at = 0;
+        for e in 0..keys.len() {
+            if keys[e].0 != keys[at].0 {
+                at = e;
+            }
+            found[keys[e].1 as usize].store(keys[at].2, Ordering::Relaxed);
+        }
+    }
+}
+
+/// Each corner's vertex, from each corner's `first` corner of the same
+/// key: first corners numbered in corner order; and each vertex's first
+/// corner, for which `held` grows.
+fn number_vertices(
+    name: &str,
+    first: Vec<u32>,
+    held: &mut Reservation,
+) -> Result<(Vec<u32>, Vec<u32>), ObjError> {
     let mut vertex_of = first;
     let count = number_firsts(&mut vertex_of);
     hold(
@@ -836,67 +1073,153 @@ fn fill_normals(
     positions: usize,
     held: &mut Reservation,
 ) -> Result<(), ObjError> {
-    let cos_crease = CREASE_DEGREES.to_radians().cos();
     let corners = c.corners.len() as u64;
     // Besides the lists: each corner's angle, and each corner's number.
     let lists = PointLists::bytes(corners, positions as u64)
         .saturating_add(bytes_of::<f32>(corners))
         .saturating_add(bytes_of::<u32>(corners));
     hold(held, name, "the normal lists", lists)?;
-    let id = |i: usize| position_id[c.corners[i][0] as usize];
-    let around = PointLists::new(c.corners.len(), positions, |i| id(i) as usize);
-    // A corner's angle is asked by every corner around its point: it is
-    // worked out once.
-    let triangle = |t: usize| [0, 1, 2].map(|k| c.positions[c.corners[3 * t + k][0] as usize]);
-    let angles: Vec<f32> = (0..c.corners.len())
-        .into_par_iter()
-        .map(|i| corner_angle(triangle(i / 3), i % 3))
-        .collect();
-    let weighted = |&i: &u32| angles[i as usize] * face_normals[i as usize / 3];
-    // Around a position shared by very many faces (a cone's apex), the
-    // per-corner crease test would cost valence²: there all faces are
-    // averaged once instead.
-    let big: HashMap<u32, Vec3> = (0..positions)
-        .filter(|&p| around.at(p).len() > MAX_VALENCE)
-        .map(|p| (p as u32, around.at(p).iter().map(weighted).sum::<Vec3>()))
-        .collect();
-    // Each corner's normal reads only the triangles around it.
-    let normal_at = |i: usize| {
+    let around_points = CornerNormals::new(c, face_normals, position_id, positions);
+    let (number, made) = number_normals(&around_points);
+    let total: u64 = made.iter().map(|&n| n as u64).sum();
+    hold(held, name, "the normals", bytes_of::<Vec3>(total))?;
+    let normals = make_normals(&around_points, &number, &made, total as usize);
+    let CornerNormals {
+        big,
+        around,
+        angles,
+        ..
+    } = around_points;
+    drop(big);
+    drop(around);
+    drop(angles);
+    let_go(held, std::mem::replace(&mut c.normals, normals));
+    c.corners
+        .par_iter_mut()
+        .zip(number.par_iter())
+        .for_each(|(k, n)| k[2] = n.load(Ordering::Relaxed));
+    drop(number);
+    held.shrink(lists);
+    Ok(())
+}
+
+/// What each corner's computed normal is worked out from, and how the
+/// points are cut into runs for [`number_normals`] and [`make_normals`].
+struct CornerNormals<'a> {
+    c: &'a IndexedCorners,
+    face_normals: &'a [Vec3],
+    position_id: &'a [u32],
+    cos_crease: f32,
+    /// The corners around each point.
+    around: PointLists,
+    /// Each corner's angle ([`corner_angle`]).
+    angles: Vec<f32>,
+    /// The weighted sum of all faces around each point of more than
+    /// `MAX_VALENCE` faces.
+    big: HashMap<u32, Vec3>,
+    /// How many points there are, and how many runs they are cut into.
+    points: usize,
+    runs: usize,
+}
+
+impl<'a> CornerNormals<'a> {
+    /// Lists the corners around each of the `points` points and works out
+    /// each corner's angle and the sums around crowded points.
+    fn new(
+        c: &'a IndexedCorners,
+        face_normals: &'a [Vec3],
+        position_id: &'a [u32],
+        points: usize,
+    ) -> Self {
+        let cos_crease = CREASE_DEGREES.to_radians().cos();
+        let id = |i: usize| position_id[c.corners[i][0] as usize];
+        let around = PointLists::new(c.corners.len(), points, |i| id(i) as usize);
+        // A corner's angle is asked by every corner around its point: it is
+        // worked out once.
+        let triangle = |t: usize| [0, 1, 2].map(|k| c.positions[c.corners[3 * t + k][0] as usize]);
+        let angles: Vec<f32> = (0..c.corners.len())
+            .into_par_iter()
+            .map(|i| corner_angle(triangle(i / 3), i % 3))
+            .collect();
+        // Around a position shared by very many faces (a cone's apex), the
+        // per-corner crease test would cost valence²: there all faces are
+        // averaged once instead.
+        let weighted = |&i: &u32| weighted_normal(&angles, face_normals, i);
+        let big: HashMap<u32, Vec3> = (0..points)
+            .filter(|&p| around.at(p).len() > MAX_VALENCE)
+            .map(|p| (p as u32, around.at(p).iter().map(weighted).sum::<Vec3>()))
+            .collect();
+        let runs = (4 * rayon::current_num_threads()).min(points.max(1));
+        CornerNormals {
+            c,
+            face_normals,
+            position_id,
+            cos_crease,
+            around,
+            angles,
+            big,
+            points,
+            runs,
+        }
+    }
+
+    /// The points of run `r`.
+    fn points_of(&self, r: usize) -> std::ops::Range<usize> {
+        r * self.points / self.runs..(r + 1) * self.points / self.runs
+    }
+
+    /// Corner `i`'s normal: the file's when usable, else the angle-weighted
+    /// sum of the faces around its point within the crease angle (all of
+    /// them at a crowded point), normalised. It reads only the triangles
+    /// around the corner.
+    fn normal_at(&self, i: usize) -> Vec3 {
+        let (c, face_normals) = (self.c, self.face_normals);
         let normal = face_normals[i / 3];
         let given = c.corners[i][2];
         if given != NO_INDEX && c.normals[given as usize] != Vec3::ZERO {
             return c.normals[given as usize];
         }
-        let p = id(i);
-        let sum = match big.get(&p) {
+        let p = self.position_id[c.corners[i][0] as usize];
+        let weighted = |&j: &u32| weighted_normal(&self.angles, face_normals, j);
+        let sum = match self.big.get(&p) {
             Some(sum) => *sum,
-            None => around
+            None => self
+                .around
                 .at(p as usize)
                 .iter()
-                .filter(|&&i2| normal.dot(face_normals[i2 as usize / 3]) >= cos_crease)
+                .filter(|&&i2| normal.dot(face_normals[i2 as usize / 3]) >= self.cos_crease)
                 .map(weighted)
                 .sum(),
         };
         sum.normalize_or(normal)
-    };
-    // The points, cut into runs, in parallel. First each corner learns its
-    // normal's number within its run (a normal met before at the same
-    // point, among its first `CROWDED`, is shared), flagged when it is the
-    // first; then the normals are made once each, into the run's slice.
-    const FIRST: u32 = 1 << 31;
-    let runs = (4 * rayon::current_num_threads()).min(positions.max(1));
-    let points = |r: usize| r * positions / runs..(r + 1) * positions / runs;
-    let number: Vec<AtomicU32> = bytemuck::zeroed_vec(c.corners.len());
-    let made: Vec<u32> = (0..runs)
+    }
+}
+
+/// Corner `i`'s face normal weighted by the corner's angle.
+fn weighted_normal(angles: &[f32], face_normals: &[Vec3], i: u32) -> Vec3 {
+    angles[i as usize] * face_normals[i as usize / 3]
+}
+
+/// Marks, in a corner's number from [`number_normals`], the first corner
+/// of its normal.
+const FIRST_USE: u32 = 1 << 31;
+
+/// The points, cut into runs, in parallel: each corner learns its normal's
+/// number within its run (a normal met before at the same point, among its
+/// first `CROWDED`, is shared), flagged [`FIRST_USE`] when it is the first.
+/// Returns each corner's number and how many normals each run makes.
+fn number_normals(at: &CornerNormals) -> (Vec<AtomicU32>, Vec<u32>) {
+    let number: Vec<AtomicU32> = bytemuck::zeroed_vec(at.c.corners.len());
+    let made: Vec<u32> = (0..at.runs)
         .into_par_iter()
         .map_init(Vec::new, |seen: &mut Vec<[u32; 3]>, r| {
             let mut count = 0u32;
-            for p in points(r) {
+            for p in at.points_of(r) {
                 seen.clear();
-                for &i in around.at(p) {
-                    let bits = normal_at(i as usize).to_array().map(f32::to_bits);
-                    let at = seen.iter().position(|&b| b == bits);
-                    let n = match at {
+                for &i in at.around.at(p) {
+                    let bits = at.normal_at(i as usize).to_array().map(f32::to_bits);
+                    let found = seen.iter().position(|&b| b == bits);
+                    let n = match found {
                         Some(j) => count - seen.len() as u32 + j as u32,
                         None => {
                             if seen.len() < CROWDED {
@@ -906,7 +1229,7 @@ fn fill_normals(
                                 seen.clear();
                             }
                             count += 1;
-                            (count - 1) | FIRST
+                            (count - 1) | FIRST_USE
                         }
                     };
                     number[i as usize].store(n, Ordering::Relaxed);
@@ -915,13 +1238,17 @@ fn fill_normals(
             count
         })
         .collect();
-    let total: u64 = made.iter().map(|&n| n as u64).sum();
-    hold(held, name, "the normals", bytes_of::<Vec3>(total))?;
-    let mut normals = vec![Vec3::ZERO; total as usize];
+    (number, made)
+}
+
+/// The `total` normals, made once each into their run's slice, the runs in
+/// parallel; each corner's `number` becomes its normal's index.
+fn make_normals(at: &CornerNormals, number: &[AtomicU32], made: &[u32], total: usize) -> Vec<Vec3> {
+    let mut normals = vec![Vec3::ZERO; total];
     {
         let mut rest = &mut normals[..];
-        let mut slices = Vec::with_capacity(runs);
-        for &n in &made {
+        let mut slices = Vec::with_capacity(at.runs);
+        for &n in made {
             let (head, tail) = std::mem::take(&mut rest).split_at_mut(n as usize);
             slices.push(head);
             rest = tail;
@@ -934,28 +1261,18 @@ fn fill_normals(
             })
             .collect();
         slices.into_par_iter().enumerate().for_each(|(r, out)| {
-            for p in points(r) {
-                for &i in around.at(p) {
+            for p in at.points_of(r) {
+                for &i in at.around.at(p) {
                     let n = number[i as usize].load(Ordering::Relaxed);
-                    if n & FIRST != 0 {
-                        out[(n & !FIRST) as usize] = normal_at(i as usize);
+                    if n & FIRST_USE != 0 {
+                        out[(n & !FIRST_USE) as usize] = at.normal_at(i as usize);
                     }
-                    number[i as usize].store(offsets[r] + (n & !FIRST), Ordering::Relaxed);
+                    number[i as usize].store(offsets[r] + (n & !FIRST_USE), Ordering::Relaxed);
                 }
             }
         });
     }
-    drop(big);
-    drop(around);
-    drop(angles);
-    let_go(held, std::mem::replace(&mut c.normals, normals));
-    c.corners
-        .par_iter_mut()
-        .zip(number.par_iter())
-        .for_each(|(k, n)| k[2] = n.load(Ordering::Relaxed));
-    drop(number);
-    held.shrink(lists);
-    Ok(())
+    normals
 }
 
 /// `x`'s bits mixed (the SplitMix64 finaliser): nearby edges get unrelated
@@ -975,9 +1292,30 @@ fn is_closed(
     position_id: &[u32],
     held: &mut Reservation,
 ) -> Result<bool, ObjError> {
-    // A closed surface's edges, reversed, are its edges again, so any sum
-    // over its edges equals the same sum over the reversed ones: sums of a
-    // hash of each that differ say "open" without sorting anything.
+    if !edge_hashes_balance(corners, position_id) {
+        return Ok(false);
+    }
+    let bytes = bytes_of::<u64>(corners.len() as u64);
+    hold(held, name, "the edges", bytes)?;
+    let edges = sorted_edges(corners, position_id);
+    if has_repeated_edge(&edges) {
+        held.shrink(bytes);
+        return Ok(false);
+    }
+    let points = edges.last().map_or(0, |&e| (e >> 32) as usize + 1);
+    let index = bytes_of::<u32>(points as u64);
+    hold(held, name, "the edges' index", index)?;
+    let closed = every_edge_reversed(&edges, points);
+    drop(edges);
+    held.shrink(bytes.saturating_add(index));
+    Ok(closed)
+}
+
+/// Whether a sum of a hash of each edge equals the same sum over the
+/// reversed edges. A closed surface's edges, reversed, are its edges
+/// again, so any sum over its edges equals the same sum over the reversed
+/// ones: sums that differ say "open" without sorting anything.
+fn edge_hashes_balance(corners: &[[u32; 3]], position_id: &[u32]) -> bool {
     let edge = |t: &[[u32; 3]], k: usize| {
         let p = |k: usize| position_id[t[k % 3][0] as usize] as u64;
         (p(k) << 32 | p(k + 1), p(k + 1) << 32 | p(k))
@@ -994,11 +1332,12 @@ fn is_closed(
             || (0, 0),
             |(f1, b1), (f2, b2)| (f1.wrapping_add(f2), b1.wrapping_add(b2)),
         );
-    if forth != back {
-        return Ok(false);
-    }
-    let bytes = bytes_of::<u64>(corners.len() as u64);
-    hold(held, name, "the edges", bytes)?;
+    forth == back
+}
+
+/// Every triangle's edges, each as its start and end position ids in one
+/// integer (start in the high half), sorted.
+fn sorted_edges(corners: &[[u32; 3]], position_id: &[u32]) -> Vec<u64> {
     let mut edges: Vec<u64> = corners
         .par_chunks_exact(3)
         .flat_map_iter(|t| {
@@ -1007,22 +1346,24 @@ fn is_closed(
         })
         .collect();
     edges.par_sort_unstable();
-    // Tested by pieces (see `any_of`), each piece also against the edge
-    // before it.
-    let repeated = edges.par_chunks(PIECE).enumerate().any(|(k, piece)| {
+    edges
+}
+
+/// Whether an edge of the sorted `edges` is there twice: tested by pieces
+/// (see [`any_of`]), each piece also against the edge before it.
+fn has_repeated_edge(edges: &[u64]) -> bool {
+    edges.par_chunks(PIECE).enumerate().any(|(k, piece)| {
         let before = (k * PIECE).checked_sub(1).map(|j| edges[j]);
         before == Some(piece[0]) || piece.windows(2).any(|w| w[0] == w[1])
-    });
-    if repeated {
-        held.shrink(bytes);
-        return Ok(false);
-    }
-    // Where each point's edges start in the sorted list (0: none, else the
-    // index + 1): an edge's reverse is looked for among the few edges of
-    // its end, not by a search of the whole list.
-    let points = edges.last().map_or(0, |&e| (e >> 32) as usize + 1);
-    let index = bytes_of::<u32>(points as u64);
-    hold(held, name, "the edges' index", index)?;
+    })
+}
+
+/// Whether every edge of the sorted `edges` (starting at points below
+/// `points`) has its reverse among them. Where each point's edges start in
+/// the list (0: none, else the index + 1) is noted first: an edge's
+/// reverse is looked for among the few edges of its end, not by a search
+/// of the whole list.
+fn every_edge_reversed(edges: &[u64], points: usize) -> bool {
     let starts: Vec<AtomicU32> = bytemuck::zeroed_vec(points);
     (0..edges.len()).into_par_iter().for_each(|j| {
         let from = edges[j] >> 32;
@@ -1042,11 +1383,7 @@ fn is_closed(
                 .take_while(|&&f| f >> 32 == from)
                 .any(|&f| f == e)
     };
-    let closed = !any_of(&edges, |&e| !has(e.rotate_right(32)));
-    drop(starts);
-    drop(edges);
-    held.shrink(bytes.saturating_add(index));
-    Ok(closed)
+    !any_of(edges, |&e| !has(e.rotate_right(32)))
 }
 
 #[cfg(test)]
