@@ -263,8 +263,10 @@ impl<'a> Materials<'a> {
         };
         let made_colour = self.made(key);
         let made_alpha = self.made(alpha_key);
+        // A picture without alpha has no opacity to read: its header says
+        // so, without decoding it again.
         if let Some(Made::Colour(colour)) = &made_colour
-            && (!reads_alpha || made_alpha.is_some())
+            && (!reads_alpha || made_alpha.is_some() || !self.image_has_alpha(&texture)?)
         {
             return Ok((colour.clone(), made_alpha.and_then(Made::into_level)));
         }
@@ -279,23 +281,18 @@ impl<'a> Materials<'a> {
                     height: base.height,
                     texels: base.texels.fourth_everywhere(),
                 });
-                Some(
-                    self.keep(alpha_key, Made::Level(alpha))
-                        .into_level()
-                        .expect("a level"),
-                )
+                self.keep(alpha_key, Made::Level(alpha.clone()));
+                Some(alpha)
             }
             None => None,
         };
         let colour = match made_colour {
             Some(Made::Colour(colour)) => colour,
-            _ => match self.keep(
-                key,
-                Made::Colour(Arc::new(decoded.texture.without_height())),
-            ) {
-                Made::Colour(colour) => colour,
-                _ => unreachable!("kept as a colour map just above"),
-            },
+            _ => {
+                let colour = Arc::new(decoded.texture.without_height());
+                self.keep(key, Made::Colour(colour.clone()));
+                colour
+            }
         };
         Ok((colour, alpha))
     }
@@ -334,10 +331,9 @@ impl<'a> Materials<'a> {
         } else {
             FileNormalMap::new(name, tilt(map.given(), scale))
         };
-        match self.keep(key, Made::Normal(Arc::new(map))) {
-            Made::Normal(map) => Ok(Some(map)),
-            _ => unreachable!("kept as a normal map just above"),
-        }
+        let map = Arc::new(map);
+        self.keep(key, Made::Normal(map.clone()));
+        Ok(Some(map))
     }
 
     /// The occlusion map and its strength (strength 0: none), named for the
@@ -401,10 +397,13 @@ impl<'a> Materials<'a> {
             return Ok(level);
         }
         let level = Arc::new(self.decode(texture, reading)?.texture.into_base());
-        Ok(self
-            .keep(key, Made::Level(level))
-            .into_level()
-            .expect("a level"))
+        self.keep(key, Made::Level(level.clone()));
+        Ok(level)
+    }
+
+    /// Whether `texture`'s picture has an alpha channel (its header says).
+    fn image_has_alpha(&self, texture: &::gltf::Texture) -> Result<bool, Problem> {
+        Ok(has_alpha(&self.image_bytes(&self.image_of(texture)?)?))
     }
 
     /// The name a map of `texture` shows in the texture panel: its
@@ -430,10 +429,9 @@ impl<'a> Materials<'a> {
             texels: base.texels.first_channel_grey(),
         };
         drop(base);
-        Ok(self
-            .keep(key, Made::Level(Arc::new(red)))
-            .into_level()
-            .expect("a level"))
+        let red = Arc::new(red);
+        self.keep(key, Made::Level(red.clone()));
+        Ok(red)
     }
 
     /// Where a map made from `texture` read this way is kept.
@@ -467,13 +465,12 @@ impl<'a> Materials<'a> {
     }
 
     /// Keeps `made` for the maps after this one that read the same image
-    /// the same way, and gives it back.
-    fn keep(&self, key: MapKey, made: Made) -> Made {
+    /// the same way.
+    fn keep(&self, key: MapKey, made: Made) {
         self.made
             .lock()
             .unwrap_or_else(|e| e.into_inner())
-            .insert(key, made.clone());
-        made
+            .insert(key, made);
     }
 
     /// A texture's image decoded, read with the map's wrap modes.
