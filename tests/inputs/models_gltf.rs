@@ -582,9 +582,11 @@ fn bad_files_are_refused_with_the_place() {
 
     // A required extension relief cannot do.
     let mut doc = good();
-    doc.extra = r#","extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"]"#.into();
-    let m = refused("draco", &encode(&doc));
-    assert!(m.contains("KHR_draco_mesh_compression"), "{m}");
+    doc.extra =
+        r#","extensionsUsed":["KHR_texture_basisu"],"extensionsRequired":["KHR_texture_basisu"]"#
+            .into();
+    let m = refused("basisu", &encode(&doc));
+    assert!(m.contains("KHR_texture_basisu"), "{m}");
 }
 
 /// The real files load: the textured box is one part of 12 textured

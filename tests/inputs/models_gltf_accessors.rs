@@ -315,39 +315,14 @@ fn what_is_not_drawn_is_named_in_one_line() {
     assert!(twin("skipped-none").warnings.is_empty());
 }
 
-/// COLOR_0 is linear, as glTF says: the quad of vertex colour
-/// (1, 0.5, 0.25) and no material (glTF's default: white, metal, roughness
-/// 1), seen and lit head on under a light of 2 in the model view, gives
-/// 2·base/4 = base/2 in linear light (F = F0 = base, D = 1/π, V = 1/4),
-/// encoded to sRGB once: the colour is not decoded from sRGB first.
-#[test]
-fn vertex_colours_are_linear_light() {
+/// The model view's picture of the file at `path`, seen and lit head on
+/// by one light of 2 and nothing else, no tone map: its centre pixel.
+fn lit_head_on(path: std::path::PathBuf) -> [u8; 3] {
     use relief_core::framebuffer::Framebuffer;
     use relief_core::settings::Settings;
     use relief_pipeline::render::Renderer;
     use relief_scene::model_view::{ELEVATION_DEGREES, view_axes};
     use relief_scene::{Built, Light, ModelChoice, SceneKind, build_scene};
-    let base = [1.0f32, 0.5, 0.25];
-    let square = [
-        [0.0, 0.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [1.0, 1.0, 0.0],
-        [0.0, 1.0, 0.0],
-    ];
-    let colour = Acc {
-        bytes: f32s(&[base; 4]),
-        ..floats(&[base; 4])
-    };
-    let bytes = quad_glb(
-        &[
-            ("POSITION", floats(&square)),
-            ("NORMAL", floats(&UP)),
-            ("COLOR_0", colour),
-        ],
-        r#"{"mesh":0}"#,
-        "",
-    );
-    let path = write("vertex-colour", "c.glb", &bytes);
     let texture = std::sync::Arc::new(relief_texture::decode::procedural::brick());
     let Ok(Built::Scene(mut scene)) =
         build_scene(SceneKind::Cube, &ModelChoice::File(path), texture, false)
@@ -364,15 +339,49 @@ fn vertex_colours_are_linear_light() {
     };
     let mut fb = Framebuffer::new(120, 90);
     Renderer::new().render(&scene, &settings, &mut fb);
-    let got = fb.pixels()[45 * 120 + 60];
-    let srgb8 = |x: f32| {
-        let e = if x <= 0.003_130_8 {
-            12.92 * x
-        } else {
-            1.055 * x.powf(1.0 / 2.4) - 0.055
-        };
-        (e.clamp(0.0, 1.0) * 255.0 + 0.5) as i32
+    fb.pixels()[45 * 120 + 60]
+}
+
+/// Linear light `x` encoded to an 8-bit sRGB level.
+fn srgb8(x: f32) -> i32 {
+    let e = if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
     };
+    (e.clamp(0.0, 1.0) * 255.0 + 0.5) as i32
+}
+
+/// The unit square facing +Z.
+const SQUARE: [[f32; 3]; 4] = [
+    [0.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [1.0, 1.0, 0.0],
+    [0.0, 1.0, 0.0],
+];
+
+/// COLOR_0 is linear, as glTF says: the quad of vertex colour
+/// (1, 0.5, 0.25) and no material (glTF's default: white, metal, roughness
+/// 1), seen and lit head on under a light of 2 in the model view, gives
+/// 2·base/4 = base/2 in linear light (F = F0 = base, D = 1/π, V = 1/4),
+/// encoded to sRGB once: the colour is not decoded from sRGB first.
+#[test]
+fn vertex_colours_are_linear_light() {
+    let base = [1.0f32, 0.5, 0.25];
+    let colour = Acc {
+        bytes: f32s(&[base; 4]),
+        ..floats(&[base; 4])
+    };
+    let bytes = quad_glb(
+        &[
+            ("POSITION", floats(&SQUARE)),
+            ("NORMAL", floats(&UP)),
+            ("COLOR_0", colour),
+        ],
+        r#"{"mesh":0}"#,
+        "",
+    );
+    let got = lit_head_on(write("vertex-colour", "c.glb", &bytes));
     for k in 0..3 {
         let want = srgb8(base[k] / 2.0);
         assert!(
@@ -380,4 +389,53 @@ fn vertex_colours_are_linear_light() {
             "{got:?}: channel {k} want {want}"
         );
     }
+}
+
+/// `KHR_materials_ior` and `KHR_materials_specular`: a black dielectric
+/// (roughness 1) seen and lit head on by a light of 2 reflects
+/// 2·F0·D·V·π = 2·F0/4 = F0/2. glTF's default F0 is 0.04 (0.02 back);
+/// with ior 1.33, F0 = (0.33/2.33)² = 0.020059, times the specular colour
+/// (1, 0.5, 0.25) and the weight 0.5: (0.01003, 0.005015, 0.002507), half
+/// of which comes back.
+#[test]
+fn the_index_of_refraction_and_specular_factors_set_a_dielectrics_reflection() {
+    let material = |ext: &str| {
+        format!(
+            r#","materials":[{{"pbrMetallicRoughness":{{"baseColorFactor":[0,0,0,1],"metallicFactor":0,"roughnessFactor":1}}{ext}}}]"#
+        )
+    };
+    let quad = |name: &str, ext: &str| {
+        let bytes = quad_glb(
+            &[("POSITION", floats(&SQUARE)), ("NORMAL", floats(&UP))],
+            r#"{"mesh":0}"#,
+            &material(ext),
+        );
+        let bytes = super::models_gltf::json_fix(
+            bytes,
+            r#""primitives":[{"attributes""#,
+            r#""primitives":[{"material":0,"attributes""#,
+        );
+        write("reflectance", name, &bytes)
+    };
+    let plain = lit_head_on(quad("plain.glb", ""));
+    let ext = r#","extensions":{"KHR_materials_ior":{"ior":1.33},"KHR_materials_specular":{"specularFactor":0.5,"specularColorFactor":[1,0.5,0.25]}}"#;
+    let path = quad("water.glb", ext);
+    assert!(load(&path).unwrap().warnings.is_empty());
+    let water = lit_head_on(path);
+    let f0 = 0.020_059f32 * 0.5;
+    for k in 0..3 {
+        let want = srgb8(0.04 / 2.0);
+        assert!((plain[k] as i32 - want).abs() <= 1, "{plain:?}: {want}");
+        let want = srgb8(f0 * [1.0, 0.5, 0.25][k] / 2.0);
+        assert!((water[k] as i32 - want).abs() <= 1, "{water:?}: {want}");
+    }
+    // The extension's textures are not read, and said so.
+    let ext = r#","extensions":{"KHR_materials_specular":{"specularTexture":{"index":0}}}"#;
+    let model = load(&quad("textured.glb", ext)).unwrap();
+    assert_eq!(model.warnings.len(), 1, "{:?}", model.warnings);
+    assert!(
+        model.warnings[0].contains("the specular textures of materials[0]"),
+        "{:?}",
+        model.warnings
+    );
 }

@@ -293,6 +293,7 @@ fn mtl_pbr(desc: &MaterialDesc, maps: &PbrMaps, normal: Option<Arc<FileNormalMap
         roughness_map: maps.roughness.clone().map(|m| (m, 0)),
         metallic_map: maps.metallic.clone().map(|m| (m, 0)),
         normal: normal.map(|n| n.given().clone()),
+        ..PbrMaterial::gltf_default()
     }
 }
 

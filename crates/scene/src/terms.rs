@@ -63,6 +63,31 @@ pub struct PbrMaterial {
     /// The tangent-space normal map (its `scale` applied), read with the
     /// normal map's coordinates.
     pub normal: Option<Arc<relief_texture::NormalMap>>,
+    /// A dielectric's reflectance head on, per channel, weight included:
+    /// [`DIELECTRIC_F0`] by default (index of refraction 1.5); glTF's
+    /// `KHR_materials_ior` and `KHR_materials_specular` change it.
+    pub dielectric_f0: Vec3,
+    /// A dielectric's reflectance at grazing angles: `KHR_materials_specular`'s
+    /// weight, 1 by default. Metals reflect 1 there whatever it is.
+    pub specular_weight: f32,
+}
+
+/// A dielectric's reflectance head on at glTF's default index of
+/// refraction, 1.5: ((1.5 − 1)/(1.5 + 1))².
+pub const DIELECTRIC_F0: f32 = 0.04;
+
+/// A dielectric's reflectance head on at index of refraction `ior`:
+/// ((ior − 1)/(ior + 1))², exactly [`DIELECTRIC_F0`] at 1.5; glTF's
+/// `ior` 0 stands for an infinite index (1). Other values below 1, and
+/// values not finite, are glTF's default.
+pub fn f0_of_ior(ior: f32) -> f32 {
+    if ior == 0.0 {
+        1.0
+    } else if ior == 1.5 || ior.is_nan() || ior < 1.0 || ior.is_infinite() {
+        DIELECTRIC_F0
+    } else {
+        ((ior - 1.0) / (ior + 1.0)).powi(2)
+    }
 }
 
 impl PbrMaterial {
@@ -74,6 +99,8 @@ impl PbrMaterial {
             roughness_map: None,
             metallic_map: None,
             normal: None,
+            dielectric_f0: Vec3::splat(DIELECTRIC_F0),
+            specular_weight: 1.0,
         }
     }
 }

@@ -8,8 +8,10 @@
 //! f = (1 − F)·(1 − metallic)·base/π + F·D·V, with
 //! D = α²/(π((N·H)²(α² − 1) + 1)²) (GGX), α = roughness²,
 //! V = 1/2 / (N·L·√((N·V)²(1 − α²) + α²) + N·V·√((N·L)²(1 − α²) + α²))
-//! (Smith, height-correlated), F = F0 + (1 − F0)(1 − V·H)⁵ (Schlick),
-//! F0 = mix(0.04, base, metallic).
+//! (Smith, height-correlated), F = F0 + (F90 − F0)(1 − V·H)⁵ (Schlick),
+//! F0 = mix(dielectric F0, base, metallic), F90 = mix(specular weight, 1,
+//! metallic): the dielectric's 0.04 and 1 unless `KHR_materials_ior` or
+//! `KHR_materials_specular` say otherwise.
 
 use std::f32::consts::PI;
 
@@ -18,8 +20,6 @@ use glam::Vec3;
 use super::lanes::{Lanes, Vector};
 use relief_core::settings::ToneMap;
 
-/// F0 of every dielectric in glTF (an index of refraction of 1.5).
-pub const DIELECTRIC_F0: f32 = 0.04;
 /// The smallest roughness shaded: a point light has no size, so a perfect
 /// mirror would show it as one infinitely bright point (D → ∞ at N = H).
 pub const MIN_ROUGHNESS: f32 = 0.045;
@@ -62,11 +62,12 @@ pub fn schlick_weight<L: Lanes>(c: L) -> L {
     m2 * m2 * m
 }
 
-/// Schlick's Fresnel F = F0 + (1 − F0)(1 − V·H)⁵.
+/// Schlick's Fresnel F = F0 + (F90 − F0)(1 − V·H)⁵ (F90 is 1 but for a
+/// `KHR_materials_specular` weight below 1).
 #[inline(always)]
-pub fn fresnel<V: Vector>(f0: V, vh: V::L) -> V {
+pub fn fresnel<V: Vector>(f0: V, f90: V::L, vh: V::L) -> V {
     let w = schlick_weight(vh);
-    f0 + (V::uniform(Vec3::ONE) - f0) * w
+    f0 + (V::uniform(Vec3::ONE) * f90 - f0) * w
 }
 
 /// An sRGB-encoded value in 0..=1 as linear light, by the cubic fit
@@ -153,6 +154,27 @@ pub fn display<V: Vector>(c: V, exposure: f32, tone: ToneMap) -> V {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use relief_scene::terms::{DIELECTRIC_F0, f0_of_ior};
+
+    /// KHR_materials_ior: water (1.33) reflects ((0.33)/(2.33))² = 2.006 %
+    /// head on; 1.5 gives exactly glTF's 0.04; 0 stands for an infinite
+    /// index (1). A specular weight w sets F at grazing: F(0°) = F0,
+    /// F(90°) = w.
+    #[test]
+    fn the_index_of_refraction_and_the_specular_weight_set_fresnel() {
+        assert!((f0_of_ior(1.33) - 0.020_059).abs() < 1e-6);
+        assert_eq!(f0_of_ior(1.5), DIELECTRIC_F0);
+        assert_eq!(f0_of_ior(0.0), 1.0);
+        assert_eq!(f0_of_ior(f32::NAN), DIELECTRIC_F0);
+        let f0 = Vec3::splat(0.02);
+        assert!((fresnel(f0, 0.5, 1.0f32) - f0).abs().max_element() < 1e-7);
+        assert!(
+            (fresnel(f0, 0.5, 0.0f32) - Vec3::splat(0.5))
+                .abs()
+                .max_element()
+                < 1e-7
+        );
+    }
 
     fn exact_encode(x: f32) -> f32 {
         if x <= 0.003_130_8 {
@@ -186,12 +208,12 @@ mod tests {
     #[test]
     fn fresnel_is_f0_head_on_and_one_at_grazing() {
         let f0 = Vec3::splat(DIELECTRIC_F0);
-        assert!((fresnel(f0, 1.0f32) - f0).abs().max_element() < 1e-7);
-        assert!((fresnel(f0, 0.0f32) - Vec3::ONE).abs().max_element() < 1e-7);
+        assert!((fresnel(f0, 1.0, 1.0f32) - f0).abs().max_element() < 1e-7);
+        assert!((fresnel(f0, 1.0, 0.0f32) - Vec3::ONE).abs().max_element() < 1e-7);
         // At V·H = 0.5: 0.04 + 0.96/32 = 0.07.
-        assert!((fresnel(f0, 0.5f32).x - 0.07).abs() < 1e-6);
+        assert!((fresnel(f0, 1.0, 0.5f32).x - 0.07).abs() < 1e-6);
         let gold = Vec3::new(1.0, 0.77, 0.34);
-        assert!((fresnel(gold, 1.0f32) - gold).abs().max_element() < 1e-7);
+        assert!((fresnel(gold, 1.0, 1.0f32) - gold).abs().max_element() < 1e-7);
     }
 
     #[test]
@@ -243,7 +265,7 @@ mod tests {
                 let v = Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
                 let h = (l + v).normalize();
                 let (nl, nv, nh, vh) = (n.dot(l), n.dot(v), n.dot(h), v.dot(h));
-                let f = fresnel(Vec3::splat(DIELECTRIC_F0), vh).x;
+                let f = fresnel(Vec3::splat(DIELECTRIC_F0), 1.0, vh).x;
                 let brdf =
                     ((1.0 - f) + PI * f * distribution(a2, nh) * visibility(a2, nl, nv)) / PI;
                 let d_omega = t.sin()

@@ -19,7 +19,7 @@ use wide::f32x8;
 
 use super::PhongTri;
 use super::brdf::{
-    self, DIELECTRIC_F0, MIN_ROUGHNESS, distribution, fresnel, saturate, srgb_to_linear, visibility,
+    self, MIN_ROUGHNESS, distribution, fresnel, saturate, srgb_to_linear, visibility,
 };
 use super::core::colour;
 use super::lanes::{Lanes, Vector};
@@ -58,7 +58,9 @@ struct At<V: Vector> {
     nv: V::L,
     /// Lambert's colour: (1 − metallic)·base.
     diffuse: V,
+    /// Reflectance head on and at grazing angles (Schlick's F0 and F90).
     f0: V,
+    f90: V::L,
     alpha2: V::L,
 }
 
@@ -122,7 +124,8 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         // A normal turned away from the eye (interpolated or mapped) is lit
         // as if grazing, not from behind.
         let nv = brdf::max(n.dot(view), V::L::splat(1e-4)).min(V::L::ONE);
-        let dielectric = V::uniform(Vec3::splat(DIELECTRIC_F0));
+        let dielectric = V::uniform(pbr.dielectric_f0);
+        let weight = V::L::splat(pbr.specular_weight);
         let alpha = roughness * roughness;
         let px = At {
             p: s.p,
@@ -131,6 +134,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             nv,
             diffuse: base * (V::L::ONE - metallic),
             f0: dielectric + (base - dielectric) * metallic,
+            f90: weight + (V::L::ONE - weight) * metallic,
             alpha2: alpha * alpha,
         };
         let lit = self.lights(ctx, &px, live, counters) + self.ambient(&px, roughness, at, live);
@@ -194,7 +198,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             let nh = saturate(px.n.dot(h));
             let vh = saturate(px.view.dot(h));
             let nl = saturate(nl);
-            let f = fresnel(px.f0, vh);
+            let f = fresnel(px.f0, px.f90, vh);
             let specular = distribution(px.alpha2, nh)
                 * visibility(px.alpha2, nl, px.nv)
                 * V::L::splat(std::f32::consts::PI);
@@ -246,7 +250,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         let prefiltered = V::gather(live, |i| {
             ibl.specular(r.lane(i).normalize_or(Vec3::Y), roughness.lane(i))
         });
-        let specular = px.f0 * a + V::uniform(Vec3::ONE) * b;
+        let specular = px.f0 * a + V::uniform(Vec3::ONE) * (px.f90 * b);
         let one = V::uniform(Vec3::ONE);
         let diffuse = px.diffuse * (one - specular) * irradiance(&ibl.sh, n);
         let mut light = diffuse + specular * prefiltered;

@@ -21,7 +21,7 @@ use super::data::{self, Problem, Uri};
 use super::opacity;
 use super::sampling::{Kind, Reading, Sets, maps_of};
 use crate::Material;
-use crate::terms::{Cutout, MaterialTerms, PbrMaterial};
+use crate::terms::{Cutout, MaterialTerms, PbrMaterial, f0_of_ior};
 use relief_texture::decode::load::load_texture_from_bytes;
 use relief_texture::decode::size_cap;
 use relief_texture::normal_map_file::{FileNormalMap, tilt};
@@ -213,6 +213,7 @@ impl<'a> Materials<'a> {
             roughness_map: metal_rough.clone().map(|m| (m, 1)),
             metallic_map: metal_rough.map(|m| (m, 2)),
             normal: normal_map.as_ref().map(|m| m.given().clone()),
+            ..reflectance(m)
         };
         let terms = MaterialTerms {
             cutout: cutout(&opacity, alpha_map),
@@ -679,6 +680,46 @@ fn gloss_map(metal_rough: &Level, roughness: f32) -> Level {
                 .map(|t| relief_texture::sample::texels::to_unorm16(gloss(roughness * t[1])))
                 .collect(),
         ),
+    }
+}
+
+/// A material's dielectric reflectance (`KHR_materials_ior`,
+/// `KHR_materials_specular`'s factors), the rest glTF's default: F0 =
+/// min(f0(ior)·specularColorFactor, 1)·specularFactor and F90 =
+/// specularFactor, as the Khronos sample renderer layers them. The
+/// extension's two textures are not read (`skipped` names them).
+fn reflectance(m: &::gltf::Material) -> PbrMaterial {
+    let number = |ext: &str, key: &str, default: f32| {
+        m.extension_value(ext)
+            .and_then(|e| e.get(key))
+            .and_then(|v| v.as_f64())
+            .map(|v| v as f32)
+            .filter(|v| v.is_finite())
+            .unwrap_or(default)
+    };
+    let f0 = f0_of_ior(number("KHR_materials_ior", "ior", 1.5));
+    let colour = m
+        .extension_value("KHR_materials_specular")
+        .and_then(|e| e.get("specularColorFactor"))
+        .and_then(|v| v.as_array())
+        .filter(|a| a.len() == 3)
+        .map(|a| Vec3::from_array([0, 1, 2].map(|k| a[k].as_f64().unwrap_or(1.0) as f32)))
+        .filter(|c| c.is_finite())
+        .map_or(Vec3::ONE, |c| c.max(Vec3::ZERO));
+    let weight = number("KHR_materials_specular", "specularFactor", 1.0).clamp(0.0, 1.0);
+    let tinted = if colour == Vec3::ONE {
+        Vec3::splat(f0)
+    } else {
+        (f0 * colour).min(Vec3::ONE)
+    };
+    PbrMaterial {
+        dielectric_f0: if weight == 1.0 {
+            tinted
+        } else {
+            tinted * weight
+        },
+        specular_weight: weight,
+        ..PbrMaterial::gltf_default()
     }
 }
 

@@ -15,9 +15,11 @@
 mod accessor;
 mod cameras;
 mod data;
+mod draco;
 mod fitted_nodes;
 mod lights;
 mod material;
+mod meshopt;
 mod opacity;
 mod reading;
 mod rig;
@@ -138,16 +140,11 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
     let parsed = ::gltf::Gltf::from_slice_without_validation(container.json).map_err(json_error)?;
     let mut root = parsed.document.into_json();
     validate::before_parse(&mut root, SUPPORTED_REQUIRED)?;
-    let document = ::gltf::Document::from_json(root).map_err(json_error)?;
-    let mut buffers = Vec::new();
-    let mut held = Vec::new();
-    for b in document.buffers() {
-        let what = format!("model {name}, buffers[{}]", b.index());
-        let (bytes, h) = data::buffer(b.source(), b.length(), container.bin, dir, &what)
-            .map_err(|p| format!("buffers[{}]: {p}", b.index()))?;
-        buffers.push(bytes);
-        held.extend(h);
+    let (mut buffers, mut held) = read_buffers(&root, container.bin, dir, name)?;
+    if root.extensions_used.iter().any(|e| is_compression(e)) {
+        held.push(decompress(&mut root, &mut buffers, name)?);
     }
+    let document = ::gltf::Document::from_json(root).map_err(json_error)?;
     let instances = instances(&document)?;
     let quantized = document
         .extensions_used()
@@ -222,6 +219,53 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
         cameras,
         lights,
     })
+}
+
+/// Whether extension `e` compresses a file's data.
+fn is_compression(e: &str) -> bool {
+    e == draco::NAME || meshopt::NAMES.contains(&e)
+}
+
+/// Every buffer's bytes (a meshopt fallback buffer's none) and what they
+/// hold of the memory budget.
+fn read_buffers(
+    root: &::gltf::json::Root,
+    bin: Option<&[u8]>,
+    dir: &Path,
+    name: &str,
+) -> Result<(Vec<Vec<u8>>, Vec<Reservation>), Problem> {
+    let (mut buffers, mut held) = (Vec::new(), Vec::new());
+    for (k, b) in root.buffers.iter().enumerate() {
+        if meshopt::is_fallback(b) {
+            buffers.push(Vec::new());
+            continue;
+        }
+        let what = format!("model {name}, buffers[{k}]");
+        let source = match &b.uri {
+            Some(uri) => ::gltf::buffer::Source::Uri(uri),
+            None => ::gltf::buffer::Source::Bin,
+        };
+        let (bytes, h) = data::buffer(source, b.byte_length.0 as usize, bin, dir, &what)
+            .map_err(|p| format!("buffers[{k}]: {p}"))?;
+        buffers.push(bytes);
+        held.extend(h);
+    }
+    Ok((buffers, held))
+}
+
+/// Decodes `root`'s compressed bufferViews (meshopt) and primitives
+/// (Draco) into new buffers appended to `buffers`; what the decoded bytes
+/// hold of the memory budget.
+fn decompress(
+    root: &mut ::gltf::json::Root,
+    buffers: &mut Vec<Vec<u8>>,
+    name: &str,
+) -> Result<Reservation, Problem> {
+    let mut held =
+        relief_core::budget::reserve(&format!("model {name}"), 0).map_err(|e| e.to_string())?;
+    meshopt::unpack(root, buffers, (name, &mut held))?;
+    draco::unpack(root, buffers, (name, &mut held))?;
+    Ok(held)
 }
 
 /// The parts (triangles, with their materials) and strokes of `prims`,

@@ -1,18 +1,23 @@
 //! What relief draws a glTF file without, named once in one plain line
 //! (docs/models.md, "What is not drawn"): the extensions the file uses
-//! that relief does not read, its orthographic cameras, and maps on a third texture coordinate set (only two are
-//! stored per primitive: such a map reads the first).
+//! that relief does not read, its orthographic cameras, maps on a third texture coordinate set (only two are
+//! stored per primitive: such a map reads the first), and `KHR_materials_specular`'s textures.
 
 use super::sampling::{Reading, maps_of};
 
 /// The extensions relief reads when a file uses them.
 pub(super) const READ: &[&str] = &[
+    "EXT_meshopt_compression",
     "EXT_texture_webp",
+    "KHR_draco_mesh_compression",
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
+    "KHR_materials_ior",
+    "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_unlit",
     "KHR_mesh_quantization",
+    "KHR_meshopt_compression",
     "KHR_texture_transform",
 ];
 
@@ -39,6 +44,23 @@ pub(super) fn note(name: &str, document: &::gltf::Document) -> Option<String> {
         parts.push(format!(
             "a third texture coordinate set ({}: its maps read the first)",
             third.join(", ")
+        ));
+    }
+    let specular = document
+        .materials()
+        .filter(|m| {
+            m.extension_value("KHR_materials_specular")
+                .is_some_and(|e| {
+                    e.get("specularTexture").is_some() || e.get("specularColorTexture").is_some()
+                })
+        })
+        .filter_map(|m| m.index())
+        .map(|i| format!("materials[{i}]"))
+        .collect::<Vec<_>>();
+    if !specular.is_empty() {
+        parts.push(format!(
+            "the specular textures of {} (their factors are used)",
+            specular.join(", ")
         ));
     }
     let skipped: Vec<String> = document

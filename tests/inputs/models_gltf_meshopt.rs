@@ -1,0 +1,164 @@
+//! `EXT_meshopt_compression` and `KHR_meshopt_compression`: the
+//! octahedron of the Draco tests with its positions, normals and indices
+//! in compressed bufferViews (written here with the `meshoptimizer-rs`
+//! crate's encoders) over a fallback buffer that holds no bytes, read as
+//! its plain twin; a broken stream refused in one sentence.
+
+use meshoptimizer_rs::codec::{self, IndexEncoding, VertexEncoding};
+use meshoptimizer_rs::{Limits, Workspace};
+
+use super::models_gltf::{glb, load_ok, refused, write};
+use super::models_gltf_draco::{FACES, POINTS, assert_same_triangles, plain_glb, triangles, uv};
+
+/// One compressed view: its stream, the element count and stride, the
+/// mode and filter.
+struct Packed {
+    stream: Vec<u8>,
+    count: usize,
+    stride: usize,
+    mode: &'static str,
+    filter: &'static str,
+}
+
+fn work() -> Workspace {
+    Workspace::new(Limits::default())
+}
+
+/// The octahedron's positions, normals (octahedral, 8 bits, stride 4)
+/// and texture coordinates by the vertex codec (`version`), its indices
+/// by the index codec.
+fn packed(version: u8) -> Vec<Packed> {
+    let bytes = |v: &[f32]| v.iter().flat_map(|f| f.to_le_bytes()).collect::<Vec<u8>>();
+    let encoding = VertexEncoding::new(version, 2).unwrap();
+    let vertices = |data: &[u8], stride: usize| {
+        codec::encode_vertex_buffer(data, POINTS.len(), stride, encoding, &mut work()).unwrap()
+    };
+    let flat: Vec<f32> = POINTS.iter().flatten().copied().collect();
+    let with_w: Vec<f32> = POINTS
+        .iter()
+        .flat_map(|p| [p[0], p[1], p[2], 0.0])
+        .collect();
+    let normals = codec::encode_filter_oct(POINTS.len(), 4, 8, &with_w, &mut work()).unwrap();
+    let uvs: Vec<f32> = POINTS.iter().flat_map(|&p| uv(p)).collect();
+    let indices: Vec<u32> = FACES.iter().flatten().copied().collect();
+    let index_stream =
+        codec::encode_index_buffer(&indices, IndexEncoding::DEFAULT, &mut work()).unwrap();
+    let attribute = |stream, stride, filter| Packed {
+        stream,
+        count: POINTS.len(),
+        stride,
+        mode: "ATTRIBUTES",
+        filter,
+    };
+    vec![
+        attribute(vertices(&bytes(&flat), 12), 12, "NONE"),
+        attribute(vertices(&normals, 4), 4, "OCTAHEDRAL"),
+        attribute(vertices(&bytes(&uvs), 8), 8, "NONE"),
+        Packed {
+            stream: index_stream,
+            count: indices.len(),
+            stride: 2,
+            mode: "TRIANGLES",
+            filter: "NONE",
+        },
+    ]
+}
+
+/// A GLB whose binary chunk holds the streams and whose second buffer is
+/// the fallback, without bytes.
+fn meshopt_glb(views: &[Packed], extension: &str) -> Vec<u8> {
+    let (mut bin, mut json_views, mut fallback) = (Vec::new(), Vec::new(), 0);
+    for v in views {
+        let length = v.count * v.stride;
+        let stride = match v.mode {
+            "ATTRIBUTES" => format!(r#","byteStride":{}"#, v.stride),
+            _ => String::new(),
+        };
+        json_views.push(format!(
+            r#"{{"buffer":1,"byteOffset":{fallback},"byteLength":{length}{stride},"extensions":{{"{extension}":{{"buffer":0,"byteOffset":{},"byteLength":{},"byteStride":{},"count":{},"mode":"{}","filter":"{}"}}}}}}"#,
+            bin.len(),
+            v.stream.len(),
+            v.stride,
+            v.count,
+            v.mode,
+            v.filter
+        ));
+        bin.extend_from_slice(&v.stream);
+        bin.resize(bin.len().next_multiple_of(4), 0);
+        fallback += length.next_multiple_of(4);
+    }
+    let n = POINTS.len();
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"extensionsUsed":["{extension}","KHR_mesh_quantization"],
+"extensionsRequired":["{extension}","KHR_mesh_quantization"],"scene":0,"scenes":[{{"nodes":[0]}}],
+"nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1,"TEXCOORD_0":2}},"indices":3}}]}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":{n},"type":"VEC3","min":[-1,-1,-1],"max":[1,1,1]}},
+{{"bufferView":1,"componentType":5120,"normalized":true,"count":{n},"type":"VEC3"}},
+{{"bufferView":2,"componentType":5126,"count":{n},"type":"VEC2"}},
+{{"bufferView":3,"componentType":5123,"count":{},"type":"SCALAR"}}],
+"bufferViews":[{}],
+"buffers":[{{"byteLength":{}}},{{"byteLength":{fallback},"extensions":{{"{extension}":{{"fallback":true}}}}}}]}}"#,
+        FACES.len() * 3,
+        json_views.join(","),
+        bin.len()
+    );
+    glb(&json, &bin)
+}
+
+/// Read, the compressed octahedron has the plain one's triangles:
+/// positions and texture coordinates exactly, normals within the
+/// octahedral 8-bit step (the axes come back exact: 1e-2 is generous).
+#[test]
+fn a_meshopt_octahedron_reads_as_its_plain_twin() {
+    let plain = triangles(&load_ok(&write("meshopt", "plain.glb", &plain_glb())));
+    for (extension, version) in [
+        ("EXT_meshopt_compression", 0),
+        ("KHR_meshopt_compression", 1),
+    ] {
+        let bytes = meshopt_glb(&packed(version), extension);
+        let model = load_ok(&write("meshopt", "packed.glb", &bytes));
+        assert!(model.warnings.is_empty(), "{:?}", model.warnings);
+        assert_same_triangles(&triangles(&model), &plain, 1e-2);
+        let exact = |range: std::ops::Range<usize>| {
+            triangles(&model)
+                .iter()
+                .zip(&plain)
+                .all(|(s, t)| (0..3).all(|c| range.clone().all(|i| s[c][i] == t[c][i])))
+        };
+        assert!(exact(0..3) && exact(6..8), "{extension}");
+    }
+}
+
+#[test]
+fn a_broken_meshopt_stream_is_refused_in_one_sentence() {
+    let mut views = packed(0);
+    let cut = views[0].stream.len() / 2;
+    views[0].stream.truncate(cut);
+    let m = refused(
+        "meshopt-cut",
+        &meshopt_glb(&views, "EXT_meshopt_compression"),
+    );
+    assert!(
+        m.contains("bufferViews[0]: its meshopt data cannot be decoded"),
+        "{m}"
+    );
+    let mut views = packed(0);
+    views[1].filter = "SPIRAL";
+    let m = refused(
+        "meshopt-filter",
+        &meshopt_glb(&views, "EXT_meshopt_compression"),
+    );
+    assert!(
+        m.contains("the filter 'SPIRAL' is not one relief reads"),
+        "{m}"
+    );
+    // Every cut of every stream is refused or read, never a panic.
+    for k in 0..4 {
+        for end in 0..packed(0)[k].stream.len() {
+            let mut views = packed(0);
+            views[k].stream.truncate(end);
+            let bytes = meshopt_glb(&views, "EXT_meshopt_compression");
+            let _ = relief_scene::gltf::load(&write("meshopt-cuts", "cut.glb", &bytes));
+        }
+    }
+}
