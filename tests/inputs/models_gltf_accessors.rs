@@ -276,7 +276,7 @@ fn a_quantized_quad_reads_as_its_float_twin() {
 /// line: by the loader, and on `relief render`'s standard error.
 #[test]
 fn what_is_not_drawn_is_named_in_one_line() {
-    let ext = r#","extensionsUsed":["KHR_texture_transform","KHR_lights_punctual","KHR_materials_clearcoat","KHR_materials_transmission"],"cameras":[{"type":"perspective","perspective":{"yfov":0.8,"znear":0.1}}]"#;
+    let ext = r#","extensionsUsed":["KHR_texture_transform","KHR_lights_punctual","KHR_materials_sheen","KHR_materials_transmission"],"cameras":[{"type":"perspective","perspective":{"yfov":0.8,"znear":0.1}}]"#;
     let bytes = quad_glb(
         &[("POSITION", floats(&QUAD)), ("NORMAL", floats(&UP))],
         r#"{"mesh":0}"#,
@@ -286,10 +286,7 @@ fn what_is_not_drawn_is_named_in_one_line() {
     let model = load(&path).unwrap();
     assert_eq!(model.warnings.len(), 1, "{:?}", model.warnings);
     let line = &model.warnings[0];
-    assert!(
-        line.contains("the extension KHR_materials_clearcoat"),
-        "{line}"
-    );
+    assert!(line.contains("the extension KHR_materials_sheen"), "{line}");
     // A perspective camera is read (`V` shows through it).
     assert!(!line.contains("camera"), "{line}");
     // The extensions relief reads are not named.
@@ -391,14 +388,15 @@ fn vertex_colours_are_linear_light() {
     }
 }
 
-/// `KHR_materials_ior` and `KHR_materials_specular`: a black dielectric
+/// `KHR_materials_ior`, `KHR_materials_specular` and
+/// `KHR_materials_clearcoat`: a black dielectric
 /// (roughness 1) seen and lit head on by a light of 2 reflects
 /// 2·F0·D·V·π = 2·F0/4 = F0/2. glTF's default F0 is 0.04 (0.02 back);
 /// with ior 1.33, F0 = (0.33/2.33)² = 0.020059, times the specular colour
 /// (1, 0.5, 0.25) and the weight 0.5: (0.01003, 0.005015, 0.002507), half
 /// of which comes back.
 #[test]
-fn the_index_of_refraction_and_specular_factors_set_a_dielectrics_reflection() {
+fn the_index_of_refraction_specular_and_clearcoat_factors_set_a_dielectrics_reflection() {
     let material = |ext: &str| {
         format!(
             r#","materials":[{{"pbrMetallicRoughness":{{"baseColorFactor":[0,0,0,1],"metallicFactor":0,"roughnessFactor":1}}{ext}}}]"#
@@ -418,6 +416,24 @@ fn the_index_of_refraction_and_specular_factors_set_a_dielectrics_reflection() {
         write("reflectance", name, &bytes)
     };
     let plain = lit_head_on(quad("plain.glb", ""));
+    // KHR_materials_clearcoat (factor 1, roughness 1) over the black
+    // dielectric: the layer lets 1 − F(0°) = 0.96 through and reflects
+    // 2·0.04/4 = 0.02 itself: 0.96·0.02 + 0.02 = 0.0392. With the base's
+    // specular weight 0 only the layer's 0.02 is left.
+    let coat = r#""KHR_materials_clearcoat":{"clearcoatFactor":1,"clearcoatRoughnessFactor":1}"#;
+    let coated = lit_head_on(quad("coat.glb", &format!(r#","extensions":{{{coat}}}"#)));
+    let coat_only =
+        format!(r#","extensions":{{{coat},"KHR_materials_specular":{{"specularFactor":0}}}}"#);
+    let coat_only = lit_head_on(quad("coat-only.glb", &coat_only));
+    for k in 0..3 {
+        let want = srgb8(0.96 * 0.02 + 0.02);
+        assert!((coated[k] as i32 - want).abs() <= 1, "{coated:?}: {want}");
+        let want = srgb8(0.02);
+        assert!(
+            (coat_only[k] as i32 - want).abs() <= 1,
+            "{coat_only:?}: {want}"
+        );
+    }
     let ext = r#","extensions":{"KHR_materials_ior":{"ior":1.33},"KHR_materials_specular":{"specularFactor":0.5,"specularColorFactor":[1,0.5,0.25]}}"#;
     let path = quad("water.glb", ext);
     assert!(load(&path).unwrap().warnings.is_empty());
@@ -429,13 +445,15 @@ fn the_index_of_refraction_and_specular_factors_set_a_dielectrics_reflection() {
         let want = srgb8(f0 * [1.0, 0.5, 0.25][k] / 2.0);
         assert!((water[k] as i32 - want).abs() <= 1, "{water:?}: {want}");
     }
-    // The extension's textures are not read, and said so.
-    let ext = r#","extensions":{"KHR_materials_specular":{"specularTexture":{"index":0}}}"#;
+    // The extensions' textures are not read, and said so.
+    let ext = r#","extensions":{"KHR_materials_specular":{"specularTexture":{"index":0}},"KHR_materials_clearcoat":{"clearcoatFactor":1,"clearcoatNormalTexture":{"index":0}}}"#;
     let model = load(&quad("textured.glb", ext)).unwrap();
     assert_eq!(model.warnings.len(), 1, "{:?}", model.warnings);
-    assert!(
-        model.warnings[0].contains("the specular textures of materials[0]"),
-        "{:?}",
-        model.warnings
-    );
+    for layer in ["specular", "clearcoat"] {
+        assert!(
+            model.warnings[0].contains(&format!("the {layer} textures of materials[0]")),
+            "{:?}",
+            model.warnings
+        );
+    }
 }

@@ -70,6 +70,18 @@ pub struct PbrMaterial {
     /// A dielectric's reflectance at grazing angles: `KHR_materials_specular`'s
     /// weight, 1 by default. Metals reflect 1 there whatever it is.
     pub specular_weight: f32,
+    /// A clear varnish over the material (`KHR_materials_clearcoat`).
+    pub clearcoat: Option<Clearcoat>,
+}
+
+/// A clearcoat layer: a dielectric (F0 0.04) of its own roughness over the
+/// material, on the surface's own normal (docs/shading.md).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Clearcoat {
+    /// `clearcoatFactor`: how much of the layer there is, 0 to 1.
+    pub factor: f32,
+    /// `clearcoatRoughnessFactor`, 0 to 1.
+    pub roughness: f32,
 }
 
 /// A dielectric's reflectance head on at glTF's default index of
@@ -101,6 +113,7 @@ impl PbrMaterial {
             normal: None,
             dielectric_f0: Vec3::splat(DIELECTRIC_F0),
             specular_weight: 1.0,
+            clearcoat: None,
         }
     }
 }

@@ -34,7 +34,7 @@ use crate::plan::Physical;
 use relief_core::framebuffer::Rgb;
 use relief_core::stats::Counters;
 use relief_scene::light::Falloff;
-use relief_scene::terms::{MaterialTerms, PbrMaterial};
+use relief_scene::terms::{Clearcoat, DIELECTRIC_F0, MaterialTerms, PbrMaterial};
 use relief_texture::ibl::Ibl;
 use relief_texture::sample::filter::read_normal;
 use relief_texture::sample::mip::Footprint;
@@ -62,6 +62,56 @@ struct At<V: Vector> {
     f0: V,
     f90: V::L,
     alpha2: V::L,
+    /// The clearcoat layer, when the material has one.
+    coat: Option<Coat<V>>,
+}
+
+/// A clearcoat layer at the pixels: on the surface's own normal (not the
+/// normal map's), with its own roughness.
+struct Coat<V: Vector> {
+    n: V,
+    nv: V::L,
+    roughness: V::L,
+    alpha2: V::L,
+    factor: V::L,
+}
+
+impl<V: Vector> Coat<V> {
+    /// The layer of `coat` on the surface of normal `n` seen along `view`.
+    #[inline(always)]
+    fn of(coat: &Clearcoat, n: V, view: V) -> Self {
+        let nv = brdf::max(n.dot(view), V::L::splat(1e-4)).min(V::L::ONE);
+        let roughness = V::L::splat(coat.roughness.max(MIN_ROUGHNESS));
+        let alpha = roughness * roughness;
+        Coat {
+            n,
+            nv,
+            roughness,
+            alpha2: alpha * alpha,
+            factor: V::L::splat(coat.factor),
+        }
+    }
+
+    /// What the layer lets through of the light below it: 1 − factor·F(N·V).
+    #[inline(always)]
+    fn passes(&self) -> V::L {
+        let f = V::L::splat(DIELECTRIC_F0);
+        V::L::ONE - self.factor * (f + (V::L::ONE - f) * brdf::schlick_weight(self.nv))
+    }
+
+    /// The layer's own reflection of a light in direction `l`, half vector
+    /// `h`: π·F·D·V with F0 0.04, times N·L on its own normal.
+    #[inline(always)]
+    fn reflects(&self, l: V, h: V, vh: V::L) -> V::L {
+        let nl = saturate(self.n.dot(l));
+        let nh = saturate(self.n.dot(h));
+        let f = V::L::splat(DIELECTRIC_F0);
+        let f = f + (V::L::ONE - f) * brdf::schlick_weight(vh);
+        f * distribution(self.alpha2, nh)
+            * visibility(self.alpha2, nl, self.nv)
+            * V::L::splat(std::f32::consts::PI)
+            * nl
+    }
 }
 
 impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
@@ -136,9 +186,19 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             f0: dielectric + (base - dielectric) * metallic,
             f90: weight + (V::L::ONE - weight) * metallic,
             alpha2: alpha * alpha,
+            coat: pbr.clearcoat.as_ref().map(|c| Coat::of(c, s.n, view)),
         };
-        let lit = self.lights(ctx, &px, live, counters) + self.ambient(&px, roughness, at, live);
+        let (direct, coat_direct) = self.lights(ctx, &px, live, counters);
+        let lit = direct + self.ambient(&px, roughness, at, live);
         let lit = lit + emission(terms, at);
+        // A clearcoat lets 1 − c·F through of all that is below it (the
+        // emission too) and adds its own reflection, times c.
+        let lit = match &px.coat {
+            Some(c) => {
+                lit * c.passes() + (coat_direct + self.coat_ambient(c, view, live)) * c.factor
+            }
+            None => lit,
+        };
         brdf::display(lit, self.physical.exposure, self.physical.tone_map)
     }
 
@@ -171,7 +231,8 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
     }
 
     /// Σ over the lights of colour × N·L × ((1 − F)·diffuse + π·F·D·V),
-    /// each scaled by its attenuation and shadow.
+    /// each scaled by its attenuation and shadow; and the same sum of the
+    /// clearcoat layer's own reflection (zero without a layer).
     #[inline(always)]
     fn lights<V: Vector>(
         &self,
@@ -179,10 +240,11 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         px: &At<V>,
         live: u32,
         counters: &mut Counters,
-    ) -> V {
+    ) -> (V, V) {
         let plan = ctx.plan;
         let zero = V::L::ZERO;
         let mut sum = V::uniform(Vec3::ZERO);
+        let mut coat_sum = V::uniform(Vec3::ZERO);
         counters.light_evals += live.count_ones() as u64 * plan.lights.len() as u64;
         for (i, light) in plan.lights.iter().enumerate() {
             let d = V::uniform(light.position) - px.p;
@@ -205,13 +267,19 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             let one = V::uniform(Vec3::ONE);
             let brdf = (one - f) * px.diffuse + f * specular;
             let mut k = nl;
+            // The layer's reflection takes the same falloff and shadow.
+            let mut kc = px.coat.as_ref().map(|c| c.reflects(l, h, vh));
             match light.falloff {
                 Falloff::Setting if plan.attenuation => {
-                    k = k / (V::L::ONE + V::L::splat(ATTENUATION_QUADRATIC) * len2);
+                    let q = V::L::ONE + V::L::splat(ATTENUATION_QUADRATIC) * len2;
+                    k = k / q;
+                    kc = kc.map(|kc| kc / q);
                 }
                 Falloff::Setting | Falloff::None => {}
                 falloff @ Falloff::InverseSquare { .. } => {
-                    k = k * physical_falloff(falloff, d, len2);
+                    let f = physical_falloff(falloff, d, len2);
+                    k = k * f;
+                    kc = kc.map(|kc| kc * f);
                 }
             }
             if let Some(sh) = ctx.shadow
@@ -223,11 +291,16 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
                     [sh.factor(i, p, self.tri.face_normal, self.tri.object, counters)]
                 });
                 k = k * seen;
+                kc = kc.map(|kc| kc * seen);
             }
             let add = brdf * V::uniform(light.color) * k;
             sum = sum + V::select(reached, add, V::uniform(Vec3::ZERO));
+            if let Some(kc) = kc {
+                let add = V::uniform(light.color) * kc;
+                coat_sum = coat_sum + V::select(reached, add, V::uniform(Vec3::ZERO));
+            }
         }
-        sum
+        (sum, coat_sum)
     }
 
     /// The environment's light: irradiance(N)·diffuse·(1 − S) +
@@ -260,6 +333,26 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             light = light * (V::L::ONE + V::L::splat(*strength) * (occ - V::L::ONE));
         }
         light
+    }
+
+    /// The environment's light on the clearcoat layer: prefiltered(R,
+    /// roughness)·(0.04·A + B), on the layer's own normal.
+    #[inline(always)]
+    fn coat_ambient<V: Vector>(&self, c: &Coat<V>, view: V, live: u32) -> V {
+        let Some(ibl) = self.light else {
+            return V::uniform(Vec3::ZERO);
+        };
+        let (cos, sin) = self.physical.turn;
+        let r = turned(c.n * (c.nv + c.nv) - view, cos, sin);
+        let lut = lut();
+        let [a, b] = V::L::gather(live, 0.0, |i| {
+            let (a, b) = lut.read(c.nv.lane(i), c.roughness.lane(i));
+            [a, b]
+        });
+        let prefiltered = V::gather(live, |i| {
+            ibl.specular(r.lane(i).normalize_or(Vec3::Y), c.roughness.lane(i))
+        });
+        prefiltered * (V::L::splat(DIELECTRIC_F0) * a + b)
     }
 }
 

@@ -21,7 +21,7 @@ use super::data::{self, Problem, Uri};
 use super::opacity;
 use super::sampling::{Kind, Reading, Sets, maps_of};
 use crate::Material;
-use crate::terms::{Cutout, MaterialTerms, PbrMaterial, f0_of_ior};
+use crate::terms::{Clearcoat, Cutout, MaterialTerms, PbrMaterial, f0_of_ior};
 use relief_texture::decode::load::load_texture_from_bytes;
 use relief_texture::decode::size_cap;
 use relief_texture::normal_map_file::{FileNormalMap, tilt};
@@ -686,8 +686,9 @@ fn gloss_map(metal_rough: &Level, roughness: f32) -> Level {
 /// A material's dielectric reflectance (`KHR_materials_ior`,
 /// `KHR_materials_specular`'s factors), the rest glTF's default: F0 =
 /// min(f0(ior)·specularColorFactor, 1)·specularFactor and F90 =
-/// specularFactor, as the Khronos sample renderer layers them. The
-/// extension's two textures are not read (`skipped` names them).
+/// specularFactor, as the Khronos sample renderer layers them; and the
+/// clearcoat layer's factor and roughness (`KHR_materials_clearcoat`).
+/// The extensions' textures are not read (`skipped` names them).
 fn reflectance(m: &::gltf::Material) -> PbrMaterial {
     let number = |ext: &str, key: &str, default: f32| {
         m.extension_value(ext)
@@ -712,6 +713,12 @@ fn reflectance(m: &::gltf::Material) -> PbrMaterial {
     } else {
         (f0 * colour).min(Vec3::ONE)
     };
+    let coat = number("KHR_materials_clearcoat", "clearcoatFactor", 0.0).clamp(0.0, 1.0);
+    let clearcoat = (coat > 0.0).then(|| Clearcoat {
+        factor: coat,
+        roughness: number("KHR_materials_clearcoat", "clearcoatRoughnessFactor", 0.0)
+            .clamp(0.0, 1.0),
+    });
     PbrMaterial {
         dielectric_f0: if weight == 1.0 {
             tinted
@@ -719,6 +726,7 @@ fn reflectance(m: &::gltf::Material) -> PbrMaterial {
             tinted * weight
         },
         specular_weight: weight,
+        clearcoat,
         ..PbrMaterial::gltf_default()
     }
 }

@@ -1,7 +1,7 @@
 //! What relief draws a glTF file without, named once in one plain line
 //! (docs/models.md, "What is not drawn"): the extensions the file uses
 //! that relief does not read, its orthographic cameras, maps on a third texture coordinate set (only two are
-//! stored per primitive: such a map reads the first), and `KHR_materials_specular`'s textures.
+//! stored per primitive: such a map reads the first), and the textures of `KHR_materials_specular` and `KHR_materials_clearcoat`.
 
 use super::sampling::{Reading, maps_of};
 
@@ -11,6 +11,7 @@ pub(super) const READ: &[&str] = &[
     "EXT_texture_webp",
     "KHR_draco_mesh_compression",
     "KHR_lights_punctual",
+    "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
     "KHR_materials_specular",
@@ -46,22 +47,29 @@ pub(super) fn note(name: &str, document: &::gltf::Document) -> Option<String> {
             third.join(", ")
         ));
     }
-    let specular = document
-        .materials()
-        .filter(|m| {
-            m.extension_value("KHR_materials_specular")
-                .is_some_and(|e| {
-                    e.get("specularTexture").is_some() || e.get("specularColorTexture").is_some()
-                })
-        })
-        .filter_map(|m| m.index())
-        .map(|i| format!("materials[{i}]"))
-        .collect::<Vec<_>>();
-    if !specular.is_empty() {
-        parts.push(format!(
-            "the specular textures of {} (their factors are used)",
-            specular.join(", ")
-        ));
+    for (ext, layer, maps) in [
+        (
+            "KHR_materials_specular",
+            "specular",
+            &["specularTexture", "specularColorTexture"][..],
+        ),
+        (
+            "KHR_materials_clearcoat",
+            "clearcoat",
+            &[
+                "clearcoatTexture",
+                "clearcoatRoughnessTexture",
+                "clearcoatNormalTexture",
+            ][..],
+        ),
+    ] {
+        let with_maps = materials_with_maps(document, ext, maps);
+        if !with_maps.is_empty() {
+            parts.push(format!(
+                "the {layer} textures of {} (their factors are used)",
+                with_maps.join(", ")
+            ));
+        }
     }
     let skipped: Vec<String> = document
         .extensions_used()
@@ -77,6 +85,20 @@ pub(super) fn note(name: &str, document: &::gltf::Document) -> Option<String> {
         parts.push(format!("the {word} {}", skipped.join(", ")));
     }
     (!parts.is_empty()).then(|| format!("model {name}: drawn without {}", parts.join("; ")))
+}
+
+/// The materials (as `materials[i]`) whose extension `ext` names any of
+/// the textures `maps`.
+fn materials_with_maps(document: &::gltf::Document, ext: &str, maps: &[&str]) -> Vec<String> {
+    document
+        .materials()
+        .filter(|m| {
+            m.extension_value(ext)
+                .is_some_and(|e| maps.iter().any(|k| e.get(*k).is_some()))
+        })
+        .filter_map(|m| m.index())
+        .map(|i| format!("materials[{i}]"))
+        .collect()
 }
 
 /// Whether material `m`'s maps read more than two texture coordinate sets.
