@@ -893,6 +893,25 @@ fn esc_stops_a_load_first_and_the_status_line_shows_it_until_then() {
     assert_eq!(s.loading, None);
 }
 
+/// `B` puts the environment behind the model and takes it away; the
+/// status line says so while it shows; in the points display it changes
+/// nothing and says why.
+#[test]
+fn capital_b_shows_the_environment_behind_the_model() {
+    let mut s = state();
+    assert!(!s.settings.backdrop);
+    ch(&mut s, 'B');
+    assert!(s.settings.backdrop);
+    assert!(relief::app::view::status_line(&s, 300).contains("backdrop"));
+    ch(&mut s, 'B');
+    assert!(!s.settings.backdrop);
+    assert!(!relief::app::view::status_line(&s, 300).contains("backdrop"));
+    ch(&mut s, 'd');
+    assert_ne!(s.settings.display, relief_core::settings::Display::Fill);
+    ch(&mut s, 'B');
+    assert!(!s.settings.backdrop);
+}
+
 #[test]
 fn capital_j_turns_the_environment_by_thirty_degrees_around_the_circle() {
     let mut s = state();

@@ -116,3 +116,62 @@ fn a_white_dielectric_in_the_studio_does_not_blow_out() {
     let got = centre(&draw(&scene, &settings, 120, 90));
     assert!(got.iter().all(|&c| (150..250).contains(&c)), "{got:?}");
 }
+
+/// The environment behind the model (`B`, `--backdrop`): an environment
+/// whose colour is its direction, (d + 1)/2, seen through the model
+/// view's camera (looking down −back from above, right +X, 60° high, no
+/// tone map). The ray through the centre of pixel (x, y) of a W×H frame
+/// is −back + right·nx·t·W/H + up·ny·t, t = tan 30°, nx = 2(x + ½)/W − 1,
+/// ny = 1 − 2(y + ½)/H; the pixel is that direction's colour, turned as
+/// `J` turns the light: (c·x − s·z, y, s·x + c·z) for the turn's cosine
+/// and sine. Off, the corners are the plain background; the model's own
+/// pixels are the same either way.
+#[test]
+fn the_backdrop_shows_the_environment_through_each_pixel() {
+    let [right, up, back] = view_axes();
+    let mut scene = model(
+        "ibl-backdrop",
+        1,
+        &format!("[{}]", material([1.0; 3], 0.0, 0.5)),
+        &[],
+    );
+    environment_only(
+        &mut scene,
+        Environment::from_fn("directions", 512, 256, |d| (d + Vec3::ONE) * 0.5),
+    );
+    let (w, h) = (120usize, 90usize);
+    for degrees in [0.0f32, 90.0] {
+        let settings = relief_core::settings::Settings {
+            backdrop: true,
+            environment_turn: degrees,
+            ..facing()
+        };
+        let shown = draw(&scene, &settings, w, h);
+        let plain = relief_core::settings::Settings {
+            backdrop: false,
+            ..settings
+        };
+        let plain = draw(&scene, &plain, w, h);
+        let t = (settings.fov.to_radians() / 2.0).tan();
+        let (c, s) = (degrees.to_radians().cos(), degrees.to_radians().sin());
+        for (x, y) in [(0, 0), (w - 1, 0), (0, h - 1), (w - 1, h - 1), (w / 2, 0)] {
+            let nx = 2.0 * (x as f32 + 0.5) / w as f32 - 1.0;
+            let ny = 1.0 - 2.0 * (y as f32 + 0.5) / h as f32;
+            let d = (-back + right * nx * t * (w as f32 / h as f32) + up * ny * t).normalize();
+            let d = Vec3::new(c * d.x - s * d.z, d.y, s * d.x + c * d.z);
+            let want = ((d + Vec3::ONE) * 0.5).to_array().map(srgb8);
+            let got = shown.pixels()[y * w + x];
+            assert!(
+                near(got, want, 3),
+                "{degrees}° ({x}, {y}): {got:?}, want {want:?}"
+            );
+            assert_eq!(
+                plain.pixels()[y * w + x],
+                relief_scene::BACKGROUND,
+                "({x}, {y})"
+            );
+        }
+        // The model covers the centre alike with and without the backdrop.
+        assert_eq!(centre(&shown), centre(&plain));
+    }
+}

@@ -266,6 +266,10 @@ pub struct Settings {
     /// Key `J`, `--environment-turn`: the model view's environment turned
     /// about the vertical axis, in degrees (0 ≤ turn < 360).
     pub environment_turn: f32,
+    /// Key `B`, `--backdrop`: the model view's environment drawn behind the
+    /// model instead of the plain background (off: fewer bytes over a
+    /// slow link, and the silhouette stands out).
+    pub backdrop: bool,
 }
 
 /// The tone map of physically shaded pixels (docs/shading.md,
@@ -320,6 +324,7 @@ impl Default for Settings {
             tone_map: ToneMap::PbrNeutral,
             exposure: 1.0,
             environment_turn: 0.0,
+            backdrop: false,
         }
     }
 }

@@ -28,12 +28,13 @@ pub enum OptId {
     ToneMap,
     Exposure,
     EnvironmentTurn,
+    Backdrop,
 }
 
 impl OptId {
     /// Every id, in the table's order. The table has one entry per id, at
     /// the id's place (checked when the crate compiles, see `table.rs`).
-    pub const ALL: [OptId; 24] = [
+    pub const ALL: [OptId; 25] = [
         OptId::Shading,
         OptId::Normals,
         OptId::Texture,
@@ -58,5 +59,6 @@ impl OptId {
         OptId::ToneMap,
         OptId::Exposure,
         OptId::EnvironmentTurn,
+        OptId::Backdrop,
     ];
 }

@@ -770,6 +770,33 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         }),
         bench: Bench::None,
     },
+    Opt {
+        id: OptId::Backdrop,
+        name: "backdrop",
+        title: "backdrop",
+        kind: Kind::Toggle,
+        field: field!(backdrop: bool),
+        flag: Flag {
+            form: Form::Switch,
+            ..flag(
+                "Draw the model view's environment behind the model instead of the plain background (docs/shading.md, \"Image-based light\")",
+            )
+        },
+        keys: &[key(
+            &['B'],
+            Press::Next,
+            "the environment behind the model on / off",
+        )],
+        shows: Some(Shows {
+            when: |c| c.settings.display == Display::Fill,
+            why: "shows behind a model in the model view, with fill display (d); unchanged",
+        }),
+        status: Some(Status {
+            shown: Some(|c| c.settings.backdrop),
+            ..same(21, |_| "backdrop".into(), Some(6))
+        }),
+        bench: Bench::None,
+    },
 ];
 
 // Each entry at its id's place, so that [`get`] is an index: a table out

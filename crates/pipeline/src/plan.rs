@@ -96,6 +96,8 @@ pub struct Physical {
     pub environment: Option<Arc<Environment>>,
     /// The environment's turn about +Y: its cosine and sine.
     pub turn: (f32, f32),
+    /// The environment drawn behind the model (`--backdrop`, key `B`).
+    pub backdrop: bool,
 }
 
 /// The stages of one frame.
@@ -312,6 +314,7 @@ impl Plan {
                         (1.0, 0.0)
                     }
                 },
+                backdrop: settings.backdrop,
             }),
         }
     }

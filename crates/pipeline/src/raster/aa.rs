@@ -13,6 +13,7 @@
 //! every other pixel: no linear-light conversion), rounded to nearest.
 
 use super::alpha::{AlphaRule, over};
+use super::backdrop::Backdrop;
 use super::fill::fill;
 use super::scan::{
     Band, OwnedBand, depth_prepass, pixel_setup, raster_owned, raster_triangle, shade_at,
@@ -77,8 +78,8 @@ pub fn resolve_msaa(samples: &[[Rgb; MSAA_SAMPLES]], dst: &mut [Rgb]) {
 
 /// What a triangle is drawn into: a band of pixels, or of samples.
 pub trait RasterTarget {
-    /// Fills the band with the background.
-    fn clear(&mut self, color: Rgb);
+    /// Fills the band with its part of the backdrop.
+    fn clear(&mut self, backdrop: &Backdrop);
     /// Draws the part of `tri` inside the band with shader `S`.
     fn raster<S: PixelShader>(
         &mut self,
@@ -97,8 +98,8 @@ pub trait RasterTarget {
 }
 
 impl RasterTarget for OwnedBand<'_> {
-    fn clear(&mut self, color: Rgb) {
-        fill(self.band.color, color);
+    fn clear(&mut self, backdrop: &Backdrop) {
+        self.band.clear(backdrop);
         fill(self.owner, u32::MAX);
     }
     #[inline]
@@ -120,8 +121,8 @@ impl RasterTarget for OwnedBand<'_> {
 }
 
 impl RasterTarget for Band<'_> {
-    fn clear(&mut self, color: Rgb) {
-        fill(self.color, color);
+    fn clear(&mut self, backdrop: &Backdrop) {
+        backdrop.fill(self.color, self.y0, self.width);
     }
     #[inline]
     fn raster<S: PixelShader>(
@@ -136,8 +137,16 @@ impl RasterTarget for Band<'_> {
 }
 
 impl RasterTarget for MsaaBand<'_> {
-    fn clear(&mut self, color: Rgb) {
-        fill(self.samples, [color; MSAA_SAMPLES]);
+    fn clear(&mut self, backdrop: &Backdrop) {
+        match backdrop {
+            Backdrop::Plain(c) => fill(self.samples, [*c; MSAA_SAMPLES]),
+            Backdrop::Picture(p) => {
+                let start = self.y0 * self.width;
+                for (k, s) in self.samples.iter_mut().enumerate() {
+                    *s = [p.get(start + k).copied().unwrap_or([0; 3]); MSAA_SAMPLES];
+                }
+            }
+        }
     }
     #[inline]
     fn raster<S: PixelShader>(

@@ -3,6 +3,7 @@
 
 pub mod aa;
 pub mod alpha;
+pub mod backdrop;
 pub mod clip;
 pub mod fill;
 pub mod frames;

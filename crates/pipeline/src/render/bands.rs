@@ -7,9 +7,9 @@ use super::abandon::{Abandon, CHECK_EVERY};
 use super::dispatch::draw_into;
 use crate::raster::ScreenTri;
 use crate::raster::aa::RasterTarget;
+use crate::raster::backdrop::Backdrop;
 use crate::raster::setup::ONE;
 use crate::shade::{ShadeCtx, TriShader};
-use relief_core::framebuffer::Rgb;
 use relief_core::stats::Counters;
 
 /// Bands of equal estimated work per thread: one would leave a thread idle
@@ -153,7 +153,7 @@ pub(super) fn draw_bands<T: RasterTarget + Send>(
     tris: &[ScreenTri],
     shaders: &[TriShader],
     ctxs: &MaterialCtxs,
-    background: Rgb,
+    backdrop: &Backdrop,
     abandon: &Abandon,
 ) -> (Counters, usize) {
     // Each band goes through every triangle, twice when it draws depth first.
@@ -164,7 +164,7 @@ pub(super) fn draw_bands<T: RasterTarget + Send>(
         if abandon.now() {
             return (counters, false);
         }
-        band.clear(background);
+        band.clear(backdrop);
         let (y0, y1) = (bounds[i] as i32, bounds[i + 1] as i32);
         let misses = |tri: &ScreenTri| tri.y1 < y0 || tri.y0 >= y1;
         // Asked every `CHECK_EVERY` triangles: stop, and count them done.

@@ -2,6 +2,7 @@
 //! and shaded (in parallel when the frame is big enough to gain).
 
 mod abandon;
+mod backdrop;
 mod bands;
 mod dispatch;
 mod progress;
@@ -86,6 +87,8 @@ pub struct Renderer {
     no_shadows: bool,
     /// The model view's last framing, and what it was made for.
     fit: Option<(FrameKey, Option<model_view::Fit>)>,
+    /// The environment drawn behind the model, kept between frames.
+    backdrop: backdrop::BackdropCache,
 }
 
 /// What a model view's framing depends on.
@@ -455,6 +458,8 @@ impl Renderer {
             &self.shader_groups,
         );
         let (width, height) = (fb.width(), fb.height());
+        let aspect = width as f32 / height as f32 * self.pixel_aspect.unwrap_or(1.0);
+        let backdrop = self.backdrop.of(plan, background, (width, height, aspect));
         let (parallel, bounds) = rasterize::band_bounds(&self.tris, &self.shaders, width, height);
         let drawing = rasterize::Drawing {
             width,
@@ -463,7 +468,7 @@ impl Renderer {
             tris: &self.tris,
             shaders: &self.shaders,
             ctx: &ctx,
-            background,
+            backdrop,
             abandon,
         };
         if plan.aa == AntiAlias::Msaa4 {

@@ -8,6 +8,7 @@ use super::bands::{
 };
 use crate::plan::Plan;
 use crate::raster::aa::{MSAA_SAMPLES, MsaaBand, RasterTarget, resolve_msaa};
+use crate::raster::backdrop::Backdrop;
 use crate::raster::scan::OwnedBand;
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ScreenTri};
@@ -100,7 +101,7 @@ pub(super) struct Drawing<'a> {
     pub tris: &'a [ScreenTri],
     pub shaders: &'a [TriShader],
     pub ctx: &'a MaterialCtxs<'a>,
-    pub background: Rgb,
+    pub backdrop: &'a Backdrop,
     pub abandon: &'a Abandon<'a>,
 }
 
@@ -116,7 +117,7 @@ impl Drawing<'_> {
             self.tris,
             self.shaders,
             self.ctx,
-            self.background,
+            self.backdrop,
             self.abandon,
         );
         (total, (drawn, count))
@@ -133,7 +134,7 @@ pub(super) fn draw_msaa(
 ) -> (Counters, (usize, usize)) {
     let (width, height) = (drawing.width, fb.height());
     color.clear();
-    color.resize(width * height, [drawing.background; MSAA_SAMPLES]);
+    color.resize(width * height, [drawing.backdrop.plain(); MSAA_SAMPLES]);
     let mut bands: Vec<MsaaBand> = match depth {
         Some(depth) => {
             depth.clear();
