@@ -997,12 +997,27 @@ const MODEL_START: [i32; 3] = [0, 325, 0];
 #[test]
 #[ignore = "end-to-end: needs root, iproute2, OpenSSH and tmux; .ci/run runs it by name"]
 fn a_playing_animation_keeps_the_drag_landing_over_a_slow_link() {
+    animation_over_a_slow_link(None);
+}
+
+/// The same with relief inside tmux on the server, as people run it over
+/// SSH to keep it across a dropped connection.
+#[test]
+#[ignore = "end-to-end: needs root, iproute2, OpenSSH and tmux; .ci/run runs it by name"]
+fn a_playing_animation_inside_tmux_on_the_server_keeps_the_drag_landing() {
+    animation_over_a_slow_link(Some(Mux::Tmux));
+}
+
+/// An animated model playing at 1 Mbit/s, relief run directly or inside
+/// `mux` on the server.
+fn animation_over_a_slow_link(mux: Option<Mux>) {
     let _one = one_at_a_time();
-    let dir = std::env::temp_dir().join(format!("relief-ssh-anim-{}", std::process::id()));
+    let name = mux.map_or("plain", |_| "mux");
+    let dir = std::env::temp_dir().join(format!("relief-ssh-anim-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let model = dir.join("strip.glb");
     std::fs::write(&model, glb_writer::two_joint_strip()).unwrap();
-    let mut opts = options(1000, None);
+    let mut opts = options(1000, mux);
     opts.relief_args.push(model.display().to_string());
     let s = session(&opts);
     let mut figures = Vec::new();
@@ -1048,7 +1063,7 @@ fn a_playing_animation_keeps_the_drag_landing_over_a_slow_link() {
     s.keys(&["q"]);
     wait_until_ended(&s, Instant::now());
     assert_restored(&s);
-    report(&[(1000, figures)], None);
+    report(&[(1000, figures)], mux);
     drop(s);
     std::fs::remove_dir_all(&dir).unwrap();
 }
