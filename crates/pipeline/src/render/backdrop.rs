@@ -54,7 +54,7 @@ impl BackdropCache {
             return &self.made.as_ref().expect("just set").1;
         };
         let view_proj = plan.camera.projection(aspect) * plan.camera.view();
-        let rotation = Mat4::from_mat3(glam::Mat3::from_mat4(plan.camera.view()));
+        let rotation = glam::Mat3::from_mat4(plan.camera.view());
         let key = Key {
             size: (width, height),
             view: rotation_key(rotation, plan.camera.fov_y_degrees, aspect),
@@ -100,8 +100,8 @@ impl Key {
 }
 
 /// The bits of the camera's rotation, field of view and aspect.
-fn rotation_key(rotation: Mat4, fov: f32, aspect: f32) -> [u32; 12] {
-    let m = glam::Mat3::from_mat4(rotation).to_cols_array();
+fn rotation_key(rotation: glam::Mat3, fov: f32, aspect: f32) -> [u32; 12] {
+    let m = rotation.to_cols_array();
     let mut key = [0; 12];
     for (k, v) in key.iter_mut().zip(m.iter().chain(&[fov, aspect, 0.0])) {
         *k = v.to_bits();

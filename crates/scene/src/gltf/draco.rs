@@ -16,7 +16,7 @@ use json::accessor::{ComponentType, GenericComponentType};
 use json::validation::{Checked, USize64};
 
 use super::data::Problem;
-use super::reading::hold;
+use super::reading::{hold, push_buffer};
 use relief_core::budget::Reservation;
 
 /// The extension's name, as files write it.
@@ -248,16 +248,4 @@ fn indices_accessor(view: u32, count: usize) -> json::Accessor {
         normalized: false,
         sparse: None,
     }
-}
-
-/// Appends `bytes` as a new buffer, in the JSON and beside the others.
-pub(super) fn push_buffer(root: &mut json::Root, buffers: &mut Vec<Vec<u8>>, bytes: Vec<u8>) {
-    root.buffers.push(json::Buffer {
-        byte_length: USize64(bytes.len() as u64),
-        name: None,
-        uri: None,
-        extensions: None,
-        extras: Default::default(),
-    });
-    buffers.push(bytes);
 }

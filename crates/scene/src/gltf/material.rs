@@ -708,11 +708,8 @@ fn reflectance(m: &::gltf::Material) -> PbrMaterial {
         .filter(|c| c.is_finite())
         .map_or(Vec3::ONE, |c| c.max(Vec3::ZERO));
     let weight = number("KHR_materials_specular", "specularFactor", 1.0).clamp(0.0, 1.0);
-    let tinted = if colour == Vec3::ONE {
-        Vec3::splat(f0)
-    } else {
-        (f0 * colour).min(Vec3::ONE)
-    };
+    // f0 ≤ 1, so a white colour and a weight of 1 leave it exact.
+    let dielectric_f0 = (f0 * colour).min(Vec3::ONE) * weight;
     let coat = number("KHR_materials_clearcoat", "clearcoatFactor", 0.0).clamp(0.0, 1.0);
     let clearcoat = (coat > 0.0).then(|| Clearcoat {
         factor: coat,
@@ -720,11 +717,7 @@ fn reflectance(m: &::gltf::Material) -> PbrMaterial {
             .clamp(0.0, 1.0),
     });
     PbrMaterial {
-        dielectric_f0: if weight == 1.0 {
-            tinted
-        } else {
-            tinted * weight
-        },
+        dielectric_f0,
         specular_weight: weight,
         clearcoat,
         ..PbrMaterial::gltf_default()

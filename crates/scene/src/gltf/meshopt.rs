@@ -15,7 +15,7 @@ use meshoptimizer_rs::codec::{self, Mode};
 use meshoptimizer_rs::{Limits, Workspace};
 
 use super::data::Problem;
-use super::reading::hold;
+use super::reading::{hold, push_buffer};
 use relief_core::budget::Reservation;
 
 /// The two names of the extension, as files write them.
@@ -67,7 +67,7 @@ pub(super) fn unpack(
         view.buffer = json::Index::new(buffers.len() as u32);
         view.byte_offset = None;
         view.byte_length = USize64(decoded.len() as u64);
-        super::draco::push_buffer(root, buffers, decoded);
+        push_buffer(root, buffers, decoded);
     }
     Ok(())
 }

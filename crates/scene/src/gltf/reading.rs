@@ -75,3 +75,19 @@ pub(super) fn check_accessor(
     }
     Ok(())
 }
+
+/// Appends `bytes` as a new buffer, in the JSON and beside the others.
+pub(super) fn push_buffer(
+    root: &mut ::gltf::json::Root,
+    buffers: &mut Vec<Vec<u8>>,
+    bytes: Vec<u8>,
+) {
+    root.buffers.push(::gltf::json::Buffer {
+        byte_length: ::gltf::json::validation::USize64(bytes.len() as u64),
+        name: None,
+        uri: None,
+        extensions: None,
+        extras: Default::default(),
+    });
+    buffers.push(bytes);
+}
