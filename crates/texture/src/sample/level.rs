@@ -90,6 +90,36 @@ fn floor_small(x: f32) -> i64 {
     }
 }
 
+/// The bilinear neighbourhood of (u, v) in a `w × h` grid read with `wrap`:
+/// the storage indices of the texel columns x0 − 1 .. x0 + 2 and row starts
+/// y0 − 1 .. y0 + 2 (wrapped), where (x0, y0) is the texel centre just
+/// below-left of the point, and the fractions (fx, fy) between x0 and
+/// x0 + 1, y0 and y0 + 1. No division: the coordinate is already reduced to
+/// one period.
+#[inline(always)]
+pub(crate) fn neighbourhood(
+    wrap: &Wrap,
+    w: usize,
+    h: usize,
+    u: f32,
+    v: f32,
+) -> ([usize; 4], [usize; 4], f32, f32) {
+    if !wrap.repeats() {
+        let (cols, fx) = wrap.s.around(u, w);
+        let (rows, fy) = wrap.t.around(v, h);
+        return (cols, rows.map(|r| r * w), fx, fy);
+    }
+    let x = to_texel_space(u, w) - 0.5;
+    let y = to_texel_space(v, h) - 0.5;
+    // x lies in [−0.5, w − 0.5), so its floor is −1 ..= w − 1.
+    let xi = floor_small(x).min(w as i64 - 1);
+    let yi = floor_small(y).min(h as i64 - 1);
+    let (xf, yf) = (xi as f32, yi as f32);
+    let cols = around(xi, w);
+    let rows = around(yi, h).map(|r| r * w);
+    (cols, rows, x - xf, y - yf)
+}
+
 impl Level {
     /// A level with every texel equal to `texel`. Sizes of 0 become 1.
     pub fn solid(width: usize, height: usize, texel: Texel) -> Self {
@@ -166,28 +196,10 @@ impl Level {
         self.texels.at(y * self.width + x)
     }
 
-    /// The bilinear neighbourhood of (u, v): the storage indices of the
-    /// texel columns x0 − 1 .. x0 + 2 and row starts y0 − 1 .. y0 + 2
-    /// (wrapped), where (x0, y0) is the texel centre just below-left of the
-    /// point, and the fractions (fx, fy) between x0 and x0 + 1, y0 and y0 + 1.
-    /// No division: the coordinate is already reduced to one period.
+    /// The bilinear neighbourhood of (u, v) in this level ([`neighbourhood`]).
     #[inline(always)]
     fn neighbourhood(&self, u: f32, v: f32) -> ([usize; 4], [usize; 4], f32, f32) {
-        let (w, h) = (self.width, self.height);
-        if !self.wrap.repeats() {
-            let (cols, fx) = self.wrap.s.around(u, w);
-            let (rows, fy) = self.wrap.t.around(v, h);
-            return (cols, rows.map(|r| r * w), fx, fy);
-        }
-        let x = to_texel_space(u, w) - 0.5;
-        let y = to_texel_space(v, h) - 0.5;
-        // x lies in [−0.5, w − 0.5), so its floor is −1 ..= w − 1.
-        let xi = floor_small(x).min(w as i64 - 1);
-        let yi = floor_small(y).min(h as i64 - 1);
-        let (xf, yf) = (xi as f32, yi as f32);
-        let cols = around(xi, w);
-        let rows = around(yi, h).map(|r| r * w);
-        (cols, rows, x - xf, y - yf)
+        neighbourhood(&self.wrap, self.width, self.height, u, v)
     }
 
     /// Bilinear interpolation between the four texel centres around (u, v),

@@ -17,7 +17,7 @@ use std::sync::OnceLock;
 use glam::Vec2;
 
 use super::level::Level;
-use super::level::downsample_from;
+use super::level::{downsample_from, neighbourhood};
 use super::texels::{Fetch, MipKind, Xyz16s, Xyz32s, to_snorm16};
 use super::wrap::Wrap;
 use crate::with_fetch;
@@ -259,30 +259,13 @@ impl NormalMap {
     /// between texels of different normals it is a little shorter than 1.
     #[inline]
     pub fn bilinear(&self, u: f32, v: f32) -> [f32; 3] {
-        if !self.wrap.repeats() {
-            let (cols, fx) = self.wrap.s.around(u, self.width);
-            let (rows, fy) = self.wrap.t.around(v, self.height);
-            let (ra, rb) = (rows[1] * self.width, rows[2] * self.width);
-            let quad = [ra + cols[1], ra + cols[2], rb + cols[1], rb + cols[2]];
-            return self.blend(quad, fx, fy);
-        }
-        let tx = |t: f32, n: usize| {
-            if t.is_finite() {
-                (t - t.floor()) * n as f32 - 0.5
-            } else {
-                -0.5
-            }
-        };
-        let (x, y) = (tx(u, self.width), tx(v, self.height));
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let wrap = |i: i64, n: usize| i.rem_euclid(n as i64) as usize;
-        let (xi, yi) = (x0 as i64, y0 as i64);
-        let xa = wrap(xi, self.width);
-        let xb = wrap(xi + 1, self.width);
-        let ra = wrap(yi, self.height) * self.width;
-        let rb = wrap(yi + 1, self.height) * self.width;
-        let quad = [ra + xa, ra + xb, rb + xa, rb + xb];
+        let (cols, rows, fx, fy) = neighbourhood(&self.wrap, self.width, self.height, u, v);
+        let quad = [
+            rows[1] + cols[1],
+            rows[1] + cols[2],
+            rows[2] + cols[1],
+            rows[2] + cols[2],
+        ];
         self.blend(quad, fx, fy)
     }
 
