@@ -245,23 +245,8 @@ impl Plan {
         };
         let (shadow_light, shadow_casters) =
             shadow_light(scene, settings.display, rotation, &lights).unzip();
-        let specular = (settings.specular
-            && settings.shininess.is_finite()
-            && settings.shininess > 0.0
-            && !lights.is_empty()
-            && settings.display == Display::Fill)
-            .then(|| Specular {
-                shininess: settings.shininess,
-                map: stages.specular_map.clone(),
-            });
-        let environment = environment_shows(settings).then(|| Reflection {
-            map: scene
-                .material
-                .environment
-                .clone()
-                .unwrap_or_else(Environment::sky),
-            reflectivity: settings.reflectivity.min(1.0),
-        });
+        let specular = specular_of(settings, &lights, &stages);
+        let environment = reflection_of(scene, settings);
         Plan {
             shading: settings.shading,
             face_normals: settings.normals == relief_core::settings::Normals::Face,
@@ -291,32 +276,69 @@ impl Plan {
             shadow_casters: shadow_casters.unwrap_or_default(),
             tangent_frames: settings.tangent_frames && any_textured,
             terms: None,
-            physical: scene.model_view.map(|_| Physical {
-                tone_map: settings.tone_map,
-                exposure: if settings.exposure.is_finite() && settings.exposure > 0.0 {
-                    settings.exposure
-                } else {
-                    1.0
-                },
-                normal_maps: settings.bump,
-                environment: (scene.ambient != Vec3::ZERO).then(|| {
-                    scene
-                        .material
-                        .environment
-                        .clone()
-                        .unwrap_or_else(Environment::studio)
-                }),
-                turn: {
-                    let a = settings.environment_turn.to_radians();
-                    if a.is_finite() {
-                        (a.cos(), a.sin())
-                    } else {
-                        (1.0, 0.0)
-                    }
-                },
-                backdrop: settings.backdrop,
-            }),
+            physical: scene.model_view.map(|_| physical_of(scene, settings)),
         }
+    }
+}
+
+/// The Blinn highlight of the frame, when the settings ask for one and
+/// something lights a filled surface.
+fn specular_of(
+    settings: &Settings,
+    lights: &[ActiveLight],
+    stages: &MaterialStages,
+) -> Option<Specular> {
+    (settings.specular
+        && settings.shininess.is_finite()
+        && settings.shininess > 0.0
+        && !lights.is_empty()
+        && settings.display == Display::Fill)
+        .then(|| Specular {
+            shininess: settings.shininess,
+            map: stages.specular_map.clone(),
+        })
+}
+
+/// The mirrored environment of the frame, when it shows.
+fn reflection_of(scene: &Scene, settings: &Settings) -> Option<Reflection> {
+    environment_shows(settings).then(|| Reflection {
+        map: scene
+            .material
+            .environment
+            .clone()
+            .unwrap_or_else(Environment::sky),
+        reflectivity: settings.reflectivity.min(1.0),
+    })
+}
+
+/// The model view's physical terms: tone map, exposure (1 unless positive
+/// and finite), the image-based light (the studio unless the scene has its
+/// own; none without ambient light) and its turn.
+fn physical_of(scene: &Scene, settings: &Settings) -> Physical {
+    Physical {
+        tone_map: settings.tone_map,
+        exposure: if settings.exposure.is_finite() && settings.exposure > 0.0 {
+            settings.exposure
+        } else {
+            1.0
+        },
+        normal_maps: settings.bump,
+        environment: (scene.ambient != Vec3::ZERO).then(|| {
+            scene
+                .material
+                .environment
+                .clone()
+                .unwrap_or_else(Environment::studio)
+        }),
+        turn: {
+            let a = settings.environment_turn.to_radians();
+            if a.is_finite() {
+                (a.cos(), a.sin())
+            } else {
+                (1.0, 0.0)
+            }
+        },
+        backdrop: settings.backdrop,
     }
 }
 

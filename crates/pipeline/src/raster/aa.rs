@@ -214,16 +214,7 @@ pub fn raster_triangle_msaa<S: PixelShader>(
         let mut e = tri.edges(cx, cy);
         let row = (py - band.y0) * width;
         for px in xa..=xb {
-            let mut mask = 0u8;
-            for (s, d) in delta.iter().enumerate() {
-                if (e[0] + d[0] + tri.bias[0])
-                    | (e[1] + d[1] + tri.bias[1])
-                    | (e[2] + d[2] + tri.bias[2])
-                    >= 0
-                {
-                    mask |= 1 << s;
-                }
-            }
+            let mut mask = covered_samples(&e, &delta, &tri.bias);
             let mut opacity = 1.0;
             if mask != 0 && alpha != AlphaRule::Opaque {
                 let l = [0, 1, 2].map(|i| e[i] as f32 * inv_area);
@@ -237,33 +228,11 @@ pub fn raster_triangle_msaa<S: PixelShader>(
             {
                 let z = (e[0] as f32 * tri.z[0] + e[1] as f32 * tri.z[1] + e[2] as f32 * tri.z[2])
                     * inv_area;
-                let slots = &mut depth[row + px];
-                for s in 0..MSAA_SAMPLES {
-                    if mask & (1 << s) != 0 {
-                        counters.depth_tests += 1;
-                        let zs = z + dz[s];
-                        if zs < slots[s] {
-                            if !blends {
-                                slots[s] = zs;
-                            }
-                        } else {
-                            mask &= !(1 << s);
-                        }
-                    }
-                }
+                mask = depth_test_samples(&mut depth[row + px], mask, z, &dz, blends, counters);
             }
             if mask != 0 {
                 // Shade at the centroid of the covered samples.
-                let count = mask.count_ones() as f32;
-                let mut sum = [0i64; 3];
-                for (s, d) in delta.iter().enumerate() {
-                    if mask & (1 << s) != 0 {
-                        for i in 0..3 {
-                            sum[i] += d[i];
-                        }
-                    }
-                }
-                let l = [0, 1, 2].map(|i| (e[i] as f32 + sum[i] as f32 / count) * inv_area);
+                let l = centroid_weights(&e, &delta, mask, inv_area);
                 let color = shade_at(tri, shader, ctx, footprint.as_ref(), l, counters);
                 let slots = &mut band.samples[row + px];
                 for (s, slot) in slots.iter_mut().enumerate() {
@@ -281,6 +250,67 @@ pub fn raster_triangle_msaa<S: PixelShader>(
             e[2] += steps[2].0;
         }
     }
+}
+
+/// The samples of the pixel of edge values `e` that the triangle covers, a
+/// bit each: `delta` holds each sample's edge offsets from the centre.
+#[inline(always)]
+fn covered_samples(e: &[i64; 3], delta: &[[i64; 3]; MSAA_SAMPLES], bias: &[i64; 3]) -> u8 {
+    let mut mask = 0u8;
+    for (s, d) in delta.iter().enumerate() {
+        if (e[0] + d[0] + bias[0]) | (e[1] + d[1] + bias[1]) | (e[2] + d[2] + bias[2]) >= 0 {
+            mask |= 1 << s;
+        }
+    }
+    mask
+}
+
+/// The samples of `mask` nearer than the depths in `slots` (depth `z` at
+/// the centre plus each sample's `dz`), their depths written unless the
+/// triangle `blends`.
+#[inline(always)]
+fn depth_test_samples(
+    slots: &mut [f32; MSAA_SAMPLES],
+    mut mask: u8,
+    z: f32,
+    dz: &[f32; MSAA_SAMPLES],
+    blends: bool,
+    counters: &mut Counters,
+) -> u8 {
+    for s in 0..MSAA_SAMPLES {
+        if mask & (1 << s) != 0 {
+            counters.depth_tests += 1;
+            let zs = z + dz[s];
+            if zs < slots[s] {
+                if !blends {
+                    slots[s] = zs;
+                }
+            } else {
+                mask &= !(1 << s);
+            }
+        }
+    }
+    mask
+}
+
+/// The edge weights at the centroid of the covered samples of `mask`.
+#[inline(always)]
+fn centroid_weights(
+    e: &[i64; 3],
+    delta: &[[i64; 3]; MSAA_SAMPLES],
+    mask: u8,
+    inv_area: f32,
+) -> [f32; 3] {
+    let count = mask.count_ones() as f32;
+    let mut sum = [0i64; 3];
+    for (s, d) in delta.iter().enumerate() {
+        if mask & (1 << s) != 0 {
+            for i in 0..3 {
+                sum[i] += d[i];
+            }
+        }
+    }
+    [0, 1, 2].map(|i| (e[i] as f32 + sum[i] as f32 / count) * inv_area)
 }
 
 #[cfg(test)]

@@ -330,14 +330,8 @@ fn raster_packets<S: PixelShader>(
             let mut live = (1u32 << lanes) - 1;
             let mut l = [[0.0f32; LANES]; 3];
             if no_depth && !cut {
-                // Every pixel of the span is inside. The edge values are
-                // integers below 2^53, exact in f64: e + step·lane there
-                // rounds to f32 exactly as the integer does.
-                let e = at(&e_row, (px - x0) as i64);
-                for k in 0..3 {
-                    let (e, s) = (e[k] as f64, steps[k].0 as f64);
-                    l[k] = std::array::from_fn(|lane| (e + s * lane as f64) as f32 * inv_area);
-                }
+                // Every pixel of the span is inside.
+                l = inside_weights(at(&e_row, (px - x0) as i64), &steps, inv_area);
             } else {
                 for lane in 0..lanes {
                     let e = at(&e_row, (px + lane - x0) as i64);
@@ -361,32 +355,60 @@ fn raster_packets<S: PixelShader>(
             }
             if live != 0 {
                 let b = packet::barycentrics(l.map(f32x8::from), tri.q);
-                let mut fp = [Footprint::default(); LANES];
-                if let Some(f) = &footprint {
-                    // Each live lane's footprint as `shade_at` computes it.
-                    for lane in (0..LANES).filter(|k| live & (1 << k) != 0) {
-                        let w = [0, 1, 2].map(|k| l[k][lane] * tri.q[k]);
-                        fp[lane] = f.at(w, w[0] + w[1] + w[2]);
-                    }
-                }
+                let fp = packet_footprints(footprint.as_ref(), &l, tri.q, live);
                 let colors = shader.shade8(ctx, b, &fp, live, counters);
                 counters.packet_pixels += u64::from(live.count_ones());
-                let out = &mut band.color[row + px..row + px + lanes];
-                if live == (1 << LANES) - 1 {
-                    // A whole packet: a store of known size (a slice copy
-                    // of unknown length was a call to `memcpy` per packet).
-                    if let Ok(whole) = <&mut [[u8; 3]; LANES]>::try_from(out) {
-                        *whole = colors;
-                    }
-                } else {
-                    for (lane, (o, c)) in out.iter_mut().zip(colors).enumerate() {
-                        if live & (1 << lane) != 0 {
-                            *o = c;
-                        }
-                    }
-                }
+                store_packet(&mut band.color[row + px..row + px + lanes], colors, live);
             }
             px += LANES;
+        }
+    }
+}
+
+/// The edge weights of eight pixels from the first one's edge values `e`:
+/// the edge values are integers below 2^53, exact in f64, so
+/// e + step·lane there rounds to f32 exactly as the integer does.
+#[inline(always)]
+fn inside_weights(e: [i64; 3], steps: &[(i64, i64); 3], inv_area: f32) -> [[f32; LANES]; 3] {
+    std::array::from_fn(|k| {
+        let (e, s) = (e[k] as f64, steps[k].0 as f64);
+        std::array::from_fn(|lane| (e + s * lane as f64) as f32 * inv_area)
+    })
+}
+
+/// Each live lane's footprint as `shade_at` computes it, from the lanes'
+/// edge weights `l` (none without a footprint setup).
+#[inline(always)]
+fn packet_footprints(
+    footprint: Option<&FootprintSetup>,
+    l: &[[f32; LANES]; 3],
+    q: [f32; 3],
+    live: u32,
+) -> [Footprint; LANES] {
+    let mut fp = [Footprint::default(); LANES];
+    if let Some(f) = footprint {
+        for lane in (0..LANES).filter(|k| live & (1 << k) != 0) {
+            let w = [0, 1, 2].map(|k| l[k][lane] * q[k]);
+            fp[lane] = f.at(w, w[0] + w[1] + w[2]);
+        }
+    }
+    fp
+}
+
+/// Writes the live lanes of a shaded packet to `out` (its pixels).
+#[inline(always)]
+fn store_packet(out: &mut [Rgb], colors: [Rgb; LANES], live: u32) {
+    if live == (1 << LANES) - 1 {
+        // A whole packet: a store of known size (a slice copy of unknown
+        // length was a call to `memcpy` per packet).
+        if let Ok(whole) = <&mut [Rgb; LANES]>::try_from(out) {
+            *whole = colors;
+        }
+    } else {
+        for (lane, (o, c)) in out.iter_mut().zip(colors).enumerate() {
+            if live & (1 << lane) != 0 {
+                *o = c;
+            }
         }
     }
 }

@@ -186,26 +186,7 @@ impl Renderer {
         stats.plan_time = start.elapsed();
 
         let raster_start = Instant::now();
-        if k > 1 {
-            let mut big = self
-                .supersampled
-                .take()
-                .unwrap_or_else(|| Framebuffer::new(0, 0));
-            big.resize(width * k, height * k);
-            let (drawn, bands) = self.rasterize(scene, &plans, shadow, &mut big, k, &abandon);
-            counters += drawn;
-            (stats.bands_drawn, stats.bands) = bands;
-            counters += self.strokes(scene, plan, &mut big, k);
-            counters += self.tangent_frames(scene, plan, &mut big, k);
-            resolve_box(&big, k, fb);
-            self.supersampled = Some(big);
-        } else {
-            let (drawn, bands) = self.rasterize(scene, &plans, shadow, fb, 1, &abandon);
-            counters += drawn;
-            (stats.bands_drawn, stats.bands) = bands;
-            counters += self.strokes(scene, plan, fb, 1);
-            counters += self.tangent_frames(scene, plan, fb, 1);
-        }
+        counters += self.draw_scaled(scene, &plans, shadow, fb, k, &abandon, &mut stats);
         self.shadow = shadow_map;
         if !mips_before && scene.material.texture.mips_built() {
             counters.mip_builds += 1;
@@ -217,6 +198,55 @@ impl Renderer {
         stats.counters = counters;
         stats.abandoned = abandon.stopped();
         stats
+    }
+
+    /// Rasterizes the prepared triangles, then the strokes and tangent
+    /// frames, into `fb`: directly, or `k` times larger and box-filtered
+    /// down (supersampling).
+    #[allow(clippy::too_many_arguments)]
+    fn draw_scaled(
+        &mut self,
+        scene: &Scene,
+        plans: &FramePlans,
+        shadow: Option<Shadow>,
+        fb: &mut Framebuffer,
+        k: usize,
+        abandon: &Abandon,
+        stats: &mut FrameStats,
+    ) -> Counters {
+        if k == 1 {
+            return self.draw(scene, plans, shadow, fb, 1, abandon, stats);
+        }
+        let mut big = self
+            .supersampled
+            .take()
+            .unwrap_or_else(|| Framebuffer::new(0, 0));
+        big.resize(fb.width() * k, fb.height() * k);
+        let counters = self.draw(scene, plans, shadow, &mut big, k, abandon, stats);
+        resolve_box(&big, k, fb);
+        self.supersampled = Some(big);
+        counters
+    }
+
+    /// Rasterizes the prepared triangles, then the strokes and tangent
+    /// frames, into `target` (`k` times the frame's size).
+    #[allow(clippy::too_many_arguments)]
+    fn draw(
+        &mut self,
+        scene: &Scene,
+        plans: &FramePlans,
+        shadow: Option<Shadow>,
+        target: &mut Framebuffer,
+        k: usize,
+        abandon: &Abandon,
+        stats: &mut FrameStats,
+    ) -> Counters {
+        let plan = &plans.plans[0];
+        let (mut counters, bands) = self.rasterize(scene, plans, shadow, target, k, abandon);
+        (stats.bands_drawn, stats.bands) = bands;
+        counters += self.strokes(scene, plan, target, k);
+        counters += self.tangent_frames(scene, plan, target, k);
+        counters
     }
 
     /// The screen triangles of a frame (after culling, clipping and setup),
@@ -326,38 +356,11 @@ impl Renderer {
             let group = plans.of_object[object_index];
             let plan = &plans.plans[group];
             let placed = self.world.object(object_index);
-            // The view's projection, once per vertex: clip position,
-            // outcode, and the screen position setup reads.
-            // Each vertex alone: in parallel for big meshes, the same values.
-            // Each vertex alone, in one sweep: in parallel for big meshes,
-            // the same values.
-            // Each vertex alone, in one sweep (in parallel for big meshes,
-            // the same values), but for the vertices of no triangle the
-            // camera sees: the triangle stage reads none of theirs.
-            let positions = &placed.positions;
-            let project = |start: usize,
-                           clip: &mut [Vec4],
-                           codes: &mut [u8],
-                           projected: &mut [Option<Projected>]| {
-                let positions = &positions[start..start + clip.len()];
-                let vertices = positions.iter().zip(clip).zip(codes).zip(projected);
-                for (k, (((p, clip), code), projected)) in vertices.enumerate() {
-                    if !placed.is_seen(start + k) {
-                        continue;
-                    }
-                    *clip = view_proj * p.extend(1.0);
-                    *code = outcode(*clip);
-                    *projected = (*code == 0)
-                        .then(|| Projected::of(*clip, width, height))
-                        .flatten();
-                }
-            };
-            fill_three_runs(
-                &mut self.clip,
-                &mut self.codes,
-                &mut self.projected,
-                positions.len(),
-                project,
+            project_vertices(
+                placed,
+                view_proj,
+                (width, height),
+                (&mut self.clip, &mut self.codes, &mut self.projected),
             );
             let clip = &self.clip;
             // Behind a depth buffer a repeated triangle changes nothing.
@@ -388,23 +391,7 @@ impl Renderer {
                     self.shader_groups
                         .extend(std::iter::repeat_n(group as u32, count));
                 }
-                if self.tris.is_empty() && self.shaders.is_empty() && self.wire.is_empty() {
-                    // The frame's first triangles are taken whole, not
-                    // copied: a small mesh is one chunk, and its shaders
-                    // (252 bytes) and screen triangles (168) are most of
-                    // what it moves. Each side keeps its capacity.
-                    std::mem::swap(&mut self.tris, &mut chunk.tris);
-                    std::mem::swap(&mut self.shaders, &mut chunk.shaders);
-                    std::mem::swap(&mut self.wire, &mut chunk.wire);
-                } else {
-                    let offset = self.shaders.len() as u32;
-                    self.tris.extend(chunk.tris.drain(..).map(|mut t| {
-                        t.shader += offset;
-                        t
-                    }));
-                    self.shaders.append(&mut chunk.shaders);
-                    self.wire.append(&mut chunk.wire);
-                }
+                chunk.move_into(&mut self.tris, &mut self.shaders, &mut self.wire);
                 counters += chunk.counters;
             }
         }
@@ -602,4 +589,34 @@ pub fn render_frame(
     let mut fb = Framebuffer::new(width, height);
     let stats = Renderer::new().render(scene, settings, &mut fb);
     (fb, stats)
+}
+
+/// The view's projection of `placed`'s vertices, once per vertex: clip
+/// position, outcode, and the screen position triangle setup reads. Each
+/// vertex alone, in one sweep (in parallel for big meshes, the same
+/// values), but for the vertices of no triangle the camera sees: the
+/// triangle stage reads none of theirs.
+fn project_vertices(
+    placed: &relief_scene::world::Placed,
+    view_proj: glam::Mat4,
+    (width, height): (usize, usize),
+    (clip, codes, projected): (&mut Vec<Vec4>, &mut Vec<u8>, &mut Vec<Option<Projected>>),
+) {
+    let positions = &placed.positions;
+    let project =
+        |start: usize, clip: &mut [Vec4], codes: &mut [u8], projected: &mut [Option<Projected>]| {
+            let positions = &positions[start..start + clip.len()];
+            let vertices = positions.iter().zip(clip).zip(codes).zip(projected);
+            for (k, (((p, clip), code), projected)) in vertices.enumerate() {
+                if !placed.is_seen(start + k) {
+                    continue;
+                }
+                *clip = view_proj * p.extend(1.0);
+                *code = outcode(*clip);
+                *projected = (*code == 0)
+                    .then(|| Projected::of(*clip, width, height))
+                    .flatten();
+            }
+        };
+    fill_three_runs(clip, codes, projected, positions.len(), project);
 }

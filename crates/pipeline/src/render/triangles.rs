@@ -61,6 +61,33 @@ pub(super) struct TriChunk {
 }
 
 impl TriChunk {
+    /// Moves the chunk's triangles, shaders and lines to the end of the
+    /// frame's, its shader indices shifted past the shaders before it.
+    pub(super) fn move_into(
+        &mut self,
+        tris: &mut Vec<ScreenTri>,
+        shaders: &mut Vec<TriShader>,
+        wire: &mut Vec<WireTri>,
+    ) {
+        if tris.is_empty() && shaders.is_empty() && wire.is_empty() {
+            // The frame's first triangles are taken whole, not copied: a
+            // small mesh is one chunk, and its shaders (252 bytes) and
+            // screen triangles (168) are most of what it moves. Each side
+            // keeps its capacity.
+            std::mem::swap(tris, &mut self.tris);
+            std::mem::swap(shaders, &mut self.shaders);
+            std::mem::swap(wire, &mut self.wire);
+            return;
+        }
+        let offset = shaders.len() as u32;
+        tris.extend(self.tris.drain(..).map(|mut t| {
+            t.shader += offset;
+            t
+        }));
+        shaders.append(&mut self.shaders);
+        wire.append(&mut self.wire);
+    }
+
     fn clear(&mut self) {
         self.tris.clear();
         self.shaders.clear();
@@ -89,79 +116,99 @@ impl TriChunk {
             };
             let idx = triangles[tri_index].indices.map(|i| i as usize);
             if plan.display != Display::Fill {
-                let face_normal = placed.facet_normal(mesh, tri_index);
-                self.counters.light_evals += 3 * plan.lights.len() as u64;
-                self.wire.push(wire_triangle(
-                    plan,
-                    idx.map(|i| placed.vertex(mesh, i)),
-                    idx.map(|i| view.clip[i]),
-                    face_normal * side,
-                    side,
-                ));
+                self.push_wire(view, tri_index, idx, side);
                 continue;
             }
             let shader_index = self.shaders.len() as u32;
             let first_tri = self.tris.len();
-            let clipped = clip_by_codes(idx.map(|i| view.codes[i]))
-                .unwrap_or_else(|| clip_triangle(idx.map(|i| view.clip[i]), &mut self.polygon));
-            match clipped {
-                Clipped::Outside => {}
-                Clipped::Inside => {
-                    // Projected once per vertex; a sub-pixel triangle stops
-                    // at its bounds.
-                    let [a, b, c] = idx.map(|i| view.projected[i]);
-                    if let (Some(a), Some(b), Some(c)) = (a, b, c)
-                        && let Some(tri) = setup_projected(
-                            [a, b, c],
-                            Vec3::AXES,
-                            view.width,
-                            view.height,
-                            shader_index,
-                            view.reach,
-                        )
-                    {
-                        self.tris.push(tri);
-                    }
-                }
-                Clipped::Polygon => {
-                    self.counters.triangles_clipped += 1;
-                    for k in 1..self.polygon.len() - 1 {
-                        let v = [self.polygon[0], self.polygon[k], self.polygon[k + 1]];
-                        self.tris.extend(setup_reaching(
-                            v,
-                            view.width,
-                            view.height,
-                            shader_index,
-                            view.reach,
-                        ));
-                    }
-                }
+            self.set_up(view, idx, shader_index);
+            if self.tris.len() > first_tri {
+                self.push_shader(view, tri_index, idx, side);
             }
-            if self.tris.len() == first_tri {
-                continue;
-            }
-            let verts = idx.map(|i| placed.vertex(mesh, i));
-            let face_normal = placed.facet_normal(mesh, tri_index);
-            let uv2 = match mesh.uv2() {
-                [] => [glam::Vec2::ZERO; 3],
-                set => idx.map(|i| set.get(i).copied().unwrap_or_default()),
-            };
-            let shader = build_shader(
-                plan,
-                &verts,
-                mesh,
-                tri_index,
-                face_normal * side,
-                side,
-                &placed.model,
-                &placed.linear,
-                view.shadow,
-                view.object_index,
-                uv2,
-                &mut self.counters,
-            );
-            self.shaders.push(shader);
         }
+    }
+
+    /// Triangle `tri_index` (vertex indices `idx`) as lines and points.
+    #[inline]
+    fn push_wire(&mut self, view: &ObjectView, tri_index: usize, idx: [usize; 3], side: f32) {
+        let (plan, placed, mesh) = (view.plan, view.placed, &view.object.mesh);
+        let face_normal = placed.facet_normal(mesh, tri_index);
+        self.counters.light_evals += 3 * plan.lights.len() as u64;
+        self.wire.push(wire_triangle(
+            plan,
+            idx.map(|i| placed.vertex(mesh, i)),
+            idx.map(|i| view.clip[i]),
+            face_normal * side,
+            side,
+        ));
+    }
+
+    /// Clips the triangle of vertex indices `idx` and sets up the screen
+    /// triangles of what is left, each drawn with shader `shader_index`.
+    #[inline]
+    fn set_up(&mut self, view: &ObjectView, idx: [usize; 3], shader_index: u32) {
+        let clipped = clip_by_codes(idx.map(|i| view.codes[i]))
+            .unwrap_or_else(|| clip_triangle(idx.map(|i| view.clip[i]), &mut self.polygon));
+        match clipped {
+            Clipped::Outside => {}
+            Clipped::Inside => {
+                // Projected once per vertex; a sub-pixel triangle stops at
+                // its bounds.
+                let [a, b, c] = idx.map(|i| view.projected[i]);
+                if let (Some(a), Some(b), Some(c)) = (a, b, c)
+                    && let Some(tri) = setup_projected(
+                        [a, b, c],
+                        Vec3::AXES,
+                        view.width,
+                        view.height,
+                        shader_index,
+                        view.reach,
+                    )
+                {
+                    self.tris.push(tri);
+                }
+            }
+            Clipped::Polygon => {
+                self.counters.triangles_clipped += 1;
+                for k in 1..self.polygon.len() - 1 {
+                    let v = [self.polygon[0], self.polygon[k], self.polygon[k + 1]];
+                    self.tris.extend(setup_reaching(
+                        v,
+                        view.width,
+                        view.height,
+                        shader_index,
+                        view.reach,
+                    ));
+                }
+            }
+        }
+    }
+
+    /// The shader of triangle `tri_index`, seen from `side`.
+    #[inline]
+    fn push_shader(&mut self, view: &ObjectView, tri_index: usize, idx: [usize; 3], side: f32) {
+        let (placed, mesh) = (view.placed, &view.object.mesh);
+        let verts = idx.map(|i| placed.vertex(mesh, i));
+        let face_normal = placed.facet_normal(mesh, tri_index);
+        let uv2 = match mesh.uv2() {
+            [] => [glam::Vec2::ZERO; 3],
+            set => idx.map(|i| set.get(i).copied().unwrap_or_default()),
+        };
+        let shader = build_shader(
+            view.plan,
+            &verts,
+            mesh,
+            tri_index,
+            face_normal * side,
+            side,
+            &placed.model,
+            &placed.linear,
+            view.shadow,
+            view.object_index,
+            uv2,
+            &mut self.counters,
+        );
+        self.shaders.push(shader);
     }
 }
 

@@ -143,26 +143,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         if terms.unlit {
             return brdf::display(base, self.physical.exposure, self.physical.tone_map);
         }
-        let (mut metallic, mut roughness) = (V::L::splat(pbr.metallic), V::L::splat(pbr.roughness));
-        if pbr.roughness_map.is_some() || pbr.metallic_map.is_some() {
-            let (u, v) = at.of(&terms.uvs.specular);
-            match (&pbr.roughness_map, &pbr.metallic_map) {
-                // glTF's one map: one read for both.
-                (Some((a, r)), Some((b, m))) if std::sync::Arc::ptr_eq(a, b) => {
-                    let t = V::L::bilinear(a, u, v);
-                    roughness = roughness * t[*r];
-                    metallic = metallic * t[*m];
-                }
-                (r, m) => {
-                    if let Some((map, c)) = r {
-                        roughness = roughness * V::L::bilinear(map, u, v)[*c];
-                    }
-                    if let Some((map, c)) = m {
-                        metallic = metallic * V::L::bilinear(map, u, v)[*c];
-                    }
-                }
-            }
-        }
+        let (metallic, roughness) = self.metallic_roughness::<V::L>(at);
         let metallic = saturate(metallic);
         let roughness = brdf::max(saturate(roughness), V::L::splat(MIN_ROUGHNESS));
         let n = if NMAP {
@@ -200,6 +181,35 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             None => lit,
         };
         brdf::display(lit, self.physical.exposure, self.physical.tone_map)
+    }
+
+    /// Metallic and roughness at the pixels: their factors times the
+    /// map's channels, before clamping.
+    #[inline(always)]
+    fn metallic_roughness<L: Lanes>(&self, at: Coords<L>) -> (L, L) {
+        let pbr = self.pbr;
+        let (mut metallic, mut roughness) = (L::splat(pbr.metallic), L::splat(pbr.roughness));
+        if pbr.roughness_map.is_none() && pbr.metallic_map.is_none() {
+            return (metallic, roughness);
+        }
+        let (u, v) = at.of(&self.terms.uvs.specular);
+        match (&pbr.roughness_map, &pbr.metallic_map) {
+            // glTF's one map: one read for both.
+            (Some((a, r)), Some((b, m))) if std::sync::Arc::ptr_eq(a, b) => {
+                let t = L::bilinear(a, u, v);
+                roughness = roughness * t[*r];
+                metallic = metallic * t[*m];
+            }
+            (r, m) => {
+                if let Some((map, c)) = r {
+                    roughness = roughness * L::bilinear(map, u, v)[*c];
+                }
+                if let Some((map, c)) = m {
+                    metallic = metallic * L::bilinear(map, u, v)[*c];
+                }
+            }
+        }
+        (metallic, roughness)
     }
 
     /// The normal map's normal at the pixels, in their tangent frame.

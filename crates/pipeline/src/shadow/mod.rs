@@ -164,29 +164,10 @@ impl ShadowMap {
         self.self_shadowing.clear();
         self.self_shadowing
             .extend(scene.objects.iter().map(|o| !o.mesh.convex));
-        let Some((centre, radius)) = enclose(casters) else {
-            self.view_proj = Mat4::ZERO;
-            return counters;
-        };
-        let distance = light.distance(centre);
-        if distance.is_nan() || distance <= radius * 1.01 {
+        if !self.aim(light, casters) {
             self.view_proj = Mat4::ZERO;
             return counters;
         }
-        let to_centre = (centre - light) / distance;
-        let up = if to_centre.cross(Vec3::Y).length_squared() > 1e-6 {
-            Vec3::Y
-        } else {
-            Vec3::X
-        };
-        // A small margin so silhouettes do not touch the border.
-        let half_angle = ((radius / distance).min(1.0).asin() * 1.05).min(80f32.to_radians());
-        self.near = (distance - radius) * 0.9;
-        let far = distance + radius;
-        let proj = Mat4::perspective_rh_gl(2.0 * half_angle, 1.0, self.near, far);
-        self.view_proj = proj * Mat4::look_at_rh(light, centre, up);
-        self.texel_per_depth = 2.0 * half_angle.tan() / size as f32;
-
         let mut target = depth::Target {
             size,
             depth: &mut self.depth,
@@ -225,6 +206,33 @@ impl ShadowMap {
         }
         self.setups = setups;
         counters
+    }
+
+    /// Points the map's view from `light` at the casters' bounding sphere,
+    /// just wide enough; `false` when there is nothing to aim at or the
+    /// light is inside the sphere.
+    fn aim(&mut self, light: Vec3, casters: &[Caster]) -> bool {
+        let Some((centre, radius)) = enclose(casters) else {
+            return false;
+        };
+        let distance = light.distance(centre);
+        if distance.is_nan() || distance <= radius * 1.01 {
+            return false;
+        }
+        let to_centre = (centre - light) / distance;
+        let up = if to_centre.cross(Vec3::Y).length_squared() > 1e-6 {
+            Vec3::Y
+        } else {
+            Vec3::X
+        };
+        // A small margin so silhouettes do not touch the border.
+        let half_angle = ((radius / distance).min(1.0).asin() * 1.05).min(80f32.to_radians());
+        self.near = (distance - radius) * 0.9;
+        let far = distance + radius;
+        let proj = Mat4::perspective_rh_gl(2.0 * half_angle, 1.0, self.near, far);
+        self.view_proj = proj * Mat4::look_at_rh(light, centre, up);
+        self.texel_per_depth = 2.0 * half_angle.tan() / self.size as f32;
+        true
     }
 
     /// Pass 2: the lit fraction (0..1) of the point `p` of object `object`
