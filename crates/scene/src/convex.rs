@@ -63,78 +63,205 @@ pub fn is_convex(
     if triangles < 4 || points < 4 {
         return false;
     }
-    if !(0..triangles)
-        .into_par_iter()
-        .all(|t| corners(t).iter().all(|&i| (i as usize) < points))
-    {
+    let surface = Surface {
+        triangles,
+        points,
+        corners,
+        place,
+    };
+    if !surface.ids_in_range() {
         return false;
     }
-    let corner_points = |t: usize| place(t).map(|p| p.as_dvec3());
-    // The centre: the mean of the corners, summed in fixed blocks.
-    let sum = ordered_sum(triangles, &|t| {
-        let [a, b, d] = corner_points(t);
-        a + b + d
-    });
-    let centre = sum / (3 * triangles) as f64;
-    if !centre.is_finite() {
+    let Some(centre) = surface.centre() else {
         return false;
-    }
-    let radius = (0..triangles)
-        .into_par_iter()
-        .map(|t| {
-            corner_points(t)
-                .iter()
-                .map(|p| p.distance(centre))
-                .fold(0.0, f64::max)
-        })
-        .reduce(|| 0.0, f64::max);
-    if !(radius > 0.0 && radius.is_finite()) {
+    };
+    let Some(radius) = surface.radius(centre) else {
         return false;
-    }
+    };
     // 2. and 3.: every triangle faces away from the centre, and together
     // they cover the sphere of directions once.
-    let facing = (0..triangles).into_par_iter().all(|t| {
-        let [a, b, d] = corner_points(t).map(|p| p - centre);
-        a.dot(b.cross(d)) > 0.0
-    });
-    if !facing {
+    if !surface.faces_away_from(centre) {
         return false;
     }
-    let solid = ordered_sum(triangles, &|t| {
-        let [a, b, d] = corner_points(t).map(|p| p - centre);
-        DVec3::splat(solid_angle(a, b, d))
-    });
-    if (solid.x - 4.0 * std::f64::consts::PI).abs() >= std::f64::consts::PI {
+    let solid = surface.solid_angle_sum(centre);
+    if (solid - 4.0 * std::f64::consts::PI).abs() >= std::f64::consts::PI {
         return false;
     }
-    // 1. and 4. over the edges, bucketed by their source point (a counting
-    // sort, linear in the edges) and, in each bucket, ordered by target.
-    let edges = 3 * triangles;
-    let edge = |e: usize| {
-        let c = corners(e / 3);
+    // 1. and 4. over the edges, bucketed by their source point.
+    let buckets = surface.edges_by_source();
+    let tolerance = CREASE * radius;
+    (0..3 * triangles)
+        .into_par_iter()
+        .all(|e| surface.edge_closes_and_folds_outwards(&buckets, e, tolerance))
+}
+
+/// The surface [`is_convex`] is given. Edge `e` is the one from corner
+/// `e % 3` to the next of triangle `e / 3`.
+struct Surface<'a> {
+    triangles: usize,
+    points: usize,
+    corners: &'a (dyn Fn(usize) -> [u32; 3] + Sync),
+    place: &'a (dyn Fn(usize) -> [glam::Vec3; 3] + Sync),
+}
+
+impl Surface<'_> {
+    /// Triangle `t`'s corners' positions, in double precision.
+    #[inline]
+    fn corner_points(&self, t: usize) -> [DVec3; 3] {
+        (self.place)(t).map(|p| p.as_dvec3())
+    }
+
+    /// Edge `e`'s source and target point ids.
+    #[inline]
+    fn edge(&self, e: usize) -> (u32, u32) {
+        let c = (self.corners)(e / 3);
         (c[e % 3], c[(e + 1) % 3])
-    };
-    let mut start = vec![0u32; points + 1];
-    for e in 0..edges {
-        start[edge(e).0 as usize + 1] += 1;
     }
-    for i in 0..points {
-        start[i + 1] += start[i];
+
+    /// Whether every corner's id is below the point count.
+    fn ids_in_range(&self) -> bool {
+        (0..self.triangles).into_par_iter().all(|t| {
+            (self.corners)(t)
+                .iter()
+                .all(|&i| (i as usize) < self.points)
+        })
     }
-    // Per source, (target, edge) in order of target, then of edge.
-    let mut sorted = vec![(0u32, 0u32); edges];
-    {
-        let mut fill = start.clone();
+
+    /// The centre: the mean of the corners, summed in fixed blocks; none
+    /// when not finite.
+    fn centre(&self) -> Option<DVec3> {
+        let sum = ordered_sum(self.triangles, &|t| {
+            let [a, b, d] = self.corner_points(t);
+            a + b + d
+        });
+        let centre = sum / (3 * self.triangles) as f64;
+        centre.is_finite().then_some(centre)
+    }
+
+    /// The greatest distance of a corner from `centre`; none when it is
+    /// zero or not finite.
+    fn radius(&self, centre: DVec3) -> Option<f64> {
+        let radius = (0..self.triangles)
+            .into_par_iter()
+            .map(|t| {
+                self.corner_points(t)
+                    .iter()
+                    .map(|p| p.distance(centre))
+                    .fold(0.0, f64::max)
+            })
+            .reduce(|| 0.0, f64::max);
+        (radius > 0.0 && radius.is_finite()).then_some(radius)
+    }
+
+    /// Whether every triangle's triple product from `centre` is positive
+    /// (2.).
+    fn faces_away_from(&self, centre: DVec3) -> bool {
+        (0..self.triangles).into_par_iter().all(|t| {
+            let [a, b, d] = self.corner_points(t).map(|p| p - centre);
+            a.dot(b.cross(d)) > 0.0
+        })
+    }
+
+    /// The triangles' solid angles seen from `centre`, summed in fixed
+    /// blocks (for 3.).
+    fn solid_angle_sum(&self, centre: DVec3) -> f64 {
+        let solid = ordered_sum(self.triangles, &|t| {
+            let [a, b, d] = self.corner_points(t).map(|p| p - centre);
+            DVec3::splat(solid_angle(a, b, d))
+        });
+        solid.x
+    }
+
+    /// The edges bucketed by their source point (a counting sort, linear
+    /// in the edges) and, in each bucket, ordered by target.
+    fn edges_by_source(&self) -> EdgeBuckets {
+        let start = self.bucket_starts();
+        let mut sorted = self.edges_in_buckets(&start);
+        sort_buckets(&start, &mut sorted, self.points);
+        EdgeBuckets { start, sorted }
+    }
+
+    /// Where each source point's bucket starts (and, last, the edge count).
+    fn bucket_starts(&self) -> Vec<u32> {
+        let mut start = vec![0u32; self.points + 1];
+        for e in 0..3 * self.triangles {
+            start[self.edge(e).0 as usize + 1] += 1;
+        }
+        for i in 0..self.points {
+            start[i + 1] += start[i];
+        }
+        start
+    }
+
+    /// Per source, (target, edge) in order of edge: the buckets unsorted.
+    fn edges_in_buckets(&self, start: &[u32]) -> Vec<(u32, u32)> {
+        let edges = 3 * self.triangles;
+        let mut sorted = vec![(0u32, 0u32); edges];
+        let mut fill = start.to_vec();
         for e in 0..edges {
-            let (source, target) = edge(e);
+            let (source, target) = self.edge(e);
             sorted[fill[source as usize] as usize] = (target, e as u32);
             fill[source as usize] += 1;
         }
+        sorted
     }
-    // The buckets are short (a point's edges): sorted in place, in blocks
-    // of points on the threads.
+
+    /// Whether edge `e` passes 1. and 4.: it occurs once, its reverse
+    /// once, and the reverse's triangle's far corner lies behind (or within
+    /// `tolerance` in front of) the plane of `e`'s triangle.
+    #[inline]
+    fn edge_closes_and_folds_outwards(
+        &self,
+        buckets: &EdgeBuckets,
+        e: usize,
+        tolerance: f64,
+    ) -> bool {
+        let (a, b) = self.edge(e);
+        let own = buckets.bucket(a);
+        let at_own = own.partition_point(|&(t, _)| t < b);
+        // 1. this edge once, its reverse once.
+        if own.get(at_own + 1).is_some_and(|&(t, _)| t == b) {
+            return false;
+        }
+        let back = buckets.bucket(b);
+        let at_back = back.partition_point(|&(t, _)| t < a);
+        let Some(&(_, reverse)) = back.get(at_back).filter(|&&(t, _)| t == a) else {
+            return false;
+        };
+        if back.get(at_back + 1).is_some_and(|&(t, _)| t == a) {
+            return false;
+        }
+        // 4. the neighbour's far corner behind this triangle's plane.
+        let [p, q, r] = self.corner_points(e / 3);
+        let normal = (q - p).cross(r - p);
+        let far = self.corner_points(reverse as usize / 3)[(reverse as usize + 2) % 3];
+        normal.dot(far - p) <= tolerance * normal.length()
+    }
+}
+
+/// The edges as (target, edge), per source point in order of target, then
+/// of edge.
+struct EdgeBuckets {
+    /// Where each source's bucket starts in `sorted`, and the edge count.
+    start: Vec<u32>,
+    sorted: Vec<(u32, u32)>,
+}
+
+impl EdgeBuckets {
+    /// The edges from `source`.
+    #[inline]
+    fn bucket(&self, source: u32) -> &[(u32, u32)] {
+        let s = source as usize;
+        &self.sorted[self.start[s] as usize..self.start[s + 1] as usize]
+    }
+}
+
+/// Sorts each of the buckets of `points` sources that `start` marks in
+/// `sorted`. The buckets are short (a point's edges): sorted in place, in
+/// blocks of points on the threads.
+fn sort_buckets(start: &[u32], sorted: &mut [(u32, u32)], points: usize) {
     let mut blocks = Vec::with_capacity(points.div_ceil(BLOCK));
-    let mut rest = sorted.as_mut_slice();
+    let mut rest = sorted;
     for first in (0..points).step_by(BLOCK) {
         let last = (first + BLOCK).min(points);
         let (block, tail) = rest.split_at_mut((start[last] - start[first]) as usize);
@@ -147,33 +274,6 @@ pub fn is_convex(
             block[start[s] as usize - base..start[s + 1] as usize - base].sort_unstable();
         }
     });
-    let bucket = |source: u32| {
-        let s = source as usize;
-        &sorted[start[s] as usize..start[s + 1] as usize]
-    };
-    let tolerance = CREASE * radius;
-    (0..edges).into_par_iter().all(|e| {
-        let (a, b) = edge(e);
-        let own = bucket(a);
-        let at_own = own.partition_point(|&(t, _)| t < b);
-        // 1. this edge once, its reverse once.
-        if own.get(at_own + 1).is_some_and(|&(t, _)| t == b) {
-            return false;
-        }
-        let back = bucket(b);
-        let at_back = back.partition_point(|&(t, _)| t < a);
-        let Some(&(_, reverse)) = back.get(at_back).filter(|&&(t, _)| t == a) else {
-            return false;
-        };
-        if back.get(at_back + 1).is_some_and(|&(t, _)| t == a) {
-            return false;
-        }
-        // 4. the neighbour's far corner behind this triangle's plane.
-        let [p, q, r] = corner_points(e / 3);
-        let normal = (q - p).cross(r - p);
-        let far = corner_points(reverse as usize / 3)[(reverse as usize + 2) % 3];
-        normal.dot(far - p) <= tolerance * normal.length()
-    })
 }
 
 /// The solid angle of the triangle `a b d` seen from the origin, positive

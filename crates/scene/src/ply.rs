@@ -250,111 +250,177 @@ struct Header {
 
 /// The header: elements, format, and where the body starts.
 fn header(name: &str, bytes: &[u8]) -> Result<Header, ObjError> {
-    let at = |line: usize, problem: String| ObjError::Line {
-        name: name.to_string(),
-        line,
-        problem,
-    };
     if !bytes.starts_with(b"ply") {
-        return Err(at(
+        return Err(line_error(
+            name,
             1,
             "not a PLY file (it does not begin with 'ply')".into(),
         ));
     }
     let mut pos = 0;
-    let mut format = None;
-    let mut elements: Vec<Element> = Vec::new();
-    let mut warnings = Vec::new();
+    let mut reader = HeaderReader {
+        name,
+        format: None,
+        elements: Vec::new(),
+        warnings: Vec::new(),
+    };
     for number in 1.. {
         let Some(end) = bytes[pos..].iter().position(|&b| b == b'\n') else {
-            return Err(at(number, "the header has no 'end_header'".into()));
+            return Err(line_error(
+                name,
+                number,
+                "the header has no 'end_header'".into(),
+            ));
         };
         let line = String::from_utf8_lossy(&bytes[pos..pos + end]).into_owned();
         pos += end + 1;
+        if reader.read_line(number, &line)? {
+            return reader.finish(number, pos);
+        }
+    }
+    unreachable!("the header loop returns")
+}
+
+/// The error of line `line` of model `name`.
+fn line_error(name: &str, line: usize, problem: String) -> ObjError {
+    ObjError::Line {
+        name: name.to_string(),
+        line,
+        problem,
+    }
+}
+
+/// `text` made safe to print and cut to `chars` characters, to be quoted
+/// in a message.
+fn shown(text: &str, chars: usize) -> String {
+    relief_core::sanitize::clean(text)
+        .chars()
+        .take(chars)
+        .collect()
+}
+
+/// The header of model `name` read so far, one line at a time.
+struct HeaderReader<'a> {
+    name: &'a str,
+    format: Option<Format>,
+    elements: Vec<Element>,
+    warnings: Vec<String>,
+}
+
+impl HeaderReader<'_> {
+    /// Reads header line `number`, `line`: true when it ends the header.
+    fn read_line(&mut self, number: usize, line: &str) -> Result<bool, ObjError> {
         let words: Vec<&str> = line.split_whitespace().collect();
         match words.as_slice() {
             ["ply"] if number == 1 => {}
-            ["format", kind, _version] => {
-                format = Some(match *kind {
-                    "ascii" => Format::Ascii,
-                    "binary_little_endian" => Format::Little,
-                    "binary_big_endian" => Format::Big,
-                    other => {
-                        let shown: String = relief_core::sanitize::clean(other)
-                            .chars()
-                            .take(24)
-                            .collect();
-                        return Err(at(number, format!("unknown format '{shown}'")));
-                    }
-                })
-            }
+            ["format", kind, _version] => self.format = Some(self.format_of(number, kind)?),
             ["comment", ..] | ["obj_info", ..] | [] => {}
-            ["element", element, count] => {
-                let count = count
-                    .parse::<u64>()
-                    .map_err(|_| at(number, format!("element {element}: bad count")))?;
-                elements.push(Element {
-                    name: element.to_string(),
-                    count,
-                    properties: Vec::new(),
-                });
-            }
+            ["element", element, count] => self.add_element(number, element, count)?,
             ["property", "list", count, item, property] => {
-                let (Some(count), Some(item)) = (Scalar::parse(count), Scalar::parse(item)) else {
-                    return Err(at(number, "unknown type in a list property".into()));
-                };
-                if count.is_float() {
-                    return Err(at(number, "a list's count must be an integer type".into()));
-                }
-                let Some(e) = elements.last_mut() else {
-                    return Err(at(number, "a property before any element".into()));
-                };
-                e.properties.push(Property {
-                    name: property.to_string(),
-                    list: Some(count),
-                    ty: item,
-                });
+                self.add_list_property(number, count, item, property)?
             }
-            ["property", ty, property] => {
-                let ty =
-                    Scalar::parse(ty).ok_or_else(|| at(number, "unknown property type".into()))?;
-                let Some(e) = elements.last_mut() else {
-                    return Err(at(number, "a property before any element".into()));
-                };
-                e.properties.push(Property {
-                    name: property.to_string(),
-                    list: None,
-                    ty,
-                });
-            }
-            ["end_header"] => {
-                let format = format.ok_or_else(|| at(number, "no 'format' line".into()))?;
-                return Ok(Header {
-                    format,
-                    elements,
-                    start: pos,
-                    warnings,
-                });
-            }
+            ["property", ty, property] => self.add_property(number, ty, property)?,
+            ["end_header"] => return Ok(true),
             [word, ..] if !HEADER_WORDS.contains(word) => {
-                let shown: String = relief_core::sanitize::clean(&line)
-                    .chars()
-                    .take(40)
-                    .collect();
-                warnings.push(format!(
+                let shown = shown(line, 40);
+                let name = self.name;
+                self.warnings.push(format!(
                     "model {name}, line {number}: header line '{shown}' skipped (not a PLY keyword)"
                 ));
             }
             _ => {
-                let shown: String = relief_core::sanitize::clean(&line)
-                    .chars()
-                    .take(40)
-                    .collect();
-                return Err(at(number, format!("cannot read header line '{shown}'")));
+                let shown = shown(line, 40);
+                return Err(self.at(number, format!("cannot read header line '{shown}'")));
             }
         }
+        Ok(false)
     }
-    unreachable!("the header loop returns")
+
+    /// The error of header line `number`.
+    fn at(&self, number: usize, problem: String) -> ObjError {
+        line_error(self.name, number, problem)
+    }
+
+    /// The format a `format` line names.
+    fn format_of(&self, number: usize, kind: &str) -> Result<Format, ObjError> {
+        Ok(match kind {
+            "ascii" => Format::Ascii,
+            "binary_little_endian" => Format::Little,
+            "binary_big_endian" => Format::Big,
+            other => {
+                let shown = shown(other, 24);
+                return Err(self.at(number, format!("unknown format '{shown}'")));
+            }
+        })
+    }
+
+    /// An `element` line: a new element, without properties yet.
+    fn add_element(&mut self, number: usize, element: &str, count: &str) -> Result<(), ObjError> {
+        let count = count
+            .parse::<u64>()
+            .map_err(|_| self.at(number, format!("element {element}: bad count")))?;
+        self.elements.push(Element {
+            name: element.to_string(),
+            count,
+            properties: Vec::new(),
+        });
+        Ok(())
+    }
+
+    /// A `property list` line, added to the last element.
+    fn add_list_property(
+        &mut self,
+        number: usize,
+        count: &str,
+        item: &str,
+        property: &str,
+    ) -> Result<(), ObjError> {
+        let (Some(count), Some(item)) = (Scalar::parse(count), Scalar::parse(item)) else {
+            return Err(self.at(number, "unknown type in a list property".into()));
+        };
+        if count.is_float() {
+            return Err(self.at(number, "a list's count must be an integer type".into()));
+        }
+        self.last_element(number)?.properties.push(Property {
+            name: property.to_string(),
+            list: Some(count),
+            ty: item,
+        });
+        Ok(())
+    }
+
+    /// A `property` line of one value, added to the last element.
+    fn add_property(&mut self, number: usize, ty: &str, property: &str) -> Result<(), ObjError> {
+        let ty =
+            Scalar::parse(ty).ok_or_else(|| self.at(number, "unknown property type".into()))?;
+        self.last_element(number)?.properties.push(Property {
+            name: property.to_string(),
+            list: None,
+            ty,
+        });
+        Ok(())
+    }
+
+    /// The element a property line at `number` belongs to.
+    fn last_element(&mut self, number: usize) -> Result<&mut Element, ObjError> {
+        let name = self.name;
+        self.elements
+            .last_mut()
+            .ok_or_else(|| line_error(name, number, "a property before any element".into()))
+    }
+
+    /// The header, ended at line `number` with the body from `start`.
+    fn finish(self, number: usize, start: usize) -> Result<Header, ObjError> {
+        let format = self
+            .format
+            .ok_or_else(|| self.at(number, "no 'format' line".into()))?;
+        Ok(Header {
+            format,
+            elements: self.elements,
+            start,
+            warnings: self.warnings,
+        })
+    }
 }
 
 /// Which of a vertex's properties relief reads, by index.

@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::face_frame::{face_frame, frame_from_normal};
-use super::mesh::Mesh;
+use super::mesh::{Mesh, Vertex};
 
 /// `v` with its component along unit `n` removed, or `None` when nothing is left.
 fn in_plane(v: Vec3, n: Vec3) -> Option<Vec3> {
@@ -78,43 +78,8 @@ pub fn sum_bytes(vertices: u64, triangles: u64) -> u64 {
 /// The sums with `block` triangles a block (any size gives the same bits).
 fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>, block: usize) {
     let vertex_count = mesh.vertices.len();
-    let valid = |indices: &[u32; 3]| indices.iter().all(|&i| (i as usize) < vertex_count);
     let shared: &Mesh = mesh;
-    // Each face's vote, none when its UVs are degenerate (a face is valid
-    // when the sums meet it).
-    let vote_of = |t: usize| {
-        let tri = &shared.triangles[t];
-        let normal = shared.face_normal(t);
-        let idx = tri.indices.map(|i| i as usize);
-        let p = idx.map(|i| shared.vertices[i].position);
-        let uv = idx.map(|i| uvs.map_or(shared.vertices[i].uv, |u| u[i]));
-        let frame = face_frame(p, uv, normal);
-        if !frame.from_uv {
-            return None;
-        }
-        let (lu, lv) = (frame.tangent_u.length(), frame.tangent_v.length());
-        Some(Vote {
-            dir_u: frame.tangent_u / lu,
-            dir_v: frame.tangent_v / lv,
-            len_u: lu,
-            len_v: lv,
-            handedness: frame.handedness(normal),
-        })
-    };
-    // Each block's lowest and highest vertex (none: lowest above highest).
-    let bounds: Vec<(u32, u32)> = shared
-        .triangles
-        .par_chunks(block)
-        .map(|block| {
-            block
-                .iter()
-                .filter(|t| valid(&t.indices))
-                .fold((u32::MAX, 0), |(lo, hi), t| {
-                    let [a, b, c] = t.indices;
-                    (lo.min(a.min(b).min(c)), hi.max(a.max(b).max(c)))
-                })
-        })
-        .collect();
+    let bounds = block_bounds(shared, block);
     // The vertices are cut into ranges, each summed by one thread that
     // walks the triangles in order (skipping the blocks that cannot reach
     // it): every vertex adds its faces' votes in triangle order, as one
@@ -125,79 +90,177 @@ fn accumulate_with(mesh: &mut Mesh, keep_directions: bool, uvs: Option<&[Vec2]>,
     // only the faces along the cuts.
     let mut sums = vec![Sum::default(); vertex_count];
     let ranges = (2 * rayon::current_num_threads()).clamp(1, vertex_count.max(1));
+    split_into_ranges(&mut sums, ranges)
+        .into_par_iter()
+        .for_each(|(lo, out)| sum_range(shared, uvs, &bounds, block, lo, out));
+    drop(bounds);
+    // Each vertex is finished from its own sums alone: in parallel.
+    mesh.vertices
+        .par_iter_mut()
+        .zip(&sums)
+        .for_each(|(vertex, s)| finish_vertex(vertex, s, keep_directions));
+}
+
+/// Whether all three corners name one of the mesh's `vertex_count`
+/// vertices (a face is valid when the sums meet it).
+#[inline]
+fn indices_valid(indices: &[u32; 3], vertex_count: usize) -> bool {
+    indices.iter().all(|&i| (i as usize) < vertex_count)
+}
+
+/// Triangle `t`'s vote, none when its UVs are degenerate.
+#[inline]
+fn face_vote(mesh: &Mesh, uvs: Option<&[Vec2]>, t: usize) -> Option<Vote> {
+    let tri = &mesh.triangles[t];
+    let normal = mesh.face_normal(t);
+    let idx = tri.indices.map(|i| i as usize);
+    let p = idx.map(|i| mesh.vertices[i].position);
+    let uv = idx.map(|i| uvs.map_or(mesh.vertices[i].uv, |u| u[i]));
+    let frame = face_frame(p, uv, normal);
+    if !frame.from_uv {
+        return None;
+    }
+    let (lu, lv) = (frame.tangent_u.length(), frame.tangent_v.length());
+    Some(Vote {
+        dir_u: frame.tangent_u / lu,
+        dir_v: frame.tangent_v / lv,
+        len_u: lu,
+        len_v: lv,
+        handedness: frame.handedness(normal),
+    })
+}
+
+/// Each block's lowest and highest vertex over its valid triangles (none:
+/// lowest above highest).
+fn block_bounds(mesh: &Mesh, block: usize) -> Vec<(u32, u32)> {
+    let vertex_count = mesh.vertices.len();
+    mesh.triangles
+        .par_chunks(block)
+        .map(|block| {
+            block
+                .iter()
+                .filter(|t| indices_valid(&t.indices, vertex_count))
+                .fold((u32::MAX, 0), |(lo, hi), t| {
+                    let [a, b, c] = t.indices;
+                    (lo.min(a.min(b).min(c)), hi.max(a.max(b).max(c)))
+                })
+        })
+        .collect()
+}
+
+/// `sums` cut into `ranges` consecutive pieces of near-equal length, each
+/// with the index of its first vertex.
+fn split_into_ranges(sums: &mut [Sum], ranges: usize) -> Vec<(usize, &mut [Sum])> {
+    let vertex_count = sums.len();
     let mut pieces = Vec::with_capacity(ranges);
-    let mut rest = &mut sums[..];
+    let mut rest = sums;
     for r in 0..ranges {
         let (lo, hi) = (r * vertex_count / ranges, (r + 1) * vertex_count / ranges);
         let (piece, tail) = std::mem::take(&mut rest).split_at_mut(hi - lo);
         pieces.push((lo, piece));
         rest = tail;
     }
-    pieces.into_par_iter().for_each(|(lo, out)| {
-        let hi = (lo + out.len()) as u32;
-        let lo = lo as u32;
-        for (b, &(least, most)) in bounds.iter().enumerate() {
-            if least > most || least >= hi || most < lo {
+    pieces
+}
+
+/// Adds to `out`, the sums of the vertices from `lo` on, the votes of the
+/// faces that use them, in triangle order, skipping the blocks whose
+/// `bounds` do not reach them.
+fn sum_range(
+    mesh: &Mesh,
+    uvs: Option<&[Vec2]>,
+    bounds: &[(u32, u32)],
+    block: usize,
+    lo: usize,
+    out: &mut [Sum],
+) {
+    let vertex_count = mesh.vertices.len();
+    let hi = (lo + out.len()) as u32;
+    let lo = lo as u32;
+    for (b, &(least, most)) in bounds.iter().enumerate() {
+        if least > most || least >= hi || most < lo {
+            continue;
+        }
+        let first = b * block;
+        let end = (first + block).min(mesh.triangles.len());
+        for (k, tri) in mesh.triangles[first..end].iter().enumerate() {
+            let inside = tri.indices.map(|i| (lo..hi).contains(&i));
+            if inside == [false; 3] || !indices_valid(&tri.indices, vertex_count) {
                 continue;
             }
-            let first = b * block;
-            let end = (first + block).min(shared.triangles.len());
-            for (k, tri) in shared.triangles[first..end].iter().enumerate() {
-                let inside = tri.indices.map(|i| (lo..hi).contains(&i));
-                if inside == [false; 3] || !valid(&tri.indices) {
-                    continue;
-                }
-                let Some(vote) = vote_of(first + k) else {
-                    continue;
-                };
-                for (&i, _) in tri.indices.iter().zip(inside).filter(|(_, inside)| *inside) {
-                    let s = &mut out[(i - lo) as usize];
-                    s.dir_u += vote.dir_u;
-                    s.dir_v += vote.dir_v;
-                    s.len_u += vote.len_u;
-                    s.len_v += vote.len_v;
-                    s.votes += 1;
-                    s.handedness += vote.handedness;
-                }
+            let Some(vote) = face_vote(mesh, uvs, first + k) else {
+                continue;
+            };
+            for (&i, _) in tri.indices.iter().zip(inside).filter(|(_, inside)| *inside) {
+                out[(i - lo) as usize].add(&vote);
             }
         }
-    });
-    drop(bounds);
-    // Each vertex is finished from its own sums alone: in parallel.
-    mesh.vertices
-        .par_iter_mut()
-        .zip(&sums)
-        .for_each(|(vertex, s)| {
-            let n = vertex.normal.normalize_or(Vec3::Z);
-            let (len_u, len_v) = if s.votes > 0 {
-                (s.len_u / s.votes as f32, s.len_v / s.votes as f32)
-            } else {
-                (1.0, 1.0)
-            };
-            let u = in_plane(s.dir_u, n).map(Vec3::normalize);
-            let v = in_plane(s.dir_v, n).map(Vec3::normalize);
-            // Mirrored faces were counted with −1: the sign of the sum says
-            // which way Pv turns from Pu when one of the two has to be rebuilt.
-            let hand = if s.handedness < 0.0 { -1.0 } else { 1.0 };
-            let (tu, tv) = match (u, v) {
-                (Some(u), Some(v)) if u.cross(v).length_squared() > 1e-6 => (u, v),
-                (Some(u), _) => (u, hand * n.cross(u)),
-                (None, Some(v)) => (hand * v.cross(n), v),
-                (None, None) => {
-                    let f = frame_from_normal(n);
-                    (f.tangent_u, f.tangent_v)
-                }
-            };
-            let (tu, tv) = (tu * len_u, tv * len_v);
-            let kept = (
-                vertex.tangent_u.try_normalize(),
-                vertex.tangent_v.try_normalize(),
-            );
-            (vertex.tangent_u, vertex.tangent_v) = match kept {
-                (Some(u), Some(w)) if keep_directions => (u * tu.length(), w * tv.length()),
-                _ => (tu, tv),
-            };
-        });
+    }
+}
+
+impl Sum {
+    /// Counts one face's vote.
+    #[inline]
+    fn add(&mut self, vote: &Vote) {
+        self.dir_u += vote.dir_u;
+        self.dir_v += vote.dir_v;
+        self.len_u += vote.len_u;
+        self.len_v += vote.len_v;
+        self.votes += 1;
+        self.handedness += vote.handedness;
+    }
+
+    /// The mean lengths of the voting faces' axes, or 1 without votes.
+    #[inline]
+    fn mean_lengths(&self) -> (f32, f32) {
+        if self.votes > 0 {
+            (
+                self.len_u / self.votes as f32,
+                self.len_v / self.votes as f32,
+            )
+        } else {
+            (1.0, 1.0)
+        }
+    }
+
+    /// The unit texture axes in the plane of unit normal `n`: the summed
+    /// directions where they are usable, one rebuilt from the other, or a
+    /// frame from the normal.
+    #[inline]
+    fn unit_axes(&self, n: Vec3) -> (Vec3, Vec3) {
+        let u = in_plane(self.dir_u, n).map(Vec3::normalize);
+        let v = in_plane(self.dir_v, n).map(Vec3::normalize);
+        // Mirrored faces were counted with −1: the sign of the sum says
+        // which way Pv turns from Pu when one of the two has to be rebuilt.
+        let hand = if self.handedness < 0.0 { -1.0 } else { 1.0 };
+        match (u, v) {
+            (Some(u), Some(v)) if u.cross(v).length_squared() > 1e-6 => (u, v),
+            (Some(u), _) => (u, hand * n.cross(u)),
+            (None, Some(v)) => (hand * v.cross(n), v),
+            (None, None) => {
+                let f = frame_from_normal(n);
+                (f.tangent_u, f.tangent_v)
+            }
+        }
+    }
+}
+
+/// Sets `vertex`'s tangents from its sums `s` (only their lengths when
+/// `keep_directions` and it already holds both axes).
+#[inline]
+fn finish_vertex(vertex: &mut Vertex, s: &Sum, keep_directions: bool) {
+    let n = vertex.normal.normalize_or(Vec3::Z);
+    let (len_u, len_v) = s.mean_lengths();
+    let (tu, tv) = s.unit_axes(n);
+    let (tu, tv) = (tu * len_u, tv * len_v);
+    let kept = (
+        vertex.tangent_u.try_normalize(),
+        vertex.tangent_v.try_normalize(),
+    );
+    (vertex.tangent_u, vertex.tangent_v) = match kept {
+        (Some(u), Some(w)) if keep_directions => (u * tu.length(), w * tv.length()),
+        _ => (tu, tv),
+    };
 }
 
 #[cfg(test)]

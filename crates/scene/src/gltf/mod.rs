@@ -155,39 +155,13 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
     let mut model =
         relief_core::budget::reserve(&format!("model {name}"), 0).map_err(|e| e.to_string())?;
     let mut materials = Materials::new(name, &document, &buffers, dir);
-    let mut prims = Vec::new();
-    for inst in &instances {
-        for prim in inst.mesh.primitives() {
-            let place = format!("meshes[{}].primitives[{}]", inst.mesh.index(), prim.index());
-            let placing = Placing::of(
-                inst,
-                rigged && stroke_mode(prim.mode()).is_none(),
-                quantized,
-            );
-            let mut read = read_primitive(&prim, placing, &buffers, &place, (name, &mut model))?;
-            if placing.posed {
-                let joints = inst
-                    .skin
-                    .and_then(|s| document.skins().nth(s))
-                    .map(|s| s.joints().count());
-                let n = read.vertices.len();
-                let (targets, influences) = rig::part_data(
-                    &prim,
-                    (n, joints, quantized),
-                    &buffers,
-                    &place,
-                    (name, &mut model),
-                )?;
-                read.posing = Some(Posing {
-                    node: inst.node,
-                    skin: inst.skin,
-                    targets,
-                    influences,
-                });
-            }
-            prims.push(read);
-        }
-    }
+    let mut prims = read_primitives(
+        &document,
+        &instances,
+        &buffers,
+        (rigged, quantized),
+        (name, &mut model),
+    )?;
     if prims
         .iter()
         .all(|p| p.tris.is_empty() && p.strokes.is_none())
@@ -219,6 +193,51 @@ pub fn load_bytes(name: &str, bytes: &[u8], dir: &Path) -> Result<Model, Problem
         cameras,
         lights,
     })
+}
+
+/// Every primitive of every instance, in order; a posed one with its morph
+/// targets and joint influences.
+fn read_primitives(
+    document: &::gltf::Document,
+    instances: &[Instance],
+    buffers: &[Vec<u8>],
+    (rigged, quantized): (bool, bool),
+    (name, model): (&str, &mut Reservation),
+) -> Result<Vec<Prim>, Problem> {
+    let mut prims = Vec::new();
+    for inst in instances {
+        for prim in inst.mesh.primitives() {
+            let place = format!("meshes[{}].primitives[{}]", inst.mesh.index(), prim.index());
+            let placing = Placing::of(
+                inst,
+                rigged && stroke_mode(prim.mode()).is_none(),
+                quantized,
+            );
+            let mut read = read_primitive(&prim, placing, buffers, &place, (name, &mut *model))?;
+            if placing.posed {
+                let joints = inst
+                    .skin
+                    .and_then(|s| document.skins().nth(s))
+                    .map(|s| s.joints().count());
+                let n = read.vertices.len();
+                let (targets, influences) = rig::part_data(
+                    &prim,
+                    (n, joints, quantized),
+                    buffers,
+                    &place,
+                    (name, &mut *model),
+                )?;
+                read.posing = Some(Posing {
+                    node: inst.node,
+                    skin: inst.skin,
+                    targets,
+                    influences,
+                });
+            }
+            prims.push(read);
+        }
+    }
+    Ok(prims)
 }
 
 /// Whether extension `e` compresses a file's data.
@@ -966,29 +985,13 @@ fn build_mesh(
     if flat || mikk {
         split_corners(&mut prim, (name, held))?;
     }
-    // Those coordinates, one per vertex, when they are not the vertices' UVs.
     let tangent_uvs = if look.normal_mapped && has_normal_set && !normal_uv.is_vertex_uv() {
-        hold(
-            held,
-            name,
-            "the normal map's coordinates",
-            bytes_of::<Vec2>(prim.vertices.len() as u64),
-        )?;
-        let uv2 = |i: usize| prim.uv2.get(i).copied().unwrap_or_default();
-        let mut uvs = Vec::with_capacity(prim.vertices.len());
-        uvs.extend((prim.vertices.iter().enumerate()).map(|(i, v)| normal_uv.at(v.uv, uv2(i))));
-        Some(uvs)
+        Some(normal_map_uvs(&prim, normal_uv, (name, held))?)
     } else {
         None
     };
     if flat {
-        for t in &prim.tris {
-            let p = t.indices.map(|i| prim.vertices[i as usize].position);
-            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-            for &i in &t.indices {
-                prim.vertices[i as usize].normal = n;
-            }
-        }
+        set_flat_normals(&mut prim);
     }
     let mut has_axes = prim.has_axes;
     if mikk {
@@ -1032,6 +1035,36 @@ fn build_mesh(
         held.shrink(bytes_of::<Vec2>(uvs.capacity() as u64));
     }
     Ok((mesh, prim.source))
+}
+
+/// The normal map's coordinates, one per vertex, when they are not the
+/// vertices' UVs (another set, or transformed).
+fn normal_map_uvs(
+    prim: &Prim,
+    normal_uv: crate::map_uv::MapUv,
+    (name, held): (&str, &mut Reservation),
+) -> Result<Vec<Vec2>, Problem> {
+    hold(
+        held,
+        name,
+        "the normal map's coordinates",
+        bytes_of::<Vec2>(prim.vertices.len() as u64),
+    )?;
+    let uv2 = |i: usize| prim.uv2.get(i).copied().unwrap_or_default();
+    let mut uvs = Vec::with_capacity(prim.vertices.len());
+    uvs.extend((prim.vertices.iter().enumerate()).map(|(i, v)| normal_uv.at(v.uv, uv2(i))));
+    Ok(uvs)
+}
+
+/// Each corner takes its triangle's normal (the corners are split first).
+fn set_flat_normals(prim: &mut Prim) {
+    for t in &prim.tris {
+        let p = t.indices.map(|i| prim.vertices[i as usize].position);
+        let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        for &i in &t.indices {
+            prim.vertices[i as usize].normal = n;
+        }
+    }
 }
 
 /// The mesh of `tris` over `vertices` whose facets' texture axes are those

@@ -137,35 +137,7 @@ pub fn parse(name: &str, text: &[u8], dir: &Path) -> (Vec<MaterialDesc>, Vec<Str
         let Some(m) = materials.last_mut() else {
             continue;
         };
-        let texture = |rest: &str| -> Result<(TexturePath, Option<f32>), String> {
-            let (written, bm) = map_statement(rest)?;
-            let file = resolve_beside(dir, &written);
-            Ok((TexturePath { written, file }, bm))
-        };
-        let result: Result<(), String> = (|| {
-            match keyword.as_str() {
-                "kd" => m.diffuse = Some(color(rest)?),
-                "ks" => m.specular = Some(color(rest)?),
-                "ns" => m.shininess = Some(scalar(rest)?),
-                "d" => m.opacity = Some(scalar(rest)?.clamp(0.0, 1.0)),
-                "tr" => m.opacity = Some(1.0 - scalar(rest)?.clamp(0.0, 1.0)),
-                "map_kd" => m.diffuse_map = Some(texture(rest)?.0),
-                "map_ks" => m.specular_map = Some(texture(rest)?.0),
-                "map_d" => m.opacity_map = Some(texture(rest)?.0),
-                "bump" | "map_bump" => {
-                    let (path, bm) = texture(rest)?;
-                    m.bump_map = Some(path);
-                    m.bump_multiplier = bm.unwrap_or(1.0);
-                }
-                "norm" => m.normal_map = Some(texture(rest)?.0),
-                "pr" => m.roughness = Some(scalar(rest)?.clamp(0.0, 1.0)),
-                "pm" => m.metallic = Some(scalar(rest)?.clamp(0.0, 1.0)),
-                "map_pr" => m.roughness_map = Some(texture(rest)?.0),
-                "map_pm" => m.metallic_map = Some(texture(rest)?.0),
-                _ => {}
-            }
-            Ok(())
-        })();
+        let result = apply_statement(m, &keyword, rest, dir);
         if let Err(problem) = result {
             warnings.push(format!(
                 "material library {name}, line {}: {problem} (line skipped)",
@@ -174,29 +146,71 @@ pub fn parse(name: &str, text: &[u8], dir: &Path) -> (Vec<MaterialDesc>, Vec<Str
         }
     }
     for m in &materials {
-        for (what, map) in [
-            ("map_Kd", &m.diffuse_map),
-            ("map_Ks", &m.specular_map),
-            ("map_d", &m.opacity_map),
-            ("bump", &m.bump_map),
-            ("norm", &m.normal_map),
-            ("map_Pr", &m.roughness_map),
-            ("map_Pm", &m.metallic_map),
-        ] {
-            if let Some(TexturePath {
-                written,
-                file: None,
-            }) = map
-            {
-                warnings.push(format!(
-                    "material library {name}: {what} {} of material {} not found",
-                    quote(written),
-                    quote(&m.name)
-                ));
-            }
-        }
+        warn_of_missing_maps(name, m, &mut warnings);
     }
     (materials, warnings)
+}
+
+/// Sets what statement `keyword rest` of an MTL library in `dir` says of
+/// material `m`; an unknown keyword is ignored.
+fn apply_statement(
+    m: &mut MaterialDesc,
+    keyword: &str,
+    rest: &str,
+    dir: &Path,
+) -> Result<(), String> {
+    let texture = |rest: &str| -> Result<(TexturePath, Option<f32>), String> {
+        let (written, bm) = map_statement(rest)?;
+        let file = resolve_beside(dir, &written);
+        Ok((TexturePath { written, file }, bm))
+    };
+    match keyword {
+        "kd" => m.diffuse = Some(color(rest)?),
+        "ks" => m.specular = Some(color(rest)?),
+        "ns" => m.shininess = Some(scalar(rest)?),
+        "d" => m.opacity = Some(scalar(rest)?.clamp(0.0, 1.0)),
+        "tr" => m.opacity = Some(1.0 - scalar(rest)?.clamp(0.0, 1.0)),
+        "map_kd" => m.diffuse_map = Some(texture(rest)?.0),
+        "map_ks" => m.specular_map = Some(texture(rest)?.0),
+        "map_d" => m.opacity_map = Some(texture(rest)?.0),
+        "bump" | "map_bump" => {
+            let (path, bm) = texture(rest)?;
+            m.bump_map = Some(path);
+            m.bump_multiplier = bm.unwrap_or(1.0);
+        }
+        "norm" => m.normal_map = Some(texture(rest)?.0),
+        "pr" => m.roughness = Some(scalar(rest)?.clamp(0.0, 1.0)),
+        "pm" => m.metallic = Some(scalar(rest)?.clamp(0.0, 1.0)),
+        "map_pr" => m.roughness_map = Some(texture(rest)?.0),
+        "map_pm" => m.metallic_map = Some(texture(rest)?.0),
+        _ => {}
+    }
+    Ok(())
+}
+
+/// One warning per map of material `m` whose file was not found.
+fn warn_of_missing_maps(name: &str, m: &MaterialDesc, warnings: &mut Vec<String>) {
+    for (what, map) in [
+        ("map_Kd", &m.diffuse_map),
+        ("map_Ks", &m.specular_map),
+        ("map_d", &m.opacity_map),
+        ("bump", &m.bump_map),
+        ("norm", &m.normal_map),
+        ("map_Pr", &m.roughness_map),
+        ("map_Pm", &m.metallic_map),
+    ] {
+        if let Some(TexturePath {
+            written,
+            file: None,
+        }) = map
+        {
+            warnings.push(format!(
+                "material library {name}: {what} {} of material {} not found",
+                quote(written),
+                quote(&m.name)
+            ));
+        }
+    }
 }
 
 #[cfg(test)]
