@@ -10,8 +10,9 @@ use super::metrics::{self, SquaredError};
 use super::reference;
 use super::terminal;
 use super::truth;
-use relief_core::framebuffer::Framebuffer;
+use relief_core::framebuffer::{Framebuffer, Rgb};
 use relief_core::settings::Settings;
+use relief_core::stats::FrameStats;
 use relief_pipeline::render::Renderer;
 use relief_scene::Scene;
 use relief_term::ColorDepth;
@@ -334,12 +335,7 @@ fn error_pass(
     let mut renderer = Renderer::new();
     let mut fb = Framebuffer::new(plan.width, plan.height);
     let mut turned = Framebuffer::new(plan.width, plan.height);
-    let (mut bytes_truecolor, mut bytes_256) = (0u64, 0u64);
-    let mut squared = SquaredError::default();
-    let mut self_squared = SquaredError::default();
-    let (mut max_error, mut self_max_error) = (0u8, 0u8);
-    let (mut ssim_sum, mut pixels) = (0.0, 0u64);
-    let (mut plan_time, mut raster_time) = (Duration::ZERO, Duration::ZERO);
+    let mut sums = ErrorSums::default();
     for ((&rotation, reference), truth) in
         plan.orientations.iter().zip(references).zip(&truth.frames)
     {
@@ -348,60 +344,122 @@ fn error_pass(
             ..config.settings
         };
         let stats = renderer.render(scene, &settings, &mut fb);
-        self_squared.add(fb.pixels(), reference.pixels());
-        self_max_error =
-            self_max_error.max(metrics::max_channel_error(fb.pixels(), reference.pixels()));
-        squared.add(fb.pixels(), truth.pixels());
-        max_error = max_error.max(metrics::max_channel_error(fb.pixels(), truth.pixels()));
-        ssim_sum += metrics::ssim(fb.pixels(), truth.pixels(), plan.width, plan.height);
-        pixels += stats.counters.pixels_shaded;
-        plan_time += stats.plan_time;
-        raster_time += stats.raster_time;
-        // The next frame of a slow turn, as the terminal would receive it.
-        let step = Vec3::new(0.0, terminal::STEP_DEGREES, 0.0);
-        renderer.render(
-            scene,
-            &Settings {
-                rotation: rotation + step,
-                ..config.settings
-            },
-            &mut turned,
-        );
-        let bg = scene.background;
-        bytes_truecolor += terminal::bytes_after(&fb, &turned, ColorDepth::Truecolor, bg)?;
-        bytes_256 += terminal::bytes_after(&fb, &turned, ColorDepth::Palette256, bg)?;
+        sums.add_frame(plan, &fb, reference, truth, &stats);
+        render_turned(&mut renderer, scene, config, rotation, &mut turned);
+        sums.add_terminal_bytes(&fb, &turned, scene.background)?;
     }
-    let n = plan.orientations.len();
+    let row = sums.row(plan.orientations.len(), scene, config, threads, truth);
     Ok(Measuring {
         renderer,
         fb,
         scene: scene.clone(),
         threads,
         times: Vec::new(),
-        row: Row {
+        row,
+    })
+}
+
+/// What the error pass adds up over the orientations.
+#[derive(Default)]
+struct ErrorSums {
+    /// Against the truth.
+    squared: SquaredError,
+    max_error: u8,
+    /// Against relief's own supersampled reference.
+    self_squared: SquaredError,
+    self_max_error: u8,
+    ssim_sum: f64,
+    pixels: u64,
+    plan_time: Duration,
+    raster_time: Duration,
+    bytes_truecolor: u64,
+    bytes_256: u64,
+}
+
+impl ErrorSums {
+    /// The frame `fb` of one orientation against its reference and truth.
+    fn add_frame(
+        &mut self,
+        plan: &Plan,
+        fb: &Framebuffer,
+        reference: &Framebuffer,
+        truth: &Framebuffer,
+        stats: &FrameStats,
+    ) {
+        self.self_squared.add(fb.pixels(), reference.pixels());
+        self.self_max_error = self
+            .self_max_error
+            .max(metrics::max_channel_error(fb.pixels(), reference.pixels()));
+        self.squared.add(fb.pixels(), truth.pixels());
+        self.max_error = self
+            .max_error
+            .max(metrics::max_channel_error(fb.pixels(), truth.pixels()));
+        self.ssim_sum += metrics::ssim(fb.pixels(), truth.pixels(), plan.width, plan.height);
+        self.pixels += stats.counters.pixels_shaded;
+        self.plan_time += stats.plan_time;
+        self.raster_time += stats.raster_time;
+    }
+
+    /// The bytes the terminal gets to go from `fb` to `turned`, at both
+    /// colour depths.
+    fn add_terminal_bytes(
+        &mut self,
+        fb: &Framebuffer,
+        turned: &Framebuffer,
+        bg: Rgb,
+    ) -> anyhow::Result<()> {
+        self.bytes_truecolor += terminal::bytes_after(fb, turned, ColorDepth::Truecolor, bg)?;
+        self.bytes_256 += terminal::bytes_after(fb, turned, ColorDepth::Palette256, bg)?;
+        Ok(())
+    }
+
+    /// The row of `config`, its figures the means over `n` orientations;
+    /// the timing is left to the rounds.
+    fn row(self, n: usize, scene: &Scene, config: &Config, threads: usize, truth: &Truth) -> Row {
+        Row {
             config: config.clone(),
             threads,
             frames: 0,
             median: Duration::ZERO,
             p10: Duration::ZERO,
             p90: Duration::ZERO,
-            pixels_per_frame: pixels as f64 / n as f64,
-            psnr: squared.psnr(),
-            max_error,
-            self_psnr: self_squared.psnr(),
-            self_max_error,
+            pixels_per_frame: self.pixels as f64 / n as f64,
+            psnr: self.squared.psnr(),
+            max_error: self.max_error,
+            self_psnr: self.self_squared.psnr(),
+            self_max_error: self.self_max_error,
             truth: truth.setting.label(),
             truth_psnr: truth.psnr,
-            ssim: ssim_sum / n as f64,
-            bytes_truecolor: bytes_truecolor as f64 / n as f64,
-            bytes_256: bytes_256 as f64 / n as f64,
-            plan_time: plan_time / n as u32,
-            raster_time: raster_time / n as u32,
+            ssim: self.ssim_sum / n as f64,
+            bytes_truecolor: self.bytes_truecolor as f64 / n as f64,
+            bytes_256: self.bytes_256 as f64 / n as f64,
+            plan_time: self.plan_time / n as u32,
+            raster_time: self.raster_time / n as u32,
             one_pixel: relief_pipeline::shade::kernels::one_pixel_reason(
                 &relief_pipeline::plan::Plan::new(scene, &config.settings),
             ),
+        }
+    }
+}
+
+/// The next frame of a slow turn after `rotation`, as the terminal would
+/// receive it, drawn into `turned`.
+fn render_turned(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    config: &Config,
+    rotation: Vec3,
+    turned: &mut Framebuffer,
+) {
+    let step = Vec3::new(0.0, terminal::STEP_DEGREES, 0.0);
+    renderer.render(
+        scene,
+        &Settings {
+            rotation: rotation + step,
+            ..config.settings
         },
-    })
+        turned,
+    );
 }
 
 /// Whole rounds over the orientations until `budget` is spent (at least

@@ -206,87 +206,170 @@ pub fn environment(level: &Level, d: DVec3) -> DVec3 {
 
 /// The colour the ray sees at `hit`, before clamping.
 pub fn shade(ctx: &Context, ray: &Ray, hit: &Hit) -> DVec3 {
-    let s = ctx.setting;
-    let smooth = if s.face_normals {
-        hit.face_normal
-    } else {
-        hit.normal.normalize_or(hit.face_normal)
-    };
-    let k = s.bump_strength;
-    let bump = if hit.textured { s.bump } else { Bump::None };
+    let surface = Surface::at(ctx, ray, hit);
+    let albedo = albedo(ctx, hit, surface.uv);
+    let (diffuse, highlight) = surface.lighting(ctx);
+    let lit = albedo * diffuse + highlight;
+    surface.reflected(ctx, lit)
+}
+
+/// What the lights meet at a hit: the point, its normals and texel.
+struct Surface {
+    p: DVec3,
+    /// The interpolated (or face) normal, before any bump.
+    smooth: DVec3,
+    /// The normal the technique shades with (emboss keeps the smooth one and
+    /// changes the strongest light's cosine instead).
+    n: DVec3,
+    pu: DVec3,
+    pv: DVec3,
+    /// Where the texture is read (moved by relief's march).
+    uv: DVec2,
+    /// Unit direction toward the eye.
+    view: DVec3,
+    bump: Bump,
+    /// The bump strength k.
+    k: f64,
+    /// The highlight's scale from the specular map (1 without one).
+    gloss: f64,
+}
+
+impl Surface {
+    fn at(ctx: &Context, ray: &Ray, hit: &Hit) -> Surface {
+        let s = ctx.setting;
+        let smooth = if s.face_normals {
+            hit.face_normal
+        } else {
+            hit.normal.normalize_or(hit.face_normal)
+        };
+        let k = s.bump_strength;
+        let bump = if hit.textured { s.bump } else { Bump::None };
+        let (pu, pv) = (hit.tangent_u, hit.tangent_v);
+        let uv = match bump {
+            Bump::Relief => relief(ctx.base, ray, hit, k),
+            _ => hit.uv,
+        };
+        let n = shading_normal(ctx.base, hit, bump, smooth, uv, k);
+        let p = hit.position;
+        let view = (ctx.world.eye() - p).normalize_or_zero();
+        Surface {
+            p,
+            smooth,
+            n,
+            pu,
+            pv,
+            uv,
+            view,
+            bump,
+            k,
+            gloss: gloss(ctx, hit, uv),
+        }
+    }
+
+    /// The ambient plus each light's diffuse term, and the highlights.
+    fn lighting(&self, ctx: &Context) -> (DVec3, DVec3) {
+        let s = ctx.setting;
+        let mut diffuse = ctx.ambient;
+        let mut highlight = DVec3::ZERO;
+        for (i, &(position, colour)) in ctx.lights.iter().enumerate() {
+            let d = position - self.p;
+            let len = d.length();
+            if len == 0.0 || !len.is_finite() {
+                continue;
+            }
+            let l = d / len;
+            let cosine = self.cosine(ctx, i, l);
+            if cosine <= 0.0 {
+                continue;
+            }
+            let att = if s.attenuation {
+                1.0 / (1.0 + 0.01 * len * len)
+            } else {
+                1.0
+            };
+            let seen = if self.shadowed(ctx, i, position) {
+                0.0
+            } else {
+                1.0
+            };
+            diffuse += colour * cosine.min(1.0) * att * seen;
+            if let Some(shininess) = s.shininess {
+                let h = (l + self.view).normalize_or_zero();
+                let power = self.n.dot(h).max(0.0).powf(shininess);
+                highlight += colour * self.gloss * (power * att).min(1.0) * seen;
+            }
+        }
+        (diffuse, highlight)
+    }
+
+    /// N·L for light `i` in unit direction `l`, with emboss's change when
+    /// it is the strongest light and faces the point.
+    fn cosine(&self, ctx: &Context, i: usize, l: DVec3) -> f64 {
+        let cosine = self.n.dot(l);
+        if self.bump == Bump::Emboss && Some(i) == ctx.strongest && cosine > 0.0 {
+            let e = emboss(ctx.base, self.smooth, self.pu, self.pv, self.uv, l, self.k);
+            (cosine + e).max(0.0)
+        } else {
+            cosine
+        }
+    }
+
+    /// Whether light `i` at `position` is hidden: only the strongest
+    /// light casts shadows, and only when they are drawn.
+    fn shadowed(&self, ctx: &Context, i: usize, position: DVec3) -> bool {
+        ctx.setting.shadows && Some(i) == ctx.strongest && ctx.world.occluded(self.p, position)
+    }
+
+    /// `lit` mixed with the environment's mirror reflection, if the
+    /// setting has one.
+    fn reflected(&self, ctx: &Context, lit: DVec3) -> DVec3 {
+        let (n, view) = (self.n, self.view);
+        match &ctx.setting.environment {
+            Some((map, reflectivity)) => {
+                let r = n * (2.0 * n.dot(view)) - view;
+                lit * (1.0 - reflectivity) + environment(map.picture(), r) * *reflectivity
+            }
+            None => lit,
+        }
+    }
+}
+
+/// The normal `bump` shades with at `uv`, from the smooth normal `smooth`.
+fn shading_normal(base: &Level, hit: &Hit, bump: Bump, smooth: DVec3, uv: DVec2, k: f64) -> DVec3 {
     let (pu, pv) = (hit.tangent_u, hit.tangent_v);
-    let uv = match bump {
-        Bump::Relief => relief(ctx.base, ray, hit, k),
-        _ => hit.uv,
-    };
-    // The normal the technique shades with (emboss keeps the smooth one and
-    // changes the strongest light's cosine instead).
-    let n = match bump {
+    match bump {
         Bump::None | Bump::Emboss => smooth,
-        Bump::Blinn | Bump::Relief => blinn(smooth, pu, pv, gradient(ctx.base, uv), k),
+        Bump::Blinn | Bump::Relief => blinn(smooth, pu, pv, gradient(base, uv), k),
         Bump::Dot3 => {
             // n = normalise(−2k·F_u, −2k·F_v, 1) in (T, B, N), taken out of
             // tangent space: its dot with L is n · L_t.
-            let (fu, fv) = gradient(ctx.base, uv);
+            let (fu, fv) = gradient(base, uv);
             let (t, b) = frame(smooth, pu, pv);
             let m = DVec3::new(-2.0 * k * fu, -2.0 * k * fv, 1.0).normalize();
             (t * m.x + b * m.y + smooth * m.z).normalize()
         }
-    };
+    }
+}
+
+/// The vertex colour (or white), times the texture where the hit is textured.
+fn albedo(ctx: &Context, hit: &Hit, uv: DVec2) -> DVec3 {
+    let s = ctx.setting;
     let mut albedo = if s.colors { hit.color } else { DVec3::ONE };
     if s.texture && hit.textured {
         let t = bilinear(ctx.base, uv.x, uv.y);
         albedo *= DVec3::new(t[0], t[1], t[2]);
     }
-    let p = hit.position;
-    let view = (ctx.world.eye() - p).normalize_or_zero();
-    let gloss = match (ctx.specular_map, hit.textured) {
+    albedo
+}
+
+/// The specular map's mean channel at `uv`, or 1 without a map or texture.
+fn gloss(ctx: &Context, hit: &Hit, uv: DVec2) -> f64 {
+    match (ctx.specular_map, hit.textured) {
         (Some(map), true) => {
             let g = bilinear(map, uv.x, uv.y);
             (g[0] + g[1] + g[2]) / 3.0
         }
         _ => 1.0,
-    };
-    let mut diffuse = ctx.ambient;
-    let mut highlight = DVec3::ZERO;
-    for (i, &(position, colour)) in ctx.lights.iter().enumerate() {
-        let d = position - p;
-        let len = d.length();
-        if len == 0.0 || !len.is_finite() {
-            continue;
-        }
-        let l = d / len;
-        let mut cosine = n.dot(l);
-        if bump == Bump::Emboss && Some(i) == ctx.strongest && cosine > 0.0 {
-            cosine = (cosine + emboss(ctx.base, smooth, pu, pv, uv, l, k)).max(0.0);
-        }
-        if cosine <= 0.0 {
-            continue;
-        }
-        let att = if s.attenuation {
-            1.0 / (1.0 + 0.01 * len * len)
-        } else {
-            1.0
-        };
-        let seen = if s.shadows && Some(i) == ctx.strongest && ctx.world.occluded(p, position) {
-            0.0
-        } else {
-            1.0
-        };
-        diffuse += colour * cosine.min(1.0) * att * seen;
-        if let Some(shininess) = s.shininess {
-            let h = (l + view).normalize_or_zero();
-            let power = n.dot(h).max(0.0).powf(shininess);
-            highlight += colour * gloss * (power * att).min(1.0) * seen;
-        }
-    }
-    let lit = albedo * diffuse + highlight;
-    match &s.environment {
-        Some((map, reflectivity)) => {
-            let r = n * (2.0 * n.dot(view)) - view;
-            lit * (1.0 - reflectivity) + environment(map.picture(), r) * *reflectivity
-        }
-        None => lit,
     }
 }
 

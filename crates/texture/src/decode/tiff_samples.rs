@@ -47,10 +47,9 @@ pub fn decode(bytes: &[u8], max_bytes: usize) -> Result<Option<Picture>, Refusal
 
 /// The samples as the `tiff` crate decodes them.
 fn crate_samples(bytes: &[u8], max_bytes: usize) -> Option<Picture> {
-    let mut limits = Limits::default();
-    limits.decoding_buffer_size = max_bytes;
-    limits.intermediate_buffer_size = max_bytes;
-    let mut decoder = Decoder::new(Cursor::new(bytes)).ok()?.with_limits(limits);
+    let mut decoder = Decoder::new(Cursor::new(bytes))
+        .ok()?
+        .with_limits(limits(max_bytes));
     let (w, h) = decoder.dimensions().ok()?;
     let (width, height) = (w as usize, h as usize);
     let photometric = decoder
@@ -64,37 +63,7 @@ fn crate_samples(bytes: &[u8], max_bytes: usize) -> Option<Picture> {
         .unwrap_or(1);
     if photometric == PALETTE {
         let map = decoder.get_tag_u16_vec(Tag::ColorMap).ok()?;
-        // The samples are indices: read them as grey.
-        let grey = as_grey(bytes)?;
-        let mut decoder = Decoder::new(Cursor::new(grey)).ok()?.with_limits({
-            let mut l = Limits::default();
-            l.decoding_buffer_size = max_bytes;
-            l.intermediate_buffer_size = max_bytes;
-            l
-        });
-        let indices: Vec<usize> = match decoder.read_image().ok()? {
-            DecodingResult::U8(v) => v.into_iter().map(usize::from).collect(),
-            DecodingResult::U16(v) => v.into_iter().map(usize::from).collect(),
-            _ => return None,
-        };
-        let n = 1usize << bits.min(16);
-        if map.len() != 3 * n || indices.len() != width * height {
-            return None;
-        }
-        let rgba = indices
-            .iter()
-            .map(|&i| {
-                let i = i.min(n - 1);
-                let c = |k: usize| map[k * n + i] as f32 / 65535.0;
-                [c(0), c(1), c(2), 1.0]
-            })
-            .collect();
-        return Some(Picture {
-            width,
-            height,
-            rgba,
-            has_alpha: false,
-        });
+        return palette_picture(bytes, max_bytes, &map, bits, width, height);
     }
     let channels = match photometric {
         // White is zero / black is zero.
@@ -103,7 +72,73 @@ fn crate_samples(bytes: &[u8], max_bytes: usize) -> Option<Picture> {
         _ => return None,
     };
     let white_is_zero = photometric == 0;
-    let samples: Vec<f32> = match decoder.read_image().ok()? {
+    let samples = scaled(decoder.read_image().ok()?, bits)?;
+    let per_pixel = samples.len() / (width * height).max(1);
+    if per_pixel < channels || samples.len() != per_pixel * width * height {
+        return None;
+    }
+    Some(Picture::from_samples(
+        width,
+        height,
+        &samples,
+        per_pixel,
+        channels,
+        white_is_zero,
+    ))
+}
+
+/// The decoder's limits: no buffer larger than `max_bytes`.
+fn limits(max_bytes: usize) -> Limits {
+    let mut limits = Limits::default();
+    limits.decoding_buffer_size = max_bytes;
+    limits.intermediate_buffer_size = max_bytes;
+    limits
+}
+
+/// A palette picture: its indices, of `bits` bits, looked up in `map` (the
+/// `ColorMap` tag: all reds, then all greens, then all blues).
+fn palette_picture(
+    bytes: &[u8],
+    max_bytes: usize,
+    map: &[u16],
+    bits: u16,
+    width: usize,
+    height: usize,
+) -> Option<Picture> {
+    // The samples are indices: read them as grey.
+    let grey = as_grey(bytes)?;
+    let mut decoder = Decoder::new(Cursor::new(grey))
+        .ok()?
+        .with_limits(limits(max_bytes));
+    let indices: Vec<usize> = match decoder.read_image().ok()? {
+        DecodingResult::U8(v) => v.into_iter().map(usize::from).collect(),
+        DecodingResult::U16(v) => v.into_iter().map(usize::from).collect(),
+        _ => return None,
+    };
+    let n = 1usize << bits.min(16);
+    if map.len() != 3 * n || indices.len() != width * height {
+        return None;
+    }
+    let rgba = indices
+        .iter()
+        .map(|&i| {
+            let i = i.min(n - 1);
+            let c = |k: usize| map[k * n + i] as f32 / 65535.0;
+            [c(0), c(1), c(2), 1.0]
+        })
+        .collect();
+    Some(Picture {
+        width,
+        height,
+        rgba,
+        has_alpha: false,
+    })
+}
+
+/// Decoded samples in 0..1 (floating-point ones as they are); `None` for
+/// a sample type this reader does not scale.
+fn scaled(result: DecodingResult, bits: u16) -> Option<Vec<f32>> {
+    Some(match result {
         DecodingResult::F32(v) => v,
         DecodingResult::F64(v) => v.into_iter().map(|x| x as f32).collect(),
         // Signed samples: −max..max onto 0..1.
@@ -122,19 +157,7 @@ fn crate_samples(bytes: &[u8], max_bytes: usize) -> Option<Picture> {
             v.into_iter().map(|x| x as f32 / max).collect()
         }
         _ => return None,
-    };
-    let per_pixel = samples.len() / (width * height).max(1);
-    if per_pixel < channels || samples.len() != per_pixel * width * height {
-        return None;
-    }
-    Some(Picture::from_samples(
-        width,
-        height,
-        &samples,
-        per_pixel,
-        channels,
-        white_is_zero,
-    ))
+    })
 }
 
 /// The file with its first directory's photometric interpretation set to

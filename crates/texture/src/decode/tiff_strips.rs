@@ -37,46 +37,164 @@ pub fn decode(bytes: &[u8], max_bytes: usize) -> Result<Picture, Refusal> {
         .dimensions()
         .map_err(|_| Corrupt("its size tags are missing".into()))?;
     let (width, height) = (w as usize, h as usize);
-    let tag = |d: &mut Decoder<Cursor<&[u8]>>, t: Tag, default: u16| {
-        d.find_tag_unsigned::<u16>(t)
-            .ok()
-            .flatten()
-            .unwrap_or(default)
-    };
-    let compression = tag(&mut decoder, Tag::Compression, NONE);
-    let photometric = tag(&mut decoder, Tag::PhotometricInterpretation, 1);
-    let spp = tag(&mut decoder, Tag::SamplesPerPixel, 1) as usize;
-    let planar = tag(&mut decoder, Tag::PlanarConfiguration, 1);
-    let predictor = tag(&mut decoder, Tag::Predictor, 1);
-    let fill_order = tag(&mut decoder, Tag::FillOrder, 1);
-    let rows_per_strip = decoder
-        .find_tag_unsigned::<u32>(Tag::RowsPerStrip)
-        .ok()
-        .flatten()
-        .map_or(height, |r| (r as usize).clamp(1, height.max(1)));
-    let bits = decoder
-        .find_tag_unsigned_vec::<u16>(Tag::BitsPerSample)
-        .ok()
-        .flatten()
-        .and_then(|b| b.first().copied())
-        .unwrap_or(1) as usize;
-    let t4 = decoder
-        .find_tag_unsigned::<u32>(Tag::Unknown(T4_OPTIONS))
-        .ok()
-        .flatten()
-        .unwrap_or(0);
+    let tags = Tags::read(&mut decoder, height);
+    let bits = tags.bits;
     if decoder.find_tag(Tag::TileOffsets).ok().flatten().is_some() {
         return Err(Unsupported(format!(
             "{bits}-bit samples in tiles are not supported"
         )));
     }
+    let strips = strips(&mut decoder, bytes)?;
+    if strips.len() < height.div_ceil(tags.rows_per_strip) {
+        return Err(Corrupt("it has fewer strips than its rows need".into()));
+    }
+    let channels = tags.channels()?;
+    if tags.spp < channels || tags.planar != 1 {
+        return Err(Unsupported(
+            "samples stored plane by plane are not supported at this depth".into(),
+        ));
+    }
+    let values = width
+        .checked_mul(height)
+        .and_then(|n| n.checked_mul(tags.spp))
+        .filter(|&n| n.saturating_mul(4) <= max_bytes)
+        .ok_or_else(|| Unsupported("it is larger than the memory budget allows".into()))?;
+    let samples = tags.samples(&strips, width, height)?;
+    debug_assert_eq!(samples.len(), values);
+    Ok(Picture::from_samples(
+        width,
+        height,
+        &samples,
+        tags.spp,
+        channels,
+        tags.photometric == 0,
+    ))
+}
+
+/// The tags that say how the strips are laid out and coded.
+struct Tags {
+    compression: u16,
+    photometric: u16,
+    /// Samples per pixel.
+    spp: usize,
+    planar: u16,
+    predictor: u16,
+    fill_order: u16,
+    /// The tag clamped to 1..=height (1 for an empty picture), or the
+    /// height without the tag.
+    rows_per_strip: usize,
+    /// Bits of the first sample.
+    bits: usize,
+    /// T4Options (fax 3 only).
+    t4: u32,
+}
+
+impl Tags {
+    /// The tags of the first picture, the specification's default for each
+    /// that is missing or unreadable.
+    fn read(decoder: &mut Decoder<Cursor<&[u8]>>, height: usize) -> Tags {
+        let compression = tag_u16(decoder, Tag::Compression, NONE);
+        let photometric = tag_u16(decoder, Tag::PhotometricInterpretation, 1);
+        let spp = tag_u16(decoder, Tag::SamplesPerPixel, 1) as usize;
+        let planar = tag_u16(decoder, Tag::PlanarConfiguration, 1);
+        let predictor = tag_u16(decoder, Tag::Predictor, 1);
+        let fill_order = tag_u16(decoder, Tag::FillOrder, 1);
+        let rows_per_strip = decoder
+            .find_tag_unsigned::<u32>(Tag::RowsPerStrip)
+            .ok()
+            .flatten()
+            .map_or(height, |r| (r as usize).clamp(1, height.max(1)));
+        let bits = decoder
+            .find_tag_unsigned_vec::<u16>(Tag::BitsPerSample)
+            .ok()
+            .flatten()
+            .and_then(|b| b.first().copied())
+            .unwrap_or(1) as usize;
+        let t4 = decoder
+            .find_tag_unsigned::<u32>(Tag::Unknown(T4_OPTIONS))
+            .ok()
+            .flatten()
+            .unwrap_or(0);
+        Tags {
+            compression,
+            photometric,
+            spp,
+            planar,
+            predictor,
+            fill_order,
+            rows_per_strip,
+            bits,
+            t4,
+        }
+    }
+
+    /// Colour channels of the photometric interpretation: grey or RGB.
+    fn channels(&self) -> Result<usize, Refusal> {
+        let bits = self.bits;
+        match self.photometric {
+            0 | 1 => Ok(1),
+            2 => Ok(3),
+            _ => Err(Unsupported(format!(
+                "{bits}-bit samples in this colour space are not supported"
+            ))),
+        }
+    }
+
+    /// Every sample of the strips, row by row, in 0..1.
+    fn samples(&self, strips: &[&[u8]], width: usize, height: usize) -> Result<Vec<f32>, Refusal> {
+        let bits = self.bits;
+        if self.compression == FAX3 {
+            if self.t4 & 1 != 0 {
+                return Err(Unsupported(
+                    "2-D coded CCITT group 3 fax data is not supported".into(),
+                ));
+            }
+            if bits != 1 || self.spp != 1 {
+                return Err(Corrupt(
+                    "fax data with more than one bit per pixel is not valid".into(),
+                ));
+            }
+            let reversed_bits = self.fill_order == 2;
+            fax3_samples(strips, width, height, self.rows_per_strip, reversed_bits).map_err(Corrupt)
+        } else {
+            if self.predictor != 1 {
+                return Err(Unsupported(format!(
+                    "{bits}-bit samples with a predictor are not supported"
+                )));
+            }
+            packed_samples(
+                strips,
+                self.compression,
+                bits,
+                width * self.spp,
+                height,
+                self.rows_per_strip,
+            )
+        }
+    }
+}
+
+/// A one-value SHORT tag, or `default` when it is missing or unreadable.
+fn tag_u16(decoder: &mut Decoder<Cursor<&[u8]>>, tag: Tag, default: u16) -> u16 {
+    decoder
+        .find_tag_unsigned::<u16>(tag)
+        .ok()
+        .flatten()
+        .unwrap_or(default)
+}
+
+/// Each strip's bytes in the file, as the offset and size tags place them.
+fn strips<'a>(
+    decoder: &mut Decoder<Cursor<&[u8]>>,
+    bytes: &'a [u8],
+) -> Result<Vec<&'a [u8]>, Refusal> {
     let offsets = decoder
         .get_tag_u64_vec(Tag::StripOffsets)
         .map_err(|_| Corrupt("its strip offsets are missing".into()))?;
     let counts = decoder
         .get_tag_u64_vec(Tag::StripByteCounts)
         .map_err(|_| Corrupt("its strip sizes are missing".into()))?;
-    let strips: Vec<&[u8]> = offsets
+    offsets
         .iter()
         .zip(&counts)
         .map(|(&at, &n)| {
@@ -84,65 +202,7 @@ pub fn decode(bytes: &[u8], max_bytes: usize) -> Result<Picture, Refusal> {
             end.map(|end| &bytes[at as usize..end as usize])
         })
         .collect::<Option<_>>()
-        .ok_or_else(|| Corrupt("a strip lies past the end of the file".into()))?;
-    if strips.len() < height.div_ceil(rows_per_strip) {
-        return Err(Corrupt("it has fewer strips than its rows need".into()));
-    }
-    let channels = match photometric {
-        0 | 1 => 1,
-        2 => 3,
-        _ => {
-            return Err(Unsupported(format!(
-                "{bits}-bit samples in this colour space are not supported"
-            )));
-        }
-    };
-    if spp < channels || planar != 1 {
-        return Err(Unsupported(
-            "samples stored plane by plane are not supported at this depth".into(),
-        ));
-    }
-    let values = width
-        .checked_mul(height)
-        .and_then(|n| n.checked_mul(spp))
-        .filter(|&n| n.saturating_mul(4) <= max_bytes)
-        .ok_or_else(|| Unsupported("it is larger than the memory budget allows".into()))?;
-    let samples = if compression == FAX3 {
-        if t4 & 1 != 0 {
-            return Err(Unsupported(
-                "2-D coded CCITT group 3 fax data is not supported".into(),
-            ));
-        }
-        if bits != 1 || spp != 1 {
-            return Err(Corrupt(
-                "fax data with more than one bit per pixel is not valid".into(),
-            ));
-        }
-        fax3_samples(&strips, width, height, rows_per_strip, fill_order == 2).map_err(Corrupt)?
-    } else {
-        if predictor != 1 {
-            return Err(Unsupported(format!(
-                "{bits}-bit samples with a predictor are not supported"
-            )));
-        }
-        packed_samples(
-            &strips,
-            compression,
-            bits,
-            width * spp,
-            height,
-            rows_per_strip,
-        )?
-    };
-    debug_assert_eq!(samples.len(), values);
-    Ok(Picture::from_samples(
-        width,
-        height,
-        &samples,
-        spp,
-        channels,
-        photometric == 0,
-    ))
+        .ok_or_else(|| Corrupt("a strip lies past the end of the file".into()))
 }
 
 /// A strip's bytes decompressed.

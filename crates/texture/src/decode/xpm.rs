@@ -76,79 +76,53 @@ pub fn decode(bytes: &[u8], max_texels: usize) -> Result<XpmImage, XpmError> {
         return err("no header string");
     };
     let header = Header::parse(header)?;
-    let texels = header.width.checked_mul(header.height);
-    match texels {
-        Some(n) if n <= max_texels => {}
-        _ => {
-            return err(format!(
-                "{}x{} pixels is too large (limit {max_texels} pixels)",
-                header.width, header.height
-            ));
-        }
-    }
-    if rest.len() < header.colors + header.height {
-        return err(format!(
-            "truncated: {} colours and {} rows announced, {} strings found",
-            header.colors,
-            header.height,
-            rest.len()
-        ));
-    }
+    header.check_size(max_texels)?;
+    header.check_string_count(rest)?;
     let (table, rest) = rest.split_at(header.colors);
     // Strings after the last row (XPMEXT extensions, or a stray extra row
     // as some real icons have) are ignored, as libXpm ignores them.
     let rows = &rest[..header.height];
-
-    let mut colours: HashMap<&[u8], [f32; 4]> = HashMap::with_capacity(table.len());
-    let mut has_alpha = false;
-    for (i, entry) in table.iter().enumerate() {
-        let (key, colour) = parse_colour_entry(entry, header.cpp)
-            .map_err(|XpmError(m)| XpmError(format!("colour {}: {m}", i + 1)))?;
-        has_alpha |= colour[3] < 1.0;
-        if colours.insert(key, colour).is_some() {
-            return err(format!(
-                "colour {}: pixel code {} defined twice",
-                i + 1,
-                shown(&String::from_utf8_lossy(key))
-            ));
-        }
-    }
-
-    let row_len = header.width * header.cpp;
-    for (y, row) in rows.iter().enumerate() {
-        if row.len() != row_len {
-            return err(format!(
-                "row {}: {} characters, expected {} ({} pixels x {} chars)",
-                y + 1,
-                row.len(),
-                row_len,
-                header.width,
-                header.cpp
-            ));
-        }
-    }
-    let mut rgba = Vec::with_capacity(header.width * header.height);
-    for (y, row) in rows.iter().enumerate() {
-        for (x, code) in row.chunks_exact(header.cpp).enumerate() {
-            match colours.get(code) {
-                Some(c) => rgba.push(*c),
-                None => {
-                    return err(format!(
-                        "row {}, column {}: pixel code {} is not in the colour table",
-                        y + 1,
-                        x + 1,
-                        shown(&String::from_utf8_lossy(code))
-                    ));
-                }
-            }
-        }
-    }
+    let colours = Colours::parse(table, header.cpp)?;
+    header.check_row_lengths(rows)?;
+    let rgba = header.pixels(rows, &colours)?;
     Ok(XpmImage {
         width: header.width,
         height: header.height,
-        has_alpha,
+        has_alpha: colours.has_alpha,
         rgba,
     })
+}
+
+/// The colour table: each pixel code's colour.
+struct Colours<'a> {
+    by_code: HashMap<&'a [u8], [f32; 4]>,
+    /// True when an entry is transparent (`None`).
+    has_alpha: bool,
+}
+
+impl<'a> Colours<'a> {
+    /// The entries of `table`, each code `cpp` characters; a code defined
+    /// twice is an error.
+    fn parse(table: &[&'a [u8]], cpp: usize) -> Result<Colours<'a>, XpmError> {
+        let mut colours: HashMap<&[u8], [f32; 4]> = HashMap::with_capacity(table.len());
+        let mut has_alpha = false;
+        for (i, entry) in table.iter().enumerate() {
+            let (key, colour) = parse_colour_entry(entry, cpp)
+                .map_err(|XpmError(m)| XpmError(format!("colour {}: {m}", i + 1)))?;
+            has_alpha |= colour[3] < 1.0;
+            if colours.insert(key, colour).is_some() {
+                return err(format!(
+                    "colour {}: pixel code {} defined twice",
+                    i + 1,
+                    shown(&String::from_utf8_lossy(key))
+                ));
+            }
+        }
+        Ok(Colours {
+            by_code: colours,
+            has_alpha,
+        })
+    }
 }
 
 struct Header {
@@ -199,103 +173,202 @@ impl Header {
             cpp,
         })
     }
+
+    /// Refuses a picture of more than `max_texels` pixels.
+    fn check_size(&self, max_texels: usize) -> Result<(), XpmError> {
+        let texels = self.width.checked_mul(self.height);
+        match texels {
+            Some(n) if n <= max_texels => Ok(()),
+            _ => err(format!(
+                "{}x{} pixels is too large (limit {max_texels} pixels)",
+                self.width, self.height
+            )),
+        }
+    }
+
+    /// Refuses `rest` (the strings after the header) when it holds fewer
+    /// strings than the colour table and rows announced.
+    fn check_string_count(&self, rest: &[&[u8]]) -> Result<(), XpmError> {
+        if rest.len() < self.colors + self.height {
+            return err(format!(
+                "truncated: {} colours and {} rows announced, {} strings found",
+                self.colors,
+                self.height,
+                rest.len()
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refuses the first row that is not `width × cpp` characters long
+    /// (checked for every row before any pixel is looked up).
+    fn check_row_lengths(&self, rows: &[&[u8]]) -> Result<(), XpmError> {
+        let row_len = self.width * self.cpp;
+        for (y, row) in rows.iter().enumerate() {
+            if row.len() != row_len {
+                return err(format!(
+                    "row {}: {} characters, expected {} ({} pixels x {} chars)",
+                    y + 1,
+                    row.len(),
+                    row_len,
+                    self.width,
+                    self.cpp
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Each pixel's colour, top row first.
+    fn pixels(&self, rows: &[&[u8]], colours: &Colours) -> Result<Vec<[f32; 4]>, XpmError> {
+        let mut rgba = Vec::with_capacity(self.width * self.height);
+        for (y, row) in rows.iter().enumerate() {
+            for (x, code) in row.chunks_exact(self.cpp).enumerate() {
+                match colours.by_code.get(code) {
+                    Some(c) => rgba.push(*c),
+                    None => {
+                        return err(format!(
+                            "row {}, column {}: pixel code {} is not in the colour table",
+                            y + 1,
+                            x + 1,
+                            shown(&String::from_utf8_lossy(code))
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(rgba)
+    }
 }
 
 /// The C string literals of the array, in order, without quotes. Comments
 /// are skipped; the array must open with `{` and close with `}`.
 fn string_literals(bytes: &[u8]) -> Result<Vec<&[u8]>, XpmError> {
-    let mut i = 0;
-    let mut line = 1;
-    let mut out = Vec::new();
-    let mut opened = false;
-    let skip_comment = |i: &mut usize, line: &mut usize| -> Result<(), XpmError> {
-        // At "/*": find "*/".
-        let start_line = *line;
-        *i += 2;
-        while *i + 1 < bytes.len() {
-            if bytes[*i] == b'*' && bytes[*i + 1] == b'/' {
-                *i += 2;
+    let mut scanner = Scanner {
+        bytes,
+        i: 0,
+        line: 1,
+    };
+    scanner.open_array()?;
+    scanner.array_strings()
+}
+
+/// A position in the file, with its line number for messages.
+struct Scanner<'a> {
+    bytes: &'a [u8],
+    i: usize,
+    line: usize,
+}
+
+impl<'a> Scanner<'a> {
+    /// Whether a comment opens here ("/*").
+    fn at_comment(&self) -> bool {
+        self.bytes[self.i] == b'/' && self.bytes.get(self.i + 1) == Some(&b'*')
+    }
+
+    /// At "/*": moves past the "*/" that closes it.
+    fn skip_comment(&mut self) -> Result<(), XpmError> {
+        let bytes = self.bytes;
+        let start_line = self.line;
+        self.i += 2;
+        while self.i + 1 < bytes.len() {
+            if bytes[self.i] == b'*' && bytes[self.i + 1] == b'/' {
+                self.i += 2;
                 return Ok(());
             }
-            if bytes[*i] == b'\n' {
-                *line += 1;
+            if bytes[self.i] == b'\n' {
+                self.line += 1;
             }
-            *i += 1;
+            self.i += 1;
         }
         err(format!("comment opened on line {start_line} never closes"))
-    };
-    // The declaration: anything up to '{', comments skipped.
-    while i < bytes.len() {
-        match bytes[i] {
-            b'/' if bytes.get(i + 1) == Some(&b'*') => skip_comment(&mut i, &mut line)?,
-            b'{' => {
-                opened = true;
-                i += 1;
-                break;
+    }
+
+    /// The declaration: anything up to '{' (moved past), comments skipped.
+    fn open_array(&mut self) -> Result<(), XpmError> {
+        while self.i < self.bytes.len() {
+            let line = self.line;
+            match self.bytes[self.i] {
+                b'/' if self.at_comment() => self.skip_comment()?,
+                b'{' => {
+                    self.i += 1;
+                    return Ok(());
+                }
+                b'"' => return err(format!("line {line}: string before the array's '{{'")),
+                b'\n' => {
+                    self.line += 1;
+                    self.i += 1;
+                }
+                _ => self.i += 1,
             }
-            b'"' => return err(format!("line {line}: string before the array's '{{'")),
-            b'\n' => {
-                line += 1;
-                i += 1;
-            }
-            _ => i += 1,
         }
+        err("no '{' opening the array of strings")
     }
-    if !opened {
-        return err("no '{' opening the array of strings");
-    }
-    let mut after_string = false;
-    loop {
-        let Some(&b) = bytes.get(i) else {
-            return err("truncated: the array of strings never closes with '}'");
-        };
-        match b {
-            b'\n' => {
-                line += 1;
-                i += 1;
-            }
-            b if b.is_ascii_whitespace() => i += 1,
-            b'/' if bytes.get(i + 1) == Some(&b'*') => skip_comment(&mut i, &mut line)?,
-            // A missing ',' between two strings is read as libXpm reads
-            // it (two strings), not as C would (one).
-            b'"' => {
-                let start = i + 1;
-                let mut j = start;
-                loop {
-                    match bytes.get(j) {
-                        None | Some(b'\n') => {
-                            return err(format!("line {line}: string not closed"));
-                        }
-                        Some(b'"') => break,
-                        Some(b'\\') => {
-                            return err(format!(
-                                "line {line}: escape sequences are not allowed in XPM strings"
-                            ));
-                        }
-                        Some(_) => j += 1,
+
+    /// The strings up to the '}' that closes the array.
+    fn array_strings(&mut self) -> Result<Vec<&'a [u8]>, XpmError> {
+        let mut out = Vec::new();
+        let mut after_string = false;
+        loop {
+            let Some(&b) = self.bytes.get(self.i) else {
+                return err("truncated: the array of strings never closes with '}'");
+            };
+            let line = self.line;
+            match b {
+                b'\n' => {
+                    self.line += 1;
+                    self.i += 1;
+                }
+                b if b.is_ascii_whitespace() => self.i += 1,
+                b'/' if self.at_comment() => self.skip_comment()?,
+                // A missing ',' between two strings is read as libXpm reads
+                // it (two strings), not as C would (one).
+                b'"' => {
+                    out.push(self.string()?);
+                    after_string = true;
+                }
+                b',' if after_string => {
+                    after_string = false;
+                    self.i += 1;
+                }
+                b'}' => {
+                    if out.is_empty() {
+                        return err("the array holds no strings");
                     }
+                    return Ok(out);
                 }
-                out.push(&bytes[start..j]);
-                i = j + 1;
-                after_string = true;
-            }
-            b',' if after_string => {
-                after_string = false;
-                i += 1;
-            }
-            b'}' => {
-                if out.is_empty() {
-                    return err("the array holds no strings");
+                other => {
+                    return err(format!(
+                        "line {line}: unexpected character '{}'",
+                        char::from(other).escape_default()
+                    ));
                 }
-                return Ok(out);
-            }
-            other => {
-                return err(format!(
-                    "line {line}: unexpected character '{}'",
-                    char::from(other).escape_default()
-                ));
             }
         }
+    }
+
+    /// At '"': the string up to the next '"' (moved past), which must close
+    /// it on the same line, with no escape sequence.
+    fn string(&mut self) -> Result<&'a [u8], XpmError> {
+        let line = self.line;
+        let start = self.i + 1;
+        let mut j = start;
+        loop {
+            match self.bytes.get(j) {
+                None | Some(b'\n') => {
+                    return err(format!("line {line}: string not closed"));
+                }
+                Some(b'"') => break,
+                Some(b'\\') => {
+                    return err(format!(
+                        "line {line}: escape sequences are not allowed in XPM strings"
+                    ));
+                }
+                Some(_) => j += 1,
+            }
+        }
+        self.i = j + 1;
+        Ok(&self.bytes[start..j])
     }
 }
 
