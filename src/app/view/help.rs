@@ -76,64 +76,14 @@ fn help_layout(screen: Rect) -> HelpLayout {
     let entry_w = key_w + 2 + text_w;
     let (sw, sh) = (screen.width as usize, screen.height as usize);
     let two = entries.len() + 2 > sh && 2 * entry_w + 3 + 4 <= sw;
-    let key = |k: &str| {
-        Span::styled(
-            format!("{k:>key_w$}"),
-            Style::new().add_modifier(Modifier::BOLD),
-        )
-    };
-    let (lines, inner_w): (Vec<Line<'static>>, usize) = if two {
-        let rows = entries.len().div_ceil(2);
-        let entry = |(k, t): &HelpLine| {
-            vec![
-                key(k),
-                Span::styled(format!("  {t:<text_w$}"), text_style(k)),
-            ]
-        };
-        let lines = (0..rows)
-            .map(|r| {
-                let mut spans = entry(&entries[r]);
-                if let Some(right) = entries.get(r + rows) {
-                    spans.push(Span::raw("   "));
-                    spans.extend(entry(right));
-                }
-                Line::from(spans)
-            })
-            .collect();
-        (lines, 2 * entry_w + 3)
+    let (lines, inner_w) = if two {
+        two_columns(&entries, key_w, text_w)
     } else if sw >= 4 + key_w + 2 + NARROW_HELP_TEXT {
         // The text beside its key, wrapped under itself.
-        let room = (sw - 4 - key_w - 2).min(text_w);
-        let mut lines = Vec::new();
-        for (k, t) in &entries {
-            for (i, piece) in wrap_words(t, room).into_iter().enumerate() {
-                let first = if i == 0 { key(k) } else { key("") };
-                lines.push(Line::from(vec![
-                    first,
-                    Span::styled(format!("  {piece}"), text_style(k)),
-                ]));
-            }
-        }
-        (lines, key_w + 2 + room)
+        beside_keys(&entries, key_w, (sw - 4 - key_w - 2).min(text_w))
     } else {
         // Too narrow for two columns: each key on its line, its text below.
-        let room = sw.saturating_sub(4 + 2).max(1);
-        let mut lines = Vec::new();
-        for (k, t) in &entries {
-            if !k.is_empty() {
-                lines.push(Line::from(Span::styled(
-                    k.to_string(),
-                    Style::new().add_modifier(Modifier::BOLD),
-                )));
-            }
-            for piece in wrap_words(t, room) {
-                lines.push(Line::from(Span::styled(
-                    format!("  {piece}"),
-                    text_style(k),
-                )));
-            }
-        }
-        (lines, room + 2)
+        below_keys(&entries, sw.saturating_sub(4 + 2).max(1))
     };
     let width = ((inner_w + 4) as u16).min(screen.width);
     let height = ((lines.len() + 2) as u16).min(screen.height);
@@ -150,6 +100,78 @@ fn help_layout(screen: Rect) -> HelpLayout {
         lines,
         max_scroll,
     }
+}
+
+/// A key right-aligned in `key_w` columns, in bold.
+fn key_span(k: &str, key_w: usize) -> Span<'static> {
+    Span::styled(
+        format!("{k:>key_w$}"),
+        Style::new().add_modifier(Modifier::BOLD),
+    )
+}
+
+/// The entries in two columns, the second half on the right; and the
+/// width they take.
+fn two_columns(entries: &[HelpLine], key_w: usize, text_w: usize) -> (Vec<Line<'static>>, usize) {
+    let rows = entries.len().div_ceil(2);
+    let entry = |(k, t): &HelpLine| {
+        vec![
+            key_span(k, key_w),
+            Span::styled(format!("  {t:<text_w$}"), text_style(k)),
+        ]
+    };
+    let lines = (0..rows)
+        .map(|r| {
+            let mut spans = entry(&entries[r]);
+            if let Some(right) = entries.get(r + rows) {
+                spans.push(Span::raw("   "));
+                spans.extend(entry(right));
+            }
+            Line::from(spans)
+        })
+        .collect();
+    (lines, 2 * (key_w + 2 + text_w) + 3)
+}
+
+/// Each text beside its key, wrapped in `room` columns under itself; and
+/// the width they take.
+fn beside_keys(entries: &[HelpLine], key_w: usize, room: usize) -> (Vec<Line<'static>>, usize) {
+    let mut lines = Vec::new();
+    for (k, t) in entries {
+        for (i, piece) in wrap_words(t, room).into_iter().enumerate() {
+            let first = if i == 0 {
+                key_span(k, key_w)
+            } else {
+                key_span("", key_w)
+            };
+            lines.push(Line::from(vec![
+                first,
+                Span::styled(format!("  {piece}"), text_style(k)),
+            ]));
+        }
+    }
+    (lines, key_w + 2 + room)
+}
+
+/// Each key on its own line, its text wrapped in `room` columns below;
+/// and the width they take.
+fn below_keys(entries: &[HelpLine], room: usize) -> (Vec<Line<'static>>, usize) {
+    let mut lines = Vec::new();
+    for (k, t) in entries {
+        if !k.is_empty() {
+            lines.push(Line::from(Span::styled(
+                k.to_string(),
+                Style::new().add_modifier(Modifier::BOLD),
+            )));
+        }
+        for piece in wrap_words(t, room) {
+            lines.push(Line::from(Span::styled(
+                format!("  {piece}"),
+                text_style(k),
+            )));
+        }
+    }
+    (lines, room + 2)
 }
 
 /// Fewest characters of text worth showing beside the keys.
