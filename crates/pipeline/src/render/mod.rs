@@ -214,7 +214,7 @@ impl Renderer {
         abandon: &Abandon,
         stats: &mut FrameStats,
     ) -> Counters {
-        if k == 1 {
+        if k <= 1 {
             return self.draw(scene, plans, shadow, fb, 1, abandon, stats);
         }
         let mut big = self
