@@ -98,7 +98,7 @@ fn write_png(path: &Path, w: u32, h: u32) {
     let img = image::RgbaImage::from_fn(w, h, |x, y| {
         image::Rgba([(x % 256) as u8, (y % 256) as u8, 128, ((x ^ y) % 256) as u8])
     });
-    img.save(path).unwrap();
+    relief_texture::picture::save(&img.into(), path).unwrap();
 }
 
 #[test]
@@ -159,11 +159,10 @@ fn bad_inputs_stay_under_the_budget() {
     );
     assert_eq!(code, Some(0), "{err}");
     assert!(peak <= PRECISION_PEAK, "{} MiB", mib(peak));
-    image::ImageBuffer::<image::Rgb<u16>, _>::from_fn(4096, 4096, |x, y| {
+    let big16 = image::ImageBuffer::<image::Rgb<u16>, _>::from_fn(4096, 4096, |x, y| {
         image::Rgb([(x * 16) as u16, (y * 16) as u16, 4321])
-    })
-    .save(p("big16.png"))
-    .unwrap();
+    });
+    relief_texture::picture::save(&big16.into(), p("big16.png")).unwrap();
     let (code, err, peak) = case_peak(
         "4096x4096 16-bit PNG",
         &["render", "--out", &out, &p("big16.png")],
@@ -262,9 +261,8 @@ fn write_four_map_model(dir: &Path) -> std::path::PathBuf {
         ("occlusion.png", |x, y| [255 - ((x + y) / 64) as u8, 0, 0]),
     ];
     for (name, texel) in pictures {
-        image::RgbImage::from_fn(n, n, |x, y| image::Rgb(texel(x, y)))
-            .save(dir.join(name))
-            .unwrap();
+        let picture = image::RgbImage::from_fn(n, n, |x, y| image::Rgb(texel(x, y)));
+        relief_texture::picture::save(&picture.into(), dir.join(name)).unwrap();
     }
     let mut bin = glb_writer::Bin::default();
     let positions = bin.positions(&[

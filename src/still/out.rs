@@ -92,22 +92,24 @@ pub fn output_format(out: &std::path::Path) -> anyhow::Result<image::ImageFormat
 /// Encodes the frame in `format`: 8-bit RGB, or 16-bit RGBA for Farbfeld
 /// (the only layout it has, each value the 8-bit one × 257), and PNM as
 /// binary PPM (P6), where the encoder's own choice for RGB is a PAM (P7)
-/// that a `.ppm` reader does not take.
-fn encode(
-    fb: &Framebuffer,
-    format: image::ImageFormat,
-    out: &mut (impl Write + std::io::Seek),
-) -> image::ImageResult<()> {
+/// that a `.ppm` reader does not take. Encoded whole, in memory: some
+/// encoders seek, which a pipe cannot.
+fn encode(fb: &Framebuffer, format: image::ImageFormat) -> image::ImageResult<Vec<u8>> {
     use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
     let rgb = image::DynamicImage::ImageRgb8(fb.to_image());
     match format {
-        image::ImageFormat::Farbfeld => {
-            image::DynamicImage::ImageRgba16(rgb.into_rgba16()).write_to(out, format)
-        }
-        image::ImageFormat::Pnm => rgb.write_with_encoder(
-            PnmEncoder::new(out).with_subtype(PnmSubtype::Pixmap(SampleEncoding::Binary)),
+        image::ImageFormat::Farbfeld => relief_texture::picture::encode(
+            &image::DynamicImage::ImageRgba16(rgb.into_rgba16()),
+            format,
         ),
-        _ => rgb.write_to(out, format),
+        image::ImageFormat::Pnm => {
+            let mut out = Vec::new();
+            rgb.write_with_encoder(
+                PnmEncoder::new(&mut out).with_subtype(PnmSubtype::Pixmap(SampleEncoding::Binary)),
+            )?;
+            Ok(out)
+        }
+        _ => relief_texture::picture::encode(&rgb, format),
     }
 }
 
@@ -126,13 +128,10 @@ pub fn write_picture(
     let out = match out {
         OutTarget::File(path) => path,
         OutTarget::Stdout => {
-            // Encoded whole first: the image encoders need a seekable
-            // writer for some formats, and a pipe is not one.
-            let mut bytes = std::io::Cursor::new(Vec::new());
-            encode(fb, format, &mut bytes)?;
+            let bytes = encode(fb, format)?;
             let mut stdout = std::io::stdout().lock();
             return stdout
-                .write_all(bytes.get_ref())
+                .write_all(&bytes)
                 .and_then(|()| stdout.flush())
                 .map_err(super::stdout::write_error);
         }
@@ -154,8 +153,9 @@ pub fn write_picture(
             .write(true)
             .create_new(true)
             .open(&temp)?;
+        let bytes = encode(fb, format)?;
         let mut writer = std::io::BufWriter::new(file);
-        encode(fb, format, &mut writer)?;
+        writer.write_all(&bytes)?;
         writer.flush()?;
         if let Some(p) = permissions {
             std::fs::set_permissions(&temp, p)?;

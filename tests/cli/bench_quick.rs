@@ -71,7 +71,7 @@ fn quick_bench_writes_table_csv_and_plot() {
     let csv_text = std::fs::read_to_string(&csv).unwrap();
     assert_eq!(csv_text.lines().count(), 1 + configs.len());
 
-    let image = image::open(&plot).unwrap();
+    let image = relief_texture::picture::open(&plot).unwrap();
     assert!(image.width() > 400 && image.height() > 300);
 
     std::fs::remove_dir_all(&dir).ok();
@@ -127,7 +127,7 @@ fn quick_model_anchors_bench_times_the_file_on_each_thread_count() {
     };
     let (mut out, mut log) = (Vec::new(), Vec::new());
     relief_bench::run(&args, &mut out, &mut log).unwrap();
-    let picture = image::open(dir.join("view.png")).unwrap();
+    let picture = relief_texture::picture::open(dir.join("view.png")).unwrap();
     assert_eq!((picture.width(), picture.height()), (320, 240));
     let _ = std::fs::remove_dir_all(&dir);
     let out = String::from_utf8(out).unwrap();

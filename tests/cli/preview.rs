@@ -146,11 +146,7 @@ fn png(w: u32, h: u32) -> Vec<u8> {
     let picture = image::RgbImage::from_fn(w, h, |x, y| {
         image::Rgb([(x * 255 / w) as u8, (y * 255 / h) as u8, 128])
     });
-    let mut bytes = std::io::Cursor::new(Vec::new());
-    picture
-        .write_to(&mut bytes, image::ImageFormat::Png)
-        .unwrap();
-    bytes.into_inner()
+    relief_texture::picture::encode(&picture.into(), image::ImageFormat::Png).unwrap()
 }
 
 /// A GLB of one textured quad, its PNG in the binary chunk.

@@ -65,7 +65,9 @@ fn every_mode_combination_writes_a_png() {
                             bump,
                         ]);
                         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-                        let img = image::open(&out).expect("a PNG").to_rgb8();
+                        let img = relief_texture::picture::open(&out)
+                            .expect("a PNG")
+                            .to_rgb8();
                         assert_eq!(img.dimensions(), (320, 240));
                         let bg = image::Rgb([16, 24, 32]);
                         assert_eq!(img.pixels().filter(|&&p| p != bg).count(), 11_741);
@@ -129,7 +131,7 @@ fn color_flag_writes_the_picture_a_palette_terminal_shows() {
         "16",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let img = image::open(&out).unwrap().to_rgb8();
+    let img = relief_texture::picture::open(&out).unwrap().to_rgb8();
     let ansi: Vec<[u8; 3]> = relief_term::palette::ANSI16.iter().map(|c| c.0).collect();
     assert!(
         img.pixels().all(|p| ansi.contains(&p.0)),
@@ -251,7 +253,7 @@ fn out_writes_through_a_symbolic_link() {
                 .is_symlink()
         );
     }
-    let img = image::open(&real).expect("the file behind the link is a PNG");
+    let img = relief_texture::picture::open(&real).expect("the file behind the link is a PNG");
     assert_eq!((img.width(), img.height()), (320, 240));
     // The file keeps its permissions.
     assert_eq!(mode_of(&real), 0o640);
@@ -266,7 +268,7 @@ fn out_writes_through_a_symbolic_link() {
             .file_type()
             .is_symlink()
     );
-    assert!(image::open(dir.0.join("made.png")).is_ok());
+    assert!(relief_texture::picture::open(dir.0.join("made.png")).is_ok());
     // A loop of links is refused with a sentence.
     let a = dir.0.join("a.png");
     std::os::unix::fs::symlink("b.png", &a).unwrap();
@@ -286,7 +288,7 @@ fn out_dash_is_standard_output() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let img = image::load_from_memory_with_format(&o.stdout, image::ImageFormat::Png)
+    let img = relief_texture::picture::decode_as(&o.stdout, image::ImageFormat::Png)
         .expect("a PNG on stdout");
     assert_eq!((img.width(), img.height()), (40, 30));
     assert!(!dir.0.join("-").exists(), "no file named -");

@@ -449,7 +449,7 @@ fn png(path: &Path, rgb: [u8; 3], heights: [u8; 16]) {
     for (i, px) in buf.pixels_mut().enumerate() {
         *px = image::Rgba([rgb[0], rgb[1], rgb[2], heights[i]]);
     }
-    buf.save(path).unwrap();
+    relief_texture::picture::save(&buf.into(), path).unwrap();
 }
 
 const QUAD: &str = "mtllib quad.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
@@ -627,7 +627,7 @@ fn render_opens_a_positional_model_file() {
         "{}",
         String::from_utf8_lossy(&status.stderr)
     );
-    let picture = image::open(&out).unwrap().to_rgb8();
+    let picture = relief_texture::picture::open(&out).unwrap().to_rgb8();
     // The cube covers the middle of the picture: not the background there.
     let mid = picture.get_pixel(32, 24).0;
     assert_ne!(mid, relief_scene::BACKGROUND);
@@ -777,7 +777,7 @@ fn mtl_opacity_below_one_half_is_cut_out() {
                 image::Rgb([255, 255, 255])
             };
         }
-        img.save(dir.join("d.png")).unwrap();
+        relief_texture::picture::save(&img.into(), dir.join("d.png")).unwrap();
         write(&dir, "q.mtl", format!("newmtl m\nKd 1 1 1\n{mtl}\n"));
         let obj = "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
                    vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n";
@@ -818,8 +818,10 @@ fn the_readme_torus_loads_with_its_texture_and_normal_map() {
     assert_eq!(model.merged().triangles.len(), 2 * 48 * 24);
     let texture = model.maps.texture.as_ref().expect("map_Kd");
     // The texture is assets/brick.png, at its own size.
-    let brick =
-        image::open(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/brick.png")).unwrap();
+    let brick = relief_texture::picture::open(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/brick.png"),
+    )
+    .unwrap();
     assert_eq!(
         (texture.width() as u32, texture.height() as u32),
         (brick.width(), brick.height())

@@ -184,9 +184,7 @@ pub(super) fn png(w: u32, h: u32, rgba: impl Fn(u32, u32) -> [u8; 4]) -> Vec<u8>
     for (x, y, p) in img.enumerate_pixels_mut() {
         *p = image::Rgba(rgba(x, y));
     }
-    let mut out = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut out, image::ImageFormat::Png).unwrap();
-    out.into_inner()
+    relief_texture::picture::encode(&img.into(), image::ImageFormat::Png).unwrap()
 }
 
 /// A temporary directory for this test's files.

@@ -24,7 +24,9 @@ fn data(name: &str) -> std::path::PathBuf {
 /// The llvmpipe picture of `variant`, as RGB rows top first.
 fn anchor(variant: &str) -> Vec<[u8; 3]> {
     let path = data(&format!("anchors/anchor_llvmpipe_{variant}_{W}x{H}.png"));
-    let img = image::open(&path).expect("anchor picture").to_rgb8();
+    let img = relief_texture::picture::open(&path)
+        .expect("anchor picture")
+        .to_rgb8();
     assert_eq!((img.width() as usize, img.height() as usize), (W, H));
     img.pixels().map(|p| p.0).collect()
 }

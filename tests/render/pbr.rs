@@ -130,9 +130,7 @@ fn quads_glb(count: usize, materials: &str, images: &[Vec<u8>]) -> Vec<u8> {
 /// A PNG of one colour.
 fn solid_png(rgba: [u8; 4]) -> Vec<u8> {
     let img = image::RgbaImage::from_pixel(4, 4, image::Rgba(rgba));
-    let mut out = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut out, image::ImageFormat::Png).unwrap();
-    out.into_inner()
+    relief_texture::picture::encode(&img.into(), image::ImageFormat::Png).unwrap()
 }
 
 fn write(test: &str, bytes: &[u8]) -> PathBuf {
@@ -551,8 +549,7 @@ fn edit_json(glb: &[u8], from: &str, to: &str) -> Vec<u8> {
 fn a_webp_only_texture_draws_as_its_png_twin() {
     let rgba = [200, 120, 40, 255];
     let img = image::RgbaImage::from_pixel(4, 4, image::Rgba(rgba));
-    let mut webp = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut webp, image::ImageFormat::WebP).unwrap();
+    let webp = relief_texture::picture::encode(&img.into(), image::ImageFormat::WebP).unwrap();
     let materials =
         r#"[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0},"metallicFactor":0}}]"#;
     let draw_file = |test: &str, glb: &[u8]| {
@@ -573,7 +570,7 @@ fn a_webp_only_texture_draws_as_its_png_twin() {
     };
     let png = draw_file("webp-twin", &quads_glb(1, materials, &[solid_png(rgba)]));
     let only_webp = edit_json(
-        &quads_glb(1, materials, &[webp.into_inner()]),
+        &quads_glb(1, materials, &[webp]),
         r#""textures":[{"source":0}]"#,
         r#""extensionsUsed":["EXT_texture_webp"],"extensionsRequired":["EXT_texture_webp"],"textures":[{"extensions":{"EXT_texture_webp":{"source":0}}}]"#,
     );

@@ -1342,7 +1342,7 @@ fn iterm_images(bytes: &[u8]) -> Vec<ItermImage> {
         let png = base64::engine::general_purpose::STANDARD
             .decode(data)
             .unwrap();
-        let img = image::load_from_memory(&png).unwrap().to_rgb8();
+        let img = relief_texture::picture::decode(&png).unwrap().to_rgb8();
         out.push((cell, (number("width"), number("height")), img));
         rest = &body[end..];
     }

@@ -12,5 +12,6 @@ mod dot3_filtered;
 mod emboss_filtered;
 mod filter;
 mod normal_map_file;
+mod picture;
 mod render;
 mod textures;

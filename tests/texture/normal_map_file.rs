@@ -79,14 +79,12 @@ fn write_ramp_file(axis: Axis, k: f32, bits16: bool, name: &str) -> Scratch {
     let rgb = analytic_rgb(axis, k);
     if bits16 {
         let px = Rgb(rgb.map(|c| (c * 65535.0).round() as u16));
-        ImageBuffer::from_pixel(N as u32, N as u32, px)
-            .save(&file.0)
-            .unwrap();
+        let picture = ImageBuffer::from_pixel(N as u32, N as u32, px);
+        relief_texture::picture::save(&picture.into(), &file.0).unwrap();
     } else {
         let px = Rgb(rgb.map(|c| (c * 255.0).round() as u8));
-        ImageBuffer::from_pixel(N as u32, N as u32, px)
-            .save(&file.0)
-            .unwrap();
+        let picture = ImageBuffer::from_pixel(N as u32, N as u32, px);
+        relief_texture::picture::save(&picture.into(), &file.0).unwrap();
     }
     file
 }
@@ -213,13 +211,8 @@ fn dot3_frames_with_the_file_map_match_the_height_derived_ones() {
 
 /// (128, 128, 255) everywhere: the 8-bit "flat" colour.
 fn flat_file() -> FileNormalMap {
-    let mut bytes = Vec::new();
-    ImageBuffer::from_pixel(8, 8, Rgb([128u8, 128, 255]))
-        .write_to(
-            &mut std::io::Cursor::new(&mut bytes),
-            image::ImageFormat::Png,
-        )
-        .unwrap();
+    let picture = ImageBuffer::from_pixel(8, 8, Rgb([128u8, 128, 255]));
+    let bytes = relief_texture::picture::encode(&picture.into(), image::ImageFormat::Png).unwrap();
     load_normal_map_from_bytes("flat.png", &bytes).unwrap()
 }
 
@@ -384,10 +377,10 @@ fn the_brick_normal_asset_is_the_bricks_derived_map() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/brick-normal.png");
     if std::env::var_os("RELIEF_WRITE_ASSETS").is_some() {
         let rgb = relief_texture::normal_map_file::encode_rgb8(&derived);
-        ImageBuffer::<Rgb<u8>, _>::from_raw(derived.width as u32, derived.height as u32, rgb)
-            .unwrap()
-            .save(&path)
-            .unwrap();
+        let picture =
+            ImageBuffer::<Rgb<u8>, _>::from_raw(derived.width as u32, derived.height as u32, rgb)
+                .unwrap();
+        relief_texture::picture::save(&picture.into(), &path).unwrap();
     }
     let asset = load_normal_map(&path).unwrap();
     assert_eq!(

@@ -35,7 +35,7 @@ fn at(tex: &Texture, x: usize, y: usize) -> [f32; 4] {
 }
 
 fn png_rgba(path: &Path) -> image::RgbaImage {
-    image::open(path).unwrap().to_rgba8()
+    relief_texture::picture::open(path).unwrap().to_rgba8()
 }
 
 fn srgb(v: u8) -> f32 {
@@ -256,7 +256,8 @@ fn pngsuite_valid_files_all_load_in_range() {
             continue;
         }
         let tex = load_texture(&path).unwrap_or_else(|e| panic!("{e}"));
-        let (w, h) = image::image_dimensions(&path).unwrap();
+        let picture = relief_texture::picture::open(&path).unwrap();
+        let (w, h) = (picture.width(), picture.height());
         assert_eq!(
             (tex.width(), tex.height()),
             (w as usize, h as usize),
@@ -336,17 +337,8 @@ fn height_is_alpha_or_the_mean_of_rgb() {
 }
 
 fn encode_png(w: u32, h: u32, rgba: &[u8]) -> Vec<u8> {
-    let mut out = std::io::Cursor::new(Vec::new());
-    image::write_buffer_with_format(
-        &mut out,
-        rgba,
-        w,
-        h,
-        image::ExtendedColorType::Rgba8,
-        image::ImageFormat::Png,
-    )
-    .unwrap();
-    out.into_inner()
+    let picture = image::RgbaImage::from_raw(w, h, rgba.to_vec()).unwrap();
+    relief_texture::picture::encode(&picture.into(), image::ImageFormat::Png).unwrap()
 }
 
 #[test]
@@ -749,7 +741,7 @@ fn every_other_decoded_format_round_trips() {
     use image::{DynamicImage, ImageFormat};
     let path = data("formats/basn6a08.png");
     let png = load_texture(&path).unwrap();
-    let img = image::open(&path).unwrap();
+    let img = relief_texture::picture::open(&path).unwrap();
     let rgba8 = DynamicImage::ImageRgba8(img.to_rgba8());
     let rgb8 = DynamicImage::ImageRgb8(img.to_rgb8());
     let cases: Vec<(&str, ImageFormat, DynamicImage, f32)> = vec![
@@ -779,9 +771,8 @@ fn every_other_decoded_format_round_trips() {
         ),
     ];
     for (name, format, picture, tolerance) in cases {
-        let mut bytes = std::io::Cursor::new(Vec::new());
-        picture.write_to(&mut bytes, format).unwrap();
-        let tex = load_texture_from_bytes(name, bytes.get_ref()).unwrap_or_else(|e| panic!("{e}"));
+        let bytes = relief_texture::picture::encode(&picture, format).unwrap();
+        let tex = load_texture_from_bytes(name, &bytes).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!((tex.width(), tex.height()), (32, 32), "{name}");
         let has_alpha = picture.color().has_alpha();
         let mut worst = 0.0f32;
@@ -811,15 +802,13 @@ fn assert_same_texels(a: &Texture, b: &Texture, tolerance: f32, what: &str) {
 }
 
 fn encoded(picture: &image::DynamicImage, format: image::ImageFormat) -> Vec<u8> {
-    let mut bytes = std::io::Cursor::new(Vec::new());
-    picture.write_to(&mut bytes, format).unwrap();
-    bytes.into_inner()
+    relief_texture::picture::encode(picture, format).unwrap()
 }
 
 #[test]
 fn valid_variants_the_decoder_refuses_load_as_their_plain_form() {
     use image::{DynamicImage, ImageFormat};
-    let img = image::open(data("formats/basn2c08.png")).unwrap();
+    let img = relief_texture::picture::open(data("formats/basn2c08.png")).unwrap();
 
     // HDR signed `#?RGBE` instead of `#?RADIANCE`: the same picture.
     let hdr = encoded(
@@ -852,7 +841,7 @@ fn valid_variants_the_decoder_refuses_load_as_their_plain_form() {
     let at = 13 + table;
     let unknown = [&gif[..at], b"\x21\x99\x03abc\x02xy\x00", &gif[at..]].concat();
     assert!(
-        image::load_from_memory(&unknown).is_err(),
+        relief_texture::picture::decode(&unknown).is_err(),
         "the crate refuses it"
     );
     let tex = load_texture_from_bytes("b.gif", &unknown).unwrap_or_else(|e| panic!("{e}"));
@@ -870,7 +859,7 @@ fn valid_variants_the_decoder_refuses_load_as_their_plain_form() {
     let offset = u32::from_le_bytes(bmp[10..14].try_into().unwrap()) + 24;
     os2[10..14].copy_from_slice(&offset.to_le_bytes());
     assert!(
-        image::load_from_memory(&os2).is_err(),
+        relief_texture::picture::decode(&os2).is_err(),
         "the crate refuses it"
     );
     let tex = load_texture_from_bytes("b.bmp", &os2).unwrap_or_else(|e| panic!("{e}"));
@@ -894,7 +883,7 @@ fn valid_variants_the_decoder_refuses_load_as_their_plain_form() {
         ico.extend_from_slice(&small);
         ico.extend_from_slice(&png);
         assert!(
-            image::load_from_memory(&ico).is_err(),
+            relief_texture::picture::decode(&ico).is_err(),
             "the crate refuses it"
         );
         let tex = load_texture_from_bytes("b.ico", &ico).unwrap_or_else(|e| panic!("{e}"));
@@ -929,7 +918,7 @@ fn decoder_internals_stay_out_of_messages() {
     );
 
     // A JPEG cut short: zune's "I/O errors Not enough bytes".
-    let img = image::open(data("formats/basn2c08.png")).unwrap();
+    let img = relief_texture::picture::open(data("formats/basn2c08.png")).unwrap();
     let jpg = encoded(
         &image::DynamicImage::ImageRgb8(img.to_rgb8()),
         image::ImageFormat::Jpeg,
@@ -1064,11 +1053,8 @@ fn allocated_bytes(tex: &Texture) -> usize {
 fn reservation_matches_what_a_texture_allocates() {
     use image::{ImageFormat, Rgb, Rgb32FImage, RgbImage, Rgba, RgbaImage};
     let (w, h) = (96u32, 64u32);
-    let encode = |img: image::DynamicImage, format| {
-        let mut bytes = std::io::Cursor::new(Vec::new());
-        img.write_to(&mut bytes, format).unwrap();
-        bytes.into_inner()
-    };
+    let encode =
+        |img: image::DynamicImage, format| relief_texture::picture::encode(&img, format).unwrap();
     let rgb8 = RgbImage::from_fn(w, h, |x, y| Rgb([x as u8 * 2, y as u8 * 3, (x ^ y) as u8]));
     let rgba8 = RgbaImage::from_fn(w, h, |x, y| Rgba([x as u8, y as u8, 7, (x + y) as u8]));
     let rgb16 = image::ImageBuffer::<Rgb<u16>, _>::from_fn(w, h, |x, y| {

@@ -263,7 +263,7 @@ const ANCHOR_PICTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/
 pub fn llvmpipe_picture(variant: &str) -> Option<Vec<Rgb>> {
     let (w, h) = ANCHOR_SIZE;
     let path = format!("{ANCHOR_PICTURES}/anchor_llvmpipe_{variant}_{w}x{h}.png");
-    let img = image::open(path).ok()?.to_rgb8();
+    let img = relief_texture::picture::open(path).ok()?.to_rgb8();
     ((img.width() as usize, img.height() as usize) == (w, h))
         .then(|| img.pixels().map(|p| p.0).collect())
 }

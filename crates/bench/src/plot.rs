@@ -369,8 +369,7 @@ fn draw_legend(c: &mut Canvas, report: &Report, front: &[bool]) {
 /// Draws the plot and writes it as a PNG.
 pub fn save(report: &Report, title: &str, path: &std::path::Path) -> anyhow::Result<()> {
     use anyhow::Context;
-    draw(report, title)
-        .save_with_format(path, image::ImageFormat::Png)
+    relief_core::framebuffer::write_png(&draw(report, title), path)
         .with_context(|| format!("cannot write {}", relief_core::sanitize::display_path(path)))
 }
 

@@ -75,8 +75,23 @@ impl Framebuffer {
         if self.width == 0 || self.height == 0 {
             anyhow::bail!("cannot write an empty {}x{} image", self.width, self.height);
         }
-        self.to_image()
-            .save_with_format(path, image::ImageFormat::Png)
+        write_png(&self.to_image(), path)
             .with_context(|| format!("cannot write {}", crate::sanitize::display_path(path)))
     }
+}
+
+/// Writes `picture` as a PNG file. The PNG encoder is named, not chosen
+/// from the file name: a format chosen at run time would compile every
+/// encoder `image` has into the caller.
+pub fn write_png(picture: &image::RgbImage, path: &std::path::Path) -> image::ImageResult<()> {
+    use image::ImageEncoder;
+    let mut file = std::io::BufWriter::new(std::fs::File::create(path)?);
+    image::codecs::png::PngEncoder::new(&mut file).write_image(
+        picture.as_raw(),
+        picture.width(),
+        picture.height(),
+        image::ExtendedColorType::Rgb8,
+    )?;
+    std::io::Write::flush(&mut file)?;
+    Ok(())
 }

@@ -12,6 +12,7 @@ pub mod environment;
 pub mod ibl;
 pub mod lat_long;
 pub mod normal_map_file;
+pub mod picture;
 pub mod sample;
 pub mod specular_map;
 pub mod studio;

@@ -404,7 +404,9 @@ impl<'a> Materials<'a> {
 
     /// Whether `texture`'s picture has an alpha channel (its header says).
     fn image_has_alpha(&self, texture: &::gltf::Texture) -> Result<bool, Problem> {
-        Ok(has_alpha(&self.image_bytes(&self.image_of(texture)?)?))
+        Ok(relief_texture::picture::has_alpha(
+            &self.image_bytes(&self.image_of(texture)?)?,
+        ))
     }
 
     /// The name a map of `texture` shows in the texture panel: its
@@ -479,7 +481,7 @@ impl<'a> Materials<'a> {
         let image = self.image_of(texture)?;
         let name = self.image_name(&image);
         let bytes = self.image_bytes(&image)?;
-        let has_alpha = has_alpha(&bytes);
+        let has_alpha = relief_texture::picture::has_alpha(&bytes);
         let decoded = match self.take_ready(&image) {
             Some(t) => t,
             None => load_texture_from_bytes(&name, &bytes)
@@ -624,16 +626,6 @@ impl<'a> Materials<'a> {
 struct Decoded {
     texture: Texture,
     has_alpha: bool,
-}
-
-/// Whether an encoded image has an alpha channel (its header says).
-fn has_alpha(bytes: &[u8]) -> bool {
-    use image::ImageDecoder;
-    image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .ok()
-        .and_then(|r| r.into_decoder().ok())
-        .is_some_and(|d| d.color_type().has_alpha())
 }
 
 /// A name ending for an image's MIME type, so the decoder knows the format.

@@ -71,14 +71,9 @@ pub fn write_assets(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     for b in builtins() {
         let (w, h, rgba) = (b.generate)();
         let path = dir.join(b.file);
-        image::save_buffer_with_format(
-            &path,
-            &rgba,
-            w as u32,
-            h as u32,
-            image::ExtendedColorType::Rgba8,
-            image::ImageFormat::Png,
-        )?;
+        let picture = image::RgbaImage::from_raw(w as u32, h as u32, rgba)
+            .ok_or_else(|| anyhow::anyhow!("{}: {w}x{h} does not match its texels", b.file))?;
+        crate::picture::save(&picture.into(), &path)?;
         written.push(path);
     }
     Ok(written)
