@@ -1,6 +1,7 @@
 //! Criterion micro-benchmarks of the renderer at 320×240 on the reference cube
 //! (texture and bump on all six faces, 4 point lights): the full Phong path
 //! and the cheapest flat untextured frame, on one thread and on all threads;
+//! the other bump techniques (emboss, dot3, parallax, occlusion) on one;
 //! and the model view's metallic-roughness kernel against Phong with Blinn's
 //! bump on the same framed cube (docs/shading.md).
 //! `cargo bench --bench render`; `relief bench` covers every setting.
@@ -89,6 +90,20 @@ fn renderer(c: &mut Criterion) {
     bench(c, "phong_bump_bilinear_320x240/1_thread", phong, 1);
     bench(c, "flat_untextured_320x240/all_threads", flat, 0);
     bench(c, "flat_untextured_320x240/1_thread", flat, 1);
+    // The other bump techniques, on one thread: the kernels `e` switches to.
+    use relief_core::settings::Technique;
+    for (technique, name) in [
+        (Technique::Emboss, "emboss"),
+        (Technique::Dot3, "dot3"),
+        (Technique::Parallax, "parallax"),
+        (Technique::Pom, "pom"),
+    ] {
+        let settings = Settings {
+            technique,
+            ..Settings::default()
+        };
+        bench(c, &format!("{name}_320x240/1_thread"), settings, 1);
+    }
     let start = Settings {
         rotation: relief_scene::model_view::START_ROTATION,
         ..Settings::default()

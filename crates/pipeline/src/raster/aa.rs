@@ -200,14 +200,8 @@ pub fn raster_triangle_msaa<S: PixelShader>(
     // translucent pixel is composited over each covered sample.
     let alpha = AlphaRule::of(shader, ctx);
     let blends = alpha.blends();
-    // Edge offsets of each sample from the pixel centre (exact integers).
-    let delta: [[i64; 3]; MSAA_SAMPLES] =
-        MSAA4_OFFSETS.map(|(ox, oy)| [0, 1, 2].map(|i| (steps[i].0 * ox + steps[i].1 * oy) / ONE));
-    let (lx, ly) = tri.lambda_steps();
-    let dz_dx = lx[0] * tri.z[0] + lx[1] * tri.z[1] + lx[2] * tri.z[2];
-    let dz_dy = ly[0] * tri.z[0] + ly[1] * tri.z[1] + ly[2] * tri.z[2];
-    let dz: [f32; MSAA_SAMPLES] =
-        MSAA4_OFFSETS.map(|(ox, oy)| (dz_dx * ox as f32 + dz_dy * oy as f32) / ONE as f32);
+    let delta = sample_edge_offsets(&steps);
+    let dz = sample_depth_offsets(tri);
     let cx = xa as i64 * ONE + ONE / 2;
     for py in ya..yb {
         let cy = py as i64 * ONE + ONE / 2;
@@ -217,7 +211,7 @@ pub fn raster_triangle_msaa<S: PixelShader>(
             let mut mask = covered_samples(&e, &delta, &tri.bias);
             let mut opacity = 1.0;
             if mask != 0 && alpha != AlphaRule::Opaque {
-                let l = [0, 1, 2].map(|i| e[i] as f32 * inv_area);
+                let l = edge_weights(&e, inv_area);
                 match alpha.coverage(tri, shader, ctx, l) {
                     Some(a) => opacity = a,
                     None => mask = 0,
@@ -291,6 +285,30 @@ fn depth_test_samples(
         }
     }
     mask
+}
+
+// The helpers below are not generic over the shader: the rasterizer is
+// compiled once per kernel, and what it calls that is not generic is not.
+
+/// Edge offsets of each sample from the pixel centre (exact integers).
+#[inline(always)]
+fn sample_edge_offsets(steps: &[(i64, i64); 3]) -> [[i64; 3]; MSAA_SAMPLES] {
+    MSAA4_OFFSETS.map(|(ox, oy)| [0, 1, 2].map(|i| (steps[i].0 * ox + steps[i].1 * oy) / ONE))
+}
+
+/// Depth offsets of each sample from the pixel centre.
+#[inline(always)]
+fn sample_depth_offsets(tri: &ScreenTri) -> [f32; MSAA_SAMPLES] {
+    let (lx, ly) = tri.lambda_steps();
+    let dz_dx = lx[0] * tri.z[0] + lx[1] * tri.z[1] + lx[2] * tri.z[2];
+    let dz_dy = ly[0] * tri.z[0] + ly[1] * tri.z[1] + ly[2] * tri.z[2];
+    MSAA4_OFFSETS.map(|(ox, oy)| (dz_dx * ox as f32 + dz_dy * oy as f32) / ONE as f32)
+}
+
+/// The edge weights at the pixel centre.
+#[inline(always)]
+fn edge_weights(e: &[i64; 3], inv_area: f32) -> [f32; 3] {
+    [0, 1, 2].map(|i| e[i] as f32 * inv_area)
 }
 
 /// The edge weights at the centroid of the covered samples of `mask`.

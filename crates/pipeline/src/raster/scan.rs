@@ -307,7 +307,7 @@ fn raster_packets<S: PixelShader>(
             e[2] + steps[2].0 * k,
         ]
     };
-    let span_steps = steps.map(|s| s.0);
+    let span_steps = [steps[0].0, steps[1].0, steps[2].0];
     for py in rows {
         let cy = py as i64 * ONE + ONE / 2;
         let e_row = tri.edges(cx, cy);

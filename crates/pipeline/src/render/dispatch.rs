@@ -195,22 +195,11 @@ fn with_hook<T: RasterTarget, H: Hook>(
     target: &mut T,
     counters: &mut Counters,
 ) {
-    match (s.textured, ctx.plan.specular.is_some()) {
-        (true, true) => {
-            let k = HookKernel::<H, true, true> { tri: s, hook };
-            target.raster(tri, &k, ctx, counters)
-        }
-        (true, false) => {
-            let k = HookKernel::<H, true, false> { tri: s, hook };
-            target.raster(tri, &k, ctx, counters)
-        }
-        (false, true) => {
-            let k = HookKernel::<H, false, true> { tri: s, hook };
-            target.raster(tri, &k, ctx, counters)
-        }
-        (false, false) => {
-            let k = HookKernel::<H, false, false> { tri: s, hook };
-            target.raster(tri, &k, ctx, counters)
-        }
-    }
+    let kernel = HookKernel {
+        tri: s,
+        hook,
+        textured: s.textured,
+        specular: ctx.plan.specular.is_some(),
+    };
+    target.raster(tri, &kernel, ctx, counters)
 }

@@ -110,15 +110,18 @@ pub trait Hook {
 /// colour read, the light loop, the composition `albedo × light +
 /// highlight` with the material's terms, and the environment's reflection
 /// in the technique's normal when the plan has one. The colour before
-/// quantising.
+/// quantising. `tex` (the colour texture is read) and `spec` (highlights
+/// are added) are constants in the hot kernels, folded away when inlined.
 #[inline(always)]
-pub fn shade<V: Vector, H: Hook, const TEX: bool, const SPEC: bool>(
+#[allow(clippy::too_many_arguments)]
+pub fn shade<V: Vector, H: Hook>(
     hook: &H,
     tri: &PhongTri,
     ctx: &ShadeCtx,
     b: [V::L; 3],
     fp: &[Footprint],
     live: u32,
+    (tex, spec): (bool, bool),
     counters: &mut Counters,
 ) -> V {
     let plan = ctx.plan;
@@ -131,10 +134,10 @@ pub fn shade<V: Vector, H: Hook, const TEX: bool, const SPEC: bool>(
     };
     let count = px.count();
     counters.pixels_shaded += count;
-    let (at, own) = hook.at(ctx, &px, TEX, counters);
+    let (at, own) = hook.at(ctx, &px, tex, counters);
     let s = &px.s;
     let mut albedo = s.albedo;
-    if TEX {
+    if tex {
         counters.texture_samples += count;
         albedo = albedo
             * at.texel
@@ -142,7 +145,7 @@ pub fn shade<V: Vector, H: Hook, const TEX: bool, const SPEC: bool>(
     }
     let set = LightSet::of(plan);
     counters.light_evals += count * set.lights.len() as u64;
-    if SPEC {
+    if spec {
         counters.specular_evals += count * set.lights.len() as u64;
     }
     let cosine = |i, d, counters: &mut Counters| hook.cosine(ctx, &px, &own, at.n, i, d, counters);
@@ -158,7 +161,7 @@ pub fn shade<V: Vector, H: Hook, const TEX: bool, const SPEC: bool>(
     };
     match ctx.shadow {
         // A frame without a shadow map multiplies by no factor.
-        None => lit.light::<SPEC>(cosine, |_, _, _| V::L::ONE, counters),
+        None => lit.light(spec, cosine, |_, _, _| V::L::ONE, counters),
         Some(sh) => {
             // Each lane the shadowed light reaches asks the map once.
             let visibility = |i, reached, counters: &mut Counters| {
@@ -171,7 +174,7 @@ pub fn shade<V: Vector, H: Hook, const TEX: bool, const SPEC: bool>(
                 });
                 seen
             };
-            lit.light::<SPEC>(cosine, visibility, counters)
+            lit.light(spec, cosine, visibility, counters)
         }
     }
 }
@@ -192,15 +195,16 @@ impl<V: Vector> Lit<'_, V> {
     /// The light loop with the technique's `cosine` and the shadow's
     /// `visibility`, then the composition.
     #[inline(always)]
-    fn light<const SPEC: bool>(
+    fn light(
         &self,
+        spec: bool,
         cosine: impl FnMut(usize, V, &mut Counters) -> Option<V::L>,
         visibility: impl FnMut(usize, <V::L as Lanes>::Mask, &mut Counters) -> V::L,
         counters: &mut Counters,
     ) -> V {
         let (plan, p, n, live) = (self.ctx.plan, self.p, self.n, self.live);
         let set = LightSet::of(plan);
-        if SPEC {
+        if spec {
             let view = view_dir(plan.eye, p);
             let (light, mut highlight) =
                 light_lanes::<V, true>(&set, p, n, view, cosine, visibility, counters);
@@ -299,18 +303,26 @@ pub fn gloss_map<'a>(ctx: &ShadeCtx<'a>, glossy: bool) -> Option<&'a relief_text
 
 /// A Phong-family triangle drawn with the technique `H`, with or without
 /// its colour texture and highlights: one pixel at a time, or eight.
-pub struct HookKernel<'a, H, const TEX: bool, const SPEC: bool> {
+/// Unlike the Phong kernel's, texture and highlights are flags, not type
+/// parameters: these techniques' texture reads dwarf a branch per packet,
+/// and one kernel per technique instead of four keeps the build short.
+pub struct HookKernel<'a, H> {
     pub tri: &'a PhongTri,
     pub hook: H,
+    /// Whether the colour texture is read.
+    pub textured: bool,
+    /// Whether highlights are added.
+    pub specular: bool,
 }
 
-impl<H: Hook, const TEX: bool, const SPEC: bool> PixelShader for HookKernel<'_, H, TEX, SPEC> {
+impl<H: Hook> PixelShader for HookKernel<'_, H> {
     // Every technique reads the height map, so every one has a footprint.
     const SAMPLES_TEXTURE: bool = true;
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
         let b = [b.x, b.y, b.z];
-        let c = shade::<Vec3, H, TEX, SPEC>(&self.hook, self.tri, ctx, b, &[fp], 1, counters);
+        let flags = (self.textured, self.specular);
+        let c = shade::<Vec3, H>(&self.hook, self.tri, ctx, b, &[fp], 1, flags, counters);
         finish(c, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
@@ -334,7 +346,8 @@ impl<H: Hook, const TEX: bool, const SPEC: bool> PixelShader for HookKernel<'_, 
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
-        let c = shade::<V3, H, TEX, SPEC>(&self.hook, self.tri, ctx, b, fp, live, counters);
+        let flags = (self.textured, self.specular);
+        let c = shade::<V3, H>(&self.hook, self.tri, ctx, b, fp, live, flags, counters);
         packet::finish(c, live, counters)
     }
 }

@@ -250,7 +250,16 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
         let b = [b.x, b.y, b.z];
-        let c = shade::<Vec3, _, TEX, SPEC>(&self.hook, self.tri, ctx, b, &[fp], 1, counters);
+        let c = shade::<Vec3, _>(
+            &self.hook,
+            self.tri,
+            ctx,
+            b,
+            &[fp],
+            1,
+            (TEX, SPEC),
+            counters,
+        );
         finish(c, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
@@ -274,7 +283,16 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
-        let c = shade::<V3, _, TEX, SPEC>(&self.hook, self.tri, ctx, b, fp, live, counters);
+        let c = shade::<V3, _>(
+            &self.hook,
+            self.tri,
+            ctx,
+            b,
+            fp,
+            live,
+            (TEX, SPEC),
+            counters,
+        );
         packet::finish(c, live, counters)
     }
 }

@@ -404,13 +404,20 @@ fn lane_reads<const COLOR: bool, const GRADIENT: bool, F: Fetch>(
     } else {
         for lane in 0..LANES {
             let cols = around(xi[lane] as i64, w);
-            let rows = around(yi[lane] as i64, h).map(|r| r * w);
+            let rows = row_starts(yi[lane] as i64, h, w);
             let at = |r: usize, c: usize| t.at(rows[r] + cols[c]);
             let height = |r: usize, c: usize| t.height(rows[r] + cols[c]);
             (color[lane], heights[lane]) = blend::<COLOR, GRADIENT>(at, height, fx[lane], fy[lane]);
         }
     }
     (color, heights)
+}
+
+/// The starts of the four rows around row `y` of a `w`-wide level `h` rows
+/// high, wrapped (not generic: `lane_reads` is compiled once per reader).
+#[inline(always)]
+fn row_starts(y: i64, h: usize, w: usize) -> [usize; 4] {
+    around(y, h).map(|r| r * w)
 }
 
 /// One lane's bilinear colour (RGBA) and its east, west, north and south
