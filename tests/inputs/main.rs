@@ -24,4 +24,5 @@ mod models_render;
 mod mutation;
 mod obj_chunks;
 mod obj_corpus;
+mod octahedron;
 mod parser_messages;

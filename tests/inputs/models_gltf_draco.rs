@@ -1,72 +1,26 @@
 //! `KHR_draco_mesh_compression`: a GLB whose primitive is one Draco
-//! stream (written here with the `draco-core` crate's encoder) reads as
+//! stream (written by the `draco-core` crate's encoder) reads as
 //! its plain twin; a broken or lying stream is refused in one sentence;
 //! and the Khronos Duck's Draco twin reads as the Duck (needs `../shared`).
 
 use std::path::Path;
 
-use draco_core::{
-    DataType, EncoderBuffer, EncoderOptions, FaceIndex, GeometryAttributeType, MeshEncoder,
-    PointAttribute,
-};
 use relief_scene::gltf::{Model, load};
 
 use super::models_gltf::{glb, load_ok, refused, write};
 
-/// An octahedron: six points on the axes, eight faces wound outwards.
-pub(super) const POINTS: [[f32; 3]; 6] = [
-    [1.0, 0.0, 0.0],
-    [-1.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0],
-    [0.0, -1.0, 0.0],
-    [0.0, 0.0, 1.0],
-    [0.0, 0.0, -1.0],
-];
-pub(super) const FACES: [[u32; 3]; 8] = [
-    [0, 2, 4],
-    [2, 1, 4],
-    [1, 3, 4],
-    [3, 0, 4],
-    [2, 0, 5],
-    [1, 2, 5],
-    [3, 1, 5],
-    [0, 3, 5],
-];
-
-/// Each point's texture coordinate: (x + 1)/2, (y + 1)/2.
-pub(super) fn uv(p: [f32; 3]) -> [f32; 2] {
-    [(p[0] + 1.0) / 2.0, (p[1] + 1.0) / 2.0]
-}
-
-/// A Draco attribute of `values` (`width` floats a point).
-fn attribute(kind: GeometryAttributeType, width: u8, values: &[f32]) -> PointAttribute {
-    let mut a = PointAttribute::new();
-    let n = values.len() / width as usize;
-    a.init(kind, width, DataType::Float32, false, n);
-    for (i, v) in values.iter().enumerate() {
-        a.buffer_mut().write(i * 4, &v.to_le_bytes());
-    }
-    a
-}
+use crate::octahedron::{FACES, POINTS, uv};
 
 /// The octahedron as one Draco stream: POSITION (id 0), NORMAL (id 1,
-/// the point's own direction), TEXCOORD_0 (id 2).
+/// the point's own direction), TEXCOORD_0 (id 2), as the `draco-core`
+/// crate's encoder writes it with its default options
+/// (`tools/draco-octahedron` made the file; `cargo run --manifest-path
+/// tools/draco-octahedron/Cargo.toml > tests/data/octahedron.drc` makes it
+/// again). Kept as a file so that no test build needs the encoder, whose
+/// feature would make `cargo test` build the scene and everything above it
+/// a second time after `cargo build`.
 fn octahedron_stream() -> Vec<u8> {
-    let mut mesh = draco_core::Mesh::new();
-    let flat: Vec<f32> = POINTS.iter().flatten().copied().collect();
-    let uvs: Vec<f32> = POINTS.iter().flat_map(|&p| uv(p)).collect();
-    mesh.add_attribute(attribute(GeometryAttributeType::Position, 3, &flat));
-    mesh.add_attribute(attribute(GeometryAttributeType::Normal, 3, &flat));
-    mesh.add_attribute(attribute(GeometryAttributeType::TexCoord, 2, &uvs));
-    mesh.set_num_faces(FACES.len());
-    for (k, f) in FACES.iter().enumerate() {
-        mesh.set_face(FaceIndex(k as u32), f.map(Into::into));
-    }
-    let mut encoder = MeshEncoder::new();
-    encoder.set_mesh(mesh);
-    let mut out = EncoderBuffer::new();
-    encoder.encode(&EncoderOptions::new(), &mut out).unwrap();
-    out.data().to_vec()
+    include_bytes!("../data/octahedron.drc").to_vec()
 }
 
 /// A GLB of `stream` as the Draco data of one primitive whose accessors

@@ -8,7 +8,8 @@ use meshoptimizer_rs::codec::{self, IndexEncoding, VertexEncoding};
 use meshoptimizer_rs::{Limits, Workspace};
 
 use super::models_gltf::{glb, load_ok, refused, write};
-use super::models_gltf_draco::{FACES, POINTS, assert_same_triangles, plain_glb, triangles, uv};
+use super::models_gltf_draco::{assert_same_triangles, plain_glb, triangles};
+use crate::octahedron::{FACES, POINTS, uv};
 
 /// One compressed view: its stream, the element count and stride, the
 /// mode and filter.
