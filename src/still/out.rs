@@ -149,14 +149,12 @@ pub fn write_picture(
     temp_name.push(format!(".{}.tmp", std::process::id()));
     let temp = dir.join(temp_name);
     let written = (|| -> anyhow::Result<()> {
-        let file = std::fs::OpenOptions::new()
+        let mut file = std::fs::OpenOptions::new()
             .write(true)
             .create_new(true)
             .open(&temp)?;
-        let bytes = encode(fb, format)?;
-        let mut writer = std::io::BufWriter::new(file);
-        writer.write_all(&bytes)?;
-        writer.flush()?;
+        // Encoded whole first, so one write: no buffer in between.
+        file.write_all(&encode(fb, format)?)?;
         if let Some(p) = permissions {
             std::fs::set_permissions(&temp, p)?;
         }
