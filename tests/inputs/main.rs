@@ -8,6 +8,7 @@ mod glb_writer;
 #[path = "../hostile/mod.rs"]
 mod hostile;
 
+mod meshopt_streams;
 mod models;
 mod models_formats;
 mod models_gltf;

@@ -1,15 +1,14 @@
 //! `EXT_meshopt_compression` and `KHR_meshopt_compression`: the
 //! octahedron of the Draco tests with its positions, normals and indices
-//! in compressed bufferViews (written here with the `meshoptimizer-rs`
-//! crate's encoders) over a fallback buffer that holds no bytes, read as
-//! its plain twin; a broken stream refused in one sentence.
+//! in compressed bufferViews (the streams of tests/data/meshopt, written by
+//! `tools/meshopt-streams` with the meshoptimizer-rs encoders) over a
+//! fallback buffer that holds no bytes, read as its plain twin; a broken
+//! stream refused in one sentence.
 
-use meshoptimizer_rs::codec::{self, IndexEncoding, VertexEncoding};
-use meshoptimizer_rs::{Limits, Workspace};
-
+use super::meshopt_streams::named;
 use super::models_gltf::{glb, load_ok, refused, write};
 use super::models_gltf_draco::{assert_same_triangles, plain_glb, triangles};
-use crate::octahedron::{FACES, POINTS, uv};
+use crate::octahedron::{FACES, POINTS};
 
 /// One compressed view: its stream, the element count and stride, the
 /// mode and filter.
@@ -17,52 +16,29 @@ struct Packed {
     stream: Vec<u8>,
     count: usize,
     stride: usize,
-    mode: &'static str,
-    filter: &'static str,
-}
-
-fn work() -> Workspace {
-    Workspace::new(Limits::default())
+    mode: String,
+    filter: String,
 }
 
 /// The octahedron's positions, normals (octahedral, 8 bits, stride 4)
 /// and texture coordinates by the vertex codec (`version`), its indices
 /// by the index codec.
 fn packed(version: u8) -> Vec<Packed> {
-    let bytes = |v: &[f32]| v.iter().flat_map(|f| f.to_le_bytes()).collect::<Vec<u8>>();
-    let encoding = VertexEncoding::new(version, 2).unwrap();
-    let vertices = |data: &[u8], stride: usize| {
-        codec::encode_vertex_buffer(data, POINTS.len(), stride, encoding, &mut work()).unwrap()
-    };
-    let flat: Vec<f32> = POINTS.iter().flatten().copied().collect();
-    let with_w: Vec<f32> = POINTS
-        .iter()
-        .flat_map(|p| [p[0], p[1], p[2], 0.0])
-        .collect();
-    let normals = codec::encode_filter_oct(POINTS.len(), 4, 8, &with_w, &mut work()).unwrap();
-    let uvs: Vec<f32> = POINTS.iter().flat_map(|&p| uv(p)).collect();
-    let indices: Vec<u32> = FACES.iter().flatten().copied().collect();
-    let index_stream =
-        codec::encode_index_buffer(&indices, IndexEncoding::DEFAULT, &mut work()).unwrap();
-    let attribute = |stream, stride, filter| Packed {
-        stream,
-        count: POINTS.len(),
-        stride,
-        mode: "ATTRIBUTES",
-        filter,
-    };
-    vec![
-        attribute(vertices(&bytes(&flat), 12), 12, "NONE"),
-        attribute(vertices(&normals, 4), 4, "OCTAHEDRAL"),
-        attribute(vertices(&bytes(&uvs), 8), 8, "NONE"),
+    let view = |name: String| {
+        let c = named(&name);
         Packed {
-            stream: index_stream,
-            count: indices.len(),
-            stride: 2,
-            mode: "TRIANGLES",
-            filter: "NONE",
-        },
-    ]
+            stream: c.stream,
+            count: c.count,
+            stride: c.stride,
+            mode: c.mode_name,
+            filter: c.filter_name,
+        }
+    };
+    let vertices =
+        ["positions", "normals", "uvs"].map(|a| view(format!("octahedron_{a}_v{version}")));
+    let mut views: Vec<Packed> = vertices.into();
+    views.push(view("octahedron_indices".into()));
+    views
 }
 
 /// A GLB whose binary chunk holds the streams and whose second buffer is
@@ -71,7 +47,7 @@ fn meshopt_glb(views: &[Packed], extension: &str) -> Vec<u8> {
     let (mut bin, mut json_views, mut fallback) = (Vec::new(), Vec::new(), 0);
     for v in views {
         let length = v.count * v.stride;
-        let stride = match v.mode {
+        let stride = match v.mode.as_str() {
             "ATTRIBUTES" => format!(r#","byteStride":{}"#, v.stride),
             _ => String::new(),
         };
@@ -144,7 +120,7 @@ fn a_broken_meshopt_stream_is_refused_in_one_sentence() {
         "{m}"
     );
     let mut views = packed(0);
-    views[1].filter = "SPIRAL";
+    views[1].filter = "SPIRAL".into();
     let m = refused(
         "meshopt-filter",
         &meshopt_glb(&views, "EXT_meshopt_compression"),

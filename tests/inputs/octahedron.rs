@@ -1,5 +1,5 @@
-//! The octahedron of the Draco and meshopt tests, shared with the tool that
-//! writes its Draco stream (`tools/draco-octahedron`).
+//! The octahedron of the Draco and meshopt tests, shared with the tools that
+//! write its streams (`tools/draco-octahedron`, `tools/meshopt-streams`).
 
 /// An octahedron: six points on the axes, eight faces wound outwards.
 pub const POINTS: [[f32; 3]; 6] = [

@@ -19,7 +19,7 @@ mod draco;
 mod fitted_nodes;
 mod lights;
 mod material;
-mod meshopt;
+pub mod meshopt;
 mod opacity;
 mod reading;
 mod rig;

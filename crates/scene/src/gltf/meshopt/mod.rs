@@ -1,18 +1,32 @@
 //! `EXT_meshopt_compression` and `KHR_meshopt_compression`: a bufferView
 //! whose bytes are a meshoptimizer stream in another buffer (attributes
 //! by the vertex codec, indices by the index codec, then an optional
-//! filter). Each such view is decoded (by the `meshoptimizer-rs` crate,
-//! pure Rust) before the file is read, into a new buffer the view then
-//! points at, so that everything after reads ordinary bytes.
+//! filter). Each such view is decoded before the file is read, into a new
+//! buffer the view then points at, so that everything after reads
+//! ordinary bytes.
+//!
+//! The decoder is relief's own, written from the bitstream and filter
+//! appendices of the two extensions' specifications (`vertex`: the vertex
+//! codec, versions 0 and 1; `index`: the triangle and index sequence
+//! codecs; `filter`: the four filters). `decode` and `apply_filter` are
+//! public for the tests.
 //!
 //! The fallback buffer such files declare (no data, or data relief does
 //! not need) is never read.
 
+mod codec;
+mod cursor;
+mod error;
+mod filter;
+mod index;
+mod vertex;
+
+pub use codec::{Filter, Mode, apply_filter, decode};
+pub use error::DecodeError;
+
 use ::gltf::json;
 use json::Value;
 use json::validation::USize64;
-use meshoptimizer_rs::codec::{self, Mode};
-use meshoptimizer_rs::{Limits, Workspace};
 
 use super::data::Problem;
 use super::reading::{hold, push_buffer};
@@ -61,7 +75,7 @@ pub(super) fn unpack(
         };
         let bytes = stream.count.saturating_mul(stream.stride);
         hold(held, name, "the decoded meshopt data", bytes as u64)?;
-        let decoded = decode(buffers, &stream)
+        let decoded = decode_view(buffers, &stream)
             .map_err(|e| format!("{place}: its meshopt data cannot be decoded ({e})"))?;
         let view = &mut root.buffer_views[v];
         view.buffer = json::Index::new(buffers.len() as u32);
@@ -95,7 +109,7 @@ fn stream_of(view: &json::buffer::View, place: &str) -> Result<Option<Stream>, P
             .map(str::to_owned)
             .ok_or_else(|| bad(&format!("has no valid {key}")))
     };
-    let mode = Mode::parse(&text("mode", "")?).map_err(|_| bad("names no known mode"))?;
+    let mode = Mode::parse(&text("mode", "")?).ok_or_else(|| bad("names no known mode"))?;
     Ok(Some(Stream {
         buffer: number("buffer", None)?,
         offset: number("byteOffset", Some(0))?,
@@ -108,42 +122,22 @@ fn stream_of(view: &json::buffer::View, place: &str) -> Result<Option<Stream>, P
 }
 
 /// The stream's decoded bytes: `count` elements of `stride` bytes.
-fn decode(buffers: &[Vec<u8>], s: &Stream) -> Result<Vec<u8>, String> {
+fn decode_view(buffers: &[Vec<u8>], s: &Stream) -> Result<Vec<u8>, String> {
     let source = buffers
         .get(s.buffer)
         .and_then(|b| b.get(s.offset..s.offset.checked_add(s.length)?))
         .ok_or("its bytes are not inside their buffer")?;
-    let limits = Limits {
-        max_bytes: s.count.saturating_mul(s.stride).saturating_add(1 << 16),
-        ..Limits::default()
-    };
-    let mut work = Workspace::new(limits);
-    let (n, stride) = (s.count, s.stride);
-    let mut data = match s.mode {
-        Mode::Attributes => codec::decode_vertex_buffer(n, stride, source, &mut work),
-        Mode::Triangles => codec::decode_index_buffer(n, stride, source, &mut work),
-        Mode::Indices => codec::decode_index_sequence(n, stride, source, &mut work),
-    }
-    .map_err(|e| e.to_string())?;
-    let filtered = match (s.mode, s.filter.as_str()) {
-        (_, "NONE") => Ok(()),
-        (Mode::Attributes, "OCTAHEDRAL") => {
-            codec::decode_filter_oct(&mut data, n, stride, &mut work)
-        }
-        (Mode::Attributes, "QUATERNION") => {
-            codec::decode_filter_quat(&mut data, n, stride, &mut work)
-        }
-        (Mode::Attributes, "EXPONENTIAL") => {
-            codec::decode_filter_exp(&mut data, n, stride, &mut work)
-        }
-        (Mode::Attributes, "COLOR") => codec::decode_filter_color(&mut data, n, stride, &mut work),
-        (_, other) => {
+    let mut data = decode(s.mode, s.count, s.stride, source).map_err(|e| e.to_string())?;
+    let filter = match (s.mode, Filter::parse(&s.filter)) {
+        (_, Some(Filter::None)) => Filter::None,
+        (Mode::Attributes, Some(filter)) => filter,
+        _ => {
             return Err(format!(
                 "the filter '{}' is not one relief reads here",
-                relief_core::sanitize::clean(other)
+                relief_core::sanitize::clean(&s.filter)
             ));
         }
     };
-    filtered.map_err(|e| e.to_string())?;
+    apply_filter(filter, &mut data, s.stride).map_err(|e| e.to_string())?;
     Ok(data)
 }
