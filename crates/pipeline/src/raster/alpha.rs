@@ -7,9 +7,8 @@
 //! (`order_blended`), so each lands over what is behind it. Compositing
 //! is in the frame's display values, as an 8-bit render target does.
 
-use glam::Vec3;
-
 use super::setup::ScreenTri;
+use crate::shade::interpolate::perspective;
 use crate::shade::{PixelShader, ShadeCtx};
 use relief_core::framebuffer::Rgb;
 use relief_scene::terms::BLEND_MIN_OPACITY;
@@ -81,14 +80,7 @@ pub fn over(dst: Rgb, src: Rgb, a: f32) -> Rgb {
 /// (the source triangle's weights, as the shading finds them).
 #[inline]
 fn opacity_of<S: PixelShader>(tri: &ScreenTri, shader: &S, ctx: &ShadeCtx, l: [f32; 3]) -> f32 {
-    let w = [l[0] * tri.q[0], l[1] * tri.q[1], l[2] * tri.q[2]];
-    let inv = 1.0 / (w[0] + w[1] + w[2]);
-    let b = Vec3::new(w[0] * inv, w[1] * inv, w[2] * inv);
-    let b = if tri.unclipped {
-        b
-    } else {
-        tri.bary[0] * b.x + tri.bary[1] * b.y + tri.bary[2] * b.z
-    };
+    let b = tri.source_barycentrics(perspective(l, tri.q).b);
     shader.opacity(ctx, b)
 }
 

@@ -1,12 +1,13 @@
 //! The pixel loop: coverage by incremental edge functions, perspective-correct
 //! barycentrics, depth, footprint, and the shader, for the rows of one band.
 
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 
 use super::alpha::{AlphaRule, over};
 use super::fill::fill;
 use super::setup::{ONE, ScreenTri};
-use crate::shade::packet::{self, LANES};
+use crate::shade::interpolate::perspective;
+use crate::shade::packet::LANES;
 use crate::shade::{PixelShader, ShadeCtx};
 use relief_core::framebuffer::Rgb;
 use relief_core::stats::Counters;
@@ -354,7 +355,7 @@ fn raster_packets<S: PixelShader>(
                 }
             }
             if live != 0 {
-                let b = packet::barycentrics(l.map(f32x8::from), tri.q);
+                let b = perspective(l.map(f32x8::from), tri.q).b;
                 let fp = packet_footprints(footprint.as_ref(), &l, tri.q, live);
                 let colors = shader.shade8(ctx, b, &fp, live, counters);
                 counters.packet_pixels += u64::from(live.count_ones());
@@ -388,8 +389,8 @@ fn packet_footprints(
     let mut fp = [Footprint::default(); LANES];
     if let Some(f) = footprint {
         for lane in (0..LANES).filter(|k| live & (1 << k) != 0) {
-            let w = [0, 1, 2].map(|k| l[k][lane] * q[k]);
-            fp[lane] = f.at(w, w[0] + w[1] + w[2]);
+            let p = perspective([l[0][lane], l[1][lane], l[2][lane]], q);
+            fp[lane] = f.at(p.w, p.sum);
         }
     }
     fp
@@ -454,17 +455,10 @@ pub(crate) fn shade_at<S: PixelShader>(
     l: [f32; 3],
     counters: &mut Counters,
 ) -> Rgb {
-    let w = [l[0] * tri.q[0], l[1] * tri.q[1], l[2] * tri.q[2]];
-    let q_sum = w[0] + w[1] + w[2];
-    let inv = 1.0 / q_sum;
-    let b = Vec3::new(w[0] * inv, w[1] * inv, w[2] * inv);
-    let b = if tri.unclipped {
-        b
-    } else {
-        tri.bary[0] * b.x + tri.bary[1] * b.y + tri.bary[2] * b.z
-    };
+    let p = perspective(l, tri.q);
+    let b = tri.source_barycentrics(p.b);
     let fp = match footprint {
-        Some(f) => f.at(w, q_sum),
+        Some(f) => f.at(p.w, p.sum),
         None => Footprint::default(),
     };
     shader.shade(ctx, b, fp, counters)

@@ -4,6 +4,7 @@
 use glam::{Vec2, Vec3, Vec4};
 
 use super::clip::ClipVertex;
+use crate::shade::interpolate::{lerp2_at, lerp3_at};
 
 /// Sub-pixel precision: 8 bits (1/256 of a pixel), with i64 edge maths.
 pub const SUBPIXEL_BITS: u32 = 8;
@@ -82,8 +83,24 @@ impl ScreenTri {
 
     /// Texture coordinates at this triangle's vertices, from the source's.
     pub fn vertex_uvs(&self, source: &[Vec2; 3]) -> [Vec2; 3] {
-        self.bary
-            .map(|b| source[0] * b.x + source[1] * b.y + source[2] * b.z)
+        let [a, b, c] = self.bary;
+        [
+            lerp2_at(a, source),
+            lerp2_at(b, source),
+            lerp2_at(c, source),
+        ]
+    }
+
+    /// Barycentrics `b` on this triangle as barycentrics on the source
+    /// triangle (the same unless the triangle was clipped).
+    #[inline(always)]
+    pub fn source_barycentrics(&self, b: [f32; 3]) -> Vec3 {
+        let b = Vec3::from_array(b);
+        if self.unclipped {
+            b
+        } else {
+            lerp3_at(b, &self.bary)
+        }
     }
 }
 

@@ -328,15 +328,6 @@ impl<H: Hook> PixelShader for HookKernel<'_, H> {
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.tri.uv)
     }
-    fn packets(&self, _: &ShadeCtx) -> bool {
-        true
-    }
-    fn cutout(&self, ctx: &ShadeCtx) -> bool {
-        super::shader::cuts(ctx)
-    }
-    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        super::shader::opacity_at(ctx, b, &self.tri.uv)
-    }
     #[inline]
     fn shade8(
         &self,

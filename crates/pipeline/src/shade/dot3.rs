@@ -28,10 +28,11 @@ use glam::{Vec2, Vec3};
 
 use super::PhongTri;
 use super::core::{Hook, HookAt, Pixels};
+use super::interpolate::lerp3;
 use super::lanes::{Lanes, Vector};
 use super::map_uv::{carry, footprint_map, map_coords};
 use super::shader::ShadeCtx;
-use super::tangent::{Frame, lerp3};
+use super::tangent::Frame;
 use crate::plan::ActiveLight;
 use relief_core::stats::Counters;
 use relief_texture::NormalMap;

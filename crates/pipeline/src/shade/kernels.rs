@@ -6,16 +6,15 @@ use wide::f32x8;
 
 use super::bump::Blinn;
 use super::core::{colour, gloss_map, shade};
+use super::interpolate::{Corners2, Corners3, lerp2};
+use super::lanes::Vector;
 use super::lighting::finish;
-use super::packet::{self, LANES, V3, Vertices2, Vertices3};
-use super::shader::{
-    GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, cuts, opacity_at,
-};
+use super::packet::{self, LANES, V3};
+use super::shader::{GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, cuts};
 use super::specular::gloss;
 use crate::plan::Plan;
 use relief_core::framebuffer::Rgb;
 use relief_core::stats::Counters;
-use relief_texture::sample::filter::sample;
 use relief_texture::sample::mip::Footprint;
 
 /// Why a frame of `plan` shades one pixel at a time, or `None` when its
@@ -33,30 +32,12 @@ pub fn one_pixel_reason(plan: &Plan) -> Option<&'static str> {
     None
 }
 
-#[inline]
-fn lerp3(b: Vec3, v: &[Vec3; 3]) -> Vec3 {
-    v[0] * b.x + v[1] * b.y + v[2] * b.z
-}
-
-#[inline]
-fn lerp2(b: Vec3, v: &[Vec2; 3]) -> Vec2 {
-    v[0] * b.x + v[1] * b.y + v[2] * b.z
-}
-
-#[inline]
-fn rgb(t: [f32; 4]) -> Vec3 {
-    Vec3::new(t[0], t[1], t[2])
-}
-
 impl PixelShader for Rgb {
     const SAMPLES_TEXTURE: bool = false;
     #[inline]
     fn shade(&self, _: &ShadeCtx, _: Vec3, _: Footprint, counters: &mut Counters) -> Rgb {
         counters.pixels_shaded += 1;
         *self
-    }
-    fn packets(&self, _: &ShadeCtx) -> bool {
-        true
     }
     fn solid(&self) -> Option<Rgb> {
         Some(*self)
@@ -79,18 +60,36 @@ impl PixelShader for Rgb {
 /// (chosen per triangle, so the plain kernel does no extra work).
 pub struct FlatTexturedKernel<'a, const SPEC: bool>(pub &'a TexturedFlatTri);
 
+impl<const SPEC: bool> FlatTexturedKernel<'_, SPEC> {
+    /// The colour at pixels of barycentrics `b`, one or eight.
+    #[inline(always)]
+    fn colour<V: Vector>(
+        &self,
+        ctx: &ShadeCtx,
+        b: &[V::L; 3],
+        fp: &[Footprint],
+        live: u32,
+        counters: &mut Counters,
+    ) -> V {
+        let tri = self.0;
+        let n = live.count_ones() as u64;
+        counters.pixels_shaded += n;
+        counters.texture_samples += n;
+        let (u, v) = lerp2(b, &tri.uv);
+        let lit = V::uniform(tri.lit) * colour::<V>(ctx, u, v, fp, live);
+        if SPEC {
+            return lit + V::uniform(tri.highlight);
+        }
+        lit
+    }
+}
+
 impl<const SPEC: bool> PixelShader for FlatTexturedKernel<'_, SPEC> {
     const SAMPLES_TEXTURE: bool = true;
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
-        let tri = self.0;
-        counters.pixels_shaded += 1;
-        counters.texture_samples += 1;
-        let t = sample(ctx.texture, ctx.plan.filter, lerp2(b, &tri.uv), fp);
-        if SPEC {
-            return finish(tri.lit * rgb(t) + tri.highlight, counters);
-        }
-        finish(tri.lit * rgb(t), counters)
+        let c = self.colour::<Vec3>(ctx, &b.to_array(), &[fp], 1, counters);
+        finish(c, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.0.uv)
@@ -99,12 +98,6 @@ impl<const SPEC: bool> PixelShader for FlatTexturedKernel<'_, SPEC> {
         // A masked pixel is tested before its depth, one at a time.
         !cuts(ctx)
     }
-    fn cutout(&self, ctx: &ShadeCtx) -> bool {
-        cuts(ctx)
-    }
-    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        opacity_at(ctx, b, &self.0.uv)
-    }
     #[inline]
     fn shade8(
         &self,
@@ -114,17 +107,8 @@ impl<const SPEC: bool> PixelShader for FlatTexturedKernel<'_, SPEC> {
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
-        let tri = self.0;
-        let n = live.count_ones() as u64;
-        counters.pixels_shaded += n;
-        counters.texture_samples += n;
-        let (u, v) = packet::lerp2(&b, &tri.uv);
-        let t = colour::<V3>(ctx, u, v, fp, live);
-        let lit = V3::splat(tri.lit).times(t);
-        if SPEC {
-            return packet::finish(lit.plus(V3::splat(tri.highlight)), live, counters);
-        }
-        packet::finish(lit, live, counters)
+        let c = self.colour::<V3>(ctx, &b, fp, live, counters);
+        packet::finish(c, live, counters)
     }
 }
 
@@ -133,31 +117,71 @@ pub struct GouraudKernel<'a, const TEX: bool, const SPEC: bool> {
     tri: &'a GouraudTri,
     /// The vertex values a packet interpolates, broadcast once per
     /// triangle rather than per packet.
-    lanes: GouraudLanes,
+    lanes: GouraudCorners<V3>,
 }
 
-/// A Gouraud triangle's vertex values in eight lanes (the highlights and
-/// texture coordinates zero unless the kernel reads them).
-struct GouraudLanes {
-    color: Vertices3,
-    light: Vertices3,
-    highlight: Vertices3,
-    uv: Vertices2,
+/// A Gouraud triangle's vertex values in the lanes of `V` (the highlights
+/// and texture coordinates zero unless the kernel reads them).
+struct GouraudCorners<V: Vector> {
+    color: Corners3<V>,
+    light: Corners3<V>,
+    highlight: Corners3<V>,
+    uv: Corners2<V::L>,
 }
 
-impl<'a, const TEX: bool, const SPEC: bool> GouraudKernel<'a, TEX, SPEC> {
-    pub fn new(tri: &'a GouraudTri) -> Self {
-        let lanes = GouraudLanes {
-            color: Vertices3::of(&tri.color),
-            light: Vertices3::of(&tri.light),
-            highlight: Vertices3::of(if SPEC {
+impl<V: Vector> GouraudCorners<V> {
+    #[inline(always)]
+    fn of(tri: &GouraudTri, tex: bool, spec: bool) -> Self {
+        GouraudCorners {
+            color: Corners3::of(&tri.color),
+            light: Corners3::of(&tri.light),
+            highlight: Corners3::of(if spec {
                 &tri.highlight
             } else {
                 &[Vec3::ZERO; 3]
             }),
-            uv: Vertices2::of(if TEX { &tri.uv } else { &[Vec2::ZERO; 3] }),
-        };
+            uv: Corners2::of(if tex { &tri.uv } else { &[Vec2::ZERO; 3] }),
+        }
+    }
+}
+
+impl<'a, const TEX: bool, const SPEC: bool> GouraudKernel<'a, TEX, SPEC> {
+    pub fn new(tri: &'a GouraudTri) -> Self {
+        let lanes = GouraudCorners::of(tri, TEX, SPEC);
         GouraudKernel { tri, lanes }
+    }
+
+    /// The colour at pixels of barycentrics `b`, one or eight, from the
+    /// vertex values `at` in their lanes.
+    #[inline(always)]
+    fn colour<V: Vector>(
+        &self,
+        at: &GouraudCorners<V>,
+        ctx: &ShadeCtx,
+        b: &[V::L; 3],
+        fp: &[Footprint],
+        live: u32,
+        counters: &mut Counters,
+    ) -> V {
+        let tri = self.tri;
+        let n = live.count_ones() as u64;
+        counters.pixels_shaded += n;
+        let mut albedo = at.color.at(b);
+        if TEX {
+            counters.texture_samples += n;
+            let (u, v) = at.uv.at(b);
+            albedo = albedo * colour::<V>(ctx, u, v, fp, live);
+        }
+        let lit = albedo * at.light.at(b);
+        if SPEC {
+            let mut highlight = at.highlight.at(b);
+            if let Some(map) = gloss_map(ctx, tri.glossy) {
+                let (u, v) = lerp2(b, &tri.gloss_uv);
+                highlight = highlight * gloss(map, u, v);
+            }
+            return lit + highlight;
+        }
+        lit
     }
 }
 
@@ -165,22 +189,9 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
     const SAMPLES_TEXTURE: bool = TEX;
     #[inline]
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb {
-        let tri = self.tri;
-        counters.pixels_shaded += 1;
-        let mut albedo = lerp3(b, &tri.color);
-        if TEX {
-            counters.texture_samples += 1;
-            albedo *= rgb(sample(ctx.texture, ctx.plan.filter, lerp2(b, &tri.uv), fp));
-        }
-        if SPEC {
-            let mut highlight = lerp3(b, &tri.highlight);
-            if let Some(map) = gloss_map(ctx, tri.glossy) {
-                let uv = lerp2(b, &tri.gloss_uv);
-                highlight *= gloss(map, uv.x, uv.y);
-            }
-            return finish(albedo * lerp3(b, &tri.light) + highlight, counters);
-        }
-        finish(albedo * lerp3(b, &tri.light), counters)
+        let at = GouraudCorners::<Vec3>::of(self.tri, TEX, SPEC);
+        let c = self.colour(&at, ctx, &b.to_array(), &[fp], 1, counters);
+        finish(c, counters)
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.tri.uv)
@@ -188,12 +199,6 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
     fn packets(&self, ctx: &ShadeCtx) -> bool {
         // A masked pixel is tested before its depth, one at a time.
         !cuts(ctx)
-    }
-    fn cutout(&self, ctx: &ShadeCtx) -> bool {
-        cuts(ctx)
-    }
-    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        opacity_at(ctx, b, &self.tri.uv)
     }
     #[inline]
     fn shade8(
@@ -204,25 +209,8 @@ impl<const TEX: bool, const SPEC: bool> PixelShader for GouraudKernel<'_, TEX, S
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
-        let (tri, lanes) = (self.tri, &self.lanes);
-        let n = live.count_ones() as u64;
-        counters.pixels_shaded += n;
-        let mut albedo = lanes.color.lerp(&b);
-        if TEX {
-            counters.texture_samples += n;
-            let (u, v) = lanes.uv.lerp(&b);
-            albedo = albedo.times(colour::<V3>(ctx, u, v, fp, live));
-        }
-        let lit = albedo.times(lanes.light.lerp(&b));
-        if SPEC {
-            let mut highlight = lanes.highlight.lerp(&b);
-            if let Some(map) = gloss_map(ctx, tri.glossy) {
-                let (u, v) = packet::lerp2(&b, &tri.gloss_uv);
-                highlight = highlight.scale(gloss(map, u, v));
-            }
-            return packet::finish(lit.plus(highlight), live, counters);
-        }
-        packet::finish(lit, live, counters)
+        let c = self.colour(&self.lanes, ctx, &b, fp, live, counters);
+        packet::finish(c, live, counters)
     }
 }
 
@@ -264,15 +252,6 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.tri.uv)
-    }
-    fn packets(&self, _: &ShadeCtx) -> bool {
-        true
-    }
-    fn cutout(&self, ctx: &ShadeCtx) -> bool {
-        cuts(ctx)
-    }
-    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        opacity_at(ctx, b, &self.tri.uv)
     }
     #[inline(always)]
     fn shade8(

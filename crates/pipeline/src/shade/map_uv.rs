@@ -8,18 +8,10 @@ use glam::Mat2;
 
 use glam::Vec2;
 
+use super::interpolate::lerp2;
 use super::lanes::Lanes;
 use relief_scene::map_uv::{MapUv, second_set_jacobian};
 use relief_texture::sample::mip::Footprint;
-
-/// The coordinate at barycentrics `b` from the vertices' `v`, as glam's
-/// `lerp2` on `Vec2` (kept here, so map coordinates depend on no kernel).
-#[inline(always)]
-fn lerp2<L: Lanes>(b: &[L; 3], v: &[Vec2; 3]) -> (L, L) {
-    let c =
-        |k: usize| L::splat(v[0][k]) * b[0] + L::splat(v[1][k]) * b[1] + L::splat(v[2][k]) * b[2];
-    (c(0), c(1))
-}
 
 /// Map `m`'s coordinate at the pixels of barycentrics `b` on a triangle
 /// whose second set is `uv2` at its vertices, where the (vertex-set)

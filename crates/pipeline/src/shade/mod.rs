@@ -10,6 +10,7 @@ pub mod core;
 pub mod dot3;
 pub mod emboss;
 pub mod environment;
+pub mod interpolate;
 pub mod kernels;
 pub mod lanes;
 pub mod lighting;

@@ -8,7 +8,7 @@
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use wide::{f32x4, f32x8, i32x8};
 
 use relief_core::framebuffer::Rgb;
@@ -156,78 +156,6 @@ impl Div<f32x8> for V3 {
             z: self.z / s,
         }
     }
-}
-
-/// Perspective-correct barycentrics of eight pixels from their screen-space
-/// ones, as `shade_at` computes them for an unclipped triangle.
-#[inline(always)]
-pub fn barycentrics(l: [f32x8; 3], q: [f32; 3]) -> [f32x8; 3] {
-    let w = [
-        l[0] * f32x8::splat(q[0]),
-        l[1] * f32x8::splat(q[1]),
-        l[2] * f32x8::splat(q[2]),
-    ];
-    let inv = f32x8::ONE / (w[0] + w[1] + w[2]);
-    [w[0] * inv, w[1] * inv, w[2] * inv]
-}
-
-/// glam's `lerp3`: v0·b.x + v1·b.y + v2·b.z.
-#[inline(always)]
-pub fn lerp3(b: &[f32x8; 3], v: &[Vec3; 3]) -> V3 {
-    V3::splat(v[0])
-        .scale(b[0])
-        .plus(V3::splat(v[1]).scale(b[1]))
-        .plus(V3::splat(v[2]).scale(b[2]))
-}
-
-/// Three vertex values broadcast to eight lanes once per triangle: a
-/// packet's interpolation then reads them as they are instead of loading
-/// and broadcasting each component again (`lerp3`, same operations).
-#[derive(Clone, Copy, Debug)]
-pub struct Vertices3([V3; 3]);
-
-impl Vertices3 {
-    #[inline(always)]
-    pub fn of(v: &[Vec3; 3]) -> Self {
-        Vertices3(v.map(V3::splat))
-    }
-
-    /// `lerp3(b, v)`, bit for bit.
-    #[inline(always)]
-    pub fn lerp(&self, b: &[f32x8; 3]) -> V3 {
-        let [v0, v1, v2] = self.0;
-        v0.scale(b[0]).plus(v1.scale(b[1])).plus(v2.scale(b[2]))
-    }
-}
-
-/// Three texture coordinates broadcast to eight lanes once per triangle
-/// (`Vertices3` for `lerp2`).
-#[derive(Clone, Copy, Debug)]
-pub struct Vertices2([[f32x8; 2]; 3]);
-
-impl Vertices2 {
-    #[inline(always)]
-    pub fn of(v: &[Vec2; 3]) -> Self {
-        Vertices2(v.map(|v| [f32x8::splat(v.x), f32x8::splat(v.y)]))
-    }
-
-    /// `lerp2(b, v)`, bit for bit.
-    #[inline(always)]
-    pub fn lerp(&self, b: &[f32x8; 3]) -> (f32x8, f32x8) {
-        let [v0, v1, v2] = self.0;
-        let c = |k: usize| v0[k] * b[0] + v1[k] * b[1];
-        (c(0) + v2[0] * b[2], c(1) + v2[1] * b[2])
-    }
-}
-
-/// The texture coordinates at eight pixels.
-#[inline(always)]
-pub fn lerp2(b: &[f32x8; 3], v: &[Vec2; 3]) -> (f32x8, f32x8) {
-    let c = |k: usize| f32x8::splat(v[0][k]) * b[0] + f32x8::splat(v[1][k]) * b[1];
-    (
-        c(0) + f32x8::splat(v[2].x) * b[2],
-        c(1) + f32x8::splat(v[2].y) * b[2],
-    )
 }
 
 /// Quantises eight colours as `finish` does (clamped, rounded, NaN to 0),

@@ -26,7 +26,7 @@ use super::lanes::{Lanes, Vector};
 use super::lighting::{ATTENUATION_QUADRATIC, finish, physical_falloff};
 use super::map_uv::{Coords, carry, footprint_map};
 use super::packet::{self, LANES, V3};
-use super::shader::{PixelShader, ShadeCtx, cuts, opacity_at};
+use super::shader::{PixelShader, ShadeCtx};
 use super::specular::view_dir;
 use super::split_sum::lut;
 use super::tangent::Surface;
@@ -429,15 +429,6 @@ impl<const TEX: bool, const NMAP: bool> PixelShader for PbrKernel<'_, TEX, NMAP>
     }
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.tri.uv)
-    }
-    fn packets(&self, _: &ShadeCtx) -> bool {
-        true
-    }
-    fn cutout(&self, ctx: &ShadeCtx) -> bool {
-        cuts(ctx)
-    }
-    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
-        opacity_at(ctx, b, &self.tri.uv)
     }
     #[inline]
     fn shade8(

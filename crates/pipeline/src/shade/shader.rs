@@ -5,6 +5,7 @@
 use glam::{Vec2, Vec3};
 use wide::f32x8;
 
+use super::interpolate::lerp2_at;
 use super::packet::LANES;
 use crate::plan::Plan;
 use crate::shadow::Shadow;
@@ -30,45 +31,50 @@ pub struct ShadeCtx<'a> {
 pub trait PixelShader {
     /// Whether the kernel reads the texture (and so may want a footprint).
     const SAMPLES_TEXTURE: bool;
+    /// One pixel, from its perspective-correct barycentrics and texture
+    /// footprint.
     fn shade(&self, ctx: &ShadeCtx, b: Vec3, fp: Footprint, counters: &mut Counters) -> Rgb;
-    /// Texture coordinates at the source triangle's vertices, for footprints.
+    /// Eight pixels of a row at once, from their perspective-correct
+    /// barycentrics and (when the plan wants them) texture footprints;
+    /// `live` has a bit per covered lane (the others are computed and
+    /// thrown away, and not counted). Bit for bit `shade` of each lane.
+    fn shade8(
+        &self,
+        ctx: &ShadeCtx,
+        b: [f32x8; 3],
+        fp: &[Footprint; LANES],
+        live: u32,
+        counters: &mut Counters,
+    ) -> [Rgb; LANES];
+    /// Texture coordinates at the source triangle's vertices, for footprints
+    /// and the alpha mask.
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         None
     }
-    /// Whether `shade8` shades this triangle under this plan (bit for bit
-    /// as `shade` would).
+    /// Whether `shade8` shades this triangle under this plan (the others
+    /// go one pixel at a time).
     fn packets(&self, _ctx: &ShadeCtx) -> bool {
-        false
+        true
     }
     /// Whether this triangle's pixels may be cut out by an alpha mask
-    /// (asked once per triangle; then `opaque` once per covered pixel,
-    /// before its depth test).
-    fn cutout(&self, _ctx: &ShadeCtx) -> bool {
-        false
+    /// (asked once per triangle; then `opacity` once per covered pixel,
+    /// before its depth test): a kernel with texture coordinates under a
+    /// masked material.
+    fn cutout(&self, ctx: &ShadeCtx) -> bool {
+        self.uvs().is_some() && cuts(ctx)
     }
     /// The material's opacity at barycentrics `b` of the source triangle
     /// (asked only when `cutout` said yes).
-    fn opacity(&self, _ctx: &ShadeCtx, _b: Vec3) -> f32 {
-        1.0
+    fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
+        match self.uvs() {
+            Some(uv) => opacity_at(ctx, b, uv),
+            None => 1.0,
+        }
     }
     /// The one colour of every pixel, for a kernel that has one: its rows
     /// are filled, not shaded.
     fn solid(&self) -> Option<Rgb> {
         None
-    }
-    /// Eight pixels of a row at once, from their perspective-correct
-    /// barycentrics and (when the plan wants them) texture footprints;
-    /// `live` has a bit per covered lane (the others are computed and
-    /// thrown away, and not counted).
-    fn shade8(
-        &self,
-        _ctx: &ShadeCtx,
-        _b: [f32x8; 3],
-        _fp: &[Footprint; LANES],
-        _live: u32,
-        _counters: &mut Counters,
-    ) -> [Rgb; LANES] {
-        unreachable!("shade8 runs only where packets() said yes")
     }
 }
 
@@ -83,7 +89,7 @@ pub(crate) fn cuts(ctx: &ShadeCtx) -> bool {
 #[inline]
 pub(crate) fn opacity_at(ctx: &ShadeCtx, b: Vec3, uv: &[Vec2; 3]) -> f32 {
     match ctx.plan.terms.as_ref().and_then(|t| t.cutout.as_ref()) {
-        Some(c) => c.opacity(uv[0] * b.x + uv[1] * b.y + uv[2] * b.z),
+        Some(c) => c.opacity(lerp2_at(b, uv)),
         None => 1.0,
     }
 }

@@ -7,9 +7,10 @@
 //! projected into it and divided by its world length is a unit vector, and
 //! a tangent-space normal (0, 0, 1) lights exactly like N.
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 use super::PhongTri;
+use super::interpolate::{lerp2, lerp3};
 use super::lanes::{Lanes, Vector};
 use relief_scene::face_frame::any_perpendicular;
 
@@ -103,20 +104,6 @@ pub struct Surface<V: Vector = Vec3> {
     pub v: V::L,
     pub pu: V,
     pub pv: V,
-}
-
-/// glam's `v0·b.x + v1·b.y + v2·b.z` over lanes.
-#[inline(always)]
-pub(crate) fn lerp3<V: Vector>(b: &[V::L; 3], v: &[Vec3; 3]) -> V {
-    V::uniform(v[0]) * b[0] + V::uniform(v[1]) * b[1] + V::uniform(v[2]) * b[2]
-}
-
-/// The texture coordinate at barycentrics `b`, as glam's `lerp2` on `Vec2`.
-#[inline(always)]
-pub(crate) fn lerp2<L: Lanes>(b: &[L; 3], v: &[Vec2; 3]) -> (L, L) {
-    let c =
-        |k: usize| L::splat(v[0][k]) * b[0] + L::splat(v[1][k]) * b[1] + L::splat(v[2][k]) * b[2];
-    (c(0), c(1))
 }
 
 impl<V: Vector> Surface<V> {
