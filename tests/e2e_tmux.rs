@@ -367,9 +367,9 @@ fn panic_child_with_a_frame_in_flight() {
 fn a_panic_restores_the_terminal() {
     let exe = std::env::current_exe().unwrap();
     let cmd = format!(
-        "RUST_BACKTRACE=0 {} --ignored --exact panic_child_with_a_frame_in_flight --nocapture \
-         --test-threads 1; echo RELIEF-EXITED $?; echo TTY $(stty -a | tr -s ' ;' '\\n\\n' \
-         | grep -x -E -- '-?(icanon|echo)'); sleep 60",
+        "RUST_BACKTRACE=0 {} --ignored --exact e2e_tmux::panic_child_with_a_frame_in_flight \
+         --nocapture --test-threads 1; echo RELIEF-EXITED $?; \
+         echo TTY $(stty -a | tr -s ' ;' '\\n\\n' | grep -x -E -- '-?(icanon|echo)'); sleep 60",
         exe.display()
     );
     let t = Tmux::start("panic", 100, 30, &cmd);
@@ -508,7 +508,7 @@ fn tmux_in_terminal(display: &str, terminal: &[&str], socket: &str) -> (Child, T
 }
 
 #[test]
-#[ignore = "needs Xvfb, xterm and kitty (apt-get install xvfb xterm kitty) and takes a minute: cargo test --test e2e_tmux passthrough -- --ignored"]
+#[ignore = "needs Xvfb, xterm and kitty (apt-get install xvfb xterm kitty) and takes a minute: cargo test --test suite e2e_tmux::inside_tmux_in_kitty -- --ignored"]
 fn inside_tmux_in_kitty_and_xterm_the_pixel_format_needs_passthrough() {
     for (program, arg) in [
         ("Xvfb", "-help"),

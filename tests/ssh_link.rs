@@ -1,7 +1,7 @@
 //! relief through a real `ssh -tt` over a slow link: lag and bytes per input.
 //!
 //! Another build of relief (another branch, say) is measured by giving its binary:
-//! `RELIEF_SSH_BIN=/path/to/relief cargo test --release --test ssh_link measure -- --ignored --nocapture`
+//! `RELIEF_SSH_BIN=/path/to/relief cargo test --release --test suite ssh_link::measure -- --ignored --nocapture`
 //!
 //! Each session builds its own network namespaces, a rate-limited link with 20 ms each
 //! way, an sshd and a tmux pane (160×48) running `ssh -tt server relief --color …` (see
@@ -32,13 +32,13 @@
 //! screen at 1 and 50 Mbit/s, 3 sessions each, interleaved:
 //!
 //! ```sh
-//! cargo test --release --test ssh_link compare -- --ignored --nocapture
+//! cargo test --release --test suite ssh_link::compare -- --ignored --nocapture
 //! ```
 //!
 //! The full measurement (1 and 8 Mbit/s, 3 sessions each, medians):
 //!
 //! ```sh
-//! cargo test --release --test ssh_link measure -- --ignored --nocapture
+//! cargo test --release --test suite ssh_link::measure -- --ignored --nocapture
 //! ```
 //!
 //! Environment (all optional):
@@ -52,16 +52,13 @@
 //! - `RELIEF_SSH_ARGS="--link 1M"` more arguments of relief
 //! - `RELIEF_SSH_TRACE=1` prints the server's send queue through the drag
 
-#[path = "common/glb_writer.rs"]
-mod glb_writer;
-mod ssh;
-
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-use ssh::{EXITED, LinkSampler, Mux, Options, PaneRecorder, QueueSampler, Session};
+use crate::glb_writer;
+use crate::ssh::{self, EXITED, LinkSampler, Mux, Options, PaneRecorder, QueueSampler, Session};
 
 /// How long the picture must stay unchanged to be the final one.
 const SETTLE: Duration = Duration::from_millis(1500);
@@ -914,7 +911,7 @@ fn sixel_images_over_a_slow_link_are_paced() {
 /// `RELIEF_SSH_RATES` (default 1 and 50 Mbit/s): each table, then the median time to
 /// the final picture inside each multiplexer against plain SSH.
 #[test]
-#[ignore = "the comparison (minutes): cargo test --release --test ssh_link compare -- --ignored --nocapture"]
+#[ignore = "the comparison (minutes): cargo test --release --test suite ssh_link::compare -- --ignored --nocapture"]
 fn compare_multiplexers_with_plain_ssh() {
     let _one = one_at_a_time();
     let rates = env_list("RELIEF_SSH_RATES", "1000,50000");
@@ -969,7 +966,7 @@ fn compare_multiplexers_with_plain_ssh() {
 
 /// The full measurement: every rate, several sessions each, medians.
 #[test]
-#[ignore = "the full measurement (minutes): cargo test --release --test ssh_link measure -- --ignored --nocapture"]
+#[ignore = "the full measurement (minutes): cargo test --release --test suite ssh_link::measure -- --ignored --nocapture"]
 fn measure_lag_and_bytes_over_ssh() {
     let _one = one_at_a_time();
     let rates = env_list("RELIEF_SSH_RATES", "1000,8000");

@@ -9,7 +9,7 @@ use relief_scene::gltf::{Model, load};
 
 use super::models_gltf::{glb, load_ok, refused, write};
 
-use crate::octahedron::{FACES, POINTS, uv};
+use super::octahedron::{FACES, POINTS, uv};
 
 /// The octahedron as one Draco stream: POSITION (id 0), NORMAL (id 1,
 /// the point's own direction), TEXCOORD_0 (id 2), as the `draco-core`

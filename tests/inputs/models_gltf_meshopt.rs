@@ -8,7 +8,7 @@
 use super::meshopt_streams::named;
 use super::models_gltf::{glb, load_ok, refused, write};
 use super::models_gltf_draco::{assert_same_triangles, plain_glb, triangles};
-use crate::octahedron::{FACES, POINTS};
+use super::octahedron::{FACES, POINTS};
 
 /// One compressed view: its stream, the element count and stride, the
 /// mode and filter.

@@ -9,7 +9,7 @@ use glam::Vec3;
 use relief_scene::model_view::view_axes;
 use relief_texture::environment::Environment;
 
-use crate::pbr::{centre, draw, facing, material, model, near, srgb8};
+use super::pbr::{centre, draw, facing, material, model, near, srgb8};
 
 /// Only the environment lights the quads.
 fn environment_only(scene: &mut relief_scene::Scene, env: Environment) {

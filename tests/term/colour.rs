@@ -1,7 +1,7 @@
 //! Colour mapping on numbers: the reference frame in 256 and 16 colours
 //! against the former sRGB-distance mapping, measured in OKLab.
 //!
-//! `cargo test --release --test term colour:: -- --nocapture` prints the table.
+//! `cargo test --release --test suite term::colour:: -- --nocapture` prints the table.
 
 use std::sync::Arc;
 
@@ -387,7 +387,7 @@ fn known_colours_map_to_the_expected_entries() {
 
 /// Writes `assets/colour-256-before.png` and `assets/colour-16-before.png`:
 /// the reference frame through the former mapping (the README's "before").
-/// `cargo test --release --test term colour:: -- --ignored`
+/// `cargo test --release --test suite term::colour:: -- --ignored`
 #[test]
 #[ignore]
 fn write_the_before_pictures() {

@@ -368,7 +368,7 @@ fn key_n_switches_between_the_file_and_the_derived_map() {
 
 /// The asset `assets/brick-normal.png`: the built-in brick's dot3 normal map
 /// at the reference strength, as an 8-bit normal-map file. Written by
-/// `RELIEF_WRITE_ASSETS=1 cargo test --release --test texture normal_map_file::`;
+/// `RELIEF_WRITE_ASSETS=1 cargo test --release --test suite texture::normal_map_file::`;
 /// otherwise checked against the map relief derives.
 #[test]
 fn the_brick_normal_asset_is_the_bricks_derived_map() {

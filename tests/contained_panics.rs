@@ -1,6 +1,11 @@
 //! A panic inside a third-party decoder or the OBJ parser is contained: the
 //! user gets the usual one-line error, the view keeps its texture, and the
 //! panic hook (which restores the terminal and prints) stays silent.
+//!
+//! A test binary of its own: the hook it counts with is process-wide, and
+//! another test panicking in the same process meanwhile would be counted.
+
+mod hostile;
 
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -14,8 +19,6 @@ use relief::app::texture_list::TextureList;
 use relief_core::settings::Settings;
 use relief_term::{ColorDepth, SgrBackend};
 use relief_texture::decode::load::load_texture_from_bytes;
-
-use crate::hostile;
 
 static HOOK_CALLS: AtomicUsize = AtomicUsize::new(0);
 

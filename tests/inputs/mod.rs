@@ -1,12 +1,4 @@
 //! Input files: models, parser messages, mutated files.
-//!
-//! One test crate per area (each file a module) so the suite links a few
-//! binaries instead of one per file.
-
-#[path = "../common/glb_writer.rs"]
-mod glb_writer;
-#[path = "../hostile/mod.rs"]
-mod hostile;
 
 mod meshopt_streams;
 mod models;

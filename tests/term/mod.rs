@@ -1,0 +1,7 @@
+//! The terminal side: encoder bytes, colours, input decoding.
+
+mod bytes;
+mod colour;
+mod encoder;
+mod input;
+mod pixels;
