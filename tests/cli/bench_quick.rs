@@ -20,6 +20,7 @@ fn quick_bench_writes_table_csv_and_plot() {
         model: None,
         picture: None,
         modes: false,
+        physical: false,
     };
     let (mut out, mut log) = (Vec::new(), Vec::new());
     let report = relief_bench::run(&args, &mut out, &mut log).unwrap();
@@ -152,4 +153,40 @@ fn model_needs_anchors() {
         relief::cli::Cli::try_parse_from(["relief", "bench", "--anchors", "--model", "x.ply"])
             .is_ok()
     );
+}
+
+/// `relief bench --physical --quick`: the physical rows on a tiny frame,
+/// each against the physical truth (the environment integrated by Monte
+/// Carlo), which the renderer's metallic-roughness frame comes close to.
+#[test]
+fn quick_physical_bench_measures_against_the_physical_truth() {
+    let args = BenchArgs {
+        size: Some((40, 30)),
+        quick: true,
+        physical: true,
+        threads: Some(2),
+        ..Default::default()
+    };
+    let (mut out, mut log) = (Vec::new(), Vec::new());
+    let report = relief_bench::run(&args, &mut out, &mut log).unwrap();
+    let out = String::from_utf8(out).unwrap();
+    let configs = relief_bench::physical::quick_rows();
+    assert_eq!(report.rows.len(), configs.len());
+    for (row, config) in report.rows.iter().zip(&configs) {
+        assert_eq!(&row.config, config);
+        assert!(
+            row.truth.starts_with("physical, studio environment"),
+            "{}",
+            row.truth
+        );
+        assert!(
+            row.psnr > 20.0 && row.psnr.is_finite(),
+            "{}: {}",
+            config.name,
+            row.psnr
+        );
+        assert!(row.pixels_per_frame > 0.0, "{} shaded nothing", config.name);
+    }
+    assert!(out.contains("metallic-roughness sphere"), "{out}");
+    assert!(out.contains("Monte Carlo"), "{out}");
 }

@@ -41,6 +41,13 @@ pub enum SceneVariant {
     /// (`--normal-map`), so the row shows what reading a file costs and
     /// what 8 bits lose.
     NormalMapFile,
+    /// A model view's materials drawn as the reference scenes draw them
+    /// (their metallic-roughness terms dropped): Blinn-Phong against the
+    /// physical truth.
+    BlinnPhong,
+    /// A model view without its environment (no ambient light): the
+    /// lights alone, against the truth lit by them alone.
+    NoEnvironment,
 }
 
 impl SceneVariant {
@@ -56,6 +63,14 @@ impl SceneVariant {
             SceneVariant::NormalMapFile => {
                 scene.material.normal_map = Some(std::sync::Arc::new(eight_bit_normal_map(&scene)));
             }
+            SceneVariant::BlinnPhong => {
+                for terms in scene.object_terms.iter_mut().flatten() {
+                    let mut t = (**terms).clone();
+                    t.pbr = None;
+                    *terms = std::sync::Arc::new(t);
+                }
+            }
+            SceneVariant::NoEnvironment => scene.ambient = Vec3::ZERO,
         }
         scene
     }
@@ -65,6 +80,8 @@ impl SceneVariant {
             SceneVariant::Reference => "reference",
             SceneVariant::ForcedDepth => "forced-depth",
             SceneVariant::NormalMapFile => "normal-map-file",
+            SceneVariant::BlinnPhong => "blinn-phong",
+            SceneVariant::NoEnvironment => "no-environment",
         }
     }
 }
@@ -97,7 +114,7 @@ pub struct Config {
 }
 
 impl Config {
-    fn new(name: impl Into<String>, settings: Settings, threads: Threads) -> Self {
+    pub fn new(name: impl Into<String>, settings: Settings, threads: Threads) -> Self {
         Config {
             name: name.into(),
             settings,

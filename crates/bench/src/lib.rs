@@ -13,6 +13,7 @@ pub mod font;
 pub mod mesh_anchor;
 pub mod metrics;
 pub mod pareto;
+pub mod physical;
 pub mod plot;
 pub mod reference;
 pub mod report;
@@ -72,6 +73,12 @@ pub struct BenchArgs {
     /// frame, on 100x30 cells of 8x16 pixels.
     #[arg(long, conflicts_with = "anchors")]
     pub modes: bool,
+    /// The physically based rows instead: a metallic-roughness sphere in
+    /// the model view (the studio environment, the neutral lights), each
+    /// approximation against a truth that integrates the environment by
+    /// Monte Carlo [default size 160x120].
+    #[arg(long, conflicts_with_all = ["anchors", "modes"])]
+    pub physical: bool,
 }
 
 /// Largest side `--size` accepts.
@@ -119,26 +126,53 @@ pub fn plan(args: &BenchArgs) -> Plan {
             .map(|n| n.get())
             .unwrap_or(1)
     });
-    let (w, h) = args
-        .size
-        .unwrap_or(if args.quick { (128, 96) } else { (320, 240) });
+    let default = match (args.physical, args.quick) {
+        (true, true) => (48, 36),
+        (true, false) => (160, 120),
+        (false, true) => (128, 96),
+        (false, false) => (320, 240),
+    };
+    let (w, h) = args.size.unwrap_or(default);
     let mut plan = if args.quick {
         Plan::quick(w, h, threads)
     } else {
         Plan::full(w, h, threads)
     };
+    if args.physical {
+        plan = physical::plan(plan, args.quick);
+    }
     plan.reference_factor = reference_factor(w, h, plan.reference_factor);
     plan
 }
 
-/// What the table's figures mean, for the lines above it.
-fn header(plan: &Plan, texture: &str) -> Vec<String> {
+/// What the table's figures mean, for the lines above it: the cube's
+/// table, or with `physical` the physical rows'.
+fn header(plan: &Plan, texture: &str, physical: bool) -> Vec<String> {
     let cores = std::thread::available_parallelism()
         .map(|n| n.get())
         .unwrap_or(1);
+    let what = if physical {
+        "a metallic-roughness sphere in the model view (the studio environment, the neutral lights; metal in the north, paint in the south, roughness 0.05–0.95 around)"
+    } else {
+        "reference cube (texture on all faces)"
+    };
+    let rays = plan.truth_rays.max(2);
+    let truth = if physical {
+        let q = truth::physical::SAMPLES_PER_AXIS;
+        format!(
+            "truth: the glTF BRDF (GGX, Smith height-correlated, Schlick) ray-cast in f64 apart from the renderer (crates/bench/src/truth/physical.rs): the lights exact, the environment integrated by Monte Carlo; {rays}x{rays} stratified rays per pixel, each with {q}x{q} cosine-distributed and {q}x{q} GGX-distributed directions, stratified over the pixel ({d} per lobe); truth dB = that truth with {h}x{h} rays against itself",
+            d = (rays * q) * (rays * q),
+            h = rays / 2
+        )
+    } else {
+        format!(
+            "truth: each row's ideal picture (its technique's own definition) ray-cast in f64 apart from the renderer (crates/bench/src/truth), {rays}x{rays} stratified rays per pixel, texture read from its finest level; truth dB = that truth with {h}x{h} rays against itself (its own error is smaller still)",
+            h = rays / 2
+        )
+    };
     let mut lines = vec![
         format!(
-            "relief bench: {}x{}, reference cube (texture on all faces), {} orientations (seed {:#X}), all threads = {} ({} cores)",
+            "relief bench: {}x{}, {what}, {} orientations (seed {:#X}), all threads = {} ({} cores)",
             plan.width,
             plan.height,
             plan.orientations.len(),
@@ -148,7 +182,12 @@ fn header(plan: &Plan, texture: &str) -> Vec<String> {
         ),
         format!("texture: {}", relief_core::sanitize::clean(texture)),
         format!(
-            "reference image: Phong, anisotropic filter, filtered height derivative, Blinn bump, {f}x{f} supersampled and box-resolved",
+            "reference image: {}, {f}x{f} supersampled and box-resolved",
+            if physical {
+                "metallic-roughness with the default settings and the anisotropic filter"
+            } else {
+                "Phong, anisotropic filter, filtered height derivative, Blinn bump"
+            },
             f = plan.reference_factor
         ),
         format!(
@@ -157,11 +196,7 @@ fn header(plan: &Plan, texture: &str) -> Vec<String> {
             plan.min_frames,
             plan.rounds
         ),
-        format!(
-            "truth: each row's ideal picture (its technique's own definition) ray-cast in f64 apart from the renderer (crates/bench/src/truth), {r}x{r} stratified rays per pixel, texture read from its finest level; truth dB = that truth with {h}x{h} rays against itself (its own error is smaller still)",
-            r = plan.truth_rays.max(2),
-            h = plan.truth_rays.max(2) / 2
-        ),
+        truth,
         "error against the row's truth, whole frames: PSNR (inf = identical), largest channel error (0–255), mean SSIM of luma; self PSNR/max = against the supersampled reference image; front = on the Pareto front of time and PSNR".into(),
         format!(
             "terminal bytes: mean bytes the view's encoder writes for the picture after a {}° turn about Y (half blocks, colour tolerance {}), 24-bit and 256 colours",
@@ -260,12 +295,19 @@ pub fn run(args: &BenchArgs, out: &mut dyn Write, log: &mut dyn Write) -> anyhow
             rows: Vec::new(),
         });
     }
-    let (texture, texture_line) = reference::texture();
-    let scene = Scene::cube(texture, true);
+    let (scene, texture_line) = if args.physical {
+        (
+            physical::scene(),
+            "metallic-roughness map made by crates/bench/src/physical.rs".to_string(),
+        )
+    } else {
+        let (texture, line) = reference::texture();
+        (Scene::cube(texture, true), line)
+    };
     if args.modes {
         return output_modes(args, &plan, &scene, out, log);
     }
-    let header = header(&plan, &texture_line);
+    let header = header(&plan, &texture_line, args.physical);
     writeln!(
         log,
         "relief bench: {} rows at {}x{}; rendering the reference ({} orientations)…",

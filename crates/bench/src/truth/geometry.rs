@@ -12,6 +12,7 @@ pub struct Ray {
 
 /// What a ray meets: the point and the vertex attributes interpolated with
 /// the exact barycentrics of that point, in world space.
+#[derive(Clone, Debug)]
 pub struct Hit {
     pub t: f64,
     pub position: DVec3,
@@ -23,6 +24,8 @@ pub struct Hit {
     /// The unit normal of the triangle's plane, on its counter-clockwise side.
     pub face_normal: DVec3,
     pub textured: bool,
+    /// The index of the scene object the triangle belongs to.
+    pub object: usize,
 }
 
 /// One triangle placed in the world.
@@ -34,11 +37,15 @@ struct Tri {
     tu: [DVec3; 3],
     tv: [DVec3; 3],
     textured: bool,
+    object: usize,
 }
 
 /// The scene's triangles in world space and the camera's frame.
 pub struct World {
     tris: Vec<Tri>,
+    /// The triangles a camera ray through each tile of the picture may
+    /// meet: those whose projection's bounds (one pixel wider) overlap it.
+    tiles: Tiles,
     eye: DVec3,
     right: DVec3,
     up: DVec3,
@@ -66,7 +73,7 @@ impl World {
     pub fn new(scene: &Scene, degrees: glam::Vec3, width: usize, height: usize) -> Self {
         let user = rotation(degrees);
         let mut tris = Vec::new();
-        for object in &scene.objects {
+        for (index, object) in scene.objects.iter().enumerate() {
             let model = if object.rotates {
                 object.transform.as_dmat4() * user
             } else {
@@ -85,10 +92,11 @@ impl World {
                     tu: v.map(|v| linear * v.tangent_u.as_dvec3()),
                     tv: v.map(|v| linear * v.tangent_v.as_dvec3()),
                     textured: t.textured,
+                    object: index,
                 });
             }
         }
-        let cam = &scene.camera;
+        let cam = &camera(scene, degrees, width, height);
         let eye = cam.eye.as_dvec3();
         let forward = (cam.target.as_dvec3() - eye).normalize();
         let right = forward.cross(cam.up.as_dvec3()).normalize();
@@ -98,15 +106,34 @@ impl World {
             .mul_add(0.5, 0.0)
             .tan();
         let aspect = width as f64 / height as f64;
-        World {
+        let mut world = World {
             tris,
+            tiles: Tiles::default(),
             eye,
             right: right * tan * aspect,
             up: up * tan,
             forward,
             width: width as f64,
             height: height as f64,
+        };
+        world.tiles = Tiles::of(&world, width, height);
+        world
+    }
+
+    /// The screen point (x, y) in pixels where `p` projects, if it lies in
+    /// front of the eye.
+    fn project(&self, p: DVec3) -> Option<(f64, f64)> {
+        let d = p - self.eye;
+        let depth = d.dot(self.forward);
+        if depth <= 1e-9 {
+            return None;
         }
+        let nx = d.dot(self.right) / self.right.length_squared() / depth;
+        let ny = d.dot(self.up) / self.up.length_squared() / depth;
+        Some((
+            (nx + 1.0) * self.width / 2.0,
+            (1.0 - ny) * self.height / 2.0,
+        ))
     }
 
     /// The ray through the screen point (x, y) in pixels, y down.
@@ -163,10 +190,24 @@ impl World {
         Some((e2.dot(q) * inv, b1, b2))
     }
 
+    /// The camera ray through the screen point (x, y) and the nearest
+    /// triangle it meets, found among its tile's triangles.
+    pub fn camera_hit(&self, x: f64, y: f64) -> (Ray, Option<Hit>) {
+        let ray = self.ray(x, y);
+        let hit = self.nearest(&ray, self.tiles.at(x, y));
+        (ray, hit)
+    }
+
     /// The nearest triangle the ray meets in front of the eye.
     pub fn hit(&self, ray: &Ray) -> Option<Hit> {
+        self.nearest(ray, 0..self.tris.len())
+    }
+
+    /// The nearest of triangles `candidates` (in increasing order, so the
+    /// first of equals wins as in a full search) the ray meets.
+    fn nearest(&self, ray: &Ray, candidates: impl IntoIterator<Item = usize>) -> Option<Hit> {
         let mut best: Option<(f64, usize, f64, f64)> = None;
-        for i in 0..self.tris.len() {
+        for i in candidates {
             let Some((d, b1, b2)) = self.intersect(i, ray) else {
                 continue;
             };
@@ -188,6 +229,86 @@ impl World {
             tangent_v: mix3(&t.tv),
             face_normal: (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).normalize_or_zero(),
             textured: t.textured,
+            object: t.object,
         })
+    }
+}
+
+/// The camera the renderer sees `scene` through at rotation `degrees` in
+/// a `width × height` picture: the scene's own, or in the model view the
+/// camera that frames the model turned so (`scene::model_view`, the
+/// scene's field of view).
+fn camera(scene: &Scene, degrees: glam::Vec3, width: usize, height: usize) -> relief_scene::Camera {
+    use relief_scene::model_view::{fit_scene, framed_camera};
+    let Some(view) = scene.model_view else {
+        return scene.camera;
+    };
+    let pose = view.pose.unwrap_or(degrees);
+    let fov = scene.camera.fov_y_degrees;
+    let aspect = width as f32 / height as f32;
+    let up = relief_core::settings::UpAxis::Y;
+    match fit_scene(scene, pose, up, fov, aspect) {
+        Some(fit) => framed_camera(&scene.camera, fit),
+        None => scene.camera,
+    }
+}
+
+/// Side of a tile of `Tiles`, in pixels.
+const TILE: usize = 8;
+
+/// Per tile of the picture, the triangles whose projected bounds overlap
+/// it; triangles reaching behind the eye are in every tile.
+#[derive(Default)]
+struct Tiles {
+    columns: usize,
+    lists: Vec<Vec<usize>>,
+}
+
+impl Tiles {
+    fn of(world: &World, width: usize, height: usize) -> Tiles {
+        let columns = width.div_ceil(TILE).max(1);
+        let rows = height.div_ceil(TILE).max(1);
+        let mut lists = vec![Vec::new(); columns * rows];
+        for (i, t) in world.tris.iter().enumerate() {
+            let projected: Option<Vec<(f64, f64)>> =
+                t.p.iter().map(|&p| world.project(p)).collect();
+            let (x0, y0, x1, y1) = match projected {
+                Some(pts) => {
+                    let fold = |f: fn(f64, f64) -> f64, init: f64, k: fn(&(f64, f64)) -> f64| {
+                        pts.iter().map(k).fold(init, f)
+                    };
+                    (
+                        fold(f64::min, f64::INFINITY, |p| p.0) - 1.0,
+                        fold(f64::min, f64::INFINITY, |p| p.1) - 1.0,
+                        fold(f64::max, f64::NEG_INFINITY, |p| p.0) + 1.0,
+                        fold(f64::max, f64::NEG_INFINITY, |p| p.1) + 1.0,
+                    )
+                }
+                None => (0.0, 0.0, width as f64, height as f64),
+            };
+            if !(x1 >= 0.0 && y1 >= 0.0 && x0 <= width as f64 && y0 <= height as f64) {
+                continue;
+            }
+            let cell = |v: f64, n: usize| ((v.max(0.0) as usize) / TILE).min(n - 1);
+            for row in cell(y0, rows)..=cell(y1, rows) {
+                for column in cell(x0, columns)..=cell(x1, columns) {
+                    lists[row * columns + column].push(i);
+                }
+            }
+        }
+        Tiles { columns, lists }
+    }
+
+    /// The triangles of the tile holding the screen point (x, y).
+    fn at(&self, x: f64, y: f64) -> impl Iterator<Item = usize> + '_ {
+        let cell = |v: f64| (v.max(0.0) as usize) / TILE;
+        let rows = self.lists.len() / self.columns.max(1);
+        let (c, r) = (cell(x), cell(y));
+        let list = if c < self.columns && r < rows {
+            &self.lists[r * self.columns + c][..]
+        } else {
+            &[][..]
+        };
+        list.iter().copied()
     }
 }

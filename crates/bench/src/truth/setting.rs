@@ -13,6 +13,8 @@ use relief_core::settings::{Normals, Settings, Shading, Technique};
 use relief_scene::Scene;
 use relief_texture::environment::Environment;
 
+use super::physical::Physical;
+
 /// The bump a truth draws, each from its own definition.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Bump {
@@ -52,6 +54,9 @@ pub struct Setting {
     pub environment: Option<(Arc<Environment>, f64)>,
     /// The strongest light's shadow rays against the scene's triangles.
     pub shadows: bool,
+    /// A model view: its metallic-roughness materials drawn physically
+    /// (`truth::physical`), whatever the shading setting.
+    pub physical: Option<Physical>,
 }
 
 impl PartialEq for Setting {
@@ -67,6 +72,7 @@ impl PartialEq for Setting {
             && self.shininess == other.shininess
             && env(self) == env(other)
             && self.shadows == other.shadows
+            && self.physical == other.physical
     }
 }
 
@@ -85,6 +91,7 @@ impl Setting {
             shininess: None,
             environment: None,
             shadows: false,
+            physical: None,
         }
     }
 
@@ -132,6 +139,20 @@ impl Setting {
                 (map, settings.reflectivity.min(1.0) as f64)
             });
         let shadows = scene.objects.len() > 1 || scene.objects.iter().any(|o| !o.mesh.convex);
+        if scene.model_view.is_some() {
+            // What the materials are, whatever the row draws them with:
+            // the bump, highlight and mirror settings have no say.
+            return Setting {
+                colors: settings.colors,
+                texture: settings.texture,
+                lights: settings.lights,
+                attenuation: settings.attenuation,
+                shadows: shadows && settings.lights,
+                physical: Some(Physical::of(settings, scene)),
+                bump: Bump::None,
+                ..Setting::reference(0.0)
+            };
+        }
         Setting {
             face_normals: settings.normals == Normals::Face,
             colors: settings.colors,
@@ -143,11 +164,19 @@ impl Setting {
             shininess,
             environment,
             shadows: shadows && settings.lights,
+            physical: None,
         }
     }
 
     /// A short name for the table and the logs.
     pub fn label(&self) -> String {
+        if let Some(p) = &self.physical {
+            let mut label = p.label();
+            if !self.lights {
+                label.push_str(", no lights");
+            }
+            return label;
+        }
         let mut parts = vec![
             match self.bump {
                 Bump::None => "no bump",

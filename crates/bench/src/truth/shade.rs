@@ -5,12 +5,14 @@
 use glam::{DVec2, DVec3};
 
 use super::geometry::{Hit, Ray, World};
+use super::physical::{self, Directions};
 use super::setting::{Bump, Setting};
 use relief_scene::Scene;
 use relief_texture::Level;
 
 /// What every ray of a frame shares.
 pub struct Context<'a> {
+    pub scene: &'a Scene,
     pub world: &'a World,
     pub setting: &'a Setting,
     pub base: &'a Level,
@@ -44,6 +46,7 @@ impl<'a> Context<'a> {
             }
         }
         Context {
+            scene,
             world,
             setting,
             base: scene.material.texture.base(),
@@ -204,8 +207,31 @@ pub fn environment(level: &Level, d: DVec3) -> DVec3 {
         + (at(i, j + 1) * (1.0 - fx) + at(i + 1, j + 1) * fx) * fy
 }
 
-/// The colour the ray sees at `hit`, before clamping.
-pub fn shade(ctx: &Context, ray: &Ray, hit: &Hit) -> DVec3 {
+/// The colour the ray sees at `hit`, before clamping: the physical
+/// truth's for a model view's metallic-roughness materials (`physical`,
+/// lit from the environment in `directions`), else the formulas of the
+/// reference scenes.
+pub fn shade(ctx: &Context, ray: &Ray, hit: &Hit, directions: &Directions) -> DVec3 {
+    if let Some(p) = &ctx.setting.physical
+        && let Some(terms) = ctx.scene.own_terms(hit.object)
+        && let Some(pbr) = &terms.pbr
+    {
+        let material = ctx.scene.own_material(hit.object);
+        let texture = material.map_or(&ctx.scene.material.texture, |m| &m.texture);
+        let surface = physical::Surface {
+            pbr,
+            terms,
+            texture: (ctx.setting.texture && hit.textured).then(|| texture.base()),
+            lights: &ctx.lights,
+            attenuation: ctx.setting.attenuation,
+            eye: ctx.world.eye(),
+        };
+        let mut hit_colour = hit.clone();
+        if !ctx.setting.colors {
+            hit_colour.color = DVec3::ONE;
+        }
+        return physical::shade(p, &surface, &hit_colour, directions);
+    }
     let surface = Surface::at(ctx, ray, hit);
     let albedo = albedo(ctx, hit, surface.uv);
     let (diffuse, highlight) = surface.lighting(ctx);
