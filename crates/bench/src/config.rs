@@ -48,6 +48,10 @@ pub enum SceneVariant {
     /// A model view without its environment (no ambient light): the
     /// lights alone, against the truth lit by them alone.
     NoEnvironment,
+    /// A model view's first object skinned to two joints
+    /// (`physical::skinned`): its pictures are the rest pose's, and the
+    /// timed frames pose it at a new instant each.
+    Skinned,
 }
 
 impl SceneVariant {
@@ -71,6 +75,7 @@ impl SceneVariant {
                 }
             }
             SceneVariant::NoEnvironment => scene.ambient = Vec3::ZERO,
+            SceneVariant::Skinned => scene = super::physical::skinned(&scene),
         }
         scene
     }
@@ -82,6 +87,7 @@ impl SceneVariant {
             SceneVariant::NormalMapFile => "normal-map-file",
             SceneVariant::BlinnPhong => "blinn-phong",
             SceneVariant::NoEnvironment => "no-environment",
+            SceneVariant::Skinned => "skinned",
         }
     }
 }

@@ -12,12 +12,16 @@
 
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Mat4, Quat, Vec3};
 
 use super::config::{Config, SceneVariant, Threads};
 use super::runner::Plan;
 use relief_core::settings::{AntiAlias, Settings, ToneMap};
 use relief_scene::Scene;
+use relief_scene::anim::sampler::{Interpolation, Sampler};
+use relief_scene::anim::{
+    Channel, Clip, Influences, Local, Motion, Node, PartRig, Rig, Skin, Target,
+};
 use relief_scene::terms::{MaterialTerms, PbrMaterial};
 use relief_texture::{Level, Texture};
 
@@ -78,6 +82,76 @@ pub fn scene() -> Scene {
     scene.into_model_view()
 }
 
+/// How far the skinned sphere's upper half turns about Z over
+/// `BEND_SECONDS`, in degrees.
+const BEND_DEGREES: f32 = 40.0;
+const BEND_SECONDS: f32 = 2.0;
+
+/// `scene`'s sphere skinned to two joints at its centre, the upper one
+/// turning `BEND_DEGREES` about Z over its one clip, the weights blending
+/// across the equator (|y| < 0.3); shown at the clip's start, its rest
+/// pose, so its pictures are the sphere's.
+pub fn skinned(scene: &Scene) -> Scene {
+    let mut scene = scene.clone();
+    let rest = scene.objects[0].mesh.vertices.clone();
+    let blend = |y: f32| ((y + 0.3) / 0.6).clamp(0.0, 1.0);
+    let influences = Influences {
+        sets: 1,
+        joints: vec![[0, 1, 0, 0]; rest.len()],
+        weights: rest
+            .iter()
+            .map(|v| blend(v.position.y))
+            .map(|w| [1.0 - w, w, 0.0, 0.0])
+            .collect(),
+    };
+    let turn = |deg: f32| Quat::from_rotation_z(deg.to_radians()).to_array();
+    let node = |parent| Node {
+        parent,
+        rest: Local::Trs {
+            translation: Vec3::ZERO,
+            rotation: Quat::IDENTITY,
+            scale: Vec3::ONE,
+        },
+        weights: Vec::new(),
+    };
+    let rig = Rig {
+        nodes: vec![node(None), node(Some(0)), node(None)],
+        order: vec![0, 1, 2],
+        clips: vec![Clip {
+            name: "bend".into(),
+            duration: BEND_SECONDS,
+            channels: vec![Channel {
+                node: 1,
+                target: Target::Rotation,
+                sampler: Sampler {
+                    times: vec![0.0, BEND_SECONDS],
+                    values: [turn(0.0), turn(BEND_DEGREES)].concat(),
+                    width: 4,
+                    interpolation: Interpolation::Linear,
+                },
+            }],
+        }],
+        skins: vec![Skin {
+            joints: vec![0, 1],
+            inverse_bind: vec![Mat4::IDENTITY; 2],
+        }],
+        parts: vec![PartRig {
+            node: Some(2),
+            skin: Some(0),
+            rest,
+            source: Vec::new(),
+            targets: Vec::new(),
+            influences,
+            flat: false,
+        }],
+        fit: Mat4::IDENTITY,
+    };
+    let mut motion = Motion::new(rig);
+    motion.show(&mut scene.objects, Some(0), 0.0);
+    scene.motion = Some(motion);
+    scene
+}
+
 /// The rows of `relief bench --physical`.
 pub fn rows() -> Vec<Config> {
     let r = Settings::default();
@@ -113,6 +187,10 @@ pub fn rows() -> Vec<Config> {
                 ..r
             },
         ),
+        Config {
+            variant: SceneVariant::Skinned,
+            ..row("skinned, a new pose each frame", r)
+        },
         row(
             "aa=4x4",
             Settings {
@@ -134,4 +212,49 @@ pub fn plan(mut plan: Plan, quick: bool) -> Plan {
     plan.orientations = super::config::orientations(if quick { 1 } else { 4 }, super::config::SEED);
     plan.truth_rays = if quick { 4 } else { 16 };
     plan
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The map holds what its functions say: roughness 0.05 and 0.95 at
+    /// u = 0 and ¼, metal in the north (v = 0 at the top), paint in the south.
+    #[test]
+    fn the_map_runs_from_smooth_to_rough_and_from_metal_to_paint() {
+        assert!((roughness_at(0.0) - 0.05).abs() < 1e-12);
+        assert!((roughness_at(0.25) - 0.95).abs() < 1e-12);
+        assert_eq!(metallic_at(0.1), 1.0);
+        assert_eq!(metallic_at(0.9), 0.0);
+        let map = metal_rough_map();
+        let texel = |x: usize, y: usize| map.texels.at(y * map.width + x);
+        assert!((texel(0, 0)[1] - 0.05).abs() < 0.01 && texel(0, 0)[2] == 1.0);
+        assert!((texel(32, 63)[1] - 0.95).abs() < 0.01 && texel(32, 63)[2] == 0.0);
+    }
+
+    /// The skinned sphere shows its rest pose at the clip's start; at its
+    /// end the north pole has turned `BEND_DEGREES` about Z and the south
+    /// pole has not moved.
+    #[test]
+    fn the_skinned_sphere_rests_then_bends_its_upper_half() {
+        let plain = scene();
+        let mut skinned = skinned(&plain);
+        let before = &plain.objects[0].mesh.vertices;
+        for (a, b) in before.iter().zip(&skinned.objects[0].mesh.vertices) {
+            assert!((a.position - b.position).length() < 1e-6);
+        }
+        let motion = skinned.motion.as_mut().unwrap();
+        motion.show(&mut skinned.objects, Some(0), BEND_SECONDS);
+        let after = &skinned.objects[0].mesh.vertices;
+        let north = before.iter().position(|v| v.position.y > 0.999).unwrap();
+        let south = before.iter().position(|v| v.position.y < -0.999).unwrap();
+        let a = BEND_DEGREES.to_radians();
+        let want = Vec3::new(-a.sin(), a.cos(), 0.0) * before[north].position.length();
+        assert!(
+            (after[north].position - want).length() < 1e-3,
+            "{}",
+            after[north].position
+        );
+        assert!((after[south].position - before[south].position).length() < 1e-6);
+    }
 }

@@ -190,6 +190,9 @@ struct Measuring {
     threads: usize,
     times: Vec<Duration>,
     row: Row,
+    /// An animated scene's instant, in seconds: each timed frame poses it
+    /// a 60th of a second on.
+    clock: f32,
 }
 
 /// Renders the reference frames, measures every row's error (which also warms
@@ -356,6 +359,7 @@ fn error_pass(
         threads,
         times: Vec::new(),
         row,
+        clock: 0.0,
     })
 }
 
@@ -463,7 +467,8 @@ fn render_turned(
 }
 
 /// Whole rounds over the orientations until `budget` is spent (at least
-/// `min_frames`, at most about `max_frames` frames), each frame timed.
+/// `min_frames`, at most about `max_frames` frames), each frame timed; an
+/// animated scene is posed at a new instant in each frame's time.
 fn timed_burst(
     plan: &Plan,
     m: &mut Measuring,
@@ -480,6 +485,10 @@ fn timed_burst(
                 ..m.row.config.settings
             };
             let t = Instant::now();
+            if let Some(motion) = m.scene.motion.as_mut() {
+                m.clock += 1.0 / 60.0;
+                motion.show(&mut m.scene.objects, Some(0), m.clock);
+            }
             let stats = m.renderer.render(&m.scene, &settings, &mut m.fb);
             m.times.push(t.elapsed());
             std::hint::black_box(stats);
