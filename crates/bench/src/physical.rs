@@ -17,12 +17,12 @@ use glam::{Mat4, Quat, Vec3};
 use super::config::{Config, SceneVariant, Threads};
 use super::runner::Plan;
 use relief_core::settings::{AntiAlias, Settings, ToneMap};
-use relief_scene::Scene;
 use relief_scene::anim::sampler::{Interpolation, Sampler};
 use relief_scene::anim::{
     Channel, Clip, Influences, Local, Motion, Node, PartRig, Rig, Skin, Target,
 };
 use relief_scene::terms::{MaterialTerms, PbrMaterial};
+use relief_scene::{Scene, Vertex};
 use relief_texture::{Level, Texture};
 
 /// The sphere's base colour (linear): a warm gold, so metal and paint
@@ -94,13 +94,29 @@ const BEND_SECONDS: f32 = 2.0;
 pub fn skinned(scene: &Scene) -> Scene {
     let mut scene = scene.clone();
     let rest = scene.objects[0].mesh.vertices.clone();
-    let blend = |y: f32| ((y + 0.3) / 0.6).clamp(0.0, 1.0);
+    let rig = bend_rig(
+        rest,
+        |y| ((y + 0.3) / 0.6).clamp(0.0, 1.0),
+        BEND_DEGREES,
+        BEND_SECONDS,
+    );
+    let mut motion = Motion::new(rig);
+    motion.show(&mut scene.objects, Some(0), 0.0);
+    scene.motion = Some(motion);
+    scene
+}
+
+/// A rig for one object of vertices `rest`: two joints at the origin,
+/// the second, child of the first, turning `degrees` about Z over
+/// `seconds` in the one clip ("bend"); a vertex at height y follows the
+/// second joint with weight `upper(y)` and the first with the rest.
+pub fn bend_rig(rest: Vec<Vertex>, upper: impl Fn(f32) -> f32, degrees: f32, seconds: f32) -> Rig {
     let influences = Influences {
         sets: 1,
         joints: vec![[0, 1, 0, 0]; rest.len()],
         weights: rest
             .iter()
-            .map(|v| blend(v.position.y))
+            .map(|v| upper(v.position.y))
             .map(|w| [1.0 - w, w, 0.0, 0.0])
             .collect(),
     };
@@ -114,18 +130,18 @@ pub fn skinned(scene: &Scene) -> Scene {
         },
         weights: Vec::new(),
     };
-    let rig = Rig {
+    Rig {
         nodes: vec![node(None), node(Some(0)), node(None)],
         order: vec![0, 1, 2],
         clips: vec![Clip {
             name: "bend".into(),
-            duration: BEND_SECONDS,
+            duration: seconds,
             channels: vec![Channel {
                 node: 1,
                 target: Target::Rotation,
                 sampler: Sampler {
-                    times: vec![0.0, BEND_SECONDS],
-                    values: [turn(0.0), turn(BEND_DEGREES)].concat(),
+                    times: vec![0.0, seconds],
+                    values: [turn(0.0), turn(degrees)].concat(),
                     width: 4,
                     interpolation: Interpolation::Linear,
                 },
@@ -145,11 +161,7 @@ pub fn skinned(scene: &Scene) -> Scene {
             flat: false,
         }],
         fit: Mat4::IDENTITY,
-    };
-    let mut motion = Motion::new(rig);
-    motion.show(&mut scene.objects, Some(0), 0.0);
-    scene.motion = Some(motion);
-    scene
+    }
 }
 
 /// The rows of `relief bench --physical`.

@@ -8,13 +8,12 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use glam::{Mat4, Quat, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use relief_core::framebuffer::Framebuffer;
 use relief_core::settings::Settings;
 use relief_pipeline::render::Renderer;
 use relief_scene::Scene;
-use relief_scene::anim::sampler::{Interpolation, Sampler};
-use relief_scene::anim::{Channel, Clip, Influences, Local, Motion, Node, PartRig, Rig, Target};
+use relief_scene::anim::Motion;
 use relief_scene::{Mesh, Triangle, Vertex};
 
 const WIDTH: usize = 320;
@@ -59,67 +58,10 @@ fn skinned() -> Scene {
     let mesh = tube();
     let rest = mesh.vertices.clone();
     let mut scene = Scene::model(mesh, texture).into_model_view();
-    let blend = |y: f32| ((y + 0.5) / 1.0).clamp(0.0, 1.0);
-    let influences = Influences {
-        sets: 1,
-        joints: vec![[0, 1, 0, 0]; rest.len()],
-        weights: rest
-            .iter()
-            .map(|v| blend(v.position.y))
-            .map(|w| [1.0 - w, w, 0.0, 0.0])
-            .collect(),
-    };
-    let q = |deg: f32| Quat::from_rotation_z(deg.to_radians()).to_array();
-    let rig = Rig {
-        nodes: vec![
-            node(None, Vec3::ZERO),
-            node(Some(0), Vec3::ZERO),
-            node(None, Vec3::ZERO),
-        ],
-        order: vec![0, 1, 2],
-        clips: vec![Clip {
-            name: "bend".into(),
-            duration: 2.0,
-            channels: vec![Channel {
-                node: 1,
-                target: Target::Rotation,
-                sampler: Sampler {
-                    times: vec![0.0, 2.0],
-                    values: [q(0.0), q(90.0)].concat(),
-                    width: 4,
-                    interpolation: Interpolation::Linear,
-                },
-            }],
-        }],
-        skins: vec![relief_scene::anim::Skin {
-            joints: vec![0, 1],
-            inverse_bind: vec![Mat4::IDENTITY; 2],
-        }],
-        parts: vec![PartRig {
-            node: Some(2),
-            skin: Some(0),
-            rest,
-            source: Vec::new(),
-            targets: Vec::new(),
-            influences,
-            flat: false,
-        }],
-        fit: Mat4::IDENTITY,
-    };
+    let rig =
+        relief_bench::physical::bend_rig(rest, |y| ((y + 0.5) / 1.0).clamp(0.0, 1.0), 90.0, 2.0);
     scene.motion = Some(Motion::new(rig));
     scene
-}
-
-fn node(parent: Option<usize>, at: Vec3) -> Node {
-    Node {
-        parent,
-        rest: Local::Trs {
-            translation: at,
-            rotation: Quat::IDENTITY,
-            scale: Vec3::ONE,
-        },
-        weights: Vec::new(),
-    }
 }
 
 /// Each iteration a new instant, a 60th of a second on: posed, and drawn
