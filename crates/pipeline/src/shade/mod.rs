@@ -20,6 +20,7 @@ pub mod packet;
 pub mod parallax;
 pub mod pbr;
 pub mod shader;
+pub mod sheen;
 pub mod specular;
 pub mod split_sum;
 pub mod tangent;
