@@ -27,7 +27,7 @@ use std::sync::Arc;
 use glam::{DVec2, DVec3, Vec3};
 
 use super::geometry::Hit;
-use super::shade::{bilinear, environment};
+use super::read::{bilinear, environment};
 use relief_core::settings::{Settings, ToneMap};
 use relief_scene::Scene;
 use relief_scene::terms::{MaterialTerms, PbrMaterial};
