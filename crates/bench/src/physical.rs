@@ -16,7 +16,7 @@ use glam::Vec3;
 
 use super::config::{Config, SceneVariant, Threads};
 use super::runner::Plan;
-use relief_core::settings::{AntiAlias, Settings, ToneMap};
+use relief_core::settings::{AntiAlias, IblDiffuse, IblSpecular, Settings, ToneMap};
 use relief_scene::Scene;
 use relief_scene::terms::{MaterialTerms, PbrMaterial};
 use relief_texture::{Level, Texture};
@@ -81,6 +81,12 @@ pub fn scene() -> Scene {
 /// The rows of `relief bench --physical`.
 pub fn rows() -> Vec<Config> {
     let r = Settings::default();
+    // The environment's light without either approximation.
+    let exact = Settings {
+        ibl_diffuse: IblDiffuse::Integrated,
+        ibl_specular: IblSpecular::Sampled,
+        ..r
+    };
     let row = |name: &str, settings: Settings| Config::new(name, settings, Threads::All);
     vec![
         row("metallic-roughness", r),
@@ -95,6 +101,21 @@ pub fn rows() -> Vec<Config> {
                 },
             )
         },
+        row(
+            "ibl-diffuse=integrated",
+            Settings {
+                ibl_diffuse: IblDiffuse::Integrated,
+                ..r
+            },
+        ),
+        row(
+            "ibl-specular=sampled",
+            Settings {
+                ibl_specular: IblSpecular::Sampled,
+                ..r
+            },
+        ),
+        row("ibl-diffuse=integrated, ibl-specular=sampled", exact),
         Config {
             variant: SceneVariant::NoEnvironment,
             ..row("lights only (no environment)", r)
@@ -122,6 +143,13 @@ pub fn rows() -> Vec<Config> {
             Settings {
                 aa: AntiAlias::Ssaa4,
                 ..r
+            },
+        ),
+        row(
+            "aa=4x4, ibl-diffuse=integrated, ibl-specular=sampled",
+            Settings {
+                aa: AntiAlias::Ssaa4,
+                ..exact
             },
         ),
     ]
