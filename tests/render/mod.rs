@@ -8,6 +8,7 @@ mod environment;
 mod flags;
 mod hard_cases;
 mod ibl;
+mod layers;
 mod model_view;
 mod overdraw;
 mod packets;

@@ -449,6 +449,7 @@ fn map_coordinates_match_the_one_pixel_loop() {
                 second: true,
                 transform: None,
             },
+            ..MapUvs::default()
         },
         ..Default::default()
     });
@@ -591,5 +592,56 @@ proptest! {
         let (a, b, ca, cb, _) = both(&scene, &settings, w, h);
         prop_assert!(a == b);
         prop_assert_eq!(ca, cb);
+    }
+}
+
+/// The physically based kernel with every layer map (docs/shading.md,
+/// "Metallic-roughness"): `KHR_materials_specular`'s strength and colour,
+/// `KHR_materials_clearcoat`'s intensity and roughness (one picture read
+/// once) and its normal map, one of them scaled by a texture transform,
+/// under the lights and the built-in studio, turned so the view direction
+/// differs across each packet: eight lanes give the one-pixel loop's bits
+/// and counts, with normal maps on and off.
+#[test]
+fn the_physical_kernel_with_layer_maps_matches_the_one_pixel_loop() {
+    use super::layers::halves_png;
+    use super::pbr::{model, solid_png};
+    let material = r#"[{"pbrMetallicRoughness":{"baseColorFactor":[0.6,0.3,0.2,1],"metallicFactor":0,"roughnessFactor":0.6},"extensions":{"KHR_materials_specular":{"specularFactor":0.8,"specularColorFactor":[1,0.5,2],"specularTexture":{"index":0},"specularColorTexture":{"index":1,"extensions":{"KHR_texture_transform":{"scale":[2,3],"rotation":0.4}}}},"KHR_materials_clearcoat":{"clearcoatFactor":0.9,"clearcoatRoughnessFactor":0.5,"clearcoatTexture":{"index":2},"clearcoatRoughnessTexture":{"index":2},"clearcoatNormalTexture":{"index":3,"scale":0.7}}}}]"#;
+    let images = [
+        halves_png([0, 0, 0, 40], [0, 0, 0, 250]),
+        halves_png([255, 128, 0, 255], [30, 200, 90, 255]),
+        halves_png([255, 60, 0, 255], [90, 255, 0, 255]),
+        solid_png([170, 150, 240, 255]),
+    ];
+    let scene = model("packets-layers", 1, material, &images);
+    let terms = scene
+        .own_terms(0)
+        .expect("the quad's material terms")
+        .clone();
+    let pbr = terms.pbr.as_ref().unwrap();
+    let coat = pbr.clearcoat.as_ref().unwrap();
+    assert!(
+        pbr.specular_maps
+            .as_ref()
+            .is_some_and(|m| m.strength.is_some() && m.colour.is_some())
+    );
+    let (Some((a, _)), Some((b, _))) = (&coat.factor_map, &coat.roughness_map) else {
+        panic!("the clearcoat maps");
+    };
+    assert!(Arc::ptr_eq(a, b), "one picture for both");
+    assert!(coat.normal.is_some());
+    for bump in [true, false] {
+        let s = Settings {
+            bump,
+            rotation: Vec3::new(-30.0, 40.0, 10.0),
+            ..Settings::default()
+        };
+        let plan = Plan::new(&scene, &s).with_terms(&terms);
+        assert!(plan.physical.is_some() && plan.terms.is_some());
+        let (a, b, ca, cb, packed) = both_planned(&scene, &plan, &s, 96, 72);
+        assert!(packed > 0, "no triangle used packets: {s:?}");
+        let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+        assert_eq!(differ, 0, "{differ} pixels differ: {s:?}");
+        assert_eq!(ca, cb, "{s:?}");
     }
 }

@@ -128,7 +128,7 @@ fn quads_glb(count: usize, materials: &str, images: &[Vec<u8>]) -> Vec<u8> {
 }
 
 /// A PNG of one colour.
-fn solid_png(rgba: [u8; 4]) -> Vec<u8> {
+pub fn solid_png(rgba: [u8; 4]) -> Vec<u8> {
     let img = image::RgbaImage::from_pixel(4, 4, image::Rgba(rgba));
     relief_texture::picture::encode(&img.into(), image::ImageFormat::Png).unwrap()
 }
@@ -166,7 +166,7 @@ pub fn facing() -> Settings {
 }
 
 /// One light of `colour` far along the view's back axis (straight on), no ambient.
-fn head_on(scene: &mut Scene, colour: f32) {
+pub fn head_on(scene: &mut Scene, colour: f32) {
     let [_, _, back] = view_axes();
     scene.lights = vec![Light::new(back * 1e4, Vec3::splat(colour))];
     scene.ambient = Vec3::ZERO;
@@ -296,7 +296,7 @@ fn the_metallic_roughness_map_scales_the_factors() {
 }
 
 /// Leftmost and rightmost drawn pixels of a row.
-fn extent(fb: &Framebuffer, background: [u8; 3], row: usize) -> (usize, usize) {
+pub fn extent(fb: &Framebuffer, background: [u8; 3], row: usize) -> (usize, usize) {
     let w = fb.width();
     let drawn: Vec<usize> = (0..w)
         .filter(|&x| fb.pixels()[row * w + x] != background)

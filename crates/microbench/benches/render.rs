@@ -4,10 +4,14 @@
 //! the other bump techniques (emboss, dot3, parallax, occlusion) on one;
 //! and the model view's metallic-roughness kernel against Phong with Blinn's
 //! bump on the same framed cube, with the image-based light's default and
-//! other ways (docs/shading.md).
+//! other ways, and with glTF's layer maps (specular strength and colour,
+//! clearcoat intensity, roughness and normal) against without
+//! (docs/shading.md).
 //! `cargo bench --bench render`; `relief bench` covers every setting.
 
 use std::hint::black_box;
+
+use glam::Vec3;
 use std::time::Instant;
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -27,11 +31,19 @@ fn bench(c: &mut Criterion, name: &str, settings: Settings, threads: usize) {
 
 /// The reference cube in the model view (framed, the neutral rig): as it
 /// is (Phong with Blinn's bump), or with a metallic-roughness material of
-/// the same texture as base colour and its height map's normal map.
-fn model_view_cube(physical: bool) -> Scene {
+/// the same texture as base colour and its height map's normal map; with
+/// `Layers::Factors` a clearcoat of factor 1 and roughness 0.3 and a
+/// specular colour (0.04 f0) by their factors alone, with `Layers::Maps`
+/// the same and the maps of `KHR_materials_specular` and
+/// `KHR_materials_clearcoat` made from the same picture: its height as the
+/// specular strength, its colour as the specular colour and as the
+/// clearcoat's intensity (red) and roughness (green), one picture read
+/// once, and its normal map as the clearcoat's.
+fn model_view_cube(physical: bool, layers: Layers) -> Scene {
     use std::sync::Arc;
 
-    use relief_scene::terms::{MaterialTerms, PbrMaterial};
+    use relief_scene::terms::{Clearcoat, MaterialTerms, PbrMaterial, SpecularMaps};
+    use relief_texture::Level;
     use relief_texture::sample::normal_map::normal_map_scale;
     let (texture, _) = relief_bench::reference::texture();
     let mut scene = Scene::cube(texture, true).into_model_view();
@@ -42,18 +54,48 @@ fn model_view_cube(physical: bool) -> Scene {
             .texture
             .normal_map(normal_map_scale(strength))
             .0;
-        let material = PbrMaterial {
+        let mut material = PbrMaterial {
             metallic: 0.5,
             roughness: 0.5,
-            normal: Some(normal),
+            normal: Some(normal.clone()),
             ..PbrMaterial::gltf_default()
         };
+        if layers == Layers::Factors {
+            material.clearcoat = Some(Clearcoat::of_factors(1.0, 0.3));
+        }
+        if layers == Layers::Maps {
+            let base = scene.material.texture.base();
+            let colour = Arc::new(base.clone());
+            let strength = Arc::new(Level {
+                texels: base.texels.channel_grey(3),
+                ..base.clone()
+            });
+            material.specular_maps = Some(SpecularMaps {
+                f0_colour: Vec3::splat(0.04),
+                strength: Some(strength),
+                colour: Some(colour.clone()),
+            });
+            material.clearcoat = Some(Clearcoat {
+                factor_map: Some((colour.clone(), 0)),
+                roughness_map: Some((colour, 1)),
+                normal: Some(normal),
+                ..Clearcoat::of_factors(1.0, 0.3)
+            });
+        }
         scene.object_terms = vec![Some(Arc::new(MaterialTerms {
             pbr: Some(material),
             ..MaterialTerms::default()
         }))];
     }
     scene
+}
+
+/// What the model view's cube has of glTF's material layers.
+#[derive(Clone, Copy, PartialEq)]
+enum Layers {
+    None,
+    Factors,
+    Maps,
 }
 
 fn bench_scene(c: &mut Criterion, name: &str, scene: &Scene, settings: Settings, threads: usize) {
@@ -109,15 +151,20 @@ fn renderer(c: &mut Criterion) {
         rotation: relief_scene::model_view::START_ROTATION,
         ..Settings::default()
     };
-    for (physical, name) in [(false, "model_view_phong_bump"), (true, "model_view_pbr")] {
-        let scene = model_view_cube(physical);
+    for (physical, layers, name) in [
+        (false, Layers::None, "model_view_phong_bump"),
+        (true, Layers::None, "model_view_pbr"),
+        (true, Layers::Factors, "model_view_pbr_coat"),
+        (true, Layers::Maps, "model_view_pbr_layer_maps"),
+    ] {
+        let scene = model_view_cube(physical, layers);
         bench_scene(c, &format!("{name}_320x240/all_threads"), &scene, start, 0);
         bench_scene(c, &format!("{name}_320x240/1_thread"), &scene, start, 1);
     }
     // The image-based light's other ways (`--ibl-diffuse`, `--ibl-specular`):
     // their maps are made before the timing (criterion's warm-up).
     use relief_core::settings::{IblDiffuse, IblSpecular};
-    let scene = model_view_cube(true);
+    let scene = model_view_cube(true, Layers::None);
     for (ibl_diffuse, ibl_specular, name) in [
         (
             IblDiffuse::Integrated,

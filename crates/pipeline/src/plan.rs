@@ -398,12 +398,14 @@ impl Plan {
             spec.shininess = s;
         }
         // The model view shades a metallic-roughness material physically,
-        // its normal map applied on the triangles with texture coordinates.
+        // its normal maps (its own, its clearcoat's) applied on the
+        // triangles with texture coordinates.
         if let (Some(physical), Some(pbr)) = (&plan.physical, &terms.pbr)
             && plan.display == Display::Fill
             && plan.shading == Shading::Phong
         {
-            plan.bump = physical.normal_maps && pbr.normal.is_some();
+            let coat_normal = pbr.clearcoat.as_ref().is_some_and(|c| c.normal.is_some());
+            plan.bump = physical.normal_maps && (pbr.normal.is_some() || coat_normal);
             plan.terms = Some(terms.clone());
             return plan;
         }

@@ -38,21 +38,44 @@ impl MapUv {
 }
 
 /// The texture coordinates of a material's maps other than its colour
-/// texture (which, with its alpha mask, reads the vertices' `uv`).
+/// texture (which, with its alpha mask, reads the vertices' `uv`). Each
+/// glTF map has its own entry: a file may give each its own set and
+/// transform, the clearcoat's three maps included.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MapUvs {
     pub normal: MapUv,
+    /// The metallic-roughness map (the highlight's map elsewhere).
     pub specular: MapUv,
     pub occlusion: MapUv,
     pub emissive: MapUv,
+    /// `KHR_materials_specular`'s `specularTexture` (strength).
+    pub specular_strength: MapUv,
+    /// `KHR_materials_specular`'s `specularColorTexture`.
+    pub specular_colour: MapUv,
+    /// `KHR_materials_clearcoat`'s `clearcoatTexture`.
+    pub coat: MapUv,
+    /// `KHR_materials_clearcoat`'s `clearcoatRoughnessTexture`.
+    pub coat_roughness: MapUv,
+    /// `KHR_materials_clearcoat`'s `clearcoatNormalTexture`.
+    pub coat_normal: MapUv,
 }
 
 impl MapUvs {
     /// Every map reads the vertices' `uv` as it is.
     pub fn all_vertex_uv(&self) -> bool {
-        [self.normal, self.specular, self.occlusion, self.emissive]
-            .iter()
-            .all(MapUv::is_vertex_uv)
+        [
+            self.normal,
+            self.specular,
+            self.occlusion,
+            self.emissive,
+            self.specular_strength,
+            self.specular_colour,
+            self.coat,
+            self.coat_roughness,
+            self.coat_normal,
+        ]
+        .iter()
+        .all(MapUv::is_vertex_uv)
     }
 }
 

@@ -1,6 +1,7 @@
 //! The textures a loaded model's materials draw with, one line each, for
 //! the texture panel (docs/models.md): per material its base colour,
-//! height, normal, specular, occlusion and emissive maps.
+//! height, normal, specular, occlusion and emissive maps, and the maps of
+//! its glTF extensions (specular strength and colour, clearcoat).
 
 use std::sync::Arc;
 
@@ -66,6 +67,43 @@ fn maps_of(m: &Material, terms: Option<&MaterialTerms>) -> Vec<(&'static str, St
                     .find(|(w, _)| *w == what)
                     .map_or("", |(_, n)| n.as_str());
                 out.push((what, format!("{} {name}", size(level.width, level.height))));
+            }
+        }
+        // The extensions' maps of a metallic-roughness material, each named
+        // when it was read (a clearcoat picture read whole for intensity
+        // and roughness is one line, "coat").
+        let pbr = terms.pbr.as_ref();
+        let spec = pbr.and_then(|p| p.specular_maps.as_ref());
+        let coat = pbr.and_then(|p| p.clearcoat.as_ref());
+        let dims = |l: &relief_texture::Level| (l.width, l.height);
+        for (what, dims) in [
+            (
+                "spec. str",
+                spec.and_then(|s| s.strength.as_deref()).map(dims),
+            ),
+            (
+                "spec. col",
+                spec.and_then(|s| s.colour.as_deref()).map(dims),
+            ),
+            (
+                "coat",
+                coat.and_then(|c| c.factor_map.as_ref())
+                    .map(|(l, _)| dims(l)),
+            ),
+            (
+                "coat rough",
+                coat.and_then(|c| c.roughness_map.as_ref())
+                    .map(|(l, _)| dims(l)),
+            ),
+            (
+                "coat norm",
+                coat.and_then(|c| c.normal.as_deref())
+                    .map(|n| (n.width, n.height)),
+            ),
+        ] {
+            let name = terms.map_names.iter().find(|(w, _)| *w == what);
+            if let (Some((w, h)), Some((_, name))) = (dims, name) {
+                out.push((what, format!("{} {name}", size(w, h))));
             }
         }
     }

@@ -70,18 +70,59 @@ pub struct PbrMaterial {
     /// A dielectric's reflectance at grazing angles: `KHR_materials_specular`'s
     /// weight, 1 by default. Metals reflect 1 there whatever it is.
     pub specular_weight: f32,
+    /// `KHR_materials_specular`'s textures, when it has any: then
+    /// `dielectric_f0` and `specular_weight` are made per pixel from them.
+    pub specular_maps: Option<SpecularMaps>,
     /// A clear varnish over the material (`KHR_materials_clearcoat`).
     pub clearcoat: Option<Clearcoat>,
 }
 
+/// `KHR_materials_specular`'s textures (docs/shading.md): per pixel, F0 =
+/// min(`f0_colour` × the colour map decoded from sRGB, 1) × w and F90 = w,
+/// w = `specular_weight` × the strength map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpecularMaps {
+    /// f0 of the index of refraction times `specularColorFactor`, before
+    /// the clamp to 1 (which follows the colour map).
+    pub f0_colour: Vec3,
+    /// `specularTexture`'s alpha, kept alone in one channel (read: red).
+    pub strength: Option<Arc<Level>>,
+    /// `specularColorTexture`: RGB, sRGB-encoded, the picture as it is.
+    pub colour: Option<Arc<Level>>,
+}
+
 /// A clearcoat layer: a dielectric (F0 0.04) of its own roughness over the
-/// material, on the surface's own normal (docs/shading.md).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// material, on the surface's own normal or its own normal map
+/// (docs/shading.md).
+#[derive(Clone, Debug, PartialEq)]
 pub struct Clearcoat {
     /// `clearcoatFactor`: how much of the layer there is, 0 to 1.
     pub factor: f32,
     /// `clearcoatRoughnessFactor`, 0 to 1.
     pub roughness: f32,
+    /// `clearcoatTexture` and the channel read (red), multiplied into
+    /// `factor`.
+    pub factor_map: Option<(Arc<Level>, usize)>,
+    /// `clearcoatRoughnessTexture` and the channel read (green; red when
+    /// kept alone), multiplied into `roughness`.
+    pub roughness_map: Option<(Arc<Level>, usize)>,
+    /// `clearcoatNormalTexture`, its `scale` applied: the layer's own
+    /// tangent-space normal map (none: the surface's normal, whatever the
+    /// base's normal map).
+    pub normal: Option<Arc<relief_texture::NormalMap>>,
+}
+
+impl Clearcoat {
+    /// A layer of these factors, without maps.
+    pub fn of_factors(factor: f32, roughness: f32) -> Self {
+        Clearcoat {
+            factor,
+            roughness,
+            factor_map: None,
+            roughness_map: None,
+            normal: None,
+        }
+    }
 }
 
 /// A dielectric's reflectance head on at glTF's default index of
@@ -113,6 +154,7 @@ impl PbrMaterial {
             normal: None,
             dielectric_f0: Vec3::splat(DIELECTRIC_F0),
             specular_weight: 1.0,
+            specular_maps: None,
             clearcoat: None,
         }
     }

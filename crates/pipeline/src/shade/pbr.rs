@@ -3,7 +3,11 @@
 //!
 //! Base colour = vertex colour × factor (linear) × the colour texture
 //! decoded from sRGB; metallic and roughness = their factors × the map's
-//! blue and green; the normal map's normal in the pixel's tangent frame.
+//! blue and green; the normal map's normal in the pixel's tangent frame;
+//! a dielectric's F0 and F90 from `KHR_materials_specular`'s factors and
+//! maps, and a clearcoat's intensity, roughness and normal from
+//! `KHR_materials_clearcoat`'s (each map read only by a material that has
+//! it).
 //! Each light adds (1 − F)(1 − metallic)·base + π·F·D·V, times its colour
 //! and N·L (a light of colour 1 gives a white Lambert surface facing it 1);
 //! the environment adds its image-based light (by default spherical
@@ -15,6 +19,8 @@
 //!
 //! One source for one pixel and eight (`shade::lanes`); texels and shadow
 //! lookups are read lane by lane where the packet read does not apply.
+
+use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use wide::f32x8;
@@ -38,7 +44,9 @@ use relief_core::framebuffer::Rgb;
 use relief_core::settings::{IblDiffuse, IblSpecular};
 use relief_core::stats::Counters;
 use relief_scene::light::Falloff;
+use relief_scene::map_uv::MapUv;
 use relief_scene::terms::{Clearcoat, DIELECTRIC_F0, MaterialTerms, PbrMaterial};
+use relief_texture::NormalMap;
 use relief_texture::environment::Environment;
 use relief_texture::ibl::Ibl;
 use relief_texture::ibl::prefilter::{OctMap, oct_uv};
@@ -119,7 +127,8 @@ struct At<V: Vector> {
 }
 
 /// A clearcoat layer at the pixels: on the surface's own normal (not the
-/// normal map's), with its own roughness.
+/// normal map's) or its own normal map's, with its own roughness and
+/// intensity (their factors times their maps).
 struct Coat<V: Vector> {
     n: V,
     nv: V::L,
@@ -129,18 +138,19 @@ struct Coat<V: Vector> {
 }
 
 impl<V: Vector> Coat<V> {
-    /// The layer of `coat` on the surface of normal `n` seen along `view`.
+    /// A layer of intensity `factor` and roughness `roughness` (both in
+    /// 0..=1) on the normal `n`, seen along `view`.
     #[inline(always)]
-    fn of(coat: &Clearcoat, n: V, view: V) -> Self {
+    fn new(n: V, view: V, factor: V::L, roughness: V::L) -> Self {
         let nv = brdf::max(n.dot(view), V::L::splat(1e-4)).min(V::L::ONE);
-        let roughness = V::L::splat(coat.roughness.max(MIN_ROUGHNESS));
+        let roughness = brdf::max(roughness, V::L::splat(MIN_ROUGHNESS));
         let alpha = roughness * roughness;
         Coat {
             n,
             nv,
             roughness,
             alpha2: alpha * alpha,
-            factor: V::L::splat(coat.factor),
+            factor,
         }
     }
 
@@ -207,8 +217,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         // A normal turned away from the eye (interpolated or mapped) is lit
         // as if grazing, not from behind.
         let nv = brdf::max(n.dot(view), V::L::splat(1e-4)).min(V::L::ONE);
-        let dielectric = V::uniform(pbr.dielectric_f0);
-        let weight = V::L::splat(pbr.specular_weight);
+        let (dielectric, weight) = self.dielectric::<V>(at);
         let alpha = roughness * roughness;
         let px = At {
             p: s.p,
@@ -219,7 +228,10 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             f0: dielectric + (base - dielectric) * metallic,
             f90: weight + (V::L::ONE - weight) * metallic,
             alpha2: alpha * alpha,
-            coat: pbr.clearcoat.as_ref().map(|c| Coat::of(c, s.n, view)),
+            coat: pbr
+                .clearcoat
+                .as_ref()
+                .map(|c| self.coat(c, ctx, (&s, view), at, (fp, live), counters)),
         };
         let (direct, coat_direct) = self.lights(ctx, &px, live, counters);
         let lit = direct + self.ambient(&px, roughness, at, live);
@@ -264,6 +276,84 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         (metallic, roughness)
     }
 
+    /// A dielectric's reflectance head on (weight included) and at grazing
+    /// angles: `KHR_materials_specular`'s F0 = min(f0·colour, 1)·w and F90
+    /// = w, the colour and the weight w times their maps where the
+    /// material has them.
+    #[inline(always)]
+    fn dielectric<V: Vector>(&self, at: Coords<V::L>) -> (V, V::L) {
+        let pbr = self.pbr;
+        let weight = V::L::splat(pbr.specular_weight);
+        let Some(maps) = &pbr.specular_maps else {
+            return (V::uniform(pbr.dielectric_f0), weight);
+        };
+        let uvs = &self.terms.uvs;
+        let mut colour = V::uniform(maps.f0_colour);
+        if let Some(map) = &maps.colour {
+            let (u, v) = at.of(&uvs.specular_colour);
+            let [r, g, b] = V::L::bilinear(map, u, v);
+            colour = colour * srgb_to_linear(V::new(r, g, b));
+        }
+        let one = V::L::ONE;
+        let colour = V::new(
+            colour.x().min(one),
+            colour.y().min(one),
+            colour.z().min(one),
+        );
+        let weight = match &maps.strength {
+            Some(map) => {
+                let (u, v) = at.of(&uvs.specular_strength);
+                weight * V::L::bilinear(map, u, v)[0]
+            }
+            None => weight,
+        };
+        (colour * weight, weight)
+    }
+
+    /// The clearcoat layer at the pixels of surface `s` seen along `view`:
+    /// its factor and roughness times their maps (one read when one picture
+    /// holds both), on its own normal map when it has one and normal maps
+    /// are on, else on the surface's normal.
+    #[inline(always)]
+    fn coat<V: Vector>(
+        &self,
+        c: &Clearcoat,
+        ctx: &ShadeCtx,
+        (s, view): (&Surface<V>, V),
+        at: Coords<V::L>,
+        (fp, live): (&[Footprint], u32),
+        counters: &mut Counters,
+    ) -> Coat<V> {
+        let uvs = &self.terms.uvs;
+        let (mut factor, mut roughness) = (V::L::splat(c.factor), V::L::splat(c.roughness));
+        match (&c.factor_map, &c.roughness_map) {
+            (Some((a, k)), Some((b, r))) if Arc::ptr_eq(a, b) && uvs.coat == uvs.coat_roughness => {
+                let (u, v) = at.of(&uvs.coat);
+                let t = V::L::bilinear(a, u, v);
+                factor = factor * t[*k];
+                roughness = roughness * t[*r];
+            }
+            (f, r) => {
+                if let Some((map, k)) = f {
+                    let (u, v) = at.of(&uvs.coat);
+                    factor = factor * V::L::bilinear(map, u, v)[*k];
+                }
+                if let Some((map, k)) = r {
+                    let (u, v) = at.of(&uvs.coat_roughness);
+                    roughness = roughness * V::L::bilinear(map, u, v)[*k];
+                }
+            }
+        }
+        let n = match c.normal.as_deref() {
+            Some(map) if self.tri.bumped => {
+                let read = (map, &uvs.coat_normal);
+                self.normal_from(read, ctx, s, at, (fp, live), counters)
+            }
+            _ => s.n,
+        };
+        Coat::new(n, view, saturate(factor), saturate(roughness))
+    }
+
     /// The normal map's normal at the pixels, in their tangent frame.
     #[inline(always)]
     fn mapped_normal<V: Vector>(
@@ -278,9 +368,24 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         let Some(map) = self.pbr.normal.as_deref() else {
             return s.n;
         };
+        let read = (map, &self.terms.uvs.normal);
+        self.normal_from(read, ctx, s, at, (fp, live), counters)
+    }
+
+    /// Normal map `map`, read at its coordinates `m`, at the pixels, in
+    /// their tangent frame.
+    #[inline(always)]
+    fn normal_from<V: Vector>(
+        &self,
+        (map, m): (&NormalMap, &MapUv),
+        ctx: &ShadeCtx,
+        s: &Surface<V>,
+        at: Coords<V::L>,
+        (fp, live): (&[Footprint], u32),
+        counters: &mut Counters,
+    ) -> V {
         counters.bump_evals += live.count_ones() as u64;
         let plan = ctx.plan;
-        let m = &self.terms.uvs.normal;
         let (u, v) = at.of(m);
         let to = footprint_map(m, &self.tri.uv, &self.tri.uv2);
         let t = V::gather(live, |i| {

@@ -8,7 +8,10 @@
 //!   roughness, blue metallic) as they are, shaded by `shade::pbr`; elsewhere
 //!   the specular map: gloss = (1 − roughness)², roughness =
 //!   `roughnessFactor` × the texture's green channel;
-//! - `doubleSided` false culls back faces.
+//! - `doubleSided` false culls back faces;
+//! - `KHR_materials_ior`, `KHR_materials_specular` and
+//!   `KHR_materials_clearcoat`: their factors and their textures, each map
+//!   kept in the channels its reads need (`SpecularMaps`, `Clearcoat`).
 
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -19,9 +22,10 @@ use glam::Vec3;
 
 use super::data::{self, Problem, Uri};
 use super::opacity;
-use super::sampling::{Kind, Reading, Sets, maps_of};
+use super::sampling::{Kind, Reading, Sets, extension_map, maps_of};
 use crate::Material;
-use crate::terms::{Clearcoat, Cutout, MaterialTerms, PbrMaterial, f0_of_ior};
+use crate::map_uv::MapUv;
+use crate::terms::{Clearcoat, Cutout, MaterialTerms, PbrMaterial, SpecularMaps, f0_of_ior};
 use relief_texture::decode::load::load_texture_from_bytes;
 use relief_texture::decode::size_cap;
 use relief_texture::normal_map_file::{FileNormalMap, tilt};
@@ -35,12 +39,14 @@ pub(super) struct Look {
     /// `baseColorFactor` (RGB): multiplies the vertex colours.
     pub base_color: Vec3,
     pub double_sided: bool,
-    /// The material has a normal map: the primitive needs tangents.
+    /// The material has a normal map (its own or its clearcoat's): the
+    /// primitive needs tangents.
     pub normal_mapped: bool,
+    /// The coordinates the tangents follow: the normal map's, else the
+    /// clearcoat's normal map's.
+    pub tangent_uv: MapUv,
     /// Emission, occlusion and the sampler's filter, when it has any.
     pub terms: Option<Arc<MaterialTerms>>,
-    /// Where its maps read their texture coordinates.
-    pub sets: Sets,
 }
 
 /// The model's materials, each built once when first used.
@@ -67,11 +73,13 @@ enum Product {
     Alpha,
     /// The normal map at a `scale` (its bits).
     Normal(u32),
-    /// The picture as it is, one level (metallic-roughness, emissive, and
-    /// occlusion from a picture read whole already).
+    /// The picture as it is, one level (metallic-roughness, emissive, the
+    /// specular colour, and any one-channel map of a picture read whole
+    /// already).
     Plain,
-    /// The red channel alone (occlusion).
-    Red,
+    /// One channel alone, in 16 bits (occlusion's red, the specular
+    /// strength's alpha, the clearcoat's red or green).
+    Channel(u8),
 }
 
 /// A made map's image, wrap modes and product.
@@ -108,11 +116,11 @@ struct Readings<'a> {
 }
 
 impl<'a> Readings<'a> {
-    fn new(m: &::gltf::Material<'a>) -> Self {
+    fn new(document: &'a ::gltf::Document, m: &::gltf::Material<'a>) -> Self {
         Readings {
-            material: Reading::of(m),
-            maps: maps_of(m),
-            sets: Sets::of(m),
+            material: Reading::of(document, m),
+            maps: maps_of(document, m),
+            sets: Sets::of(document, m),
         }
     }
 
@@ -161,18 +169,18 @@ impl<'a> Materials<'a> {
                 base_color: Vec3::ONE,
                 double_sided: false,
                 normal_mapped: false,
+                tangent_uv: MapUv::default(),
                 terms: Some(Arc::new(MaterialTerms {
                     pbr: Some(PbrMaterial::gltf_default()),
                     ..MaterialTerms::default()
                 })),
-                sets: Sets::default(),
             },
         };
         self.looks.insert(index, look.clone());
         Ok(look)
     }
 
-    fn build(&self, m: &::gltf::Material) -> Result<Look, Problem> {
+    fn build(&self, m: &::gltf::Material<'a>) -> Result<Look, Problem> {
         self.decode_ahead(m);
         let look = self.build_look(m);
         // What was decoded ahead and not taken (a map made already) goes now.
@@ -180,10 +188,10 @@ impl<'a> Materials<'a> {
         look
     }
 
-    fn build_look(&self, m: &::gltf::Material) -> Result<Look, Problem> {
+    fn build_look(&self, m: &::gltf::Material<'a>) -> Result<Look, Problem> {
         let pbr = m.pbr_metallic_roughness();
-        let readings = Readings::new(m);
-        // The maps read as they are come first and the normal map last: a
+        let readings = Readings::new(self.document, m);
+        // The maps read as they are come first and the normal maps last: a
         // normal map is made beside its picture, and by then the pictures
         // decoded ahead for the others are maps of their final size.
         let metal_rough = match pbr.metallic_roughness_texture() {
@@ -197,24 +205,42 @@ impl<'a> Materials<'a> {
         let occlusion = self.occlusion_map(m, &readings, &mut map_names)?;
         let emissive = emission(m);
         let emissive_map = self.emissive_map(m, emissive, &readings, &mut map_names)?;
+        let mut physical = reflectance(m);
+        self.specular_maps(m, &readings, &mut physical, &mut map_names)?;
+        if let Some(coat) = &mut physical.clearcoat {
+            self.coat_maps(m, &readings, coat, &mut map_names)?;
+        }
         // MASK draws the pixels whose alpha reaches the cutoff; BLEND and
         // transmission composite each pixel with its opacity.
         let opacity = opacity::of(m);
         let (texture, alpha_map) = self.colour_map(m, &readings, opacity.reads_alpha)?;
-        let normal_map = self.normal_map(m, &readings)?;
+        let normal_map = match m.normal_texture() {
+            Some(info) => {
+                self.normal_map(&info.texture(), info.scale(), &readings.of(Kind::Normal))?
+            }
+            None => None,
+        };
+        if let Some(coat) = &mut physical.clearcoat {
+            coat.normal = self.coat_normal_map(m, &readings, &mut map_names)?;
+        }
         let roughness = finite_unit(pbr.roughness_factor());
         let specular_map = Arc::new(match &metal_rough {
             Some(base) => gloss_map(base, roughness),
             None => Level::solid(1, 1, [gloss(roughness); 4]),
         });
+        let coat_normal = physical
+            .clearcoat
+            .as_ref()
+            .is_some_and(|c| c.normal.is_some());
         let physical = PbrMaterial {
             metallic: finite_unit(pbr.metallic_factor()),
             roughness,
             roughness_map: metal_rough.clone().map(|m| (m, 1)),
             metallic_map: metal_rough.map(|m| (m, 2)),
             normal: normal_map.as_ref().map(|m| m.given().clone()),
-            ..reflectance(m)
+            ..physical
         };
+        let uvs = readings.sets.uvs;
         let terms = MaterialTerms {
             cutout: cutout(&opacity, alpha_map),
             emissive,
@@ -222,14 +248,19 @@ impl<'a> Materials<'a> {
             occlusion,
             filter: readings.material.filter,
             map_names,
-            uvs: readings.sets.uvs,
+            uvs,
             pbr: Some(physical),
             unlit: m.extension_value("KHR_materials_unlit").is_some(),
             ..MaterialTerms::default()
         };
         let [r, g, b, _] = pbr.base_color_factor();
         Ok(Look {
-            normal_mapped: normal_map.is_some(),
+            normal_mapped: normal_map.is_some() || coat_normal,
+            tangent_uv: if normal_map.is_some() || !coat_normal {
+                uvs.normal
+            } else {
+                uvs.coat_normal
+            },
             material: Arc::new(Material {
                 texture,
                 specular_map: Some(specular_map),
@@ -238,9 +269,111 @@ impl<'a> Materials<'a> {
             }),
             base_color: Vec3::new(r, g, b),
             double_sided: m.double_sided(),
-            sets: readings.sets,
             terms: (terms != MaterialTerms::default()).then(|| Arc::new(terms)),
         })
+    }
+
+    /// `KHR_materials_specular`'s textures into `pbr` (the factors are
+    /// there already): the strength's alpha kept alone, the colour as the
+    /// picture is. A weight of 0 reads neither (nothing is reflected), a
+    /// black colour factor not the colour map, a picture without alpha not
+    /// the strength (its alpha is 1).
+    fn specular_maps(
+        &self,
+        m: &::gltf::Material<'a>,
+        readings: &Readings,
+        pbr: &mut PbrMaterial,
+        names: &mut Vec<(&'static str, String)>,
+    ) -> Result<(), Problem> {
+        let ext = "KHR_materials_specular";
+        let f0_colour = specular_colour(m);
+        if pbr.specular_weight == 0.0 {
+            return Ok(());
+        }
+        let mut strength = None;
+        if let Some((texture, _)) = extension_map(self.document, m, ext, "specularTexture")
+            && self.image_has_alpha(&texture)?
+        {
+            let reading = readings.of(Kind::SpecularStrength);
+            strength = Some(self.channel_map(&texture, &reading, 3)?);
+            names.push(("spec. str", self.map_name(&texture)?));
+        }
+        let mut colour = None;
+        if let Some((texture, _)) = extension_map(self.document, m, ext, "specularColorTexture")
+            && f0_colour.max_element() > 0.0
+        {
+            colour = Some(self.plain_map(&texture, &readings.of(Kind::SpecularColour))?);
+            names.push(("spec. col", self.map_name(&texture)?));
+        }
+        if strength.is_some() || colour.is_some() {
+            pbr.specular_maps = Some(SpecularMaps {
+                f0_colour,
+                // Read from the red channel: kept alone.
+                strength: strength.map(|(level, _)| level),
+                colour,
+            });
+        }
+        Ok(())
+    }
+
+    /// `KHR_materials_clearcoat`'s intensity (red) and roughness (green)
+    /// maps into `coat`: one picture read the same way for both is kept
+    /// whole and read once; otherwise each channel alone. A roughness
+    /// factor of 0 reads no roughness map.
+    fn coat_maps(
+        &self,
+        m: &::gltf::Material<'a>,
+        readings: &Readings,
+        coat: &mut Clearcoat,
+        names: &mut Vec<(&'static str, String)>,
+    ) -> Result<(), Problem> {
+        let ext = "KHR_materials_clearcoat";
+        let factor = extension_map(self.document, m, ext, "clearcoatTexture");
+        let rough = extension_map(self.document, m, ext, "clearcoatRoughnessTexture")
+            .filter(|_| coat.roughness > 0.0);
+        let (r_factor, r_rough) = (readings.of(Kind::Coat), readings.of(Kind::CoatRoughness));
+        if let (Some((a, _)), Some((b, _))) = (&factor, &rough)
+            && self.image_of(a)?.index() == self.image_of(b)?.index()
+            && r_factor == r_rough
+        {
+            let whole = self.plain_map(a, &r_factor)?;
+            coat.factor_map = Some((whole.clone(), 0));
+            coat.roughness_map = Some((whole, 1));
+            names.push(("coat", self.map_name(a)?));
+            return Ok(());
+        }
+        if let Some((texture, _)) = factor {
+            coat.factor_map = Some(self.channel_map(&texture, &r_factor, 0)?);
+            names.push(("coat", self.map_name(&texture)?));
+        }
+        if let Some((texture, _)) = rough {
+            coat.roughness_map = Some(self.channel_map(&texture, &r_rough, 1)?);
+            names.push(("coat rough", self.map_name(&texture)?));
+        }
+        Ok(())
+    }
+
+    /// `clearcoatNormalTexture` with its `scale` (default 1; 0: none).
+    fn coat_normal_map(
+        &self,
+        m: &::gltf::Material<'a>,
+        readings: &Readings,
+        names: &mut Vec<(&'static str, String)>,
+    ) -> Result<Option<Arc<relief_texture::NormalMap>>, Problem> {
+        let ext = "KHR_materials_clearcoat";
+        let Some((texture, json)) = extension_map(self.document, m, ext, "clearcoatNormalTexture")
+        else {
+            return Ok(None);
+        };
+        let scale = json
+            .get("scale")
+            .and_then(|v| v.as_f64())
+            .map_or(1.0, |v| v as f32);
+        let map = self.normal_map(&texture, scale, &readings.of(Kind::CoatNormal))?;
+        if map.is_some() {
+            names.push(("coat norm", self.map_name(&texture)?));
+        }
+        Ok(map.map(|m| m.given().clone()))
     }
 
     /// The colour texture (heights flat: glTF's alpha is opacity) and, when
@@ -298,26 +431,23 @@ impl<'a> Materials<'a> {
         Ok((colour, alpha))
     }
 
-    /// The file's normal map with its `scale` applied (scale 0: none).
+    /// A normal map of `texture` with its `scale` applied (scale 0: none):
+    /// the material's, or its clearcoat's (one map when both read the same
+    /// picture at the same scale).
     fn normal_map(
         &self,
-        m: &::gltf::Material,
-        readings: &Readings,
+        texture: &::gltf::Texture,
+        scale: f32,
+        reading: &Reading,
     ) -> Result<Option<Arc<FileNormalMap>>, Problem> {
-        let Some(info) = m.normal_texture() else {
-            return Ok(None);
-        };
-        let scale = info.scale();
         if scale == 0.0 || !scale.is_finite() {
             return Ok(None);
         }
-        let texture = info.texture();
-        let reading = readings.of(Kind::Normal);
-        let key = self.key(&texture, &reading, Product::Normal(scale.to_bits()))?;
+        let key = self.key(texture, reading, Product::Normal(scale.to_bits()))?;
         if let Some(Made::Normal(map)) = self.made(key) {
             return Ok(Some(map));
         }
-        let image = self.image_of(&texture)?;
+        let image = self.image_of(texture)?;
         let name = self.image_name(&image);
         let decoded = match self.take_ready(&image) {
             Some(t) => t,
@@ -356,11 +486,7 @@ impl<'a> Materials<'a> {
         let reading = readings.of(Kind::Occlusion);
         // Only the red channel counts, unless the picture is a map read
         // whole already (an occlusion-roughness-metallic picture).
-        let whole = self.key(&texture, &reading, Product::Plain)?;
-        let map = match self.made(whole).and_then(Made::into_level) {
-            Some(level) => level,
-            None => self.red_map(&texture, &reading)?,
-        };
+        let (map, _red) = self.channel_map(&texture, &reading, 0)?;
         names.push(("occlusion", self.map_name(&texture)?));
         Ok(Some((map, strength.clamp(0.0, 1.0))))
     }
@@ -417,24 +543,43 @@ impl<'a> Materials<'a> {
         ))
     }
 
-    /// A picture's red channel alone, in 16 bits: an 8-bit red k is kept as
-    /// 257·k, which reads back as k / 255 exactly.
-    fn red_map(&self, texture: &::gltf::Texture, reading: &Reading) -> Result<Arc<Level>, Problem> {
-        let key = self.key(texture, reading, Product::Red)?;
-        if let Some(level) = self.made(key).and_then(Made::into_level) {
-            return Ok(level);
+    /// Channel `k` of a picture, and the channel to read: the picture whole
+    /// when a map reads it whole already (an occlusion-roughness-metallic
+    /// picture) and `k` is a colour channel, else that channel alone in 16 bits (an 8-bit k as 257·k,
+    /// which reads back as k / 255 exactly), read as its red. The budget
+    /// holds the channel's texels before they are made, beside the picture
+    /// they are made from.
+    fn channel_map(
+        &self,
+        texture: &::gltf::Texture,
+        reading: &Reading,
+        k: usize,
+    ) -> Result<(Arc<Level>, usize), Problem> {
+        // The packet read gives R, G and B: an alpha is always kept alone.
+        let whole = self.key(texture, reading, Product::Plain)?;
+        if k < 3
+            && let Some(level) = self.made(whole).and_then(Made::into_level)
+        {
+            return Ok((level, k));
         }
-        let base = self.decode(texture, reading)?.texture.into_base();
-        let red = Level {
+        let key = self.key(texture, reading, Product::Channel(k as u8))?;
+        if let Some(level) = self.made(key).and_then(Made::into_level) {
+            return Ok((level, 0));
+        }
+        let decoded = self.decode(texture, reading)?.texture;
+        let base = decoded.base();
+        let what = format!("a {}x{} map", base.width, base.height);
+        let _held = relief_core::budget::reserve(&what, base.texels.channel_grey_bytes())
+            .map_err(|e| e.to_string())?;
+        let channel = Arc::new(Level {
             wrap: base.wrap,
             width: base.width,
             height: base.height,
-            texels: base.texels.first_channel_grey(),
-        };
-        drop(base);
-        let red = Arc::new(red);
-        self.keep(key, Made::Level(red.clone()));
-        Ok(red)
+            texels: base.texels.channel_grey(k),
+        });
+        drop(decoded);
+        self.keep(key, Made::Level(channel.clone()));
+        Ok((channel, 0))
     }
 
     /// Where a map made from `texture` read this way is kept.
@@ -501,7 +646,7 @@ impl<'a> Materials<'a> {
     /// textured model takes to load. An image that fails is left to
     /// `build`, which says why; the picture size cap in force
     /// (`size_cap`) holds on every core.
-    fn decode_ahead(&self, m: &::gltf::Material) {
+    fn decode_ahead(&self, m: &::gltf::Material<'a>) {
         use rayon::prelude::*;
         let pbr = m.pbr_metallic_roughness();
         // The maps `build` reads (a zero scale, strength or emission reads none).
@@ -520,6 +665,7 @@ impl<'a> Materials<'a> {
         ]
         .into_iter()
         .flatten()
+        .chain(self.extension_textures(m))
         .filter_map(|t| self.image_of(&t).ok())
         .filter(|image| !self.any_made_from(image.index()))
         .collect();
@@ -543,6 +689,24 @@ impl<'a> Materials<'a> {
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .extend(decoded);
+    }
+
+    /// The extensions' textures `build` reads: none of a layer that is not
+    /// there (a clearcoat factor of 0) or reflects nothing (a specular
+    /// weight of 0).
+    fn extension_textures(&self, m: &::gltf::Material<'a>) -> Vec<::gltf::Texture<'a>> {
+        let pbr = reflectance(m);
+        let keep = |ext: &str| match ext {
+            "KHR_materials_specular" => pbr.specular_weight > 0.0,
+            "KHR_materials_clearcoat" => pbr.clearcoat.is_some(),
+            _ => true,
+        };
+        super::sampling::EXTENSION_MAPS
+            .iter()
+            .filter(|(_, ext, _)| keep(ext))
+            .filter_map(|(_, ext, key)| extension_map(self.document, m, ext, key))
+            .map(|(texture, _)| texture)
+            .collect()
     }
 
     /// The image `texture` reads: its WebP image when it names one
@@ -675,22 +839,21 @@ fn gloss_map(metal_rough: &Level, roughness: f32) -> Level {
     }
 }
 
-/// A material's dielectric reflectance (`KHR_materials_ior`,
-/// `KHR_materials_specular`'s factors), the rest glTF's default: F0 =
-/// min(f0(ior)·specularColorFactor, 1)·specularFactor and F90 =
-/// specularFactor, as the Khronos sample renderer layers them; and the
-/// clearcoat layer's factor and roughness (`KHR_materials_clearcoat`).
-/// The extensions' textures are not read (`skipped` names them).
-fn reflectance(m: &::gltf::Material) -> PbrMaterial {
-    let number = |ext: &str, key: &str, default: f32| {
-        m.extension_value(ext)
-            .and_then(|e| e.get(key))
-            .and_then(|v| v.as_f64())
-            .map(|v| v as f32)
-            .filter(|v| v.is_finite())
-            .unwrap_or(default)
-    };
-    let f0 = f0_of_ior(number("KHR_materials_ior", "ior", 1.5));
+/// A number of material `m`'s extension `ext` (missing or not finite:
+/// `default`).
+fn extension_number(m: &::gltf::Material, ext: &str, key: &str, default: f32) -> f32 {
+    m.extension_value(ext)
+        .and_then(|e| e.get(key))
+        .and_then(|v| v.as_f64())
+        .map(|v| v as f32)
+        .filter(|v| v.is_finite())
+        .unwrap_or(default)
+}
+
+/// f0 of `KHR_materials_ior`'s index times `KHR_materials_specular`'s
+/// `specularColorFactor` (each channel ≥ 0), before the clamp to 1.
+fn specular_colour(m: &::gltf::Material) -> Vec3 {
+    let f0 = f0_of_ior(extension_number(m, "KHR_materials_ior", "ior", 1.5));
     let colour = m
         .extension_value("KHR_materials_specular")
         .and_then(|e| e.get("specularColorFactor"))
@@ -699,14 +862,26 @@ fn reflectance(m: &::gltf::Material) -> PbrMaterial {
         .map(|a| Vec3::from_array([0, 1, 2].map(|k| a[k].as_f64().unwrap_or(1.0) as f32)))
         .filter(|c| c.is_finite())
         .map_or(Vec3::ONE, |c| c.max(Vec3::ZERO));
-    let weight = number("KHR_materials_specular", "specularFactor", 1.0).clamp(0.0, 1.0);
+    f0 * colour
+}
+
+/// A material's dielectric reflectance (`KHR_materials_ior`,
+/// `KHR_materials_specular`'s factors), the rest glTF's default: F0 =
+/// min(f0(ior)·specularColorFactor, 1)·specularFactor and F90 =
+/// specularFactor, as the Khronos sample renderer layers them; and the
+/// clearcoat layer's factor and roughness (`KHR_materials_clearcoat`).
+/// The extensions' textures are added by `Materials::specular_maps` and
+/// `Materials::coat_maps`.
+fn reflectance(m: &::gltf::Material) -> PbrMaterial {
+    let weight =
+        extension_number(m, "KHR_materials_specular", "specularFactor", 1.0).clamp(0.0, 1.0);
     // f0 ≤ 1, so a white colour and a weight of 1 leave it exact.
-    let dielectric_f0 = (f0 * colour).min(Vec3::ONE) * weight;
-    let coat = number("KHR_materials_clearcoat", "clearcoatFactor", 0.0).clamp(0.0, 1.0);
-    let clearcoat = (coat > 0.0).then(|| Clearcoat {
-        factor: coat,
-        roughness: number("KHR_materials_clearcoat", "clearcoatRoughnessFactor", 0.0)
-            .clamp(0.0, 1.0),
+    let dielectric_f0 = specular_colour(m).min(Vec3::ONE) * weight;
+    let coat_ext = "KHR_materials_clearcoat";
+    let coat = extension_number(m, coat_ext, "clearcoatFactor", 0.0).clamp(0.0, 1.0);
+    let clearcoat = (coat > 0.0).then(|| {
+        let roughness = extension_number(m, coat_ext, "clearcoatRoughnessFactor", 0.0);
+        Clearcoat::of_factors(coat, roughness.clamp(0.0, 1.0))
     });
     PbrMaterial {
         dielectric_f0,

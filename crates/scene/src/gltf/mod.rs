@@ -213,7 +213,13 @@ fn read_primitives(
                 rigged && stroke_mode(prim.mode()).is_none(),
                 quantized,
             );
-            let mut read = read_primitive(&prim, placing, buffers, &place, (name, &mut *model))?;
+            let mut read = read_primitive(
+                (document, &prim),
+                placing,
+                buffers,
+                &place,
+                (name, &mut *model),
+            )?;
             if placing.posed {
                 let joints = inst
                     .skin
@@ -585,7 +591,7 @@ struct PrimStrokes {
 /// Reads one primitive into its place (`placing`): every accessor checked
 /// and every array reserved before it is read.
 fn read_primitive(
-    prim: &::gltf::Primitive,
+    (document, prim): (&::gltf::Document, &::gltf::Primitive),
     placing: Placing,
     buffers: &[Vec<u8>],
     place: &str,
@@ -594,7 +600,7 @@ fn read_primitive(
     check_accessors(prim, buffers, placing.quantized, place)?;
     let stroke = stroke_mode(prim.mode());
     let material = prim.material();
-    let sets = sampling::Sets::of(&material);
+    let sets = sampling::Sets::of(document, &material);
     let mut vertices = read_positions(prim, buffers, placing.world, place, (name, held))?;
     let n = vertices.len();
     check_counts(prim, &sets, n, place)?;
@@ -974,8 +980,9 @@ fn build_mesh(
     // No normals: flat ones, so each corner is its own vertex (glTF 2.0 §3.7.2.1).
     let flat = !prim.has_normals;
     // The normal map's tangents are those of its own coordinates (glTF 2.0
-    // §3.7.2.1), which may be another set or transform than the colour's.
-    let normal_uv = look.sets.uvs.normal;
+    // §3.7.2.1), which may be another set or transform than the colour's
+    // (the clearcoat's normal map's when the material has only that one).
+    let normal_uv = look.tangent_uv;
     let has_normal_set = if normal_uv.second {
         !prim.uv2.is_empty()
     } else {

@@ -6,8 +6,8 @@
 //! no map is laid out larger than it is); its coordinate is its set
 //! through its texture transform, one affine matrix (`Reading::matrix`):
 //! - the material's first texture (base colour, else normal, occlusion,
-//!   emissive, metallic-roughness) decides the set stored in the vertices'
-//!   UVs, and its matrix is applied to them when loading (interpolating
+//!   emissive, metallic-roughness, then the extensions' maps in the order
+//!   of [`maps_of`]) decides the set stored in the vertices' UVs, and its matrix is applied to them when loading (interpolating
 //!   transformed UVs is transforming interpolated ones), at no cost per
 //!   pixel;
 //! - a map on another set reads the mesh's second set, stored only for such
@@ -56,6 +56,56 @@ pub enum Kind {
     Occlusion,
     Emissive,
     MetallicRoughness,
+    /// `KHR_materials_specular`'s `specularTexture` (its alpha).
+    SpecularStrength,
+    /// `KHR_materials_specular`'s `specularColorTexture`.
+    SpecularColour,
+    /// `KHR_materials_clearcoat`'s `clearcoatTexture` (its red).
+    Coat,
+    /// `KHR_materials_clearcoat`'s `clearcoatRoughnessTexture` (its green).
+    CoatRoughness,
+    /// `KHR_materials_clearcoat`'s `clearcoatNormalTexture`.
+    CoatNormal,
+}
+
+/// The material extensions' maps relief draws: (kind, extension, key).
+pub const EXTENSION_MAPS: &[(Kind, &str, &str)] = &[
+    (
+        Kind::SpecularStrength,
+        "KHR_materials_specular",
+        "specularTexture",
+    ),
+    (
+        Kind::SpecularColour,
+        "KHR_materials_specular",
+        "specularColorTexture",
+    ),
+    (Kind::Coat, "KHR_materials_clearcoat", "clearcoatTexture"),
+    (
+        Kind::CoatRoughness,
+        "KHR_materials_clearcoat",
+        "clearcoatRoughnessTexture",
+    ),
+    (
+        Kind::CoatNormal,
+        "KHR_materials_clearcoat",
+        "clearcoatNormalTexture",
+    ),
+];
+
+/// A texture reference (`textureInfo`) inside material `m`'s extension
+/// `ext` under `key`: the texture it names and the reference's JSON. None
+/// when absent, or when its index names no texture of `document` (the map
+/// is then not drawn: the extension's factor acts alone).
+pub fn extension_map<'a>(
+    document: &'a ::gltf::Document,
+    m: &::gltf::Material<'a>,
+    ext: &str,
+    key: &str,
+) -> Option<(::gltf::Texture<'a>, ::gltf::json::Value)> {
+    let info = m.extension_value(ext)?.get(key)?;
+    let index = usize::try_from(info.get("index")?.as_u64()?).ok()?;
+    Some((document.textures().nth(index)?, info.clone()))
 }
 
 /// One texture reference of a material, whatever its kind.
@@ -67,8 +117,9 @@ pub struct MapRef<'a> {
     pub transform: Option<::gltf::json::Value>,
 }
 
-/// A material's texture references, base colour first.
-pub fn maps_of<'a>(m: &::gltf::Material<'a>) -> Vec<MapRef<'a>> {
+/// A material's texture references, base colour first, then the core
+/// maps, then the extensions' ([`EXTENSION_MAPS`]).
+pub fn maps_of<'a>(document: &'a ::gltf::Document, m: &::gltf::Material<'a>) -> Vec<MapRef<'a>> {
     let ext = "KHR_texture_transform";
     let pbr = m.pbr_metallic_roughness();
     let info = |kind: Kind, i: ::gltf::texture::Info<'a>| MapRef {
@@ -96,14 +147,28 @@ pub fn maps_of<'a>(m: &::gltf::Material<'a>) -> Vec<MapRef<'a>> {
         pbr.metallic_roughness_texture()
             .map(|i| info(Kind::MetallicRoughness, i)),
     );
+    for &(kind, extension, key) in EXTENSION_MAPS {
+        if let Some((texture, json)) = extension_map(document, m, extension, key) {
+            out.push(MapRef {
+                kind,
+                texture,
+                tex_coord: json
+                    .get("texCoord")
+                    .and_then(|v| v.as_u64())
+                    .and_then(|v| u32::try_from(v).ok())
+                    .unwrap_or(0),
+                transform: json.get("extensions").and_then(|e| e.get(ext)).cloned(),
+            });
+        }
+    }
     out
 }
 
 impl Reading {
     /// How material `m`'s first texture is read (its filter is the
     /// material's).
-    pub fn of(m: &::gltf::Material) -> Reading {
-        maps_of(m)
+    pub fn of(document: &::gltf::Document, m: &::gltf::Material) -> Reading {
+        maps_of(document, m)
             .first()
             .map_or_else(Reading::default, Reading::of_map)
     }
@@ -159,8 +224,8 @@ pub struct Sets {
 }
 
 impl Sets {
-    pub fn of(m: &::gltf::Material) -> Sets {
-        let readings: Vec<(Kind, Reading)> = maps_of(m)
+    pub fn of(document: &::gltf::Document, m: &::gltf::Material) -> Sets {
+        let readings: Vec<(Kind, Reading)> = maps_of(document, m)
             .iter()
             .map(|r| (r.kind, Reading::of_map(r)))
             .collect();
@@ -187,6 +252,11 @@ impl Sets {
                 Kind::Occlusion => uvs.occlusion = map,
                 Kind::Emissive => uvs.emissive = map,
                 Kind::MetallicRoughness => uvs.specular = map,
+                Kind::SpecularStrength => uvs.specular_strength = map,
+                Kind::SpecularColour => uvs.specular_colour = map,
+                Kind::Coat => uvs.coat = map,
+                Kind::CoatRoughness => uvs.coat_roughness = map,
+                Kind::CoatNormal => uvs.coat_normal = map,
             }
         }
         Sets { first, second, uvs }

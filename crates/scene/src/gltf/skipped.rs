@@ -1,7 +1,8 @@
 //! What relief draws a glTF file without, named once in one plain line
 //! (docs/models.md, "What is not drawn"): the extensions the file uses
-//! that relief does not read, its orthographic cameras, maps on a third texture coordinate set (only two are
-//! stored per primitive: such a map reads the first), and the textures of `KHR_materials_specular` and `KHR_materials_clearcoat`.
+//! that relief does not read, its orthographic cameras, and maps on a third
+//! texture coordinate set (only two are stored per primitive: such a map
+//! reads the first).
 
 use super::sampling::{Reading, maps_of};
 
@@ -37,7 +38,7 @@ pub(super) fn note(name: &str, document: &::gltf::Document) -> Option<String> {
     count(orthographic, "orthographic camera", "orthographic cameras");
     let third = document
         .materials()
-        .filter(|m| third_set(m))
+        .filter(|m| third_set(document, m))
         .filter_map(|m| m.index())
         .map(|i| format!("materials[{i}]"))
         .collect::<Vec<_>>();
@@ -46,30 +47,6 @@ pub(super) fn note(name: &str, document: &::gltf::Document) -> Option<String> {
             "a third texture coordinate set ({}: its maps read the first)",
             third.join(", ")
         ));
-    }
-    for (ext, layer, maps) in [
-        (
-            "KHR_materials_specular",
-            "specular",
-            &["specularTexture", "specularColorTexture"][..],
-        ),
-        (
-            "KHR_materials_clearcoat",
-            "clearcoat",
-            &[
-                "clearcoatTexture",
-                "clearcoatRoughnessTexture",
-                "clearcoatNormalTexture",
-            ][..],
-        ),
-    ] {
-        let with_maps = materials_with_maps(document, ext, maps);
-        if !with_maps.is_empty() {
-            parts.push(format!(
-                "the {layer} textures of {} (their factors are used)",
-                with_maps.join(", ")
-            ));
-        }
     }
     let skipped: Vec<String> = document
         .extensions_used()
@@ -87,23 +64,12 @@ pub(super) fn note(name: &str, document: &::gltf::Document) -> Option<String> {
     (!parts.is_empty()).then(|| format!("model {name}: drawn without {}", parts.join("; ")))
 }
 
-/// The materials (as `materials[i]`) whose extension `ext` names any of
-/// the textures `maps`.
-fn materials_with_maps(document: &::gltf::Document, ext: &str, maps: &[&str]) -> Vec<String> {
-    document
-        .materials()
-        .filter(|m| {
-            m.extension_value(ext)
-                .is_some_and(|e| maps.iter().any(|k| e.get(*k).is_some()))
-        })
-        .filter_map(|m| m.index())
-        .map(|i| format!("materials[{i}]"))
-        .collect()
-}
-
 /// Whether material `m`'s maps read more than two texture coordinate sets.
-fn third_set(m: &::gltf::Material) -> bool {
-    let mut sets: Vec<u32> = maps_of(m).iter().map(|r| Reading::of_map(r).set).collect();
+fn third_set(document: &::gltf::Document, m: &::gltf::Material) -> bool {
+    let mut sets: Vec<u32> = maps_of(document, m)
+        .iter()
+        .map(|r| Reading::of_map(r).set)
+        .collect();
     sets.sort_unstable();
     sets.dedup();
     sets.len() > 2

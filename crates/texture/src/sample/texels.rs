@@ -449,14 +449,37 @@ impl Texels {
     /// Each texel's first channel (a picture's red) alone, in 16 bits: an
     /// 8-bit red k is kept as 257·k, which reads back as k / 255 exactly.
     pub fn first_channel_grey(&self) -> Texels {
+        self.channel_grey(0)
+    }
+
+    /// Each texel's channel `k` (0 red … 3 alpha) alone, in 16 bits (read
+    /// back in all four channels): an 8-bit k as 257·k, which
+    /// reads back as k / 255 exactly; f32 texels stay f32. An 8-bit picture
+    /// without alpha (`Rgb8`, whose fourth byte is not alpha) reads 1 as
+    /// its alpha, as an opaque picture's.
+    pub fn channel_grey(&self, k: usize) -> Texels {
         match self.compact() {
+            Texels::Rgb8(_) if k == 3 => Texels::Grey16(vec![u16::MAX; self.len()]),
             Texels::Rgba8(v) | Texels::Rgb8(v) => {
-                Texels::Grey16(v.iter().map(|t| u16::from(t[0]) * 257).collect())
+                Texels::Grey16(v.iter().map(|t| u16::from(t[k]) * 257).collect())
             }
-            Texels::Rgba16(v) => Texels::Grey16(v.iter().map(|t| t[0]).collect()),
-            other => Texels::F32(other.iter().map(|t| [t[0]; 4]).collect()),
+            Texels::Rgba16(v) => Texels::Grey16(v.iter().map(|t| t[k]).collect()),
+            other => Texels::F32(other.iter().map(|t| [t[k]; 4]).collect()),
         }
         .widened_if_small()
+    }
+
+    /// Bytes [`Texels::channel_grey`] of these texels takes (its f32 copy
+    /// when small included), known before it is made.
+    pub fn channel_grey_bytes(&self) -> u64 {
+        let n = self.len() as u64;
+        match self.compact() {
+            Texels::Rgba8(_) | Texels::Rgb8(_) | Texels::Rgba16(_) => {
+                let copy = if self.len() <= WIDE_TEXELS { 16 } else { 0 };
+                n * (2 + copy)
+            }
+            _ => n * 16,
+        }
     }
 
     /// The storage that decides what the texels are: the compact texels of
