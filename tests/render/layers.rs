@@ -467,11 +467,13 @@ fn the_sheen_maps_scale_the_colour_and_the_roughness() {
 /// The white furnace: under a uniform environment of radiance 1 and no
 /// light, a white dielectric under a white sheen sends back at most 1,
 /// whatever the base's and the sheen's roughness and the angle it is seen
-/// at (exposure ½ keeps the result below the clamp, so an excess would
+/// at, with the irradiance from the spherical harmonics or the integrated
+/// map (exposure ½ keeps the result below the clamp, so an excess would
 /// show): the sheen takes max(colour)·E(N·V) of the base and gives back
 /// colour·E(N·V) × the irradiance, which is 1 here.
 #[test]
 fn a_sheen_in_a_white_furnace_reflects_at_most_its_input() {
+    use relief_core::settings::IblDiffuse;
     use relief_texture::environment::Environment;
     for roughness in [0.3, 1.0] {
         for sheen_roughness in [0.0, 0.3, 0.6, 1.0] {
@@ -486,15 +488,19 @@ fn a_sheen_in_a_white_furnace_reflects_at_most_its_input() {
                 32,
                 |_| glam::Vec3::ONE,
             )));
-            for turn in [0.0, 30.0, 50.0, 70.0, 80.0] {
+            for (turn, diffuse) in [0.0, 30.0, 50.0, 70.0, 80.0]
+                .into_iter()
+                .flat_map(|t| [(t, IblDiffuse::Sh), (t, IblDiffuse::Integrated)])
+            {
                 let mut settings = facing();
                 settings.rotation.y = turn;
                 settings.exposure = 0.5;
+                settings.ibl_diffuse = diffuse;
                 let got = centre(&draw(&scene, &settings, 120, 90));
                 let most = srgb8(0.5) as i32 + 1;
                 assert!(
                     got.iter().all(|&c| c as i32 <= most),
-                    "{roughness} {sheen_roughness} {turn}: {got:?}"
+                    "{roughness} {sheen_roughness} {turn} {diffuse:?}: {got:?}"
                 );
             }
         }

@@ -49,7 +49,7 @@ pub enum SceneVariant {
     /// lights alone, against the truth lit by them alone.
     NoEnvironment,
     /// A model view's first object skinned to two joints
-    /// (`physical::skinned`): its pictures are the rest pose's, and the
+    /// (`skinned::skinned`): its pictures are the rest pose's, and the
     /// timed frames pose it at a new instant each.
     Skinned,
 }
@@ -75,7 +75,7 @@ impl SceneVariant {
                 }
             }
             SceneVariant::NoEnvironment => scene.ambient = Vec3::ZERO,
-            SceneVariant::Skinned => scene = super::physical::skinned(&scene),
+            SceneVariant::Skinned => scene = super::skinned::skinned(&scene),
         }
         scene
     }

@@ -19,6 +19,7 @@ pub mod reference;
 pub mod report;
 pub mod resolve;
 pub mod runner;
+pub mod skinned;
 pub mod terminal;
 pub mod truth;
 

@@ -12,17 +12,13 @@
 
 use std::sync::Arc;
 
-use glam::{Mat4, Quat, Vec3};
+use glam::Vec3;
 
 use super::config::{Config, SceneVariant, Threads};
 use super::runner::Plan;
-use relief_core::settings::{AntiAlias, Settings, ToneMap};
-use relief_scene::anim::sampler::{Interpolation, Sampler};
-use relief_scene::anim::{
-    Channel, Clip, Influences, Local, Motion, Node, PartRig, Rig, Skin, Target,
-};
+use relief_core::settings::{AntiAlias, IblDiffuse, IblSpecular, Settings, ToneMap};
+use relief_scene::Scene;
 use relief_scene::terms::{MaterialTerms, PbrMaterial};
-use relief_scene::{Scene, Vertex};
 use relief_texture::{Level, Texture};
 
 /// The sphere's base colour (linear): a warm gold, so metal and paint
@@ -82,91 +78,15 @@ pub fn scene() -> Scene {
     scene.into_model_view()
 }
 
-/// How far the skinned sphere's upper half turns about Z over
-/// `BEND_SECONDS`, in degrees.
-const BEND_DEGREES: f32 = 40.0;
-const BEND_SECONDS: f32 = 2.0;
-
-/// `scene`'s sphere skinned to two joints at its centre, the upper one
-/// turning `BEND_DEGREES` about Z over its one clip, the weights blending
-/// across the equator (|y| < 0.3); shown at the clip's start, its rest
-/// pose, so its pictures are the sphere's.
-pub fn skinned(scene: &Scene) -> Scene {
-    let mut scene = scene.clone();
-    let rest = scene.objects[0].mesh.vertices.clone();
-    let rig = bend_rig(
-        rest,
-        |y| ((y + 0.3) / 0.6).clamp(0.0, 1.0),
-        BEND_DEGREES,
-        BEND_SECONDS,
-    );
-    let mut motion = Motion::new(rig);
-    motion.show(&mut scene.objects, Some(0), 0.0);
-    scene.motion = Some(motion);
-    scene
-}
-
-/// A rig for one object of vertices `rest`: two joints at the origin,
-/// the second, child of the first, turning `degrees` about Z over
-/// `seconds` in the one clip ("bend"); a vertex at height y follows the
-/// second joint with weight `upper(y)` and the first with the rest.
-pub fn bend_rig(rest: Vec<Vertex>, upper: impl Fn(f32) -> f32, degrees: f32, seconds: f32) -> Rig {
-    let influences = Influences {
-        sets: 1,
-        joints: vec![[0, 1, 0, 0]; rest.len()],
-        weights: rest
-            .iter()
-            .map(|v| upper(v.position.y))
-            .map(|w| [1.0 - w, w, 0.0, 0.0])
-            .collect(),
-    };
-    let turn = |deg: f32| Quat::from_rotation_z(deg.to_radians()).to_array();
-    let node = |parent| Node {
-        parent,
-        rest: Local::Trs {
-            translation: Vec3::ZERO,
-            rotation: Quat::IDENTITY,
-            scale: Vec3::ONE,
-        },
-        weights: Vec::new(),
-    };
-    Rig {
-        nodes: vec![node(None), node(Some(0)), node(None)],
-        order: vec![0, 1, 2],
-        clips: vec![Clip {
-            name: "bend".into(),
-            duration: seconds,
-            channels: vec![Channel {
-                node: 1,
-                target: Target::Rotation,
-                sampler: Sampler {
-                    times: vec![0.0, seconds],
-                    values: [turn(0.0), turn(degrees)].concat(),
-                    width: 4,
-                    interpolation: Interpolation::Linear,
-                },
-            }],
-        }],
-        skins: vec![Skin {
-            joints: vec![0, 1],
-            inverse_bind: vec![Mat4::IDENTITY; 2],
-        }],
-        parts: vec![PartRig {
-            node: Some(2),
-            skin: Some(0),
-            rest,
-            source: Vec::new(),
-            targets: Vec::new(),
-            influences,
-            flat: false,
-        }],
-        fit: Mat4::IDENTITY,
-    }
-}
-
 /// The rows of `relief bench --physical`.
 pub fn rows() -> Vec<Config> {
     let r = Settings::default();
+    // The environment's light without either approximation.
+    let exact = Settings {
+        ibl_diffuse: IblDiffuse::Integrated,
+        ibl_specular: IblSpecular::Sampled,
+        ..r
+    };
     let row = |name: &str, settings: Settings| Config::new(name, settings, Threads::All);
     vec![
         row("metallic-roughness", r),
@@ -181,6 +101,21 @@ pub fn rows() -> Vec<Config> {
                 },
             )
         },
+        row(
+            "ibl-diffuse=integrated",
+            Settings {
+                ibl_diffuse: IblDiffuse::Integrated,
+                ..r
+            },
+        ),
+        row(
+            "ibl-specular=sampled",
+            Settings {
+                ibl_specular: IblSpecular::Sampled,
+                ..r
+            },
+        ),
+        row("ibl-diffuse=integrated, ibl-specular=sampled", exact),
         Config {
             variant: SceneVariant::NoEnvironment,
             ..row("lights only (no environment)", r)
@@ -208,6 +143,13 @@ pub fn rows() -> Vec<Config> {
             Settings {
                 aa: AntiAlias::Ssaa4,
                 ..r
+            },
+        ),
+        row(
+            "aa=4x4, ibl-diffuse=integrated, ibl-specular=sampled",
+            Settings {
+                aa: AntiAlias::Ssaa4,
+                ..exact
             },
         ),
     ]
@@ -244,11 +186,12 @@ mod tests {
         assert!((texel(32, 63)[1] - 0.95).abs() < 0.01 && texel(32, 63)[2] == 0.0);
     }
 
-    /// The skinned sphere shows its rest pose at the clip's start; at its
+    /// The skinned sphere (`crate::skinned`) shows its rest pose at the clip's start; at its
     /// end the north pole has turned `BEND_DEGREES` about Z and the south
     /// pole has not moved.
     #[test]
     fn the_skinned_sphere_rests_then_bends_its_upper_half() {
+        use crate::skinned::{BEND_DEGREES, BEND_SECONDS, skinned};
         let plain = scene();
         let mut skinned = skinned(&plain);
         let before = &plain.objects[0].mesh.vertices;

@@ -195,7 +195,7 @@ fn field(s: &str) -> String {
 pub fn csv(report: &Report) -> String {
     let mut out = String::from(
         "index,configuration,threads,shading,normals,texture,filter,bump,technique,\
-         height_derivative,light_vector,aa,scene,frames,median_ms,p10_ms,p90_ms,\
+         height_derivative,light_vector,aa,specular,tone_map,scene,frames,median_ms,p10_ms,p90_ms,\
          pixels_per_frame,pixels_per_second,psnr_db,max_error,ssim,truth,truth_psnr_db,self_psnr_db,self_max_error,bytes_truecolor,bytes_256,plan_ms,raster_ms,pareto\n",
     );
     let front = report.front();
@@ -215,6 +215,8 @@ pub fn csv(report: &Report) -> String {
             value_name(s.height_derivative),
             value_name(s.light_vector),
             value_name(s.aa),
+            s.specular.to_string(),
+            value_name(s.tone_map),
             r.config.variant.label().to_string(),
             r.frames.to_string(),
             msf(r.median),
@@ -393,7 +395,7 @@ mod tests {
         let lines: Vec<&str> = c.lines().collect();
         assert_eq!(lines.len(), 4);
         let columns = lines[0].split(',').count();
-        assert_eq!(columns, 31);
+        assert_eq!(columns, 33);
         assert!(lines[1].starts_with("1,\"fast, rough\",2,phong,vertex,true,bilinear,true,blinn,"));
         assert!(lines[3].contains(",inf,"));
         assert!(lines[1].ends_with(",true") && lines[2].ends_with(",false"));

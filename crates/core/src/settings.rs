@@ -270,6 +270,12 @@ pub struct Settings {
     /// model instead of the plain background (off: fewer bytes over a
     /// slow link, and the silhouette stands out).
     pub backdrop: bool,
+    /// `--ibl-diffuse`: how the model view's environment lights glTF
+    /// materials diffusely (docs/shading.md, "Image-based light").
+    pub ibl_diffuse: IblDiffuse,
+    /// `--ibl-specular`: how the model view's environment is reflected by
+    /// glTF materials (docs/shading.md, "Image-based light").
+    pub ibl_specular: IblSpecular,
 }
 
 /// The tone map of physically shaded pixels (docs/shading.md,
@@ -283,6 +289,28 @@ pub enum ToneMap {
     Aces,
     /// None: linear light clamped at white.
     None,
+}
+
+/// The diffuse part of the image-based light (docs/shading.md,
+/// "Image-based light").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum IblDiffuse {
+    /// Nine spherical-harmonic coefficients: 27 multiply-adds a pixel, within a few per cent.
+    #[default]
+    Sh,
+    /// An irradiance map integrated exactly over the environment's texels, read bilinearly.
+    Integrated,
+}
+
+/// The specular part of the image-based light (docs/shading.md,
+/// "Image-based light").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, ValueEnum)]
+pub enum IblSpecular {
+    /// Levels prefiltered by roughness and the split-sum table: two map reads a pixel.
+    #[default]
+    Prefiltered,
+    /// 32 samples of the GGX lobe a pixel, each read at a level of its own footprint.
+    Sampled,
 }
 
 /// The model axis drawn upwards (docs/models.md, "Camera").
@@ -325,6 +353,8 @@ impl Default for Settings {
             exposure: 1.0,
             environment_turn: 0.0,
             backdrop: false,
+            ibl_diffuse: IblDiffuse::Sh,
+            ibl_specular: IblSpecular::Prefiltered,
         }
     }
 }

@@ -59,7 +59,7 @@ fn skinned() -> Scene {
     let rest = mesh.vertices.clone();
     let mut scene = Scene::model(mesh, texture).into_model_view();
     let rig =
-        relief_bench::physical::bend_rig(rest, |y| ((y + 0.5) / 1.0).clamp(0.0, 1.0), 90.0, 2.0);
+        relief_bench::skinned::bend_rig(rest, |y| ((y + 0.5) / 1.0).clamp(0.0, 1.0), 90.0, 2.0);
     scene.motion = Some(Motion::new(rig));
     scene
 }

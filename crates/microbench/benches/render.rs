@@ -3,9 +3,10 @@
 //! and the cheapest flat untextured frame, on one thread and on all threads;
 //! the other bump techniques (emboss, dot3, parallax, occlusion) on one;
 //! and the model view's metallic-roughness kernel against Phong with Blinn's
-//! bump on the same framed cube, and with glTF's layer maps (specular
-//! strength and colour, clearcoat intensity, roughness and normal) against
-//! without (docs/shading.md).
+//! bump on the same framed cube, with the image-based light's default and
+//! other ways, and with glTF's layer maps (specular strength and colour,
+//! clearcoat intensity, roughness and normal) against without
+//! (docs/shading.md).
 //! `cargo bench --bench render`; `relief bench` covers every setting.
 
 use std::hint::black_box;
@@ -170,6 +171,27 @@ fn renderer(c: &mut Criterion) {
         let scene = model_view_cube(physical, layers);
         bench_scene(c, &format!("{name}_320x240/all_threads"), &scene, start, 0);
         bench_scene(c, &format!("{name}_320x240/1_thread"), &scene, start, 1);
+    }
+    // The image-based light's other ways (`--ibl-diffuse`, `--ibl-specular`):
+    // their maps are made before the timing (criterion's warm-up).
+    use relief_core::settings::{IblDiffuse, IblSpecular};
+    let scene = model_view_cube(true, Layers::None);
+    for (ibl_diffuse, ibl_specular, name) in [
+        (
+            IblDiffuse::Integrated,
+            IblSpecular::Prefiltered,
+            "integrated",
+        ),
+        (IblDiffuse::Sh, IblSpecular::Sampled, "sampled"),
+    ] {
+        let settings = Settings {
+            ibl_diffuse,
+            ibl_specular,
+            ..start
+        };
+        let name = format!("model_view_pbr_{name}_320x240");
+        bench_scene(c, &format!("{name}/all_threads"), &scene, settings, 0);
+        bench_scene(c, &format!("{name}/1_thread"), &scene, settings, 1);
     }
 }
 

@@ -29,12 +29,14 @@ pub enum OptId {
     Exposure,
     EnvironmentTurn,
     Backdrop,
+    IblDiffuse,
+    IblSpecular,
 }
 
 impl OptId {
     /// Every id, in the table's order. The table has one entry per id, at
     /// the id's place (checked when the crate compiles, see `table.rs`).
-    pub const ALL: [OptId; 25] = [
+    pub const ALL: [OptId; 27] = [
         OptId::Shading,
         OptId::Normals,
         OptId::Texture,
@@ -60,5 +62,7 @@ impl OptId {
         OptId::Exposure,
         OptId::EnvironmentTurn,
         OptId::Backdrop,
+        OptId::IblDiffuse,
+        OptId::IblSpecular,
     ];
 }

@@ -20,8 +20,8 @@ use super::text::{format_shininess, format_strength, on_off, parse_finite};
 use super::values;
 use relief_core::settings::{
     AntiAlias, BUMP_FACTOR, BUMP_MAX, BUMP_MIN, DEFAULT_FOV, Display, FOV_RANGE, Filter,
-    HeightDerivative, LightVector, Normals, SHININESS_RANGE, Settings, Shading, Technique, ToneMap,
-    UpAxis,
+    HeightDerivative, IblDiffuse, IblSpecular, LightVector, Normals, SHININESS_RANGE, Settings,
+    Shading, Technique, ToneMap, UpAxis,
 };
 use relief_pipeline::plan;
 
@@ -795,6 +795,38 @@ const TABLE: [Opt; OptId::ALL.len()] = [
             shown: Some(|c| c.settings.backdrop),
             ..same(21, |_| "backdrop".into(), Some(6))
         }),
+        bench: Bench::None,
+    },
+    Opt {
+        id: OptId::IblDiffuse,
+        name: "ibl_diffuse",
+        title: "image-based diffuse light",
+        kind: Kind::Choice {
+            values: values::<IblDiffuse>,
+        },
+        field: field!(ibl_diffuse: IblDiffuse),
+        flag: flag(
+            "Diffuse light of the model view's environment on glTF materials: nine spherical harmonics, or an irradiance map integrated exactly (docs/shading.md, \"Image-based light\")",
+        ),
+        keys: &[],
+        shows: None,
+        status: None,
+        bench: Bench::None,
+    },
+    Opt {
+        id: OptId::IblSpecular,
+        name: "ibl_specular",
+        title: "image-based specular light",
+        kind: Kind::Choice {
+            values: values::<IblSpecular>,
+        },
+        field: field!(ibl_specular: IblSpecular),
+        flag: flag(
+            "Specular light of the model view's environment on glTF materials: prefiltered levels and the split-sum table, or the GGX lobe sampled per pixel (docs/shading.md, \"Image-based light\")",
+        ),
+        keys: &[],
+        shows: None,
+        status: None,
         bench: Bench::None,
     },
 ];

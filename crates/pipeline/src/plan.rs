@@ -6,8 +6,8 @@ use std::sync::Arc;
 use glam::{Mat3, Mat4, Vec3};
 
 use relief_core::settings::{
-    AntiAlias, Display, Filter, HeightDerivative, LightVector, Settings, Shading, Technique,
-    ToneMap,
+    AntiAlias, Display, Filter, HeightDerivative, IblDiffuse, IblSpecular, LightVector, Settings,
+    Shading, Technique, ToneMap,
 };
 use relief_scene::casters::{Caster, casters, enclose};
 use relief_scene::light::{Falloff, Light};
@@ -98,6 +98,10 @@ pub struct Physical {
     pub turn: (f32, f32),
     /// The environment drawn behind the model (`--backdrop`, key `B`).
     pub backdrop: bool,
+    /// How the environment's diffuse light is computed (`--ibl-diffuse`).
+    pub ibl_diffuse: IblDiffuse,
+    /// How the environment's specular light is computed (`--ibl-specular`).
+    pub ibl_specular: IblSpecular,
 }
 
 /// The stages of one frame.
@@ -339,6 +343,8 @@ fn physical_of(scene: &Scene, settings: &Settings) -> Physical {
             }
         },
         backdrop: settings.backdrop,
+        ibl_diffuse: settings.ibl_diffuse,
+        ibl_specular: settings.ibl_specular,
     }
 }
 

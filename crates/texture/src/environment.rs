@@ -17,6 +17,10 @@ use std::sync::{Arc, OnceLock};
 use glam::{Vec2, Vec3};
 
 use super::ibl::Ibl;
+use super::ibl::irradiance;
+use super::ibl::prefilter::OctMap;
+use super::ibl::radiance::RadianceLevels;
+use super::ibl::source::Source;
 use super::lat_long::{direction, lat_long};
 use super::studio::{STUDIO_SIZE, studio};
 use super::{Level, Texture, TextureError, load_texture};
@@ -29,6 +33,12 @@ pub struct Environment {
     texture: Texture,
     /// Its image-based light, computed on first use (`texture::ibl`).
     light: OnceLock<Ibl>,
+    /// Its exact irradiance map (`--ibl-diffuse integrated`), computed on
+    /// first use.
+    irradiance: OnceLock<OctMap>,
+    /// Its radiance as octahedral levels (`--ibl-specular sampled`),
+    /// computed on first use.
+    radiance: OnceLock<RadianceLevels>,
 }
 
 impl PartialEq for Environment {
@@ -48,6 +58,8 @@ impl Environment {
         Environment {
             texture,
             light: OnceLock::new(),
+            irradiance: OnceLock::new(),
+            radiance: OnceLock::new(),
         }
     }
 
@@ -114,6 +126,22 @@ impl Environment {
     /// milliseconds), then kept with the environment.
     pub fn light(&self) -> &Ibl {
         self.light.get_or_init(|| Ibl::new(self.texture.base()))
+    }
+
+    /// Its irradiance map (`texture::ibl::irradiance`): E(N)/π summed
+    /// over every texel, computed on the first call (tens of milliseconds),
+    /// then kept with the environment.
+    pub fn irradiance_map(&self) -> &OctMap {
+        self.irradiance
+            .get_or_init(|| irradiance::integrate(&Source::of(self.texture.base())))
+    }
+
+    /// Its radiance as octahedral levels for sampled reads
+    /// (`texture::ibl::radiance`), computed on the first call (a few
+    /// milliseconds), then kept with the environment.
+    pub fn radiance_levels(&self) -> &RadianceLevels {
+        self.radiance
+            .get_or_init(|| RadianceLevels::new(&Source::of(self.texture.base())))
     }
 
     pub fn name(&self) -> &str {

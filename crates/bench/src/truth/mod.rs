@@ -18,6 +18,7 @@
 
 pub mod geometry;
 pub mod physical;
+pub mod read;
 pub mod setting;
 pub mod shade;
 
@@ -30,7 +31,6 @@ use relief_core::framebuffer::Framebuffer;
 use relief_core::settings::Settings;
 use relief_scene::Scene;
 pub use setting::{Bump, Setting};
-pub use shade::bilinear;
 
 /// What the truth draws besides the scene: the model's rotation and the setting.
 #[derive(Clone, Debug)]

@@ -28,7 +28,7 @@ use std::sync::Arc;
 use glam::{DVec2, DVec3, Vec3};
 
 use super::geometry::Hit;
-use super::shade::{bilinear, environment};
+use super::read::{bilinear, environment};
 use relief_core::settings::{Settings, ToneMap};
 use relief_scene::Scene;
 use relief_scene::terms::{MaterialTerms, PbrMaterial};
@@ -618,6 +618,62 @@ mod tests {
                 }
             }
             assert!(seen.iter().all(|&k| k == 1), "{lobe:?}: {seen:?}");
+        }
+    }
+
+    /// The Monte Carlo specular integral of a white metal in the studio
+    /// agrees with the direct sum over every texel of the studio's picture
+    /// (radiance × F·D·V·N·L × the texel's solid angle), head on, at 45°
+    /// and at 70°, at roughness 0.25, 0.5 and 0.75.
+    #[test]
+    fn the_specular_integral_is_the_sum_over_the_environments_texels() {
+        let env = Environment::studio();
+        let level = env.picture();
+        let (w, h) = (level.width, level.height);
+        for roughness in [0.25f32, 0.5, 0.75] {
+            for (azimuth, angle) in [(0.0f64, 0.0f64), (30.0, 45.0), (200.0, 70.0), (120.0, 45.0)] {
+                let (a, z) = (angle.to_radians(), azimuth.to_radians());
+                // Normal tilted up by 20°, view `angle` away from it.
+                let n = DVec3::new(0.0, 20f64.to_radians().sin(), 20f64.to_radians().cos());
+                let (t, b) = frame(n);
+                let v = (n * a.cos() + (t * z.cos() + b * z.sin()) * a.sin()).normalize();
+                let m = material(&white(1.0, roughness), DVec3::ONE, DVec2::ZERO);
+                let nv = n.dot(v);
+                let mut sum = DVec3::ZERO;
+                for y in 0..h {
+                    for x in 0..w {
+                        let (u, vv) = ((x as f64 + 0.5) / w as f64, (y as f64 + 0.5) / h as f64);
+                        let theta = vv * PI;
+                        let phi = (u - 0.5) * TAU;
+                        // The picture's convention: u = ½ + atan2(x, −z)/2π, v = acos(y)/π.
+                        let l = DVec3::new(
+                            theta.sin() * phi.sin(),
+                            theta.cos(),
+                            -theta.sin() * phi.cos(),
+                        );
+                        let nl = n.dot(l);
+                        if nl <= 0.0 {
+                            continue;
+                        }
+                        let hv = (l + v).normalize();
+                        let f = fresnel(&m, v.dot(hv));
+                        let brdf = ggx(m.alpha2, n.dot(hv).max(0.0)) * smith(m.alpha2, nl, nv);
+                        let texel = level.texels.at(y * w + x);
+                        let radiance =
+                            DVec3::new(texel[0] as f64, texel[1] as f64, texel[2] as f64);
+                        let solid = (TAU / w as f64) * (PI / h as f64) * theta.sin();
+                        sum += radiance * f * (brdf * nl * solid);
+                    }
+                }
+                let at = At { n, v, nv, m };
+                let mc = specular_integral(&env, 0.0, &at, &Directions::alone(1, 2, 128));
+                let e = ((mc - sum) / sum).abs().max_element();
+                eprintln!(
+                    "r {roughness} at {angle}°: MC {mc:.4} sum {sum:.4} ({:.2} %)",
+                    e * 100.0
+                );
+                assert!(e < 0.02, "r {roughness} at {angle}°: {mc} {sum}");
+            }
         }
     }
 }

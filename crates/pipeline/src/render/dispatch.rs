@@ -9,7 +9,7 @@ use crate::shade::dot3::Dot3;
 use crate::shade::emboss::Emboss;
 use crate::shade::kernels::{FlatTexturedKernel, GouraudKernel, PhongKernel};
 use crate::shade::parallax::Parallax;
-use crate::shade::pbr::PbrKernel;
+use crate::shade::pbr::{EnvLight, PbrKernel};
 use crate::shade::{PhongTri, ShadeCtx, TriShader};
 use relief_core::settings::{LightVector, Technique};
 use relief_core::stats::Counters;
@@ -107,7 +107,10 @@ fn draw_physical<T: RasterTarget>(
                 terms,
                 pbr,
                 physical,
-                light: physical.environment.as_deref().map(|e| e.light()),
+                light: physical
+                    .environment
+                    .as_deref()
+                    .map(|e| EnvLight::of(e, physical)),
             };
             target.raster(tri, &k, ctx, counters)
         }};

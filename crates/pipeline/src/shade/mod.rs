@@ -19,6 +19,7 @@ pub mod material;
 pub mod packet;
 pub mod parallax;
 pub mod pbr;
+pub mod sampled;
 pub mod shader;
 pub mod sheen;
 pub mod specular;

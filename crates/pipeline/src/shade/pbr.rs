@@ -10,9 +10,11 @@
 //! `KHR_materials_sheen`'s (each map read only by a material that has it).
 //! Each light adds (1 − F)(1 − metallic)·base + π·F·D·V, times its colour
 //! and N·L (a light of colour 1 gives a white Lambert surface facing it 1);
-//! the environment adds its image-based light (spherical harmonics for the
-//! diffuse part, prefiltered levels and the split-sum table for the
-//! specular part, `texture::ibl`) with the occlusion map on it; a sheen
+//! the environment adds its image-based light (by default spherical
+//! harmonics for the diffuse part, prefiltered levels and the split-sum
+//! table for the specular part, `texture::ibl`; `--ibl-diffuse integrated`
+//! reads an exact irradiance map instead, `--ibl-specular sampled` samples
+//! the lobe, `shade::sampled`) with the occlusion map on it; a sheen
 //! scales all that by 1 − max(colour)·E(N·V) and adds its own lobe
 //! (`shade::sheen`) per light and from the environment; emission is
 //! added; a clearcoat goes over everything; then exposure, the tone map and
@@ -35,6 +37,7 @@ use super::lanes::{Lanes, Vector};
 use super::lighting::{ATTENUATION_QUADRATIC, finish, physical_falloff};
 use super::map_uv::{Coords, carry, footprint_map};
 use super::packet::{self, LANES, V3};
+use super::sampled::sample_lobe;
 use super::shader::{PixelShader, ShadeCtx};
 use super::sheen::{self, MIN_SHEEN_ROUGHNESS, charlie, neubelt};
 use super::specular::view_dir;
@@ -42,12 +45,16 @@ use super::split_sum::lut;
 use super::tangent::Surface;
 use crate::plan::Physical;
 use relief_core::framebuffer::Rgb;
+use relief_core::settings::{IblDiffuse, IblSpecular};
 use relief_core::stats::Counters;
 use relief_scene::light::Falloff;
 use relief_scene::map_uv::MapUv;
 use relief_scene::terms::{Clearcoat, DIELECTRIC_F0, MaterialTerms, PbrMaterial, Sheen};
 use relief_texture::NormalMap;
+use relief_texture::environment::Environment;
 use relief_texture::ibl::Ibl;
+use relief_texture::ibl::prefilter::{OctMap, oct_uv};
+use relief_texture::ibl::radiance::RadianceLevels;
 use relief_texture::sample::filter::read_normal;
 use relief_texture::sample::mip::Footprint;
 
@@ -59,7 +66,52 @@ pub struct PbrKernel<'a, const TEX: bool, const NMAP: bool> {
     pub pbr: &'a PbrMaterial,
     pub physical: &'a Physical,
     /// The environment's light, when the plan has an environment.
-    pub light: Option<&'a Ibl>,
+    pub light: Option<EnvLight<'a>>,
+}
+
+/// What the kernel reads of the environment, as `--ibl-diffuse` and
+/// `--ibl-specular` choose: chosen once per triangle, so a pixel's only
+/// cost of the choice is one predictable branch per part.
+#[derive(Clone, Copy)]
+pub struct EnvLight<'a> {
+    pub diffuse: DiffuseLight<'a>,
+    pub specular: SpecularLight<'a>,
+}
+
+/// The environment's diffuse light.
+#[derive(Clone, Copy)]
+pub enum DiffuseLight<'a> {
+    /// Nine spherical-harmonic coefficients (`irradiance`).
+    Sh(&'a [Vec3; 9]),
+    /// The exact irradiance map (`texture::ibl::irradiance`), read
+    /// bilinearly.
+    Integrated(&'a OctMap),
+}
+
+/// The environment's specular light.
+#[derive(Clone, Copy)]
+pub enum SpecularLight<'a> {
+    /// Prefiltered levels and the split-sum table.
+    Prefiltered(&'a Ibl),
+    /// The lobe sampled per pixel (`shade::sampled`).
+    Sampled(&'a RadianceLevels),
+}
+
+impl<'a> EnvLight<'a> {
+    /// The parts of `environment`'s light the settings ask for (each made
+    /// on its first use and kept with the environment).
+    pub fn of(environment: &'a Environment, physical: &Physical) -> EnvLight<'a> {
+        EnvLight {
+            diffuse: match physical.ibl_diffuse {
+                IblDiffuse::Sh => DiffuseLight::Sh(&environment.light().sh),
+                IblDiffuse::Integrated => DiffuseLight::Integrated(environment.irradiance_map()),
+            },
+            specular: match physical.ibl_specular {
+                IblSpecular::Prefiltered => SpecularLight::Prefiltered(environment.light()),
+                IblSpecular::Sampled => SpecularLight::Sampled(environment.radiance_levels()),
+            },
+        }
+    }
 }
 
 /// What the light loop reads at the pixels.
@@ -209,7 +261,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         // A sheen keeps 1 − max(colour)·E(N·V) of the material below it (for
         // the lights and the environment alike) and adds its own lobe.
         let lit = match &px.sheen {
-            Some(sh) => lit * sh.keeps + sheen_direct + self.sheen_ambient(sh, &px, at),
+            Some(sh) => lit * sh.keeps + sheen_direct + self.sheen_ambient(sh, &px, at, live),
             None => lit,
         };
         let lit = lit + emission(terms, at);
@@ -367,10 +419,17 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
     /// The environment's light on the sheen: its colour × E(N·V) × the
     /// irradiance about the direction the lobe gathers from (N leaning
     /// towards the eye; exact for a uniform environment, docs/shading.md,
-    /// "Sheen"), times the occlusion map.
+    /// "Sheen"), read as the diffuse part reads it (the spherical
+    /// harmonics, or the integrated map), times the occlusion map.
     #[inline(always)]
-    fn sheen_ambient<V: Vector>(&self, sh: &SheenAt<V>, px: &At<V>, at: Coords<V::L>) -> V {
-        let Some(ibl) = self.light else {
+    fn sheen_ambient<V: Vector>(
+        &self,
+        sh: &SheenAt<V>,
+        px: &At<V>,
+        at: Coords<V::L>,
+        live: u32,
+    ) -> V {
+        let Some(env) = self.light else {
             return V::uniform(Vec3::ZERO);
         };
         let (c, s) = self.physical.turn;
@@ -378,7 +437,14 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         // turned from the eye, whose N·V is held at 1e-4, leans no lower).
         let side = px.view - px.n * px.n.dot(px.view);
         let gather = (px.n * sh.along_n + side * sh.along_view).normalize_or(px.n);
-        let mut light = sh.colour * sh.albedo * irradiance(&ibl.sh, turned(gather, c, s));
+        let gather = turned(gather, c, s);
+        let irradiance = match env.diffuse {
+            DiffuseLight::Sh(coefficients) => irradiance(coefficients, gather),
+            DiffuseLight::Integrated(map) => {
+                V::gather(live, |i| map.read_seamless(oct_uv(gather.lane(i))))
+            }
+        };
+        let mut light = sh.colour * sh.albedo * irradiance;
         if let Some((map, strength)) = &self.terms.occlusion {
             let (u, v) = at.of(&self.terms.uvs.occlusion);
             let occ = V::L::bilinear(map, u, v)[0];
@@ -514,29 +580,47 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
     }
 
     /// The environment's light: irradiance(N)·diffuse·(1 − S) +
-    /// prefiltered(R, roughness)·S with S = F0·A + B from the split-sum
-    /// table, times the occlusion map. No environment: no light from
+    /// prefiltered(R, roughness)·S with S = F0·A + F90·B from the split-sum
+    /// table, times the occlusion map; or, as the settings ask, the exact
+    /// irradiance map's E(N)/π for the SH's, and the lobe sampled
+    /// (`shade::sampled`: its reflected radiance and its own S) for the
+    /// prefiltered levels and the table. No environment: no light from
     /// everywhere.
     #[inline(always)]
     fn ambient<V: Vector>(&self, px: &At<V>, roughness: V::L, at: Coords<V::L>, live: u32) -> V {
-        let Some(ibl) = self.light else {
+        let Some(env) = self.light else {
             return V::uniform(Vec3::ZERO);
         };
         let (c, s) = self.physical.turn;
         let n = turned(px.n, c, s);
-        let r = turned(px.n * (px.nv + px.nv) - px.view, c, s);
-        let lut = lut();
-        let [a, b] = V::L::gather(live, 0.0, |i| {
-            let (a, b) = lut.read(px.nv.lane(i), roughness.lane(i));
-            [a, b]
-        });
-        let prefiltered = V::gather(live, |i| {
-            ibl.specular(r.lane(i).normalize_or(Vec3::Y), roughness.lane(i))
-        });
-        let specular = px.f0 * a + V::uniform(Vec3::ONE) * (px.f90 * b);
         let one = V::uniform(Vec3::ONE);
-        let diffuse = px.diffuse * (one - specular) * irradiance(&ibl.sh, n);
-        let mut light = diffuse + specular * prefiltered;
+        let (specular, reflected) = match env.specular {
+            SpecularLight::Prefiltered(ibl) => {
+                let r = turned(px.n * (px.nv + px.nv) - px.view, c, s);
+                let lut = lut();
+                let [a, b] = V::L::gather(live, 0.0, |i| {
+                    let (a, b) = lut.read(px.nv.lane(i), roughness.lane(i));
+                    [a, b]
+                });
+                let prefiltered = V::gather(live, |i| {
+                    ibl.specular(r.lane(i).normalize_or(Vec3::Y), roughness.lane(i))
+                });
+                let specular = px.f0 * a + one * (px.f90 * b);
+                (specular, specular * prefiltered)
+            }
+            SpecularLight::Sampled(levels) => {
+                let view = turned(px.view, c, s);
+                sample_lobe(levels, n, view, px.nv, px.f0, px.f90, roughness, live)
+            }
+        };
+        let irradiance = match env.diffuse {
+            DiffuseLight::Sh(coefficients) => irradiance(coefficients, n),
+            DiffuseLight::Integrated(map) => {
+                V::gather(live, |i| map.read_seamless(oct_uv(n.lane(i))))
+            }
+        };
+        let diffuse = px.diffuse * (one - specular) * irradiance;
+        let mut light = diffuse + reflected;
         if let Some((map, strength)) = &self.terms.occlusion {
             let (u, v) = at.of(&self.terms.uvs.occlusion);
             let occ = V::L::bilinear(map, u, v)[0];
@@ -546,23 +630,34 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
     }
 
     /// The environment's light on the clearcoat layer: prefiltered(R,
-    /// roughness)·(0.04·A + B), on the layer's own normal.
+    /// roughness)·(0.04·A + B), on the layer's own normal; or its lobe
+    /// sampled with F0 = 0.04, as the settings ask.
     #[inline(always)]
     fn coat_ambient<V: Vector>(&self, c: &Coat<V>, view: V, live: u32) -> V {
-        let Some(ibl) = self.light else {
+        let Some(env) = self.light else {
             return V::uniform(Vec3::ZERO);
         };
         let (cos, sin) = self.physical.turn;
-        let r = turned(c.n * (c.nv + c.nv) - view, cos, sin);
-        let lut = lut();
-        let [a, b] = V::L::gather(live, 0.0, |i| {
-            let (a, b) = lut.read(c.nv.lane(i), c.roughness.lane(i));
-            [a, b]
-        });
-        let prefiltered = V::gather(live, |i| {
-            ibl.specular(r.lane(i).normalize_or(Vec3::Y), c.roughness.lane(i))
-        });
-        prefiltered * (V::L::splat(DIELECTRIC_F0) * a + b)
+        match env.specular {
+            SpecularLight::Prefiltered(ibl) => {
+                let r = turned(c.n * (c.nv + c.nv) - view, cos, sin);
+                let lut = lut();
+                let [a, b] = V::L::gather(live, 0.0, |i| {
+                    let (a, b) = lut.read(c.nv.lane(i), c.roughness.lane(i));
+                    [a, b]
+                });
+                let prefiltered = V::gather(live, |i| {
+                    ibl.specular(r.lane(i).normalize_or(Vec3::Y), c.roughness.lane(i))
+                });
+                prefiltered * (V::L::splat(DIELECTRIC_F0) * a + b)
+            }
+            SpecularLight::Sampled(levels) => {
+                let n = turned(c.n, cos, sin);
+                let view = turned(view, cos, sin);
+                let f0 = V::uniform(Vec3::splat(DIELECTRIC_F0));
+                sample_lobe(levels, n, view, c.nv, f0, V::L::ONE, c.roughness, live).1
+            }
+        }
     }
 }
 

@@ -23,7 +23,7 @@ pub struct Lut {
 }
 
 /// The i-th of n Hammersley points: (i + ½)/n and the bit-reversed i.
-fn hammersley(i: u32, n: u32) -> (f32, f32) {
+pub fn hammersley(i: u32, n: u32) -> (f32, f32) {
     let reversed = i.reverse_bits() as f32 * (1.0 / 4_294_967_296.0);
     ((i as f32 + 0.5) / n as f32, reversed)
 }

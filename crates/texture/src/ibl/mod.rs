@@ -5,7 +5,9 @@
 //! prefiltered by roughness into levels (`prefilter`), and the split-sum
 //! table shared by every environment (`shade::split_sum`).
 
+pub mod irradiance;
 pub mod prefilter;
+pub mod radiance;
 pub mod sh;
 pub mod source;
 

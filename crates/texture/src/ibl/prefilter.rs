@@ -28,6 +28,12 @@ pub struct OctMap {
     pub texels: Vec<Vec3>,
 }
 
+impl std::fmt::Debug for OctMap {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("OctMap").field("size", &self.size).finish()
+    }
+}
+
 /// The octahedral coordinates of unit direction `d` in 0..=1: the upper
 /// half (+Z) in the diamond at the centre, the lower half folded into the
 /// corners.
@@ -64,7 +70,7 @@ pub fn oct_direction(uv: Vec2) -> Vec3 {
 
 impl OctMap {
     /// A `size²` map whose texels take `f` of their centre's direction.
-    fn from_fn(size: usize, f: impl Fn(Vec3) -> Vec3) -> OctMap {
+    pub fn from_fn(size: usize, f: impl Fn(Vec3) -> Vec3) -> OctMap {
         let mut texels = Vec::with_capacity(size * size);
         for y in 0..size {
             for x in 0..size {
@@ -90,6 +96,59 @@ impl OctMap {
         let top = at(y0, x0).lerp(at(y0, x1), fx);
         let bottom = at(y1, x0).lerp(at(y1, x1), fx);
         top.lerp(bottom, fy)
+    }
+
+    /// The radiance at `uv` (0..=1), bilinear between texel centres across
+    /// the map's edges too: a texel's neighbour beyond an edge is the texel
+    /// mirrored about that edge's midpoint (the octahedron folds there), and
+    /// beyond a corner the opposite corner, so the read is continuous over
+    /// the whole sphere. (`read` clamps at the edges instead, which holds
+    /// the value half a texel from the edge: an error of the first order in
+    /// the texel's size, which the prefiltered levels keep.)
+    #[inline]
+    pub fn read_seamless(&self, uv: Vec2) -> Vec3 {
+        let n = self.size as f32;
+        // Texel positions shifted by one, ≥ 0.5, so truncation is floor + 1.
+        let x = (uv.x * n + 0.5).clamp(0.5, n + 0.5);
+        let y = (uv.y * n + 0.5).clamp(0.5, n + 0.5);
+        let (xi, yi) = (x as usize, y as usize);
+        let (fx, fy) = (x - xi as f32, y - yi as f32);
+        let size = self.size;
+        let [a, b, c, d] = if xi >= 1 && yi >= 1 && xi < size && yi < size {
+            // All four inside: the common case, read directly.
+            let i = (yi - 1) * size + xi - 1;
+            let t = &self.texels;
+            [t[i], t[i + 1], t[i + size], t[i + size + 1]]
+        } else {
+            let (xi, yi) = (xi as i64, yi as i64);
+            [
+                self.texel(xi - 1, yi - 1),
+                self.texel(xi, yi - 1),
+                self.texel(xi - 1, yi),
+                self.texel(xi, yi),
+            ]
+        };
+        let top = a.lerp(b, fx);
+        let bottom = c.lerp(d, fx);
+        top.lerp(bottom, fy)
+    }
+
+    /// Texel (x, y) for x and y in −1..=size: one beyond an edge is the
+    /// texel mirrored about the edge's midpoint on the edge's own row or
+    /// column.
+    #[inline]
+    fn texel(&self, x: i64, y: i64) -> Vec3 {
+        let last = self.size as i64 - 1;
+        let (mut x, mut y) = (x, y);
+        if y < 0 || y > last {
+            y = y.clamp(0, last);
+            x = last - x;
+        }
+        if x < 0 || x > last {
+            x = x.clamp(0, last);
+            y = last - y;
+        }
+        self.texels[(y * (last + 1) + x) as usize]
     }
 }
 

@@ -83,21 +83,27 @@ impl Source {
     /// angles are scaled to sum to exactly 4π.
     pub fn texels_with_solid_angles(&self) -> Vec<(Vec3, f32, Vec3)> {
         let (w, h) = (self.width, self.height);
-        let row_angle = |y: usize| {
-            let theta = (y as f32 + 0.5) / h as f32 * PI;
-            theta.sin() * (2.0 * PI / w as f32) * (PI / h as f32)
-        };
-        let total: f32 = (0..h).map(|y| row_angle(y) * w as f32).sum();
-        let scale = 4.0 * PI / total;
         let mut out = Vec::with_capacity(w * h);
-        for y in 0..h {
-            let d_omega = row_angle(y) * scale;
+        for (y, d_omega) in self.row_solid_angles().into_iter().enumerate() {
             for x in 0..w {
                 let uv = Vec2::new((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
                 out.push((direction(uv), d_omega, self.texels[y * w + x]));
             }
         }
         out
+    }
+
+    /// The solid angle of a texel of each row, sin θ·Δθ·Δφ, scaled so
+    /// that the texels' sum to exactly 4π.
+    pub fn row_solid_angles(&self) -> Vec<f32> {
+        let (w, h) = (self.width, self.height);
+        let row_angle = |y: usize| {
+            let theta = (y as f32 + 0.5) / h as f32 * PI;
+            theta.sin() * (2.0 * PI / w as f32) * (PI / h as f32)
+        };
+        let total: f32 = (0..h).map(|y| row_angle(y) * w as f32).sum();
+        let scale = 4.0 * PI / total;
+        (0..h).map(|y| row_angle(y) * scale).collect()
     }
 
     /// The radiance in direction `d`, bilinear between texel centres
