@@ -276,7 +276,7 @@ fn a_quantized_quad_reads_as_its_float_twin() {
 /// line: by the loader, and on `relief render`'s standard error.
 #[test]
 fn what_is_not_drawn_is_named_in_one_line() {
-    let ext = r#","extensionsUsed":["KHR_texture_transform","KHR_lights_punctual","KHR_materials_sheen","KHR_materials_transmission"],"cameras":[{"type":"perspective","perspective":{"yfov":0.8,"znear":0.1}}]"#;
+    let ext = r#","extensionsUsed":["KHR_texture_transform","KHR_lights_punctual","KHR_materials_iridescence","KHR_materials_sheen","KHR_materials_transmission"],"cameras":[{"type":"perspective","perspective":{"yfov":0.8,"znear":0.1}}]"#;
     let bytes = quad_glb(
         &[("POSITION", floats(&QUAD)), ("NORMAL", floats(&UP))],
         r#"{"mesh":0}"#,
@@ -286,13 +286,17 @@ fn what_is_not_drawn_is_named_in_one_line() {
     let model = load(&path).unwrap();
     assert_eq!(model.warnings.len(), 1, "{:?}", model.warnings);
     let line = &model.warnings[0];
-    assert!(line.contains("the extension KHR_materials_sheen"), "{line}");
+    assert!(
+        line.contains("the extension KHR_materials_iridescence"),
+        "{line}"
+    );
     // A perspective camera is read (`V` shows through it).
     assert!(!line.contains("camera"), "{line}");
     // The extensions relief reads are not named.
     for read in [
         "KHR_texture_transform",
         "KHR_lights_punctual",
+        "KHR_materials_sheen",
         "KHR_materials_transmission",
     ] {
         assert!(!line.contains(read), "{line}");

@@ -260,3 +260,249 @@ fn the_clearcoat_normal_map_moves_the_layers_highlight() {
         draw(&plain, &off, 120, 90).pixels()
     );
 }
+
+// KHR_materials_sheen: the Charlie lobe D = (2 + k)·sin^k θh / (2π), k =
+// 1/α = 1/sheenRoughness², with the visibility 1/(4(N·L + N·V − N·L·N·V)),
+// over the material scaled by 1 − max(colour)·E(N·V).
+
+/// The scene of one 2 × 2 quad of material `material` (JSON, with
+/// `images` as data URIs read by textures in order) turned `degrees` about
+/// the vertical from facing +Z: its normal is (sin θ, 0, cos θ), which the
+/// model view's facing turn (`facing`) takes to sin θ·right + cos θ·back.
+/// Seen at the picture's centre, V = L = back (the light far along it):
+/// N·V = N·L = N·H = cos θ. Lit by one light of `light`, no environment.
+fn tilted(test: &str, degrees: f32, material: &str, images: &[Vec<u8>], light: f32) -> Scene {
+    use base64::Engine;
+    use relief_scene::{Built, ModelChoice, SceneKind, build_scene};
+    let (s, c) = degrees.to_radians().sin_cos();
+    let t = glam::Vec3::new(c, 0.0, -s);
+    let pos: Vec<f32> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .iter()
+        .flat_map(|&(x, y)| (t * x + glam::Vec3::Y * y).to_array())
+        .collect();
+    let mut bin = crate::glb_writer::Bin::default();
+    let position = bin.positions(&pos);
+    let normal = bin.floats(&[s, 0.0, c].repeat(4), "VEC3");
+    let uv = bin.floats(&[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0], "VEC2");
+    let indices = bin.shorts(&[0, 1, 2, 0, 2, 3], "SCALAR");
+    let mut json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{position},"NORMAL":{normal},"TEXCOORD_0":{uv}}},"indices":{indices},"material":0}}]}}],"materials":[{material}]"#
+    );
+    if !images.is_empty() {
+        let b64 = |png: &Vec<u8>| base64::engine::general_purpose::STANDARD.encode(png);
+        let uris: Vec<String> = images
+            .iter()
+            .map(|png| format!(r#"{{"uri":"data:image/png;base64,{}"}}"#, b64(png)))
+            .collect();
+        let textures: Vec<String> = (0..images.len())
+            .map(|i| format!(r#"{{"source":{i}}}"#))
+            .collect();
+        json += &format!(
+            r#","images":[{}],"textures":[{}]"#,
+            uris.join(","),
+            textures.join(",")
+        );
+    }
+    let path = super::pbr::write(test, &bin.glb(&json));
+    let texture = std::sync::Arc::new(relief_texture::decode::procedural::brick());
+    let Ok(Built::Scene(mut scene)) =
+        build_scene(SceneKind::Cube, &ModelChoice::File(path), texture, false)
+    else {
+        panic!("not a scene");
+    };
+    head_on(&mut scene, light);
+    *scene
+}
+
+/// A black dielectric that reflects nothing itself (specular 0) under a
+/// sheen of `sheen` (the extension's JSON members).
+fn black_sheen(sheen: &str) -> String {
+    black(&format!(
+        r#""KHR_materials_specular":{{"specularFactor":0}},"KHR_materials_sheen":{{{sheen}}}"#
+    ))
+}
+
+/// The sheen lobe seen and lit from the same direction at θ from the
+/// normal, under a light of 1: N·L·π·D·V = (2 + k)·sin^k θ / (8(2 − cos θ)).
+fn retro_lobe(degrees: f32, k: f32) -> f32 {
+    let (s, c) = degrees.to_radians().sin_cos();
+    (2.0 + k) * s.powf(k) / (8.0 * (2.0 - c))
+}
+
+/// Grazing: seen and lit along the same direction 60° and 80° off the
+/// normal, over a black base, the quad is the sheen lobe alone: at sheen
+/// roughness 1 (k = 1) 3·sin θ/(8(2 − cos θ)) = 0.2165 at 60° and 0.2022
+/// at 80°; at roughness ½ (k = 4) 6·sin⁴θ/(8(2 − cos θ)) = 0.2813 and
+/// 0.3863. Head on (below) the lobe is 0: D vanishes at N·H = 1.
+#[test]
+fn the_sheen_lobe_at_grazing_angles_is_the_charlie_lobe() {
+    assert!((retro_lobe(60.0, 1.0) - 0.216_51).abs() < 1e-4);
+    assert!((retro_lobe(80.0, 1.0) - 0.202_21).abs() < 1e-4);
+    assert!((retro_lobe(60.0, 4.0) - 0.281_25).abs() < 1e-4);
+    assert!((retro_lobe(80.0, 4.0) - 0.386_27).abs() < 1e-4);
+    for (roughness, k) in [(1.0, 1.0), (0.5, 4.0)] {
+        let sheen = format!(r#""sheenColorFactor":[1,1,1],"sheenRoughnessFactor":{roughness}"#);
+        for degrees in [60.0, 80.0] {
+            let scene = tilted("sheen-grazing", degrees, &black_sheen(&sheen), &[], 1.0);
+            let got = centre(&draw(&scene, &facing(), 120, 90));
+            let want = srgb8(retro_lobe(degrees, k));
+            assert!(
+                near(got, [want; 3], 1),
+                "{roughness} at {degrees}°: {got:?}, want {want}"
+            );
+        }
+    }
+    // The colour scales the lobe per channel.
+    let sheen = r#""sheenColorFactor":[1,0.5,0.25],"sheenRoughnessFactor":1"#;
+    let scene = tilted("sheen-colour", 80.0, &black_sheen(sheen), &[], 1.0);
+    let got = centre(&draw(&scene, &facing(), 120, 90));
+    let want = [1.0, 0.5, 0.25].map(|c| srgb8(c * retro_lobe(80.0, 1.0)));
+    assert!(near(got, want, 1), "{got:?}, want {want:?}");
+}
+
+/// Head on the lobe is 0 (sin θh = 0), and the material below keeps
+/// 1 − max(colour)·E(1): E at N·V = 1 is 2^(−(k+2)/2)·2/(k + 4) by hand
+/// (`shade::sheen`'s tests), 0.141421 at roughness 1. A white Lambert base
+/// (specular 0) under a light of ½ gives ½·(1 − 0.141421) = 0.42929 with a
+/// white sheen, ½·(1 − 0.5·0.141421) = 0.46464 with a grey one of 0.5.
+#[test]
+fn head_on_the_sheen_only_darkens_the_base_by_its_albedo() {
+    let white = |sheen: &str| {
+        format!(
+            r#"{{"pbrMetallicRoughness":{{"baseColorFactor":[1,1,1,1],"metallicFactor":0,"roughnessFactor":1}},"extensions":{{"KHR_materials_specular":{{"specularFactor":0}},"KHR_materials_sheen":{{{sheen}}}}}}}"#
+        )
+    };
+    let e1 = 2f32.powf(-1.5) * 2.0 / 5.0;
+    for (colour, want) in [(1.0, 0.5 * (1.0 - e1)), (0.5, 0.5 * (1.0 - 0.5 * e1))] {
+        let sheen =
+            format!(r#""sheenColorFactor":[{colour},{colour},{colour}],"sheenRoughnessFactor":1"#);
+        let got = centre(&draw(
+            &quad("sheen-head-on", &white(&sheen), &[], 0.5),
+            &facing(),
+            120,
+            90,
+        ));
+        assert!(
+            near(got, [srgb8(want); 3], 1),
+            "{colour}: {got:?}, want {want}"
+        );
+    }
+    assert!((0.5 * (1.0 - e1) - 0.429_29).abs() < 1e-5);
+}
+
+/// A sheen whose colour is black is no sheen (the extension's default):
+/// the picture is the one without the extension, bit for bit, under the
+/// model view's lights and the studio.
+#[test]
+fn a_black_sheen_changes_nothing() {
+    let base = r#""pbrMetallicRoughness":{"baseColorFactor":[0.7,0.4,0.2,1],"metallicFactor":0.3,"roughnessFactor":0.5}"#;
+    let plain = model("sheen-none", 1, &format!("[{{{base}}}]"), &[]);
+    let black = model(
+        "sheen-black",
+        1,
+        &format!(
+            r#"[{{{base},"extensions":{{"KHR_materials_sheen":{{"sheenColorFactor":[0,0,0],"sheenRoughnessFactor":0.5}}}}}}]"#
+        ),
+        &[],
+    );
+    let settings = relief_core::settings::Settings {
+        rotation: glam::Vec3::new(-30.0, 40.0, 0.0),
+        ..relief_core::settings::Settings::default()
+    };
+    assert!(
+        black
+            .own_terms(0)
+            .unwrap()
+            .pbr
+            .as_ref()
+            .unwrap()
+            .sheen
+            .is_none()
+    );
+    assert_eq!(
+        draw(&plain, &settings, 96, 72).pixels(),
+        draw(&black, &settings, 96, 72).pixels()
+    );
+}
+
+/// `sheenColorTexture` (sRGB) multiplies the colour and
+/// `sheenRoughnessTexture`'s alpha the roughness: at 80° a colour map of
+/// (255, 128, 0) makes the roughness-1 lobe 0.2022·(1, c(128) = 0.2168,
+/// 0), c the kernel's sRGB decode; a roughness map of alpha 128 under a
+/// factor of 1 makes the roughness 128/255, k = (255/128)² = 3.969, and
+/// the lobe (2 + k)·sin^k 80°/(8(2 − cos 80°)) = 0.3845.
+#[test]
+fn the_sheen_maps_scale_the_colour_and_the_roughness() {
+    let decode = |x: f32| x * (x * (0.305_306 * x + 0.682_171) + 0.012_523);
+    let sheen =
+        r#""sheenColorFactor":[1,1,1],"sheenRoughnessFactor":1,"sheenColorTexture":{"index":0}"#;
+    let map = solid_png([255, 128, 0, 255]);
+    let got = centre(&draw(
+        &tilted("sheen-map", 80.0, &black_sheen(sheen), &[map], 1.0),
+        &facing(),
+        120,
+        90,
+    ));
+    let lobe = retro_lobe(80.0, 1.0);
+    let want = [srgb8(lobe), srgb8(lobe * decode(128.0 / 255.0)), 0];
+    assert!(near(got, want, 1), "{got:?}, want {want:?}");
+    let sheen = r#""sheenColorFactor":[1,1,1],"sheenRoughnessFactor":1,"sheenRoughnessTexture":{"index":0}"#;
+    let map = solid_png([0, 0, 0, 128]);
+    let got = centre(&draw(
+        &tilted("sheen-rough-map", 80.0, &black_sheen(sheen), &[map], 1.0),
+        &facing(),
+        120,
+        90,
+    ));
+    let k = (255.0f32 / 128.0).powi(2);
+    assert!(
+        (retro_lobe(80.0, k) - 0.3845).abs() < 1e-4,
+        "{}",
+        retro_lobe(80.0, k)
+    );
+    let want = srgb8(retro_lobe(80.0, k));
+    assert!(near(got, [want; 3], 1), "{got:?}, want {want}");
+}
+
+/// The white furnace: under a uniform environment of radiance 1 and no
+/// light, a white dielectric under a white sheen sends back at most 1,
+/// whatever the base's and the sheen's roughness and the angle it is seen
+/// at, with the irradiance from the spherical harmonics or the integrated
+/// map (exposure ½ keeps the result below the clamp, so an excess would
+/// show): the sheen takes max(colour)·E(N·V) of the base and gives back
+/// colour·E(N·V) × the irradiance, which is 1 here.
+#[test]
+fn a_sheen_in_a_white_furnace_reflects_at_most_its_input() {
+    use relief_core::settings::IblDiffuse;
+    use relief_texture::environment::Environment;
+    for roughness in [0.3, 1.0] {
+        for sheen_roughness in [0.0, 0.3, 0.6, 1.0] {
+            let material = format!(
+                r#"[{{"pbrMetallicRoughness":{{"baseColorFactor":[1,1,1,1],"metallicFactor":0,"roughnessFactor":{roughness}}},"extensions":{{"KHR_materials_sheen":{{"sheenColorFactor":[1,1,1],"sheenRoughnessFactor":{sheen_roughness}}}}}}}]"#
+            );
+            let mut scene = model("sheen-furnace", 1, &material, &[]);
+            scene.lights.clear();
+            scene.material.environment = Some(std::sync::Arc::new(Environment::from_fn(
+                "white",
+                64,
+                32,
+                |_| glam::Vec3::ONE,
+            )));
+            for (turn, diffuse) in [0.0, 30.0, 50.0, 70.0, 80.0]
+                .into_iter()
+                .flat_map(|t| [(t, IblDiffuse::Sh), (t, IblDiffuse::Integrated)])
+            {
+                let mut settings = facing();
+                settings.rotation.y = turn;
+                settings.exposure = 0.5;
+                settings.ibl_diffuse = diffuse;
+                let got = centre(&draw(&scene, &settings, 120, 90));
+                let most = srgb8(0.5) as i32 + 1;
+                assert!(
+                    got.iter().all(|&c| c as i32 <= most),
+                    "{roughness} {sheen_roughness} {turn} {diffuse:?}: {got:?}"
+                );
+            }
+        }
+    }
+}

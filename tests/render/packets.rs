@@ -598,7 +598,8 @@ proptest! {
 /// The physically based kernel with every layer map (docs/shading.md,
 /// "Metallic-roughness"): `KHR_materials_specular`'s strength and colour,
 /// `KHR_materials_clearcoat`'s intensity and roughness (one picture read
-/// once) and its normal map, one of them scaled by a texture transform,
+/// once) and its normal map, `KHR_materials_sheen`'s colour and roughness
+/// maps, one of them scaled by a texture transform,
 /// under the lights and the built-in studio, turned so the view direction
 /// differs across each packet: eight lanes give the one-pixel loop's bits
 /// and counts, with normal maps on and off.
@@ -606,7 +607,7 @@ proptest! {
 fn the_physical_kernel_with_layer_maps_matches_the_one_pixel_loop() {
     use super::layers::halves_png;
     use super::pbr::{model, solid_png};
-    let material = r#"[{"pbrMetallicRoughness":{"baseColorFactor":[0.6,0.3,0.2,1],"metallicFactor":0,"roughnessFactor":0.6},"extensions":{"KHR_materials_specular":{"specularFactor":0.8,"specularColorFactor":[1,0.5,2],"specularTexture":{"index":0},"specularColorTexture":{"index":1,"extensions":{"KHR_texture_transform":{"scale":[2,3],"rotation":0.4}}}},"KHR_materials_clearcoat":{"clearcoatFactor":0.9,"clearcoatRoughnessFactor":0.5,"clearcoatTexture":{"index":2},"clearcoatRoughnessTexture":{"index":2},"clearcoatNormalTexture":{"index":3,"scale":0.7}}}}]"#;
+    let material = r#"[{"pbrMetallicRoughness":{"baseColorFactor":[0.6,0.3,0.2,1],"metallicFactor":0,"roughnessFactor":0.6},"extensions":{"KHR_materials_specular":{"specularFactor":0.8,"specularColorFactor":[1,0.5,2],"specularTexture":{"index":0},"specularColorTexture":{"index":1,"extensions":{"KHR_texture_transform":{"scale":[2,3],"rotation":0.4}}}},"KHR_materials_clearcoat":{"clearcoatFactor":0.9,"clearcoatRoughnessFactor":0.5,"clearcoatTexture":{"index":2},"clearcoatRoughnessTexture":{"index":2},"clearcoatNormalTexture":{"index":3,"scale":0.7}},"KHR_materials_sheen":{"sheenColorFactor":[0.8,0.6,0.9],"sheenRoughnessFactor":0.7,"sheenColorTexture":{"index":1},"sheenRoughnessTexture":{"index":0}}}}]"#;
     let images = [
         halves_png([0, 0, 0, 40], [0, 0, 0, 250]),
         halves_png([255, 128, 0, 255], [30, 200, 90, 255]),
@@ -630,6 +631,8 @@ fn the_physical_kernel_with_layer_maps_matches_the_one_pixel_loop() {
     };
     assert!(Arc::ptr_eq(a, b), "one picture for both");
     assert!(coat.normal.is_some());
+    let sheen = pbr.sheen.as_ref().unwrap();
+    assert!(sheen.colour_map.is_some() && sheen.roughness_map.is_some());
     for bump in [true, false] {
         let s = Settings {
             bump,

@@ -133,7 +133,7 @@ pub fn solid_png(rgba: [u8; 4]) -> Vec<u8> {
     relief_texture::picture::encode(&img.into(), image::ImageFormat::Png).unwrap()
 }
 
-fn write(test: &str, bytes: &[u8]) -> PathBuf {
+pub fn write(test: &str, bytes: &[u8]) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("relief-pbr-{}-{test}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("model.glb");

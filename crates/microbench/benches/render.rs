@@ -38,11 +38,12 @@ fn bench(c: &mut Criterion, name: &str, settings: Settings, threads: usize) {
 /// `KHR_materials_clearcoat` made from the same picture: its height as the
 /// specular strength, its colour as the specular colour and as the
 /// clearcoat's intensity (red) and roughness (green), one picture read
-/// once, and its normal map as the clearcoat's.
+/// once, and its normal map as the clearcoat's; with `Layers::Sheen` a
+/// sheen of colour (1, 0.6, 0.8) and roughness 0.5 by its factors.
 fn model_view_cube(physical: bool, layers: Layers) -> Scene {
     use std::sync::Arc;
 
-    use relief_scene::terms::{Clearcoat, MaterialTerms, PbrMaterial, SpecularMaps};
+    use relief_scene::terms::{Clearcoat, MaterialTerms, PbrMaterial, Sheen, SpecularMaps};
     use relief_texture::Level;
     use relief_texture::sample::normal_map::normal_map_scale;
     let (texture, _) = relief_bench::reference::texture();
@@ -60,6 +61,14 @@ fn model_view_cube(physical: bool, layers: Layers) -> Scene {
             normal: Some(normal.clone()),
             ..PbrMaterial::gltf_default()
         };
+        if layers == Layers::Sheen {
+            material.sheen = Some(Sheen {
+                colour: Vec3::new(1.0, 0.6, 0.8),
+                roughness: 0.5,
+                colour_map: None,
+                roughness_map: None,
+            });
+        }
         if layers == Layers::Factors {
             material.clearcoat = Some(Clearcoat::of_factors(1.0, 0.3));
         }
@@ -96,6 +105,7 @@ enum Layers {
     None,
     Factors,
     Maps,
+    Sheen,
 }
 
 fn bench_scene(c: &mut Criterion, name: &str, scene: &Scene, settings: Settings, threads: usize) {
@@ -156,6 +166,7 @@ fn renderer(c: &mut Criterion) {
         (true, Layers::None, "model_view_pbr"),
         (true, Layers::Factors, "model_view_pbr_coat"),
         (true, Layers::Maps, "model_view_pbr_layer_maps"),
+        (true, Layers::Sheen, "model_view_pbr_sheen"),
     ] {
         let scene = model_view_cube(physical, layers);
         bench_scene(c, &format!("{name}_320x240/all_threads"), &scene, start, 0);

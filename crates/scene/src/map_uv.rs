@@ -58,6 +58,10 @@ pub struct MapUvs {
     pub coat_roughness: MapUv,
     /// `KHR_materials_clearcoat`'s `clearcoatNormalTexture`.
     pub coat_normal: MapUv,
+    /// `KHR_materials_sheen`'s `sheenColorTexture`.
+    pub sheen_colour: MapUv,
+    /// `KHR_materials_sheen`'s `sheenRoughnessTexture`.
+    pub sheen_roughness: MapUv,
 }
 
 impl MapUvs {
@@ -73,6 +77,8 @@ impl MapUvs {
             self.coat,
             self.coat_roughness,
             self.coat_normal,
+            self.sheen_colour,
+            self.sheen_roughness,
         ]
         .iter()
         .all(MapUv::is_vertex_uv)

@@ -1,7 +1,7 @@
 //! The textures a loaded model's materials draw with, one line each, for
 //! the texture panel (docs/models.md): per material its base colour,
 //! height, normal, specular, occlusion and emissive maps, and the maps of
-//! its glTF extensions (specular strength and colour, clearcoat).
+//! its glTF extensions (specular strength and colour, clearcoat, sheen).
 
 use std::sync::Arc;
 
@@ -75,6 +75,7 @@ fn maps_of(m: &Material, terms: Option<&MaterialTerms>) -> Vec<(&'static str, St
         let pbr = terms.pbr.as_ref();
         let spec = pbr.and_then(|p| p.specular_maps.as_ref());
         let coat = pbr.and_then(|p| p.clearcoat.as_ref());
+        let sheen = pbr.and_then(|p| p.sheen.as_ref());
         let dims = |l: &relief_texture::Level| (l.width, l.height);
         for (what, dims) in [
             (
@@ -99,6 +100,14 @@ fn maps_of(m: &Material, terms: Option<&MaterialTerms>) -> Vec<(&'static str, St
                 "coat norm",
                 coat.and_then(|c| c.normal.as_deref())
                     .map(|n| (n.width, n.height)),
+            ),
+            (
+                "sheen",
+                sheen.and_then(|s| s.colour_map.as_deref()).map(dims),
+            ),
+            (
+                "sheen rgh",
+                sheen.and_then(|s| s.roughness_map.as_deref()).map(dims),
             ),
         ] {
             let name = terms.map_names.iter().find(|(w, _)| *w == what);

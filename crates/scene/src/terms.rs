@@ -75,6 +75,26 @@ pub struct PbrMaterial {
     pub specular_maps: Option<SpecularMaps>,
     /// A clear varnish over the material (`KHR_materials_clearcoat`).
     pub clearcoat: Option<Clearcoat>,
+    /// A velvet-like sheen over the material, under the clearcoat
+    /// (`KHR_materials_sheen`).
+    pub sheen: Option<Sheen>,
+}
+
+/// A sheen layer (docs/shading.md, "Sheen"): the Charlie lobe of its
+/// colour and roughness over the material, which is scaled by 1 −
+/// max(colour)·E(N·V), E the lobe's directional albedo.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sheen {
+    /// `sheenColorFactor`, linear, each channel held in 0..=1 (so the
+    /// layered material never reflects more than it receives).
+    pub colour: Vec3,
+    /// `sheenRoughnessFactor`, 0 to 1.
+    pub roughness: f32,
+    /// `sheenColorTexture`: RGB, sRGB-encoded, the picture as it is.
+    pub colour_map: Option<Arc<Level>>,
+    /// `sheenRoughnessTexture`'s alpha, kept alone in one channel (read:
+    /// red).
+    pub roughness_map: Option<Arc<Level>>,
 }
 
 /// `KHR_materials_specular`'s textures (docs/shading.md): per pixel, F0 =
@@ -156,6 +176,7 @@ impl PbrMaterial {
             specular_weight: 1.0,
             specular_maps: None,
             clearcoat: None,
+            sheen: None,
         }
     }
 }

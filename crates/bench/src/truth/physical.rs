@@ -19,7 +19,8 @@
 //! the tone map and the exact sRGB encoding, per ray.
 //!
 //! Not covered (the bench's scene has none of them): the clearcoat layer,
-//! normal maps, a second texture coordinate set and texture transforms.
+//! the sheen, the specular and clearcoat maps, normal maps, a second
+//! texture coordinate set and texture transforms.
 
 use std::f64::consts::{PI, TAU};
 use std::sync::Arc;

@@ -65,6 +65,9 @@ pub trait Lanes:
     fn both(a: Self::Mask, b: impl FnOnce() -> Self::Mask) -> Self::Mask;
     /// x^e where x > 0, else 0 (also for NaN): `f32::powf` lane by lane.
     fn pow_positive(self, e: f32) -> Self;
+    /// x^e with an exponent per lane, where x > 0, else 0: `f32::powf` lane
+    /// by lane.
+    fn pow_lanes(self, e: Self) -> Self;
     /// `level`'s bilinear colour (R, G, B) at (u, v): `Level::bilinear`, or
     /// the packet read that gives its bits lane by lane.
     fn bilinear(level: &Level, u: Self, v: Self) -> [Self; 3];
@@ -143,6 +146,10 @@ impl Lanes for f32 {
     #[inline(always)]
     fn pow_positive(self, e: f32) -> f32 {
         if self > 0.0 { self.powf(e) } else { 0.0 }
+    }
+    #[inline(always)]
+    fn pow_lanes(self, e: f32) -> f32 {
+        self.pow_positive(e)
     }
     #[inline(always)]
     fn bilinear(level: &Level, u: f32, v: f32) -> [f32; 3] {
@@ -234,6 +241,13 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn pow_positive(self, e: f32) -> f32x8 {
         f32x8::from(self.to_array().map(|x| x.pow_positive(e)))
+    }
+    #[inline(always)]
+    fn pow_lanes(self, e: f32x8) -> f32x8 {
+        let (x, e) = (self.to_array(), e.to_array());
+        f32x8::from(std::array::from_fn::<f32, 8, _>(|i| {
+            x[i].pow_positive(e[i])
+        }))
     }
     #[inline(always)]
     fn bilinear(level: &Level, u: f32x8, v: f32x8) -> [f32x8; 3] {
@@ -408,6 +422,7 @@ mod tests {
             std::array::from_fn::<u32, 8, _>(|i| f(a[i], b[i]).to_bits())
         };
         assert_eq!(lanes(x.pow_positive(2.5)), one(&|p, _| p.pow_positive(2.5)));
+        assert_eq!(lanes(x.pow_lanes(y)), one(&|p, q| p.pow_lanes(q)));
         assert_eq!(
             lanes(<f32x8 as Lanes>::select(Lanes::lt(x, y), x, y)),
             one(&|p, q| if p < q { p } else { q })

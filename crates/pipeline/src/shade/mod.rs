@@ -21,6 +21,7 @@ pub mod parallax;
 pub mod pbr;
 pub mod sampled;
 pub mod shader;
+pub mod sheen;
 pub mod specular;
 pub mod split_sum;
 pub mod tangent;

@@ -5,17 +5,20 @@
 //! decoded from sRGB; metallic and roughness = their factors × the map's
 //! blue and green; the normal map's normal in the pixel's tangent frame;
 //! a dielectric's F0 and F90 from `KHR_materials_specular`'s factors and
-//! maps, and a clearcoat's intensity, roughness and normal from
-//! `KHR_materials_clearcoat`'s (each map read only by a material that has
-//! it).
+//! maps, a clearcoat's intensity, roughness and normal from
+//! `KHR_materials_clearcoat`'s, a sheen's colour and roughness from
+//! `KHR_materials_sheen`'s (each map read only by a material that has it).
 //! Each light adds (1 − F)(1 − metallic)·base + π·F·D·V, times its colour
 //! and N·L (a light of colour 1 gives a white Lambert surface facing it 1);
 //! the environment adds its image-based light (by default spherical
 //! harmonics for the diffuse part, prefiltered levels and the split-sum
 //! table for the specular part, `texture::ibl`; `--ibl-diffuse integrated`
 //! reads an exact irradiance map instead, `--ibl-specular sampled` samples
-//! the lobe, `shade::sampled`) with the occlusion map on it; emission is
-//! added; then exposure, the tone map and the sRGB encoding, once.
+//! the lobe, `shade::sampled`) with the occlusion map on it; a sheen
+//! scales all that by 1 − max(colour)·E(N·V) and adds its own lobe
+//! (`shade::sheen`) per light and from the environment; emission is
+//! added; a clearcoat goes over everything; then exposure, the tone map and
+//! the sRGB encoding, once.
 //!
 //! One source for one pixel and eight (`shade::lanes`); texels and shadow
 //! lookups are read lane by lane where the packet read does not apply.
@@ -36,6 +39,7 @@ use super::map_uv::{Coords, carry, footprint_map};
 use super::packet::{self, LANES, V3};
 use super::sampled::sample_lobe;
 use super::shader::{PixelShader, ShadeCtx};
+use super::sheen::{self, MIN_SHEEN_ROUGHNESS, charlie, neubelt};
 use super::specular::view_dir;
 use super::split_sum::lut;
 use super::tangent::Surface;
@@ -45,7 +49,7 @@ use relief_core::settings::{IblDiffuse, IblSpecular};
 use relief_core::stats::Counters;
 use relief_scene::light::Falloff;
 use relief_scene::map_uv::MapUv;
-use relief_scene::terms::{Clearcoat, DIELECTRIC_F0, MaterialTerms, PbrMaterial};
+use relief_scene::terms::{Clearcoat, DIELECTRIC_F0, MaterialTerms, PbrMaterial, Sheen};
 use relief_texture::NormalMap;
 use relief_texture::environment::Environment;
 use relief_texture::ibl::Ibl;
@@ -124,6 +128,24 @@ struct At<V: Vector> {
     alpha2: V::L,
     /// The clearcoat layer, when the material has one.
     coat: Option<Coat<V>>,
+    /// The sheen layer, when the material has one.
+    sheen: Option<SheenAt<V>>,
+}
+
+/// A sheen layer at the pixels: its colour and roughness (factors times
+/// maps), on the material's normal (mapped or not).
+struct SheenAt<V: Vector> {
+    colour: V,
+    /// The Charlie distribution's α: the sheen roughness squared.
+    alpha: V::L,
+    /// The lobe's directional albedo E(N·V, roughness).
+    albedo: V::L,
+    /// Where the lobe gathers the environment's light from:
+    /// normalize(a·N + g·(V − N·(N·V))), from the table.
+    along_n: V::L,
+    along_view: V::L,
+    /// What the material below keeps: 1 − max(colour)·E(N·V).
+    keeps: V::L,
 }
 
 /// A clearcoat layer at the pixels: on the surface's own normal (not the
@@ -232,9 +254,16 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
                 .clearcoat
                 .as_ref()
                 .map(|c| self.coat(c, ctx, (&s, view), at, (fp, live), counters)),
+            sheen: pbr.sheen.as_ref().map(|sh| self.sheen(sh, nv, at, live)),
         };
-        let (direct, coat_direct) = self.lights(ctx, &px, live, counters);
+        let (direct, coat_direct, sheen_direct) = self.lights(ctx, &px, live, counters);
         let lit = direct + self.ambient(&px, roughness, at, live);
+        // A sheen keeps 1 − max(colour)·E(N·V) of the material below it (for
+        // the lights and the environment alike) and adds its own lobe.
+        let lit = match &px.sheen {
+            Some(sh) => lit * sh.keeps + sheen_direct + self.sheen_ambient(sh, &px, at, live),
+            None => lit,
+        };
         let lit = lit + emission(terms, at);
         // A clearcoat lets 1 − c·F through of all that is below it (the
         // emission too) and adds its own reflection, times c.
@@ -354,6 +383,76 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         Coat::new(n, view, saturate(factor), saturate(roughness))
     }
 
+    /// The sheen layer at the pixels seen at N·V = `nv`: its colour (factor
+    /// × the colour map decoded from sRGB) and roughness (factor × the
+    /// roughness map, held ≥ the minimum), the lobe's albedo and mean
+    /// direction from the table, read lane by lane.
+    #[inline(always)]
+    fn sheen<V: Vector>(&self, sh: &Sheen, nv: V::L, at: Coords<V::L>, live: u32) -> SheenAt<V> {
+        let uvs = &self.terms.uvs;
+        let mut colour = V::uniform(sh.colour);
+        if let Some(map) = &sh.colour_map {
+            let (u, v) = at.of(&uvs.sheen_colour);
+            let [r, g, b] = V::L::bilinear(map, u, v);
+            colour = colour * srgb_to_linear(V::new(r, g, b));
+        }
+        let mut roughness = V::L::splat(sh.roughness);
+        if let Some(map) = &sh.roughness_map {
+            let (u, v) = at.of(&uvs.sheen_roughness);
+            roughness = roughness * V::L::bilinear(map, u, v)[0];
+        }
+        let roughness = brdf::max(saturate(roughness), V::L::splat(MIN_SHEEN_ROUGHNESS));
+        let table = sheen::table();
+        let [albedo, along_n, along_view] =
+            V::L::gather(live, 0.0, |i| table.read(nv.lane(i), roughness.lane(i)));
+        let peak = brdf::max(brdf::max(colour.x(), colour.y()), colour.z());
+        SheenAt {
+            colour,
+            alpha: roughness * roughness,
+            albedo,
+            along_n,
+            along_view,
+            keeps: V::L::ONE - peak * albedo,
+        }
+    }
+
+    /// The environment's light on the sheen: its colour × E(N·V) × the
+    /// irradiance about the direction the lobe gathers from (N leaning
+    /// towards the eye; exact for a uniform environment, docs/shading.md,
+    /// "Sheen"), read as the diffuse part reads it (the spherical
+    /// harmonics, or the integrated map), times the occlusion map.
+    #[inline(always)]
+    fn sheen_ambient<V: Vector>(
+        &self,
+        sh: &SheenAt<V>,
+        px: &At<V>,
+        at: Coords<V::L>,
+        live: u32,
+    ) -> V {
+        let Some(env) = self.light else {
+            return V::uniform(Vec3::ZERO);
+        };
+        let (c, s) = self.physical.turn;
+        // The view's part across the normal (from the true N·V: a normal
+        // turned from the eye, whose N·V is held at 1e-4, leans no lower).
+        let side = px.view - px.n * px.n.dot(px.view);
+        let gather = (px.n * sh.along_n + side * sh.along_view).normalize_or(px.n);
+        let gather = turned(gather, c, s);
+        let irradiance = match env.diffuse {
+            DiffuseLight::Sh(coefficients) => irradiance(coefficients, gather),
+            DiffuseLight::Integrated(map) => {
+                V::gather(live, |i| map.read_seamless(oct_uv(gather.lane(i))))
+            }
+        };
+        let mut light = sh.colour * sh.albedo * irradiance;
+        if let Some((map, strength)) = &self.terms.occlusion {
+            let (u, v) = at.of(&self.terms.uvs.occlusion);
+            let occ = V::L::bilinear(map, u, v)[0];
+            light = light * (V::L::ONE + V::L::splat(*strength) * (occ - V::L::ONE));
+        }
+        light
+    }
+
     /// The normal map's normal at the pixels, in their tangent frame.
     #[inline(always)]
     fn mapped_normal<V: Vector>(
@@ -398,8 +497,9 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
     }
 
     /// Σ over the lights of colour × N·L × ((1 − F)·diffuse + π·F·D·V),
-    /// each scaled by its attenuation and shadow; and the same sum of the
-    /// clearcoat layer's own reflection (zero without a layer).
+    /// each scaled by its attenuation and shadow; and the same sums of the
+    /// clearcoat layer's own reflection and of the sheen's lobe
+    /// colour·π·D·V (Charlie, Neubelt) (zero without the layer).
     #[inline(always)]
     fn lights<V: Vector>(
         &self,
@@ -407,11 +507,12 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         px: &At<V>,
         live: u32,
         counters: &mut Counters,
-    ) -> (V, V) {
+    ) -> (V, V, V) {
         let plan = ctx.plan;
         let zero = V::L::ZERO;
         let mut sum = V::uniform(Vec3::ZERO);
         let mut coat_sum = V::uniform(Vec3::ZERO);
+        let mut sheen_sum = V::uniform(Vec3::ZERO);
         counters.light_evals += live.count_ones() as u64 * plan.lights.len() as u64;
         for (i, light) in plan.lights.iter().enumerate() {
             let d = V::uniform(light.position) - px.p;
@@ -462,12 +563,20 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             }
             let add = brdf * V::uniform(light.color) * k;
             sum = sum + V::select(reached, add, V::uniform(Vec3::ZERO));
+            if let Some(sh) = &px.sheen {
+                // The fibres' lobe, with the base's N·L, falloff and shadow.
+                let lobe = charlie(sh.alpha, V::L::ONE - nh * nh)
+                    * neubelt(nl, px.nv)
+                    * V::L::splat(std::f32::consts::PI);
+                let add = sh.colour * V::uniform(light.color) * (lobe * k);
+                sheen_sum = sheen_sum + V::select(reached, add, V::uniform(Vec3::ZERO));
+            }
             if let Some(kc) = kc {
                 let add = V::uniform(light.color) * kc;
                 coat_sum = coat_sum + V::select(reached, add, V::uniform(Vec3::ZERO));
             }
         }
-        (sum, coat_sum)
+        (sum, coat_sum, sheen_sum)
     }
 
     /// The environment's light: irradiance(N)·diffuse·(1 − S) +

@@ -9,9 +9,10 @@
 //!   the specular map: gloss = (1 − roughness)², roughness =
 //!   `roughnessFactor` × the texture's green channel;
 //! - `doubleSided` false culls back faces;
-//! - `KHR_materials_ior`, `KHR_materials_specular` and
-//!   `KHR_materials_clearcoat`: their factors and their textures, each map
-//!   kept in the channels its reads need (`SpecularMaps`, `Clearcoat`).
+//! - `KHR_materials_ior`, `KHR_materials_specular`,
+//!   `KHR_materials_clearcoat` and `KHR_materials_sheen`: their factors
+//!   and their textures, each map kept in the channels its reads need
+//!   (`SpecularMaps`, `Clearcoat`, `Sheen`).
 
 use std::borrow::Cow;
 use std::collections::HashMap;
@@ -25,7 +26,7 @@ use super::opacity;
 use super::sampling::{Kind, Reading, Sets, extension_map, maps_of};
 use crate::Material;
 use crate::map_uv::MapUv;
-use crate::terms::{Clearcoat, Cutout, MaterialTerms, PbrMaterial, SpecularMaps, f0_of_ior};
+use crate::terms::{Clearcoat, Cutout, MaterialTerms, PbrMaterial, Sheen, SpecularMaps, f0_of_ior};
 use relief_texture::decode::load::load_texture_from_bytes;
 use relief_texture::decode::size_cap;
 use relief_texture::normal_map_file::{FileNormalMap, tilt};
@@ -210,6 +211,9 @@ impl<'a> Materials<'a> {
         if let Some(coat) = &mut physical.clearcoat {
             self.coat_maps(m, &readings, coat, &mut map_names)?;
         }
+        if let Some(sheen) = &mut physical.sheen {
+            self.sheen_maps(m, &readings, sheen, &mut map_names)?;
+        }
         // MASK draws the pixels whose alpha reaches the cutoff; BLEND and
         // transmission composite each pixel with its opacity.
         let opacity = opacity::of(m);
@@ -349,6 +353,32 @@ impl<'a> Materials<'a> {
         if let Some((texture, _)) = rough {
             coat.roughness_map = Some(self.channel_map(&texture, &r_rough, 1)?);
             names.push(("coat rough", self.map_name(&texture)?));
+        }
+        Ok(())
+    }
+
+    /// `KHR_materials_sheen`'s colour map (as the picture is) and roughness
+    /// map (its alpha alone; a picture without alpha reads 1, no map; a
+    /// roughness factor of 0 reads none).
+    fn sheen_maps(
+        &self,
+        m: &::gltf::Material<'a>,
+        readings: &Readings,
+        sheen: &mut Sheen,
+        names: &mut Vec<(&'static str, String)>,
+    ) -> Result<(), Problem> {
+        let ext = "KHR_materials_sheen";
+        if let Some((texture, _)) = extension_map(self.document, m, ext, "sheenColorTexture") {
+            sheen.colour_map = Some(self.plain_map(&texture, &readings.of(Kind::SheenColour))?);
+            names.push(("sheen", self.map_name(&texture)?));
+        }
+        if let Some((texture, _)) = extension_map(self.document, m, ext, "sheenRoughnessTexture")
+            && sheen.roughness > 0.0
+            && self.image_has_alpha(&texture)?
+        {
+            let reading = readings.of(Kind::SheenRoughness);
+            sheen.roughness_map = Some(self.channel_map(&texture, &reading, 3)?.0);
+            names.push(("sheen rgh", self.map_name(&texture)?));
         }
         Ok(())
     }
@@ -699,6 +729,7 @@ impl<'a> Materials<'a> {
         let keep = |ext: &str| match ext {
             "KHR_materials_specular" => pbr.specular_weight > 0.0,
             "KHR_materials_clearcoat" => pbr.clearcoat.is_some(),
+            "KHR_materials_sheen" => pbr.sheen.is_some(),
             _ => true,
         };
         super::sampling::EXTENSION_MAPS
@@ -887,8 +918,30 @@ fn reflectance(m: &::gltf::Material) -> PbrMaterial {
         dielectric_f0,
         specular_weight: weight,
         clearcoat,
+        sheen: sheen(m),
         ..PbrMaterial::gltf_default()
     }
+}
+
+/// `KHR_materials_sheen`'s factors: none when the colour is black (the
+/// extension's default, which disables the layer). Each channel is held
+/// in 0..=1, the roughness too.
+fn sheen(m: &::gltf::Material) -> Option<Sheen> {
+    let ext = "KHR_materials_sheen";
+    let colour = m
+        .extension_value(ext)?
+        .get("sheenColorFactor")
+        .and_then(|v| v.as_array())
+        .filter(|a| a.len() == 3)
+        .map(|a| Vec3::from_array([0, 1, 2].map(|k| a[k].as_f64().unwrap_or(0.0) as f32)))
+        .filter(|c| c.is_finite())?
+        .clamp(Vec3::ZERO, Vec3::ONE);
+    (colour.max_element() > 0.0).then(|| Sheen {
+        colour,
+        roughness: extension_number(m, ext, "sheenRoughnessFactor", 0.0).clamp(0.0, 1.0),
+        colour_map: None,
+        roughness_map: None,
+    })
 }
 
 /// The emissive factor times `KHR_materials_emissive_strength` (not finite: none).

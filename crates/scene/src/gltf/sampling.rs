@@ -66,6 +66,10 @@ pub enum Kind {
     CoatRoughness,
     /// `KHR_materials_clearcoat`'s `clearcoatNormalTexture`.
     CoatNormal,
+    /// `KHR_materials_sheen`'s `sheenColorTexture`.
+    SheenColour,
+    /// `KHR_materials_sheen`'s `sheenRoughnessTexture` (its alpha).
+    SheenRoughness,
 }
 
 /// The material extensions' maps relief draws: (kind, extension, key).
@@ -90,6 +94,16 @@ pub const EXTENSION_MAPS: &[(Kind, &str, &str)] = &[
         Kind::CoatNormal,
         "KHR_materials_clearcoat",
         "clearcoatNormalTexture",
+    ),
+    (
+        Kind::SheenColour,
+        "KHR_materials_sheen",
+        "sheenColorTexture",
+    ),
+    (
+        Kind::SheenRoughness,
+        "KHR_materials_sheen",
+        "sheenRoughnessTexture",
     ),
 ];
 
@@ -257,6 +271,8 @@ impl Sets {
                 Kind::Coat => uvs.coat = map,
                 Kind::CoatRoughness => uvs.coat_roughness = map,
                 Kind::CoatNormal => uvs.coat_normal = map,
+                Kind::SheenColour => uvs.sheen_colour = map,
+                Kind::SheenRoughness => uvs.sheen_roughness = map,
             }
         }
         Sets { first, second, uvs }
