@@ -76,6 +76,11 @@ pub trait Lanes:
     fn bilinear_with_gradient(level: &Level, u: Self, v: Self) -> ([Self; 3], Self, Self);
     /// `Level::height_gradient_filtered`: the filtered height gradient.
     fn gradient(level: &Level, u: Self, v: Self) -> (Self, Self);
+    /// The lanes as eight (one pixel: in every lane), for a step written
+    /// once over eight lanes (a table or map read).
+    fn to_x8(self) -> f32x8;
+    /// The first `WIDTH` lanes of `v`.
+    fn from_x8(v: f32x8) -> Self;
 }
 
 impl Lanes for f32 {
@@ -164,6 +169,14 @@ impl Lanes for f32 {
     #[inline(always)]
     fn gradient(level: &Level, u: f32, v: f32) -> (f32, f32) {
         level.height_gradient_filtered(u, v)
+    }
+    #[inline(always)]
+    fn to_x8(self) -> f32x8 {
+        f32x8::splat(self)
+    }
+    #[inline(always)]
+    fn from_x8(v: f32x8) -> f32 {
+        v.as_array()[0]
     }
 }
 
@@ -263,6 +276,14 @@ impl Lanes for f32x8 {
     fn gradient(level: &Level, u: f32x8, v: f32x8) -> (f32x8, f32x8) {
         let t = packet::bilinear::<false, true>(level, u, v);
         (t.fu, t.fv)
+    }
+    #[inline(always)]
+    fn to_x8(self) -> f32x8 {
+        self
+    }
+    #[inline(always)]
+    fn from_x8(v: f32x8) -> f32x8 {
+        v
     }
 }
 

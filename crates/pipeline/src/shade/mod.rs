@@ -24,6 +24,7 @@ pub mod shader;
 pub mod sheen;
 pub mod specular;
 pub mod split_sum;
+pub mod table;
 pub mod tangent;
 
 pub use shader::{GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, TriShader};

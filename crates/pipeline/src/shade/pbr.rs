@@ -254,7 +254,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
                 .clearcoat
                 .as_ref()
                 .map(|c| self.coat(c, ctx, (&s, view), at, (fp, live), counters)),
-            sheen: pbr.sheen.as_ref().map(|sh| self.sheen(sh, nv, at, live)),
+            sheen: pbr.sheen.as_ref().map(|sh| self.sheen(sh, nv, at)),
         };
         let (direct, coat_direct, sheen_direct) = self.lights(ctx, &px, live, counters);
         let lit = direct + self.ambient(&px, roughness, at, live);
@@ -388,7 +388,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
     /// roughness map, held ≥ the minimum), the lobe's albedo and mean
     /// direction from the table, read lane by lane.
     #[inline(always)]
-    fn sheen<V: Vector>(&self, sh: &Sheen, nv: V::L, at: Coords<V::L>, live: u32) -> SheenAt<V> {
+    fn sheen<V: Vector>(&self, sh: &Sheen, nv: V::L, at: Coords<V::L>) -> SheenAt<V> {
         let uvs = &self.terms.uvs;
         let mut colour = V::uniform(sh.colour);
         if let Some(map) = &sh.colour_map {
@@ -403,8 +403,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         }
         let roughness = brdf::max(saturate(roughness), V::L::splat(MIN_SHEEN_ROUGHNESS));
         let table = sheen::table();
-        let [albedo, along_n, along_view] =
-            V::L::gather(live, 0.0, |i| table.read(nv.lane(i), roughness.lane(i)));
+        let [albedo, along_n, along_view] = table.read(nv, roughness);
         let peak = brdf::max(brdf::max(colour.x(), colour.y()), colour.z());
         SheenAt {
             colour,
@@ -597,14 +596,8 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         let (specular, reflected) = match env.specular {
             SpecularLight::Prefiltered(ibl) => {
                 let r = turned(px.n * (px.nv + px.nv) - px.view, c, s);
-                let lut = lut();
-                let [a, b] = V::L::gather(live, 0.0, |i| {
-                    let (a, b) = lut.read(px.nv.lane(i), roughness.lane(i));
-                    [a, b]
-                });
-                let prefiltered = V::gather(live, |i| {
-                    ibl.specular(r.lane(i).normalize_or(Vec3::Y), roughness.lane(i))
-                });
+                let [a, b] = lut().read(px.nv, roughness);
+                let prefiltered = prefiltered(ibl, r, roughness, live);
                 let specular = px.f0 * a + one * (px.f90 * b);
                 (specular, specular * prefiltered)
             }
@@ -641,14 +634,8 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         match env.specular {
             SpecularLight::Prefiltered(ibl) => {
                 let r = turned(c.n * (c.nv + c.nv) - view, cos, sin);
-                let lut = lut();
-                let [a, b] = V::L::gather(live, 0.0, |i| {
-                    let (a, b) = lut.read(c.nv.lane(i), c.roughness.lane(i));
-                    [a, b]
-                });
-                let prefiltered = V::gather(live, |i| {
-                    ibl.specular(r.lane(i).normalize_or(Vec3::Y), c.roughness.lane(i))
-                });
+                let [a, b] = lut().read(c.nv, c.roughness);
+                let prefiltered = prefiltered(ibl, r, c.roughness, live);
                 prefiltered * (V::L::splat(DIELECTRIC_F0) * a + b)
             }
             SpecularLight::Sampled(levels) => {
@@ -659,6 +646,17 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             }
         }
     }
+}
+
+/// The prefiltered levels' radiance about the lanes' reflected directions
+/// `r` (normalised here; a zero or non-finite one reads +Y) for their
+/// roughness, in the lanes of `live`.
+#[inline(always)]
+fn prefiltered<V: Vector>(ibl: &Ibl, r: V, roughness: V::L, live: u32) -> V {
+    let r = r.normalize_or(V::uniform(Vec3::Y));
+    let r = [r.x().to_x8(), r.y().to_x8(), r.z().to_x8()];
+    let [x, y, z] = ibl.specular_lanes(r, roughness.to_x8(), live);
+    V::new(V::L::from_x8(x), V::L::from_x8(y), V::L::from_x8(z))
 }
 
 /// The irradiance over π at unit normals `n` from the nine SH

@@ -233,7 +233,7 @@ mod tests {
             for angle in ANGLES {
                 let v = view_at(angle);
                 let nv = v.y.max(1e-4);
-                let (a, b) = lut().read(nv, r);
+                let [a, b] = lut().read(nv, r);
                 for (f0, f90) in [(0.04, 1.0), (1.0, 1.0), (0.5, 0.7)] {
                     let (s, _) = one(levels, Vec3::Y, v, Vec3::splat(f0), f90, r);
                     worst = worst.max((s.x - (f0 * a + f90 * b)).abs());
@@ -325,7 +325,7 @@ mod tests {
                     let v = n * a.cos() + t * a.sin();
                     let truth = direct(&source, n, v, roughness).x;
                     let (_, sampled) = one(levels, n, v, Vec3::ONE, 1.0, roughness);
-                    let (sa, sb) = lut().read(n.dot(v), roughness);
+                    let [sa, sb] = lut().read(n.dot(v), roughness);
                     let r = n * (2.0 * n.dot(v)) - v;
                     let prefiltered = ibl.specular(r, roughness).x * (sa + sb);
                     let (es, ep) = ((sampled.x - truth) / truth, (prefiltered - truth) / truth);

@@ -19,6 +19,7 @@ use std::sync::OnceLock;
 
 use super::brdf::MIN_ROUGHNESS;
 use super::lanes::Lanes;
+use super::table;
 
 /// Entries per side of the albedo table (N·V and roughness from 0 to 1,
 /// endpoints included).
@@ -47,11 +48,11 @@ pub fn neubelt<L: Lanes>(nl: L, nv: L) -> L {
 }
 
 /// What the sheen's table holds at each N·V and roughness: the lobe's
-/// directional albedo E (capped at 1) and where the lobe gathers its light
-/// from, for the environment's share ([`Table::read`]).
-pub struct Table {
-    entries: Vec<[f32; 3]>,
-}
+/// directional albedo E (capped at 1), and (a, g) such that
+/// normalize(a·N + g·(V − N·(N·V))) is the direction the lobe gathers its
+/// light from on average (tilted from N towards the eye, the more the
+/// smoother the sheen), for the environment's share.
+pub type Table = table::Table<3>;
 
 /// The lobe seen at N·V = `nv` with sheen roughness `roughness` (held ≥
 /// the minimum), in f64: its directional albedo E = ∫ D·V·N·L dω(L), and
@@ -111,54 +112,28 @@ pub fn albedo(nv: f64, roughness: f64) -> f64 {
     lobe(nv, roughness).0
 }
 
-impl Table {
-    fn new() -> Table {
-        let last = (SIZE - 1) as f64;
-        let mut entries = Vec::with_capacity(SIZE * SIZE);
-        for row in 0..SIZE {
-            for col in 0..SIZE {
-                let nv = col as f64 / last;
-                let (e, along_n, along_t) = lobe(nv, row as f64 / last);
-                // The sideways part per unit of the view's own (V − N·N·V
-                // has length sin θv): finite as the eye comes head on,
-                // where the lobe is symmetric about N.
-                let sin_v = (1.0 - nv.min(0.999) * nv.min(0.999)).sqrt();
-                let along_t = if nv < 0.999 {
-                    along_t
-                } else {
-                    lobe(0.999, row as f64 / last).2
-                };
-                entries.push([e.min(1.0) as f32, along_n as f32, (along_t / sin_v) as f32]);
-            }
-        }
-        Table { entries }
-    }
-
-    /// At N·V = `nv` and sheen roughness `roughness`, bilinear: E, and
-    /// (a, g) such that normalize(a·N + g·(V − N·(N·V))) is the direction
-    /// the lobe gathers its light from on average (tilted from N towards
-    /// the eye, the more the smoother the sheen).
-    pub fn read(&self, nv: f32, roughness: f32) -> [f32; 3] {
-        let last = (SIZE - 1) as f32;
-        let x = (nv * last).clamp(0.0, last);
-        let y = (roughness * last).clamp(0.0, last);
-        let (x0, y0) = (x as usize, y as usize);
-        let (x1, y1) = ((x0 + 1).min(SIZE - 1), (y0 + 1).min(SIZE - 1));
-        let (fx, fy) = (x - x0 as f32, y - y0 as f32);
-        let at = |r: usize, c: usize| self.entries[r * SIZE + c];
-        std::array::from_fn(|k| {
-            let top = at(y0, x0)[k] + (at(y0, x1)[k] - at(y0, x0)[k]) * fx;
-            let bottom = at(y1, x0)[k] + (at(y1, x1)[k] - at(y1, x0)[k]) * fx;
-            top + (bottom - top) * fy
-        })
-    }
+/// The table's entry at roughness row `row` and N·V column `col`.
+fn entry(row: usize, col: usize) -> [f32; 3] {
+    let last = (SIZE - 1) as f64;
+    let nv = col as f64 / last;
+    let (e, along_n, along_t) = lobe(nv, row as f64 / last);
+    // The sideways part per unit of the view's own (V − N·N·V has length
+    // sin θv): finite as the eye comes head on, where the lobe is
+    // symmetric about N.
+    let sin_v = (1.0 - nv.min(0.999) * nv.min(0.999)).sqrt();
+    let along_t = if nv < 0.999 {
+        along_t
+    } else {
+        lobe(0.999, row as f64 / last).2
+    };
+    [e.min(1.0) as f32, along_n as f32, (along_t / sin_v) as f32]
 }
 
 /// The table, integrated on first use (about 10 million steps, a few tens
 /// of milliseconds) and kept.
 pub fn table() -> &'static Table {
     static TABLE: OnceLock<Table> = OnceLock::new();
-    TABLE.get_or_init(Table::new)
+    TABLE.get_or_init(|| Table::from_fn(SIZE, entry))
 }
 
 #[cfg(test)]
@@ -337,7 +312,7 @@ mod tests {
         let table = table();
         for row in 0..SIZE {
             for col in 0..SIZE {
-                let [e, a, g] = table.entries[row * SIZE + col];
+                let [e, a, g] = entry(row, col);
                 assert!(
                     e.is_finite() && (0.0..=1.0).contains(&e),
                     "{row} {col}: {e}"

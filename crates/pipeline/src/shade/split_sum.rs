@@ -10,6 +10,7 @@ use std::f32::consts::PI;
 use glam::Vec3;
 
 use super::brdf::visibility;
+use super::table::Table;
 
 /// Entries along N·V and along roughness; entry i is at i/(SIZE − 1), so
 /// N·V = 1 and roughness 0 are exact entries.
@@ -17,10 +18,8 @@ pub const SIZE: usize = 32;
 /// Samples per entry.
 const SAMPLES: u32 = 1024;
 
-/// A and B per entry, roughness rows, N·V columns.
-pub struct Lut {
-    ab: Vec<[f32; 2]>,
-}
+/// A and B per entry ([`Table::read`] gives `[A, B]`).
+pub type Lut = Table<2>;
 
 /// The i-th of n Hammersley points: (i + ½)/n and the bit-reversed i.
 pub fn hammersley(i: u32, n: u32) -> (f32, f32) {
@@ -79,49 +78,19 @@ fn visible_normal(v: Vec3, alpha: f32, (u1, u2): (f32, f32)) -> Vec3 {
     Vec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize_or(Vec3::Z)
 }
 
-impl Lut {
-    pub fn new() -> Lut {
-        let step = 1.0 / (SIZE - 1) as f32;
-        let mut ab = Vec::with_capacity(SIZE * SIZE);
-        for r in 0..SIZE {
-            for c in 0..SIZE {
-                let (a, b) = split_sum(c as f32 * step, r as f32 * step);
-                ab.push([a, b]);
-            }
-        }
-        Lut { ab }
-    }
-
-    /// (A, B) at `nv` and `roughness` (each clamped to 0..=1), bilinear
-    /// between entries.
-    #[inline]
-    pub fn read(&self, nv: f32, roughness: f32) -> (f32, f32) {
-        let last = (SIZE - 1) as f32;
-        let x = (nv * last).clamp(0.0, last);
-        let y = (roughness * last).clamp(0.0, last);
-        let (x0, y0) = (x as usize, y as usize);
-        let (x1, y1) = ((x0 + 1).min(SIZE - 1), (y0 + 1).min(SIZE - 1));
-        let (fx, fy) = (x - x0 as f32, y - y0 as f32);
-        let at = |r: usize, c: usize| self.ab[r * SIZE + c];
-        let mix = |k: usize| {
-            let top = at(y0, x0)[k] + (at(y0, x1)[k] - at(y0, x0)[k]) * fx;
-            let bottom = at(y1, x0)[k] + (at(y1, x1)[k] - at(y1, x0)[k]) * fx;
-            top + (bottom - top) * fy
-        };
-        (mix(0), mix(1))
-    }
+/// The table of [`split_sum`] at every entry.
+pub fn build() -> Lut {
+    let step = 1.0 / (SIZE - 1) as f32;
+    Table::from_fn(SIZE, |r, c| {
+        let (a, b) = split_sum(c as f32 * step, r as f32 * step);
+        [a, b]
+    })
 }
 
 /// The table, computed on first use and shared.
 pub fn lut() -> &'static Lut {
     static LUT: std::sync::OnceLock<Lut> = std::sync::OnceLock::new();
-    LUT.get_or_init(Lut::new)
-}
-
-impl Default for Lut {
-    fn default() -> Lut {
-        Lut::new()
-    }
+    LUT.get_or_init(build)
 }
 
 #[cfg(test)]
@@ -134,14 +103,14 @@ mod tests {
     fn the_table_is_one_for_a_mirror_head_on_and_never_above_one() {
         let (a, b) = split_sum(1.0, 0.0);
         assert!((a - 1.0).abs() < 1e-6 && b.abs() < 1e-6, "{a} {b}");
-        let lut = Lut::new();
-        let (a, b) = lut.read(1.0, 0.0);
+        let lut = build();
+        let [a, b] = lut.read(1.0, 0.0);
         assert!((a + b - 1.0).abs() < 1e-6, "{a} {b}");
         let mut worst = 0.0f32;
         for r in 0..SIZE {
             for c in 0..SIZE {
                 let step = 1.0 / (SIZE - 1) as f32;
-                let (a, b) = lut.read(c as f32 * step, r as f32 * step);
+                let [a, b] = lut.read(c as f32 * step, r as f32 * step);
                 assert!(a >= 0.0 && b >= 0.0, "{c} {r}: {a} {b}");
                 worst = worst.max(a + b);
             }
@@ -149,10 +118,10 @@ mod tests {
         assert!(worst <= 1.0 + 1e-6, "{worst}");
         // Roughness 1 (α = 1): D = 1/π and V = ½/(N·L + N·V), so head on
         // A + B = ∫ N·L/(2π(N·L + 1)) dω = ∫₀¹ μ/(μ + 1) dμ = 1 − ln 2.
-        let (a, b) = lut.read(1.0, 1.0);
+        let [a, b] = lut.read(1.0, 1.0);
         assert!((a + b - (1.0 - 2f32.ln())).abs() < 0.005, "{a} {b}");
         // Grazing, Fresnel's share grows: B above A for a mirror.
-        let (a, b) = lut.read(0.0, 0.0);
+        let [a, b] = lut.read(0.0, 0.0);
         assert!(b > a, "{a} {b}");
     }
 }

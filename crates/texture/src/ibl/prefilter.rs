@@ -10,6 +10,7 @@
 //! adds and a division, no trigonometry, which the kernel pays per pixel.
 
 use glam::{Vec2, Vec3};
+use wide::f32x8;
 
 use super::source::Source;
 
@@ -36,22 +37,33 @@ impl std::fmt::Debug for OctMap {
 
 /// The octahedral coordinates of unit direction `d` in 0..=1: the upper
 /// half (+Z) in the diamond at the centre, the lower half folded into the
-/// corners.
+/// corners. (The first lane of [`oct_uv_lanes`], the formula's one source.)
 #[inline]
 pub fn oct_uv(d: Vec3) -> Vec2 {
-    let l1 = d.x.abs() + d.y.abs() + d.z.abs();
-    let p = if l1 > 0.0 {
-        Vec2::new(d.x, d.y) / l1
-    } else {
-        Vec2::ZERO
-    };
-    let p = if d.z < 0.0 {
-        let sign = Vec2::new(p.x.signum(), p.y.signum());
-        (Vec2::ONE - Vec2::new(p.y.abs(), p.x.abs())) * sign
-    } else {
-        p
-    };
-    p * 0.5 + 0.5
+    let [u, v] = oct_uv_lanes([f32x8::splat(d.x), f32x8::splat(d.y), f32x8::splat(d.z)]);
+    Vec2::new(u.as_array()[0], v.as_array()[0])
+}
+
+/// [`oct_uv`] of eight directions (x, y, z per lane): for directions
+/// without NaN, each lane's bits are the one-direction formula's (the same
+/// IEEE operations in the same order).
+#[inline(always)]
+pub fn oct_uv_lanes([x, y, z]: [f32x8; 3]) -> [f32x8; 2] {
+    let l1 = x.abs() + y.abs() + z.abs();
+    let positive = l1.simd_gt(f32x8::ZERO);
+    let px = positive.select(x / l1, f32x8::ZERO);
+    let py = positive.select(y / l1, f32x8::ZERO);
+    // The lower half folds over the diamond's edges: (1 − |y|, 1 − |x|)
+    // with the signs of (x, y) (signum: +1 for +0, −1 for −0).
+    let signum = |t: f32x8| (t & f32x8::splat(-0.0)) | f32x8::ONE;
+    let fx = (f32x8::ONE - py.abs()) * signum(px);
+    let fy = (f32x8::ONE - px.abs()) * signum(py);
+    let below = z.simd_lt(f32x8::ZERO);
+    let half = f32x8::splat(0.5);
+    [
+        below.select(fx, px) * half + half,
+        below.select(fy, py) * half + half,
+    ]
 }
 
 /// The unit direction at octahedral coordinates `uv` (the inverse of
@@ -82,20 +94,49 @@ impl OctMap {
     }
 
     /// The radiance at `uv` (0..=1), bilinear between texel centres and
-    /// clamped at the edges.
+    /// clamped at the edges. (The first lane of [`OctMap::read_lanes`].)
     #[inline]
     pub fn read(&self, uv: Vec2) -> Vec3 {
+        let [r, g, b] = self.read_lanes([f32x8::splat(uv.x), f32x8::splat(uv.y)], 1);
+        Vec3::new(r.as_array()[0], g.as_array()[0], b.as_array()[0])
+    }
+
+    /// [`OctMap::read`] at eight points (u, v per lane): the lanes whose
+    /// bit is set in `live` read their texels, the others are 0. The
+    /// coordinates are clamped to the map (a NaN to its first texel), so
+    /// every read is inside it.
+    #[inline(always)]
+    pub fn read_lanes(&self, [u, v]: [f32x8; 2], live: u32) -> [f32x8; 3] {
         let n = self.size;
-        let last = (n - 1) as f32;
-        let x = (uv.x * n as f32 - 0.5).clamp(0.0, last);
-        let y = (uv.y * n as f32 - 0.5).clamp(0.0, last);
-        let (x0, y0) = (x as usize, y as usize);
-        let (x1, y1) = ((x0 + 1).min(n - 1), (y0 + 1).min(n - 1));
-        let (fx, fy) = (x - x0 as f32, y - y0 as f32);
-        let at = |r: usize, c: usize| self.texels[r * n + c];
-        let top = at(y0, x0).lerp(at(y0, x1), fx);
-        let bottom = at(y1, x0).lerp(at(y1, x1), fx);
-        top.lerp(bottom, fy)
+        let (size, last) = (f32x8::splat(n as f32), f32x8::splat((n - 1) as f32));
+        let half = f32x8::splat(0.5);
+        let x = (u * size - half).max(f32x8::ZERO).min(last);
+        let y = (v * size - half).max(f32x8::ZERO).min(last);
+        let (xi, yi) = (x.trunc_int(), y.trunc_int());
+        let (fx, fy) = (x - f32x8::from_i32x8(xi), y - f32x8::from_i32x8(yi));
+        let (xi, yi) = (xi.to_array(), yi.to_array());
+        // The four corners' texels, lane by lane, channel by channel.
+        let mut corners = [[[0.0f32; 8]; 3]; 4];
+        for lane in (0..8).filter(|l| live & (1 << l) != 0) {
+            let (x0, y0) = (xi[lane] as usize, yi[lane] as usize);
+            let (x1, y1) = ((x0 + 1).min(n - 1), (y0 + 1).min(n - 1));
+            for (corner, (r, c)) in [(y0, x0), (y0, x1), (y1, x0), (y1, x1)]
+                .into_iter()
+                .enumerate()
+            {
+                let t = self.texels[r * n + c];
+                for k in 0..3 {
+                    corners[corner][k][lane] = t[k];
+                }
+            }
+        }
+        // glam's `lerp`: a·(1 − s) + b·s.
+        let lerp = |a: f32x8, b: f32x8, s: f32x8| a * (f32x8::ONE - s) + b * s;
+        let channel = |k: usize| {
+            let at = |corner: usize| f32x8::from(corners[corner][k]);
+            lerp(lerp(at(0), at(1), fx), lerp(at(2), at(3), fx), fy)
+        };
+        [channel(0), channel(1), channel(2)]
     }
 
     /// The radiance at `uv` (0..=1), bilinear between texel centres across

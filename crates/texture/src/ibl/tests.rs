@@ -3,7 +3,7 @@
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
 
-use super::prefilter::{oct_direction, oct_uv};
+use super::prefilter::{oct_direction, oct_uv, oct_uv_lanes};
 use super::radiance::RadianceLevels;
 use super::source::Source;
 use super::{Ibl, irradiance, sh};
@@ -102,6 +102,62 @@ fn octahedral_coordinates_are_inverse() {
         assert!((back - d).length() < 1e-5, "{d}: {back}");
     }
     assert_eq!(oct_uv(Vec3::Z), Vec2::splat(0.5));
+}
+
+/// By hand: −Z is the folded corner (1, 1); +X the right edge's middle;
+/// (0.6, 0, −0.8) has |x|+|y|+|z| = 1.4, so p = (3/7, 0), folded to
+/// (1 − 0, 1 − 3/7) = (1, 4/7), in 0..=1 (1, 11/14).
+#[test]
+fn octahedral_coordinates_at_hand_derived_points() {
+    assert_eq!(oct_uv(Vec3::NEG_Z), Vec2::ONE);
+    assert_eq!(oct_uv(Vec3::X), Vec2::new(1.0, 0.5));
+    let uv = oct_uv(Vec3::new(0.6, 0.0, -0.8));
+    assert!((uv - Vec2::new(1.0, 11.0 / 14.0)).length() < 1e-6, "{uv}");
+}
+
+/// Eight lanes of different directions and roughnesses (so several level
+/// pairs in one call) give each lane the bits of its own one-direction
+/// read, and a lane left out of `live` is 0.
+#[test]
+fn eight_lanes_read_as_eight_directions() {
+    let ibl = Ibl::new(&level_of(64, 32, |d| {
+        Vec3::new(d.x.max(0.0) * 3.0 + 0.1, d.y * d.y, 0.5 + 0.4 * d.z)
+    }));
+    let directions = [
+        Vec3::X,
+        Vec3::NEG_Z,
+        Vec3::new(0.3, -0.5, -0.8).normalize(),
+        Vec3::new(-0.6, 0.2, 0.1).normalize(),
+        Vec3::new(0.0, -0.0, 1.0),
+        Vec3::new(-0.0, 0.7, -0.7).normalize(),
+        Vec3::Y,
+        Vec3::new(0.1, 0.2, -0.3).normalize(),
+    ];
+    let roughness = [0.0, 0.1, 0.3, 0.5, 0.55, 0.9, 1.0, 1.3];
+    let lanes = |f: fn(Vec3) -> f32| wide::f32x8::from(directions.map(f));
+    let r = [lanes(|d| d.x), lanes(|d| d.y), lanes(|d| d.z)];
+    let [u, v] = oct_uv_lanes(r);
+    let live = 0b1011_1111;
+    let got = ibl.specular_lanes(r, wide::f32x8::from(roughness), live);
+    for (i, d) in directions.iter().enumerate() {
+        let uv = oct_uv(*d);
+        assert_eq!([u.as_array()[i], v.as_array()[i]], uv.to_array(), "{d}");
+        let want = if live & (1 << i) != 0 {
+            ibl.specular(*d, roughness[i])
+        } else {
+            Vec3::ZERO
+        };
+        let lane = Vec3::new(
+            got[0].as_array()[i],
+            got[1].as_array()[i],
+            got[2].as_array()[i],
+        );
+        assert_eq!(
+            lane.to_array().map(f32::to_bits),
+            want.to_array().map(f32::to_bits),
+            "{d}"
+        );
+    }
 }
 
 proptest! {

@@ -273,12 +273,16 @@ impl NormalMap {
     /// left, bottom right) blended by the fractions.
     #[inline]
     fn blend(&self, quad: [usize; 4], fx: f32, fy: f32) -> [f32; 3] {
+        // Written out, not `quad.map`: that was left a call per pixel.
         let [t00, t10, t01, t11] = match &self.normals {
-            Normals::F32(v) => quad.map(|i| v[i]),
-            Normals::Snorm16(v) => quad.map(|i| {
-                let t = Xyz16s(v).at(i);
-                [t[0], t[1], t[2]]
-            }),
+            Normals::F32(v) => [v[quad[0]], v[quad[1]], v[quad[2]], v[quad[3]]],
+            Normals::Snorm16(v) => {
+                let at = |i: usize| {
+                    let t = Xyz16s(v).at(i);
+                    [t[0], t[1], t[2]]
+                };
+                [at(quad[0]), at(quad[1]), at(quad[2]), at(quad[3])]
+            }
         };
         let mut out = [0.0; 3];
         for c in 0..3 {
