@@ -18,7 +18,7 @@ use glam::Vec3;
 use wide::f32x8;
 
 use crate::shade::packet::{self, LANES, V3};
-use relief_texture::Level;
+use relief_texture::{Level, NormalMap};
 
 /// One value per lane: `f32` (one pixel) or `f32x8` (eight).
 pub trait Lanes:
@@ -76,6 +76,9 @@ pub trait Lanes:
     fn bilinear_with_gradient(level: &Level, u: Self, v: Self) -> ([Self; 3], Self, Self);
     /// `Level::height_gradient_filtered`: the filtered height gradient.
     fn gradient(level: &Level, u: Self, v: Self) -> (Self, Self);
+    /// `NormalMap::bilinear` at (u, v), in the lanes of `live` (0 in the
+    /// others), or the packet read that gives its bits lane by lane.
+    fn normal_bilinear(map: &NormalMap, u: Self, v: Self, live: u32) -> [Self; 3];
     /// The lanes as eight (one pixel: in every lane), for a step written
     /// once over eight lanes (a table or map read).
     fn to_x8(self) -> f32x8;
@@ -169,6 +172,10 @@ impl Lanes for f32 {
     #[inline(always)]
     fn gradient(level: &Level, u: f32, v: f32) -> (f32, f32) {
         level.height_gradient_filtered(u, v)
+    }
+    #[inline(always)]
+    fn normal_bilinear(map: &NormalMap, u: f32, v: f32, _live: u32) -> [f32; 3] {
+        map.bilinear(u, v)
     }
     #[inline(always)]
     fn to_x8(self) -> f32x8 {
@@ -276,6 +283,10 @@ impl Lanes for f32x8 {
     fn gradient(level: &Level, u: f32x8, v: f32x8) -> (f32x8, f32x8) {
         let t = packet::bilinear::<false, true>(level, u, v);
         (t.fu, t.fv)
+    }
+    #[inline(always)]
+    fn normal_bilinear(map: &NormalMap, u: f32x8, v: f32x8, live: u32) -> [f32x8; 3] {
+        packet::normal_bilinear(map, u, v, live)
     }
     #[inline(always)]
     fn to_x8(self) -> f32x8 {
@@ -461,6 +472,53 @@ mod tests {
             m.to_bitmask(),
             (0..8).filter(|&i| want[i]).map(|i| 1 << i).sum::<u32>()
         );
+    }
+
+    /// The eight-lane normal-map read gives each live lane the one-point
+    /// read's bits (repeating, clamped; f32 and 16-bit normals; points
+    /// past the edges and on them), and 0 in the others.
+    #[test]
+    fn eight_normal_map_reads_are_eight_single_reads() {
+        use relief_texture::sample::wrap::{Wrap, WrapMode};
+        let mut level = Level::solid(5, 4, [0.5; 4]);
+        for (i, t) in level.texels.as_mut_slice().iter_mut().enumerate() {
+            t[3] = ((i * 7) % 11) as f32 / 11.0;
+        }
+        let u = [0.0, 0.999, -0.3, 1.7, 0.5, 0.1, -2.05, 0.9];
+        let v = [0.0, 0.12, 0.999, -0.6, 0.5, 3.3, 0.75, 1.0];
+        let live = 0b1101_1111;
+        for snorm in [false, true] {
+            for wrap in [
+                Wrap::REPEAT,
+                Wrap {
+                    s: WrapMode::ClampToEdge,
+                    t: WrapMode::MirroredRepeat,
+                },
+            ] {
+                let mut map = NormalMap::build(&level, 3.0);
+                if snorm {
+                    let n = map.normals.len();
+                    let normals = map.normals.clone();
+                    map.normals =
+                        relief_texture::sample::normal_map::Normals::snorm16(n, |i| normals.at(i));
+                }
+                map.wrap = wrap;
+                let got = packet::normal_bilinear(&map, f32x8::from(u), f32x8::from(v), live);
+                for i in 0..8 {
+                    let want = if live & (1 << i) != 0 {
+                        map.bilinear(u[i], v[i])
+                    } else {
+                        [0.0; 3]
+                    };
+                    let lane = [0, 1, 2].map(|k| got[k].as_array()[i].to_bits());
+                    assert_eq!(
+                        lane,
+                        want.map(f32::to_bits),
+                        "lane {i}, {wrap:?}, snorm {snorm}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -13,10 +13,10 @@ use wide::{f32x4, f32x8, i32x8};
 
 use relief_core::framebuffer::Rgb;
 use relief_core::stats::Counters;
-use relief_texture::Level;
 use relief_texture::sample::level::around;
 use relief_texture::sample::texels::Fetch;
 use relief_texture::with_fetch;
+use relief_texture::{Level, NormalMap};
 
 /// Pixels per packet.
 pub const LANES: usize = 8;
@@ -296,6 +296,50 @@ fn bilinear_wrapped<const COLOR: bool, const GRADIENT: bool>(
         fu: lane(&|r| r.1.0),
         fv: lane(&|r| r.1.1),
     }
+}
+
+/// `NormalMap::bilinear` at eight points, in the lanes of `live` (0 in
+/// the others). On a repeating map the texel positions and fractions are
+/// found lane-wise (as `bilinear`'s `axis`, the one-point read's bits) and
+/// blended lane-wise, each lane's four normals read by index; a clamped or
+/// mirrored map is read lane by lane by the one-point read.
+#[inline(always)]
+pub fn normal_bilinear(map: &NormalMap, u: f32x8, v: f32x8, live: u32) -> [f32x8; 3] {
+    let mut corners = [[[0.0f32; LANES]; 3]; 4];
+    let lanes = (0..LANES).filter(|l| live & (1 << l) != 0);
+    if !map.wrap.repeats() {
+        let (u, v) = (u.to_array(), v.to_array());
+        for lane in lanes {
+            let n = map.bilinear(u[lane], v[lane]);
+            for k in 0..3 {
+                corners[0][k][lane] = n[k];
+            }
+        }
+        return [0, 1, 2].map(|k| f32x8::from(corners[0][k]));
+    }
+    let (w, h) = (map.width, map.height);
+    let (xi, fx, _) = axis(u, w);
+    let (yi, fy, _) = axis(v, h);
+    // The floor is −1 ..= n − 1, so its neighbour wraps at most once.
+    let wrapped = |i: i32, n: usize| (i as i64).rem_euclid(n as i64) as usize;
+    for lane in lanes {
+        let (c0, c1) = (wrapped(xi[lane], w), wrapped(xi[lane] + 1, w));
+        let (r0, r1) = (wrapped(yi[lane], h) * w, wrapped(yi[lane] + 1, h) * w);
+        for (corner, i) in [r0 + c0, r0 + c1, r1 + c0, r1 + c1].into_iter().enumerate() {
+            let n = map.normals.at(i);
+            for k in 0..3 {
+                corners[corner][k][lane] = n[k];
+            }
+        }
+    }
+    let channel = |k: usize| {
+        let at = |corner: usize| f32x8::from(corners[corner][k]);
+        let (a, b, c, d) = (at(0), at(1), at(2), at(3));
+        let top = a + (b - a) * fx;
+        let bottom = c + (d - c) * fx;
+        top + (bottom - top) * fy
+    };
+    [channel(0), channel(1), channel(2)]
 }
 
 /// Every lane's bilinear colour and its four bilinear heights, from

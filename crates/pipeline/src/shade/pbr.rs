@@ -55,7 +55,7 @@ use relief_texture::environment::Environment;
 use relief_texture::ibl::Ibl;
 use relief_texture::ibl::prefilter::{OctMap, oct_uv};
 use relief_texture::ibl::radiance::RadianceLevels;
-use relief_texture::sample::filter::read_normal;
+use relief_texture::sample::filter::{normal_reads_base, read_normal};
 use relief_texture::sample::mip::Footprint;
 
 /// A metallic-roughness triangle: with or without its colour texture
@@ -485,12 +485,17 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         counters.bump_evals += live.count_ones() as u64;
         let plan = ctx.plan;
         let (u, v) = at.of(m);
-        let to = footprint_map(m, &self.tri.uv, &self.tri.uv2);
-        let t = V::gather(live, |i| {
-            let uv = Vec2::new(u.lane(i), v.lane(i));
-            let f = carry(fp.get(i).copied().unwrap_or_default(), to);
-            Vec3::from(read_normal(map, plan.height_derivative, plan.filter, uv, f))
-        });
+        let t = if normal_reads_base(plan.height_derivative, plan.filter) {
+            let [x, y, z] = V::L::normal_bilinear(map, u, v, live);
+            V::new(x, y, z)
+        } else {
+            let to = footprint_map(m, &self.tri.uv, &self.tri.uv2);
+            V::gather(live, |i| {
+                let uv = Vec2::new(u.lane(i), v.lane(i));
+                let f = carry(fp.get(i).copied().unwrap_or_default(), to);
+                Vec3::from(read_normal(map, plan.height_derivative, plan.filter, uv, f))
+            })
+        };
         let f = s.frame();
         (f.t * t.x() + f.b * t.y() + f.n * t.z()).normalize_or(s.n)
     }

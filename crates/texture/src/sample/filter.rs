@@ -94,6 +94,14 @@ pub fn read_heights(
     }
 }
 
+/// Whether [`read_normal`] reads the base map bilinearly whatever the
+/// footprint: with `Texel`, nearest and bilinear (so eight pixels can be
+/// read together, `shade::packet::normal_bilinear`).
+#[inline]
+pub fn normal_reads_base(mode: HeightDerivative, filter: Filter) -> bool {
+    mode == HeightDerivative::Texel || matches!(filter, Filter::Nearest | Filter::Bilinear)
+}
+
 /// The dot3 normal map at `uv`, read with the same footprint as the colour
 /// (the map's own size and mip chain: a file's map may differ in size).
 ///
@@ -110,7 +118,7 @@ pub fn read_normal(
     uv: Vec2,
     footprint: Footprint,
 ) -> [f32; 3] {
-    if mode == HeightDerivative::Texel {
+    if normal_reads_base(mode, filter) {
         return map.bilinear(uv.x, uv.y);
     }
     let size = Vec2::new(map.width as f32, map.height as f32);
