@@ -8,6 +8,8 @@ mod common;
 #[path = "common/glb_writer.rs"]
 mod glb_writer;
 mod hostile;
+#[path = "common/ktx2_writer.rs"]
+mod ktx2_writer;
 #[path = "common/screen.rs"]
 mod screen;
 mod ssh;

@@ -10,6 +10,7 @@ mod models_gltf_blend;
 mod models_gltf_cameras;
 mod models_gltf_draco;
 mod models_gltf_hostile;
+mod models_gltf_ktx2;
 mod models_gltf_lights;
 mod models_gltf_meshopt;
 mod models_props;

@@ -16,8 +16,8 @@ use relief_scene::{Light, Scene};
 use relief_texture::decode::procedural;
 
 const MAGENTA: [u8; 3] = [255, 0, 255];
-const W: usize = 160;
-const H: usize = 120;
+pub(super) const W: usize = 160;
+pub(super) const H: usize = 120;
 
 /// One primitive as written to the file.
 #[derive(Clone, Default)]
@@ -578,13 +578,17 @@ fn bad_files_are_refused_with_the_place() {
     let m = refused("huge", &bytes);
     assert!(m.contains("buffers[0]"), "{m} ({len})");
 
-    // A required extension relief cannot do.
+    // A required extension relief cannot do (KHR_texture_basisu it reads:
+    // models_gltf_ktx2.rs).
     let mut doc = good();
     doc.extra =
-        r#","extensionsUsed":["KHR_texture_basisu"],"extensionsRequired":["KHR_texture_basisu"]"#
+        r#","extensionsUsed":["EXT_texture_avif"],"extensionsRequired":["EXT_texture_avif"]"#
             .into();
-    let m = refused("basisu", &encode(&doc));
-    assert!(m.contains("KHR_texture_basisu"), "{m}");
+    let m = refused("avif", &encode(&doc));
+    assert!(
+        m.contains("requires the extension 'EXT_texture_avif', which relief does not read"),
+        "{m}"
+    );
 }
 
 /// The real files load: the textured box is one part of 12 textured

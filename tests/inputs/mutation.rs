@@ -65,8 +65,32 @@ fn texture_seeds() -> &'static [(String, Vec<u8>)] {
             let bytes = std::fs::read(data().join("pngsuite").join(name)).unwrap();
             s.push((name.to_string(), bytes));
         }
+        // KTX2 (UASTC) written here: plain with alpha, Zstandard, and
+        // with two levels.
+        s.extend(ktx2_seeds());
         s
     })
+}
+
+fn ktx2_seeds() -> Vec<(String, Vec<u8>)> {
+    use crate::ktx2_writer::{Level, four_blocks, uastc_solid};
+    let colours = [
+        [255, 0, 0, 255],
+        [0, 255, 0, 9],
+        [0, 0, 255, 255],
+        [1, 2, 3, 4],
+    ];
+    let mut alpha = four_blocks(colours);
+    alpha.alpha = true;
+    let mut zstd = four_blocks(colours);
+    zstd.zstd = true;
+    let mut levels = four_blocks(colours);
+    levels.levels.push(Level {
+        blocks: vec![uastc_solid([7, 7, 7, 7])],
+    });
+    [("alpha", alpha), ("zstd", zstd), ("levels", levels)]
+        .map(|(name, file)| (format!("{name}.ktx2"), file.encode()))
+        .to_vec()
 }
 
 fn xpm_seeds() -> &'static [(String, Vec<u8>)] {

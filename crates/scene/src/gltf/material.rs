@@ -560,7 +560,7 @@ impl<'a> Materials<'a> {
 
     /// Whether `texture`'s picture has an alpha channel (its header says).
     fn image_has_alpha(&self, texture: &::gltf::Texture) -> Result<bool, Problem> {
-        Ok(relief_texture::picture::has_alpha(
+        Ok(relief_texture::decode::load::has_alpha(
             &self.image_bytes(&self.image_of(texture)?)?,
         ))
     }
@@ -656,7 +656,7 @@ impl<'a> Materials<'a> {
         let image = self.image_of(texture)?;
         let name = self.image_name(&image);
         let bytes = self.image_bytes(&image)?;
-        let has_alpha = relief_texture::picture::has_alpha(&bytes);
+        let has_alpha = relief_texture::decode::load::has_alpha(&bytes);
         let decoded = match self.take_ready(&image) {
             Some(t) => t,
             None => load_texture_from_bytes(&name, &bytes)
@@ -740,16 +740,21 @@ impl<'a> Materials<'a> {
             .collect()
     }
 
-    /// The image `texture` reads: its WebP image when it names one
-    /// (`EXT_texture_webp`, which relief decodes), else its source.
+    /// The image `texture` reads: its KTX2 image when it names one
+    /// (`KHR_texture_basisu`), else its WebP one (`EXT_texture_webp`),
+    /// else its source: relief decodes all three.
     fn image_of(&self, texture: &::gltf::Texture) -> Result<::gltf::Image<'a>, Problem> {
-        let webp = texture
-            .extension_value("EXT_texture_webp")
-            .and_then(|e| e.get("source"))
-            .and_then(|v| v.as_u64())
-            .and_then(|i| usize::try_from(i).ok())
-            .filter(|&i| i < self.document.images().len());
-        let index = webp.unwrap_or(texture.source().index());
+        let named_by = |ext: &str| {
+            texture
+                .extension_value(ext)
+                .and_then(|e| e.get("source"))
+                .and_then(|v| v.as_u64())
+                .and_then(|i| usize::try_from(i).ok())
+                .filter(|&i| i < self.document.images().len())
+        };
+        let index = named_by("KHR_texture_basisu")
+            .or_else(|| named_by("EXT_texture_webp"))
+            .unwrap_or(texture.source().index());
         self.document
             .images()
             .nth(index)
@@ -828,6 +833,7 @@ fn mime_ext(mime: &str) -> &'static str {
     match mime {
         "image/png" => ".png",
         "image/jpeg" => ".jpg",
+        "image/ktx2" => ".ktx2",
         _ => "",
     }
 }

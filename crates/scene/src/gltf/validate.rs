@@ -34,25 +34,22 @@ pub(super) fn before_parse(root: &mut json::Root, supported: &[&str]) -> Result<
             image.mime_type = Some(json::image::MimeType(String::new()));
         }
     }
-    // A texture given only as WebP (`EXT_texture_webp`, no fallback
-    // `source`) reads its WebP image.
+    // A texture given only as KTX2 or WebP (`KHR_texture_basisu`,
+    // `EXT_texture_webp`, no fallback `source`) reads that image.
     for texture in &mut root.textures {
         if texture.source.value() == u32::MAX as usize
-            && let Some(webp) = webp_source(texture)
+            && let Some(index) = extension_source(texture, "KHR_texture_basisu")
+                .or_else(|| extension_source(texture, "EXT_texture_webp"))
         {
-            texture.source = json::Index::new(webp);
+            texture.source = json::Index::new(index);
         }
     }
     Ok(())
 }
 
-/// The image index `EXT_texture_webp` gives a texture, if any.
-fn webp_source(texture: &json::Texture) -> Option<u32> {
-    let ext = texture
-        .extensions
-        .as_ref()?
-        .others
-        .get("EXT_texture_webp")?;
+/// The image index extension `name` gives a texture, if any.
+fn extension_source(texture: &json::Texture, name: &str) -> Option<u32> {
+    let ext = texture.extensions.as_ref()?.others.get(name)?;
     let index = ext.get("source")?.as_u64()?;
     u32::try_from(index).ok().filter(|&i| i != u32::MAX)
 }

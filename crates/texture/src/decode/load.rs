@@ -11,7 +11,7 @@ use std::path::Path;
 use image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader, Limits};
 
 use super::tiff_picture::Refusal;
-use super::{resample, tiff_samples, variants, xpm};
+use super::{ktx2, resample, tiff_samples, variants, xpm};
 use crate::Texture;
 use crate::sample::level::Level;
 use crate::sample::texels::{Texels, pack_rgb8, to_unorm16};
@@ -140,6 +140,15 @@ pub fn load_texture_from_bytes(name: &str, bytes: &[u8]) -> Result<Texture, Text
     }
     let (level, held) = decode_level(bytes, &clean, format_hint(Path::new(name)))?;
     Ok(Texture::new(clean, level).holding(held))
+}
+
+/// Whether the picture in `bytes` has an alpha channel, by its header
+/// (false when no decoder takes it): a KTX2 texture's, or any other's.
+pub fn has_alpha(bytes: &[u8]) -> bool {
+    if ktx2::is_ktx2(bytes) {
+        return ktx2::has_alpha(bytes);
+    }
+    crate::picture::has_alpha(bytes)
 }
 
 /// Like [`load_texture_with_height`] from bytes in memory.
@@ -306,6 +315,9 @@ fn decode_level(
             file: file.to_owned(),
         });
     }
+    if ktx2::is_ktx2(bytes) {
+        return ktx2_level(bytes, file);
+    }
     if xpm::looks_like_xpm(bytes) || file.to_ascii_lowercase().ends_with(".xpm") {
         return decode_xpm(bytes, file);
     }
@@ -362,6 +374,66 @@ fn tiff_level(bytes: &[u8], file: &str) -> Result<Option<(Level, Reservation)>, 
         p.rgba[y * p.width + x]
     });
     Ok(Some((level, held)))
+}
+
+/// A KTX2 texture's level: the first, or under a size cap the largest
+/// within it (then halved further if none is), checked and reserved
+/// before the transcoder allocates.
+fn ktx2_level(bytes: &[u8], file: &str) -> Result<(Level, Reservation), TextureError> {
+    let refused = |refusal| ktx2_error(file, refusal);
+    let header = ktx2::header(bytes).map_err(refused)?;
+    check_size(file, header.width, header.height)?;
+    let k = ktx2::level_for(&header, super::size_cap::max_side());
+    let (w, h) = ktx2::level_size(&header, k);
+    let inflated = ktx2::check_level(bytes, &header, k).map_err(refused)?;
+    let mut held = reserve_texture(file, w as usize, h as usize, Precision::Unorm8)?;
+    // The transcoder's own buffers beside the texture: the inflated
+    // Zstandard level, and the RGBA it writes before it becomes texels.
+    let scratch = budget::reserve(
+        &format!("transcoding a {w}x{h} KTX2 level"),
+        inflated + 4 * w as u64 * h as u64,
+    )
+    .map_err(|e| TextureError::OverBudget {
+        file: file.to_owned(),
+        reason: e.to_string(),
+    })?;
+    let mut rgba = image::RgbaImage::new(w, h);
+    let has_alpha = relief_core::contain::contain(|| ktx2::transcode(bytes, k, &mut rgba))
+        .unwrap_or_else(|_| {
+            Err(Refusal::Corrupt(
+                "the transcoder stopped on data it does not expect".into(),
+            ))
+        })
+        .map_err(refused)?;
+    let image = match has_alpha {
+        true => DynamicImage::ImageRgba8(rgba),
+        false => DynamicImage::ImageRgb8(DynamicImage::ImageRgba8(rgba).into_rgb8()),
+    };
+    let image = super::size_cap::reduced(image);
+    drop(scratch);
+    let kept = budget::texture_bytes_at(
+        image.width() as u64,
+        image.height() as u64,
+        Precision::Unorm8,
+    );
+    held.shrink(held.bytes().saturating_sub(kept));
+    Ok((level_from_image(image), held))
+}
+
+fn ktx2_error(file: &str, refusal: Refusal) -> TextureError {
+    let (file, format) = (file.to_owned(), "KTX2".to_owned());
+    match refusal {
+        Refusal::Unsupported(reason) => TextureError::Unsupported {
+            file,
+            format,
+            reason,
+        },
+        Refusal::Corrupt(reason) => TextureError::Corrupt {
+            file,
+            format,
+            reason,
+        },
+    }
 }
 
 /// [`decode_image`] with a decoder panic turned into this file's error (its

@@ -1,9 +1,10 @@
 //! Where a texture comes from: pictures in every format the `image` crate
-//! reads, the formats and variants it refuses (XPM, TIFF samples and
+//! reads, KTX2 (Basis Universal), the formats and variants it refuses (XPM, TIFF samples and
 //! strips, rewritten headers), the limits that make a hostile file cost
 //! nothing, and the built-in pictures (drawn by code, shipped as PNGs).
 
 pub mod builtin;
+pub mod ktx2;
 pub mod load;
 pub mod procedural;
 pub mod resample;
