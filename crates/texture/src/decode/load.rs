@@ -354,21 +354,7 @@ fn tiff_level(bytes: &[u8], file: &str) -> Result<Option<(Level, Reservation)>, 
     let p = match tiff_samples::decode(bytes, MAX_DECODER_ALLOC as usize) {
         Ok(Some(p)) => p,
         Ok(None) => return Ok(None),
-        Err(refusal) => {
-            let (file, format) = (file.to_owned(), "TIFF".to_owned());
-            return Err(match refusal {
-                Refusal::Unsupported(reason) => TextureError::Unsupported {
-                    file,
-                    format,
-                    reason,
-                },
-                Refusal::Corrupt(reason) => TextureError::Corrupt {
-                    file,
-                    format,
-                    reason,
-                },
-            });
-        }
+        Err(refusal) => return Err(refused(file, "TIFF", refusal)),
     };
     let level = level_from_rows(p.width, p.height, p.has_alpha, |x, y| {
         p.rgba[y * p.width + x]
@@ -380,12 +366,12 @@ fn tiff_level(bytes: &[u8], file: &str) -> Result<Option<(Level, Reservation)>, 
 /// within it (then halved further if none is), checked and reserved
 /// before the transcoder allocates.
 fn ktx2_level(bytes: &[u8], file: &str) -> Result<(Level, Reservation), TextureError> {
-    let refused = |refusal| ktx2_error(file, refusal);
-    let header = ktx2::header(bytes).map_err(refused)?;
+    let as_error = |refusal| refused(file, "KTX2", refusal);
+    let header = ktx2::header(bytes).map_err(as_error)?;
     check_size(file, header.width, header.height)?;
     let k = ktx2::level_for(&header, super::size_cap::max_side());
     let (w, h) = ktx2::level_size(&header, k);
-    let inflated = ktx2::check_level(bytes, &header, k).map_err(refused)?;
+    let inflated = ktx2::check_level(bytes, &header, k).map_err(as_error)?;
     let mut held = reserve_texture(file, w as usize, h as usize, Precision::Unorm8)?;
     // The transcoder's own buffers beside the texture: the inflated
     // Zstandard level, and the RGBA it writes before it becomes texels.
@@ -404,7 +390,7 @@ fn ktx2_level(bytes: &[u8], file: &str) -> Result<(Level, Reservation), TextureE
                 "the transcoder stopped on data it does not expect".into(),
             ))
         })
-        .map_err(refused)?;
+        .map_err(as_error)?;
     let image = match has_alpha {
         true => DynamicImage::ImageRgba8(rgba),
         false => DynamicImage::ImageRgb8(DynamicImage::ImageRgba8(rgba).into_rgb8()),
@@ -420,8 +406,10 @@ fn ktx2_level(bytes: &[u8], file: &str) -> Result<(Level, Reservation), TextureE
     Ok((level_from_image(image), held))
 }
 
-fn ktx2_error(file: &str, refusal: Refusal) -> TextureError {
-    let (file, format) = (file.to_owned(), "KTX2".to_owned());
+/// The error of `file`, of `format`, that one of relief's own decoders
+/// refused.
+fn refused(file: &str, format: &str, refusal: Refusal) -> TextureError {
+    let (file, format) = (file.to_owned(), format.to_owned());
     match refusal {
         Refusal::Unsupported(reason) => TextureError::Unsupported {
             file,
