@@ -320,11 +320,12 @@ pub fn normal_bilinear(map: &NormalMap, u: f32x8, v: f32x8, live: u32) -> [f32x8
     let (w, h) = (map.width, map.height);
     let (xi, fx, _) = axis(u, w);
     let (yi, fy, _) = axis(v, h);
-    // The floor is −1 ..= n − 1, so its neighbour wraps at most once.
-    let wrapped = |i: i32, n: usize| (i as i64).rem_euclid(n as i64) as usize;
+    // The texels around each floor, wrapped as the one-point read wraps
+    // them (`around`): the second and third are the bilinear pair.
     for lane in lanes {
-        let (c0, c1) = (wrapped(xi[lane], w), wrapped(xi[lane] + 1, w));
-        let (r0, r1) = (wrapped(yi[lane], h) * w, wrapped(yi[lane] + 1, h) * w);
+        let [_, c0, c1, _] = around(xi[lane] as i64, w);
+        let [_, r0, r1, _] = around(yi[lane] as i64, h);
+        let (r0, r1) = (r0 * w, r1 * w);
         for (corner, i) in [r0 + c0, r0 + c1, r1 + c0, r1 + c1].into_iter().enumerate() {
             let n = map.normals.at(i);
             for k in 0..3 {
