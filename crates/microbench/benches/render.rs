@@ -6,7 +6,8 @@
 //! bump on the same framed cube, with the image-based light's default and
 //! other ways, and with glTF's layer maps (specular strength and colour,
 //! clearcoat intensity, roughness and normal) against without
-//! (docs/shading.md).
+//! (docs/shading.md); and what the model view makes once before its first
+//! frame (the studio's image-based light, the split-sum table).
 //! `cargo bench --bench render`; `relief bench` covers every setting.
 
 use std::hint::black_box;
@@ -195,5 +196,30 @@ fn renderer(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, renderer);
+/// What the model view makes once per environment and once per process
+/// before its first frame (docs/shading.md, "Image-based light"): the
+/// studio's light (nine SH coefficients and the six prefiltered levels)
+/// and the split-sum table, each on one thread and on all.
+fn environment_setup(c: &mut Criterion) {
+    use relief_texture::environment::Environment;
+    use relief_texture::ibl::Ibl;
+    let studio = Environment::studio();
+    for (threads, name) in [(1, "1_thread"), (0, "all_threads")] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool");
+        let mut group = c.benchmark_group("environment_setup");
+        group.sample_size(10);
+        group.bench_function(format!("studio_light/{name}"), |b| {
+            b.iter(|| pool.install(|| black_box(Ibl::new(studio.picture()))))
+        });
+        group.bench_function(format!("split_sum_table/{name}"), |b| {
+            b.iter(|| pool.install(|| black_box(relief_pipeline::shade::split_sum::build())))
+        });
+        group.finish();
+    }
+}
+
+criterion_group!(benches, renderer, environment_setup);
 criterion_main!(benches);

@@ -33,14 +33,20 @@ pub fn hammersley(i: u32, n: u32) -> (f32, f32) {
 /// N·L over that density with F taken out, split by Schlick's weight
 /// (1 − V·H)⁵. Each sample's weight is at most 1 (G2 ≤ G1), so A + B ≤ 1.
 pub fn split_sum(nv: f32, roughness: f32) -> (f32, f32) {
+    split_sum_over(&disc_points(), nv, roughness)
+}
+
+/// [`split_sum`] over the samples' points on the unit disc, made once for
+/// the whole table.
+fn split_sum_over(points: &[DiscPoint], nv: f32, roughness: f32) -> (f32, f32) {
     let nv = nv.clamp(1e-3, 1.0);
     let v = Vec3::new((1.0 - nv * nv).sqrt(), 0.0, nv);
     let alpha = roughness * roughness;
     let alpha2 = alpha * alpha;
     let g1_v = 2.0 * nv / (nv + (alpha2 + (1.0 - alpha2) * nv * nv).sqrt());
     let (mut a, mut b) = (0.0f64, 0.0f64);
-    for i in 0..SAMPLES {
-        let h = visible_normal(v, alpha, hammersley(i, SAMPLES));
+    for point in points {
+        let h = visible_normal(v, alpha, point);
         let vh = v.dot(h);
         let l = h * (2.0 * vh) - v;
         let nl = l.z;
@@ -57,10 +63,33 @@ pub fn split_sum(nv: f32, roughness: f32) -> (f32, f32) {
     ((a / n) as f32, (b / n) as f32)
 }
 
+/// A Hammersley point (u1, u2) on the unit disc: radius √u1 and angle 2π·u2.
+struct DiscPoint {
+    p1: f32,
+    p2: f32,
+}
+
+/// The `SAMPLES` Hammersley points on the disc: the same for every entry,
+/// so their square roots and sines are computed once.
+fn disc_points() -> Vec<DiscPoint> {
+    (0..SAMPLES)
+        .map(|i| {
+            let (u1, u2) = hammersley(i, SAMPLES);
+            let r = u1.sqrt();
+            let phi = 2.0 * PI * u2;
+            DiscPoint {
+                p1: r * phi.cos(),
+                p2: r * phi.sin(),
+            }
+        })
+        .collect()
+}
+
 /// A microfacet normal seen from `v` (unit, +Z the normal) for GGX of
-/// roughness α = `alpha`, from two uniform numbers (Heitz 2018): the
-/// view stretched to α = 1, a point on the projected hemisphere, and back.
-fn visible_normal(v: Vec3, alpha: f32, (u1, u2): (f32, f32)) -> Vec3 {
+/// roughness α = `alpha`, from a point on the unit disc (Heitz 2018): the
+/// view stretched to α = 1, the point lifted onto the projected
+/// hemisphere, and back.
+fn visible_normal(v: Vec3, alpha: f32, &DiscPoint { p1, p2 }: &DiscPoint) -> Vec3 {
     let vh = Vec3::new(alpha * v.x, alpha * v.y, v.z).normalize();
     let len2 = vh.x * vh.x + vh.y * vh.y;
     let t1 = if len2 > 0.0 {
@@ -69,9 +98,6 @@ fn visible_normal(v: Vec3, alpha: f32, (u1, u2): (f32, f32)) -> Vec3 {
         Vec3::X
     };
     let t2 = vh.cross(t1);
-    let r = u1.sqrt();
-    let phi = 2.0 * PI * u2;
-    let (p1, p2) = (r * phi.cos(), r * phi.sin());
     let s = 0.5 * (1.0 + vh.z);
     let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * p2;
     let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
@@ -81,8 +107,9 @@ fn visible_normal(v: Vec3, alpha: f32, (u1, u2): (f32, f32)) -> Vec3 {
 /// The table of [`split_sum`] at every entry.
 pub fn build() -> Lut {
     let step = 1.0 / (SIZE - 1) as f32;
+    let points = disc_points();
     Table::from_fn(SIZE, |r, c| {
-        let (a, b) = split_sum(c as f32 * step, r as f32 * step);
+        let (a, b) = split_sum_over(&points, c as f32 * step, r as f32 * step);
         [a, b]
     })
 }

@@ -3,27 +3,35 @@
 //! entry, read bilinearly: the split sum's (A, B) (`split_sum`) and the
 //! sheen's lobe (`sheen`).
 
+use glam::Vec4;
+use rayon::prelude::*;
 use wide::f32x8;
 
 use super::lanes::Lanes;
 
 pub struct Table<const N: usize> {
     size: usize,
-    /// Roughness rows, N·V columns.
-    entries: Vec<[f32; N]>,
+    /// Roughness rows, N·V columns; each entry's N values padded to four,
+    /// so that a read blends one entry's values at once.
+    entries: Vec<Vec4>,
 }
 
 impl<const N: usize> Table<N> {
     /// A `size`² table (size ≥ 2) whose entry at roughness row `r` and N·V
-    /// column `c` is `f(r, c)`.
-    pub fn from_fn(size: usize, mut f: impl FnMut(usize, usize) -> [f32; N]) -> Table<N> {
+    /// column `c` is `f(r, c)`, the entries computed in parallel (each is an
+    /// integral of its own, made once per process).
+    pub fn from_fn(size: usize, f: impl Fn(usize, usize) -> [f32; N] + Sync) -> Table<N> {
         assert!(size >= 2, "a table needs two entries per side");
-        let mut entries = Vec::with_capacity(size * size);
-        for r in 0..size {
-            for c in 0..size {
-                entries.push(f(r, c));
-            }
-        }
+        assert!(N <= 4, "an entry holds at most four values");
+        let entries = (0..size * size)
+            .into_par_iter()
+            .map(|i| {
+                let values = f(i / size, i % size);
+                Vec4::from_array(std::array::from_fn(|k| {
+                    values.get(k).copied().unwrap_or(0.0)
+                }))
+            })
+            .collect();
         Table { size, entries }
     }
 
@@ -38,27 +46,23 @@ impl<const N: usize> Table<N> {
         let y = (roughness.to_x8() * last).max(f32x8::ZERO).min(last);
         let (xi, yi) = (x.trunc_int(), y.trunc_int());
         let (fx, fy) = (x - f32x8::from_i32x8(xi), y - f32x8::from_i32x8(yi));
-        let (xi, yi) = (xi.to_array(), yi.to_array());
-        // The four entries around each lane, value by value.
-        let mut corners = [[[0.0f32; 8]; N]; 4];
+        let (xi, yi, fx, fy) = (xi.to_array(), yi.to_array(), fx.to_array(), fy.to_array());
+        // Per lane, the four entries around it blended, all values at once:
+        // t = a + (b − a)·f along N·V, then along roughness.
+        let mut values = [[0.0f32; 8]; N];
         for lane in 0..L::WIDTH {
             let (x0, y0) = (xi[lane] as usize, yi[lane] as usize);
             let (x1, y1) = ((x0 + 1).min(n - 1), (y0 + 1).min(n - 1));
-            let around = [(y0, x0), (y0, x1), (y1, x0), (y1, x1)];
-            for (corner, (r, c)) in around.into_iter().enumerate() {
-                let entry = self.entries[r * n + c];
-                for k in 0..N {
-                    corners[corner][k][lane] = entry[k];
-                }
+            let at = |r: usize, c: usize| self.entries[r * n + c];
+            let (a, b, c, d) = (at(y0, x0), at(y0, x1), at(y1, x0), at(y1, x1));
+            let top = a + (b - a) * fx[lane];
+            let bottom = c + (d - c) * fx[lane];
+            let t = top + (bottom - top) * fy[lane];
+            for (k, v) in values.iter_mut().enumerate() {
+                v[lane] = t[k];
             }
         }
-        std::array::from_fn(|k| {
-            let at = |corner: usize| f32x8::from(corners[corner][k]);
-            let (a, b, c, d) = (at(0), at(1), at(2), at(3));
-            let top = a + (b - a) * fx;
-            let bottom = c + (d - c) * fx;
-            L::from_x8(top + (bottom - top) * fy)
-        })
+        values.map(|v| L::from_x8(f32x8::from(v)))
     }
 }
 

@@ -11,11 +11,11 @@ pub mod radiance;
 pub mod sh;
 pub mod source;
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use wide::{f32x8, i32x8};
 
 use crate::Level;
-use prefilter::{LEVELS, OctMap, oct_uv_lanes};
+use prefilter::{Bilinear, LEVELS, LaneColours, OctMap, oct_uv_lanes};
 use source::Source;
 
 /// An environment's light, ready for the kernel.
@@ -62,38 +62,29 @@ impl Ibl {
     pub fn specular_lanes(&self, r: [f32x8; 3], roughness: f32x8, live: u32) -> [f32x8; 3] {
         let x = roughness.max(f32x8::ZERO).min(f32x8::ONE) * f32x8::splat((LEVELS - 1) as f32);
         let i = x.trunc_int().min(i32x8::splat(LEVELS as i32 - 2));
-        let t = x - f32x8::from_i32x8(i);
+        let t = (x - f32x8::from_i32x8(i)).to_array();
         let uv = oct_uv_lanes(r);
-        let levels = i.to_array();
-        let mut out = [f32x8::ZERO; 3];
-        let mut todo = live & 0xff;
-        while todo != 0 {
-            let level = levels[todo.trailing_zeros() as usize];
-            let lanes = (0..8)
-                .filter(|&l| todo & (1 << l) != 0 && levels[l] == level)
-                .fold(0, |m, l| m | 1 << l);
-            todo &= !lanes;
-            let level = level as usize;
-            let a = self.levels[level].read_lanes(uv, lanes);
-            let b = self.levels[level + 1].read_lanes(uv, lanes);
-            // glam's `lerp`, a·(1 − t) + b·t, selected into these lanes.
-            let mask = f32x8::from(std::array::from_fn::<f32, 8, _>(|l| {
-                if lanes & (1 << l) != 0 {
-                    f32::from_bits(!0)
-                } else {
-                    0.0
-                }
-            }));
-            for k in 0..3 {
-                let mixed = a[k] * (f32x8::ONE - t) + b[k] * t;
-                out[k] = mask.select(mixed, out[k]);
-            }
+        let levels = i.to_array().map(|i| i as usize);
+        let size = |step: usize| f32x8::from(levels.map(|i| self.levels[i + step].size as f32));
+        let (below, above) = (Bilinear::at(uv, size(0)), Bilinear::at(uv, size(1)));
+        let mut out = LaneColours::default();
+        for lane in (0..8).filter(|l| live & (1 << l) != 0) {
+            let (level, t) = (levels[lane], t[lane]);
+            let a = self.levels[level].blend(&below, lane);
+            // glam's `lerp`, a·(1 − t) + b·t; at t = 0 that is a, bit for
+            // bit (the texels are finite), without reading the next level.
+            let mixed = if t == 0.0 {
+                a
+            } else {
+                a.lerp(self.levels[level + 1].blend(&above, lane), t)
+            };
+            out.set(lane, mixed);
         }
-        out
+        out.channels()
     }
 
     /// Every level's texels (for tests).
-    pub fn level_texels(&self) -> impl Iterator<Item = &Vec3> {
+    pub fn level_texels(&self) -> impl Iterator<Item = &Vec3A> {
         self.levels.iter().flat_map(|l| l.texels.iter())
     }
 }

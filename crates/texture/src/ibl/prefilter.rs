@@ -9,7 +9,8 @@
 //! (Engelhardt and Dachsbacher, 2008): a direction to a texel is a few
 //! adds and a division, no trigonometry, which the kernel pays per pixel.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec3A};
+use rayon::prelude::*;
 use wide::f32x8;
 
 use super::source::Source;
@@ -23,10 +24,58 @@ const LEVEL_SIZES: [usize; LEVELS] = [128, 64, 32, 32, 16, 16];
 /// inside the lobe's width, so the sum is smooth and cheap.
 const SOURCE_WIDTHS: [usize; LEVELS] = [512, 128, 64, 64, 32, 32];
 
-/// One level: a square octahedral map of linear radiance, top row first.
+/// One level: a square octahedral map of linear radiance, top row first;
+/// each texel 16 bytes, so that a read loads one in one instruction.
 pub struct OctMap {
     pub size: usize,
-    pub texels: Vec<Vec3>,
+    pub texels: Vec<Vec3A>,
+}
+
+/// Where eight points fall among the texel centres of their maps: the
+/// upper-left texel and the weights towards the next, per lane.
+pub struct Bilinear {
+    xi: [i32; 8],
+    yi: [i32; 8],
+    fx: [f32; 8],
+    fy: [f32; 8],
+}
+
+impl Bilinear {
+    /// The points at `u`, `v` (0..=1) in maps of `size`² texels (per lane),
+    /// clamped to the maps (a NaN to their first texel).
+    #[inline(always)]
+    pub fn at([u, v]: [f32x8; 2], size: f32x8) -> Bilinear {
+        let (half, last) = (f32x8::splat(0.5), size - f32x8::ONE);
+        let x = (u * size - half).max(f32x8::ZERO).min(last);
+        let y = (v * size - half).max(f32x8::ZERO).min(last);
+        let (xi, yi) = (x.trunc_int(), y.trunc_int());
+        let (fx, fy) = (x - f32x8::from_i32x8(xi), y - f32x8::from_i32x8(yi));
+        Bilinear {
+            xi: xi.to_array(),
+            yi: yi.to_array(),
+            fx: fx.to_array(),
+            fy: fy.to_array(),
+        }
+    }
+}
+
+/// Eight lanes' colours as three channels of eight (0 in the lanes not
+/// written).
+#[derive(Default)]
+pub struct LaneColours([[f32; 8]; 3]);
+
+impl LaneColours {
+    #[inline(always)]
+    pub fn set(&mut self, lane: usize, c: Vec3A) {
+        self.0[0][lane] = c.x;
+        self.0[1][lane] = c.y;
+        self.0[2][lane] = c.z;
+    }
+
+    #[inline(always)]
+    pub fn channels(self) -> [f32x8; 3] {
+        self.0.map(f32x8::from)
+    }
 }
 
 impl std::fmt::Debug for OctMap {
@@ -81,15 +130,19 @@ pub fn oct_direction(uv: Vec2) -> Vec3 {
 }
 
 impl OctMap {
-    /// A `size²` map whose texels take `f` of their centre's direction.
-    pub fn from_fn(size: usize, f: impl Fn(Vec3) -> Vec3) -> OctMap {
-        let mut texels = Vec::with_capacity(size * size);
-        for y in 0..size {
-            for x in 0..size {
-                let uv = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) / size as f32;
-                texels.push(f(oct_direction(uv)));
-            }
-        }
+    /// A `size²` map whose texels take `f` of their centre's direction,
+    /// its rows computed in parallel (a level's texels are independent).
+    pub fn from_fn(size: usize, f: impl Fn(Vec3) -> Vec3 + Sync) -> OctMap {
+        let mut texels = vec![Vec3A::ZERO; size * size];
+        texels
+            .par_chunks_mut(size.max(1))
+            .enumerate()
+            .for_each(|(y, row)| {
+                for (x, texel) in row.iter_mut().enumerate() {
+                    let uv = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) / size as f32;
+                    *texel = Vec3A::from(f(oct_direction(uv)));
+                }
+            });
         OctMap { size, texels }
     }
 
@@ -106,37 +159,27 @@ impl OctMap {
     /// coordinates are clamped to the map (a NaN to its first texel), so
     /// every read is inside it.
     #[inline(always)]
-    pub fn read_lanes(&self, [u, v]: [f32x8; 2], live: u32) -> [f32x8; 3] {
-        let n = self.size;
-        let (size, last) = (f32x8::splat(n as f32), f32x8::splat((n - 1) as f32));
-        let half = f32x8::splat(0.5);
-        let x = (u * size - half).max(f32x8::ZERO).min(last);
-        let y = (v * size - half).max(f32x8::ZERO).min(last);
-        let (xi, yi) = (x.trunc_int(), y.trunc_int());
-        let (fx, fy) = (x - f32x8::from_i32x8(xi), y - f32x8::from_i32x8(yi));
-        let (xi, yi) = (xi.to_array(), yi.to_array());
-        // The four corners' texels, lane by lane, channel by channel.
-        let mut corners = [[[0.0f32; 8]; 3]; 4];
+    pub fn read_lanes(&self, uv: [f32x8; 2], live: u32) -> [f32x8; 3] {
+        let at = Bilinear::at(uv, f32x8::splat(self.size as f32));
+        let mut out = LaneColours::default();
         for lane in (0..8).filter(|l| live & (1 << l) != 0) {
-            let (x0, y0) = (xi[lane] as usize, yi[lane] as usize);
-            let (x1, y1) = ((x0 + 1).min(n - 1), (y0 + 1).min(n - 1));
-            for (corner, (r, c)) in [(y0, x0), (y0, x1), (y1, x0), (y1, x1)]
-                .into_iter()
-                .enumerate()
-            {
-                let t = self.texels[r * n + c];
-                for k in 0..3 {
-                    corners[corner][k][lane] = t[k];
-                }
-            }
+            out.set(lane, self.blend(&at, lane));
         }
-        // glam's `lerp`: a·(1 − s) + b·s.
-        let lerp = |a: f32x8, b: f32x8, s: f32x8| a * (f32x8::ONE - s) + b * s;
-        let channel = |k: usize| {
-            let at = |corner: usize| f32x8::from(corners[corner][k]);
-            lerp(lerp(at(0), at(1), fx), lerp(at(2), at(3), fx), fy)
-        };
-        [channel(0), channel(1), channel(2)]
+        out.channels()
+    }
+
+    /// Lane `lane` of `at`'s bilinear read (`at` made for this map's size).
+    #[inline(always)]
+    pub fn blend(&self, at: &Bilinear, lane: usize) -> Vec3A {
+        let n = self.size;
+        let (x0, y0) = (at.xi[lane] as usize, at.yi[lane] as usize);
+        let (x1, y1) = ((x0 + 1).min(n - 1), (y0 + 1).min(n - 1));
+        let t = &self.texels;
+        let fx = at.fx[lane];
+        // glam's `lerp`, a·(1 − s) + b·s, three channels at once.
+        let top = t[y0 * n + x0].lerp(t[y0 * n + x1], fx);
+        let bottom = t[y1 * n + x0].lerp(t[y1 * n + x1], fx);
+        top.lerp(bottom, at.fy[lane])
     }
 
     /// The radiance at `uv` (0..=1), bilinear between texel centres across
@@ -171,14 +214,14 @@ impl OctMap {
         };
         let top = a.lerp(b, fx);
         let bottom = c.lerp(d, fx);
-        top.lerp(bottom, fy)
+        Vec3::from(top.lerp(bottom, fy))
     }
 
     /// Texel (x, y) for x and y in −1..=size: one beyond an edge is the
     /// texel mirrored about the edge's midpoint on the edge's own row or
     /// column.
     #[inline]
-    fn texel(&self, x: i64, y: i64) -> Vec3 {
+    fn texel(&self, x: i64, y: i64) -> Vec3A {
         let last = self.size as i64 - 1;
         let (mut x, mut y) = (x, y);
         if y < 0 || y > last {
@@ -202,38 +245,67 @@ pub fn prefilter(source: &Source) -> Vec<OctMap> {
                 return OctMap::from_fn(LEVEL_SIZES[0], |d| source.lookup(d));
             }
             let w = SOURCE_WIDTHS[i];
-            let texels = source.shrunk((w, w / 2)).texels_with_solid_angles();
+            let texels = TexelLanes::of(&source.shrunk((w, w / 2)));
             let roughness = i as f32 / (LEVELS - 1) as f32;
             let alpha = roughness * roughness;
-            OctMap::from_fn(LEVEL_SIZES[i], |r| lobe_mean(&texels, r, alpha * alpha))
+            OctMap::from_fn(LEVEL_SIZES[i], |r| texels.lobe_mean(r, alpha * alpha))
         })
         .collect()
 }
 
-/// The GGX-weighted mean of `texels` around `r` for α² = `alpha2`.
-fn lobe_mean(texels: &[(Vec3, f32, Vec3)], r: Vec3, alpha2: f32) -> Vec3 {
-    let mut sum = Vec3::ZERO;
-    let mut weight = 0.0f32;
-    for &(l, d_omega, radiance) in texels {
-        let nl = r.dot(l);
-        if nl <= 0.0 {
-            continue;
-        }
-        let h = (r + l).normalize();
-        let w = distribution(alpha2, r.dot(h)) * nl * d_omega;
-        sum += radiance * w;
-        weight += w;
-    }
-    if weight > 0.0 {
-        sum / weight
-    } else {
-        Vec3::ZERO
-    }
+/// A source's texels eight at a time: centre direction, solid angle and
+/// radiance, the last group padded with texels of no solid angle.
+struct TexelLanes {
+    direction: Vec<[f32x8; 3]>,
+    d_omega: Vec<f32x8>,
+    radiance: Vec<[f32x8; 3]>,
 }
 
-/// GGX's D for α² = `alpha2` at N·H = `nh` (the formula of
-/// `shade::brdf::distribution`, which `texture` does not import).
-fn distribution(alpha2: f32, nh: f32) -> f32 {
-    let d = nh * nh * (alpha2 - 1.0) + 1.0;
-    alpha2 / (std::f32::consts::PI * d * d)
+impl TexelLanes {
+    fn of(source: &Source) -> TexelLanes {
+        let texels = source.texels_with_solid_angles();
+        let groups = texels.chunks(8);
+        let lane = |chunk: &[(Vec3, f32, Vec3)], f: &dyn Fn(&(Vec3, f32, Vec3)) -> f32| {
+            f32x8::from(std::array::from_fn::<f32, 8, _>(|i| {
+                chunk.get(i).map_or(0.0, f)
+            }))
+        };
+        let triple = |chunk: &[(Vec3, f32, Vec3)], pick: fn(&(Vec3, f32, Vec3)) -> Vec3| {
+            [0, 1, 2].map(|k| lane(chunk, &|t| pick(t)[k]))
+        };
+        TexelLanes {
+            direction: groups.clone().map(|c| triple(c, |t| t.0)).collect(),
+            d_omega: groups.clone().map(|c| lane(c, &|t| t.1)).collect(),
+            radiance: groups.map(|c| triple(c, |t| t.2)).collect(),
+        }
+    }
+
+    /// The GGX-weighted mean of the texels around `r` for α² = `alpha2`:
+    /// each texel L weighs D(N·H)·(N·L)·dω with N = R. With H the unit
+    /// half vector of R and L, (R·H)² = (1 + R·L)/2, so D needs no square
+    /// root; its constant factor α²/π cancels in the mean.
+    fn lobe_mean(&self, r: Vec3, alpha2: f32) -> Vec3 {
+        let [rx, ry, rz] = [r.x, r.y, r.z].map(f32x8::splat);
+        let (half, k) = (f32x8::splat(0.5), f32x8::splat(alpha2 - 1.0));
+        let mut sum = [f32x8::ZERO; 3];
+        let mut weight = f32x8::ZERO;
+        for ((l, d_omega), radiance) in self.direction.iter().zip(&self.d_omega).zip(&self.radiance)
+        {
+            let nl = rx * l[0] + ry * l[1] + rz * l[2];
+            let d = (f32x8::ONE + nl) * half * k + f32x8::ONE;
+            let w = nl
+                .simd_gt(f32x8::ZERO)
+                .select(nl * *d_omega / (d * d), f32x8::ZERO);
+            for (s, c) in sum.iter_mut().zip(radiance) {
+                *s += *c * w;
+            }
+            weight += w;
+        }
+        let weight = weight.reduce_add();
+        if weight > 0.0 {
+            Vec3::from(sum.map(|s| s.reduce_add())) / weight
+        } else {
+            Vec3::ZERO
+        }
+    }
 }
