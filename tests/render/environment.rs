@@ -397,3 +397,55 @@ fn a_picture_file_loads_as_an_environment_and_a_missing_one_says_so() {
         Err(relief_texture::TextureError::NotFound { .. })
     ));
 }
+
+/// A Radiance or OpenEXR environment keeps its radiance above 1 (a sun of
+/// 40, a window of 5): the image-based light and the backdrop see what the
+/// file holds. The same file as a texture is clamped to 0..=1, and a
+/// negative or not-a-number value reads 0 either way.
+#[test]
+fn a_float_environment_keeps_its_radiance_and_a_texture_of_it_is_clamped() {
+    use image::{DynamicImage, ImageFormat, Rgb32FImage, Rgba32FImage};
+    let (w, h) = (16u32, 8u32);
+    // Column 0: 40 (the sun); column 5: 5; column 9: negative; the rest 0.5.
+    let value = |x: u32| match x {
+        0 => 40.0,
+        5 => 5.0,
+        9 => -3.0,
+        _ => 0.5,
+    };
+    let dir = std::env::temp_dir().join(format!("relief-env-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let hdr = Rgb32FImage::from_fn(w, h, |x, _| image::Rgb([value(x); 3]));
+    let exr = Rgba32FImage::from_fn(w, h, |x, _| {
+        image::Rgba([value(x), value(x), value(x), 1.0])
+    });
+    for (name, picture, format) in [
+        ("sun.hdr", DynamicImage::ImageRgb32F(hdr), ImageFormat::Hdr),
+        (
+            "sun.exr",
+            DynamicImage::ImageRgba32F(exr),
+            ImageFormat::OpenExr,
+        ),
+    ] {
+        let path = dir.join(name);
+        let bytes = relief_texture::picture::encode(&picture, format).unwrap();
+        std::fs::write(&path, bytes).unwrap();
+        let env = Environment::load(&path).unwrap();
+        let texels = &env.picture().texels;
+        let row = |x: usize| texels.at(3 * w as usize + x);
+        // Radiance keeps an 8-bit mantissa: within 1 %.
+        for (x, want) in [(0, 40.0f32), (5, 5.0), (9, 0.0), (2, 0.5)] {
+            let got = row(x)[0];
+            assert!(
+                (got - want).abs() <= 0.01 * want,
+                "{name} column {x}: {got}"
+            );
+        }
+        let texture = relief_texture::load_texture(&path).unwrap();
+        let texel = |x: usize| texture.base().texels.at(3 * w as usize + x);
+        assert_eq!(texel(0)[0], 1.0, "{name}");
+        assert_eq!(texel(5)[0], 1.0, "{name}");
+        assert_eq!(texel(9)[0], 0.0, "{name}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -23,7 +23,7 @@ use super::ibl::radiance::RadianceLevels;
 use super::ibl::source::Source;
 use super::lat_long::{direction, lat_long};
 use super::studio::{STUDIO_SIZE, studio};
-use super::{Level, Texture, TextureError, load_texture};
+use super::{Level, Range, Texture, TextureError, load_picture};
 
 /// A latitude–longitude environment: RGB read by direction.
 #[derive(Debug)]
@@ -64,9 +64,14 @@ impl Environment {
     }
 
     /// The picture at `path` (any format the texture loader reads, within
-    /// its size limits and memory budget) as an equirectangular environment.
+    /// its size limits and memory budget) as an equirectangular environment:
+    /// a float picture's radiance as the file has it (a texture's would be
+    /// clamped to 1, and an HDR environment's sun and windows with it).
     pub fn load(path: &Path) -> Result<Environment, TextureError> {
-        Ok(Environment::from_texture(load_texture(path)?))
+        Ok(Environment::from_texture(load_picture(
+            path,
+            Range::Radiance,
+        )?))
     }
 
     /// `--environment-map`: the picture at `path` when one is given.

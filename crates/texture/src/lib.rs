@@ -20,7 +20,7 @@ pub mod studio;
 // The modules' old paths (`texture::load`, `texture::filter`, ...) stay
 // valid, so code outside `texture/` names them as before.
 pub use decode::builtin::{Builtin, builtins};
-pub use decode::load::{TextureError, load_texture, load_texture_with_height};
+pub use decode::load::{Range, TextureError, load_picture, load_texture, load_texture_with_height};
 pub use sample::level::Level;
 pub use sample::normal_map::NormalMap;
 pub use sample::texture::Texture;

@@ -108,11 +108,28 @@ fn one_line(text: &str) -> String {
     clean
 }
 
+/// What a float picture's values (Radiance, OpenEXR, float TIFF) are kept
+/// as; other pictures hold 0..=1 whatever this says.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Range {
+    /// A texture's colours and heights: clamped to 0..=1.
+    Unit,
+    /// An environment's radiance: as the file has it, negatives 0 and at
+    /// most 65504 (the largest half float).
+    Radiance,
+}
+
 /// Loads a picture file as a texture (height = alpha, or mean of RGB).
 pub fn load_texture(path: &Path) -> Result<Texture, TextureError> {
+    load_picture(path, Range::Unit)
+}
+
+/// Loads a picture file with its float values kept in `range`: a texture
+/// (`Range::Unit`, as [`load_texture`]) or an environment's radiance.
+pub fn load_picture(path: &Path, range: Range) -> Result<Texture, TextureError> {
     let bytes = read_file(path)?;
     let name = sanitize::display_path(path);
-    let (level, held) = decode_level(&bytes, &name, format_hint(path))?;
+    let (level, held) = decode_level(&bytes, &name, format_hint(path), range)?;
     Ok(Texture::new(name, level).holding(held))
 }
 
@@ -138,7 +155,7 @@ pub fn load_texture_from_bytes(name: &str, bytes: &[u8]) -> Result<Texture, Text
             limit: MAX_FILE_BYTES,
         });
     }
-    let (level, held) = decode_level(bytes, &clean, format_hint(Path::new(name)))?;
+    let (level, held) = decode_level(bytes, &clean, format_hint(Path::new(name)), Range::Unit)?;
     Ok(Texture::new(clean, level).holding(held))
 }
 
@@ -309,6 +326,7 @@ fn decode_level(
     bytes: &[u8],
     file: &str,
     hint: Option<ImageFormat>,
+    range: Range,
 ) -> Result<(Level, Reservation), TextureError> {
     if bytes.is_empty() {
         return Err(TextureError::Empty {
@@ -323,15 +341,17 @@ fn decode_level(
     }
     // The decoders are third-party code fed untrusted bytes: a panic in one
     // is this file's error, not the program's end.
-    let first = contained_decode(bytes, file, hint);
+    let first = contained_decode(bytes, file, hint, range);
     // Valid variants the crate refuses (docs/textures.md): decoded again,
     // rewritten into the form it reads; files it reads are never rewritten.
     match first {
         Err(TextureError::Corrupt { .. } | TextureError::Unsupported { .. }) => {
             match variants::rewrite(bytes) {
-                Some((fixed, format)) => contained_decode(&fixed, file, Some(format)).or(first),
+                Some((fixed, format)) => {
+                    contained_decode(&fixed, file, Some(format), range).or(first)
+                }
                 None if bytes.starts_with(b"II*\0") || bytes.starts_with(b"MM\0*") => {
-                    relief_core::contain::contain(|| tiff_level(bytes, file))
+                    relief_core::contain::contain(|| tiff_level(bytes, file, range))
                         .ok()
                         .and_then(|r| r.transpose())
                         .unwrap_or(first)
@@ -345,7 +365,11 @@ fn decode_level(
 
 /// A TIFF through the `tiff` crate's own samples ([`tiff_samples`]):
 /// `Ok(None)` when it cannot decode it either.
-fn tiff_level(bytes: &[u8], file: &str) -> Result<Option<(Level, Reservation)>, TextureError> {
+fn tiff_level(
+    bytes: &[u8],
+    file: &str,
+    range: Range,
+) -> Result<Option<(Level, Reservation)>, TextureError> {
     let Some((width, height)) = tiff_samples::dimensions(bytes) else {
         return Ok(None);
     };
@@ -356,7 +380,7 @@ fn tiff_level(bytes: &[u8], file: &str) -> Result<Option<(Level, Reservation)>, 
         Ok(None) => return Ok(None),
         Err(refusal) => return Err(refused(file, "TIFF", refusal)),
     };
-    let level = level_from_rows(p.width, p.height, p.has_alpha, |x, y| {
+    let level = level_from_rows(p.width, p.height, p.has_alpha, range, |x, y| {
         p.rgba[y * p.width + x]
     });
     Ok(Some((level, held)))
@@ -403,7 +427,8 @@ fn ktx2_level(bytes: &[u8], file: &str) -> Result<(Level, Reservation), TextureE
         Precision::Unorm8,
     );
     held.shrink(held.bytes().saturating_sub(kept));
-    Ok((level_from_image(image), held))
+    // 8-bit RGBA: 0..=1 whatever the range.
+    Ok((level_from_image(image, Range::Unit), held))
 }
 
 /// The error of `file`, of `format`, that one of relief's own decoders
@@ -430,8 +455,9 @@ fn contained_decode(
     bytes: &[u8],
     file: &str,
     hint: Option<ImageFormat>,
+    range: Range,
 ) -> Result<(Level, Reservation), TextureError> {
-    relief_core::contain::contain(|| decode_image(bytes, file, hint)).unwrap_or_else(|_| {
+    relief_core::contain::contain(|| decode_image(bytes, file, hint, range)).unwrap_or_else(|_| {
         Err(TextureError::Corrupt {
             file: file.to_owned(),
             format: format_name(bytes, hint),
@@ -454,6 +480,7 @@ fn decode_image(
     bytes: &[u8],
     file: &str,
     hint: Option<ImageFormat>,
+    range: Range,
 ) -> Result<(Level, Reservation), TextureError> {
     let mut reader = ImageReader::new(Cursor::new(bytes))
         .with_guessed_format()
@@ -505,7 +532,7 @@ fn decode_image(
     let mut held = held;
     let kept = budget::texture_bytes_at(image.width() as u64, image.height() as u64, precision);
     held.shrink(held.bytes().saturating_sub(kept));
-    Ok((level_from_image(image), held))
+    Ok((level_from_image(image, range), held))
 }
 
 fn convert_error(e: ImageError, file: &str, format: &str) -> TextureError {
@@ -676,25 +703,32 @@ fn decode_xpm(bytes: &[u8], file: &str) -> Result<(Level, Reservation), TextureE
         return Err(too_large(file, w as u64, h as u64));
     }
     let held = reserve_texture(file, w, h, Precision::Float)?;
-    let level = level_from_rows(w, h, image.has_alpha, |x, y| image.rgba[y * w + x]);
+    let level = level_from_rows(w, h, image.has_alpha, Range::Unit, |x, y| {
+        image.rgba[y * w + x]
+    });
     Ok((level, held))
 }
 
-/// A level from a pixel reader `px(x, y)` (y = 0 the top row, RGBA in 0..1):
-/// rows kept top first (v = 0 is the top of the picture), height = alpha or
-/// mean of RGB.
+/// A level from a pixel reader `px(x, y)` (y = 0 the top row, RGBA, kept
+/// in `range`; not a number reads 0): rows kept top first (v = 0 is the top
+/// of the picture), height = alpha or mean of RGB.
 fn level_from_rows(
     width: usize,
     height: usize,
     has_alpha: bool,
+    range: Range,
     px: impl Fn(usize, usize) -> [f32; 4],
 ) -> Level {
+    let top = match range {
+        Range::Unit => 1.0,
+        Range::Radiance => 65504.0,
+    };
     let mut texels = Vec::with_capacity(width * height);
     for y in 0..height {
         for x in 0..width {
             let [r, g, b, a] = px(x, y).map(|c| {
                 if c.is_finite() {
-                    c.clamp(0.0, 1.0)
+                    c.clamp(0.0, top)
                 } else {
                     0.0
                 }
@@ -769,7 +803,7 @@ fn rgba_texels(raw: Vec<u8>) -> Vec<[u8; 4]> {
 /// 8-bit pictures are kept in 8 bits (they read as k / 255, as
 /// `Level::from_rgba8_top_down` does, so a PNG of a generated texture gives
 /// back the same texels), 16-bit ones in 16 bits, float ones as floats.
-fn level_from_image(image: DynamicImage) -> Level {
+fn level_from_image(image: DynamicImage, range: Range) -> Level {
     let (w, h) = (image.width() as usize, image.height() as usize);
     let color = image.color();
     let has_alpha = color.has_alpha();
@@ -826,7 +860,9 @@ fn level_from_image(image: DynamicImage) -> Level {
         }
         Precision::Float => {
             let buf = image.into_rgba32f();
-            level_from_rows(w, h, has_alpha, |x, y| buf.get_pixel(x as u32, y as u32).0)
+            level_from_rows(w, h, has_alpha, range, |x, y| {
+                buf.get_pixel(x as u32, y as u32).0
+            })
         }
     }
 }
