@@ -1,5 +1,6 @@
 //! Input files: models, parser messages, mutated files.
 
+mod etc1s_pictures;
 mod meshopt_streams;
 mod models;
 mod models_formats;
@@ -9,6 +10,7 @@ mod models_gltf_anim;
 mod models_gltf_blend;
 mod models_gltf_cameras;
 mod models_gltf_draco;
+mod models_gltf_etc1s;
 mod models_gltf_hostile;
 mod models_gltf_ktx2;
 mod models_gltf_lights;

@@ -98,7 +98,7 @@ fn a_size_cap_reads_the_level_it_needs() {
 
 /// A GLB of one face-on quad whose base colour reads texture 0; its
 /// images `images`, the first `ktx2` of them KTX2, and `textures` (JSON).
-fn quad_glb(images: Vec<Vec<u8>>, ktx2: usize, textures: &str, extra: &str) -> Vec<u8> {
+pub(super) fn quad_glb(images: Vec<Vec<u8>>, ktx2: usize, textures: &str, extra: &str) -> Vec<u8> {
     let mut q = quad(-1.0, 1.0, -0.5, 0.5, 0.0, 1.0);
     q.material = Some(0);
     let mut doc = Doc::new(vec![q]);
@@ -122,7 +122,7 @@ fn quad_glb(images: Vec<Vec<u8>>, ktx2: usize, textures: &str, extra: &str) -> V
     )
 }
 
-fn drawn(test: &str, glb: &[u8]) -> Vec<[u8; 3]> {
+pub(super) fn drawn(test: &str, glb: &[u8]) -> Vec<[u8; 3]> {
     let path = write(test, "k.glb", glb);
     let scene = scene_of(load_ok(&path));
     let settings = Settings {
@@ -132,7 +132,7 @@ fn drawn(test: &str, glb: &[u8]) -> Vec<[u8; 3]> {
     render(&scene, &settings).pixels().to_vec()
 }
 
-const REQUIRED: &str =
+pub(super) const REQUIRED: &str =
     r#","extensionsUsed":["KHR_texture_basisu"],"extensionsRequired":["KHR_texture_basisu"]"#;
 const USED: &str = r#","extensionsUsed":["KHR_texture_basisu"]"#;
 

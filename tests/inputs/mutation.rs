@@ -65,9 +65,10 @@ fn texture_seeds() -> &'static [(String, Vec<u8>)] {
             let bytes = std::fs::read(data().join("pngsuite").join(name)).unwrap();
             s.push((name.to_string(), bytes));
         }
-        // KTX2 (UASTC) written here: plain with alpha, Zstandard, and
-        // with two levels.
+        // KTX2: UASTC written here (plain with alpha, Zstandard, with two
+        // levels) and ETC1S made by the Basis Universal encoder.
         s.extend(ktx2_seeds());
+        s.extend(seeds(&["ktx2"], &[".ktx2"]));
         s
     })
 }
