@@ -19,6 +19,8 @@ fn quick_bench_writes_table_csv_and_plot() {
         anchors: false,
         model: None,
         picture: None,
+        pbr: None,
+        environment_map: None,
         modes: false,
         physical: false,
     };
@@ -142,6 +144,53 @@ fn quick_model_anchors_bench_times_the_file_on_each_thread_count() {
             .unwrap_or_else(|| panic!("{key} missing in\n{out}"));
         assert!(!line.contains("covered_px=0 "), "{line}");
     }
+}
+
+/// `--pbr` times the same file shaded physically (rows `pbr`), with the
+/// built-in studio when no environment map is given.
+#[test]
+fn quick_pbr_model_anchors_bench_times_the_physical_view() {
+    let dir = std::env::temp_dir().join(format!("relief-bench-pbr-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("sphere.ply");
+    let ply = relief_bench::mesh_anchor::uv_sphere_ply(8, 16, 1.0, glam::Vec3::ZERO);
+    std::fs::write(&path, ply).unwrap();
+    let args = BenchArgs {
+        quick: true,
+        anchors: true,
+        model: Some(path.clone()),
+        pbr: Some(relief_bench::pbr_anchor::Look::Dielectric),
+        threads: Some(1),
+        ..Default::default()
+    };
+    let (mut out, mut log) = (Vec::new(), Vec::new());
+    relief_bench::run(&args, &mut out, &mut log).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = String::from_utf8(out).unwrap();
+    assert!(out.contains("metallic 0, roughness 0.5"), "{out}");
+    assert!(out.contains("the built-in studio"), "{out}");
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("variant=pbr     size=64x48 threads=1 "))
+        .unwrap_or_else(|| panic!("no pbr row in\n{out}"));
+    assert!(!line.contains("covered_px=0 "), "{line}");
+}
+
+#[test]
+fn pbr_needs_a_model_and_its_environment_map_needs_pbr() {
+    use clap::Parser;
+    let parse = |args: &[&str]| relief::cli::Cli::try_parse_from(args).is_ok();
+    let model = ["relief", "bench", "--anchors", "--model", "x.ply"];
+    assert!(!parse(&["relief", "bench", "--anchors", "--pbr"]));
+    assert!(!parse(
+        &[&model[..], &["--environment-map", "e.hdr"]].concat()
+    ));
+    assert!(parse(&[&model[..], &["--pbr"]].concat()));
+    assert!(parse(
+        &[&model[..], &["--pbr", "--environment-map", "e.hdr"]].concat()
+    ));
+    assert!(parse(&[&model[..], &["--pbr", "dielectric"]].concat()));
+    assert!(!parse(&[&model[..], &["--pbr", "chrome"]].concat()));
 }
 
 #[test]

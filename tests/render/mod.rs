@@ -13,6 +13,7 @@ mod model_view;
 mod overdraw;
 mod packets;
 mod pbr;
+mod pbr_anchor;
 mod plan;
 mod plasma;
 mod reference;

@@ -13,6 +13,7 @@ pub mod font;
 pub mod mesh_anchor;
 pub mod metrics;
 pub mod pareto;
+pub mod pbr_anchor;
 pub mod physical;
 pub mod plot;
 pub mod reference;
@@ -68,6 +69,23 @@ pub struct BenchArgs {
     /// compare with llvmpipe's (docs/tools/llvmpipe_mesh.py compare).
     #[arg(long, value_name = "FILE.png", requires = "model")]
     pub picture: Option<PathBuf>,
+    /// With --model: shade it with a glTF metallic-roughness material (metal:
+    /// gold, the default; dielectric: blue paint), one white point light and
+    /// the image-based light of --environment-map, as
+    /// docs/tools/llvmpipe_mesh.py bench --pbr draws it.
+    #[arg(
+        long,
+        value_enum,
+        value_name = "MATERIAL",
+        num_args = 0..=1,
+        default_missing_value = "metal",
+        requires = "model"
+    )]
+    pub pbr: Option<pbr_anchor::Look>,
+    /// With --pbr: the equirectangular picture of the environment's light
+    /// (.hdr, .exr, PNG…) [default: the built-in studio].
+    #[arg(long, value_name = "PATH", requires = "pbr")]
+    pub environment_map: Option<PathBuf>,
     /// Compare the output modes instead (half, quad, sextant, octant, kitty,
     /// sixels, iterm): bytes of a first frame and of a 2° turn, encode time,
     /// and PSNR / SSIM of what the terminal shows against the full-resolution
@@ -282,6 +300,10 @@ pub fn run(args: &BenchArgs, out: &mut dyn Write, log: &mut dyn Write) -> anyhow
             quick: args.quick,
             markdown: args.markdown,
             threads: plan.threads,
+            pbr: args.pbr.map(|look| pbr_anchor::Request {
+                look,
+                environment: args.environment_map.as_deref(),
+            }),
         };
         mesh_anchor::run(request, out, log)?;
         return Ok(Report {

@@ -88,11 +88,20 @@ struct Cell {
     times: Vec<Duration>,
 }
 
+/// The rows' variant names: without shadows, then with relief's shadow pass.
+pub type Variants = (&'static str, &'static str);
+/// The Phong view's rows.
+pub const MESH: Variants = ("mesh", "mesh+shadows");
+/// The physically shaded view's rows (`pbr_anchor`).
+pub const PBR: Variants = ("pbr", "pbr+shadows");
+
 /// Times the view of `scene` at each size and thread count in `rounds`
 /// interleaved rounds (each after one warm-up frame), and returns the rows:
-/// `mesh` without shadows, then `mesh+shadows` where relief draws a shadow map.
+/// `variants.0` without shadows, then `variants.1` where relief draws a
+/// shadow map.
 pub fn measure(
     scene: &Scene,
+    variants: Variants,
     sizes: &[(usize, usize)],
     threads: &[usize],
     rounds: usize,
@@ -121,7 +130,7 @@ pub fn measure(
                 }
                 cells.push(Cell {
                     row: AnchorRow {
-                        variant: if shadows { "mesh+shadows" } else { "mesh" },
+                        variant: if shadows { variants.1 } else { variants.0 },
                         width,
                         height,
                         threads: *n,
@@ -176,6 +185,8 @@ pub struct Request<'a> {
     pub markdown: bool,
     /// The thread count of the "all threads" rows.
     pub threads: usize,
+    /// `--pbr`: shade the model physically (`pbr_anchor`).
+    pub pbr: Option<super::pbr_anchor::Request<'a>>,
 }
 
 /// Runs `relief bench --anchors --model FILE`.
@@ -191,9 +202,14 @@ pub fn run(
         quick,
         markdown,
         threads,
+        pbr,
     } = request;
     let start = Instant::now();
-    let scene = scene(path)?;
+    let mut scene = scene(path)?;
+    if let Some(pbr) = &pbr {
+        let factors = pbr.look.factors();
+        scene = super::pbr_anchor::physical(scene, factors, pbr.environment()?);
+    }
     let triangles: usize = scene.objects.iter().map(|o| o.mesh.triangles.len()).sum();
     let closed = scene.objects.iter().all(|o| o.mesh.closed);
     writeln!(
@@ -224,9 +240,13 @@ pub fn run(
         counts.push(threads);
     }
     let rounds = if quick { 1 } else { ROUNDS };
+    let shading = match &pbr {
+        Some(pbr) => pbr.describe(),
+        None => "4 point lights, Phong, vertex normals and colours, no texture".into(),
+    };
     writeln!(
         out,
-        "relief bench --anchors --model {}: {triangles} triangles, {}; fitted to radius 1.5, rotation 25,35,0, camera (0,0,5) 60°, 4 point lights, Phong, vertex normals and colours, no texture; {rounds} interleaved rounds, each {MIN_FRAMES} to {MAX_FRAMES} frames (about {} ms) after one warm-up frame; median and min per frame (whole render, clear included)",
+        "relief bench --anchors --model {}: {triangles} triangles, {}; fitted to radius 1.5, rotation 25,35,0, camera (0,0,5) 60°, {shading}; {rounds} interleaved rounds, each {MIN_FRAMES} to {MAX_FRAMES} frames (about {} ms) after one warm-up frame; median and min per frame (whole render, clear included)",
         relief_core::sanitize::display_path(path),
         if closed {
             "closed: back faces culled"
@@ -235,7 +255,8 @@ pub fn run(
         },
         ROUND_BUDGET.as_millis()
     )?;
-    let rows = measure(&scene, &sizes, &counts, rounds, |line| {
+    let variants = if pbr.is_some() { PBR } else { MESH };
+    let rows = measure(&scene, variants, &sizes, &counts, rounds, |line| {
         let _ = writeln!(log, "{line}");
     })?;
     if markdown {
