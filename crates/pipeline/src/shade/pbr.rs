@@ -50,13 +50,13 @@ use relief_core::stats::Counters;
 use relief_scene::light::Falloff;
 use relief_scene::map_uv::MapUv;
 use relief_scene::terms::{Clearcoat, DIELECTRIC_F0, MaterialTerms, PbrMaterial, Sheen};
-use relief_texture::NormalMap;
 use relief_texture::environment::Environment;
 use relief_texture::ibl::Ibl;
 use relief_texture::ibl::prefilter::{OctMap, oct_uv};
 use relief_texture::ibl::radiance::RadianceLevels;
 use relief_texture::sample::filter::{normal_reads_base, read_normal};
 use relief_texture::sample::mip::Footprint;
+use relief_texture::{Level, NormalMap};
 
 /// A metallic-roughness triangle: with or without its colour texture
 /// (`TEX`) and normal map (`NMAP`).
@@ -317,12 +317,12 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             return (V::uniform(pbr.dielectric_f0), weight);
         };
         let uvs = &self.terms.uvs;
-        let mut colour = V::uniform(maps.f0_colour);
-        if let Some(map) = &maps.colour {
-            let (u, v) = at.of(&uvs.specular_colour);
-            let [r, g, b] = V::L::bilinear(map, u, v);
-            colour = colour * srgb_to_linear(V::new(r, g, b));
-        }
+        let colour = factor_times_srgb::<V>(
+            maps.f0_colour,
+            maps.colour.as_deref(),
+            &uvs.specular_colour,
+            at,
+        );
         let one = V::L::ONE;
         let colour = V::new(
             colour.x().min(one),
@@ -390,12 +390,8 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
     #[inline(always)]
     fn sheen<V: Vector>(&self, sh: &Sheen, nv: V::L, at: Coords<V::L>) -> SheenAt<V> {
         let uvs = &self.terms.uvs;
-        let mut colour = V::uniform(sh.colour);
-        if let Some(map) = &sh.colour_map {
-            let (u, v) = at.of(&uvs.sheen_colour);
-            let [r, g, b] = V::L::bilinear(map, u, v);
-            colour = colour * srgb_to_linear(V::new(r, g, b));
-        }
+        let colour =
+            factor_times_srgb::<V>(sh.colour, sh.colour_map.as_deref(), &uvs.sheen_colour, at);
         let mut roughness = V::L::splat(sh.roughness);
         if let Some(map) = &sh.roughness_map {
             let (u, v) = at.of(&uvs.sheen_roughness);
@@ -708,13 +704,31 @@ fn emission<V: Vector>(terms: &MaterialTerms, at: Coords<V::L>) -> V {
     if terms.emissive == Vec3::ZERO {
         return V::uniform(Vec3::ZERO);
     }
-    match &terms.emissive_map {
+    factor_times_srgb(
+        terms.emissive,
+        terms.emissive_map.as_deref(),
+        &terms.uvs.emissive,
+        at,
+    )
+}
+
+/// A colour factor (linear) times its map, if any, read bilinearly at its
+/// coordinates `m` and decoded from sRGB: the emissive, specular and sheen
+/// colours alike.
+#[inline(always)]
+fn factor_times_srgb<V: Vector>(
+    factor: Vec3,
+    map: Option<&Level>,
+    m: &MapUv,
+    at: Coords<V::L>,
+) -> V {
+    match map {
         Some(map) => {
-            let (u, v) = at.of(&terms.uvs.emissive);
+            let (u, v) = at.of(m);
             let [r, g, b] = V::L::bilinear(map, u, v);
-            V::uniform(terms.emissive) * srgb_to_linear(V::new(r, g, b))
+            V::uniform(factor) * srgb_to_linear(V::new(r, g, b))
         }
-        None => V::uniform(terms.emissive),
+        None => V::uniform(factor),
     }
 }
 
