@@ -300,47 +300,50 @@ fn bilinear_wrapped<const COLOR: bool, const GRADIENT: bool>(
 
 /// `NormalMap::bilinear` at eight points, in the lanes of `live` (0 in
 /// the others). On a repeating map the texel positions and fractions are
-/// found lane-wise (as `bilinear`'s `axis`, the one-point read's bits) and
-/// blended lane-wise, each lane's four normals read by index; a clamped or
+/// found eight at a time (as `bilinear`'s `axis`, the one-point read's
+/// bits), each lane's four normals read by index and blended; a clamped or
 /// mirrored map is read lane by lane by the one-point read.
 #[inline(always)]
 pub fn normal_bilinear(map: &NormalMap, u: f32x8, v: f32x8, live: u32) -> [f32x8; 3] {
-    let mut corners = [[[0.0f32; LANES]; 3]; 4];
+    let mut normals = [[0.0f32; LANES]; 3];
     let lanes = (0..LANES).filter(|l| live & (1 << l) != 0);
     if !map.wrap.repeats() {
         let (u, v) = (u.to_array(), v.to_array());
         for lane in lanes {
             let n = map.bilinear(u[lane], v[lane]);
             for k in 0..3 {
-                corners[0][k][lane] = n[k];
+                normals[k][lane] = n[k];
             }
         }
-        return [0, 1, 2].map(|k| f32x8::from(corners[0][k]));
+        return normals.map(f32x8::from);
     }
     let (w, h) = (map.width, map.height);
     let (xi, fx, _) = axis(u, w);
     let (yi, fy, _) = axis(v, h);
+    let (fx, fy) = (fx.to_array(), fy.to_array());
+    let texel = |i: usize| {
+        let [x, y, z] = map.normals.at(i);
+        f32x4::from([x, y, z, 0.0])
+    };
     // The texels around each floor, wrapped as the one-point read wraps
-    // them (`around`): the second and third are the bilinear pair.
+    // them (`around`): the second and third are the bilinear pair. Each
+    // lane blends its texels' three values at once: t = a + (b − a)·f
+    // along u, then along v.
     for lane in lanes {
         let [_, c0, c1, _] = around(xi[lane] as i64, w);
         let [_, r0, r1, _] = around(yi[lane] as i64, h);
         let (r0, r1) = (r0 * w, r1 * w);
-        for (corner, i) in [r0 + c0, r0 + c1, r1 + c0, r1 + c1].into_iter().enumerate() {
-            let n = map.normals.at(i);
-            for k in 0..3 {
-                corners[corner][k][lane] = n[k];
-            }
+        let (a, b) = (texel(r0 + c0), texel(r0 + c1));
+        let (c, d) = (texel(r1 + c0), texel(r1 + c1));
+        let (x, y) = (f32x4::splat(fx[lane]), f32x4::splat(fy[lane]));
+        let top = a + (b - a) * x;
+        let bottom = c + (d - c) * x;
+        let n = (top + (bottom - top) * y).to_array();
+        for k in 0..3 {
+            normals[k][lane] = n[k];
         }
     }
-    let channel = |k: usize| {
-        let at = |corner: usize| f32x8::from(corners[corner][k]);
-        let (a, b, c, d) = (at(0), at(1), at(2), at(3));
-        let top = a + (b - a) * fx;
-        let bottom = c + (d - c) * fx;
-        top + (bottom - top) * fy
-    };
-    [channel(0), channel(1), channel(2)]
+    normals.map(f32x8::from)
 }
 
 /// Every lane's bilinear colour and its four bilinear heights, from
