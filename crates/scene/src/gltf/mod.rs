@@ -612,10 +612,9 @@ fn read_primitive(
         &mut vertices,
     );
     let uv2 = read_second_set(prim, buffers, (&sets, stroke), n, (name, held))?;
-    let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
     let index_count = prim.indices().map_or(n, |a| a.count());
-    let corners: Box<dyn Iterator<Item = (usize, u32)>> = match reader.read_indices() {
-        Some(r) => Box::new(r.into_u32().enumerate()),
+    let corners: Box<dyn Iterator<Item = (usize, u32)>> = match prim.indices() {
+        Some(a) => Box::new(accessor::indices(&a, buffers).enumerate()),
         None => Box::new((0..n as u32).enumerate()),
     };
     if let Some(mode) = stroke {
