@@ -45,6 +45,22 @@ fn floats(v: &[[f32; 3]]) -> Acc {
 /// A GLB of one quad primitive (indices 0 1 2, 0 2 3) with these
 /// attributes, its node `node` (JSON) and `extra` top-level JSON.
 fn quad_glb(attributes: &[(&str, Acc)], node: &str, extra: &str) -> Vec<u8> {
+    let idx: Vec<u8> = [0u16, 1, 2, 0, 2, 3]
+        .iter()
+        .flat_map(|i| i.to_le_bytes())
+        .collect();
+    let indices = Acc {
+        bytes: idx,
+        ct: 5123,
+        ty: "SCALAR",
+        count: 6,
+        ..Acc::default()
+    };
+    quad_glb_indexed(attributes, &indices, node, extra)
+}
+
+/// [`quad_glb`] with its indices' accessor written as `indices` says.
+fn quad_glb_indexed(attributes: &[(&str, Acc)], indices: &Acc, node: &str, extra: &str) -> Vec<u8> {
     let mut bin: Vec<u8> = Vec::new();
     let mut views = Vec::new();
     let mut view = |bin: &mut Vec<u8>, bytes: &[u8], stride: Option<usize>| {
@@ -62,7 +78,7 @@ fn quad_glb(attributes: &[(&str, Acc)], node: &str, extra: &str) -> Vec<u8> {
     };
     let mut accessors = Vec::new();
     let mut attrs = Vec::new();
-    for (name, a) in attributes {
+    for (name, a) in attributes.iter().chain([&("", indices.clone())]) {
         let base = if a.no_view {
             String::new()
         } else {
@@ -84,16 +100,10 @@ fn quad_glb(attributes: &[(&str, Acc)], node: &str, extra: &str) -> Vec<u8> {
             r#"{{"componentType":{},"count":{},"type":"{}","normalized":{}{base}{sparse}{minmax}}}"#,
             a.ct, a.count, a.ty, a.normalized
         ));
-        attrs.push(format!(r#""{name}":{}"#, accessors.len() - 1));
+        if !name.is_empty() {
+            attrs.push(format!(r#""{name}":{}"#, accessors.len() - 1));
+        }
     }
-    let idx: Vec<u8> = [0u16, 1, 2, 0, 2, 3]
-        .iter()
-        .flat_map(|i| i.to_le_bytes())
-        .collect();
-    let v = view(&mut bin, &idx, None);
-    accessors.push(format!(
-        r#"{{"bufferView":{v},"componentType":5123,"count":6,"type":"SCALAR"}}"#
-    ));
     let json = format!(
         r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{node}],"meshes":[{{"primitives":[{{"attributes":{{{}}},"indices":{}}}]}}],"accessors":[{}],"bufferViews":[{}],"buffers":[{{"byteLength":{}}}]{extra}}}"#,
         attrs.join(","),
@@ -189,6 +199,73 @@ fn a_sparse_position_accessor_reads_its_substitutions() {
         m.contains("accessors[0]") && m.contains("sparse index 1 (1) does not follow"),
         "{m}"
     );
+}
+
+/// The quad's indices as unsigned bytes, shorts and ints, and as bytes
+/// 0 1 2 0 1 2 with a sparse part replacing the last two by 2 and 3 (and
+/// as no bufferView at all, zeros, with all six replaced): every file has
+/// the twin's triangles, 0 1 2 and 0 2 3.
+#[test]
+fn index_accessors_of_every_unsigned_type_and_sparse_read_as_their_twin() {
+    let quad = [0u32, 1, 2, 0, 2, 3];
+    let acc = |ct: u32, bytes: Vec<u8>| Acc {
+        bytes,
+        ct,
+        ty: "SCALAR",
+        count: 6,
+        ..Acc::default()
+    };
+    let u8s = |v: &[u32]| v.iter().map(|&i| i as u8).collect::<Vec<u8>>();
+    let u16s = |v: &[u32]| v.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect();
+    let u32s = |v: &[u32]| v.iter().flat_map(|&i| i.to_le_bytes()).collect();
+    let cases = [
+        ("u8", acc(5121, u8s(&quad))),
+        ("u16", acc(5123, u16s(&quad))),
+        ("u32", acc(5125, u32s(&quad))),
+        (
+            "sparse",
+            Acc {
+                sparse: Some((5121, vec![4, 5], u8s(&[2, 3]), 2)),
+                ..acc(5121, u8s(&[0, 1, 2, 0, 1, 2]))
+            },
+        ),
+        (
+            "sparse-u32",
+            Acc {
+                sparse: Some((5125, u32s(&[4, 5]), u32s(&[2, 3]), 2)),
+                ..acc(5125, u32s(&[0, 1, 2, 0, 1, 2]))
+            },
+        ),
+        (
+            "sparse-zeros",
+            Acc {
+                no_view: true,
+                sparse: Some((5123, u16s(&[0, 1, 2, 3, 4, 5]), u16s(&quad), 6)),
+                ..acc(5123, Vec::new())
+            },
+        ),
+    ];
+    let twin = twin("index-types");
+    let corners = |m: &Model| -> Vec<[u32; 3]> {
+        m.parts[0]
+            .mesh
+            .triangles
+            .iter()
+            .map(|t| t.indices)
+            .collect()
+    };
+    assert_eq!(corners(&twin).len(), 2);
+    for (name, indices) in cases {
+        let bytes = quad_glb_indexed(
+            &[("POSITION", floats(&QUAD)), ("NORMAL", floats(&UP))],
+            &indices,
+            r#"{"mesh":0}"#,
+            "",
+        );
+        let model = load_ok(&write("index-types", &format!("{name}.glb"), &bytes));
+        assert_eq!(corners(&model), corners(&twin), "{name}");
+        assert_eq!(positions(&model), positions(&twin), "{name}");
+    }
 }
 
 /// KHR_mesh_quantization: positions as signed shorts (twice the quad, the
