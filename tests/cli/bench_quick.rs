@@ -113,13 +113,20 @@ fn quick_anchors_bench_prints_every_variant_and_thread_count() {
     }
 }
 
-#[test]
-fn quick_model_anchors_bench_times_the_file_on_each_thread_count() {
-    let dir = std::env::temp_dir().join(format!("relief-bench-model-{}", std::process::id()));
+/// A directory of this test's own (`tag`) holding `sphere.ply`, a UV
+/// sphere of 8 rings and 16 segments: the directory and the file's path.
+fn sphere_file(tag: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = std::env::temp_dir().join(format!("relief-bench-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("sphere.ply");
     let ply = relief_bench::mesh_anchor::uv_sphere_ply(8, 16, 1.0, glam::Vec3::ZERO);
     std::fs::write(&path, ply).unwrap();
+    (dir, path)
+}
+
+#[test]
+fn quick_model_anchors_bench_times_the_file_on_each_thread_count() {
+    let (dir, path) = sphere_file("model");
     let args = BenchArgs {
         quick: true,
         anchors: true,
@@ -150,11 +157,7 @@ fn quick_model_anchors_bench_times_the_file_on_each_thread_count() {
 /// built-in studio when no environment map is given.
 #[test]
 fn quick_pbr_model_anchors_bench_times_the_physical_view() {
-    let dir = std::env::temp_dir().join(format!("relief-bench-pbr-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("sphere.ply");
-    let ply = relief_bench::mesh_anchor::uv_sphere_ply(8, 16, 1.0, glam::Vec3::ZERO);
-    std::fs::write(&path, ply).unwrap();
+    let (dir, path) = sphere_file("pbr");
     let args = BenchArgs {
         quick: true,
         anchors: true,
