@@ -9,6 +9,7 @@ mod models_gltf_accessors;
 mod models_gltf_anim;
 mod models_gltf_blend;
 mod models_gltf_cameras;
+mod models_gltf_convex;
 mod models_gltf_draco;
 mod models_gltf_etc1s;
 mod models_gltf_hostile;

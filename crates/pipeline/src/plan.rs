@@ -137,7 +137,8 @@ pub struct Plan {
     pub filter: Filter,
     /// Screen-space UV derivatives per pixel, for the filters that pick a mip level.
     pub footprint: bool,
-    /// A depth buffer: only when two drawn surfaces can cover the same pixel.
+    /// A depth buffer: only when two drawn surfaces can cover the same pixel,
+    /// or points and lines must hide behind a surface.
     pub depth: bool,
     pub ambient: Vec3,
     /// Lights that contribute (disabled and black lights are dropped here).
@@ -234,7 +235,11 @@ impl Plan {
             .iter()
             .any(|o| o.mesh.triangles.iter().any(|t| t.textured));
         let stages = MaterialStages::new(&scene.material, any_textured, settings, false);
-        let depth = scene.objects.len() > 1 || scene.objects.iter().any(|o| !o.mesh.convex);
+        // Points and lines go behind the surfaces by the depth the triangles
+        // leave, so a lone convex mesh keeps its depth buffer beside them.
+        let depth = scene.objects.len() > 1
+            || scene.objects.iter().any(|o| !o.mesh.convex)
+            || !scene.strokes.is_empty();
         // A Z-up model is first turned so +Z is up, then the user's rotation.
         let rotation = relief_scene::model_view::view_rotation(settings.rotation, settings.up);
         let lights = if settings.lights {

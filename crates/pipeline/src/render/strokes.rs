@@ -13,9 +13,10 @@ use relief_scene::Scene;
 impl Renderer {
     /// Draws the scene's strokes over `fb` (the frame as drawn, `brush`
     /// times the shown size when supersampled). The depth is the frame's
-    /// own (with multisampling, each pixel's farthest sample); a frame
-    /// drawn without depth (one convex mesh, or the points and lines
-    /// displays) leaves the strokes in front of every surface.
+    /// own (with multisampling, each pixel's farthest sample); the points
+    /// and lines displays, drawn without depth, leave the strokes in front
+    /// of every surface (a frame with strokes keeps its depth buffer even
+    /// for one convex mesh: `Plan::depth`).
     pub(super) fn strokes(
         &mut self,
         scene: &Scene,

@@ -14,6 +14,7 @@
 
 mod accessor;
 mod cameras;
+mod convexity;
 mod data;
 mod draco;
 mod fitted_nodes;
@@ -318,8 +319,11 @@ fn build_parts(
         }
         let look = materials.get(prim.material)?;
         let posing = prim.posing.take();
+        let deforms = posing
+            .as_ref()
+            .is_some_and(|p| p.skin.is_some() || !p.targets.is_empty());
         let flat = !prim.has_normals;
-        let (mesh, source) = build_mesh(prim, &look, (name, &mut *held))?;
+        let (mesh, source) = build_mesh(prim, &look, deforms, (name, &mut *held))?;
         if mesh.triangles.is_empty() {
             continue;
         }
@@ -970,10 +974,12 @@ fn fit(prims: &mut [Prim]) -> Result<(DVec3, f64), Problem> {
 /// an area, tangent frames from the file, MikkTSpace or relief's own.
 /// `held` grows by what is allocated, before it is. With the mesh, the
 /// file's vertex each of its vertices comes from when tracked and split
-/// (`Prim::source`).
+/// (`Prim::source`). A culled primitive that does not `deform` is tested
+/// for convexity.
 fn build_mesh(
     mut prim: Prim,
     look: &material::Look,
+    deforms: bool,
     (name, held): (&str, &mut Reservation),
 ) -> Result<(Mesh, Vec<u32>), Problem> {
     // No normals: flat ones, so each corner is its own vertex (glTF 2.0 §3.7.2.1).
@@ -1027,9 +1033,17 @@ fn build_mesh(
         }
     }
     let closed = !look.double_sided;
+    let shape = (closed, deforms);
+    let convex = convexity::convex_part(&prim.vertices, &prim.tris, shape, (name, held));
     let mut mesh = match &tangent_uvs {
-        Some(uvs) => facets_on(prim.vertices, &prim.tris, uvs, closed, (name, held))?,
-        None => Mesh::of_triangles(prim.vertices, prim.tris, false, closed),
+        Some(uvs) => facets_on(
+            prim.vertices,
+            &prim.tris,
+            uvs,
+            (convex, closed),
+            (name, held),
+        )?,
+        None => Mesh::of_triangles(prim.vertices, prim.tris, convex, closed),
     }
     .with_uv2(prim.uv2);
     let sums = sum_bytes(mesh.vertices.len() as u64, mesh.triangles.len() as u64);
@@ -1080,7 +1094,7 @@ fn facets_on(
     vertices: Vec<Vertex>,
     tris: &[Triangle],
     uvs: &[Vec2],
-    closed: bool,
+    (convex, closed): (bool, bool),
     (name, held): (&str, &mut Reservation),
 ) -> Result<Mesh, Problem> {
     let count = tris.len() as u64;
@@ -1102,7 +1116,7 @@ fn facets_on(
             textured: t.textured,
         }
     }));
-    let mesh = Mesh::new(vertices, &faces, false, closed);
+    let mesh = Mesh::new(vertices, &faces, convex, closed);
     held.shrink(faces_bytes.saturating_add(side) - mesh.side_bytes() as u64);
     Ok(mesh)
 }
