@@ -238,6 +238,16 @@ fn damaged_ktx2_images_are_refused_naming_the_image() {
         patched(good_file.clone(), dfd_at + 12, &[1]),
         "not Basis Universal data",
     );
+    // A later Basis Universal codec (as its encoder writes desk.ktx2), or
+    // another block codec, is named.
+    for (model, name) in [
+        (167, "UASTC HDR 4x4"),
+        (168, "UASTC HDR 6x6"),
+        (162, "ASTC"),
+    ] {
+        let file = patched(good_file.clone(), dfd_at + 12, &[model]);
+        refuse(name, file, &format!("{name} data is not read"));
+    }
 }
 
 /// The file that requires the extension and has no texture at all loads.

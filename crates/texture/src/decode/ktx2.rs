@@ -140,6 +140,21 @@ fn colour_model(bytes: &[u8]) -> Option<u32> {
     Some(word(bytes, at) & 0xFF)
 }
 
+/// The name of a block-compressed colour model relief does not read
+/// (Khronos Data Format 1.4: BC1–BC7, ETC1, ETC2, ASTC, UASTC HDR), for
+/// messages; `None` for ETC1S, UASTC LDR and any other model.
+fn unread_model(model: u32) -> Option<&'static str> {
+    Some(match model {
+        128..=134 => "BC1-BC7",
+        160 => "ETC1",
+        161 => "ETC2",
+        162 => "ASTC",
+        167 => "UASTC HDR 4x4",
+        168 => "UASTC HDR 6x6",
+        _ => return None,
+    })
+}
+
 /// Whether the texture has alpha (ETC1S's second slice, UASTC's RGBA).
 pub fn has_alpha(bytes: &[u8]) -> bool {
     relief_core::contain::contain(|| Transcoder::new(bytes).is_ok_and(|t| t.has_alpha()))
@@ -151,10 +166,16 @@ pub fn has_alpha(bytes: &[u8]) -> bool {
 /// the level must have passed [`header`] and [`check_level`].
 pub fn transcode(bytes: &[u8], k: u32, out: &mut [u8]) -> Result<bool, Refusal> {
     let texture = Transcoder::new(bytes).map_err(|e| {
-        refusal(
-            e,
-            "not Basis Universal data (ETC1S or UASTC), or its header is damaged",
-        )
+        // A codec the transcoder cannot even open, named by its model.
+        match colour_model(bytes).and_then(unread_model) {
+            Some(name) => {
+                Refusal::Unsupported(format!("{name} data is not read (ETC1S and UASTC LDR are)"))
+            }
+            None => refusal(
+                e,
+                "not Basis Universal data (ETC1S or UASTC), or its header is damaged",
+            ),
+        }
     })?;
     match texture.source_format() {
         SourceFormat::Etc1s | SourceFormat::UastcLdr => {}
