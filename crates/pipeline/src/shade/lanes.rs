@@ -476,18 +476,20 @@ mod tests {
 
     /// The eight-lane normal-map read gives each live lane the one-point
     /// read's bits (repeating, clamped; f32 and 16-bit normals; points
-    /// past the edges and on them), and 0 in the others.
+    /// past the edges and on them; a map one texel wide), and 0 in the
+    /// others.
     #[test]
     fn eight_normal_map_reads_are_eight_single_reads() {
         use relief_texture::sample::wrap::{Wrap, WrapMode};
-        let mut level = Level::solid(5, 4, [0.5; 4]);
-        for (i, t) in level.texels.as_mut_slice().iter_mut().enumerate() {
-            t[3] = ((i * 7) % 11) as f32 / 11.0;
-        }
         let u = [0.0, 0.999, -0.3, 1.7, 0.5, 0.1, -2.05, 0.9];
         let v = [0.0, 0.12, 0.999, -0.6, 0.5, 3.3, 0.75, 1.0];
         let live = 0b1101_1111;
-        for snorm in [false, true] {
+        let cases = [(5, 4), (1, 3)].into_iter();
+        for ((w, h), snorm) in cases.flat_map(|size| [(size, false), (size, true)]) {
+            let mut level = Level::solid(w, h, [0.5; 4]);
+            for (i, t) in level.texels.as_mut_slice().iter_mut().enumerate() {
+                t[3] = ((i * 7) % 11) as f32 / 11.0;
+            }
             for wrap in [
                 Wrap::REPEAT,
                 Wrap {
@@ -514,7 +516,7 @@ mod tests {
                     assert_eq!(
                         lane,
                         want.map(f32::to_bits),
-                        "lane {i}, {wrap:?}, snorm {snorm}"
+                        "lane {i}, {wrap:?}, snorm {snorm}, {w}x{h}"
                     );
                 }
             }
