@@ -161,7 +161,8 @@ pub enum Action {
     CycleSymbols,
     /// `U`: the output format: symbols → kitty → sixels → iTerm2 images.
     CycleFormat,
-    /// `1`–`4`: one reference light (0 = white, red, green, blue) on / off.
+    /// `1`–`4`: one light on / off (0 = white, red, green, blue in the
+    /// reference scenes; key, fill, back of a model file's rig).
     ToggleLight(usize),
     /// `z`: plasma Z² table / exact normal.
     TogglePlasmaNormal,

@@ -36,6 +36,8 @@ pub const ZOOM_STEP: f32 = 1.125;
 pub const AXES: [&str; 3] = ["X", "Y", "Z"];
 /// The reference lights in scene order, as keys `1`–`4` name them.
 pub const LIGHT_NAMES: [&str; 4] = ["white", "red", "green", "blue"];
+/// The model view's neutral rig in scene order (`scene::model_view`).
+pub const RIG_NAMES: [&str; 3] = ["key", "fill", "back"];
 
 /// The three orientation fields (degrees about X, Y, Z).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -97,6 +99,9 @@ pub struct State {
     pub playback: Playback,
     /// How many cameras of its own the model file has.
     pub cameras: usize,
+    /// How many lights of its own the model file has (they replace the
+    /// model view's rig).
+    pub file_lights: usize,
     /// Key `V`: the file's camera the model is seen through (none: the
     /// framing camera).
     pub camera: Option<usize>,
@@ -222,6 +227,19 @@ impl State {
         self.auto_rotate || self.playback.playing
     }
 
+    /// What keys `1`–`4` switch, in order: the reference scene's four
+    /// lights, a model file's neutral rig (key, fill, back) or its own
+    /// lights (the first four).
+    pub fn light_names(&self) -> Vec<String> {
+        let model_view =
+            self.scene == SceneKind::Cube && matches!(self.model, ModelChoice::File(_));
+        match self.file_lights {
+            _ if !model_view => LIGHT_NAMES.map(String::from).to_vec(),
+            0 => RIG_NAMES.map(String::from).to_vec(),
+            n => (1..=n.min(4)).map(|k| format!("light {k}")).collect(),
+        }
+    }
+
     pub fn new(settings: Settings, depth: ColorDepth) -> Self {
         let mut settings = settings;
         settings.rotation = settings.rotation.to_array().map(normalize_degrees).into();
@@ -238,6 +256,7 @@ impl State {
             auto_rotate: false,
             playback: Playback::default(),
             cameras: 0,
+            file_lights: 0,
             camera: None,
             panel: Panel::default(),
             drag: None,

@@ -154,7 +154,10 @@ fn picture(state: &mut State, action: Action) {
             state.message = state.output.choice.note.clone();
         }
         Action::ToggleLight(i) => {
-            if let Some(on) = state.light_on.get_mut(i) {
+            let count = state.light_names().len();
+            if i >= count && i < state.light_on.len() {
+                state.message = Some(format!("this view has {count} lights (1-{count})"));
+            } else if let Some(on) = state.light_on.get_mut(i) {
                 *on = !*on;
             }
         }

@@ -428,6 +428,41 @@ fn help_on_a_narrow_screen_wraps_its_text_inside_the_border() {
     }
 }
 
+/// A model file is lit by the model view's rig (key, fill, back) or by its
+/// own lights: keys 1–4 name those, and a key beyond them says so.
+#[test]
+fn light_keys_name_the_rig_of_a_model_file() {
+    use relief_scene::{LoadedNotes, ModelChoice, SceneKind};
+    let mut s = state();
+    let file = ModelChoice::File("helmet.glb".into());
+    update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, file))));
+    update(&mut s, Action::ToggleLight(0));
+    let full = status_line(&s, 300);
+    assert!(full.contains("lights on (key off)"), "{full}");
+    update(&mut s, Action::ToggleLight(3));
+    assert_eq!(
+        s.light_on,
+        [false, true, true, true],
+        "no fourth light to switch"
+    );
+    assert_eq!(s.message.as_deref(), Some("this view has 3 lights (1-3)"));
+    update(&mut s, Action::ToggleLight(2));
+    assert!(status_line(&s, 300).contains("lights on (key, back off)"));
+    // Its own two lights instead of the rig.
+    let notes = LoadedNotes {
+        lights: 2,
+        ..LoadedNotes::default()
+    };
+    update(&mut s, Action::ModelNotes(notes));
+    assert!(status_line(&s, 300).contains("lights on (light 1 off)"));
+    // The reference cube names its four coloured lights again.
+    update(
+        &mut s,
+        Action::SceneBuilt(Ok((SceneKind::Cube, ModelChoice::Cube))),
+    );
+    assert!(status_line(&s, 300).contains("lights on (white, green off)"));
+}
+
 #[test]
 fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
     use relief_plasma::PlasmaNormal;

@@ -453,7 +453,7 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         keys: &[key_and(
             &['l'],
             Press::Next,
-            "all lights / the white, red, green, blue one on / off",
+            "all lights / one light on / off (the status line names it)",
             // The lights 1–4 of the app's state (app/keys.rs).
             "1 2 3 4",
         )],

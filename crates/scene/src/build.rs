@@ -192,6 +192,7 @@ pub fn build_scene_noting(
                     points: false,
                     clips: model.clips(),
                     cameras: model.cameras.len(),
+                    lights: model.lights.len(),
                 };
                 (
                     Built::Scene(Box::new(Scene::gltf(model, texture).into_model_view())),
@@ -205,6 +206,7 @@ pub fn build_scene_noting(
                     points: loaded.points,
                     clips: Vec::new(),
                     cameras: 0,
+                    lights: 0,
                 };
                 let scene = Scene::loaded(loaded, texture);
                 // A model file is shown in the model view; the built-in
@@ -235,6 +237,9 @@ pub struct LoadedNotes {
     pub clips: Vec<(String, f32)>,
     /// How many cameras of its own the model has (`V` cycles them).
     pub cameras: usize,
+    /// How many lights of its own it has (`KHR_lights_punctual`): they
+    /// light the model view instead of the neutral rig.
+    pub lights: usize,
 }
 
 /// What an MTL material adds to relief's material: `Ks` tints the

@@ -191,6 +191,7 @@ impl BytesModel {
                     points: false,
                     clips: model.clips(),
                     cameras: model.cameras.len(),
+                    lights: model.lights.len(),
                 };
                 (Scene::gltf(model, texture).into_model_view(), notes)
             }
@@ -200,6 +201,7 @@ impl BytesModel {
                     points: model.points,
                     clips: Vec::new(),
                     cameras: 0,
+                    lights: 0,
                 };
                 (Scene::loaded(model, texture).into_model_view(), notes)
             }

@@ -52,6 +52,7 @@ fn built(state: &mut State, scene: SceneKind, model: ModelChoice) {
     // Its clips and cameras, if any, come with its notes.
     playback::take_clips(state, Vec::new());
     super::super::file_cameras::take(state, 0);
+    state.file_lights = 0;
     // A model file opened from the prompt or a paste joins the `o` cycle.
     if let ModelChoice::File(path) = &model {
         state.obj = Some(path.clone());
@@ -67,6 +68,7 @@ fn model_notes(state: &mut State, notes: &LoadedNotes) {
     }
     playback::take_clips(state, notes.clips.clone());
     super::super::file_cameras::take(state, notes.cameras);
+    state.file_lights = notes.lights;
     let mut lines = notes.warnings.iter();
     if let Some(first) = lines.next() {
         let more = lines.count();

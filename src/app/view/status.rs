@@ -7,7 +7,7 @@
 //! (`+N more`); the lighting, the colour depth, auto-rotation and
 //! `? help` always stay.
 
-use crate::app::state::{LIGHT_NAMES, State, plasma_light};
+use crate::app::state::{State, plasma_light};
 use relief_options::OPTIONS;
 use relief_scene::SceneKind;
 use relief_scene::camera::REFERENCE_DISTANCE;
@@ -267,31 +267,31 @@ fn scene_label(state: &State, short: bool) -> String {
     }
 }
 
+/// Whether each light keys `1`–`4` switch in this view is on.
+fn all_lights_on(state: &State) -> bool {
+    let count = state.light_names().len();
+    state.light_on[..count].iter().all(|&on| on)
+}
+
 /// The lights: all on, all off, or which are off (`l`, `1`–`4`).
 fn lights_text(state: &State, short: bool) -> String {
     if !state.settings.lights {
         return "lights off".into();
     }
-    if state.light_on.iter().all(|&on| on) {
+    if all_lights_on(state) {
         return "lights on".into();
     }
+    let names = state.light_names();
+    let lights = &state.light_on[..names.len()];
     if short {
-        let keys: String = (0..LIGHT_NAMES.len())
-            .map(|i| {
-                if state.light_on[i] {
-                    char::from(b'1' + i as u8)
-                } else {
-                    '·'
-                }
-            })
+        let keys: String = (lights.iter().enumerate())
+            .map(|(i, &on)| if on { char::from(b'1' + i as u8) } else { '·' })
             .collect();
         return format!("lights {keys}");
     }
-    let off: Vec<&str> = LIGHT_NAMES
-        .iter()
-        .zip(state.light_on)
-        .filter(|(_, on)| !on)
-        .map(|(name, _)| *name)
+    let off: Vec<&str> = (names.iter().zip(lights))
+        .filter(|(_, on)| !**on)
+        .map(|(name, _)| name.as_str())
         .collect();
     format!("lights on ({} off)", off.join(", "))
 }
@@ -379,7 +379,7 @@ fn fields(state: &State) -> Vec<Field> {
             lights_text(state, false),
             lights_text(state, true),
             7,
-            drop_rank(s.lights && state.light_on.iter().all(|&on| on), 10),
+            drop_rank(s.lights && all_lights_on(state), 10),
         ),
     ));
     f.push((
