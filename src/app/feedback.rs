@@ -6,7 +6,7 @@
 
 use super::action::Action;
 use super::state::State;
-use relief_options::Press;
+use relief_options::{OptId, Press};
 use relief_scene::SceneKind;
 
 /// The key and what it changes, for the messages (`None`: the action
@@ -29,6 +29,26 @@ fn three_d_only(action: &Action) -> Option<String> {
     )
 }
 
+/// What a model shaded physically does without (`shaded_physically`): the
+/// height map's bump techniques and Blinn-Phong's highlight and reflection.
+const PHONG_ONLY: [OptId; 5] = [
+    OptId::Technique,
+    OptId::LightVector,
+    OptId::Specular,
+    OptId::Shininess,
+    OptId::Environment,
+];
+
+/// Whether the picture is the model view's physical shading: a model file
+/// whose every part has a metallic-roughness material, in Phong with the
+/// fill display (flat and Gouraud light it with Blinn-Phong, highlight
+/// included).
+fn shaded_physically(state: &State) -> bool {
+    use relief_core::settings::{Display, Shading};
+    let s = &state.settings;
+    state.physical && s.shading == Shading::Phong && s.display == Display::Fill
+}
+
 /// The message refusing `action` in this state, or `None` when it acts
 /// (and its effect shows).
 pub fn refusal(state: &State, action: &Action) -> Option<String> {
@@ -39,6 +59,13 @@ pub fn refusal(state: &State, action: &Action) -> Option<String> {
     match action {
         Action::TogglePlasmaNormal => {
             Some("z (plasma normal): only in the plasma scene (p)".into())
+        }
+        Action::Option { id, .. } if shaded_physically(state) && PHONG_ONLY.contains(id) => {
+            Some(format!(
+                "{}: not used by the model's physical shading in Phong \
+                 (metallic-roughness); unchanged",
+                relief_options::get(*id).key_title()
+            ))
         }
         Action::Option { id, .. } => relief_options::get(*id).refusal(&state.ctx()),
         _ => None,

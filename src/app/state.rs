@@ -102,6 +102,9 @@ pub struct State {
     /// How many lights of its own the model file has (they replace the
     /// model view's rig).
     pub file_lights: usize,
+    /// The model file's every part is shaded physically: the Phong-only
+    /// keys are refused (`feedback`).
+    pub physical: bool,
     /// Key `V`: the file's camera the model is seen through (none: the
     /// framing camera).
     pub camera: Option<usize>,
@@ -257,6 +260,7 @@ impl State {
             playback: Playback::default(),
             cameras: 0,
             file_lights: 0,
+            physical: false,
             camera: None,
             panel: Panel::default(),
             drag: None,

@@ -463,6 +463,45 @@ fn light_keys_name_the_rig_of_a_model_file() {
     assert!(status_line(&s, 300).contains("lights on (white, green off)"));
 }
 
+/// A model file shaded physically in Phong does not use the bump
+/// techniques, the Blinn highlight or the environment reflection: their
+/// keys say so and change nothing; in flat shading the highlight acts.
+#[test]
+fn phong_only_keys_are_refused_on_a_physically_shaded_model() {
+    use relief_core::settings::Shading;
+    use relief_scene::{LoadedNotes, ModelChoice, SceneKind};
+    let mut s = state();
+    let file = ModelChoice::File("helmet.glb".into());
+    update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, file))));
+    let notes = LoadedNotes {
+        physical: true,
+        ..LoadedNotes::default()
+    };
+    update(&mut s, Action::ModelNotes(notes));
+    let before = s.settings;
+    for id in [OptId::Technique, OptId::Specular, OptId::Environment] {
+        update(&mut s, Action::next(id));
+        let message = s.message.clone().unwrap_or_default();
+        assert!(message.contains("physical shading"), "{id:?}: {message}");
+        assert_eq!(s.settings, before, "{id:?} changed nothing");
+    }
+    s.settings.shading = Shading::Flat;
+    s.message = None;
+    update(&mut s, Action::next(OptId::Specular));
+    assert_ne!(
+        s.settings.specular, before.specular,
+        "flat: the highlight acts"
+    );
+    // Another model, not shaded physically: the technique acts again.
+    s.settings.shading = Shading::Phong;
+    update(
+        &mut s,
+        Action::SceneBuilt(Ok((SceneKind::Cube, ModelChoice::Sphere))),
+    );
+    update(&mut s, Action::next(OptId::Technique));
+    assert_ne!(s.settings.technique, before.technique);
+}
+
 #[test]
 fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
     use relief_plasma::PlasmaNormal;

@@ -1259,3 +1259,28 @@ fn clamp_to_edge_is_exact_at_any_distance() {
         assert!(green(at(u)), "repeat u = {u}: {:?}", at(u));
     }
 }
+
+/// A glTF file's parts all have metallic-roughness materials (the default
+/// material is one): the model view shades it physically, and its notes
+/// say so (the view refuses the Phong-only keys); a built-in model's do not.
+#[test]
+fn a_gltf_file_is_noted_as_shaded_physically() {
+    use relief_scene::{Built, ModelChoice, SceneKind, build_scene_noting};
+    let path = write(
+        "physical",
+        "quad.glb",
+        &encode(&Doc::new(vec![quad(-1.0, 1.0, -1.0, 1.0, 0.0, 1.0)])),
+    );
+    let texture = Arc::new(procedural::brick());
+    let build = |choice: &ModelChoice| {
+        let (built, notes) = build_scene_noting(SceneKind::Cube, choice, texture.clone(), false)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let Built::Scene(scene) = built else {
+            panic!("a 3D scene")
+        };
+        assert_eq!(scene.all_physical(), notes.physical);
+        notes.physical
+    };
+    assert!(build(&ModelChoice::File(path)));
+    assert!(!build(&ModelChoice::Sphere));
+}

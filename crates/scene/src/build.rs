@@ -187,26 +187,27 @@ pub fn build_scene_noting(
             ModelChoice::File(path) if super::gltf::is_gltf(path) => {
                 super::model_io::check_openable(path)?;
                 let model = super::gltf::load(path)?;
-                let notes = LoadedNotes {
+                let mut notes = LoadedNotes {
                     warnings: model.warnings.clone(),
                     points: false,
                     clips: model.clips(),
                     cameras: model.cameras.len(),
                     lights: model.lights.len(),
+                    physical: false,
                 };
-                (
-                    Built::Scene(Box::new(Scene::gltf(model, texture).into_model_view())),
-                    notes,
-                )
+                let scene = Scene::gltf(model, texture).into_model_view();
+                notes.physical = scene.all_physical();
+                (Built::Scene(Box::new(scene)), notes)
             }
             _ => {
                 let loaded = model.load(all_faces)?;
-                let notes = LoadedNotes {
+                let mut notes = LoadedNotes {
                     warnings: loaded.warnings.clone(),
                     points: loaded.points,
                     clips: Vec::new(),
                     cameras: 0,
                     lights: 0,
+                    physical: false,
                 };
                 let scene = Scene::loaded(loaded, texture);
                 // A model file is shown in the model view; the built-in
@@ -215,6 +216,7 @@ pub fn build_scene_noting(
                     ModelChoice::File(_) => scene.into_model_view(),
                     _ => scene,
                 };
+                notes.physical = scene.all_physical();
                 (Built::Scene(Box::new(scene)), notes)
             }
         },
@@ -240,6 +242,9 @@ pub struct LoadedNotes {
     /// How many lights of its own it has (`KHR_lights_punctual`): they
     /// light the model view instead of the neutral rig.
     pub lights: usize,
+    /// Every part is shaded physically in the model view
+    /// (`Scene::all_physical`).
+    pub physical: bool,
 }
 
 /// What an MTL material adds to relief's material: `Ks` tints the

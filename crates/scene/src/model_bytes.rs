@@ -186,24 +186,30 @@ impl BytesModel {
         match self {
             // A model read from bytes is a model file: the model view.
             BytesModel::Gltf(model) => {
-                let notes = LoadedNotes {
+                let mut notes = LoadedNotes {
                     warnings: model.warnings.clone(),
                     points: false,
                     clips: model.clips(),
                     cameras: model.cameras.len(),
                     lights: model.lights.len(),
+                    physical: false,
                 };
-                (Scene::gltf(model, texture).into_model_view(), notes)
+                let scene = Scene::gltf(model, texture).into_model_view();
+                notes.physical = scene.all_physical();
+                (scene, notes)
             }
             BytesModel::Parts(model) => {
-                let notes = LoadedNotes {
+                let mut notes = LoadedNotes {
                     warnings: model.warnings.clone(),
                     points: model.points,
                     clips: Vec::new(),
                     cameras: 0,
                     lights: 0,
+                    physical: false,
                 };
-                (Scene::loaded(model, texture).into_model_view(), notes)
+                let scene = Scene::loaded(model, texture).into_model_view();
+                notes.physical = scene.all_physical();
+                (scene, notes)
             }
         }
     }

@@ -51,6 +51,19 @@ impl Scene {
         self
     }
 
+    /// Whether the model view shades every object physically (each has a
+    /// metallic-roughness or unlit material): the Phong-only settings (bump
+    /// technique, Blinn highlight, environment reflection) change nothing.
+    pub fn all_physical(&self) -> bool {
+        let physical = |i: usize| {
+            let terms = self.object_terms.get(i).and_then(|t| t.as_deref());
+            terms.is_some_and(|t| t.pbr.is_some() || t.unlit)
+        };
+        self.model_view.is_some()
+            && !self.objects.is_empty()
+            && (0..self.objects.len()).all(physical)
+    }
+
     /// This scene in the reference camera and lights, its materials drawn
     /// as the reference scenes draw them (the llvmpipe comparison's view).
     pub fn into_reference_view(mut self) -> Scene {

@@ -53,6 +53,7 @@ fn built(state: &mut State, scene: SceneKind, model: ModelChoice) {
     playback::take_clips(state, Vec::new());
     super::super::file_cameras::take(state, 0);
     state.file_lights = 0;
+    state.physical = false;
     // A model file opened from the prompt or a paste joins the `o` cycle.
     if let ModelChoice::File(path) = &model {
         state.obj = Some(path.clone());
@@ -69,6 +70,7 @@ fn model_notes(state: &mut State, notes: &LoadedNotes) {
     playback::take_clips(state, notes.clips.clone());
     super::super::file_cameras::take(state, notes.cameras);
     state.file_lights = notes.lights;
+    state.physical = notes.physical;
     let mut lines = notes.warnings.iter();
     if let Some(first) = lines.next() {
         let more = lines.count();
