@@ -30,8 +30,10 @@ fn three_d_only(action: &Action) -> Option<String> {
 }
 
 /// What a model shaded physically does without (`shaded_physically`): the
-/// height map's bump techniques and Blinn-Phong's highlight and reflection.
-const PHONG_ONLY: [OptId; 5] = [
+/// height map's bump techniques and strength (its normal maps are the
+/// files' own, as given) and Blinn-Phong's highlight and reflection.
+const PHONG_ONLY: [OptId; 6] = [
+    OptId::BumpStrength,
     OptId::Technique,
     OptId::LightVector,
     OptId::Specular,

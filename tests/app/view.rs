@@ -479,8 +479,14 @@ fn phong_only_keys_are_refused_on_a_physically_shaded_model() {
     };
     update(&mut s, Action::ModelNotes(notes));
     let before = s.settings;
-    for id in [OptId::Technique, OptId::Specular, OptId::Environment] {
-        update(&mut s, Action::next(id));
+    use relief_options::Press;
+    for (id, press) in [
+        (OptId::BumpStrength, Press::Up),
+        (OptId::Technique, Press::Next),
+        (OptId::Specular, Press::Next),
+        (OptId::Environment, Press::Next),
+    ] {
+        update(&mut s, Action::Option { id, press });
         let message = s.message.clone().unwrap_or_default();
         assert!(message.contains("physical shading"), "{id:?}: {message}");
         assert_eq!(s.settings, before, "{id:?} changed nothing");
