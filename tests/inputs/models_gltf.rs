@@ -1284,3 +1284,33 @@ fn a_gltf_file_is_noted_as_shaded_physically() {
     assert!(build(&ModelChoice::File(path)));
     assert!(!build(&ModelChoice::Sphere));
 }
+
+/// `--colors off` drops a file's vertex colours (COLOR_0), not its
+/// material's own colour: a quad with COLOR_0 and a `baseColorFactor`
+/// drawn without colours is the same quad without COLOR_0, and not white.
+#[test]
+fn colours_off_keeps_the_base_colour_factor() {
+    let factor = r#"[{"pbrMetallicRoughness":{"baseColorFactor":[1.0,0.5,0.25,1.0]}}]"#;
+    let file = |test: &str, col: Vec<[f32; 3]>| {
+        let mut doc = Doc::new(vec![Prim {
+            col,
+            material: Some(0),
+            ..quad(-1.0, 1.0, -1.0, 1.0, 0.0, 1.0)
+        }]);
+        doc.materials = factor.into();
+        let path = write(test, "quad.glb", &encode(&doc));
+        scene_of(load_ok(&path))
+    };
+    let coloured = file("colours_off", vec![[0.2, 1.0, 0.2]; 4]);
+    let plain = file("colours_plain", Vec::new());
+    let off = Settings {
+        colors: false,
+        ..face_on()
+    };
+    let (a, b) = (render(&coloured, &off), render(&plain, &face_on()));
+    assert_eq!(a.pixels(), b.pixels(), "colours off: the factor alone");
+    let on = render(&coloured, &face_on());
+    assert_ne!(on.pixels(), a.pixels(), "colours on: COLOR_0 shows");
+    let centre = a.pixels()[(H / 2) * W + W / 2];
+    assert!(centre[0] > centre[1] && centre[1] > centre[2], "{centre:?}");
+}

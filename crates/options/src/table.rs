@@ -208,7 +208,7 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         title: "colours",
         kind: Kind::Toggle,
         field: field!(colors: bool),
-        flag: flag("Per-vertex colours (off: white material)"),
+        flag: flag("Per-vertex colours (off: white, or a model material's own colour)"),
         keys: &[key(&['c'], Press::Next, "colours on / off")],
         shows: None,
         status: Some(two(

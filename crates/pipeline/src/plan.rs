@@ -110,8 +110,11 @@ pub struct Plan {
     pub shading: Shading,
     /// Gouraud and Phong use facet normals instead of vertex normals.
     pub face_normals: bool,
-    /// Per-vertex colours (off: white material).
+    /// Per-vertex colours (off: `uncoloured`).
     pub colors: bool,
+    /// The albedo with the vertex colours off: white, or an object's own
+    /// material colour (`MaterialTerms::colour_factor`).
+    pub uncoloured: Vec3,
     /// Texture colour fetches on textured triangles.
     pub texture: bool,
     /// Blinn bump per pixel on textured triangles: Phong only, strength > 0,
@@ -260,6 +263,7 @@ impl Plan {
             shading: settings.shading,
             face_normals: settings.normals == relief_core::settings::Normals::Face,
             colors: settings.colors,
+            uncoloured: Vec3::ONE,
             texture: stages.texture,
             bump: stages.bump,
             bump_strength: stages.bump_strength,
@@ -390,6 +394,7 @@ impl Plan {
     /// along only when they change a pixel.
     pub fn with_terms(&self, terms: &Arc<MaterialTerms>) -> Plan {
         let mut plan = self.clone();
+        plan.uncoloured = terms.colour_factor;
         if let Some(filter) = terms.filter {
             plan.filter = filter;
             plan.footprint = filter.uses_mips()

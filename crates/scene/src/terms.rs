@@ -25,6 +25,10 @@ pub struct MaterialTerms {
     pub occlusion: Option<(Arc<Level>, f32)>,
     /// Multiplies the highlight (MTL `Ks`; white: the highlight as it is).
     pub specular_color: Vec3,
+    /// The material's own colour, in 0..=1 (glTF `baseColorFactor`),
+    /// which the loader multiplies into the vertex colours: the albedo when
+    /// they are off (`--colors off` drops a file's vertex colours only).
+    pub colour_factor: Vec3,
     /// The highlight's exponent instead of `--shininess` (MTL `Ns`).
     pub shininess: Option<f32>,
     /// The filter the model's sampler asks for instead of the view's.
@@ -228,6 +232,7 @@ impl Default for MaterialTerms {
             emissive_map: None,
             occlusion: None,
             specular_color: Vec3::ONE,
+            colour_factor: Vec3::ONE,
             shininess: None,
             filter: None,
             map_names: Vec::new(),

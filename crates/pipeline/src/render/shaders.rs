@@ -28,7 +28,11 @@ pub(super) fn wire_triangle(
         } else {
             v.normal * side
         };
-        let albedo = if plan.colors { v.color } else { Vec3::ONE };
+        let albedo = if plan.colors {
+            v.color
+        } else {
+            plan.uncoloured
+        };
         albedo * diffuse(&plan.lights, plan.ambient, v.position, n, plan.attenuation)
     });
     WireTri { clip, color }
@@ -71,7 +75,7 @@ pub(super) fn build_shader(
         color: if plan.colors {
             verts.map(|v| v.color)
         } else {
-            [Vec3::ONE; 3]
+            [plan.uncoloured; 3]
         },
     };
     match plan.shading {
@@ -97,7 +101,7 @@ struct Corners<'a> {
     glossy: bool,
     uv: [Vec2; 3],
     gloss_uv: [Vec2; 3],
-    /// The vertex colours, or white.
+    /// The vertex colours, or the material's own colour (`Plan::uncoloured`).
     color: [Vec3; 3],
 }
 
@@ -109,9 +113,13 @@ fn flat_shader(
     model: &Mat4,
     counters: &mut Counters,
 ) -> TriShader {
-    let (plan, face_normal, white) = (c.plan, c.face_normal, Vec3::ONE);
+    let (plan, face_normal) = (c.plan, c.face_normal);
     let center = model.transform_point3(facet.center);
-    let albedo = if plan.colors { facet.color } else { white };
+    let albedo = if plan.colors {
+        facet.color
+    } else {
+        plan.uncoloured
+    };
     let (light, highlight) = lights_at(
         plan,
         center,
@@ -136,7 +144,7 @@ fn flat_shader(
         TriShader::Gouraud(GouraudTri {
             light: [lit; 3],
             highlight: [highlight; 3],
-            color: [white; 3],
+            color: [Vec3::ONE; 3],
             uv,
             gloss_uv: uv,
             textured: false,

@@ -245,7 +245,9 @@ impl<'a> Materials<'a> {
             ..physical
         };
         let uvs = readings.sets.uvs;
+        let [r, g, b, _] = pbr.base_color_factor();
         let terms = MaterialTerms {
+            colour_factor: Vec3::new(r, g, b).to_array().map(finite_unit).into(),
             cutout: cutout(&opacity, alpha_map),
             emissive,
             emissive_map,
@@ -257,7 +259,6 @@ impl<'a> Materials<'a> {
             unlit: m.extension_value("KHR_materials_unlit").is_some(),
             ..MaterialTerms::default()
         };
-        let [r, g, b, _] = pbr.base_color_factor();
         Ok(Look {
             normal_mapped: normal_map.is_some() || coat_normal,
             tangent_uv: if normal_map.is_some() || !coat_normal {
