@@ -187,28 +187,14 @@ pub fn build_scene_noting(
             ModelChoice::File(path) if super::gltf::is_gltf(path) => {
                 super::model_io::check_openable(path)?;
                 let model = super::gltf::load(path)?;
-                let mut notes = LoadedNotes {
-                    warnings: model.warnings.clone(),
-                    points: false,
-                    clips: model.clips(),
-                    cameras: model.cameras.len(),
-                    lights: model.lights.len(),
-                    physical: false,
-                };
+                let notes = LoadedNotes::of_gltf(&model);
                 let scene = Scene::gltf(model, texture).into_model_view();
-                notes.physical = scene.all_physical();
+                let notes = notes.shown_in(&scene);
                 (Built::Scene(Box::new(scene)), notes)
             }
             _ => {
                 let loaded = model.load(all_faces)?;
-                let mut notes = LoadedNotes {
-                    warnings: loaded.warnings.clone(),
-                    points: loaded.points,
-                    clips: Vec::new(),
-                    cameras: 0,
-                    lights: 0,
-                    physical: false,
-                };
+                let notes = LoadedNotes::of_parts(&loaded);
                 let scene = Scene::loaded(loaded, texture);
                 // A model file is shown in the model view; the built-in
                 // models keep the reference scene's camera and lights.
@@ -216,7 +202,7 @@ pub fn build_scene_noting(
                     ModelChoice::File(_) => scene.into_model_view(),
                     _ => scene,
                 };
-                notes.physical = scene.all_physical();
+                let notes = notes.shown_in(&scene);
                 (Built::Scene(Box::new(scene)), notes)
             }
         },
@@ -245,6 +231,36 @@ pub struct LoadedNotes {
     /// Every part is shaded physically in the model view
     /// (`Scene::all_physical`).
     pub physical: bool,
+}
+
+impl LoadedNotes {
+    /// What a glTF model's loading noted (before it moves into a scene).
+    pub(crate) fn of_gltf(model: &super::gltf::Model) -> Self {
+        LoadedNotes {
+            warnings: model.warnings.clone(),
+            clips: model.clips(),
+            cameras: model.cameras.len(),
+            lights: model.lights.len(),
+            ..LoadedNotes::default()
+        }
+    }
+
+    /// What an OBJ, STL or PLY model's loading noted.
+    pub(crate) fn of_parts(model: &LoadedModel) -> Self {
+        LoadedNotes {
+            warnings: model.warnings.clone(),
+            points: model.points,
+            ..LoadedNotes::default()
+        }
+    }
+
+    /// These notes, with what the scene built of the model shows.
+    pub(crate) fn shown_in(self, scene: &Scene) -> Self {
+        LoadedNotes {
+            physical: scene.all_physical(),
+            ..self
+        }
+    }
 }
 
 /// What an MTL material adds to relief's material: `Ks` tints the

@@ -186,29 +186,15 @@ impl BytesModel {
         match self {
             // A model read from bytes is a model file: the model view.
             BytesModel::Gltf(model) => {
-                let mut notes = LoadedNotes {
-                    warnings: model.warnings.clone(),
-                    points: false,
-                    clips: model.clips(),
-                    cameras: model.cameras.len(),
-                    lights: model.lights.len(),
-                    physical: false,
-                };
+                let notes = LoadedNotes::of_gltf(&model);
                 let scene = Scene::gltf(model, texture).into_model_view();
-                notes.physical = scene.all_physical();
+                let notes = notes.shown_in(&scene);
                 (scene, notes)
             }
             BytesModel::Parts(model) => {
-                let mut notes = LoadedNotes {
-                    warnings: model.warnings.clone(),
-                    points: model.points,
-                    clips: Vec::new(),
-                    cameras: 0,
-                    lights: 0,
-                    physical: false,
-                };
+                let notes = LoadedNotes::of_parts(&model);
                 let scene = Scene::loaded(model, texture).into_model_view();
-                notes.physical = scene.all_physical();
+                let notes = notes.shown_in(&scene);
                 (scene, notes)
             }
         }
