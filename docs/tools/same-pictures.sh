@@ -15,6 +15,9 @@ old=${1:?usage: same-pictures.sh OLD_RELIEF NEW_RELIEF}
 new=${2:?usage: same-pictures.sh OLD_RELIEF NEW_RELIEF}
 root=$(cd "$(dirname "$0")/../.." && pwd)
 models="$root/tests/data/models"
+# A model file that names no material is drawn plain until a picture is
+# named with it: the last two scenes name one ("+" joins a scene's words).
+brick="$root/tests/data/reference-brick.png"
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 
@@ -63,6 +66,8 @@ scenes="
 --model=$models/gltf/BoxTextured.glb
 --model=$models/tinyobjloader/catmark_torus_creases0.obj
 --model=$models/assimp/sphereWithHole.stl
+--model=$models/tinyobjloader/catmark_torus_creases0.obj+$brick
+--model=$models/assimp/sphereWithHole.stl+$brick
 "
 
 checked=0
@@ -71,7 +76,8 @@ differ=0
 echo "$rows" | while IFS= read -r row; do
     [ -z "$row" ] && continue
     [ "$row" = "--threads-row-is-the-reference" ] && row=""
-    for scene in $scenes; do
+    for words in $scenes; do
+        scene=$(echo "$words" | tr + ' ')
         for rotate in 0,0,0 25,-35,10 170,60,-20; do
             for size in "--width 96 --height 64" "--width 64 --height 48 --symbols octant"; do
                 # shellcheck disable=SC2086

@@ -51,6 +51,19 @@ fn shaded_physically(state: &State) -> bool {
     state.physical && s.shading == Shading::Phong && s.display == Display::Fill
 }
 
+/// The message refusing `t` and `b` on a model file whose parts take no
+/// material until the user chooses a texture (`Scene::texture_reach`).
+fn no_texture(state: &State, id: OptId) -> Option<String> {
+    use relief_scene::model_view::TextureReach;
+    let waits = state.texture_reach == Some(TextureReach::WhenChosen) && !state.texture_chosen;
+    (waits && matches!(id, OptId::Texture | OptId::Bump)).then(|| {
+        format!(
+            "{}: the model names no texture; x, T or a picture's path lays one on it",
+            relief_options::get(id).key_title()
+        )
+    })
+}
+
 /// The message refusing `action` in this state, or `None` when it acts
 /// (and its effect shows).
 pub fn refusal(state: &State, action: &Action) -> Option<String> {
@@ -69,7 +82,9 @@ pub fn refusal(state: &State, action: &Action) -> Option<String> {
                 relief_options::get(*id).key_title()
             ))
         }
-        Action::Option { id, .. } => relief_options::get(*id).refusal(&state.ctx()),
+        Action::Option { id, .. } => {
+            no_texture(state, *id).or_else(|| relief_options::get(*id).refusal(&state.ctx()))
+        }
         _ => None,
     }
 }

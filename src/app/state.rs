@@ -105,6 +105,13 @@ pub struct State {
     /// The model file's every part is shaded physically: the Phong-only
     /// keys are refused (`feedback`).
     pub physical: bool,
+    /// Which parts of the model file can show a texture (`None`: a
+    /// reference scene, or a model with nothing to say): the texture keys
+    /// are refused where none shows (`feedback`).
+    pub texture_reach: Option<relief_scene::model_view::TextureReach>,
+    /// The user chose the texture (a picture or map on the command line,
+    /// or one applied in the view): a model's parts without a material take it.
+    pub texture_chosen: bool,
     /// Key `V`: the file's camera the model is seen through (none: the
     /// framing camera).
     pub camera: Option<usize>,
@@ -261,6 +268,8 @@ impl State {
             cameras: 0,
             file_lights: 0,
             physical: false,
+            texture_reach: None,
+            texture_chosen: false,
             camera: None,
             panel: Panel::default(),
             drag: None,

@@ -132,6 +132,7 @@ fn load_scene(args: &RenderArgs) -> anyhow::Result<(Built, FlagMaps, LoadedNotes
     crate::cli::models_from_positional(&mut image, &mut model);
     // Errors name the file and are already free of control characters.
     let height_map = view.height_map.as_deref();
+    let picture_given = picture.is_some() || !image.is_empty();
     let texture = match (picture, height_map) {
         (Some(color), Some(path)) => relief_texture::decode::load::with_height_map(
             color,
@@ -151,13 +152,22 @@ fn load_scene(args: &RenderArgs) -> anyhow::Result<(Built, FlagMaps, LoadedNotes
     .all()?;
     let texture = Arc::new(texture);
     let model_ignored = stdin_model.is_some() && view.scene != SceneKind::Cube;
-    let (built, mut notes) = match stdin_model {
+    // An image, a height map or a surface map named is a texture chosen: a
+    // model file's parts without a material take it, else they are plain.
+    let chosen =
+        picture_given || height_map.is_some() || maps.specular.is_some() || maps.normal.is_some();
+    let (mut built, mut notes) = match stdin_model {
         Some(m) if view.scene == SceneKind::Cube => {
             let (scene, notes) = m.into_scene(texture);
             (Built::Scene(Box::new(scene)), notes)
         }
         _ => build_scene_noting(view.scene, &model, texture, view.all_faces)?,
     };
+    if let Built::Scene(scene) = &mut built
+        && let Some(view) = &mut scene.model_view
+    {
+        view.texture_chosen = chosen;
+    }
     if model_ignored {
         notes.warnings.push(
             "the model from standard input is ignored: only --scene cube draws a model".into(),

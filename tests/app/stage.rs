@@ -573,3 +573,34 @@ fn another_model_asked_for_during_a_load_replaces_it() {
     assert_eq!(state.model, ModelChoice::Sphere);
     std::fs::remove_file(path).unwrap();
 }
+
+/// In the view, a model file without a material of its own is plain until
+/// the user applies a texture (`x`, `T`, a paste…: `Stage::set_texture`),
+/// and a stage told that the command line chose one dresses it at once.
+#[test]
+fn a_model_without_material_takes_a_texture_once_one_is_applied() {
+    let path = std::env::temp_dir().join(format!("relief-stage-{}-bare.obj", std::process::id()));
+    std::fs::write(
+        &path,
+        "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\nf 1 2 3\nf 1 3 4\n",
+    )
+    .unwrap();
+    let model = ModelChoice::File(path.clone());
+    let mut state = State::new(Settings::default(), ColorDepth::Truecolor);
+    state.start_rotation = glam::Vec3::ZERO;
+    state.settings.rotation = glam::Vec3::ZERO;
+    let texture = Arc::new(brick());
+    let mut st = Stage::new(SceneKind::Cube, &model, texture.clone(), false).unwrap();
+    let plain = picture(&mut st, &state);
+    let mut untextured = state.clone();
+    untextured.settings.texture = false;
+    assert_eq!(picture(&mut st, &untextured), plain);
+    st.set_texture(texture.clone());
+    let dressed = picture(&mut st, &state);
+    assert_ne!(dressed, plain);
+    let mut chosen = Stage::new(SceneKind::Cube, &model, texture, false)
+        .unwrap()
+        .with_texture_chosen(true);
+    assert_eq!(picture(&mut chosen, &state), dressed);
+    std::fs::remove_file(path).unwrap();
+}

@@ -508,6 +508,51 @@ fn phong_only_keys_are_refused_on_a_physically_shaded_model() {
     assert_ne!(s.settings.technique, before.technique);
 }
 
+/// On a model file whose parts take no material (an STL), `t` and `b`
+/// say that no texture shows and how to lay one, until one is applied;
+/// the reference scenes and a model with its own materials take them.
+#[test]
+fn texture_keys_are_refused_where_no_texture_shows() {
+    use relief_scene::model_view::TextureReach;
+    use relief_scene::{LoadedNotes, ModelChoice, SceneKind};
+    let mut s = state();
+    let file = ModelChoice::File("teapot.stl".into());
+    update(
+        &mut s,
+        Action::SceneBuilt(Ok((SceneKind::Cube, file.clone()))),
+    );
+    let notes = |reach| LoadedNotes {
+        texture_reach: Some(reach),
+        ..LoadedNotes::default()
+    };
+    update(&mut s, Action::ModelNotes(notes(TextureReach::WhenChosen)));
+    let before = s.settings;
+    for id in [OptId::Texture, OptId::Bump] {
+        update(&mut s, Action::next(id));
+        let message = s.message.clone().unwrap_or_default();
+        assert!(
+            message.contains("x, T or a picture's path"),
+            "{id:?}: {message}"
+        );
+        assert_eq!(s.settings, before, "{id:?} changed nothing");
+    }
+    // A texture applied: the keys act.
+    update(&mut s, Action::TextureResult(Ok("brick (built-in)".into())));
+    update(&mut s, Action::next(OptId::Texture));
+    assert_ne!(s.settings.texture, before.texture);
+    update(&mut s, Action::next(OptId::Texture));
+    // Its own maps, or the reference cube: `t` acts.
+    for (model, reach) in [(file, Some(TextureReach::Own)), (ModelChoice::Cube, None)] {
+        update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, model))));
+        if let Some(reach) = reach {
+            update(&mut s, Action::ModelNotes(notes(reach)));
+        }
+        update(&mut s, Action::next(OptId::Texture));
+        assert_ne!(s.settings.texture, before.texture, "{reach:?}");
+        update(&mut s, Action::next(OptId::Texture));
+    }
+}
+
 #[test]
 fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
     use relief_plasma::PlasmaNormal;

@@ -406,3 +406,31 @@ fn a_missing_model_is_not_found_in_every_format() {
         }
     }
 }
+
+/// `relief render MODEL` draws a model that names no material plain (the
+/// same picture as with `--texture off`); naming a picture with it
+/// (`relief render IMAGE --model MODEL`) lays that picture on it.
+#[test]
+fn a_model_without_material_is_plain_unless_a_picture_is_named() {
+    let model = scratch("bare.obj");
+    std::fs::write(
+        &model,
+        "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\nf 1 2 3\nf 1 3 4\n",
+    )
+    .unwrap();
+    let brick = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/reference-brick.png");
+    let draw = |name: &str, extra: &[&str]| {
+        let out = scratch(name);
+        let mut args = vec!["render", "--width", "96", "--height", "72", "--out"];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let o = relief(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        std::fs::read(&*out).unwrap()
+    };
+    let m = model.to_str().unwrap();
+    let plain = draw("plain.png", &[m]);
+    assert_eq!(draw("off.png", &[m, "--texture", "off"]), plain);
+    let dressed = draw("dressed.png", &[brick.to_str().unwrap(), "--model", m]);
+    assert_ne!(dressed, plain);
+}

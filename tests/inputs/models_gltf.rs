@@ -1279,10 +1279,19 @@ fn a_gltf_file_is_noted_as_shaded_physically() {
             panic!("a 3D scene")
         };
         assert_eq!(scene.all_physical(), notes.physical);
+        assert_eq!(scene.texture_reach(), notes.texture_reach);
         notes.physical
     };
-    assert!(build(&ModelChoice::File(path)));
+    assert!(build(&ModelChoice::File(path.clone())));
     assert!(!build(&ModelChoice::Sphere));
+    // Its parts have their own material (white without a map): the
+    // scene's texture never goes on them, and `t` is not refused.
+    let (_, notes) =
+        build_scene_noting(SceneKind::Cube, &ModelChoice::File(path), texture, false).unwrap();
+    assert_eq!(
+        notes.texture_reach,
+        Some(relief_scene::model_view::TextureReach::Own)
+    );
 }
 
 /// `--colors off` drops a file's vertex colours (COLOR_0), not its

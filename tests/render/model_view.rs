@@ -10,6 +10,7 @@ use relief_core::framebuffer::Framebuffer;
 use relief_core::settings::Settings;
 use relief_core::settings::UpAxis;
 use relief_pipeline::render::Renderer;
+use relief_scene::model_view::TextureReach;
 use relief_scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
 use relief_texture::decode::procedural;
 
@@ -211,4 +212,139 @@ fn a_model_file_is_lit_by_white_lights_only() {
         let c = light.color;
         assert!(c.x == c.y && c.y == c.z && c.x > 0.0, "{c}");
     }
+}
+
+/// `scene` drawn at 160×120 with `settings`.
+fn pixels(scene: &Scene, settings: &Settings) -> Vec<[u8; 3]> {
+    let mut fb = Framebuffer::new(160, 120);
+    Renderer::new().render(scene, settings, &mut fb);
+    fb.pixels().to_vec()
+}
+
+/// A model file that names no material and gives no colour (an OBJ
+/// without MTL, as an STL or a PLY of positions) is drawn plain in the
+/// model view: the same pixels with the texture, the bump and the vertex
+/// colours on or off, i.e. white. Once the user chooses a texture, the
+/// scene's texture goes on it (with the reference colours still left
+/// out: texture on and off then differ, colours on and off do not).
+#[test]
+fn a_model_without_material_is_plain_until_a_texture_is_chosen() {
+    let mut scene = model_scene(box_obj("plain", Vec3::splat(-1.0), Vec3::splat(1.0)));
+    assert!(scene.objects.iter().all(|o| o.mesh.colours_invented));
+    assert_eq!(scene.texture_reach(), Some(TextureReach::WhenChosen));
+    let view = scene.model_view.as_mut().unwrap();
+    assert!(!view.file_texture);
+    view.texture_chosen = false;
+    let start = start_view();
+    let plain = pixels(&scene, &start);
+    let bare = Settings {
+        texture: false,
+        bump: false,
+        colors: false,
+        ..start
+    };
+    assert_eq!(plain, pixels(&scene, &bare));
+    for other in [
+        Settings {
+            texture: false,
+            ..start
+        },
+        Settings {
+            bump: false,
+            ..start
+        },
+        Settings {
+            colors: false,
+            ..start
+        },
+    ] {
+        assert_eq!(plain, pixels(&scene, &other));
+    }
+    // Plain and lit: grey levels only, none of the reference's tints.
+    let background = scene.background;
+    let model: Vec<_> = plain.iter().filter(|p| **p != background).collect();
+    assert!(model.len() > 1000, "{} model pixels", model.len());
+    assert!(
+        model.iter().all(|p| p[0] == p[1] && p[1] == p[2]),
+        "not grey"
+    );
+
+    scene.model_view.as_mut().unwrap().texture_chosen = true;
+    let dressed = pixels(&scene, &start);
+    assert_ne!(plain, dressed);
+    let untextured = Settings {
+        texture: false,
+        bump: false,
+        ..start
+    };
+    assert_eq!(plain, pixels(&scene, &untextured));
+    let uncoloured = Settings {
+        colors: false,
+        ..start
+    };
+    assert_eq!(dressed, pixels(&scene, &uncoloured));
+}
+
+/// A model whose file gives its vertices colours keeps them in the model
+/// view: colours on and off differ, texture on and off do not (no texture
+/// was chosen).
+#[test]
+fn a_model_keeps_the_colours_its_file_gives() {
+    let path = box_obj("colours", Vec3::splat(-1.0), Vec3::splat(1.0));
+    let text = std::fs::read_to_string(&path).unwrap();
+    let coloured: String = text
+        .lines()
+        .map(|l| match l.strip_prefix("v ") {
+            Some(p) => format!("v {p} 0.9 0.2 0.1\n"),
+            None => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(&path, coloured).unwrap();
+    let mut scene = model_scene(path);
+    assert!(scene.objects.iter().all(|o| !o.mesh.colours_invented));
+    scene.model_view.as_mut().unwrap().texture_chosen = false;
+    let start = start_view();
+    let shown = pixels(&scene, &start);
+    let off = Settings {
+        colors: false,
+        ..start
+    };
+    assert_ne!(shown, pixels(&scene, &off));
+    let untextured = Settings {
+        texture: false,
+        ..start
+    };
+    assert_eq!(shown, pixels(&scene, &untextured));
+    // Red: the file's colour, not white.
+    let background = scene.background;
+    let reddish = shown
+        .iter()
+        .filter(|p| **p != background && p[0] > 2 * p[1] && p[0] > 2 * p[2])
+        .count();
+    assert!(reddish > 1000, "{reddish} red pixels");
+}
+
+/// A model whose MTL names a colour map keeps it on its faces without the
+/// user choosing a texture: the map is the file's (`file_texture`).
+#[test]
+fn a_model_keeps_the_texture_its_file_names() {
+    let path = box_obj("own-map", Vec3::splat(-1.0), Vec3::splat(1.0));
+    let dir = path.parent().unwrap();
+    let brick = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/reference-brick.png");
+    std::fs::copy(brick, dir.join("brick.png")).unwrap();
+    std::fs::write(dir.join("model.mtl"), "newmtl brick\nmap_Kd brick.png\n").unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let with_material = format!("mtllib model.mtl\nusemtl brick\n{text}");
+    std::fs::write(&path, with_material).unwrap();
+    let mut scene = model_scene(path);
+    assert_eq!(scene.texture_reach(), Some(TextureReach::Own));
+    let view = scene.model_view.as_mut().unwrap();
+    assert!(view.file_texture);
+    view.texture_chosen = false;
+    let start = start_view();
+    let untextured = Settings {
+        texture: false,
+        ..start
+    };
+    assert_ne!(pixels(&scene, &start), pixels(&scene, &untextured));
 }

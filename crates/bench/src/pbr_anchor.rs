@@ -81,6 +81,8 @@ pub fn physical(mut scene: Scene, factors: Factors, environment: Arc<Environment
         for v in &mut object.mesh.vertices {
             v.color = factors.base;
         }
+        // The base colour is given to every corner here.
+        object.mesh.colours_invented = false;
     }
     let terms = Arc::new(MaterialTerms {
         pbr: Some(PbrMaterial {

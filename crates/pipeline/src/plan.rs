@@ -237,7 +237,10 @@ impl Plan {
             .objects
             .iter()
             .any(|o| o.mesh.triangles.iter().any(|t| t.textured));
-        let stages = MaterialStages::new(&scene.material, any_textured, settings, false);
+        // The scene's material dresses the objects without their own; a
+        // model file's are plain until the user chooses a texture.
+        let dressed = any_textured && scene.model_view.is_none_or(|v| v.dresses_bare_parts());
+        let stages = MaterialStages::new(&scene.material, dressed, settings, false);
         // Points and lines go behind the surfaces by the depth the triangles
         // leave, so a lone convex mesh keeps its depth buffer beside them.
         let depth = scene.objects.len() > 1
@@ -486,7 +489,7 @@ impl MaterialStages {
             normal_map,
             normal_map_from_file: file_map.is_some(),
             footprint,
-            specular_map: material.specular_map.clone(),
+            specular_map: material.specular_map.clone().filter(|_| any_textured),
         }
     }
 }

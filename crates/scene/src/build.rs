@@ -195,12 +195,11 @@ pub fn build_scene_noting(
             _ => {
                 let loaded = model.load(all_faces)?;
                 let notes = LoadedNotes::of_parts(&loaded);
-                let scene = Scene::loaded(loaded, texture);
                 // A model file is shown in the model view; the built-in
                 // models keep the reference scene's camera and lights.
                 let scene = match model {
-                    ModelChoice::File(_) => scene.into_model_view(),
-                    _ => scene,
+                    ModelChoice::File(_) => Scene::loaded_model_view(loaded, texture),
+                    _ => Scene::loaded(loaded, texture),
                 };
                 let notes = notes.shown_in(&scene);
                 (Built::Scene(Box::new(scene)), notes)
@@ -231,6 +230,8 @@ pub struct LoadedNotes {
     /// Every part is shaded physically in the model view
     /// (`Scene::all_physical`).
     pub physical: bool,
+    /// Which parts can show a texture (`Scene::texture_reach`).
+    pub texture_reach: Option<super::model_view::TextureReach>,
 }
 
 impl LoadedNotes {
@@ -258,6 +259,7 @@ impl LoadedNotes {
     pub(crate) fn shown_in(self, scene: &Scene) -> Self {
         LoadedNotes {
             physical: scene.all_physical(),
+            texture_reach: scene.texture_reach(),
             ..self
         }
     }
@@ -340,6 +342,20 @@ fn floor_color(_unit: Vec3) -> Vec3 {
 }
 
 impl Scene {
+    /// A loaded model file in the model view (`loaded`, then
+    /// `into_model_view`), noting whether the file gave the scene's
+    /// material its maps (`ModelView::file_texture`).
+    pub fn loaded_model_view(model: LoadedModel, texture: Arc<Texture>) -> Self {
+        let maps = &model.maps;
+        let file_texture =
+            maps.texture.is_some() || maps.specular_map.is_some() || maps.normal_map.is_some();
+        let mut scene = Scene::loaded(model, texture).into_model_view();
+        if let Some(view) = &mut scene.model_view {
+            view.file_texture = file_texture;
+        }
+        scene
+    }
+
     /// A loaded model at the origin: an object per part, turning, with the
     /// model's maps (when it has any) in place of `texture`.
     pub fn loaded(model: LoadedModel, texture: Arc<Texture>) -> Self {

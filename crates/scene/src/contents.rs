@@ -96,15 +96,33 @@ pub struct ModelView {
     /// Which of the scene's cameras it is seen through (`V`; none: the
     /// framing camera).
     pub camera: Option<usize>,
+    /// Whether the user chose the scene's texture (an image or a map
+    /// named, or one applied in the view: the interactive view and `relief
+    /// render` say so; a scene made here takes it as chosen).
+    pub texture_chosen: bool,
+    /// Whether the file gave the scene's material its maps (an OBJ's first
+    /// `map_Kd`, `map_Ks` or `norm`).
+    pub file_texture: bool,
 }
 
 impl ModelView {
+    /// Whether the parts without a material of their own (an STL, a PLY,
+    /// an OBJ part that names none) take the scene's material, texture and
+    /// bump: when the file gave it its maps or the user chose a texture;
+    /// else they are drawn plain, as a model viewer draws a file that
+    /// names no material.
+    pub fn dresses_bare_parts(&self) -> bool {
+        self.texture_chosen || self.file_texture
+    }
+
     pub fn new() -> Self {
         static NEXT: AtomicU64 = AtomicU64::new(1);
         ModelView {
             id: NEXT.fetch_add(1, Ordering::Relaxed),
             pose: None,
             camera: None,
+            texture_chosen: true,
+            file_texture: false,
         }
     }
 }

@@ -230,11 +230,13 @@ pub(crate) fn build_indexed(
     textured: &[bool],
     held: &mut Reservation,
 ) -> Result<Vec<(usize, Mesh)>, ObjError> {
-    let (mesh, tri_parts) = build(name, corners, part_colors, textured, held)?;
     let count = textured.len().max(1);
+    let invented = invented_colours(&corners, part_colors, count);
+    let (mut mesh, tri_parts) = build(name, corners, part_colors, textured, held)?;
     // No part numbers: all in part 0.
     let first = tri_parts.first().copied().unwrap_or(0);
     if count == 1 || tri_parts.iter().all(|&p| p == first) {
+        mesh.colours_invented = invented.get(first as usize).copied().unwrap_or(false);
         return Ok(vec![(first as usize, mesh)]);
     }
     // Split: each part keeps the vertices its triangles use, renumbered
@@ -274,9 +276,32 @@ pub(crate) fn build_indexed(
         }
         piece.vertices.shrink_to_fit();
         piece.triangles.shrink_to_fit();
+        piece.colours_invented = invented[part as usize];
         out.push((part as usize, piece));
     }
     Ok(out)
+}
+
+/// Per part (of `count`), whether the file colours none of its corners:
+/// no part colour (an MTL's `Kd`) and no vertex colour at any corner.
+fn invented_colours(c: &IndexedCorners, part_colors: &[Option<Vec3>], count: usize) -> Vec<bool> {
+    let mut invented: Vec<bool> = (0..count)
+        .map(|p| part_colors.get(p).copied().flatten().is_none())
+        .collect();
+    if c.colors.iter().any(Option::is_some) {
+        for (i, corner) in c.corners.iter().enumerate() {
+            let given = c
+                .colors
+                .get(corner[0] as usize)
+                .copied()
+                .flatten()
+                .is_some();
+            if given && let Some(slot) = invented.get_mut(part(c, i / 3) as usize) {
+                *slot = false;
+            }
+        }
+    }
+    invented
 }
 
 /// The cube face a triangle of unit normal `normal` is projected on when

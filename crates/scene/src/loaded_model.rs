@@ -75,6 +75,7 @@ impl LoadedModel {
                 t
             }));
             mesh.closed &= part.mesh.closed;
+            mesh.colours_invented &= part.mesh.colours_invented;
         }
         mesh
     }

@@ -157,6 +157,11 @@ pub struct Mesh {
     /// the colour is on TEXCOORD_0; `scene::map_uv`); empty otherwise, so
     /// other meshes pay nothing for it ([`Mesh::with_uv2`]).
     uv2: Vec<Vec2>,
+    /// A model file's part whose file gave none of its corners a colour:
+    /// each is the reference scene's colour by position
+    /// (`cube::corner_color`), which the model view does not show (it
+    /// draws the part white, as a model viewer does).
+    pub colours_invented: bool,
 }
 
 /// Below this many faces a mesh is built on one thread.
@@ -174,6 +179,7 @@ impl Mesh {
             convex,
             closed,
             uv2: Vec::new(),
+            colours_invented: false,
         };
         let kept = |f: &Face| {
             Some(Facet::of_face(f).bits())
@@ -222,6 +228,7 @@ impl Mesh {
             convex,
             closed,
             uv2: Vec::new(),
+            colours_invented: false,
         }
     }
 
@@ -262,6 +269,7 @@ impl Mesh {
             convex,
             closed,
             uv2: Vec::new(),
+            colours_invented: false,
         }
     }
 

@@ -193,7 +193,7 @@ impl BytesModel {
             }
             BytesModel::Parts(model) => {
                 let notes = LoadedNotes::of_parts(&model);
-                let scene = Scene::loaded(model, texture).into_model_view();
+                let scene = Scene::loaded_model_view(model, texture);
                 let notes = notes.shown_in(&scene);
                 (scene, notes)
             }

@@ -64,6 +64,20 @@ impl Scene {
             && (0..self.objects.len()).all(physical)
     }
 
+    /// Which of this model file's parts can show a texture (`None` for
+    /// the reference scenes, which always can).
+    pub fn texture_reach(&self) -> Option<TextureReach> {
+        let view = self.model_view?;
+        let textured = |i: usize| self.objects[i].mesh.triangles.iter().any(|t| t.textured);
+        let own = (0..self.objects.len()).any(|i| self.own_material(i).is_some() && textured(i));
+        let bare = (0..self.objects.len()).any(|i| self.own_material(i).is_none() && textured(i));
+        Some(if bare && !own && !view.file_texture {
+            TextureReach::WhenChosen
+        } else {
+            TextureReach::Own
+        })
+    }
+
     /// This scene in the reference camera and lights, its materials drawn
     /// as the reference scenes draw them (the llvmpipe comparison's view).
     pub fn into_reference_view(mut self) -> Scene {
@@ -73,6 +87,18 @@ impl Scene {
         }
         self
     }
+}
+
+/// Which parts of a model file can show a texture (`Scene::texture_reach`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TextureReach {
+    /// Parts with a material of their own (whose texture may be the
+    /// file's map, or white: a glTF material without one), or parts that
+    /// take the file's own map.
+    Own,
+    /// Only parts without a material of their own, which take a texture
+    /// once the user chooses one (`ModelView::dresses_bare_parts`).
+    WhenChosen,
 }
 
 /// The camera axes of the model view: right, up, and back toward the eye

@@ -54,6 +54,7 @@ fn built(state: &mut State, scene: SceneKind, model: ModelChoice) {
     super::super::file_cameras::take(state, 0);
     state.file_lights = 0;
     state.physical = false;
+    state.texture_reach = None;
     // A model file opened from the prompt or a paste joins the `o` cycle.
     if let ModelChoice::File(path) = &model {
         state.obj = Some(path.clone());
@@ -71,6 +72,7 @@ fn model_notes(state: &mut State, notes: &LoadedNotes) {
     super::super::file_cameras::take(state, notes.cameras);
     state.file_lights = notes.lights;
     state.physical = notes.physical;
+    state.texture_reach = notes.texture_reach;
     let mut lines = notes.warnings.iter();
     if let Some(first) = lines.next() {
         let more = lines.count();

@@ -55,6 +55,7 @@ pub(super) fn apply(state: &mut State, action: Action) -> Option<Command> {
         // Texture errors are one line, already sanitised, naming the file.
         Action::TextureResult(Ok(label)) => {
             state.message = Some(format!("texture {}", clean(&label)));
+            state.texture_chosen = true;
         }
         Action::TextureResult(Err(e)) => state.message = Some(clean(&e)),
         Action::ToggleNormalMapFile => toggle_normal_map_file(state),

@@ -542,10 +542,39 @@ impl<'s> FramePlans<'s> {
                 }
             };
         }
-        FramePlans {
+        let mut frame = FramePlans {
             plans,
             textures,
             of_object,
+        };
+        if scene.model_view.is_some() {
+            frame.whiten_invented_colours(scene);
+        }
+        frame
+    }
+
+    /// The model view draws a part whose colours the file did not give
+    /// (`Mesh::colours_invented`) white, or in its material's own colour:
+    /// such objects take their plan with the vertex colours off.
+    fn whiten_invented_colours(&mut self, scene: &Scene) {
+        let mut whitened: Vec<(usize, usize)> = Vec::new();
+        for (object, group) in scene.objects.iter().zip(self.of_object.iter_mut()) {
+            if !object.mesh.colours_invented || !self.plans[*group].colors {
+                continue;
+            }
+            *group = match whitened.iter().find(|(g, _)| g == group) {
+                Some(&(_, k)) => k,
+                None => {
+                    let plan = Plan {
+                        colors: false,
+                        ..self.plans[*group].clone()
+                    };
+                    self.plans.push(plan);
+                    self.textures.push(self.textures[*group]);
+                    whitened.push((*group, self.plans.len() - 1));
+                    self.plans.len() - 1
+                }
+            };
         }
     }
 }
