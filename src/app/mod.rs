@@ -199,6 +199,9 @@ fn initial_state(cli: &mut Cli) -> anyhow::Result<Start> {
     let mut state = State::new(settings, color_depth(cli.color)).with_distance(cli.view.distance);
     state.dither = cli.dither;
     state.symbols = cli.symbols;
+    if cli.view.options.given(relief_options::OptId::Up) {
+        state.up = state::UpChoice::User;
+    }
     // The first image that loads is applied; the others wait for the texture list.
     let (textures, errors) =
         texture_list::TextureList::from_args(&cli.images, cli.view.height_map.as_deref());

@@ -109,6 +109,8 @@ pub struct State {
     /// reference scene, or a model with nothing to say): the texture keys
     /// are refused where none shows (`feedback`).
     pub texture_reach: Option<relief_scene::model_view::TextureReach>,
+    /// Who set the up axis: a model's format, or the user (`--up`, `Z`).
+    pub up: UpChoice,
     /// The user chose the texture (a picture or map on the command line,
     /// or one applied in the view): a model's parts without a material take it.
     pub texture_chosen: bool,
@@ -270,6 +272,7 @@ impl State {
             physical: false,
             texture_reach: None,
             texture_chosen: false,
+            up: UpChoice::Default,
             camera: None,
             panel: Panel::default(),
             drag: None,
@@ -387,4 +390,16 @@ pub fn format_angle(deg: f32) -> String {
     let s = s.strip_suffix(".0").map(str::to_owned).unwrap_or(s);
     // -0.04 rounds to a zero that keeps its sign.
     if s == "-0" { "0".into() } else { s }
+}
+
+/// Who set the view's up axis (`Settings::up`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UpChoice {
+    /// Nobody: Y up.
+    Default,
+    /// The shown model's format (an STL stands Z up): the axis goes back to
+    /// Y with the next scene.
+    File,
+    /// The user (`--up`, or `Z`): kept for every model.
+    User,
 }

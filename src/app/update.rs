@@ -12,7 +12,7 @@ mod textures;
 use super::action::Action;
 use super::command::Command;
 use super::playback;
-use super::state::State;
+use super::state::{State, UpChoice};
 use relief_core::sanitize::clean;
 
 /// Whether `action` comes from the user (a key, a click, a paste), not
@@ -147,7 +147,13 @@ fn apply(state: &mut State, action: Action) -> Option<Command> {
 /// The options of the picture and of its output.
 fn picture(state: &mut State, action: Action) {
     match action {
-        Action::Option { id, press } => relief_options::get(id).press(&mut state.settings, press),
+        Action::Option { id, press } => {
+            relief_options::get(id).press(&mut state.settings, press);
+            // The user's up axis stays, whatever the next model's format says.
+            if id == relief_options::OptId::Up {
+                state.up = UpChoice::User;
+            }
+        }
         Action::CycleSymbols => state.symbols = state.symbols.next(),
         Action::CycleFormat => {
             state.output.cycle();

@@ -45,6 +45,10 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if model_view && args.view.rotate.is_none() {
         settings.rotation = relief_scene::model_view::START_ROTATION;
     }
+    // An STL stands Z up unless `--up` says otherwise.
+    if notes.z_up && !args.view.options.given(relief_options::OptId::Up) {
+        settings.up = relief_core::settings::UpAxis::Z;
+    }
     for warning in &notes.warnings {
         eprintln!("relief: warning: {}", clean(warning));
     }

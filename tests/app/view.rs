@@ -863,3 +863,45 @@ fn at_80_by_24_the_status_line_takes_two_rows_and_shows_every_mode() {
         }
     }
 }
+
+/// An STL stands Z up (its notes say so): the view turns it upright and
+/// goes back to Y up for the next scene; an axis the user set (`Z`, or
+/// `--up`) stays for every model.
+#[test]
+fn an_stl_stands_z_up_unless_the_user_set_the_axis() {
+    use relief_core::settings::UpAxis;
+    use relief_scene::{LoadedNotes, ModelChoice, SceneKind};
+    let mut s = state();
+    let stl = ModelChoice::File("teapot.stl".into());
+    let z_up = LoadedNotes {
+        z_up: true,
+        ..LoadedNotes::default()
+    };
+    let open = |s: &mut relief::app::State, model: &ModelChoice, notes: Option<&LoadedNotes>| {
+        update(s, Action::SceneBuilt(Ok((SceneKind::Cube, model.clone()))));
+        if let Some(notes) = notes {
+            update(s, Action::ModelNotes(notes.clone()));
+        }
+    };
+    open(&mut s, &stl, Some(&z_up));
+    assert_eq!(s.settings.up, UpAxis::Z);
+    assert!(status_line(&s, 300).contains("Z up"));
+    open(&mut s, &ModelChoice::Cube, None);
+    assert_eq!(
+        s.settings.up,
+        UpAxis::Y,
+        "the cube stands as it always does"
+    );
+    let obj = ModelChoice::File("fox.obj".into());
+    open(&mut s, &obj, Some(&LoadedNotes::default()));
+    assert_eq!(s.settings.up, UpAxis::Y);
+    // The user stands the STL Y up: kept for the next STL and the cube.
+    open(&mut s, &stl, Some(&z_up));
+    update(&mut s, Action::next(OptId::Up));
+    assert_eq!(s.settings.up, UpAxis::Y);
+    open(&mut s, &stl, Some(&z_up));
+    assert_eq!(s.settings.up, UpAxis::Y);
+    update(&mut s, Action::next(OptId::Up));
+    open(&mut s, &ModelChoice::Cube, None);
+    assert_eq!(s.settings.up, UpAxis::Z, "the user's axis stays");
+}

@@ -434,3 +434,71 @@ fn a_model_without_material_is_plain_unless_a_picture_is_named() {
     let dressed = draw("dressed.png", &[brick.to_str().unwrap(), "--model", m]);
     assert_ne!(dressed, plain);
 }
+
+/// `relief render FILE.stl` stands the model Z up (STL's convention), as
+/// `--up z` does; `--up y` still stands it as the file's Y axis says.
+#[test]
+fn an_stl_is_drawn_z_up_unless_up_says_otherwise() {
+    let model = scratch("tall.stl");
+    // A box 0.4 × 0.4 × 2 along Z: upright, it is taller than it is wide.
+    let mut text = String::from("solid tall\n");
+    let (lo, hi) = ([-0.2, -0.2, -1.0], [0.2, 0.2, 1.0]);
+    let corner = |i: usize| {
+        let pick = |bit: usize, k: usize| if i & bit != 0 { hi[k] } else { lo[k] };
+        [pick(1, 0), pick(2, 1), pick(4, 2)]
+    };
+    for q in [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+    ] {
+        for t in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
+            text += "facet normal 0 0 0\nouter loop\n";
+            for v in t {
+                let p = corner(v);
+                text += &format!("vertex {} {} {}\n", p[0], p[1], p[2]);
+            }
+            text += "endloop\nendfacet\n";
+        }
+    }
+    text += "endsolid tall\n";
+    std::fs::write(&model, text).unwrap();
+    let m = model.to_str().unwrap();
+    let draw = |name: &str, extra: &[&str]| {
+        let out = scratch(name);
+        let mut args = vec!["render", m, "--width", "96", "--height", "72", "--out"];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let o = relief(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        std::fs::read(&*out).unwrap()
+    };
+    let default = draw("default.ppm", &[]);
+    assert_eq!(draw("z.ppm", &["--up", "z"]), default);
+    let y = draw("y.ppm", &["--up", "y"]);
+    assert_ne!(y, default);
+    // Upright, the model's covered rows outnumber its covered columns.
+    let (w, h) = (96usize, 72usize);
+    let extent = |ppm: &[u8]| {
+        let pixels = &ppm[ppm.len() - w * h * 3..];
+        let bg = &pixels[0..3];
+        let (mut cols, mut rows) = (vec![false; w], vec![false; h]);
+        for y in 0..h {
+            for x in 0..w {
+                if &pixels[(y * w + x) * 3..(y * w + x) * 3 + 3] != bg {
+                    cols[x] = true;
+                    rows[y] = true;
+                }
+            }
+        }
+        let count = |v: &[bool]| v.iter().filter(|&&b| b).count();
+        (count(&cols), count(&rows))
+    };
+    let (cols, rows) = extent(&default);
+    assert!(rows > 2 * cols, "upright: {cols} columns, {rows} rows");
+    let (cols, rows) = extent(&y);
+    assert!(cols > rows, "lying: {cols} columns, {rows} rows");
+}

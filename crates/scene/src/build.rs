@@ -118,6 +118,7 @@ impl ModelChoice {
             maps: ModelMaps::default(),
             points: false,
             warnings: Vec::new(),
+            z_up: false,
         })
     }
 }
@@ -232,6 +233,8 @@ pub struct LoadedNotes {
     pub physical: bool,
     /// Which parts can show a texture (`Scene::texture_reach`).
     pub texture_reach: Option<super::model_view::TextureReach>,
+    /// The format stands its models Z up (`LoadedModel::z_up`).
+    pub z_up: bool,
 }
 
 impl LoadedNotes {
@@ -251,6 +254,7 @@ impl LoadedNotes {
         LoadedNotes {
             warnings: model.warnings.clone(),
             points: model.points,
+            z_up: model.z_up,
             ..LoadedNotes::default()
         }
     }

@@ -56,6 +56,9 @@ pub struct LoadedModel {
     pub points: bool,
     /// One line each, already safe to print, naming the file.
     pub warnings: Vec<String>,
+    /// The format stands its models with +Z up (STL: CAD and 3D printing
+    /// tools write it so): the view turns them upright unless `--up` says.
+    pub z_up: bool,
 }
 
 impl LoadedModel {

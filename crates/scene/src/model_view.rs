@@ -89,6 +89,13 @@ impl Scene {
     }
 }
 
+/// The colour of a model file's part that gives none (an STL, a PLY of
+/// positions, an OBJ without MTL) in the model view: a light grey, as
+/// Blender's default material (0.8), so the neutral rig's light (up to
+/// about 1.3 where key, fill and ambient meet) leaves its shading visible
+/// instead of clipping a quarter of it to white.
+pub const PLAIN_ALBEDO: f32 = 0.8;
+
 /// Which parts of a model file can show a texture (`Scene::texture_reach`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TextureReach {

@@ -210,6 +210,7 @@ fn parse_unguarded(
         maps,
         points: false,
         warnings,
+        z_up: false,
     })
 }
 

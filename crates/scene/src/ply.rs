@@ -798,6 +798,7 @@ fn finish(
         parts,
         maps: ModelMaps::default(),
         warnings,
+        z_up: false,
     })
 }
 

@@ -61,6 +61,7 @@ fn parse_unguarded(name: &str, bytes: &[u8]) -> Result<LoadedModel, ObjError> {
         maps: ModelMaps::default(),
         points: false,
         warnings: Vec::new(),
+        z_up: true,
     })
 }
 

@@ -3,7 +3,7 @@
 use super::super::action::Action;
 use super::super::command::Command;
 use super::super::playback;
-use super::super::state::{Panel, State};
+use super::super::state::{Panel, State, UpChoice};
 use relief_core::sanitize::clean;
 use relief_scene::{LoadedNotes, ModelChoice, SceneKind};
 
@@ -55,6 +55,10 @@ fn built(state: &mut State, scene: SceneKind, model: ModelChoice) {
     state.file_lights = 0;
     state.physical = false;
     state.texture_reach = None;
+    if state.up == UpChoice::File {
+        state.settings.up = relief_core::settings::UpAxis::Y;
+        state.up = UpChoice::Default;
+    }
     // A model file opened from the prompt or a paste joins the `o` cycle.
     if let ModelChoice::File(path) = &model {
         state.obj = Some(path.clone());
@@ -73,6 +77,11 @@ fn model_notes(state: &mut State, notes: &LoadedNotes) {
     state.file_lights = notes.lights;
     state.physical = notes.physical;
     state.texture_reach = notes.texture_reach;
+    // An STL stands Z up, unless the user set the axis.
+    if notes.z_up && state.up == UpChoice::Default {
+        state.settings.up = relief_core::settings::UpAxis::Z;
+        state.up = UpChoice::File;
+    }
     let mut lines = notes.warnings.iter();
     if let Some(first) = lines.next() {
         let more = lines.count();

@@ -23,7 +23,7 @@ use triangles::{ObjectView, TriChunk, run_chunks};
 use std::sync::Arc;
 use std::time::Instant;
 
-use glam::Vec4;
+use glam::{Vec3, Vec4};
 
 use crate::plan::Plan;
 use crate::raster::ScreenTri;
@@ -548,18 +548,19 @@ impl<'s> FramePlans<'s> {
             of_object,
         };
         if scene.model_view.is_some() {
-            frame.whiten_invented_colours(scene);
+            frame.plain_invented_colours(scene);
         }
         frame
     }
 
     /// The model view draws a part whose colours the file did not give
-    /// (`Mesh::colours_invented`) white, or in its material's own colour:
-    /// such objects take their plan with the vertex colours off.
-    fn whiten_invented_colours(&mut self, scene: &Scene) {
+    /// (`Mesh::colours_invented`) in a plain light grey, with colours on or
+    /// off: such objects take their plan with the vertex colours off and
+    /// `PLAIN_ALBEDO` as their colour.
+    fn plain_invented_colours(&mut self, scene: &Scene) {
         let mut whitened: Vec<(usize, usize)> = Vec::new();
         for (object, group) in scene.objects.iter().zip(self.of_object.iter_mut()) {
-            if !object.mesh.colours_invented || !self.plans[*group].colors {
+            if !object.mesh.colours_invented {
                 continue;
             }
             *group = match whitened.iter().find(|(g, _)| g == group) {
@@ -567,6 +568,7 @@ impl<'s> FramePlans<'s> {
                 None => {
                     let plan = Plan {
                         colors: false,
+                        uncoloured: Vec3::splat(relief_scene::model_view::PLAIN_ALBEDO),
                         ..self.plans[*group].clone()
                     };
                     self.plans.push(plan);
