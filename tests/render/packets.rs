@@ -648,3 +648,61 @@ fn the_physical_kernel_with_layer_maps_matches_the_one_pixel_loop() {
         assert_eq!(ca, cb, "{s:?}");
     }
 }
+
+/// Small triangles: the built-in sphere drawn a few pixels wide, whose
+/// rows are shorter than a packet, so the ends of several rows are shaded
+/// in one packet (and a lone pixel by the one-pixel kernel); every
+/// shading, with and without texture and bump, and the sphere shaded
+/// physically with a normal map: the one-pixel loop's bits and counts.
+#[test]
+fn small_triangles_shaded_together_match_the_one_pixel_loop() {
+    use relief_scene::terms::{MaterialTerms, PbrMaterial};
+    use relief_texture::sample::normal_map::normal_map_scale;
+    let Built::Scene(sphere) = build_scene(
+        SceneKind::Cube,
+        &ModelChoice::Sphere,
+        Arc::new(relief_texture::decode::procedural::brick()),
+        false,
+    )
+    .unwrap() else {
+        panic!("a 3D scene")
+    };
+    for (w, h) in [(40, 30), (96, 72)] {
+        for shading in [Shading::Flat, Shading::Gouraud, Shading::Phong] {
+            for (texture, bump) in [(true, true), (false, false)] {
+                let s = Settings {
+                    shading,
+                    texture,
+                    bump,
+                    ..Settings::default()
+                };
+                check_in(&sphere, s, w, h);
+            }
+        }
+    }
+    let mut physical = (*sphere).clone().into_model_view();
+    let normal = physical
+        .material
+        .texture
+        .normal_map(normal_map_scale(2.0))
+        .0;
+    let terms = Arc::new(MaterialTerms {
+        pbr: Some(PbrMaterial {
+            metallic: 0.5,
+            roughness: 0.4,
+            normal: Some(normal),
+            ..PbrMaterial::gltf_default()
+        }),
+        ..MaterialTerms::default()
+    });
+    physical.object_terms = vec![Some(terms.clone())];
+    let s = Settings::default();
+    let plan = Plan::new(&physical, &s).with_terms(&terms);
+    assert!(plan.physical.is_some());
+    for (w, h) in [(40, 30), (96, 72)] {
+        let (a, b, ca, cb, packed) = both_planned(&physical, &plan, &s, w, h);
+        assert!(packed > 0);
+        assert_eq!(a.iter().zip(&b).filter(|(x, y)| x != y).count(), 0);
+        assert_eq!(ca, cb);
+    }
+}

@@ -309,6 +309,7 @@ fn raster_packets<S: PixelShader>(
         ]
     };
     let span_steps = [steps[0].0, steps[1].0, steps[2].0];
+    let mut tails = Tails::default();
     for py in rows {
         let cy = py as i64 * ONE + ONE / 2;
         let e_row = tri.edges(cx, cy);
@@ -328,6 +329,25 @@ fn raster_packets<S: PixelShader>(
         let mut px = first;
         while px <= last {
             let lanes = LANES.min(last + 1 - px);
+            if lanes < LANES {
+                // A span's last few pixels wait for the next rows' to fill
+                // a packet (a small triangle's rows are all short).
+                for p in px..=last {
+                    let e = at(&e_row, (p - x0) as i64);
+                    let lf = [
+                        e[0] as f32 * inv_area,
+                        e[1] as f32 * inv_area,
+                        e[2] as f32 * inv_area,
+                    ];
+                    if (!cut || alpha.coverage(tri, shader, ctx, lf).is_some())
+                        && band.depth.passes(row + p, lf, tri, false, counters)
+                        && tails.push(lf, row + p)
+                    {
+                        tails.flush(tri, shader, ctx, footprint.as_ref(), &mut band, counters);
+                    }
+                }
+                break;
+            }
             let mut live = (1u32 << lanes) - 1;
             let mut l = [[0.0f32; LANES]; 3];
             if no_depth && !cut {
@@ -363,6 +383,68 @@ fn raster_packets<S: PixelShader>(
             }
             px += LANES;
         }
+    }
+    tails.flush(tri, shader, ctx, footprint.as_ref(), &mut band, counters);
+}
+
+/// Covered pixels of a triangle, from the ends of its rows, gathered into
+/// one packet: a triangle a few pixels wide shades its rows together
+/// instead of a packet per row, each lane as the one-pixel loop shades it.
+#[derive(Default)]
+struct Tails {
+    /// Each gathered pixel's edge weights, lane by lane.
+    l: [[f32; LANES]; 3],
+    /// Each gathered pixel's place in the band's colour rows.
+    at: [usize; LANES],
+    count: usize,
+}
+
+impl Tails {
+    /// Adds a covered pixel; true when the packet is full.
+    #[inline(always)]
+    fn push(&mut self, l: [f32; 3], at: usize) -> bool {
+        let lane = self.count;
+        for (k, v) in l.into_iter().enumerate() {
+            self.l[k][lane] = v;
+        }
+        self.at[lane] = at;
+        self.count += 1;
+        self.count == LANES
+    }
+
+    /// Shades the gathered pixels, writes them, and empties the packet.
+    #[inline(always)]
+    fn flush<S: PixelShader>(
+        &mut self,
+        tri: &ScreenTri,
+        shader: &S,
+        ctx: &ShadeCtx,
+        footprint: Option<&FootprintSetup>,
+        band: &mut Rows,
+        counters: &mut Counters,
+    ) {
+        if self.count == 0 {
+            return;
+        }
+        if self.count == 1 {
+            // One pixel (a triangle that covers one): the one-pixel
+            // kernel, the same bits without the packet's eight-lane setup.
+            let l = [self.l[0][0], self.l[1][0], self.l[2][0]];
+            band.color[self.at[0]] = shade_at(tri, shader, ctx, footprint, l, counters);
+            counters.packet_pixels += 1;
+            self.count = 0;
+            return;
+        }
+        let live = (1u32 << self.count) - 1;
+        // Lanes beyond the count hold a pixel shaded before: never written.
+        let b = perspective(self.l.map(f32x8::from), tri.q).b;
+        let fp = packet_footprints(footprint, &self.l, tri.q, live);
+        let colors = shader.shade8(ctx, b, &fp, live, counters);
+        counters.packet_pixels += u64::from(live.count_ones());
+        for (&at, colour) in self.at.iter().zip(colors).take(self.count) {
+            band.color[at] = colour;
+        }
+        self.count = 0;
     }
 }
 
