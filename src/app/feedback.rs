@@ -54,8 +54,7 @@ fn shaded_physically(state: &State) -> bool {
 /// The message refusing `t` and `b` on a model file whose parts take no
 /// material until the user chooses a texture (`Scene::texture_reach`).
 fn no_texture(state: &State, id: OptId) -> Option<String> {
-    use relief_scene::model_view::TextureReach;
-    let waits = state.texture_reach == Some(TextureReach::WhenChosen) && !state.texture_chosen;
+    let waits = state.ctx().texture_waits;
     (waits && matches!(id, OptId::Texture | OptId::Bump)).then(|| {
         format!(
             "{}: the model names no texture; x, T or a picture's path lays one on it",

@@ -335,6 +335,9 @@ impl State {
             settings: &self.settings,
             lights_on: self.light_on.iter().any(|&on| on),
             normal_map_loaded: self.normal_map_file.is_some(),
+            texture_waits: self.texture_reach
+                == Some(relief_scene::model_view::TextureReach::WhenChosen)
+                && !self.texture_chosen,
         }
     }
 

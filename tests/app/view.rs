@@ -526,6 +526,7 @@ fn texture_keys_are_refused_where_no_texture_shows() {
         ..LoadedNotes::default()
     };
     update(&mut s, Action::ModelNotes(notes(TextureReach::WhenChosen)));
+    assert!(status_line(&s, 300).contains("texture none"));
     let before = s.settings;
     for id in [OptId::Texture, OptId::Bump] {
         update(&mut s, Action::next(id));
@@ -538,6 +539,7 @@ fn texture_keys_are_refused_where_no_texture_shows() {
     }
     // A texture applied: the keys act.
     update(&mut s, Action::TextureResult(Ok("brick (built-in)".into())));
+    assert!(status_line(&s, 300).contains("texture on"));
     update(&mut s, Action::next(OptId::Texture));
     assert_ne!(s.settings.texture, before.texture);
     update(&mut s, Action::next(OptId::Texture));

@@ -188,6 +188,9 @@ pub struct Ctx<'a> {
     pub lights_on: bool,
     /// A `--normal-map` file is loaded.
     pub normal_map_loaded: bool,
+    /// The shown model file has no texture until the user chooses one
+    /// (its parts name no material): the texture field says `none`.
+    pub texture_waits: bool,
 }
 
 /// When a change shows, and what a refused key says.

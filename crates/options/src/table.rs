@@ -195,8 +195,8 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         shows: None,
         status: Some(two(
             2,
-            |c| format!("texture {}", on_off(c.settings.texture)),
-            |c| format!("tex {}", on_off(c.settings.texture)),
+            |c| format!("texture {}", texture_shown(c)),
+            |c| format!("tex {}", texture_shown(c)),
             3,
             7,
         )),
@@ -873,6 +873,16 @@ pub fn help_keys(opt: usize, key: usize) -> String {
     }
     shown.extend(others.split_whitespace().map(String::from));
     shown.join(" ")
+}
+
+/// The texture field's value: on or off, or `none` on a model that has
+/// no texture until the user chooses one.
+fn texture_shown(c: &Ctx) -> &'static str {
+    if c.texture_waits {
+        "none"
+    } else {
+        on_off(c.settings.texture)
+    }
 }
 
 #[cfg(test)]
