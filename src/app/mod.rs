@@ -280,19 +280,15 @@ fn read_stage(
     };
     // An image, a height map or a surface map the user named is a texture
     // chosen: a model file's parts without a material take it.
-    let chosen = textures.generation() > 0
-        || cli.view.height_map.is_some()
-        || maps.specular.is_some()
-        || maps.normal.is_some();
+    state.texture_chosen =
+        textures.generation() > 0 || cli.view.height_map.is_some() || maps.name_surface_maps();
     let mut stage = Stage::new(
         cli.view.scene,
         &cli.view.model,
         textures.texture().clone(),
         cli.view.all_faces,
     )?
-    .with_maps(maps)
-    .with_texture_chosen(chosen);
-    state.texture_chosen = chosen;
+    .with_maps(maps);
     let mut notes = stage.take_notes();
     notes.warnings.splice(0..0, model_notes);
     if notes != relief_scene::LoadedNotes::default() {

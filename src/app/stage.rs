@@ -73,10 +73,6 @@ pub struct Stage {
     light_places: Vec<Light>,
     /// What the last model load had to say, until taken.
     notes: LoadedNotes,
-    /// Whether the user chose the texture (an image or map on the command
-    /// line, or one applied in the view): only then does a model file's
-    /// part without a material of its own take it (`ModelView::dresses_bare_parts`).
-    texture_chosen: bool,
 }
 
 /// A built scene's lights as built, before any turn (the plasma has none).
@@ -112,14 +108,7 @@ impl Stage {
             texture,
             all_faces,
             maps: FlagMaps::default(),
-            texture_chosen: false,
         })
-    }
-
-    /// Says whether the user chose the texture before the view began.
-    pub fn with_texture_chosen(mut self, chosen: bool) -> Stage {
-        self.texture_chosen = chosen;
-        self
     }
 
     /// Gives the shown 3D scene and every one built later the flags' maps.
@@ -193,14 +182,12 @@ impl Stage {
         std::mem::take(&mut self.notes)
     }
 
-    /// Applies another texture, which the user chose, to the shown scene
-    /// and to those built later.
+    /// Applies another texture to the shown scene and to those built later.
     pub fn set_texture(&mut self, texture: Arc<Texture>) {
         if let Built::Scene(scene) = &mut self.built {
             scene.material.texture = texture.clone();
         }
         self.texture = texture;
-        self.texture_chosen = true;
     }
 
     /// Draws the state's picture: the 3D scene with the state's light
@@ -230,7 +217,9 @@ impl Stage {
                 if let Some(view) = &mut scene.model_view {
                     view.pose = Some(state.start_rotation);
                     view.camera = state.camera;
-                    view.texture_chosen = self.texture_chosen;
+                    // A model file's parts without a material take the
+                    // texture once the user has chosen one.
+                    view.texture_chosen = state.texture_chosen;
                 }
                 if let Some(motion) = &mut scene.motion {
                     let (clip, time) = state.playback.shown().unzip();

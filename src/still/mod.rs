@@ -158,8 +158,7 @@ fn load_scene(args: &RenderArgs) -> anyhow::Result<(Built, FlagMaps, LoadedNotes
     let model_ignored = stdin_model.is_some() && view.scene != SceneKind::Cube;
     // An image, a height map or a surface map named is a texture chosen: a
     // model file's parts without a material take it, else they are plain.
-    let chosen =
-        picture_given || height_map.is_some() || maps.specular.is_some() || maps.normal.is_some();
+    let chosen = picture_given || height_map.is_some() || maps.name_surface_maps();
     let (mut built, mut notes) = match stdin_model {
         Some(m) if view.scene == SceneKind::Cube => {
             let (scene, notes) = m.into_scene(texture);

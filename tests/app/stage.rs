@@ -575,8 +575,9 @@ fn another_model_asked_for_during_a_load_replaces_it() {
 }
 
 /// In the view, a model file without a material of its own is plain until
-/// the user applies a texture (`x`, `T`, a paste…: `Stage::set_texture`),
-/// and a stage told that the command line chose one dresses it at once.
+/// the user applies a texture (`x`, `T`, a paste…: the state's
+/// `texture_chosen`, which the stage reads), and a stage whose state says
+/// the command line chose one dresses it at once.
 #[test]
 fn a_model_without_material_takes_a_texture_once_one_is_applied() {
     let path = std::env::temp_dir().join(format!("relief-stage-{}-bare.obj", std::process::id()));
@@ -596,11 +597,13 @@ fn a_model_without_material_takes_a_texture_once_one_is_applied() {
     untextured.settings.texture = false;
     assert_eq!(picture(&mut st, &untextured), plain);
     st.set_texture(texture.clone());
+    relief::app::update(
+        &mut state,
+        relief::app::Action::TextureResult(Ok("brick (built-in)".into())),
+    );
     let dressed = picture(&mut st, &state);
     assert_ne!(dressed, plain);
-    let mut chosen = Stage::new(SceneKind::Cube, &model, texture, false)
-        .unwrap()
-        .with_texture_chosen(true);
+    let mut chosen = Stage::new(SceneKind::Cube, &model, texture, false).unwrap();
     assert_eq!(picture(&mut chosen, &state), dressed);
     std::fs::remove_file(path).unwrap();
 }

@@ -40,6 +40,12 @@ impl ReadMaps {
 }
 
 impl FlagMaps {
+    /// Whether a specular or normal map is named: a texture the user chose
+    /// (`ModelView::texture_chosen`), as a picture is.
+    pub fn name_surface_maps(&self) -> bool {
+        self.specular.is_some() || self.normal.is_some()
+    }
+
     /// Reads the maps the flags name.
     pub fn read(
         specular: Option<&Path>,

@@ -313,6 +313,15 @@ fn raster_packets<S: PixelShader>(
     for py in rows {
         let cy = py as i64 * ONE + ONE / 2;
         let e_row = tri.edges(cx, cy);
+        // The edge weights of the row's pixel `px`, as the one-pixel loop has them.
+        let weights_at = |px: usize| {
+            let e = at(&e_row, (px - x0) as i64);
+            [
+                e[0] as f32 * inv_area,
+                e[1] as f32 * inv_area,
+                e[2] as f32 * inv_area,
+            ]
+        };
         // The covered pixels of a row are contiguous (the triangle is convex).
         let Some((first, last)) = covered_span(&e_row, &tri.bias, &span_steps, x1 - x0) else {
             continue;
@@ -333,12 +342,7 @@ fn raster_packets<S: PixelShader>(
                 // A span's last few pixels wait for the next rows' to fill
                 // a packet (a small triangle's rows are all short).
                 for p in px..=last {
-                    let e = at(&e_row, (p - x0) as i64);
-                    let lf = [
-                        e[0] as f32 * inv_area,
-                        e[1] as f32 * inv_area,
-                        e[2] as f32 * inv_area,
-                    ];
+                    let lf = weights_at(p);
                     if (!cut || alpha.coverage(tri, shader, ctx, lf).is_some())
                         && band.depth.passes(row + p, lf, tri, false, counters)
                         && tails.push(lf, row + p)
@@ -355,12 +359,7 @@ fn raster_packets<S: PixelShader>(
                 l = inside_weights(at(&e_row, (px - x0) as i64), &steps, inv_area);
             } else {
                 for lane in 0..lanes {
-                    let e = at(&e_row, (px + lane - x0) as i64);
-                    let lf = [
-                        e[0] as f32 * inv_area,
-                        e[1] as f32 * inv_area,
-                        e[2] as f32 * inv_area,
-                    ];
+                    let lf = weights_at(px + lane);
                     if alpha.coverage(tri, shader, ctx, lf).is_none() {
                         live &= !(1 << lane);
                         continue;

@@ -558,12 +558,12 @@ impl<'s> FramePlans<'s> {
     /// off: such objects take their plan with the vertex colours off and
     /// `PLAIN_ALBEDO` as their colour.
     fn plain_invented_colours(&mut self, scene: &Scene) {
-        let mut whitened: Vec<(usize, usize)> = Vec::new();
+        let mut plain: Vec<(usize, usize)> = Vec::new();
         for (object, group) in scene.objects.iter().zip(self.of_object.iter_mut()) {
             if !object.mesh.colours_invented {
                 continue;
             }
-            *group = match whitened.iter().find(|(g, _)| g == group) {
+            *group = match plain.iter().find(|(g, _)| g == group) {
                 Some(&(_, k)) => k,
                 None => {
                     let plan = Plan {
@@ -573,7 +573,7 @@ impl<'s> FramePlans<'s> {
                     };
                     self.plans.push(plan);
                     self.textures.push(self.textures[*group]);
-                    whitened.push((*group, self.plans.len() - 1));
+                    plain.push((*group, self.plans.len() - 1));
                     self.plans.len() - 1
                 }
             };
