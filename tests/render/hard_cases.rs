@@ -392,6 +392,69 @@ fn the_same_bits_for_any_number_of_threads() {
     }
 }
 
+/// A closed UV sphere of 128 × 64 cells (16,384 triangles, about half of
+/// them facing the camera): enough that the triangle stage cuts it into
+/// chunks on two threads and more (`render::triangles`). Joined, they must
+/// give the one-thread frame, bit for bit, in every shading.
+#[test]
+fn a_big_mesh_gives_the_same_bits_for_any_number_of_threads() {
+    use std::f32::consts::PI;
+    let (segments, rings) = (128u32, 64u32);
+    let mut vertices = Vec::new();
+    for j in 0..=rings {
+        let theta = PI * j as f32 / rings as f32;
+        for i in 0..=segments {
+            let phi = 2.0 * PI * i as f32 / segments as f32;
+            let n = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
+            vertices.push(vertex(n * 1.2, n));
+        }
+    }
+    let mut triangles = Vec::new();
+    for j in 0..rings {
+        for i in 0..segments {
+            let a = j * (segments + 1) + i;
+            let c = a + segments + 1;
+            triangles.push([a, a + 1, c]);
+            triangles.push([a + 1, c + 1, c]);
+        }
+    }
+    let mut scene = mesh_scene(vertices, triangles);
+    scene.objects[0].mesh.closed = true;
+    for settings in [
+        Settings::default(),
+        Settings {
+            shading: Shading::Gouraud,
+            ..Settings::default()
+        },
+        Settings {
+            shading: Shading::Flat,
+            ..Settings::default()
+        },
+    ] {
+        let frames: Vec<_> = [1, 2, 3, 8]
+            .iter()
+            .map(|&n| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .unwrap();
+                pool.install(|| render(&scene, &settings, 320, 240))
+            })
+            .collect();
+        let (first, stats) = &frames[0];
+        // Thousands of the sphere's triangles are drawn.
+        assert!(stats.counters.triangles_drawn > 3_000, "{stats:?}");
+        for (fb, other) in &frames[1..] {
+            assert_eq!(fb, first);
+            assert_eq!(other.counters, stats.counters);
+        }
+    }
+}
+
 #[test]
 fn resizing_a_reused_renderer_gives_the_same_frame_as_a_fresh_one() {
     let scene = reference_scene(true);

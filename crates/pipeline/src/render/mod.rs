@@ -18,7 +18,7 @@ use bands::depth_first_pays;
 pub use dispatch::{draw_owned_triangle, draw_triangle};
 pub use progress::{FrameProgress, FrameStep};
 use repeat_cache::RepeatCache;
-use triangles::{ObjectView, TriChunk, run_chunks};
+use triangles::{ObjectView, TriChunk, join_chunks, run_chunks};
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -385,14 +385,14 @@ impl Renderer {
             };
             // Joined in triangle order, each chunk's shader indices moved
             // past the shaders before it.
-            for chunk in run_chunks(&mut self.chunks, &view) {
-                if plans.plans.len() > 1 {
-                    let count = chunk.shaders.len();
-                    self.shader_groups
-                        .extend(std::iter::repeat_n(group as u32, count));
-                }
-                chunk.move_into(&mut self.tris, &mut self.shaders, &mut self.wire);
+            let chunks = run_chunks(&mut self.chunks, &view);
+            for chunk in chunks.iter() {
                 counters += chunk.counters;
+            }
+            let added = join_chunks(chunks, &mut self.tris, &mut self.shaders, &mut self.wire);
+            if plans.plans.len() > 1 {
+                self.shader_groups
+                    .extend(std::iter::repeat_n(group as u32, added));
             }
         }
         self.order_blended(plans);

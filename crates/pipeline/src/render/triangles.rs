@@ -1,8 +1,10 @@
 //! The main pass's triangle stage: each triangle of an object culled,
-//! clipped, set up and given its shader. A big mesh is cut into chunks of
-//! consecutive triangles done in parallel, each into buffers of its own
-//! (kept from frame to frame), then joined in triangle order: the frame
-//! draws the same triangles in the same order on any number of threads.
+//! clipped, set up and given its shader. On several threads a mesh with
+//! enough triangles facing the camera is cut into chunks of consecutive
+//! triangles, as many facing ones in each, done in parallel into buffers
+//! of their own (kept from frame to frame), then joined in triangle order:
+//! the frame draws the same triangles in the same order on any number of
+//! threads.
 
 use std::ops::Range;
 
@@ -23,9 +25,14 @@ use relief_scene::Object;
 use relief_scene::repeats::RepeatSkipper;
 use relief_scene::world::Placed;
 
-/// Triangles per chunk: enough that a chunk's bookkeeping is small next to
-/// its work, few enough that two threads share a million triangles evenly.
-const CHUNK: usize = 16_384;
+/// Chunks of the triangle stage per thread: a few, so a thread that
+/// finishes first takes another, but each one more is copied when the
+/// chunks are joined.
+const CHUNKS_PER_THREAD: usize = 2;
+
+/// Triangles the camera faces in a chunk, at least: fewer are done faster
+/// on one thread than handed to another.
+const MIN_CHUNK: usize = 1_024;
 
 /// One object as the triangle stage reads it: its placing, its vertices as
 /// the view projected them, and the frame's settings for it.
@@ -61,33 +68,6 @@ pub(super) struct TriChunk {
 }
 
 impl TriChunk {
-    /// Moves the chunk's triangles, shaders and lines to the end of the
-    /// frame's, its shader indices shifted past the shaders before it.
-    pub(super) fn move_into(
-        &mut self,
-        tris: &mut Vec<ScreenTri>,
-        shaders: &mut Vec<TriShader>,
-        wire: &mut Vec<WireTri>,
-    ) {
-        if tris.is_empty() && shaders.is_empty() && wire.is_empty() {
-            // The frame's first triangles are taken whole, not copied: a
-            // small mesh is one chunk, and its shaders (252 bytes) and
-            // screen triangles (168) are most of what it moves. Each side
-            // keeps its capacity.
-            std::mem::swap(tris, &mut self.tris);
-            std::mem::swap(shaders, &mut self.shaders);
-            std::mem::swap(wire, &mut self.wire);
-            return;
-        }
-        let offset = shaders.len() as u32;
-        tris.extend(self.tris.drain(..).map(|mut t| {
-            t.shader += offset;
-            t
-        }));
-        shaders.append(&mut self.shaders);
-        wire.append(&mut self.wire);
-    }
-
     fn clear(&mut self) {
         self.tris.clear();
         self.shaders.clear();
@@ -219,18 +199,16 @@ pub(super) fn run_chunks<'c>(
     chunks: &'c mut Vec<TriChunk>,
     view: &ObjectView,
 ) -> &'c mut [TriChunk] {
-    let n = view.object.mesh.triangles.len();
-    let count = n.div_ceil(CHUNK).max(1);
+    let bounds = chunk_bounds(&view.placed.sides, rayon::current_num_threads());
+    let count = bounds.len() - 1;
     if chunks.len() < count {
         chunks.resize_with(count, TriChunk::default);
     }
     let used = &mut chunks[..count];
-    let range = |c: usize| c * CHUNK..((c + 1) * CHUNK).min(n);
-    if count == 1 || rayon::current_num_threads() == 1 {
-        for (c, chunk) in used.iter_mut().enumerate() {
-            chunk.clear();
-            chunk.run(view, range(c));
-        }
+    let range = |c: usize| bounds[c]..bounds[c + 1];
+    if count == 1 {
+        used[0].clear();
+        used[0].run(view, range(0));
     } else {
         used.par_iter_mut().enumerate().for_each(|(c, chunk)| {
             chunk.clear();
@@ -238,4 +216,96 @@ pub(super) fn run_chunks<'c>(
         });
     }
     used
+}
+
+/// Where the triangles (whose sides are `sides`, 0 for culled) are cut
+/// into chunks for `threads` threads: one chunk on one thread (nothing to
+/// join) or for a small mesh; else up to [`CHUNKS_PER_THREAD`] per thread,
+/// each with about as many triangles the camera faces (a culled one costs
+/// next to nothing, a faced one its setup and shader).
+fn chunk_bounds(sides: &[i8], threads: usize) -> Vec<usize> {
+    let n = sides.len();
+    if threads <= 1 {
+        return vec![0, n];
+    }
+    let faced = sides.iter().filter(|&&s| s != 0).count();
+    // A whole number of chunks per thread, so each thread gets as much.
+    let parts = threads * CHUNKS_PER_THREAD.min(faced / MIN_CHUNK / threads);
+    let mut bounds = vec![0];
+    if parts > 1 {
+        let mut seen = 0;
+        for (t, &side) in sides.iter().enumerate() {
+            seen += usize::from(side != 0);
+            let part = bounds.len();
+            if part < parts && seen * parts >= faced * part {
+                bounds.push(t + 1);
+            }
+        }
+    }
+    bounds.push(n);
+    bounds
+}
+
+/// Appends the chunks' triangles, shaders and lines to the frame's, in
+/// triangle order, each triangle's shader index shifted past the shaders
+/// before it; returns how many shaders were added. The first chunk is
+/// taken whole, not copied, when the frame has nothing yet (a small mesh
+/// is one chunk, and its shaders, 252 bytes each, and screen triangles,
+/// 168, are most of what it moves); each side keeps its capacity.
+pub(super) fn join_chunks(
+    chunks: &mut [TriChunk],
+    tris: &mut Vec<ScreenTri>,
+    shaders: &mut Vec<TriShader>,
+    wire: &mut Vec<WireTri>,
+) -> usize {
+    let base = shaders.len();
+    let mut skip = 0;
+    if tris.is_empty()
+        && shaders.is_empty()
+        && wire.is_empty()
+        && let Some(first) = chunks.first_mut()
+    {
+        std::mem::swap(tris, &mut first.tris);
+        std::mem::swap(shaders, &mut first.shaders);
+        std::mem::swap(wire, &mut first.wire);
+        skip = 1;
+    }
+    for chunk in &chunks[skip..] {
+        let offset = shaders.len() as u32;
+        tris.extend(chunk.tris.iter().map(|t| ScreenTri {
+            shader: t.shader + offset,
+            ..t.clone()
+        }));
+        shaders.extend_from_slice(&chunk.shaders);
+        wire.extend_from_slice(&chunk.wire);
+    }
+    shaders.len() - base
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Culled triangles (side 0) weigh nothing: chunks hold as many faced
+    /// triangles each, a whole number per thread, and cover every triangle
+    /// once, in order.
+    #[test]
+    fn chunks_share_the_faced_triangles_evenly() {
+        // 8,192 triangles, the first half culled, the second faced.
+        let sides: Vec<i8> = (0..8_192).map(|t| if t < 4_096 { 0 } else { 1 }).collect();
+        assert_eq!(chunk_bounds(&sides, 1), vec![0, 8_192]);
+        assert_eq!(chunk_bounds(&sides, 2), vec![0, 5_120, 6_144, 7_168, 8_192]);
+        // 4,096 faced triangles give three threads one chunk each.
+        let three = chunk_bounds(&sides, 3);
+        assert_eq!(three.len(), 4);
+        let faced = |w: &[usize]| sides[w[0]..w[1]].iter().filter(|&&s| s != 0).count();
+        for w in three.windows(2) {
+            assert!(w[0] < w[1]);
+            assert!(faced(w).abs_diff(4_096 / 3) <= 1, "{three:?}");
+        }
+        // Too few faced triangles to share.
+        let few: Vec<i8> = (0..100_000).map(|t| i8::from(t % 100 == 0)).collect();
+        assert_eq!(chunk_bounds(&few, 8), vec![0, 100_000]);
+        assert_eq!(chunk_bounds(&[], 4), vec![0, 0]);
+    }
 }
