@@ -3,6 +3,7 @@
 //! fits its map to, computed once per frame.
 
 use glam::{Mat3, Mat4, Vec3};
+use rayon::prelude::*;
 
 use super::{Mesh, Scene, normal_matrix};
 
@@ -15,20 +16,39 @@ pub struct Caster {
     pub radius: f32,
 }
 
-/// A sphere around `mesh` placed by `model`.
+/// Below this many vertices a sphere is found on one thread.
+const PARALLEL_MIN: usize = 16_384;
+
+/// A sphere around `mesh` placed by `model`: about the centre of its box,
+/// out to its farthest vertex. Found each frame (an animation moves the
+/// vertices), so a big mesh is swept on the threads; minima and maxima
+/// come out the same in any order.
 fn bounding_sphere(mesh: &Mesh, model: Mat4) -> Option<(Vec3, f32)> {
-    let first = mesh.vertices.first()?.position;
-    let (mut lo, mut hi) = (first, first);
-    for v in &mesh.vertices {
-        lo = lo.min(v.position);
-        hi = hi.max(v.position);
-    }
+    let vertices = &mesh.vertices;
+    let first = vertices.first()?.position;
+    let widen = |(lo, hi): (Vec3, Vec3), p: Vec3| (lo.min(p), hi.max(p));
+    let (lo, hi) = if vertices.len() < PARALLEL_MIN {
+        vertices
+            .iter()
+            .map(|v| v.position)
+            .fold((first, first), widen)
+    } else {
+        vertices
+            .par_iter()
+            .fold(|| (first, first), |b, v| widen(b, v.position))
+            .reduce(|| (first, first), |a, (lo, hi)| widen(widen(a, lo), hi))
+    };
     let centre = (lo + hi) * 0.5;
-    let radius = mesh
-        .vertices
-        .iter()
-        .map(|v| (v.position - centre).length())
-        .fold(0.0f32, f32::max);
+    // The farthest vertex by its squared distance, then one square root:
+    // the root is monotonic and correctly rounded, so the root of the
+    // largest square is the largest of the roots `length` would give.
+    let reach = |v: &super::Vertex| (v.position - centre).length_squared();
+    let reach = if vertices.len() < PARALLEL_MIN {
+        vertices.iter().map(reach).fold(0.0f32, f32::max)
+    } else {
+        vertices.par_iter().map(reach).reduce(|| 0.0, f32::max)
+    };
+    let radius = reach.sqrt();
     let linear = Mat3::from_mat4(model);
     let scale = [linear.x_axis, linear.y_axis, linear.z_axis]
         .iter()
@@ -107,4 +127,77 @@ pub fn enclose(casters: &[Caster]) -> Option<(Vec3, f32)> {
         .map(|c| c.centre.distance(centre) + c.radius)
         .fold(0.0f32, f32::max);
     Some((centre, radius.max(1e-3)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Face, Vertex};
+
+    /// The sphere as first written: the box's centre, then the largest of
+    /// every vertex's distance.
+    fn plain_sphere(mesh: &Mesh) -> (Vec3, f32) {
+        let first = mesh.vertices[0].position;
+        let (mut lo, mut hi) = (first, first);
+        for v in &mesh.vertices {
+            lo = lo.min(v.position);
+            hi = hi.max(v.position);
+        }
+        let centre = (lo + hi) * 0.5;
+        let radius = mesh
+            .vertices
+            .iter()
+            .map(|v| (v.position - centre).length())
+            .fold(0.0f32, f32::max);
+        (centre, radius)
+    }
+
+    fn scattered(count: usize) -> Mesh {
+        // A fixed scatter (a linear congruential sequence) in a box.
+        let mut state = 12_345u32;
+        let mut next = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32 * 6.0 - 2.5
+        };
+        let vertices: Vec<Vertex> = (0..count)
+            .map(|_| Vertex {
+                position: Vec3::new(next(), next(), next()),
+                normal: Vec3::Y,
+                uv: glam::Vec2::ZERO,
+                color: Vec3::ONE,
+                tangent_u: Vec3::X,
+                tangent_v: Vec3::Z,
+            })
+            .collect();
+        let faces: Vec<Face> = Vec::new();
+        Mesh::new(vertices, &faces, false, false)
+    }
+
+    /// One square root of the largest square, swept on any number of
+    /// threads, gives the very sphere of the distance-by-distance sweep.
+    #[test]
+    fn the_sphere_is_the_same_bits_on_any_threads() {
+        for count in [1, 7, 20_000, 70_001] {
+            let mesh = scattered(count);
+            let (centre, radius) = plain_sphere(&mesh);
+            for threads in [1, 2, 5] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let got = pool.install(|| bounding_sphere(&mesh, Mat4::IDENTITY));
+                let (c, r) = got.expect("a sphere");
+                assert_eq!(
+                    c.to_array().map(f32::to_bits),
+                    centre.to_array().map(f32::to_bits)
+                );
+                assert_eq!(
+                    r.to_bits(),
+                    radius.to_bits(),
+                    "{count} vertices, {threads} threads"
+                );
+            }
+        }
+        assert_eq!(bounding_sphere(&Mesh::default(), Mat4::IDENTITY), None);
+    }
 }
