@@ -355,6 +355,32 @@ fn degenerate_and_extreme_framebuffer_sizes() {
     assert!((ratio - 1.0).abs() < 0.01, "{ratio}");
 }
 
+/// Renders `scene` at `w`×`h` on 1, 2, 3 and 8 threads, checks every
+/// frame and its counters against one thread's, and returns its stats.
+fn same_on_any_threads(
+    scene: &Scene,
+    settings: &Settings,
+    w: usize,
+    h: usize,
+) -> relief_core::stats::FrameStats {
+    let frames: Vec<_> = [1, 2, 3, 8]
+        .iter()
+        .map(|&n| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap();
+            pool.install(|| render(scene, settings, w, h))
+        })
+        .collect();
+    let (first, stats) = &frames[0];
+    for (fb, other) in &frames[1..] {
+        assert_eq!(fb, first);
+        assert_eq!(other.counters, stats.counters);
+    }
+    *stats
+}
+
 #[test]
 fn the_same_bits_for_any_number_of_threads() {
     let scene = reference_scene(true);
@@ -375,20 +401,7 @@ fn the_same_bits_for_any_number_of_threads() {
             ..Settings::default()
         },
     ] {
-        let frames: Vec<_> = [1, 2, 3, 8]
-            .iter()
-            .map(|&n| {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(n)
-                    .build()
-                    .unwrap();
-                pool.install(|| render(&scene, &settings, 640, 480))
-            })
-            .collect();
-        for (fb, stats) in &frames[1..] {
-            assert_eq!(fb, &frames[0].0);
-            assert_eq!(stats.counters, frames[0].1.counters);
-        }
+        same_on_any_threads(&scene, &settings, 640, 480);
     }
 }
 
@@ -435,23 +448,9 @@ fn a_big_mesh_gives_the_same_bits_for_any_number_of_threads() {
             ..Settings::default()
         },
     ] {
-        let frames: Vec<_> = [1, 2, 3, 8]
-            .iter()
-            .map(|&n| {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(n)
-                    .build()
-                    .unwrap();
-                pool.install(|| render(&scene, &settings, 320, 240))
-            })
-            .collect();
-        let (first, stats) = &frames[0];
+        let stats = same_on_any_threads(&scene, &settings, 320, 240);
         // Thousands of the sphere's triangles are drawn.
         assert!(stats.counters.triangles_drawn > 3_000, "{stats:?}");
-        for (fb, other) in &frames[1..] {
-            assert_eq!(fb, first);
-            assert_eq!(other.counters, stats.counters);
-        }
     }
 }
 
