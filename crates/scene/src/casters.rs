@@ -26,27 +26,28 @@ const PARALLEL_MIN: usize = 16_384;
 fn bounding_sphere(mesh: &Mesh, model: Mat4) -> Option<(Vec3, f32)> {
     let vertices = &mesh.vertices;
     let first = vertices.first()?.position;
+    let parallel = vertices.len() >= PARALLEL_MIN;
     let widen = |(lo, hi): (Vec3, Vec3), p: Vec3| (lo.min(p), hi.max(p));
-    let (lo, hi) = if vertices.len() < PARALLEL_MIN {
-        vertices
-            .iter()
-            .map(|v| v.position)
-            .fold((first, first), widen)
-    } else {
+    let (lo, hi) = if parallel {
         vertices
             .par_iter()
             .fold(|| (first, first), |b, v| widen(b, v.position))
             .reduce(|| (first, first), |a, (lo, hi)| widen(widen(a, lo), hi))
+    } else {
+        vertices
+            .iter()
+            .map(|v| v.position)
+            .fold((first, first), widen)
     };
     let centre = (lo + hi) * 0.5;
     // The farthest vertex by its squared distance, then one square root:
     // the root is monotonic and correctly rounded, so the root of the
     // largest square is the largest of the roots `length` would give.
     let reach = |v: &super::Vertex| (v.position - centre).length_squared();
-    let reach = if vertices.len() < PARALLEL_MIN {
-        vertices.iter().map(reach).fold(0.0f32, f32::max)
-    } else {
+    let reach = if parallel {
         vertices.par_iter().map(reach).reduce(|| 0.0, f32::max)
+    } else {
+        vertices.iter().map(reach).fold(0.0f32, f32::max)
     };
     let radius = reach.sqrt();
     let linear = Mat3::from_mat4(model);
