@@ -8,9 +8,11 @@
 //! depths in the same order whatever the bands: the nearest wins, and of
 //! equal ones the first, as with one band.
 
+use std::borrow::Cow;
+
 use glam::{Mat4, Vec2, Vec3};
 use rayon::prelude::*;
-use wide::f32x8;
+use wide::{f32x4, f32x8};
 
 use relief_scene::Mesh;
 use relief_scene::repeats::RepeatSkipper;
@@ -99,11 +101,12 @@ const SETUP_CHUNK: usize = 16_384;
 
 /// Sets up `mesh` (object `object`) placed as `placed` into `out`, but for
 /// the triangles `repeats` (its repeated triangles) skips, the faces
-/// second-depth drops, and those that cover no texel centre's box; stops
-/// (returning false) as soon as `watch` says so. A big mesh is set up in
-/// chunks on the threads, each into its own buffer of `chunks` (kept from
-/// frame to frame), then joined in order: the same setups in the same
-/// order as on one thread.
+/// second-depth drops, and those that cover no texel centre; stops
+/// (returning false) as soon as `watch` says so. The vertices are projected
+/// once into `projected` (kept from frame to frame, as `chunks`: a big
+/// mesh's 16 MB a frame cost page faults). A big mesh is set up in chunks
+/// on the threads, each into its own buffer of `chunks`, then joined in
+/// order: the same setups in the same order as on one thread.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn set_up_mesh(
     map: &Target,
@@ -114,24 +117,49 @@ pub(super) fn set_up_mesh(
     watch: &dyn Watch,
     out: &mut Vec<Setup>,
     chunks: &mut Vec<Vec<Setup>>,
+    projected: &mut Vec<[f32; 3]>,
 ) -> bool {
     let size = map.size as f32;
-    // Per vertex: texel coordinates and 1/w (None when too near the light).
-    let project = |&world: &Vec3| {
+    // Per vertex: texel coordinates and 1/w; 1/w is 0 (never a real one,
+    // which is positive) when the vertex is too near the light or not finite.
+    let project = |world: &Vec3, out: &mut [f32; 3]| {
         let clip = map.view_proj * world.extend(1.0);
-        (clip.w > map.near * 0.5 && clip.is_finite()).then(|| {
+        *out = if clip.w > map.near * 0.5 && clip.is_finite() {
             let inv_w = 1.0 / clip.w;
             let x = (clip.x * inv_w * 0.5 + 0.5) * size;
             let y = (0.5 - clip.y * inv_w * 0.5) * size;
-            (x, y, inv_w, world)
-        })
+            [x, y, inv_w]
+        } else {
+            [0.0; 3]
+        };
     };
-    let projected: Vec<Option<(f32, f32, f32, Vec3)>> = if placed.positions.len() < SETUP_CHUNK {
-        placed.positions.iter().map(project).collect()
+    let positions = &placed.positions;
+    projected.clear();
+    projected.resize(positions.len(), [0.0; 3]);
+    if positions.len() < SETUP_CHUNK {
+        positions
+            .iter()
+            .zip(projected.iter_mut())
+            .for_each(|(w, p)| project(w, p));
     } else {
-        placed.positions.par_iter().map(project).collect()
-    };
+        let chunks = positions.par_chunks(SETUP_CHUNK);
+        chunks
+            .zip(projected.par_chunks_mut(SETUP_CHUNK))
+            .for_each(|(w, p)| w.iter().zip(p).for_each(|(w, p)| project(w, p)));
+    }
+    let projected = &projected[..];
     let triangles = &mesh.triangles;
+    // Every facet, for the second-depth cull: the frame's own when its
+    // world made them (a frame with a shadow pass does), else made here.
+    let facets: Cow<[Vec3]> = if !mesh.closed || placed.facets.len() == triangles.len() {
+        Cow::Borrowed(&placed.facets)
+    } else {
+        Cow::Owned(
+            (0..triangles.len())
+                .map(|t| placed.facet(mesh, t))
+                .collect(),
+        )
+    };
     let run = |range: std::ops::Range<usize>, out: &mut Vec<Setup>| -> bool {
         let first = repeats.partition_point(|&(r, _)| (r as usize) < range.start);
         let mut repeats = RepeatSkipper::new(&repeats[first..]);
@@ -142,20 +170,21 @@ pub(super) fn set_up_mesh(
             if i % CHECK_EVERY == CHECK_EVERY - 1 && watch.stop() {
                 return false;
             }
-            let [a, b, c] = triangles[i]
-                .indices
-                .map(|i| projected.get(i as usize).copied().flatten());
+            let indices = triangles[i].indices;
+            let [a, b, c] = indices.map(|i| projected.get(i as usize).copied());
             let (Some(a), Some(b), Some(c)) = (a, b, c) else {
                 continue;
             };
+            if a[2] == 0.0 || b[2] == 0.0 || c[2] == 0.0 {
+                continue;
+            }
             if mesh.closed {
                 // Second depth: keep the faces turned away from the light.
-                let n = placed.facet(mesh, i);
-                if n.dot(map.light - a.3) > 0.0 {
+                if facets[i].dot(map.light - positions[indices[0] as usize]) > 0.0 {
                     continue;
                 }
             }
-            let corners = [a, b, c].map(|(x, y, q, _)| (x, y, q));
+            let corners = [a, b, c].map(|[x, y, q]| (x, y, q));
             if let Some(s) = set_up(map.size, corners, object, i as u32) {
                 out.push(s);
             }
@@ -199,14 +228,112 @@ fn set_up(size: usize, corners: [(f32, f32, f32); 3], object: u32, triangle: u32
     let hi_x = (x0.max(x1).max(x2).ceil().min(size as f32)) as usize;
     let lo_y = y0.min(y1).min(y2).floor().max(0.0) as usize;
     let hi_y = (y0.max(y1).max(y2).ceil().min(size as f32)) as usize;
-    (lo_x < hi_x && lo_y < hi_y).then_some(Setup {
+    if lo_x >= hi_x || lo_y >= hi_y {
+        return None;
+    }
+    let setup = Setup {
         corners,
         area,
         rows: (lo_y as u16, hi_y as u16),
         columns: (lo_x as u16, hi_x as u16),
         object,
         triangle,
-    })
+    };
+    // Most triangles of a dense mesh cover a texel centre or none: one
+    // that covers none would write nothing, so it is not kept.
+    let small = (hi_x - lo_x) * (hi_y - lo_y) <= SMALL_BOX;
+    (!small || covers_a_centre(&setup)).then_some(setup)
+}
+
+/// Texels in a bounding box tested centre by centre at setup.
+const SMALL_BOX: usize = 4;
+
+/// Whether `t` (a box of at most [`SMALL_BOX`] texels) covers a texel
+/// centre of its box, tested as [`fill`] tests it (see [`SmallBox`]), so a
+/// triangle refused here is one `fill` would find outside every centre.
+fn covers_a_centre(t: &Setup) -> bool {
+    SmallBox::of(t).inside != 0
+}
+
+/// A box of at most [`SMALL_BOX`] texels, all at once, a texel per lane:
+/// lane k is texel (k mod w, k div w) of a box w texels wide. Each lane's
+/// weights are the operations [`fill`] makes on the same numbers (IEEE
+/// arithmetic rounds alike in any lane), so the same bits. A loop that
+/// stops at the first centre inside mispredicts on most triangles of a
+/// dense mesh; this has no branch.
+struct SmallBox {
+    /// The lanes whose texel centre is inside (bit k for lane k).
+    inside: u32,
+    weights: [f32x4; 3],
+    /// Each lane's texel: column and row offsets in the box.
+    steps: ([f32; 4], [f32; 4]),
+}
+
+impl SmallBox {
+    const STEPS: [([f32; 4], [f32; 4]); 5] = [
+        ([0.0; 4], [0.0; 4]),
+        ([0.0, 0.0, 0.0, 0.0], [0.0, 1.0, 2.0, 3.0]),
+        ([0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0]),
+        ([0.0, 1.0, 2.0, 0.0], [0.0, 0.0, 0.0, 1.0]),
+        ([0.0, 1.0, 2.0, 3.0], [0.0; 4]),
+    ];
+
+    #[inline]
+    fn of(t: &Setup) -> SmallBox {
+        let w = usize::from(t.columns.1 - t.columns.0);
+        let texels = w * usize::from(t.rows.1 - t.rows.0);
+        let steps = Self::STEPS[w.min(4)];
+        let [(x0, y0, _), (x1, y1, _), (x2, y2, _)] = t.corners;
+        let [x0, y0, x1, y1, x2, y2] = [x0, y0, x1, y1, x2, y2].map(f32x4::splat);
+        let inv_area = f32x4::splat(1.0 / t.area);
+        // Centres tx + 0.5 and ty + 0.5, exact in f32 (below 2^23).
+        let px = f32x4::splat(f32::from(t.columns.0) + 0.5) + f32x4::from(steps.0);
+        let py = f32x4::splat(f32::from(t.rows.0) + 0.5) + f32x4::from(steps.1);
+        let (dy0, dy1, dy2) = (y0 - py, y1 - py, y2 - py);
+        let b0 = ((x1 - px) * dy2 - (x2 - px) * dy1) * inv_area;
+        let b1 = ((x2 - px) * dy0 - (x0 - px) * dy2) * inv_area;
+        let b2 = f32x4::ONE - b0 - b1;
+        let outside = b0.simd_lt(f32x4::ZERO) | b1.simd_lt(f32x4::ZERO) | b2.simd_lt(f32x4::ZERO);
+        let inside = !outside.to_bitmask() & ((1 << texels) - 1);
+        SmallBox {
+            inside,
+            weights: [b0, b1, b2],
+            steps,
+        }
+    }
+}
+
+/// [`fill`] of a triangle whose box holds at most [`SMALL_BOX`] texels and
+/// has no mask, its rows `y0..y1` of the map's (`depth` and `owner` hold
+/// them): the same texels and depths, without a row loop.
+fn fill_small(depth: &mut [f32], owner: &mut [u32], size: usize, y0: usize, t: &Setup) -> u64 {
+    let lanes = SmallBox::of(t);
+    let mut inside = lanes.inside;
+    if inside == 0 {
+        return 0;
+    }
+    let [(_, _, q0), (_, _, q1), (_, _, q2)] = t.corners;
+    let [b0, b1, b2] = lanes.weights;
+    let q = b0 * f32x4::splat(q0) + b1 * f32x4::splat(q1) + b2 * f32x4::splat(q2);
+    let d = (f32x4::ONE / q).to_array();
+    let y1 = y0 + depth.len() / size;
+    let mut written = 0;
+    while inside != 0 {
+        let k = inside.trailing_zeros() as usize;
+        inside &= inside - 1;
+        let ty = usize::from(t.rows.0) + lanes.steps.1[k] as usize;
+        let tx = usize::from(t.columns.0) + lanes.steps.0[k] as usize;
+        if ty < y0 || ty >= y1 {
+            continue;
+        }
+        let at = (ty - y0) * size + tx;
+        if d[k] < depth[at] {
+            depth[at] = d[k];
+            owner[at] = t.object;
+            written += 1;
+        }
+    }
+    written
 }
 
 /// Fills the set-up triangles `tris` into the map, in parallel bands of
@@ -332,6 +459,12 @@ fn fill_band(
             return written;
         }
         let t = &tris[k as usize];
+        let small =
+            usize::from(t.columns.1 - t.columns.0) * usize::from(t.rows.1 - t.rows.0) <= SMALL_BOX;
+        if small && masks[t.object as usize].is_none() {
+            written += fill_small(depth, owner, size, y0, t);
+            continue;
+        }
         let mask = masks[t.object as usize].map(|(cutout, mesh)| {
             let indices = mesh.triangles[t.triangle as usize].indices;
             (cutout, indices.map(|i| mesh.vertices[i as usize].uv))
@@ -419,4 +552,110 @@ fn fill(
         }
     }
     written
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Random triangles of an 8×8 map with corners on a grid of quarter
+    /// texels (so corners and edges often fall on centres: slivers, edges
+    /// through centres), 1/w between 0.5 and 1, set up without refusing
+    /// any, their boxes at most `most` texels (`usize::MAX`: any).
+    fn quarter_grid_triangles(count: usize, most: usize) -> Vec<Setup> {
+        let mut state = 7u32;
+        let mut next = move || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            state >> 8
+        };
+        let mut tris = Vec::new();
+        while tris.len() < count {
+            let mut corner = || {
+                let mut coord = || 2.0 + (next() % 12) as f32 * 0.25;
+                (coord(), coord(), 0.5 + (next() % 64) as f32 / 128.0)
+            };
+            let corners = [corner(), corner(), corner()];
+            let [(x0, y0, _), (x1, y1, _), (x2, y2, _)] = corners;
+            let area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
+            if area.abs() <= 1e-12 {
+                continue;
+            }
+            let (lo_x, hi_x) = (x0.min(x1).min(x2).floor(), x0.max(x1).max(x2).ceil());
+            let (lo_y, hi_y) = (y0.min(y1).min(y2).floor(), y0.max(y1).max(y2).ceil());
+            let t = Setup {
+                corners,
+                area,
+                rows: (lo_y as u16, hi_y as u16),
+                columns: (lo_x as u16, hi_x as u16),
+                object: tris.len() as u32,
+                triangle: 0,
+            };
+            let texels = usize::from(t.columns.1 - t.columns.0) * usize::from(t.rows.1 - t.rows.0);
+            if texels <= most {
+                tris.push(t);
+            }
+        }
+        tris
+    }
+
+    /// A small triangle is refused at setup exactly when filling it would
+    /// write no texel: each random triangle set up with the test and filled
+    /// without it.
+    #[test]
+    fn a_refused_triangle_writes_nothing() {
+        let (mut refused, mut kept) = (0, 0);
+        for whole in quarter_grid_triangles(20_000, usize::MAX) {
+            let (mut depth, mut owner) = (vec![f32::INFINITY; 64], vec![u32::MAX; 64]);
+            let rows = usize::from(whole.rows.0)..usize::from(whole.rows.1);
+            let written = fill(&mut depth, &mut owner, 8, 0, rows, &whole, None);
+            match set_up(8, whole.corners, 0, 0) {
+                Some(_) => kept += 1,
+                None => {
+                    refused += 1;
+                    assert_eq!(written, 0, "{:?}", whole.corners);
+                }
+            }
+            let small = usize::from(whole.columns.1 - whole.columns.0)
+                * usize::from(whole.rows.1 - whole.rows.0)
+                <= SMALL_BOX;
+            if written > 0 && small {
+                assert!(covers_a_centre(&whole), "{:?}", whole.corners);
+            }
+        }
+        assert!(
+            refused > 1_000 && kept > 1_000,
+            "{refused} refused, {kept} kept"
+        );
+    }
+
+    /// A small box filled without a row loop writes the texels, depths and
+    /// owners the row loop writes, bit for bit, into the whole map and into
+    /// bands of rows that cut boxes in two: 5,000 random small triangles,
+    /// twenty at a time over each other on a clear map (so nearer and
+    /// farther ones meet).
+    #[test]
+    fn a_small_box_fills_as_the_row_loop_does() {
+        let tris = quarter_grid_triangles(5_000, SMALL_BOX);
+        let bits = |d: &[f32]| d.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        for (y0, y1) in [(0, 8), (0, 4), (4, 8), (3, 5)] {
+            let mut written = 0;
+            for group in tris.chunks(20) {
+                let clear = (
+                    vec![f32::INFINITY; (y1 - y0) * 8],
+                    vec![u32::MAX; (y1 - y0) * 8],
+                );
+                let (mut by_rows, mut at_once) = (clear.clone(), clear);
+                for t in group {
+                    let band = usize::from(t.rows.0).max(y0)..usize::from(t.rows.1).min(y1);
+                    let rows = fill(&mut by_rows.0, &mut by_rows.1, 8, y0, band, t, None);
+                    let once = fill_small(&mut at_once.0, &mut at_once.1, 8, y0, t);
+                    assert_eq!(rows, once, "rows {y0}..{y1}: {:?}", t.corners);
+                    written += rows;
+                }
+                assert_eq!(bits(&by_rows.0), bits(&at_once.0), "rows {y0}..{y1}");
+                assert_eq!(by_rows.1, at_once.1, "rows {y0}..{y1}");
+            }
+            assert!(written > 500, "rows {y0}..{y1}: {written} written");
+        }
+    }
 }

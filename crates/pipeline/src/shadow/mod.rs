@@ -64,6 +64,8 @@ pub struct ShadowMap {
     /// Per chunk of a big mesh's triangles, its setups, before they are
     /// joined into `setups` (kept from frame to frame).
     setup_chunks: Vec<Vec<depth::Setup>>,
+    /// Per vertex of the caster being set up: texel coordinates and 1/w.
+    projected: Vec<[f32; 3]>,
     bins: Vec<Vec<u32>>,
 }
 
@@ -195,6 +197,7 @@ impl ShadowMap {
                 watch,
                 &mut setups,
                 &mut self.setup_chunks,
+                &mut self.projected,
             );
             if !whole {
                 break;
