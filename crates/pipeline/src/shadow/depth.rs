@@ -43,10 +43,6 @@ const BANDS_PER_THREAD: usize = 8;
 /// the map faster than several.
 const PARALLEL_MIN_TEXELS: f64 = 32_768.0;
 
-/// Texel tests a band spends on a triangle's row besides its texels
-/// (finding its bounds), for sharing the rows out.
-const ROW_SETUP_TEXELS: f64 = 4.0;
-
 /// How the pass reports to whoever waits for it. Asked from the threads
 /// that fill the bands, so it must be cheap and thread-safe.
 pub trait Watch: Sync {
@@ -99,14 +95,110 @@ pub(super) type Masks<'a> = [Option<(&'a Cutout, &'a Mesh)>];
 /// consecutive triangles, in parallel, then joined in triangle order.
 const SETUP_CHUNK: usize = 16_384;
 
-/// Sets up `mesh` (object `object`) placed as `placed` into `out`, but for
-/// the triangles `repeats` (its repeated triangles) skips, the faces
+/// Rows per band of the fill and how many bands, fixed before the setup so
+/// that each chunk of triangles sorts its own into the bands as it sets
+/// them up (on the threads: nothing is left to join or sort on one).
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Bands {
+    rows: usize,
+    count: usize,
+}
+
+impl Bands {
+    /// The bands of a map of side `size` filled on `threads` threads:
+    /// [`BANDS_PER_THREAD`] of equal rows per thread, one band on one thread.
+    pub(super) fn for_map(size: usize, threads: usize) -> Bands {
+        let wanted = if threads > 1 {
+            threads * BANDS_PER_THREAD
+        } else {
+            1
+        };
+        let rows = size.div_ceil(wanted).max(1);
+        Bands {
+            rows,
+            count: size.div_ceil(rows),
+        }
+    }
+}
+
+/// Consecutive caster triangles set up by one task (kept from frame to
+/// frame, as its buffers).
+#[derive(Clone, Debug, Default)]
+struct SetupChunk {
+    setups: Vec<Setup>,
+    /// Per band (none with one band): the indices in `setups` of the
+    /// triangles whose rows cross it, in order.
+    bins: Vec<Vec<u32>>,
+    /// Half the sum of the setups' areas: about the texels their fill tests.
+    texels: f64,
+}
+
+impl SetupChunk {
+    fn clear(&mut self, bands: Bands) {
+        self.setups.clear();
+        self.texels = 0.0;
+        let bins = if bands.count > 1 { bands.count } else { 0 };
+        self.bins.resize_with(bins, Vec::new);
+        self.bins.iter_mut().for_each(Vec::clear);
+    }
+
+    fn push(&mut self, setup: Setup, bands: Bands) {
+        let k = self.setups.len() as u32;
+        self.texels += 0.5 * f64::from(setup.area.abs());
+        if bands.count > 1 {
+            // A setup's rows are not empty and end at the map's side.
+            let first = usize::from(setup.rows.0) / bands.rows;
+            let last = (usize::from(setup.rows.1) - 1) / bands.rows;
+            for bin in &mut self.bins[first..=last] {
+                bin.push(k);
+            }
+        }
+        self.setups.push(setup);
+    }
+}
+
+/// Every caster's triangles set up, chunk by chunk in the casters' order
+/// and each chunk's in triangle order, sorted into the fill's bands.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Setups {
+    chunks: Vec<SetupChunk>,
+    used: usize,
+    bands: Bands,
+}
+
+impl Setups {
+    /// Forgets the last frame's setups (keeping the buffers) for a map
+    /// filled in `bands`.
+    pub(super) fn start(&mut self, bands: Bands) {
+        self.used = 0;
+        self.bands = bands;
+    }
+
+    /// `count` more chunks, cleared, after those in use.
+    fn take(&mut self, count: usize) -> &mut [SetupChunk] {
+        let range = self.used..self.used + count;
+        if self.chunks.len() < range.end {
+            self.chunks.resize_with(range.end, SetupChunk::default);
+        }
+        self.used = range.end;
+        let chunks = &mut self.chunks[range];
+        chunks.iter_mut().for_each(|c| c.clear(self.bands));
+        chunks
+    }
+
+    fn in_use(&self) -> &[SetupChunk] {
+        &self.chunks[..self.used]
+    }
+}
+
+/// Sets up `mesh` (object `object`) placed as `placed` into `setups`, but
+/// for the triangles `repeats` (its repeated triangles) skips, the faces
 /// second-depth drops, and those that cover no texel centre; stops
 /// (returning false) as soon as `watch` says so. The vertices are projected
-/// once into `projected` (kept from frame to frame, as `chunks`: a big
-/// mesh's 16 MB a frame cost page faults). A big mesh is set up in chunks
-/// on the threads, each into its own buffer of `chunks`, then joined in
-/// order: the same setups in the same order as on one thread.
+/// once into `projected` (kept from frame to frame: a big mesh's 16 MB a
+/// frame cost page faults). On several threads a big mesh is set up in
+/// chunks of consecutive triangles, in parallel, each into a chunk of its
+/// own, which also sorts them into the fill's bands.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn set_up_mesh(
     map: &Target,
@@ -115,8 +207,7 @@ pub(super) fn set_up_mesh(
     object: u32,
     repeats: &[(u32, u32)],
     watch: &dyn Watch,
-    out: &mut Vec<Setup>,
-    chunks: &mut Vec<Vec<Setup>>,
+    setups: &mut Setups,
     projected: &mut Vec<[f32; 3]>,
 ) -> bool {
     let size = map.size as f32;
@@ -160,7 +251,8 @@ pub(super) fn set_up_mesh(
                 .collect(),
         )
     };
-    let run = |range: std::ops::Range<usize>, out: &mut Vec<Setup>| -> bool {
+    let bands = setups.bands;
+    let run = |range: std::ops::Range<usize>, out: &mut SetupChunk| -> bool {
         let first = repeats.partition_point(|&(r, _)| (r as usize) < range.start);
         let mut repeats = RepeatSkipper::new(&repeats[first..]);
         for i in range {
@@ -186,33 +278,21 @@ pub(super) fn set_up_mesh(
             }
             let corners = [a, b, c].map(|[x, y, q]| (x, y, q));
             if let Some(s) = set_up(map.size, corners, object, i as u32) {
-                out.push(s);
+                out.push(s, bands);
             }
         }
         true
     };
     let n = triangles.len();
-    let count = n.div_ceil(SETUP_CHUNK);
-    if count <= 1 || rayon::current_num_threads() == 1 {
-        return run(0..n, out);
+    if rayon::current_num_threads() == 1 || n <= SETUP_CHUNK {
+        return run(0..n, &mut setups.take(1)[0]);
     }
-    if chunks.len() < count {
-        chunks.resize_with(count, Vec::new);
-    }
-    let whole = chunks[..count]
+    let chunks = setups.take(n.div_ceil(SETUP_CHUNK));
+    chunks
         .par_iter_mut()
         .enumerate()
-        .map(|(c, chunk)| {
-            chunk.clear();
-            run(c * SETUP_CHUNK..((c + 1) * SETUP_CHUNK).min(n), chunk)
-        })
-        .all(|whole| whole);
-    if whole {
-        for chunk in &chunks[..count] {
-            out.extend_from_slice(chunk);
-        }
-    }
-    whole
+        .map(|(c, chunk)| run(c * SETUP_CHUNK..((c + 1) * SETUP_CHUNK).min(n), chunk))
+        .all(|whole| whole)
 }
 
 /// One triangle's setup, or None if it covers no texel centre's box (or
@@ -336,129 +416,77 @@ fn fill_small(depth: &mut [f32], owner: &mut [u32], size: usize, y0: usize, t: &
     written
 }
 
-/// Fills the set-up triangles `tris` into the map, in parallel bands of
-/// rows when there is enough to fill and more than one thread, keeping
-/// per texel the nearest depth (the first of equal ones) and its object;
-/// `bins` is scratch. Tells `watch` the visits to come, counts them and
-/// stops when it says so. Returns the texels written.
-pub(super) fn fill_all(
-    map: &mut Target,
-    tris: &[Setup],
-    masks: &Masks,
-    bins: &mut Vec<Vec<u32>>,
-    watch: &dyn Watch,
-) -> u64 {
+/// Fills the set-up triangles into the map, in parallel in the bands they
+/// were sorted into when there is enough to fill (else as one band),
+/// keeping per texel the nearest depth (the first of equal ones) and its
+/// object. Tells `watch` the visits to come, counts them and stops when it
+/// says so. Returns the texels written.
+pub(super) fn fill_all(map: &mut Target, setups: &Setups, masks: &Masks, watch: &dyn Watch) -> u64 {
     let size = map.size;
-    let threads = rayon::current_num_threads();
-    let bounds = if threads > 1 {
-        split(tris, size, threads * BANDS_PER_THREAD)
-    } else {
-        vec![0, size]
-    };
-    let bands = bounds.len() - 1;
-    if bands == 1 {
-        watch.start(tris.len() as u64);
-        let all = 0..tris.len() as u32;
-        return fill_band(map.depth, map.owner, size, 0, tris, all, masks, watch);
+    let chunks = setups.in_use();
+    let bands = setups.bands;
+    let texels: f64 = chunks.iter().map(|c| c.texels).sum();
+    if bands.count == 1 || texels < PARALLEL_MIN_TEXELS {
+        let visits = chunks.iter().map(|c| c.setups.len()).sum();
+        watch.start(visits as u64);
+        let all = chunks.iter().flat_map(|c| &c.setups);
+        return fill_band(map.depth, map.owner, size, 0, all, visits, masks, watch);
     }
-    // Each band's triangles, in the casters' order.
-    bins.resize_with(bands, Vec::new);
-    for bin in bins.iter_mut() {
-        bin.clear();
-    }
-    for (k, t) in tris.iter().enumerate() {
-        let (lo, hi) = (t.rows.0 as usize, t.rows.1 as usize);
-        let mut band = bounds.partition_point(|&b| b <= lo) - 1;
-        while band < bands && bounds[band] < hi {
-            bins[band].push(k as u32);
-            band += 1;
-        }
-    }
-    watch.start(bins.iter().map(|b| b.len() as u64).sum());
-    let mut depth: &mut [f32] = map.depth;
-    let mut owner: &mut [u32] = map.owner;
-    let mut jobs = Vec::with_capacity(bands);
-    for (b, bin) in bounds.windows(2).zip(bins.iter()) {
-        let rows = (b[1] - b[0]) * size;
-        let (d, rest_d) = std::mem::take(&mut depth).split_at_mut(rows);
-        let (o, rest_o) = std::mem::take(&mut owner).split_at_mut(rows);
-        (depth, owner) = (rest_d, rest_o);
-        jobs.push((b[0], d, o, bin));
-    }
-    jobs.par_iter_mut()
+    let visits = chunks
+        .iter()
+        .flat_map(|c| &c.bins)
+        .map(Vec::len)
+        .sum::<usize>();
+    watch.start(visits as u64);
+    let texels_per_band = bands.rows * size;
+    let depth = map.depth.par_chunks_mut(texels_per_band);
+    depth
+        .zip(map.owner.par_chunks_mut(texels_per_band))
+        .enumerate()
         .with_max_len(1)
-        .map(|(y0, d, o, bin)| {
-            let which = bin.iter().copied();
-            fill_band(d, o, size, *y0, tris, which, masks, watch)
+        .map(|(b, (depth, owner))| {
+            // The band's triangles, in the casters' order.
+            let tris = chunks
+                .iter()
+                .flat_map(|c| c.bins[b].iter().map(move |&k| &c.setups[k as usize]));
+            let visits = chunks.iter().map(|c| c.bins[b].len()).sum();
+            fill_band(
+                depth,
+                owner,
+                size,
+                b * bands.rows,
+                tris,
+                visits,
+                masks,
+                watch,
+            )
         })
         .sum()
 }
 
-/// Row bounds of at most `parts` bands of about equal filling work, from 0
-/// to `size`; one band when the whole is too little to share.
-fn split(tris: &[Setup], size: usize, parts: usize) -> Vec<usize> {
-    // A triangle's area spread evenly over its rows, plus a setup per row.
-    let mut delta = vec![0.0f64; size + 1];
-    let mut texels = 0.0;
-    for t in tris {
-        let (lo, hi) = (t.rows.0 as usize, t.rows.1 as usize);
-        let half = 0.5 * f64::from(t.area.abs());
-        texels += half;
-        let per_row = half / (hi - lo) as f64 + ROW_SETUP_TEXELS;
-        delta[lo] += per_row;
-        delta[hi] -= per_row;
-    }
-    if texels < PARALLEL_MIN_TEXELS {
-        return vec![0, size];
-    }
-    let mut before = Vec::with_capacity(size + 1);
-    let (mut sum, mut rate) = (0.0, 0.0);
-    before.push(0.0);
-    for d in &delta[..size] {
-        rate += d;
-        sum += f64::max(rate, 0.0);
-        before.push(sum);
-    }
-    let mut bounds = vec![0];
-    let mut y = 0;
-    for k in 1..parts {
-        let goal = sum * k as f64 / parts as f64;
-        while y < size && before[y] < goal {
-            y += 1;
-        }
-        if y > *bounds.last().unwrap_or(&0) && y < size {
-            bounds.push(y);
-        }
-    }
-    bounds.push(size);
-    bounds
-}
-
-/// Fills triangles `which` of `tris` into the band of rows starting at
-/// `y0` (`depth` and `owner` hold its rows), asking `watch` every
-/// [`CHECK_EVERY`] of them. Returns the texels written.
+/// Fills the triangles `tris` (`visits` of them) into the band of rows
+/// starting at `y0` (`depth` and `owner` hold its rows), asking `watch`
+/// every [`CHECK_EVERY`] of them. Returns the texels written.
 #[allow(clippy::too_many_arguments)]
-fn fill_band(
+fn fill_band<'a>(
     depth: &mut [f32],
     owner: &mut [u32],
     size: usize,
     y0: usize,
-    tris: &[Setup],
-    which: impl ExactSizeIterator<Item = u32>,
+    tris: impl Iterator<Item = &'a Setup>,
+    visits: usize,
     masks: &Masks,
     watch: &dyn Watch,
 ) -> u64 {
     let y1 = y0 + depth.len() / size;
-    let visits = which.len();
     let mut written = 0;
-    for (n, k) in which.enumerate() {
+    for (n, t) in tris.enumerate() {
         if n % CHECK_EVERY == CHECK_EVERY - 1 && {
             watch.advance(CHECK_EVERY);
             watch.stop()
         } {
             return written;
         }
-        let t = &tris[k as usize];
         let small =
             usize::from(t.columns.1 - t.columns.0) * usize::from(t.rows.1 - t.rows.0) <= SMALL_BOX;
         if small && masks[t.object as usize].is_none() {

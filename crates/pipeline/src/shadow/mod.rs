@@ -59,14 +59,9 @@ pub struct ShadowMap {
     /// Width of one texel at unit distance along the axis.
     texel_per_depth: f32,
     /// Scratch of the pass, kept for the next frame: the casters'
-    /// triangles set up, and each band's share of them.
-    setups: Vec<depth::Setup>,
-    /// Per chunk of a big mesh's triangles, its setups, before they are
-    /// joined into `setups` (kept from frame to frame).
-    setup_chunks: Vec<Vec<depth::Setup>>,
-    /// Per vertex of the caster being set up: texel coordinates and 1/w.
+    /// triangles set up and sorted into bands, and the vertices projected.
+    setups: depth::Setups,
     projected: Vec<[f32; 3]>,
-    bins: Vec<Vec<u32>>,
 }
 
 /// The shadow of one of the plan's lights, as the shaders see it.
@@ -178,8 +173,8 @@ impl ShadowMap {
             light: self.light,
             near: self.near,
         };
-        let mut setups = std::mem::take(&mut self.setups);
-        setups.clear();
+        let threads = rayon::current_num_threads();
+        self.setups.start(depth::Bands::for_map(size, threads));
         let mut masks = vec![None; scene.objects.len()];
         let mut whole = true;
         for caster in casters {
@@ -195,8 +190,7 @@ impl ShadowMap {
                 i as u32,
                 repeats.get(i).copied().unwrap_or(&[]),
                 watch,
-                &mut setups,
-                &mut self.setup_chunks,
+                &mut self.setups,
                 &mut self.projected,
             );
             if !whole {
@@ -204,10 +198,8 @@ impl ShadowMap {
             }
         }
         if whole {
-            counters.shadow_texels +=
-                depth::fill_all(&mut target, &setups, &masks, &mut self.bins, watch);
+            counters.shadow_texels += depth::fill_all(&mut target, &self.setups, &masks, watch);
         }
-        self.setups = setups;
         counters
     }
 
