@@ -450,12 +450,18 @@ impl Tails {
 /// The edge weights of eight pixels from the first one's edge values `e`:
 /// the edge values are integers below 2^53, exact in f64, so
 /// e + step·lane there rounds to f32 exactly as the integer does.
+// Loops, not `array::from_fn`: in one codegen unit the compiler kept
+// `from_fn`'s helper out of line here (9 % of the reference frame).
 #[inline(always)]
 fn inside_weights(e: [i64; 3], steps: &[(i64, i64); 3], inv_area: f32) -> [[f32; LANES]; 3] {
-    std::array::from_fn(|k| {
-        let (e, s) = (e[k] as f64, steps[k].0 as f64);
-        std::array::from_fn(|lane| (e + s * lane as f64) as f32 * inv_area)
-    })
+    let mut weights = [[0.0; LANES]; 3];
+    for ((weights, e), step) in weights.iter_mut().zip(e).zip(steps) {
+        let (e, s) = (e as f64, step.0 as f64);
+        for (lane, w) in weights.iter_mut().enumerate() {
+            *w = (e + s * lane as f64) as f32 * inv_area;
+        }
+    }
+    weights
 }
 
 /// Each live lane's footprint as `shade_at` computes it, from the lanes'
