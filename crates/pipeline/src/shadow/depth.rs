@@ -2,8 +2,8 @@
 //! just the nearest distance along the light's axis per texel.
 //!
 //! The casters' triangles are set up once (corners in texels, the rows
-//! they cover), then filled in bands of rows, in parallel when the map has
-//! enough to fill. Every band goes through its triangles in the casters'
+//! they cover) and sorted into bands of rows as they are, then the bands
+//! are filled, in parallel when the map has enough to fill. Every band goes through its triangles in the casters'
 //! order and a texel is in one band only, so each texel sees the same
 //! depths in the same order whatever the bands: the nearest wins, and of
 //! equal ones the first, as with one band.
@@ -85,14 +85,23 @@ pub(super) struct Setup {
     triangle: u32,
 }
 
+impl Setup {
+    /// Texels in its box: columns, and all of them.
+    fn box_texels(&self) -> (usize, usize) {
+        let columns = usize::from(self.columns.1 - self.columns.0);
+        (columns, columns * usize::from(self.rows.1 - self.rows.0))
+    }
+}
+
 // A triangle set up takes 56 bytes.
 const _: () = assert!(std::mem::size_of::<Setup>() == 56);
 
 /// The casters' alpha masks by object, with their meshes (for the UVs).
 pub(super) type Masks<'a> = [Option<(&'a Cutout, &'a Mesh)>];
 
-/// Triangles per task of the set-up: a big mesh is set up in chunks of
-/// consecutive triangles, in parallel, then joined in triangle order.
+/// Triangles per task of the set-up: on several threads a big mesh is set
+/// up in chunks of consecutive triangles, in parallel, each chunk kept
+/// apart and filled in its order.
 const SETUP_CHUNK: usize = 16_384;
 
 /// Rows per band of the fill and how many bands, fixed before the setup so
@@ -210,35 +219,8 @@ pub(super) fn set_up_mesh(
     setups: &mut Setups,
     projected: &mut Vec<[f32; 3]>,
 ) -> bool {
-    let size = map.size as f32;
-    // Per vertex: texel coordinates and 1/w; 1/w is 0 (never a real one,
-    // which is positive) when the vertex is too near the light or not finite.
-    let project = |world: &Vec3, out: &mut [f32; 3]| {
-        let clip = map.view_proj * world.extend(1.0);
-        *out = if clip.w > map.near * 0.5 && clip.is_finite() {
-            let inv_w = 1.0 / clip.w;
-            let x = (clip.x * inv_w * 0.5 + 0.5) * size;
-            let y = (0.5 - clip.y * inv_w * 0.5) * size;
-            [x, y, inv_w]
-        } else {
-            [0.0; 3]
-        };
-    };
-    let positions = &placed.positions;
-    projected.clear();
-    projected.resize(positions.len(), [0.0; 3]);
-    if positions.len() < SETUP_CHUNK {
-        positions
-            .iter()
-            .zip(projected.iter_mut())
-            .for_each(|(w, p)| project(w, p));
-    } else {
-        let chunks = positions.par_chunks(SETUP_CHUNK);
-        chunks
-            .zip(projected.par_chunks_mut(SETUP_CHUNK))
-            .for_each(|(w, p)| w.iter().zip(p).for_each(|(w, p)| project(w, p)));
-    }
-    let projected = &projected[..];
+    project_vertices(map, &placed.positions, projected);
+    let (positions, projected) = (&placed.positions, &projected[..]);
     let triangles = &mesh.triangles;
     // Every facet, for the second-depth cull: the frame's own when its
     // world made them (a frame with a shadow pass does), else made here.
@@ -295,8 +277,39 @@ pub(super) fn set_up_mesh(
         .all(|whole| whole)
 }
 
-/// One triangle's setup, or None if it covers no texel centre's box (or
-/// has no area, or NaN corners).
+/// Per world position of `positions`, into `projected`: its texel
+/// coordinates on `map` and 1/w, or 1/w = 0 (never a real one, which is
+/// positive) when it is too near the light or not finite. In parallel
+/// for a big mesh.
+fn project_vertices(map: &Target, positions: &[Vec3], projected: &mut Vec<[f32; 3]>) {
+    let size = map.size as f32;
+    let project = |world: &Vec3, out: &mut [f32; 3]| {
+        let clip = map.view_proj * world.extend(1.0);
+        *out = if clip.w > map.near * 0.5 && clip.is_finite() {
+            let inv_w = 1.0 / clip.w;
+            let x = (clip.x * inv_w * 0.5 + 0.5) * size;
+            let y = (0.5 - clip.y * inv_w * 0.5) * size;
+            [x, y, inv_w]
+        } else {
+            [0.0; 3]
+        };
+    };
+    projected.clear();
+    projected.resize(positions.len(), [0.0; 3]);
+    if positions.len() < SETUP_CHUNK {
+        let pairs = positions.iter().zip(projected.iter_mut());
+        pairs.for_each(|(w, p)| project(w, p));
+    } else {
+        let chunks = positions.par_chunks(SETUP_CHUNK);
+        chunks
+            .zip(projected.par_chunks_mut(SETUP_CHUNK))
+            .for_each(|(w, p)| w.iter().zip(p).for_each(|(w, p)| project(w, p)));
+    }
+}
+
+/// One triangle's setup, or None if it would write no texel: no area, NaN
+/// corners, a box off the map, or a box of at most [`SMALL_BOX`] texels
+/// none of whose centres it covers.
 fn set_up(size: usize, corners: [(f32, f32, f32); 3], object: u32, triangle: u32) -> Option<Setup> {
     let [(x0, y0, _), (x1, y1, _), (x2, y2, _)] = corners;
     let area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
@@ -360,8 +373,7 @@ impl SmallBox {
 
     #[inline]
     fn of(t: &Setup) -> SmallBox {
-        let w = usize::from(t.columns.1 - t.columns.0);
-        let texels = w * usize::from(t.rows.1 - t.rows.0);
+        let (w, texels) = t.box_texels();
         let steps = Self::STEPS[w.min(4)];
         let [(x0, y0, _), (x1, y1, _), (x2, y2, _)] = t.corners;
         let [x0, y0, x1, y1, x2, y2] = [x0, y0, x1, y1, x2, y2].map(f32x4::splat);
@@ -487,8 +499,7 @@ fn fill_band<'a>(
         } {
             return written;
         }
-        let small =
-            usize::from(t.columns.1 - t.columns.0) * usize::from(t.rows.1 - t.rows.0) <= SMALL_BOX;
+        let small = t.box_texels().1 <= SMALL_BOX;
         if small && masks[t.object as usize].is_none() {
             written += fill_small(depth, owner, size, y0, t);
             continue;
@@ -618,8 +629,7 @@ mod tests {
                 object: tris.len() as u32,
                 triangle: 0,
             };
-            let texels = usize::from(t.columns.1 - t.columns.0) * usize::from(t.rows.1 - t.rows.0);
-            if texels <= most {
+            if t.box_texels().1 <= most {
                 tris.push(t);
             }
         }
@@ -643,9 +653,7 @@ mod tests {
                     assert_eq!(written, 0, "{:?}", whole.corners);
                 }
             }
-            let small = usize::from(whole.columns.1 - whole.columns.0)
-                * usize::from(whole.rows.1 - whole.rows.0)
-                <= SMALL_BOX;
+            let small = whole.box_texels().1 <= SMALL_BOX;
             if written > 0 && small {
                 assert!(covers_a_centre(&whole), "{:?}", whole.corners);
             }
