@@ -159,6 +159,8 @@ fn start_loader(
 fn watched_renderer() -> anyhow::Result<(relief_pipeline::render::Renderer, frame_watch::FrameWatch)>
 {
     let mut renderer = relief_pipeline::render::Renderer::new();
+    // A dense model's shadow from its stand-in once that is made.
+    renderer.set_caster_lod(relief_pipeline::shadow::CasterLod::Background);
     let progress = Arc::new(relief_pipeline::render::FrameProgress::new());
     renderer.set_progress(Some(progress.clone()));
     let watch = frame_watch::FrameWatch {

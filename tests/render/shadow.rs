@@ -634,38 +634,9 @@ fn assert_same_on_more_threads(
 #[test]
 fn a_big_caster_is_set_up_the_same_on_one_thread_and_on_several() {
     use relief_scene::world::World;
-    use relief_scene::{Mesh, Triangle, Vertex};
+    use relief_scene::{Mesh, Triangle};
     let mut scene = shadow_scene();
-    let (rings, segments) = (121u32, 240u32);
-    let mut vertices = Vec::new();
-    for i in 0..=rings {
-        let theta = std::f32::consts::PI * i as f32 / rings as f32;
-        for j in 0..segments {
-            let phi = std::f32::consts::TAU * j as f32 / segments as f32;
-            let p = Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                theta.sin() * phi.sin(),
-            );
-            vertices.push(Vertex {
-                position: p * 0.8,
-                normal: p,
-                uv: glam::Vec2::ZERO,
-                color: Vec3::ONE,
-                tangent_u: Vec3::X,
-                tangent_v: Vec3::Y,
-            });
-        }
-    }
-    let at = |i: u32, j: u32| i * segments + j % segments;
-    let mut triangles = Vec::new();
-    for i in 0..rings {
-        for j in 0..segments {
-            let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
-            triangles.push(Triangle::new([a, c, b], true));
-            triangles.push(Triangle::new([a, d, c], true));
-        }
-    }
+    let (vertices, mut triangles) = sphere(121, 240, 0.0);
     let first: Vec<Triangle> = triangles[..500].to_vec();
     triangles.extend(first);
     assert!(triangles.len() > 3 * 16_384, "{}", triangles.len());
@@ -693,4 +664,180 @@ fn a_big_caster_is_set_up_the_same_on_one_thread_and_on_several() {
     let sphere_texels = one.1.iter().filter(|&&o| o == CUBE).count();
     assert!(sphere_texels > 10_000, "{sphere_texels}");
     assert_same_on_more_threads(&one, &draw);
+}
+
+/// A UV sphere of radius 0.8 with `rings` rings of `segments` vertices
+/// (poles included as rings of one place), its radius dented by
+/// `1 + dent·sin 7θ·sin 9φ`: its vertices and outward-wound triangles.
+fn sphere(
+    rings: u32,
+    segments: u32,
+    dent: f32,
+) -> (Vec<relief_scene::Vertex>, Vec<relief_scene::Triangle>) {
+    use relief_scene::{Triangle, Vertex};
+    let mut vertices = Vec::new();
+    for i in 0..=rings {
+        let theta = std::f32::consts::PI * i as f32 / rings as f32;
+        for j in 0..segments {
+            let phi = std::f32::consts::TAU * j as f32 / segments as f32;
+            let p = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
+            let radius = 0.8 * (1.0 + dent * (7.0 * theta).sin() * (9.0 * phi).sin());
+            vertices.push(Vertex {
+                position: p * radius,
+                normal: p,
+                uv: glam::Vec2::ZERO,
+                color: Vec3::ONE,
+                tangent_u: Vec3::X,
+                tangent_v: Vec3::Y,
+            });
+        }
+    }
+    let at = |i: u32, j: u32| i * segments + j % segments;
+    let mut triangles = Vec::new();
+    for i in 0..rings {
+        for j in 0..segments {
+            let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+            triangles.push(Triangle::new([a, c, b], true));
+            triangles.push(Triangle::new([a, d, c], true));
+        }
+    }
+    (vertices, triangles)
+}
+
+/// The shadow scene with its cube replaced by a dented sphere of 130 k
+/// triangles (closed, not convex): a dense caster, shadowing itself and
+/// the floor.
+fn dense_caster_scene() -> Scene {
+    let mut scene = shadow_scene();
+    let (vertices, triangles) = sphere(181, 360, 0.06);
+    assert!(triangles.len() >= relief_pipeline::shadow::LOD_MIN_TRIANGLES);
+    let mesh = relief_scene::Mesh::of_triangles(vertices, triangles, false, true);
+    scene.objects[CUBE as usize].mesh = mesh;
+    scene
+}
+
+/// A frame of `scene` at 320×240 drawn by a renderer whose shadow pass
+/// draws stand-ins as `mode` says, and the stand-in triangles it drew.
+fn frame_with(
+    renderer: &mut relief_pipeline::render::Renderer,
+    scene: &Scene,
+) -> (Framebuffer, usize) {
+    let mut fb = Framebuffer::new(320, 240);
+    renderer.render(scene, &Settings::default(), &mut fb);
+    (fb, renderer.stand_in_triangles())
+}
+
+/// A dense caster's stand-in draws the shadow map its mesh draws, but
+/// within the stand-in's error: of the texels both cover, nearly all are
+/// within a texel of the same depth; a texel only one covers lies next to
+/// the other's edge; the frame differs in a few pixels at the shadows'
+/// edges. And it is far fewer triangles.
+#[test]
+fn a_dense_casters_stand_in_draws_the_map_its_mesh_draws() {
+    use relief_pipeline::render::Renderer;
+    use relief_pipeline::shadow::CasterLod;
+    let scene = dense_caster_scene();
+    let plan = Plan::new(&scene, &Settings::default());
+    let light = plan.lights[plan.shadow_light.expect("a shadow pass")].position;
+    let casters = &plan.shadow_casters;
+    let (w, h) = (320, 240);
+    let mut exact = ShadowMap::new();
+    exact.render(&scene, plan.rotation, light, casters, w, h);
+    assert_eq!(exact.stand_in_triangles(), 0, "off by default");
+    let mut stood = ShadowMap::new();
+    stood.set_caster_lod(CasterLod::Wait);
+    stood.render(&scene, plan.rotation, light, casters, w, h);
+    let triangles = scene.objects[CUBE as usize].mesh.triangles.len();
+    let stand_in = stood.stand_in_triangles();
+    assert!(
+        stand_in > 0 && stand_in * 4 < triangles,
+        "{stand_in} of {triangles}"
+    );
+
+    let size = exact.size();
+    let ((e_depth, e_owner), (s_depth, _)) = (exact.texels(), stood.texels());
+    let covered = |d: &[f32], x: usize, y: usize| d[y * size + x].is_finite();
+    let next_to_edge = |x: usize, y: usize| {
+        let here = covered(e_depth, x, y);
+        let (x0, y0) = (x.saturating_sub(1), y.saturating_sub(1));
+        (y0..=(y + 1).min(size - 1))
+            .any(|ny| (x0..=(x + 1).min(size - 1)).any(|nx| covered(e_depth, nx, ny) != here))
+    };
+    let (mut both, mut near, mut one_only) = (0, 0, 0);
+    for y in 0..size {
+        for x in 0..size {
+            let at = y * size + x;
+            let (e, s) = (e_depth[at], s_depth[at]);
+            match (e.is_finite(), s.is_finite()) {
+                (true, true) => {
+                    both += 1;
+                    // 2 % of the sphere's radius.
+                    near += usize::from((e - s).abs() <= 0.016);
+                }
+                (false, false) => {}
+                _ => {
+                    one_only += 1;
+                    assert!(next_to_edge(x, y), "texel {x},{y} away from any edge");
+                }
+            }
+        }
+    }
+    let sphere_texels = e_owner.iter().filter(|&&o| o == CUBE).count();
+    assert!(sphere_texels > 20_000, "{sphere_texels}");
+    assert!(near * 100 >= both * 99, "{near} of {both} near");
+    assert!(
+        one_only * 100 < both,
+        "{one_only} covered by one only, {both} by both"
+    );
+
+    // The frame: a few pixels at the shadows' edges.
+    let (exact_frame, none) = frame_with(&mut Renderer::new(), &scene);
+    assert_eq!(none, 0);
+    let mut waiting = Renderer::new();
+    waiting.set_caster_lod(CasterLod::Wait);
+    let (stood_frame, drawn) = frame_with(&mut waiting, &scene);
+    assert!(drawn > 0);
+    let differ = exact_frame
+        .pixels()
+        .iter()
+        .zip(stood_frame.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(differ * 100 < w * h, "{differ} pixels differ");
+}
+
+/// In the background the first frame draws the exact casters and a later
+/// one, once the stand-in is made, draws the frame the waiting renderer
+/// draws.
+#[test]
+fn a_stand_in_made_in_the_background_comes_in_a_later_frame() {
+    use relief_pipeline::render::Renderer;
+    use relief_pipeline::shadow::CasterLod;
+    let scene = dense_caster_scene();
+    let mut waiting = Renderer::new();
+    waiting.set_caster_lod(CasterLod::Wait);
+    let (expected, _) = frame_with(&mut waiting, &scene);
+    let mut view = Renderer::new();
+    view.set_caster_lod(CasterLod::Background);
+    let (first, drawn) = frame_with(&mut view, &scene);
+    assert_eq!(drawn, 0, "the first frame does not wait");
+    assert_eq!(
+        first.pixels(),
+        frame_with(&mut Renderer::new(), &scene).0.pixels()
+    );
+    // Not a timing: the thread only has to finish at all.
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    loop {
+        let (frame, drawn) = frame_with(&mut view, &scene);
+        if drawn > 0 {
+            assert_eq!(frame.pixels(), expected.pixels());
+            break;
+        }
+        assert!(std::time::Instant::now() < deadline, "no stand-in made");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
 }

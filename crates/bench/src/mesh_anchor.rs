@@ -24,6 +24,7 @@ use super::anchors::AnchorRow;
 use relief_core::framebuffer::Framebuffer;
 use relief_core::settings::{Normals, Settings, Shading};
 use relief_pipeline::render::Renderer;
+use relief_pipeline::shadow::CasterLod;
 use relief_scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
 
 /// The frame sizes of the table: a 160×96-cell terminal's half blocks, and VGA.
@@ -119,6 +120,8 @@ pub fn measure(
                 let mut fb = Framebuffer::new(width, height);
                 let mut renderer = Renderer::new();
                 renderer.set_shadows(shadows);
+                // As the view draws once the stand-ins are made.
+                renderer.set_caster_lod(CasterLod::Wait);
                 // The second frame's time sets the count: the first also
                 // finds the mesh's repeated triangles.
                 let stats = pool.install(|| renderer.render(scene, &settings, &mut fb));
@@ -127,6 +130,12 @@ pub fn measure(
                 let first = start.elapsed();
                 if shadows && stats.counters.shadow_texels == 0 {
                     break; // no shadow map: the `mesh` rows already are these frames
+                }
+                let stand_ins = renderer.stand_in_triangles();
+                if shadows && stand_ins > 0 {
+                    progress(&format!(
+                        "anchors --model: {width}x{height}, {n} thread(s): the shadow map drawn from stand-ins of {stand_ins} triangles"
+                    ));
                 }
                 cells.push(Cell {
                     row: AnchorRow {

@@ -34,7 +34,7 @@ use crate::raster::frames::{DepthView, draw_tangent_frames};
 use crate::raster::setup::Projected;
 use crate::raster::wire::WireTri;
 use crate::shade::TriShader;
-use crate::shadow::{Shadow, ShadowMap};
+use crate::shadow::{CasterLod, Shadow, ShadowMap};
 use relief_core::framebuffer::{Framebuffer, Rgb};
 use relief_core::settings::ssaa_factor;
 use relief_core::settings::{AntiAlias, Display, Settings};
@@ -132,6 +132,20 @@ impl Renderer {
         self.no_shadows = !on;
     }
 
+    /// Whether the shadow pass draws a dense caster (of
+    /// `shadow::LOD_MIN_TRIANGLES` triangles or more, not cut out nor
+    /// deformed) by a simplified stand-in (docs/shadows.md, "Dense
+    /// casters"). Off by default: with [`CasterLod::Background`] what a
+    /// frame draws depends on whether the stand-in was made in time.
+    pub fn set_caster_lod(&mut self, mode: CasterLod) {
+        self.shadow.set_caster_lod(mode);
+    }
+
+    /// The triangles of the stand-ins the last frame's shadow pass drew.
+    pub fn stand_in_triangles(&self) -> usize {
+        self.shadow.stand_in_triangles()
+    }
+
     /// Draws `scene` into `fb` and says what it cost. Output is identical
     /// for any number of threads.
     pub fn render(
@@ -165,12 +179,12 @@ impl Renderer {
         let normal_mips_before = normal_mips_built(plan);
         // Supersampling draws k times larger, then box-filters down.
         let k = ssaa_factor(plan.aa, width, height);
+        let facets = self.pass_reads_facets(plan);
         // Taken out of `self` for the frame so the shaders can borrow it.
         let mut shadow_map = std::mem::take(&mut self.shadow);
         self.repeats.update(scene);
         // Every facet is made only for the shadow pass, which reads them all.
-        self.world
-            .place(scene, plan.rotation, plan.eye, self.draws_shadow_map(plan));
+        self.world.place(scene, plan.rotation, plan.eye, facets);
         let (shadow, mut counters) = shadow_pass(
             (!self.no_shadows).then_some(&mut shadow_map),
             scene,
@@ -261,11 +275,11 @@ impl Renderer {
     ) -> (&[ScreenTri], &[TriShader]) {
         let base = self.plan_of(scene, settings, width, height);
         let plans = FramePlans::new(scene, settings, base);
+        let plan = &plans.plans[0];
+        let facets = self.pass_reads_facets(plan);
         let mut shadow_map = std::mem::take(&mut self.shadow);
         self.repeats.update(scene);
-        let plan = &plans.plans[0];
-        self.world
-            .place(scene, plan.rotation, plan.eye, self.draws_shadow_map(plan));
+        self.world.place(scene, plan.rotation, plan.eye, facets);
         let (shadow, _) = shadow_pass(
             (!self.no_shadows).then_some(&mut shadow_map),
             scene,
@@ -324,6 +338,14 @@ impl Renderer {
     /// facet.
     fn draws_shadow_map(&self, plan: &Plan) -> bool {
         plan.shadow_light.is_some() && !self.no_shadows
+    }
+
+    /// Whether the frame of `plan` should make every facet for its shadow
+    /// pass: it draws a shadow map, and the last one drew a closed caster
+    /// as it is (the stand-ins' facets are their corners'; a pass that
+    /// finds a facet missing makes it).
+    fn pass_reads_facets(&self, plan: &Plan) -> bool {
+        self.draws_shadow_map(plan) && self.shadow.read_facets()
     }
 
     /// Projects the placed vertices (`self.world`, culled there), clips,

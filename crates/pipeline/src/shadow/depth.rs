@@ -19,6 +19,8 @@ use relief_scene::repeats::RepeatSkipper;
 use relief_scene::terms::Cutout;
 use relief_scene::world::Placed;
 
+use super::lod::Lod;
+
 /// What the pass draws into: the map's texels (`size × size`, row 0 at the
 /// top) and the light's view (the map keeps them; the pass needs no more).
 pub(super) struct Target<'a> {
@@ -219,19 +221,23 @@ pub(super) fn set_up_mesh(
     setups: &mut Setups,
     projected: &mut Vec<[f32; 3]>,
 ) -> bool {
-    project_vertices(map, &placed.positions, projected);
-    let (positions, projected) = (&placed.positions, &projected[..]);
+    let positions = &placed.positions;
+    project_vertices(map, positions.len(), |v| positions[v], projected);
+    let projected = &projected[..];
     let triangles = &mesh.triangles;
     // Every facet, for the second-depth cull: the frame's own when its
     // world made them (a frame with a shadow pass does), else made here.
     let facets: Cow<[Vec3]> = if !mesh.closed || placed.facets.len() == triangles.len() {
         Cow::Borrowed(&placed.facets)
-    } else {
+    } else if triangles.len() < SETUP_CHUNK {
         Cow::Owned(
             (0..triangles.len())
                 .map(|t| placed.facet(mesh, t))
                 .collect(),
         )
+    } else {
+        let all = (0..triangles.len()).into_par_iter();
+        Cow::Owned(all.map(|t| placed.facet(mesh, t)).collect())
     };
     let bands = setups.bands;
     let run = |range: std::ops::Range<usize>, out: &mut SetupChunk| -> bool {
@@ -265,7 +271,72 @@ pub(super) fn set_up_mesh(
         }
         true
     };
-    let n = triangles.len();
+    in_chunks(triangles.len(), setups, run)
+}
+
+/// Sets up the stand-in `lod` of a mesh (closed or not) placed as `placed`
+/// (object `object`), as [`set_up_mesh`] sets up the mesh itself but for
+/// the cull: a closed stand-in keeps the faces its corners, seen from the
+/// light, wind as the faces turned away from it do (the stand-in's facets
+/// are its corners'). Its vertices alone are projected.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn set_up_lod(
+    map: &Target,
+    lod: &Lod,
+    closed: bool,
+    placed: &Placed,
+    object: u32,
+    watch: &dyn Watch,
+    setups: &mut Setups,
+    projected: &mut Vec<[f32; 3]>,
+) -> bool {
+    let positions = &placed.positions;
+    let position = |k: usize| {
+        let v = lod.vertices[k] as usize;
+        positions.get(v).copied().unwrap_or(Vec3::NAN)
+    };
+    project_vertices(map, lod.vertices.len(), position, projected);
+    let projected = &projected[..];
+    let bands = setups.bands;
+    let run = |range: std::ops::Range<usize>, out: &mut SetupChunk| -> bool {
+        for i in range {
+            if i % CHECK_EVERY == CHECK_EVERY - 1 && watch.stop() {
+                return false;
+            }
+            let [a, b, c] = lod.triangles[i].map(|k| projected[k as usize]);
+            if a[2] == 0.0 || b[2] == 0.0 || c[2] == 0.0 {
+                continue;
+            }
+            if closed && !turned_away(a, b, c) {
+                continue;
+            }
+            let corners = [a, b, c].map(|[x, y, q]| (x, y, q));
+            if let Some(s) = set_up(map.size, corners, object, i as u32) {
+                out.push(s, bands);
+            }
+        }
+        true
+    };
+    in_chunks(lod.triangles.len(), setups, run)
+}
+
+/// Whether the triangle of map corners `a`, `b`, `c` (texels, row 0 at the
+/// top, each in front of the light) is a face turned away from the light:
+/// one whose corners wind counter-clockwise seen from behind, so clockwise
+/// on the map, whose rows run down.
+pub(super) fn turned_away(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> bool {
+    (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]) > 0.0
+}
+
+/// Runs `run` over triangles `0..n` into chunks taken from `setups`: one
+/// chunk on one thread or for a small mesh, else chunks of
+/// [`SETUP_CHUNK`] consecutive triangles in parallel. Whether every chunk
+/// ran to its end (none was stopped by the watch).
+fn in_chunks(
+    n: usize,
+    setups: &mut Setups,
+    run: impl Fn(std::ops::Range<usize>, &mut SetupChunk) -> bool + Sync,
+) -> bool {
     if rayon::current_num_threads() == 1 || n <= SETUP_CHUNK {
         return run(0..n, &mut setups.take(1)[0]);
     }
@@ -277,13 +348,18 @@ pub(super) fn set_up_mesh(
         .all(|whole| whole)
 }
 
-/// Per world position of `positions`, into `projected`: its texel
-/// coordinates on `map` and 1/w, or 1/w = 0 (never a real one, which is
-/// positive) when it is too near the light or not finite. In parallel
-/// for a big mesh.
-fn project_vertices(map: &Target, positions: &[Vec3], projected: &mut Vec<[f32; 3]>) {
+/// Per vertex `0..count`, whose world position is `position(k)`, into
+/// `projected`: its texel coordinates on `map` and 1/w, or 1/w = 0 (never
+/// a real one, which is positive) when it is too near the light or not
+/// finite. In parallel for a big mesh.
+fn project_vertices(
+    map: &Target,
+    count: usize,
+    position: impl Fn(usize) -> Vec3 + Sync,
+    projected: &mut Vec<[f32; 3]>,
+) {
     let size = map.size as f32;
-    let project = |world: &Vec3, out: &mut [f32; 3]| {
+    let project = |world: Vec3, out: &mut [f32; 3]| {
         let clip = map.view_proj * world.extend(1.0);
         *out = if clip.w > map.near * 0.5 && clip.is_finite() {
             let inv_w = 1.0 / clip.w;
@@ -294,16 +370,17 @@ fn project_vertices(map: &Target, positions: &[Vec3], projected: &mut Vec<[f32; 
             [0.0; 3]
         };
     };
+    let run = |start: usize, out: &mut [[f32; 3]]| {
+        let each = out.iter_mut().enumerate();
+        each.for_each(|(k, p)| project(position(start + k), p));
+    };
     projected.clear();
-    projected.resize(positions.len(), [0.0; 3]);
-    if positions.len() < SETUP_CHUNK {
-        let pairs = positions.iter().zip(projected.iter_mut());
-        pairs.for_each(|(w, p)| project(w, p));
+    projected.resize(count, [0.0; 3]);
+    if count < SETUP_CHUNK {
+        run(0, projected);
     } else {
-        let chunks = positions.par_chunks(SETUP_CHUNK);
-        chunks
-            .zip(projected.par_chunks_mut(SETUP_CHUNK))
-            .for_each(|(w, p)| w.iter().zip(p).for_each(|(w, p)| project(w, p)));
+        let chunks = projected.par_chunks_mut(SETUP_CHUNK).enumerate();
+        chunks.for_each(|(c, out)| run(c * SETUP_CHUNK, out));
     }
 }
 
@@ -561,7 +638,9 @@ fn fill(
                 let q = b0 * q0 + b1 * q1 + b2 * q2;
                 let d = f32x8::ONE / q;
                 // The lanes inside and nearer than their texel.
-                let mut nearer = if lanes == 8 {
+                // Eight texels of the row at once wherever the row has
+                // them (the lanes past the box are not inside).
+                let mut nearer = if tx + 8 <= size {
                     let texels: [f32; 8] = row[tx..tx + 8].try_into().unwrap_or([0.0; 8]);
                     inside & d.simd_lt(f32x8::from(texels)).to_bitmask()
                 } else {
@@ -634,6 +713,61 @@ mod tests {
             }
         }
         tris
+    }
+
+    /// A stand-in's cull by its corners' winding on the map keeps the faces
+    /// the mesh's cull by facets keeps: those turned away from the light.
+    /// Random triangles around the point the light looks at, 500 texels a
+    /// side, the light at several places.
+    #[test]
+    fn the_winding_on_the_map_tells_the_faces_turned_away() {
+        let mut state = 11u32;
+        let mut next = move || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1 << 24) as f32 * 2.0 - 1.0
+        };
+        let (mut away, mut toward) = (0, 0);
+        for light in [
+            Vec3::new(0.0, 0.0, 5.0),
+            Vec3::new(3.0, 4.0, -2.0),
+            Vec3::new(-1.0, 6.0, 0.5),
+        ] {
+            let near = light.length() - 1.5;
+            let proj = Mat4::perspective_rh_gl(0.8, 1.0, near, light.length() + 1.5);
+            let up = if light.cross(Vec3::Y).length_squared() > 1e-6 {
+                Vec3::Y
+            } else {
+                Vec3::X
+            };
+            let (mut depth, mut owner) = (Vec::new(), Vec::new());
+            let map = Target {
+                size: 500,
+                depth: &mut depth,
+                owner: &mut owner,
+                view_proj: proj * Mat4::look_at_rh(light, Vec3::ZERO, up),
+                light,
+                near,
+            };
+            for _ in 0..5_000 {
+                let corners: Vec<Vec3> =
+                    (0..3).map(|_| Vec3::new(next(), next(), next())).collect();
+                let facet = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+                let facing = facet.dot(light - corners[0]);
+                // Edge-on from the light: either answer is right.
+                if facing.abs() < 1e-3 * facet.length() * (light - corners[0]).length() {
+                    continue;
+                }
+                let mut projected = Vec::new();
+                project_vertices(&map, 3, |k| corners[k], &mut projected);
+                let is_away = turned_away(projected[0], projected[1], projected[2]);
+                assert_eq!(is_away, facing < 0.0, "{corners:?} from {light}");
+                if is_away { away += 1 } else { toward += 1 }
+            }
+        }
+        assert!(
+            away > 5_000 && toward > 5_000,
+            "{away} away, {toward} toward"
+        );
     }
 
     /// A small triangle is refused at setup exactly when filling it would

@@ -24,9 +24,11 @@
 //!   percentage-closer filter: 9 depth compares, soft one-texel edges.
 
 mod depth;
+mod lod;
 pub use depth::{CHECK_EVERY, Unwatched, Watch};
+pub use lod::{CasterLod, MIN_TRIANGLES as LOD_MIN_TRIANGLES};
 
-use glam::{Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec3};
 
 use relief_core::stats::Counters;
 use relief_scene::Scene;
@@ -58,6 +60,16 @@ pub struct ShadowMap {
     near: f32,
     /// Width of one texel at unit distance along the axis.
     texel_per_depth: f32,
+    /// Width of a texel where they are finest: on the casters' near side.
+    finest_texel: f32,
+    /// Whether dense casters are drawn by their stand-ins, the stand-ins
+    /// made, and how many triangles those drawn in the last pass had.
+    caster_lod: CasterLod,
+    lods: lod::LodCache,
+    stand_in_triangles: usize,
+    /// Whether the last pass drew a closed caster as it is (reading its
+    /// facets), or drew none yet.
+    read_facets: bool,
     /// Scratch of the pass, kept for the next frame: the casters'
     /// triangles set up and sorted into bands, and the vertices projected.
     setups: depth::Setups,
@@ -105,6 +117,24 @@ impl ShadowMap {
 
     pub fn size(&self) -> usize {
         self.size
+    }
+
+    /// Whether the pass draws dense casters by their stand-ins
+    /// (`shadow::lod`); off by default.
+    pub fn set_caster_lod(&mut self, mode: CasterLod) {
+        self.caster_lod = mode;
+    }
+
+    /// Whether the last pass read facets: it drew a closed caster as it is
+    /// (true before the first pass).
+    pub fn read_facets(&self) -> bool {
+        self.read_facets || self.size == 0
+    }
+
+    /// The triangles of the stand-ins the last pass drew (0: every caster
+    /// was drawn as it is).
+    pub fn stand_in_triangles(&self) -> usize {
+        self.stand_in_triangles
     }
 
     /// Per texel (row 0 at the top): the distance along the light's axis of
@@ -175,6 +205,8 @@ impl ShadowMap {
         };
         let threads = rayon::current_num_threads();
         self.setups.start(depth::Bands::for_map(size, threads));
+        self.stand_in_triangles = 0;
+        self.read_facets = false;
         let mut masks = vec![None; scene.objects.len()];
         let mut whole = true;
         for caster in casters {
@@ -183,16 +215,30 @@ impl ShadowMap {
             // A texel its alpha mask cuts out casts nothing.
             let cutout = scene.own_terms(i).and_then(|t| t.cutout.as_ref());
             masks[i] = cutout.map(|c| (c, mesh));
-            whole = depth::set_up_mesh(
-                &target,
-                mesh,
-                world.object(i),
-                i as u32,
-                repeats.get(i).copied().unwrap_or(&[]),
-                watch,
-                &mut self.setups,
-                &mut self.projected,
-            );
+            let placed = world.object(i);
+            let stand_in = if cutout.is_some() || deformed(scene, i) {
+                None
+            } else {
+                let error = lod::ERROR_TEXELS * self.finest_texel / stretch(placed.linear);
+                self.lods.get(i, mesh, error, self.caster_lod)
+            };
+            let (setups, projected) = (&mut self.setups, &mut self.projected);
+            whole = match &stand_in {
+                Some(lod) => {
+                    self.stand_in_triangles += lod.triangles.len();
+                    let (closed, object) = (mesh.closed, i as u32);
+                    depth::set_up_lod(
+                        &target, lod, closed, placed, object, watch, setups, projected,
+                    )
+                }
+                None => {
+                    self.read_facets |= mesh.closed;
+                    let repeats = repeats.get(i).copied().unwrap_or(&[]);
+                    depth::set_up_mesh(
+                        &target, mesh, placed, i as u32, repeats, watch, setups, projected,
+                    )
+                }
+            };
             if !whole {
                 break;
             }
@@ -227,9 +273,34 @@ impl ShadowMap {
         let proj = Mat4::perspective_rh_gl(2.0 * half_angle, 1.0, self.near, far);
         self.view_proj = proj * Mat4::look_at_rh(light, centre, up);
         self.texel_per_depth = 2.0 * half_angle.tan() / self.size as f32;
+        self.finest_texel = self.texel_per_depth * (distance - radius);
         true
     }
+}
 
+/// Whether object `i` of `scene` is deformed by an animation (a skin or
+/// morph targets): a stand-in made from one pose would stray from another.
+fn deformed(scene: &Scene, i: usize) -> bool {
+    let part = scene.motion.as_ref().and_then(|m| m.rig.parts.get(i));
+    part.is_some_and(|p| p.skin.is_some() || !p.targets.is_empty())
+}
+
+/// How far `linear` can stretch a length, at most: its scale when it is a
+/// rotation and one scale (a model's placing, as a rule), else the bound
+/// its entries give (the Frobenius norm).
+fn stretch(linear: Mat3) -> f32 {
+    let gram = linear.transpose() * linear;
+    let scale2 = gram.x_axis.x.max(gram.y_axis.y).max(gram.z_axis.z);
+    let off = gram - Mat3::from_diagonal(glam::Vec3::splat(scale2));
+    let similar = off.to_cols_array().iter().all(|v| v.abs() <= 1e-4 * scale2);
+    if similar {
+        scale2.sqrt()
+    } else {
+        (gram.x_axis.x + gram.y_axis.y + gram.z_axis.z).sqrt()
+    }
+}
+
+impl ShadowMap {
     /// Pass 2: the lit fraction (0..1) of the point `p` of object `object`
     /// whose geometric normal is `normal` (turned to the side seen), for
     /// the light the map was drawn from. A point whose geometric normal
