@@ -19,6 +19,8 @@
 //!   lookup (its smoothed normal may light it; its own surface blocks).
 //! - A caster with an alpha mask (glTF MASK, MTL `d`/`map_d`) writes only
 //!   the texels whose point the mask keeps, as the main pass draws it.
+//! - A dense caster (`lod`) is drawn by a simplified stand-in within
+//!   about half a texel, when the renderer is told to use them.
 //! - The lookup compares with a slope-scaled bias (one texel plus twice
 //!   tan θ texels, θ between the surface and the light) over a 3×3
 //!   percentage-closer filter: 9 depth compares, soft one-texel edges.
@@ -276,31 +278,6 @@ impl ShadowMap {
         self.finest_texel = self.texel_per_depth * (distance - radius);
         true
     }
-}
-
-/// Whether object `i` of `scene` is deformed by an animation (a skin or
-/// morph targets): a stand-in made from one pose would stray from another.
-fn deformed(scene: &Scene, i: usize) -> bool {
-    let part = scene.motion.as_ref().and_then(|m| m.rig.parts.get(i));
-    part.is_some_and(|p| p.skin.is_some() || !p.targets.is_empty())
-}
-
-/// How far `linear` can stretch a length, at most: its scale when it is a
-/// rotation and one scale (a model's placing, as a rule), else the bound
-/// its entries give (the Frobenius norm).
-fn stretch(linear: Mat3) -> f32 {
-    let gram = linear.transpose() * linear;
-    let scale2 = gram.x_axis.x.max(gram.y_axis.y).max(gram.z_axis.z);
-    let off = gram - Mat3::from_diagonal(glam::Vec3::splat(scale2));
-    let similar = off.to_cols_array().iter().all(|v| v.abs() <= 1e-4 * scale2);
-    if similar {
-        scale2.sqrt()
-    } else {
-        (gram.x_axis.x + gram.y_axis.y + gram.z_axis.z).sqrt()
-    }
-}
-
-impl ShadowMap {
     /// Pass 2: the lit fraction (0..1) of the point `p` of object `object`
     /// whose geometric normal is `normal` (turned to the side seen), for
     /// the light the map was drawn from. A point whose geometric normal
@@ -359,5 +336,53 @@ impl ShadowMap {
             }
         }
         lit as f32 / 9.0
+    }
+}
+
+/// Whether object `i` of `scene` is deformed by an animation (a skin or
+/// morph targets): a stand-in made from one pose would stray from another.
+fn deformed(scene: &Scene, i: usize) -> bool {
+    let part = scene.motion.as_ref().and_then(|m| m.rig.parts.get(i));
+    part.is_some_and(|p| p.skin.is_some() || !p.targets.is_empty())
+}
+
+/// How far `linear` can stretch a length, at most: its scale when it is a
+/// rotation and one scale (a model's placing, as a rule), else the bound
+/// its entries give (the Frobenius norm).
+fn stretch(linear: Mat3) -> f32 {
+    let gram = linear.transpose() * linear;
+    let scale2 = gram.x_axis.x.max(gram.y_axis.y).max(gram.z_axis.z);
+    let off = gram - Mat3::from_diagonal(glam::Vec3::splat(scale2));
+    let similar = off.to_cols_array().iter().all(|v| v.abs() <= 1e-4 * scale2);
+    if similar {
+        scale2.sqrt()
+    } else {
+        (gram.x_axis.x + gram.y_axis.y + gram.z_axis.z).sqrt()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A placing's stretch is its scale when it turns and scales evenly,
+    /// and never less than its largest stretch otherwise.
+    #[test]
+    fn a_placing_stretches_lengths_at_most_by_its_stretch() {
+        let turn = Mat3::from_rotation_y(0.7) * Mat3::from_rotation_x(-1.2);
+        assert!((stretch(turn * 2.5) - 2.5).abs() < 1e-5);
+        let uneven = turn * Mat3::from_diagonal(Vec3::new(1.0, 3.0, 0.5));
+        let largest = [Vec3::X, Vec3::Y, Vec3::Z, Vec3::ONE.normalize()]
+            .iter()
+            .map(|v| (uneven * *v).length())
+            .fold(0.0, f32::max);
+        assert!(
+            largest >= 2.99 && stretch(uneven) >= largest,
+            "{}",
+            stretch(uneven)
+        );
+        let shear = Mat3::from_cols(Vec3::X, Vec3::new(2.0, 1.0, 0.0), Vec3::Z);
+        let sheared = (shear * Vec3::new(1.0, 1.0, 0.0).normalize()).length();
+        assert!(stretch(shear) >= sheared, "{} < {sheared}", stretch(shear));
     }
 }
