@@ -12,7 +12,7 @@
 //! needs it ([`CasterLod::Wait`], for timings).
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
 use foldhash::HashMap;
 use glam::Vec3;
@@ -61,6 +61,9 @@ pub struct Lod {
     pub vertices: Vec<u32>,
     pub triangles: Vec<[u32; 3]>,
 }
+
+/// Held by the thread making a stand-in in the background.
+static MAKING: Mutex<()> = Mutex::new(());
 
 /// One mesh's stand-ins by level, made or being made.
 #[derive(Debug, Default)]
@@ -134,6 +137,9 @@ impl LodCache {
                 let copy = copy_of(mesh);
                 let levels = Arc::clone(&levels);
                 let made = move || {
+                    // One stand-in made at a time: a model of many dense
+                    // parts should not take every core from the view.
+                    let _turn = MAKING.lock().unwrap_or_else(PoisonError::into_inner);
                     levels.made[level].get_or_init(|| make(held, copy));
                 };
                 let spawned = std::thread::Builder::new()
