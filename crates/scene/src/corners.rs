@@ -80,7 +80,7 @@ fn position_key(p: Vec3) -> [u32; 3] {
 /// ids numbered in order of first appearance, and how many there are: what
 /// one pass with a hash table gives, found by sorting the keys with their
 /// indices in parallel instead (a key's run starts at its first index).
-pub(crate) fn position_ids(positions: &[Vec3]) -> (Vec<u32>, usize) {
+pub fn position_ids(positions: &[Vec3]) -> (Vec<u32>, usize) {
     // Key and index in one integer, the key above: sorting the integers
     // sorts by key, then index, with one comparison each.
     let mut keyed: Vec<u128> = positions

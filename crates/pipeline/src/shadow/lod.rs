@@ -14,11 +14,11 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
-use foldhash::HashMap;
 use glam::Vec3;
 
 use relief_core::budget::Reservation;
 use relief_scene::Mesh;
+use relief_scene::corners::position_ids;
 
 /// Below this many triangles a caster is drawn as it is: its setup costs
 /// less than making a stand-in would save.
@@ -68,7 +68,8 @@ static MAKING: Mutex<()> = Mutex::new(());
 /// One mesh's stand-ins by level, made or being made.
 #[derive(Debug, Default)]
 struct Levels {
-    /// The largest side of the mesh's box, in its own space.
+    /// The largest side of the mesh's box, in its own space (NaN: a
+    /// position is not finite).
     extent: f32,
     /// `None` inside: simplifying did not halve the triangles.
     made: [OnceLock<Option<Arc<Lod>>>; LEVELS],
@@ -105,7 +106,7 @@ impl LodCache {
         if mode == CasterLod::Off || mesh.triangles.len() < MIN_TRIANGLES {
             return None;
         }
-        let levels = self.levels(i, mesh)?;
+        let levels = self.levels(i, mesh);
         let level = level_for(error, levels.extent)?;
         if let Some(made) = levels.made[level].get() {
             return made.clone();
@@ -152,9 +153,8 @@ impl LodCache {
         }
     }
 
-    /// Object `i`'s entry, made again when its mesh's buffers changed;
-    /// `None` for a mesh with a position that is not finite.
-    fn levels(&mut self, i: usize, mesh: &Mesh) -> Option<Arc<Levels>> {
+    /// Object `i`'s entry, made again when its mesh's buffers changed.
+    fn levels(&mut self, i: usize, mesh: &Mesh) -> Arc<Levels> {
         if self.objects.len() <= i {
             self.objects.resize(i + 1, None);
         }
@@ -167,15 +167,14 @@ impl LodCache {
             sample(mesh),
         );
         match &self.objects[i] {
-            Some((k, levels)) if *k == key => Some(Arc::clone(levels)),
+            Some((k, levels)) if *k == key => Arc::clone(levels),
             _ => {
-                let extent = extent(mesh)?;
                 let levels = Arc::new(Levels {
-                    extent,
+                    extent: extent(mesh),
                     ..Levels::default()
                 });
                 self.objects[i] = Some((key, Arc::clone(&levels)));
-                Some(levels)
+                levels
             }
         }
     }
@@ -192,17 +191,21 @@ fn sample(mesh: &Mesh) -> u64 {
     hasher.finish()
 }
 
-/// The largest side of `mesh`'s box, or `None` when a position is not
-/// finite or the box is a point.
-fn extent(mesh: &Mesh) -> Option<f32> {
+/// The largest side of `mesh`'s box: NaN when a position is not finite,
+/// 0 when the box is a point (neither has a level: such a mesh is drawn
+/// as it is).
+fn extent(mesh: &Mesh) -> f32 {
     let mut lo = Vec3::splat(f32::INFINITY);
     let mut hi = Vec3::splat(f32::NEG_INFINITY);
     for v in &mesh.vertices {
         lo = lo.min(v.position);
         hi = hi.max(v.position);
     }
-    let extent = (hi - lo).max_element();
-    (extent.is_finite() && extent > 0.0 && lo.is_finite()).then_some(extent)
+    if lo.is_finite() && hi.is_finite() {
+        (hi - lo).max_element()
+    } else {
+        f32::NAN
+    }
 }
 
 /// The level whose error (a fraction of `extent`) is the largest at most
@@ -228,7 +231,7 @@ fn relative_error(level: usize) -> f32 {
 }
 
 /// A mesh's positions and triangles, as the simplifier reads them.
-type Mesh32 = (Vec<[f32; 3]>, Vec<[u32; 3]>);
+type Mesh32 = (Vec<Vec3>, Vec<[u32; 3]>);
 
 /// Bytes that making a stand-in of a mesh holds at its peak, per triangle
 /// and per vertex: the copy, the weld and the simplifier's own tables. The
@@ -247,36 +250,28 @@ fn reserve_for(mesh: &Mesh) -> Result<Reservation, relief_core::budget::BudgetEr
 /// The mesh's positions and triangles, for a simplification that may
 /// outlive the frame.
 fn copy_of(mesh: &Mesh) -> Mesh32 {
-    let positions = mesh.vertices.iter().map(|v| v.position.to_array());
+    let positions = mesh.vertices.iter().map(|v| v.position);
     let triangles = mesh.triangles.iter().map(|t| t.indices);
     (positions.collect(), triangles.collect())
 }
 
 /// `triangles` over `positions` simplified to within `relative` of the
 /// mesh's size (its box's largest side), or `None` when that does not
-/// halve them. Vertices at the same position are welded first: a file that
-/// repeats its corners per face, or splits them at a seam, is one surface,
-/// and the simplifier, which sees every vertex at a position, would keep
-/// such a place as a seam (a third of the collapses or more).
-pub fn simplify(positions: &[[f32; 3]], triangles: &[[u32; 3]], relative: f32) -> Option<Lod> {
+/// halve them. Vertices at the same position are welded first (the
+/// scene's `position_ids`): a file that repeats its corners per face, or
+/// splits them at a seam, is one surface, and the simplifier, which sees
+/// every vertex at a position, would keep such a place as a seam (a third
+/// of the collapses or more).
+pub fn simplify(positions: &[Vec3], triangles: &[[u32; 3]], relative: f32) -> Option<Lod> {
+    let (welded, count) = position_ids(positions);
     // Each distinct position once, and the first vertex there.
-    let mut distinct: HashMap<[u32; 3], u32> = HashMap::default();
-    let mut first_vertex = Vec::new();
-    let welded: Vec<u32> = (0..positions.len() as u32)
-        .map(|i| {
-            let next = first_vertex.len() as u32;
-            let id = *distinct
-                .entry(positions[i as usize].map(f32::to_bits))
-                .or_insert(next);
-            if id == next {
-                first_vertex.push(i);
-            }
-            id
-        })
-        .collect();
-    let points: Vec<[f32; 3]> = first_vertex
+    let mut first_vertex = vec![u32::MAX; count];
+    for (v, &id) in welded.iter().enumerate().rev() {
+        first_vertex[id as usize] = v as u32;
+    }
+    let points: Vec<Vec3> = first_vertex
         .iter()
-        .map(|&i| positions[i as usize])
+        .map(|&v| positions[v as usize])
         .collect();
     let indices: Option<Vec<u32>> = triangles
         .iter()
@@ -338,17 +333,17 @@ mod tests {
     }
 
     /// A UV sphere of unit radius: positions and triangles.
-    fn sphere(rings: u32, segments: u32) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+    fn sphere(rings: u32, segments: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
         let mut positions = Vec::new();
         for i in 0..=rings {
             let theta = std::f32::consts::PI * i as f32 / rings as f32;
             for j in 0..segments {
                 let phi = std::f32::consts::TAU * j as f32 / segments as f32;
-                let p = [
+                let p = Vec3::new(
                     theta.sin() * phi.cos(),
                     theta.cos(),
                     theta.sin() * phi.sin(),
-                ];
+                );
                 positions.push(p);
             }
         }
@@ -371,7 +366,7 @@ mod tests {
     #[test]
     fn a_triangle_soup_simplifies_as_its_indexed_mesh() {
         let (positions, triangles) = sphere(60, 120);
-        let soup_positions: Vec<[f32; 3]> = triangles
+        let soup_positions: Vec<Vec3> = triangles
             .iter()
             .flatten()
             .map(|&v| positions[v as usize])
@@ -399,7 +394,7 @@ mod tests {
             let lod = simplify(&positions, &triangles, relative).expect("halved");
             let mut worst = 0.0f32;
             for t in &lod.triangles {
-                let [a, b, c] = t.map(|k| Vec3::from(positions[lod.vertices[k as usize] as usize]));
+                let [a, b, c] = t.map(|k| positions[lod.vertices[k as usize] as usize]);
                 for p in [
                     (a + b + c) / 3.0,
                     (a + b) / 2.0,
