@@ -30,7 +30,7 @@ fn stage() -> Stage {
 
 /// A model file whose face points at a vertex that does not exist.
 fn bad_obj(name: &str) -> std::path::PathBuf {
-    let path = std::env::temp_dir().join(format!("relief-stage-{}-{name}", std::process::id()));
+    let path = crate::common::scratch::scratch_file(&format!("stage-{name}"));
     std::fs::write(&path, "v 0 0 0\nv 1 0 0\nf 1 2 7\n").unwrap();
     path
 }
@@ -334,7 +334,7 @@ fn grid_obj(name: &str, n: usize) -> std::path::PathBuf {
             writeln!(text, "f {a} {b} {c}\nf {a} {c} {d}").unwrap();
         }
     }
-    let path = std::env::temp_dir().join(format!("relief-load-{}-{name}", std::process::id()));
+    let path = crate::common::scratch::scratch_file(&format!("load-{name}"));
     std::fs::write(&path, text).unwrap();
     path
 }
@@ -580,7 +580,7 @@ fn another_model_asked_for_during_a_load_replaces_it() {
 /// the command line chose one dresses it at once.
 #[test]
 fn a_model_without_material_takes_a_texture_once_one_is_applied() {
-    let path = std::env::temp_dir().join(format!("relief-stage-{}-bare.obj", std::process::id()));
+    let path = crate::common::scratch::scratch_file("stage-bare.obj");
     std::fs::write(
         &path,
         "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\nf 1 2 3\nf 1 3 4\n",

@@ -204,7 +204,7 @@ fn quadrants(name: &str) -> PathBuf {
             fb.set(x, y, c);
         }
     }
-    let path = std::env::temp_dir().join(format!("relief-panel-{}-{name}", std::process::id()));
+    let path = crate::common::scratch::scratch_file(&format!("panel-{name}"));
     fb.save_png(&path).unwrap();
     path
 }

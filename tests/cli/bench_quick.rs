@@ -5,8 +5,7 @@ use relief_bench::BenchArgs;
 
 #[test]
 fn quick_bench_writes_table_csv_and_plot() {
-    let dir = std::env::temp_dir().join(format!("relief-bench-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch::scratch_dir("bench-test");
     let csv = dir.join("bench.csv");
     let plot = dir.join("bench.png");
     let args = BenchArgs {
@@ -116,8 +115,7 @@ fn quick_anchors_bench_prints_every_variant_and_thread_count() {
 /// A directory of this test's own (`tag`) holding `sphere.ply`, a UV
 /// sphere of 8 rings and 16 segments: the directory and the file's path.
 fn sphere_file(tag: &str) -> (std::path::PathBuf, std::path::PathBuf) {
-    let dir = std::env::temp_dir().join(format!("relief-bench-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch::scratch_dir(&format!("bench-{tag}"));
     let path = dir.join("sphere.ply");
     let ply = relief_bench::mesh_anchor::uv_sphere_ply(8, 16, 1.0, glam::Vec3::ZERO);
     std::fs::write(&path, ply).unwrap();

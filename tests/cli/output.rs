@@ -15,8 +15,7 @@ fn assert_plain(err: &str) {
 
 #[test]
 fn every_listed_out_extension_writes_a_picture_of_the_frame() {
-    let dir = std::env::temp_dir().join(format!("relief-out-ext-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch::scratch_dir("out-ext");
     for ext in ["png", "jpg", "bmp", "tga", "tif", "ppm", "qoi", "ff"] {
         let out = dir.join(format!("frame.{ext}"));
         let o = relief()

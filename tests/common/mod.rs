@@ -4,6 +4,7 @@
 use std::sync::Arc;
 
 pub mod minified;
+pub mod scratch;
 
 use relief_core::framebuffer::Framebuffer;
 use relief_core::settings::Settings;

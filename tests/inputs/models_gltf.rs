@@ -189,9 +189,7 @@ pub(super) fn png(w: u32, h: u32, rgba: impl Fn(u32, u32) -> [u8; 4]) -> Vec<u8>
 
 /// A temporary directory for this test's files.
 fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("relief-gltf-{}-{test}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::scratch::scratch_dir(&format!("gltf-{test}"))
 }
 
 pub(super) fn write(test: &str, name: &str, bytes: &[u8]) -> PathBuf {

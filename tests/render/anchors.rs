@@ -115,8 +115,7 @@ use relief_pipeline::render::Renderer;
 /// scale it to radius 1.5 at the origin), written as the harness writes it,
 /// rendered in the anchor view at 320×240 without shadows.
 fn sphere_frame(name: &str) -> (Framebuffer, relief_scene::Scene) {
-    let dir = std::env::temp_dir().join(format!("relief-mesh-anchor-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch::scratch_dir("mesh-anchor");
     let path = dir.join(format!("{name}.ply"));
     let centre = glam::Vec3::new(1.0, -2.0, 0.5);
     std::fs::write(&path, mesh_anchor::uv_sphere_ply(64, 128, 3.0, centre)).unwrap();

@@ -413,8 +413,7 @@ fn a_float_environment_keeps_its_radiance_and_a_texture_of_it_is_clamped() {
         9 => -3.0,
         _ => 0.5,
     };
-    let dir = std::env::temp_dir().join(format!("relief-env-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch::scratch_dir("env");
     let hdr = Rgb32FImage::from_fn(w, h, |x, _| image::Rgb([value(x); 3]));
     let exr = Rgba32FImage::from_fn(w, h, |x, _| {
         image::Rgba([value(x), value(x), value(x), 1.0])

@@ -42,8 +42,7 @@ fn box_obj(test: &str, lo: Vec3, hi: Vec3) -> PathBuf {
             q[0], q[1], q[2], q[0], q[2], q[3]
         );
     }
-    let dir = std::env::temp_dir().join(format!("relief-view-{}-{test}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch::scratch_dir(&format!("view-{test}"));
     let path = dir.join("model.obj");
     std::fs::write(&path, text).unwrap();
     path

@@ -134,8 +134,7 @@ pub fn solid_png(rgba: [u8; 4]) -> Vec<u8> {
 }
 
 pub fn write(test: &str, bytes: &[u8]) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("relief-pbr-{}-{test}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch::scratch_dir(&format!("pbr-{test}"));
     let path = dir.join("model.glb");
     std::fs::write(&path, bytes).unwrap();
     path
@@ -410,8 +409,7 @@ fn a_normal_map_shows_by_default_and_bump_off_removes_it() {
 
 /// An OBJ quad (z = 0, facing +Z, 2 × 2) with the MTL `mtl`.
 fn obj_model(test: &str, mtl: &str) -> Scene {
-    let dir = std::env::temp_dir().join(format!("relief-pbr-{}-{test}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch::scratch_dir(&format!("pbr-{test}"));
     std::fs::write(dir.join("quad.mtl"), format!("newmtl m\n{mtl}\n")).unwrap();
     let obj = "mtllib quad.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nusemtl m\nf 1//1 2//1 3//1\nf 1//1 3//1 4//1\n";
     let path = dir.join("quad.obj");

@@ -23,8 +23,7 @@ const SKY: f32 = 0.5;
 /// A UV sphere of radius 3 away from the origin (the fit moves and scales
 /// it to radius 1.5 at the origin), loaded as `--model` loads it.
 fn sphere_scene(name: &str) -> Scene {
-    let dir = std::env::temp_dir().join(format!("relief-pbr-anchor-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch::scratch_dir("pbr-anchor");
     let path = dir.join(format!("{name}.ply"));
     let centre = Vec3::new(1.0, -2.0, 0.5);
     std::fs::write(&path, mesh_anchor::uv_sphere_ply(64, 128, 3.0, centre)).unwrap();

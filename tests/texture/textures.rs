@@ -22,10 +22,7 @@ fn data(rel: &str) -> PathBuf {
 
 /// A fresh scratch directory for one test.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("relief-tex-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::scratch::fresh_scratch_dir(&format!("tex-{name}"))
 }
 
 /// Texel at column x, row y counted from the top (as in the image file).
