@@ -73,6 +73,9 @@ pub enum Msg {
     Shown(Instant),
     /// The model load of this number ended on its worker (see [`Loader`]).
     Loaded(u64),
+    /// A dense caster's shadow stand-in was made on its thread: the frame
+    /// on screen drew the exact casters, the next draws the stand-in.
+    StandInMade,
 }
 
 /// How the loop ended.
@@ -522,7 +525,7 @@ impl<W: Write, R: FnMut(&State, &mut Framebuffer) -> FrameStats> Looper<'_, W, R
                 self.load_finished(state, id);
                 frames.schedule.redraw();
             }
-            Msg::Resized => frames.schedule.redraw(),
+            Msg::Resized | Msg::StandInMade => frames.schedule.redraw(),
             Msg::InputClosed(why) => return Ok(Some(Exit::InputClosed(why))),
             Msg::Signal(sig) => return Ok(Some(Exit::Signal(sig))),
         }

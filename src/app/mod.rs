@@ -77,6 +77,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let (tx, rx) = mpsc::channel();
     let loader = start_loader(tx.clone(), &stage.borrow(), &cli, first_load, &mut state);
     let signals = spawn_signal_thread(tx.clone())?;
+    let stand_in_tx = tx.clone();
     // tmux and infocmp are asked before the terminal is set up.
     let settled = cli.color.is_none().then(depth::settled_here).flatten();
     let clues = relief_term::format::clues_here(cli.format);
@@ -89,7 +90,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     let mut backend = SgrBackend::new(GuardedStdout::new()?);
     backend.set_tolerance(cli.color_tolerance);
     let mut terminal = Terminal::new(backend)?;
-    let (mut renderer, watch) = watched_renderer()?;
+    let (mut renderer, watch) = watched_renderer(stand_in_tx)?;
     let mut looper = Looper {
         terminal: &mut terminal,
         render: |s: &State, fb: &mut relief_core::framebuffer::Framebuffer| {
@@ -156,11 +157,17 @@ fn start_loader(
 
 /// The renderer, with a long frame's progress counted by it and shown by
 /// the loop's watch.
-fn watched_renderer() -> anyhow::Result<(relief_pipeline::render::Renderer, frame_watch::FrameWatch)>
-{
+fn watched_renderer(
+    tx: mpsc::Sender<Msg>,
+) -> anyhow::Result<(relief_pipeline::render::Renderer, frame_watch::FrameWatch)> {
+    use relief_pipeline::shadow::{CasterLod, StandInReady};
     let mut renderer = relief_pipeline::render::Renderer::new();
-    // A dense model's shadow from its stand-in once that is made.
-    renderer.set_caster_lod(relief_pipeline::shadow::CasterLod::Background);
+    // A dense model's shadow from its stand-in once that is made, drawn as
+    // soon as it is.
+    renderer.set_caster_lod(CasterLod::Background);
+    renderer.set_stand_in_ready(Some(StandInReady(Arc::new(move || {
+        let _ = tx.send(Msg::StandInMade);
+    }))));
     let progress = Arc::new(relief_pipeline::render::FrameProgress::new());
     renderer.set_progress(Some(progress.clone()));
     let watch = frame_watch::FrameWatch {

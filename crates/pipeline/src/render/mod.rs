@@ -34,7 +34,7 @@ use crate::raster::frames::{DepthView, draw_tangent_frames};
 use crate::raster::setup::Projected;
 use crate::raster::wire::WireTri;
 use crate::shade::TriShader;
-use crate::shadow::{CasterLod, Shadow, ShadowMap};
+use crate::shadow::{CasterLod, Shadow, ShadowMap, StandInReady};
 use relief_core::framebuffer::{Framebuffer, Rgb};
 use relief_core::settings::ssaa_factor;
 use relief_core::settings::{AntiAlias, Display, Settings};
@@ -139,6 +139,12 @@ impl Renderer {
     /// frame draws depends on whether the stand-in was made in time.
     pub fn set_caster_lod(&mut self, mode: CasterLod) {
         self.shadow.set_caster_lod(mode);
+    }
+
+    /// What the thread that made a stand-in with [`CasterLod::Background`]
+    /// calls once it is there (the view draws again), if anything.
+    pub fn set_stand_in_ready(&mut self, ready: Option<StandInReady>) {
+        self.shadow.set_stand_in_ready(ready);
     }
 
     /// The triangles of the stand-ins the last frame's shadow pass drew.

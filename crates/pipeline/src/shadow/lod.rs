@@ -62,6 +62,17 @@ pub struct Lod {
     pub triangles: Vec<[u32; 3]>,
 }
 
+/// Called on the thread that made a stand-in in the background, once it
+/// is there: the view draws again to show it.
+#[derive(Clone)]
+pub struct StandInReady(pub Arc<dyn Fn() + Send + Sync>);
+
+impl std::fmt::Debug for StandInReady {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("StandInReady")
+    }
+}
+
 /// Held by the thread making a stand-in in the background.
 static MAKING: Mutex<()> = Mutex::new(());
 
@@ -90,6 +101,7 @@ const SAMPLED: usize = 64;
 #[derive(Clone, Debug, Default)]
 pub(super) struct LodCache {
     objects: Vec<Option<(Key, Arc<Levels>)>>,
+    pub(super) ready: Option<StandInReady>,
 }
 
 impl LodCache {
@@ -137,11 +149,15 @@ impl LodCache {
                 };
                 let copy = copy_of(mesh);
                 let levels = Arc::clone(&levels);
+                let ready = self.ready.clone();
                 let made = move || {
                     // One stand-in made at a time: a model of many dense
                     // parts should not take every core from the view.
                     let _turn = MAKING.lock().unwrap_or_else(PoisonError::into_inner);
-                    levels.made[level].get_or_init(|| make(held, copy));
+                    let made = levels.made[level].get_or_init(|| make(held, copy));
+                    if let (Some(_), Some(ready)) = (made, ready) {
+                        (ready.0)();
+                    }
                 };
                 let spawned = std::thread::Builder::new()
                     .name("relief-caster-lod".into())

@@ -28,7 +28,7 @@
 mod depth;
 mod lod;
 pub use depth::{CHECK_EVERY, Unwatched, Watch};
-pub use lod::{CasterLod, MIN_TRIANGLES as LOD_MIN_TRIANGLES};
+pub use lod::{CasterLod, MIN_TRIANGLES as LOD_MIN_TRIANGLES, StandInReady};
 
 use glam::{Mat3, Mat4, Vec3};
 
@@ -125,6 +125,11 @@ impl ShadowMap {
     /// (`shadow::lod`); off by default.
     pub fn set_caster_lod(&mut self, mode: CasterLod) {
         self.caster_lod = mode;
+    }
+
+    /// What to call when a stand-in made in the background is there.
+    pub fn set_stand_in_ready(&mut self, ready: Option<StandInReady>) {
+        self.lods.ready = ready;
     }
 
     /// Whether the last pass read facets: it drew a closed caster as it is
