@@ -51,6 +51,28 @@ fn shaded_physically(state: &State) -> bool {
     state.physical && s.shading == Shading::Phong && s.display == Display::Fill
 }
 
+/// The message refusing `h` on a model shaded physically where the height
+/// derivative changes nothing: no height map is read there, and its
+/// normal maps are read from their full-size level unless the filter reads
+/// mip levels and the derivative lets it (`texture::sample::filter::
+/// normal_reads_base`).
+fn derivative_unused(state: &State) -> Option<String> {
+    use relief_core::settings::Filter;
+    let s = &state.settings;
+    let why = if !s.bump {
+        "the model's normal maps are off (b)"
+    } else if matches!(s.filter, Filter::Nearest | Filter::Bilinear) {
+        "the model's normal maps are read from their full-size level with this filter \
+         (f: nearest-mip, trilinear or anisotropic read their mip levels)"
+    } else {
+        return None;
+    };
+    Some(format!(
+        "{}: {why}; unchanged",
+        relief_options::get(OptId::HeightDerivative).key_title()
+    ))
+}
+
 /// The message refusing `t` and `b` on a model file whose parts take no
 /// material until the user chooses a texture (`Scene::texture_reach`).
 fn no_texture(state: &State, id: OptId) -> Option<String> {
@@ -74,6 +96,10 @@ pub fn refusal(state: &State, action: &Action) -> Option<String> {
         Action::TogglePlasmaNormal => {
             Some("z (plasma normal): only in the plasma scene (p)".into())
         }
+        Action::Option {
+            id: OptId::HeightDerivative,
+            ..
+        } if shaded_physically(state) => derivative_unused(state),
         Action::Option { id, .. } if shaded_physically(state) && PHONG_ONLY.contains(id) => {
             Some(format!(
                 "{}: not used by the model's physical shading in Phong \

@@ -508,6 +508,62 @@ fn phong_only_keys_are_refused_on_a_physically_shaded_model() {
     assert_ne!(s.settings.technique, before.technique);
 }
 
+/// The height derivative `h` acts on a physically shaded model's normal
+/// maps only where the filter reads their mip levels, with bump on; in the
+/// reference scenes only where the bump shows. Elsewhere it says why and
+/// changes nothing.
+#[test]
+fn the_height_derivative_is_refused_where_it_changes_nothing() {
+    use relief_core::settings::Filter;
+    use relief_scene::{LoadedNotes, ModelChoice, SceneKind};
+    let h = || Action::next(OptId::HeightDerivative);
+    let mut s = state();
+    // The reference cube: with its bump it acts, without it it is refused.
+    update(&mut s, h());
+    assert_ne!(
+        s.settings.height_derivative,
+        Settings::default().height_derivative
+    );
+    s.settings.bump = false;
+    let before = s.settings;
+    update(&mut s, h());
+    assert_eq!(s.settings, before);
+    let message = s.message.clone().unwrap_or_default();
+    assert!(message.contains("h (height derivative)"), "{message}");
+    // A physically shaded model: refused at the default (bilinear) filter
+    // and with its normal maps off, whatever the bump strength.
+    s.settings = Settings::default();
+    let file = ModelChoice::File("helmet.glb".into());
+    update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, file))));
+    let notes = LoadedNotes {
+        physical: true,
+        ..LoadedNotes::default()
+    };
+    update(&mut s, Action::ModelNotes(notes));
+    for (filter, bump, acts) in [
+        (Filter::Bilinear, true, false),
+        (Filter::Nearest, true, false),
+        (Filter::Trilinear, false, false),
+        (Filter::Trilinear, true, true),
+        (Filter::Anisotropic, true, true),
+    ] {
+        s.settings.filter = filter;
+        s.settings.bump = bump;
+        s.settings.bump_strength = 0.0;
+        s.message = None;
+        let before = s.settings;
+        update(&mut s, h());
+        let message = s.message.clone().unwrap_or_default();
+        if acts {
+            assert_ne!(s.settings, before, "{filter:?}: acts");
+            assert!(message.is_empty(), "{message}");
+        } else {
+            assert_eq!(s.settings, before, "{filter:?}, bump {bump}: unchanged");
+            assert!(message.contains("normal maps"), "{message}");
+        }
+    }
+}
+
 /// On a model file whose parts take no material (an STL), `t` and `b`
 /// say that no texture shows and how to lay one, until one is applied;
 /// the reference scenes and a model with its own materials take them.

@@ -370,7 +370,12 @@ const TABLE: [Opt; OptId::ALL.len()] = [
             Press::Next,
             "height derivative: filtered / per texel",
         )],
-        shows: None,
+        // The height map's gradient is read by the bump alone (a model
+        // shaded physically has its own rule: `app/feedback.rs`).
+        shows: Some(Shows {
+            when: |c| plan::bump_shows(c.settings),
+            why: "shows in Phong with bump on and strength above 0 (m, b, +); unchanged",
+        }),
         status: Some(same(
             7,
             |c| format!("dH {}", c.settings.height_derivative.label()),
