@@ -41,6 +41,62 @@ const PHONG_ONLY: [OptId; 6] = [
     OptId::Environment,
 ];
 
+/// What shows only on filled triangles: the lighting, the texture, the
+/// bump and the highlight (points and lines take the vertices' colours).
+const FILL_ONLY: [OptId; 7] = [
+    OptId::Shading,
+    OptId::Texture,
+    OptId::Bump,
+    OptId::Filter,
+    OptId::Technique,
+    OptId::HeightDerivative,
+    OptId::Specular,
+];
+
+/// What shows only in the model view of a model file: its environment,
+/// turned or drawn behind it.
+const MODEL_VIEW_ONLY: [OptId; 2] = [OptId::EnvironmentTurn, OptId::Backdrop];
+
+/// What only the lights show: their falloff and highlight anywhere, and
+/// the surface's normal where no environment lights it too.
+const LIGHTS_ONLY: [OptId; 2] = [OptId::Attenuation, OptId::Specular];
+const NORMAL_ONLY: [OptId; 4] = [
+    OptId::Normals,
+    OptId::Bump,
+    OptId::Technique,
+    OptId::HeightDerivative,
+];
+
+/// Why option `id` shows nothing where the picture is: points or lines,
+/// a scene without the model view's environment, flat lighting for the
+/// normals, every light off, a model without colours of its own. `None`:
+/// this rule does not refuse it.
+fn hidden_here(state: &State, id: OptId) -> Option<&'static str> {
+    use relief_core::settings::{Display, Shading};
+    let s = &state.settings;
+    // Without a light only the ambient term is left, which no normal
+    // changes, unless an environment is reflected (the model view's light,
+    // the reference scenes' `E`). A model's own lights past the fourth
+    // have no key and stay on.
+    let unswitched = state.in_model_view() && state.file_lights > 4;
+    let dark = !s.lights || !(state.ctx().lights_on || unswitched);
+    let environment_lit = state.in_model_view() || relief_pipeline::plan::environment_shows(s);
+    if s.display != Display::Fill && FILL_ONLY.contains(&id) {
+        Some("shows with fill display (d)")
+    } else if MODEL_VIEW_ONLY.contains(&id) && !state.in_model_view() {
+        Some("shows in the model view of a model file (o)")
+    } else if id == OptId::Normals && s.shading == Shading::Flat {
+        Some("flat lighting takes each facet's own normal (m: Gouraud or Phong)")
+    } else if dark && (LIGHTS_ONLY.contains(&id) || (NORMAL_ONLY.contains(&id) && !environment_lit))
+    {
+        Some("shows with a light on (l, 1-4)")
+    } else if id == OptId::Colors && state.in_model_view() && !state.vertex_colours {
+        Some("the model has no vertex colours of its own")
+    } else {
+        None
+    }
+}
+
 /// Whether the picture is the model view's physical shading: a model file
 /// whose every part has a metallic-roughness material, in Phong with the
 /// fill display (flat and Gouraud light it with Blinn-Phong, highlight
@@ -91,6 +147,12 @@ pub fn refusal(state: &State, action: &Action) -> Option<String> {
     if state.scene == SceneKind::Plasma {
         return three_d_only(action)
             .map(|keys| format!("{keys}: not in the plasma (2D); p or o go back to a 3D scene"));
+    }
+    if let Action::Option { id, .. } = action
+        && let Some(why) = hidden_here(state, *id)
+    {
+        let title = relief_options::get(*id).key_title();
+        return Some(format!("{title}: {why}; unchanged"));
     }
     match action {
         Action::TogglePlasmaNormal => {

@@ -105,6 +105,10 @@ pub struct State {
     /// The model file's every part is shaded physically: the Phong-only
     /// keys are refused (`feedback`).
     pub physical: bool,
+    /// The picture has vertex colours that `c` switches: the reference
+    /// scenes do, a model file when some part has colours of its own
+    /// (`Scene::shows_vertex_colours`); without, `c` is refused.
+    pub vertex_colours: bool,
     /// Which parts of the model file can show a texture (`None`: a
     /// reference scene, or a model with nothing to say): the texture keys
     /// are refused where none shows (`feedback`).
@@ -239,14 +243,18 @@ impl State {
         self.auto_rotate || self.playback.playing
     }
 
+    /// Whether the picture is a model file's model view (its framing, rig
+    /// and environment), not a reference scene.
+    pub fn in_model_view(&self) -> bool {
+        self.scene == SceneKind::Cube && matches!(self.model, ModelChoice::File(_))
+    }
+
     /// What keys `1`–`4` switch, in order: the reference scene's four
     /// lights, a model file's neutral rig (key, fill, back) or its own
     /// lights (the first four).
     pub fn light_names(&self) -> Vec<String> {
-        let model_view =
-            self.scene == SceneKind::Cube && matches!(self.model, ModelChoice::File(_));
         match self.file_lights {
-            _ if !model_view => LIGHT_NAMES.map(String::from).to_vec(),
+            _ if !self.in_model_view() => LIGHT_NAMES.map(String::from).to_vec(),
             0 => RIG_NAMES.map(String::from).to_vec(),
             n => (1..=n.min(4)).map(|k| format!("light {k}")).collect(),
         }
@@ -270,6 +278,7 @@ impl State {
             cameras: 0,
             file_lights: 0,
             physical: false,
+            vertex_colours: true,
             texture_reach: None,
             texture_chosen: false,
             up: UpChoice::Default,

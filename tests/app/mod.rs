@@ -2,6 +2,7 @@
 
 mod event_loop;
 mod huge_terminal;
+mod key_sweep;
 mod keys;
 mod modes;
 mod resizes;

@@ -7,6 +7,7 @@ use glam::Vec3;
 use relief::app::state::{DEG_PER_COL, DEG_PER_ROW};
 use relief::app::{Action, Command, State, action_for_event, update};
 use relief_core::settings::{DEFAULT_BUMP_STRENGTH, Normals, Settings, Shading};
+use relief_scene::{ModelChoice, SceneKind};
 use relief_term::ColorDepth;
 
 fn state() -> State {
@@ -893,12 +894,26 @@ fn esc_stops_a_load_first_and_the_status_line_shows_it_until_then() {
     assert_eq!(s.loading, None);
 }
 
+/// A state showing a model file in the model view.
+fn model_view_state() -> State {
+    let mut s = state();
+    let file = ModelChoice::File("model.glb".into());
+    update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, file))));
+    assert!(s.in_model_view());
+    s
+}
+
 /// `B` puts the environment behind the model and takes it away; the
-/// status line says so while it shows; in the points display it changes
-/// nothing and says why.
+/// status line says so while it shows; in the points display, and on a
+/// reference scene, it changes nothing and says why.
 #[test]
 fn capital_b_shows_the_environment_behind_the_model() {
-    let mut s = state();
+    let mut cube = state();
+    ch(&mut cube, 'B');
+    assert!(!cube.settings.backdrop);
+    let said = cube.message.clone().unwrap_or_default();
+    assert!(said.contains("model view"), "{said}");
+    let mut s = model_view_state();
     assert!(!s.settings.backdrop);
     ch(&mut s, 'B');
     assert!(s.settings.backdrop);
@@ -914,7 +929,12 @@ fn capital_b_shows_the_environment_behind_the_model() {
 
 #[test]
 fn capital_j_turns_the_environment_by_thirty_degrees_around_the_circle() {
-    let mut s = state();
+    let mut cube = state();
+    ch(&mut cube, 'J');
+    assert_eq!(cube.settings.environment_turn, 0.0);
+    let said = cube.message.clone().unwrap_or_default();
+    assert!(said.contains("model view"), "{said}");
+    let mut s = model_view_state();
     assert_eq!(s.settings.environment_turn, 0.0);
     ch(&mut s, 'J');
     assert_eq!(s.settings.environment_turn, 30.0);

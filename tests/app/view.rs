@@ -617,10 +617,11 @@ fn status_line_shows_technique_aa_display_scene_lights_and_plasma() {
     use relief_scene::{ModelChoice, SceneKind};
     let mut s = state();
     for a in [
+        // Before dot3, which reads no height derivative at this filter.
+        Action::next(OptId::HeightDerivative),
         Action::next(OptId::Technique),
         Action::next(OptId::Technique),
         Action::next(OptId::LightVector),
-        Action::next(OptId::HeightDerivative),
         Action::next(OptId::Aa),
         Action::next(OptId::Display),
         Action::ToggleLight(1),

@@ -12,7 +12,7 @@ mod layers;
 mod model_view;
 mod overdraw;
 mod packets;
-mod pbr;
+pub mod pbr;
 mod pbr_anchor;
 mod plan;
 mod plasma;

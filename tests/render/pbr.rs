@@ -18,7 +18,7 @@ use relief_texture::decode::procedural;
 /// A GLB of quads side by side in z = 0 facing +Z, quad i spanning x from
 /// 2i to 2i + 2 and y from −1 to 1, with material i; `materials` and
 /// `images` (PNG files; texture i reads image i) as JSON and bytes.
-fn quads_glb(count: usize, materials: &str, images: &[Vec<u8>]) -> Vec<u8> {
+pub fn quads_glb(count: usize, materials: &str, images: &[Vec<u8>]) -> Vec<u8> {
     let mut bin: Vec<u8> = Vec::new();
     let mut views = Vec::new();
     let mut accessors = Vec::new();

@@ -373,8 +373,8 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         // The height map's gradient is read by the bump alone (a model
         // shaded physically has its own rule: `app/feedback.rs`).
         shows: Some(Shows {
-            when: |c| plan::bump_shows(c.settings),
-            why: "shows in Phong with bump on and strength above 0 (m, b, +); unchanged",
+            when: |c| plan::height_derivative_shows(c.settings),
+            why: "shows in Phong with bump on and strength above 0 (m, b, +), with dot3 through a filter with mip levels (f); unchanged",
         }),
         status: Some(same(
             7,

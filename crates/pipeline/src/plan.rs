@@ -206,6 +206,13 @@ pub fn light_vector_shows(settings: &Settings) -> bool {
     bump_shows(settings) && settings.technique == Technique::Dot3
 }
 
+/// Whether the height derivative (`h`) is read: by the bump's kernel,
+/// but by dot3 only through a filter with mip levels (its normal map is
+/// otherwise read from its full-size level, `normal_reads_base`).
+pub fn height_derivative_shows(settings: &Settings) -> bool {
+    bump_shows(settings) && (settings.technique != Technique::Dot3 || settings.filter.uses_mips())
+}
+
 /// Whether highlights can show (their shininess then too): asked for, in
 /// fill display, with some light on (`lights_on`: the scene's switches).
 pub fn specular_shows(settings: &Settings, lights_on: bool) -> bool {

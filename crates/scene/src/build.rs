@@ -231,6 +231,8 @@ pub struct LoadedNotes {
     /// Every part is shaded physically in the model view
     /// (`Scene::all_physical`).
     pub physical: bool,
+    /// Some part has colours of its own (`Scene::shows_vertex_colours`).
+    pub vertex_colours: bool,
     /// Which parts can show a texture (`Scene::texture_reach`).
     pub texture_reach: Option<super::model_view::TextureReach>,
     /// The format stands its models Z up (`LoadedModel::z_up`).
@@ -263,6 +265,7 @@ impl LoadedNotes {
     pub(crate) fn shown_in(self, scene: &Scene) -> Self {
         LoadedNotes {
             physical: scene.all_physical(),
+            vertex_colours: scene.shows_vertex_colours(),
             texture_reach: scene.texture_reach(),
             ..self
         }

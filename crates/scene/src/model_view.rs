@@ -51,6 +51,15 @@ impl Scene {
         self
     }
 
+    /// Whether some part has colours of its file's own that are not all
+    /// white: what the colours switch (`c`) shows on a model file (a part
+    /// without them is drawn white either way).
+    pub fn shows_vertex_colours(&self) -> bool {
+        self.objects.iter().any(|o| {
+            !o.mesh.colours_invented && o.mesh.vertices.iter().any(|v| v.color != Vec3::ONE)
+        })
+    }
+
     /// Whether the model view shades every object physically (each has a
     /// metallic-roughness or unlit material): the Phong-only settings (bump
     /// technique, Blinn highlight, environment reflection) change nothing.

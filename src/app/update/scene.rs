@@ -54,6 +54,7 @@ fn built(state: &mut State, scene: SceneKind, model: ModelChoice) {
     super::super::file_cameras::take(state, 0);
     state.file_lights = 0;
     state.physical = false;
+    state.vertex_colours = true;
     state.texture_reach = None;
     if state.up == UpChoice::File {
         state.settings.up = relief_core::settings::UpAxis::Y;
@@ -76,6 +77,7 @@ fn model_notes(state: &mut State, notes: &LoadedNotes) {
     super::super::file_cameras::take(state, notes.cameras);
     state.file_lights = notes.lights;
     state.physical = notes.physical;
+    state.vertex_colours = notes.vertex_colours;
     state.texture_reach = notes.texture_reach;
     // An STL stands Z up, unless the user set the axis.
     if notes.z_up && state.up == UpChoice::Default {

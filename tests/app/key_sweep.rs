@@ -1,0 +1,151 @@
+//! Every key of the picture's options, pressed in many places: either the
+//! picture changes, or the key says why it does not and changes nothing
+//! (README: "A key that cannot act where you are says so").
+
+use std::sync::Arc;
+
+use relief::app::stage::Stage;
+use relief::app::{Action, State, update};
+use relief_core::framebuffer::Framebuffer;
+use relief_core::settings::{Display, Settings, Shading, Technique};
+use relief_pipeline::render::Renderer;
+use relief_scene::{ModelChoice, SceneKind};
+use relief_term::ColorDepth;
+use relief_texture::decode::procedural::brick;
+
+fn picture(stage: &mut Stage, state: &State) -> Framebuffer {
+    let mut fb = Framebuffer::new(160, 120);
+    stage.render(&mut Renderer::new(), state, &mut fb);
+    fb
+}
+
+/// The keys that neither change `state`'s picture nor say anything, as
+/// "key (option)".
+fn silent_keys(stage: &mut Stage, state: &State) -> Vec<String> {
+    let mut silent = Vec::new();
+    let before = picture(stage, state);
+    for opt in relief_options::OPTIONS {
+        for key in opt.keys {
+            let mut s = state.clone();
+            s.message = None;
+            let press = key.press;
+            update(&mut s, Action::Option { id: opt.id, press });
+            if s.message.is_none() && picture(stage, &s) == before {
+                silent.push(format!("{} ({:?})", key.keys[0], opt.id));
+            }
+        }
+    }
+    silent
+}
+
+fn with(state: &State, f: impl FnOnce(&mut Settings)) -> State {
+    let mut s = state.clone();
+    f(&mut s.settings);
+    s
+}
+
+/// `b` outside Phong acts on the setting while the status line says
+/// "Phong only" (README, key `b`).
+const BUMP_OUTSIDE_PHONG: &str = "b (Bump)";
+
+#[test]
+fn every_option_key_changes_the_picture_or_says_why() {
+    let mut stage = Stage::new(
+        SceneKind::Cube,
+        &ModelChoice::Cube,
+        Arc::new(brick()),
+        false,
+    )
+    .unwrap();
+    let cube = State::new(Settings::default(), ColorDepth::Truecolor);
+    let cases: Vec<(&str, State, Vec<&str>)> = vec![
+        ("cube", cube.clone(), vec![]),
+        ("bump off", with(&cube, |s| s.bump = false), vec![]),
+        (
+            "flat",
+            with(&cube, |s| s.shading = Shading::Flat),
+            vec![BUMP_OUTSIDE_PHONG],
+        ),
+        (
+            "Gouraud",
+            with(&cube, |s| s.shading = Shading::Gouraud),
+            vec![BUMP_OUTSIDE_PHONG],
+        ),
+        ("lines", with(&cube, |s| s.display = Display::Lines), vec![]),
+        (
+            "points",
+            with(&cube, |s| s.display = Display::Points),
+            vec![],
+        ),
+        (
+            "dot3",
+            with(&cube, |s| s.technique = Technique::Dot3),
+            vec![],
+        ),
+        ("specular", with(&cube, |s| s.specular = true), vec![]),
+        ("lights off", with(&cube, |s| s.lights = false), vec![]),
+        (
+            "lights off, environment",
+            with(&cube, |s| {
+                s.lights = false;
+                s.environment = true;
+            }),
+            vec![],
+        ),
+    ];
+    for (name, state, expected) in cases {
+        assert_eq!(silent_keys(&mut stage, &state), expected, "{name}");
+    }
+}
+
+/// The same on a model file shaded physically: a glTF quad with a colour
+/// texture and a normal map, no vertex colours.
+#[test]
+fn every_option_key_on_a_physical_model_changes_the_picture_or_says_why() {
+    let checker = {
+        let img = image::RgbaImage::from_fn(8, 8, |x, y| {
+            image::Rgba(if (x + y) % 2 == 0 {
+                [200, 60, 40, 255]
+            } else {
+                [40, 80, 200, 255]
+            })
+        });
+        relief_texture::picture::encode(&img.into(), image::ImageFormat::Png).unwrap()
+    };
+    use crate::render::pbr;
+    let tilted = pbr::solid_png([204, 128, 230, 255]);
+    let m = r#"[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0},"metallicFactor":0.3,"roughnessFactor":0.5},"normalTexture":{"index":1}}]"#;
+    let path = pbr::write("sweep", &pbr::quads_glb(1, m, &[checker, tilted]));
+    let model = ModelChoice::File(path);
+    let mut stage = Stage::new(SceneKind::Cube, &model, Arc::new(brick()), false).unwrap();
+    let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
+    update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, model))));
+    update(&mut s, Action::ModelNotes(stage.take_notes()));
+    assert!(s.physical && !s.vertex_colours);
+    // The quad is flat (its vertex normals are its face's), and its 8 × 8
+    // texture is magnified, where bilinear and nearest-mip read the same
+    // texels: `n` and that one step of `f` act, and show nothing here.
+    let (flat_quad, magnified) = ("n (Normals)", "f (Filter)");
+    let cases: Vec<(&str, State, Vec<&str>)> = vec![
+        ("model", s.clone(), vec![flat_quad, magnified]),
+        (
+            "model, flat",
+            with(&s, |s| s.shading = Shading::Flat),
+            vec![BUMP_OUTSIDE_PHONG, magnified],
+        ),
+        // The studio still lights it: the normal map shows.
+        (
+            "model, lights off",
+            with(&s, |s| s.lights = false),
+            vec![flat_quad, magnified],
+        ),
+        (
+            "model, lines",
+            with(&s, |s| s.display = Display::Lines),
+            vec![flat_quad],
+        ),
+    ];
+    for (name, state, expected) in cases {
+        assert_eq!(silent_keys(&mut stage, &state), expected, "{name}");
+    }
+}
