@@ -57,6 +57,18 @@ const FILL_ONLY: [OptId; 7] = [
 /// turned or drawn behind it.
 const MODEL_VIEW_ONLY: [OptId; 2] = [OptId::EnvironmentTurn, OptId::Backdrop];
 
+/// What only a textured surface shows: the shadow scene has none.
+const TEXTURE_ONLY: [OptId; 8] = [
+    OptId::Texture,
+    OptId::Bump,
+    OptId::BumpStrength,
+    OptId::Filter,
+    OptId::Technique,
+    OptId::LightVector,
+    OptId::HeightDerivative,
+    OptId::TangentFrames,
+];
+
 /// What only the lights show: their falloff and highlight anywhere, and
 /// the surface's normal where no environment lights it too.
 const LIGHTS_ONLY: [OptId; 2] = [OptId::Attenuation, OptId::Specular];
@@ -79,14 +91,21 @@ fn hidden_here(state: &State, id: OptId) -> Option<&'static str> {
     // the reference scenes' `E`). A model's own lights past the fourth
     // have no key and stay on.
     let unswitched = state.in_model_view() && state.file_lights > 4;
+    let strength_shows = s.bump_strength.is_finite() && s.bump_strength > 0.0;
     let dark = !s.lights || !(state.ctx().lights_on || unswitched);
     let environment_lit = state.in_model_view() || relief_pipeline::plan::environment_shows(s);
     if s.display != Display::Fill && FILL_ONLY.contains(&id) {
         Some("shows with fill display (d)")
+    } else if state.scene == SceneKind::Shadow && TEXTURE_ONLY.contains(&id) {
+        Some("the shadow scene has no texture (p: the model scene)")
     } else if MODEL_VIEW_ONLY.contains(&id) && !state.in_model_view() {
         Some("shows in the model view of a model file (o)")
     } else if id == OptId::Normals && s.shading == Shading::Flat {
         Some("flat lighting takes each facet's own normal (m: Gouraud or Phong)")
+    } else if id == OptId::Normals && !state.normals_vary {
+        Some("this model is flat: each corner's normal is its facet's")
+    } else if id == OptId::Bump && !strength_shows && !shaded_physically(state) {
+        Some("shows with a bump strength above 0 (+)")
     } else if dark && (LIGHTS_ONLY.contains(&id) || (NORMAL_ONLY.contains(&id) && !environment_lit))
     {
         Some("shows with a light on (l, 1-4)")

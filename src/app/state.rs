@@ -109,6 +109,10 @@ pub struct State {
     /// scenes do, a model file when some part has colours of its own
     /// (`Scene::shows_vertex_colours`); without, `c` is refused.
     pub vertex_colours: bool,
+    /// Some corner's normal differs from its facet's, so `n` shows: not on
+    /// the built-in plane and triangle, nor on a flat model file
+    /// (`Scene::normals_vary`).
+    pub normals_vary: bool,
     /// Which parts of the model file can show a texture (`None`: a
     /// reference scene, or a model with nothing to say): the texture keys
     /// are refused where none shows (`feedback`).
@@ -279,6 +283,7 @@ impl State {
             file_lights: 0,
             physical: false,
             vertex_colours: true,
+            normals_vary: true,
             texture_reach: None,
             texture_chosen: false,
             up: UpChoice::Default,

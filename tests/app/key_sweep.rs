@@ -7,7 +7,7 @@ use std::sync::Arc;
 use relief::app::stage::Stage;
 use relief::app::{Action, State, update};
 use relief_core::framebuffer::Framebuffer;
-use relief_core::settings::{Display, Settings, Shading, Technique};
+use relief_core::settings::{AntiAlias, Display, Filter, Settings, Shading, Technique};
 use relief_pipeline::render::Renderer;
 use relief_scene::{ModelChoice, SceneKind};
 use relief_term::ColorDepth;
@@ -92,9 +92,46 @@ fn every_option_key_changes_the_picture_or_says_why() {
             }),
             vec![],
         ),
+        ("texture off", with(&cube, |s| s.texture = false), vec![]),
+        ("colours off", with(&cube, |s| s.colors = false), vec![]),
+        ("MSAA", with(&cube, |s| s.aa = AntiAlias::Msaa4), vec![]),
+        (
+            "trilinear",
+            with(&cube, |s| s.filter = Filter::Trilinear),
+            vec![],
+        ),
+        (
+            "emboss",
+            with(&cube, |s| s.technique = Technique::Emboss),
+            vec![],
+        ),
+        (
+            "parallax",
+            with(&cube, |s| s.technique = Technique::Parallax),
+            vec![],
+        ),
+        ("POM", with(&cube, |s| s.technique = Technique::Pom), vec![]),
+        (
+            "bump strength 0",
+            with(&cube, |s| s.bump_strength = 0.0),
+            vec![],
+        ),
     ];
     for (name, state, expected) in cases {
         assert_eq!(silent_keys(&mut stage, &state), expected, "{name}");
+    }
+    // The other scenes and built-in models.
+    for (kind, model) in [
+        (SceneKind::Shadow, ModelChoice::Cube),
+        (SceneKind::Cube, ModelChoice::Sphere),
+        (SceneKind::Cube, ModelChoice::Plane),
+        (SceneKind::Cube, ModelChoice::Triangle),
+    ] {
+        stage.build(kind, &model).unwrap();
+        let mut s = cube.clone();
+        update(&mut s, Action::SceneBuilt(Ok((kind, model.clone()))));
+        let silent = silent_keys(&mut stage, &s);
+        assert!(silent.is_empty(), "{kind:?} {model:?}: {silent:?}");
     }
 }
 
@@ -121,13 +158,13 @@ fn every_option_key_on_a_physical_model_changes_the_picture_or_says_why() {
     let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
     update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, model))));
     update(&mut s, Action::ModelNotes(stage.take_notes()));
-    assert!(s.physical && !s.vertex_colours);
-    // The quad is flat (its vertex normals are its face's), and its 8 × 8
-    // texture is magnified, where bilinear and nearest-mip read the same
-    // texels: `n` and that one step of `f` act, and show nothing here.
-    let (flat_quad, magnified) = ("n (Normals)", "f (Filter)");
+    // Flat, without colours of its own: `n` and `c` are refused.
+    assert!(s.physical && !s.vertex_colours && !s.normals_vary);
+    // Its 8 × 8 texture is magnified, where bilinear and nearest-mip read
+    // the same texels: that one step of `f` acts and shows nothing here.
+    let magnified = "f (Filter)";
     let cases: Vec<(&str, State, Vec<&str>)> = vec![
-        ("model", s.clone(), vec![flat_quad, magnified]),
+        ("model", s.clone(), vec![magnified]),
         (
             "model, flat",
             with(&s, |s| s.shading = Shading::Flat),
@@ -137,12 +174,18 @@ fn every_option_key_on_a_physical_model_changes_the_picture_or_says_why() {
         (
             "model, lights off",
             with(&s, |s| s.lights = false),
-            vec![flat_quad, magnified],
+            vec![magnified],
         ),
         (
             "model, lines",
             with(&s, |s| s.display = Display::Lines),
-            vec![flat_quad],
+            vec![],
+        ),
+        // Its normal maps do not take the height map's strength.
+        (
+            "model, bump strength 0",
+            with(&s, |s| s.bump_strength = 0.0),
+            vec![magnified],
         ),
     ];
     for (name, state, expected) in cases {

@@ -374,7 +374,7 @@ const TABLE: [Opt; OptId::ALL.len()] = [
         // shaded physically has its own rule: `app/feedback.rs`).
         shows: Some(Shows {
             when: |c| plan::height_derivative_shows(c.settings),
-            why: "shows in Phong with bump on and strength above 0 (m, b, +), with dot3 through a filter with mip levels (f); unchanged",
+            why: "shows in Phong with bump on and strength above 0 (m, b, +), with dot3 and emboss through a filter with mip levels (f); unchanged",
         }),
         status: Some(same(
             7,

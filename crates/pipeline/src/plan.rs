@@ -207,10 +207,12 @@ pub fn light_vector_shows(settings: &Settings) -> bool {
 }
 
 /// Whether the height derivative (`h`) is read: by the bump's kernel,
-/// but by dot3 only through a filter with mip levels (its normal map is
-/// otherwise read from its full-size level, `normal_reads_base`).
+/// but by dot3 and emboss only through a filter with mip levels (they
+/// read the full-size map otherwise: `normal_reads_base`,
+/// `height_sampler`).
 pub fn height_derivative_shows(settings: &Settings) -> bool {
-    bump_shows(settings) && (settings.technique != Technique::Dot3 || settings.filter.uses_mips())
+    let reads_base = matches!(settings.technique, Technique::Dot3 | Technique::Emboss);
+    bump_shows(settings) && (!reads_base || settings.filter.uses_mips())
 }
 
 /// Whether highlights can show (their shininess then too): asked for, in

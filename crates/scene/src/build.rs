@@ -233,6 +233,8 @@ pub struct LoadedNotes {
     pub physical: bool,
     /// Some part has colours of its own (`Scene::shows_vertex_colours`).
     pub vertex_colours: bool,
+    /// Some corner's normal is not its facet's (`Scene::normals_vary`).
+    pub normals_vary: bool,
     /// Which parts can show a texture (`Scene::texture_reach`).
     pub texture_reach: Option<super::model_view::TextureReach>,
     /// The format stands its models Z up (`LoadedModel::z_up`).
@@ -266,6 +268,7 @@ impl LoadedNotes {
         LoadedNotes {
             physical: scene.all_physical(),
             vertex_colours: scene.shows_vertex_colours(),
+            normals_vary: scene.normals_vary(),
             texture_reach: scene.texture_reach(),
             ..self
         }

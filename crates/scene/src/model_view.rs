@@ -60,6 +60,22 @@ impl Scene {
         })
     }
 
+    /// Whether some corner's normal differs from its facet's: what the
+    /// normals switch (`n`, vertex / face) shows. A flat model (every
+    /// corner split with its facet's normal) looks the same either way.
+    pub fn normals_vary(&self) -> bool {
+        self.objects.iter().any(|o| {
+            let mesh = &o.mesh;
+            (0..mesh.triangles.len()).any(|t| {
+                let face = mesh.face_normal(t);
+                mesh.triangles[t].indices.iter().any(|&i| {
+                    let n = mesh.vertices.get(i as usize).map_or(face, |v| v.normal);
+                    n.dot(face) < 0.9999
+                })
+            })
+        })
+    }
+
     /// Whether the model view shades every object physically (each has a
     /// metallic-roughness or unlit material): the Phong-only settings (bump
     /// technique, Blinn highlight, environment reflection) change nothing.

@@ -55,6 +55,8 @@ fn built(state: &mut State, scene: SceneKind, model: ModelChoice) {
     state.file_lights = 0;
     state.physical = false;
     state.vertex_colours = true;
+    // The built-in plane and triangle are flat; a file says with its notes.
+    state.normals_vary = !matches!(model, ModelChoice::Plane | ModelChoice::Triangle);
     state.texture_reach = None;
     if state.up == UpChoice::File {
         state.settings.up = relief_core::settings::UpAxis::Y;
@@ -78,6 +80,7 @@ fn model_notes(state: &mut State, notes: &LoadedNotes) {
     state.file_lights = notes.lights;
     state.physical = notes.physical;
     state.vertex_colours = notes.vertex_colours;
+    state.normals_vary = notes.normals_vary;
     state.texture_reach = notes.texture_reach;
     // An STL stands Z up, unless the user set the axis.
     if notes.z_up && state.up == UpChoice::Default {
