@@ -111,6 +111,12 @@ fn hidden_here(state: &State, id: OptId) -> Option<&'static str> {
         Some("shows with a light on (l, 1-4)")
     } else if id == OptId::Colors && state.in_model_view() && !state.vertex_colours {
         Some("the model has no vertex colours of its own")
+    } else if id == OptId::Texture && state.in_model_view() && !state.texture_shows {
+        Some("the model's materials have no colour texture")
+    } else if id == OptId::Filter && state.in_model_view() && !state.reads_pictures {
+        Some("the model's materials read no picture")
+    } else if id == OptId::TangentFrames && !state.texture_coordinates {
+        Some("the model has no texture coordinates, which the frames are drawn from")
     } else {
         None
     }
@@ -134,7 +140,9 @@ fn shaded_physically(state: &State) -> bool {
 fn derivative_unused(state: &State) -> Option<String> {
     use relief_core::settings::Filter;
     let s = &state.settings;
-    let why = if !s.bump {
+    let why = if !state.normal_maps {
+        "the model has no normal maps"
+    } else if !s.bump {
         "the model's normal maps are off (b)"
     } else if matches!(s.filter, Filter::Nearest | Filter::Bilinear) {
         "the model's normal maps are read from their full-size level with this filter \
@@ -148,11 +156,12 @@ fn derivative_unused(state: &State) -> Option<String> {
     ))
 }
 
-/// The message refusing `t` and `b` on a model file whose parts take no
-/// material until the user chooses a texture (`Scene::texture_reach`).
+/// The message refusing the texture and bump keys on a model file whose
+/// parts take no material until the user chooses a texture
+/// (`Scene::texture_reach`).
 fn no_texture(state: &State, id: OptId) -> Option<String> {
     let waits = state.ctx().texture_waits;
-    (waits && matches!(id, OptId::Texture | OptId::Bump)).then(|| {
+    (waits && TEXTURE_ONLY.contains(&id)).then(|| {
         format!(
             "{}: the model names no texture; x, T or a picture's path lays one on it",
             relief_options::get(id).key_title()
@@ -167,11 +176,15 @@ pub fn refusal(state: &State, action: &Action) -> Option<String> {
         return three_d_only(action)
             .map(|keys| format!("{keys}: not in the plasma (2D); p or o go back to a 3D scene"));
     }
-    if let Action::Option { id, .. } = action
-        && let Some(why) = hidden_here(state, *id)
-    {
-        let title = relief_options::get(*id).key_title();
-        return Some(format!("{title}: {why}; unchanged"));
+    if let Action::Option { id, .. } = action {
+        // A model waiting for a texture says how to lay one first.
+        if let Some(text) = no_texture(state, *id) {
+            return Some(text);
+        }
+        if let Some(why) = hidden_here(state, *id) {
+            let title = relief_options::get(*id).key_title();
+            return Some(format!("{title}: {why}; unchanged"));
+        }
     }
     match action {
         Action::TogglePlasmaNormal => {
@@ -181,6 +194,12 @@ pub fn refusal(state: &State, action: &Action) -> Option<String> {
             id: OptId::HeightDerivative,
             ..
         } if shaded_physically(state) => derivative_unused(state),
+        Action::Option {
+            id: OptId::Bump, ..
+        } if shaded_physically(state) && !state.normal_maps => Some(format!(
+            "{}: the model has no normal maps; unchanged",
+            relief_options::get(OptId::Bump).key_title()
+        )),
         Action::Option { id, .. } if shaded_physically(state) && PHONG_ONLY.contains(id) => {
             Some(format!(
                 "{}: not used by the model's physical shading in Phong \
@@ -188,9 +207,7 @@ pub fn refusal(state: &State, action: &Action) -> Option<String> {
                 relief_options::get(*id).key_title()
             ))
         }
-        Action::Option { id, .. } => {
-            no_texture(state, *id).or_else(|| relief_options::get(*id).refusal(&state.ctx()))
-        }
+        Action::Option { id, .. } => relief_options::get(*id).refusal(&state.ctx()),
         _ => None,
     }
 }

@@ -113,6 +113,19 @@ pub struct State {
     /// the built-in plane and triangle, nor on a flat model file
     /// (`Scene::normals_vary`).
     pub normals_vary: bool,
+    /// Some part of the model file, shaded physically, has a normal map:
+    /// `b` and `h` act on those (`Scene::has_normal_maps`).
+    pub normal_maps: bool,
+    /// Some textured part shows a picture: not a model file whose every
+    /// material has no colour texture (`Scene::shows_a_texture`); `t` is
+    /// refused without.
+    pub texture_shows: bool,
+    /// Some part reads a picture of any kind, which the filter (`f`)
+    /// samples (`Scene::reads_pictures`); `f` is refused without.
+    pub reads_pictures: bool,
+    /// Some triangle has texture coordinates, from which the tangent
+    /// frames (`F`) are drawn; `F` is refused without.
+    pub texture_coordinates: bool,
     /// Which parts of the model file can show a texture (`None`: a
     /// reference scene, or a model with nothing to say): the texture keys
     /// are refused where none shows (`feedback`).
@@ -284,6 +297,10 @@ impl State {
             physical: false,
             vertex_colours: true,
             normals_vary: true,
+            normal_maps: false,
+            texture_shows: true,
+            reads_pictures: true,
+            texture_coordinates: true,
             texture_reach: None,
             texture_chosen: false,
             up: UpChoice::Default,

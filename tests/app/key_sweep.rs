@@ -192,3 +192,95 @@ fn every_option_key_on_a_physical_model_changes_the_picture_or_says_why() {
         assert_eq!(silent_keys(&mut stage, &state), expected, "{name}");
     }
 }
+
+/// Model files without a material of their own (an OBJ box, a PLY
+/// sphere): the texture keys wait for a texture, and say so.
+#[test]
+fn every_option_key_on_a_bare_model_changes_the_picture_or_says_why() {
+    let dir = crate::common::scratch::scratch_dir("sweep-bare");
+    let sphere = dir.join("sphere.ply");
+    let ply = relief_bench::mesh_anchor::uv_sphere_ply(16, 32, 1.0, glam::Vec3::ZERO);
+    std::fs::write(&sphere, ply).unwrap();
+    let model = ModelChoice::File(sphere);
+    let mut stage = Stage::new(SceneKind::Cube, &model, Arc::new(brick()), false).unwrap();
+    let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
+    update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, model))));
+    update(&mut s, Action::ModelNotes(stage.take_notes()));
+    assert!(!s.physical && s.normals_vary);
+    for state in [
+        s.clone(),
+        with(&s, |s| s.filter = Filter::Trilinear),
+        with(&s, |s| s.shading = Shading::Gouraud),
+    ] {
+        let silent = silent_keys(&mut stage, &state);
+        assert!(silent.is_empty(), "{:?}: {silent:?}", state.settings);
+    }
+}
+
+/// A flat model without texture coordinates (an OBJ tetrahedron whose
+/// corners take their faces' normals, with a plain MTL colour): `n`, `F`
+/// and the texture keys have nothing to show.
+#[test]
+fn every_option_key_on_a_flat_model_without_coordinates_changes_the_picture_or_says_why() {
+    let dir = crate::common::scratch::scratch_dir("sweep-flat");
+    let path = dir.join("tetra.obj");
+    std::fs::write(dir.join("tetra.mtl"), "newmtl clay\nKd 0.8 0.5 0.3\n").unwrap();
+    let mut obj = String::from("mtllib tetra.mtl\nusemtl clay\n");
+    obj += "v 1 1 1\nv -1 -1 1\nv -1 1 -1\nv 1 -1 -1\n";
+    // Each face's outward normal (a unit vector along the sum of its corners,
+    // opposite the fourth), given to its three corners.
+    for (k, [a, b, c]) in [[1, 3, 2], [1, 2, 4], [1, 4, 3], [2, 3, 4]]
+        .into_iter()
+        .enumerate()
+    {
+        let v = |i: usize| {
+            [
+                [1.0f32, 1.0, 1.0],
+                [-1.0, -1.0, 1.0],
+                [-1.0, 1.0, -1.0],
+                [1.0, -1.0, -1.0],
+            ][i - 1]
+        };
+        let n = glam::Vec3::from(v(a)) + glam::Vec3::from(v(b)) + glam::Vec3::from(v(c));
+        let n = n.normalize();
+        obj += &format!(
+            "vn {} {} {}\nf {a}//{} {b}//{} {c}//{}\n",
+            n.x,
+            n.y,
+            n.z,
+            k + 1,
+            k + 1,
+            k + 1
+        );
+    }
+    std::fs::write(&path, obj).unwrap();
+    let model = ModelChoice::File(path);
+    let mut stage = Stage::new(SceneKind::Cube, &model, Arc::new(brick()), false).unwrap();
+    let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
+    update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, model))));
+    update(&mut s, Action::ModelNotes(stage.take_notes()));
+    assert!(!s.normals_vary, "normals vary");
+    assert!(!s.texture_coordinates, "texture coordinates");
+    let gouraud = with(&s, |s| s.shading = Shading::Gouraud);
+    assert!(silent_keys(&mut stage, &s).is_empty());
+    assert_eq!(silent_keys(&mut stage, &gouraud), [BUMP_OUTSIDE_PHONG]);
+}
+
+/// A physically shaded model without normal maps: `b` and `h` have none
+/// to act on, and say so.
+#[test]
+fn a_physical_model_without_normal_maps_refuses_the_bump_keys() {
+    use crate::render::pbr;
+    let m = format!("[{}]", pbr::material([0.8, 0.5, 0.3], 0.5, 0.4));
+    let path = pbr::write("sweep-no-normals", &pbr::quads_glb(1, &m, &[]));
+    let model = ModelChoice::File(path);
+    let mut stage = Stage::new(SceneKind::Cube, &model, Arc::new(brick()), false).unwrap();
+    let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
+    update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, model))));
+    update(&mut s, Action::ModelNotes(stage.take_notes()));
+    assert!(s.physical && !s.normal_maps);
+    for state in [s.clone(), with(&s, |s| s.filter = Filter::Trilinear)] {
+        let silent = silent_keys(&mut stage, &state);
+        assert!(silent.is_empty(), "{:?}: {silent:?}", state.settings);
+    }
+}

@@ -534,10 +534,24 @@ fn the_height_derivative_is_refused_where_it_changes_nothing() {
     // and with its normal maps off, whatever the bump strength.
     s.settings = Settings::default();
     let file = ModelChoice::File("helmet.glb".into());
-    update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, file))));
+    update(
+        &mut s,
+        Action::SceneBuilt(Ok((SceneKind::Cube, file.clone()))),
+    );
     let notes = LoadedNotes {
         physical: true,
         ..LoadedNotes::default()
+    };
+    // Without normal maps it has nothing to change.
+    update(&mut s, Action::ModelNotes(notes.clone()));
+    s.settings.filter = Filter::Trilinear;
+    update(&mut s, h());
+    let message = s.message.clone().unwrap_or_default();
+    assert!(message.contains("no normal maps"), "{message}");
+    update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, file))));
+    let notes = LoadedNotes {
+        normal_maps: true,
+        ..notes
     };
     update(&mut s, Action::ModelNotes(notes));
     for (filter, bump, acts) in [
@@ -577,8 +591,13 @@ fn texture_keys_are_refused_where_no_texture_shows() {
         &mut s,
         Action::SceneBuilt(Ok((SceneKind::Cube, file.clone()))),
     );
+    // The notes of a model whose parts show a texture (their own, or the
+    // one the user lays on them).
     let notes = |reach| LoadedNotes {
         texture_reach: Some(reach),
+        texture_shows: true,
+        reads_pictures: true,
+        texture_coordinates: true,
         ..LoadedNotes::default()
     };
     update(&mut s, Action::ModelNotes(notes(TextureReach::WhenChosen)));

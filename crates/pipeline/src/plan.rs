@@ -242,10 +242,7 @@ pub fn environment_can_show(settings: &Settings) -> bool {
 
 impl Plan {
     pub fn new(scene: &Scene, settings: &Settings) -> Plan {
-        let any_textured = scene
-            .objects
-            .iter()
-            .any(|o| o.mesh.triangles.iter().any(|t| t.textured));
+        let any_textured = scene.has_texture_coordinates();
         // The scene's material dresses the objects without their own; a
         // model file's are plain until the user chooses a texture.
         let dressed = any_textured && scene.model_view.is_none_or(|v| v.dresses_bare_parts());

@@ -235,6 +235,16 @@ pub struct LoadedNotes {
     pub vertex_colours: bool,
     /// Some corner's normal is not its facet's (`Scene::normals_vary`).
     pub normals_vary: bool,
+    /// Some part's physical material has a normal map
+    /// (`Scene::has_normal_maps`).
+    pub normal_maps: bool,
+    /// Some textured part shows a picture (`Scene::shows_a_texture`).
+    pub texture_shows: bool,
+    /// Some part reads a picture of any kind (`Scene::reads_pictures`).
+    pub reads_pictures: bool,
+    /// Some triangle has texture coordinates
+    /// (`Scene::has_texture_coordinates`).
+    pub texture_coordinates: bool,
     /// Which parts can show a texture (`Scene::texture_reach`).
     pub texture_reach: Option<super::model_view::TextureReach>,
     /// The format stands its models Z up (`LoadedModel::z_up`).
@@ -269,6 +279,10 @@ impl LoadedNotes {
             physical: scene.all_physical(),
             vertex_colours: scene.shows_vertex_colours(),
             normals_vary: scene.normals_vary(),
+            normal_maps: scene.has_normal_maps(),
+            texture_shows: scene.shows_a_texture(),
+            reads_pictures: scene.reads_pictures(),
+            texture_coordinates: scene.has_texture_coordinates(),
             texture_reach: scene.texture_reach(),
             ..self
         }

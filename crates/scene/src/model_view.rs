@@ -51,29 +51,87 @@ impl Scene {
         self
     }
 
-    /// Whether some part has colours of its file's own that are not all
-    /// white: what the colours switch (`c`) shows on a model file (a part
-    /// without them is drawn white either way).
+    /// Whether some part's vertex colours differ from what it is drawn
+    /// with when colours are off (its material's colour factor, else
+    /// white): what the colours switch (`c`) shows on a model file. A part
+    /// whose file gave none is drawn the same either way.
     pub fn shows_vertex_colours(&self) -> bool {
-        self.objects.iter().any(|o| {
-            !o.mesh.colours_invented && o.mesh.vertices.iter().any(|v| v.color != Vec3::ONE)
+        self.objects.iter().enumerate().any(|(i, o)| {
+            let plain = self.own_terms(i).map_or(Vec3::ONE, |t| t.colour_factor);
+            !o.mesh.colours_invented && o.mesh.vertices.iter().any(|v| v.color != plain)
         })
     }
 
-    /// Whether some corner's normal differs from its facet's: what the
-    /// normals switch (`n`, vertex / face) shows. A flat model (every
-    /// corner split with its facet's normal) looks the same either way.
-    pub fn normals_vary(&self) -> bool {
-        self.objects.iter().any(|o| {
-            let mesh = &o.mesh;
-            (0..mesh.triangles.len()).any(|t| {
-                let face = mesh.face_normal(t);
-                mesh.triangles[t].indices.iter().any(|&i| {
-                    let n = mesh.vertices.get(i as usize).map_or(face, |v| v.normal);
-                    n.dot(face) < 0.9999
-                })
+    /// Whether some triangle has texture coordinates (is textured): what
+    /// the tangent frames (`F`) are drawn from.
+    pub fn has_texture_coordinates(&self) -> bool {
+        self.objects
+            .iter()
+            .any(|o| o.mesh.triangles.iter().any(|t| t.textured))
+    }
+
+    /// Whether some textured part shows a picture: a material of its own
+    /// whose colour texture is more than one texel (a glTF material without
+    /// a map has a white texel), or no material of its own (it takes the
+    /// file's or the user's texture). What `t` switches.
+    pub fn shows_a_texture(&self) -> bool {
+        (0..self.objects.len()).any(|i| {
+            let textured = self.objects[i].mesh.triangles.iter().any(|t| t.textured);
+            let picture = self.own_material(i).is_none_or(|m| {
+                let base = m.texture.base();
+                base.width * base.height > 1
+            });
+            textured && picture
+        })
+    }
+
+    /// Whether some part reads a picture: a colour texture, a normal map,
+    /// or another of its material's maps (metallic-roughness, emissive,
+    /// occlusion, the extensions'): what the filter (`f`) reads.
+    pub fn reads_pictures(&self) -> bool {
+        let other_maps = self.object_terms.iter().flatten().any(|t| {
+            !t.map_names.is_empty()
+                || t.pbr
+                    .as_ref()
+                    .is_some_and(|p| p.roughness_map.is_some() || p.metallic_map.is_some())
+        });
+        self.shows_a_texture() || self.has_normal_maps() || other_maps
+    }
+
+    /// Whether some part's physical material has a normal map (its own, or
+    /// its clearcoat's): what the bump switch (`b`) turns off there.
+    pub fn has_normal_maps(&self) -> bool {
+        self.object_terms.iter().flatten().any(|t| {
+            t.pbr.as_ref().is_some_and(|p| {
+                p.normal.is_some() || p.clearcoat.as_ref().is_some_and(|c| c.normal.is_some())
             })
         })
+    }
+
+    /// Whether more than one corner in a hundred has a normal other than
+    /// its facet's: what the normals switch (`n`, vertex / face) shows. A
+    /// flat model (every corner split with its facet's normal) looks the
+    /// same either way, though a few slivers' stored normals may differ.
+    pub fn normals_vary(&self) -> bool {
+        let corners: usize = self
+            .objects
+            .iter()
+            .map(|o| 3 * o.mesh.triangles.len())
+            .sum();
+        let mut differ = 0;
+        for mesh in self.objects.iter().map(|o| &o.mesh) {
+            for (t, tri) in mesh.triangles.iter().enumerate() {
+                let face = mesh.face_normal(t);
+                for &i in &tri.indices {
+                    let n = mesh.vertices.get(i as usize).map_or(face, |v| v.normal);
+                    differ += usize::from(n.dot(face) < 0.9999);
+                }
+                if differ * 100 > corners {
+                    return true;
+                }
+            }
+        }
+        false
     }
 
     /// Whether the model view shades every object physically (each has a

@@ -57,6 +57,10 @@ fn built(state: &mut State, scene: SceneKind, model: ModelChoice) {
     state.vertex_colours = true;
     // The built-in plane and triangle are flat; a file says with its notes.
     state.normals_vary = !matches!(model, ModelChoice::Plane | ModelChoice::Triangle);
+    state.normal_maps = false;
+    state.texture_shows = true;
+    state.reads_pictures = true;
+    state.texture_coordinates = true;
     state.texture_reach = None;
     if state.up == UpChoice::File {
         state.settings.up = relief_core::settings::UpAxis::Y;
@@ -81,6 +85,10 @@ fn model_notes(state: &mut State, notes: &LoadedNotes) {
     state.physical = notes.physical;
     state.vertex_colours = notes.vertex_colours;
     state.normals_vary = notes.normals_vary;
+    state.normal_maps = notes.normal_maps;
+    state.texture_shows = notes.texture_shows;
+    state.reads_pictures = notes.reads_pictures;
+    state.texture_coordinates = notes.texture_coordinates;
     state.texture_reach = notes.texture_reach;
     // An STL stands Z up, unless the user set the axis.
     if notes.z_up && state.up == UpChoice::Default {
