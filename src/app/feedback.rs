@@ -102,20 +102,20 @@ fn hidden_here(state: &State, id: OptId) -> Option<&'static str> {
         Some("shows in the model view of a model file (o)")
     } else if id == OptId::Normals && s.shading == Shading::Flat {
         Some("flat lighting takes each facet's own normal (m: Gouraud or Phong)")
-    } else if id == OptId::Normals && !state.normals_vary {
+    } else if id == OptId::Normals && !state.features.varied_normals {
         Some("this model is flat: each corner's normal is its facet's")
     } else if id == OptId::Bump && !strength_shows && !shaded_physically(state) {
         Some("shows with a bump strength above 0 (+)")
     } else if dark && (LIGHTS_ONLY.contains(&id) || (NORMAL_ONLY.contains(&id) && !environment_lit))
     {
         Some("shows with a light on (l, 1-4)")
-    } else if id == OptId::Colors && state.in_model_view() && !state.vertex_colours {
+    } else if id == OptId::Colors && state.in_model_view() && !state.features.vertex_colours {
         Some("the model has no vertex colours of its own")
-    } else if id == OptId::Texture && state.in_model_view() && !state.texture_shows {
+    } else if id == OptId::Texture && state.in_model_view() && !state.features.colour_texture {
         Some("the model's materials have no colour texture")
-    } else if id == OptId::Filter && state.in_model_view() && !state.reads_pictures {
+    } else if id == OptId::Filter && state.in_model_view() && !state.features.pictures {
         Some("the model's materials read no picture")
-    } else if id == OptId::TangentFrames && !state.texture_coordinates {
+    } else if id == OptId::TangentFrames && !state.features.texture_coordinates {
         Some("the model has no texture coordinates, which the frames are drawn from")
     } else {
         None
@@ -140,7 +140,7 @@ fn shaded_physically(state: &State) -> bool {
 fn derivative_unused(state: &State) -> Option<String> {
     use relief_core::settings::Filter;
     let s = &state.settings;
-    let why = if !state.normal_maps {
+    let why = if !state.features.normal_maps {
         "the model has no normal maps"
     } else if !s.bump {
         "the model's normal maps are off (b)"
@@ -196,7 +196,7 @@ pub fn refusal(state: &State, action: &Action) -> Option<String> {
         } if shaded_physically(state) => derivative_unused(state),
         Action::Option {
             id: OptId::Bump, ..
-        } if shaded_physically(state) && !state.normal_maps => Some(format!(
+        } if shaded_physically(state) && !state.features.normal_maps => Some(format!(
             "{}: the model has no normal maps; unchanged",
             relief_options::get(OptId::Bump).key_title()
         )),

@@ -105,27 +105,10 @@ pub struct State {
     /// The model file's every part is shaded physically: the Phong-only
     /// keys are refused (`feedback`).
     pub physical: bool,
-    /// The picture has vertex colours that `c` switches: the reference
-    /// scenes do, a model file when some part has colours of its own
-    /// (`Scene::shows_vertex_colours`); without, `c` is refused.
-    pub vertex_colours: bool,
-    /// Some corner's normal differs from its facet's, so `n` shows: not on
-    /// the built-in plane and triangle, nor on a flat model file
-    /// (`Scene::normals_vary`).
-    pub normals_vary: bool,
-    /// Some part of the model file, shaded physically, has a normal map:
-    /// `b` and `h` act on those (`Scene::has_normal_maps`).
-    pub normal_maps: bool,
-    /// Some textured part shows a picture: not a model file whose every
-    /// material has no colour texture (`Scene::shows_a_texture`); `t` is
-    /// refused without.
-    pub texture_shows: bool,
-    /// Some part reads a picture of any kind, which the filter (`f`)
-    /// samples (`Scene::reads_pictures`); `f` is refused without.
-    pub reads_pictures: bool,
-    /// Some triangle has texture coordinates, from which the tangent
-    /// frames (`F`) are drawn; `F` is refused without.
-    pub texture_coordinates: bool,
+    /// What the model file's parts have that some keys act on (all there
+    /// in the reference scenes, the normals but on the flat built-in
+    /// models); the keys are refused without (`feedback`).
+    pub features: relief_scene::model_view::ModelFeatures,
     /// Which parts of the model file can show a texture (`None`: a
     /// reference scene, or a model with nothing to say): the texture keys
     /// are refused where none shows (`feedback`).
@@ -295,12 +278,7 @@ impl State {
             cameras: 0,
             file_lights: 0,
             physical: false,
-            vertex_colours: true,
-            normals_vary: true,
-            normal_maps: false,
-            texture_shows: true,
-            reads_pictures: true,
-            texture_coordinates: true,
+            features: Default::default(),
             texture_reach: None,
             texture_chosen: false,
             up: UpChoice::Default,

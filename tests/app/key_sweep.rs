@@ -159,7 +159,7 @@ fn every_option_key_on_a_physical_model_changes_the_picture_or_says_why() {
     update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, model))));
     update(&mut s, Action::ModelNotes(stage.take_notes()));
     // Flat, without colours of its own: `n` and `c` are refused.
-    assert!(s.physical && !s.vertex_colours && !s.normals_vary);
+    assert!(s.physical && !s.features.vertex_colours && !s.features.varied_normals);
     // Its 8 × 8 texture is magnified, where bilinear and nearest-mip read
     // the same texels: that one step of `f` acts and shows nothing here.
     let magnified = "f (Filter)";
@@ -206,7 +206,7 @@ fn every_option_key_on_a_bare_model_changes_the_picture_or_says_why() {
     let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
     update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, model))));
     update(&mut s, Action::ModelNotes(stage.take_notes()));
-    assert!(!s.physical && s.normals_vary);
+    assert!(!s.physical && s.features.varied_normals);
     for state in [
         s.clone(),
         with(&s, |s| s.filter = Filter::Trilinear),
@@ -259,8 +259,8 @@ fn every_option_key_on_a_flat_model_without_coordinates_changes_the_picture_or_s
     let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
     update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, model))));
     update(&mut s, Action::ModelNotes(stage.take_notes()));
-    assert!(!s.normals_vary, "normals vary");
-    assert!(!s.texture_coordinates, "texture coordinates");
+    assert!(!s.features.varied_normals, "normals vary");
+    assert!(!s.features.texture_coordinates, "texture coordinates");
     let gouraud = with(&s, |s| s.shading = Shading::Gouraud);
     assert!(silent_keys(&mut stage, &s).is_empty());
     assert_eq!(silent_keys(&mut stage, &gouraud), [BUMP_OUTSIDE_PHONG]);
@@ -278,7 +278,7 @@ fn a_physical_model_without_normal_maps_refuses_the_bump_keys() {
     let mut s = State::new(Settings::default(), ColorDepth::Truecolor);
     update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, model))));
     update(&mut s, Action::ModelNotes(stage.take_notes()));
-    assert!(s.physical && !s.normal_maps);
+    assert!(s.physical && !s.features.normal_maps);
     for state in [s.clone(), with(&s, |s| s.filter = Filter::Trilinear)] {
         let silent = silent_keys(&mut stage, &state);
         assert!(silent.is_empty(), "{:?}: {silent:?}", state.settings);

@@ -538,8 +538,13 @@ fn the_height_derivative_is_refused_where_it_changes_nothing() {
         &mut s,
         Action::SceneBuilt(Ok((SceneKind::Cube, file.clone()))),
     );
+    use relief_scene::model_view::ModelFeatures;
     let notes = LoadedNotes {
         physical: true,
+        features: ModelFeatures {
+            normal_maps: false,
+            ..ModelFeatures::default()
+        },
         ..LoadedNotes::default()
     };
     // Without normal maps it has nothing to change.
@@ -550,7 +555,7 @@ fn the_height_derivative_is_refused_where_it_changes_nothing() {
     assert!(message.contains("no normal maps"), "{message}");
     update(&mut s, Action::SceneBuilt(Ok((SceneKind::Cube, file))));
     let notes = LoadedNotes {
-        normal_maps: true,
+        features: ModelFeatures::default(),
         ..notes
     };
     update(&mut s, Action::ModelNotes(notes));
@@ -591,13 +596,8 @@ fn texture_keys_are_refused_where_no_texture_shows() {
         &mut s,
         Action::SceneBuilt(Ok((SceneKind::Cube, file.clone()))),
     );
-    // The notes of a model whose parts show a texture (their own, or the
-    // one the user lays on them).
     let notes = |reach| LoadedNotes {
         texture_reach: Some(reach),
-        texture_shows: true,
-        reads_pictures: true,
-        texture_coordinates: true,
         ..LoadedNotes::default()
     };
     update(&mut s, Action::ModelNotes(notes(TextureReach::WhenChosen)));

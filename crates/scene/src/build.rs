@@ -231,20 +231,8 @@ pub struct LoadedNotes {
     /// Every part is shaded physically in the model view
     /// (`Scene::all_physical`).
     pub physical: bool,
-    /// Some part has colours of its own (`Scene::shows_vertex_colours`).
-    pub vertex_colours: bool,
-    /// Some corner's normal is not its facet's (`Scene::normals_vary`).
-    pub normals_vary: bool,
-    /// Some part's physical material has a normal map
-    /// (`Scene::has_normal_maps`).
-    pub normal_maps: bool,
-    /// Some textured part shows a picture (`Scene::shows_a_texture`).
-    pub texture_shows: bool,
-    /// Some part reads a picture of any kind (`Scene::reads_pictures`).
-    pub reads_pictures: bool,
-    /// Some triangle has texture coordinates
-    /// (`Scene::has_texture_coordinates`).
-    pub texture_coordinates: bool,
+    /// What its parts have that the keys act on (`Scene::features`).
+    pub features: super::model_view::ModelFeatures,
     /// Which parts can show a texture (`Scene::texture_reach`).
     pub texture_reach: Option<super::model_view::TextureReach>,
     /// The format stands its models Z up (`LoadedModel::z_up`).
@@ -277,12 +265,7 @@ impl LoadedNotes {
     pub(crate) fn shown_in(self, scene: &Scene) -> Self {
         LoadedNotes {
             physical: scene.all_physical(),
-            vertex_colours: scene.shows_vertex_colours(),
-            normals_vary: scene.normals_vary(),
-            normal_maps: scene.has_normal_maps(),
-            texture_shows: scene.shows_a_texture(),
-            reads_pictures: scene.reads_pictures(),
-            texture_coordinates: scene.has_texture_coordinates(),
+            features: scene.features(),
             texture_reach: scene.texture_reach(),
             ..self
         }

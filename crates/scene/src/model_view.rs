@@ -51,11 +51,23 @@ impl Scene {
         self
     }
 
+    /// What this scene's parts have that the keys act on.
+    pub fn features(&self) -> ModelFeatures {
+        ModelFeatures {
+            vertex_colours: self.shows_vertex_colours(),
+            varied_normals: self.normals_vary(),
+            normal_maps: self.has_normal_maps(),
+            colour_texture: self.shows_a_texture(),
+            pictures: self.reads_pictures(),
+            texture_coordinates: self.has_texture_coordinates(),
+        }
+    }
+
     /// Whether some part's vertex colours differ from what it is drawn
     /// with when colours are off (its material's colour factor, else
     /// white): what the colours switch (`c`) shows on a model file. A part
     /// whose file gave none is drawn the same either way.
-    pub fn shows_vertex_colours(&self) -> bool {
+    fn shows_vertex_colours(&self) -> bool {
         self.objects.iter().enumerate().any(|(i, o)| {
             let plain = self.own_terms(i).map_or(Vec3::ONE, |t| t.colour_factor);
             !o.mesh.colours_invented && o.mesh.vertices.iter().any(|v| v.color != plain)
@@ -74,7 +86,7 @@ impl Scene {
     /// whose colour texture is more than one texel (a glTF material without
     /// a map has a white texel), or no material of its own (it takes the
     /// file's or the user's texture). What `t` switches.
-    pub fn shows_a_texture(&self) -> bool {
+    fn shows_a_texture(&self) -> bool {
         (0..self.objects.len()).any(|i| {
             let textured = self.objects[i].mesh.triangles.iter().any(|t| t.textured);
             let picture = self.own_material(i).is_none_or(|m| {
@@ -88,7 +100,7 @@ impl Scene {
     /// Whether some part reads a picture: a colour texture, a normal map,
     /// or another of its material's maps (metallic-roughness, emissive,
     /// occlusion, the extensions'): what the filter (`f`) reads.
-    pub fn reads_pictures(&self) -> bool {
+    fn reads_pictures(&self) -> bool {
         let other_maps = self.object_terms.iter().flatten().any(|t| {
             !t.map_names.is_empty()
                 || t.pbr
@@ -100,7 +112,7 @@ impl Scene {
 
     /// Whether some part's physical material has a normal map (its own, or
     /// its clearcoat's): what the bump switch (`b`) turns off there.
-    pub fn has_normal_maps(&self) -> bool {
+    fn has_normal_maps(&self) -> bool {
         self.object_terms.iter().flatten().any(|t| {
             t.pbr.as_ref().is_some_and(|p| {
                 p.normal.is_some() || p.clearcoat.as_ref().is_some_and(|c| c.normal.is_some())
@@ -112,7 +124,7 @@ impl Scene {
     /// its facet's: what the normals switch (`n`, vertex / face) shows. A
     /// flat model (every corner split with its facet's normal) looks the
     /// same either way, though a few slivers' stored normals may differ.
-    pub fn normals_vary(&self) -> bool {
+    fn normals_vary(&self) -> bool {
         let corners: usize = self
             .objects
             .iter()
@@ -178,6 +190,40 @@ impl Scene {
 /// about 1.3 where key, fill and ambient meet) leaves its shading visible
 /// instead of clipping a quarter of it to white.
 pub const PLAIN_ALBEDO: f32 = 0.8;
+
+/// What a model file's parts have that some keys act on (`c`, `n`, `t`,
+/// `f`, `F`, `b`, `h`): without it, those keys are refused, since they
+/// would change nothing (`Scene::features`). All there by default, as in
+/// the reference scenes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ModelFeatures {
+    /// Vertex colours other than the material's own colour
+    /// (`Scene::shows_vertex_colours`).
+    pub vertex_colours: bool,
+    /// Corner normals other than their facets' (`Scene::normals_vary`).
+    pub varied_normals: bool,
+    /// A physical material's normal map (`Scene::has_normal_maps`).
+    pub normal_maps: bool,
+    /// A colour texture shown (`Scene::shows_a_texture`).
+    pub colour_texture: bool,
+    /// Some picture read, any map (`Scene::reads_pictures`).
+    pub pictures: bool,
+    /// Texture coordinates (`Scene::has_texture_coordinates`).
+    pub texture_coordinates: bool,
+}
+
+impl Default for ModelFeatures {
+    fn default() -> Self {
+        ModelFeatures {
+            vertex_colours: true,
+            varied_normals: true,
+            normal_maps: true,
+            colour_texture: true,
+            pictures: true,
+            texture_coordinates: true,
+        }
+    }
+}
 
 /// Which parts of a model file can show a texture (`Scene::texture_reach`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

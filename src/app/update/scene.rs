@@ -5,6 +5,7 @@ use super::super::command::Command;
 use super::super::playback;
 use super::super::state::{Panel, State, UpChoice};
 use relief_core::sanitize::clean;
+use relief_scene::model_view::ModelFeatures;
 use relief_scene::{LoadedNotes, ModelChoice, SceneKind};
 
 /// Applies a scene action (the ones [`super::apply`] routes here).
@@ -54,13 +55,11 @@ fn built(state: &mut State, scene: SceneKind, model: ModelChoice) {
     super::super::file_cameras::take(state, 0);
     state.file_lights = 0;
     state.physical = false;
-    state.vertex_colours = true;
     // The built-in plane and triangle are flat; a file says with its notes.
-    state.normals_vary = !matches!(model, ModelChoice::Plane | ModelChoice::Triangle);
-    state.normal_maps = false;
-    state.texture_shows = true;
-    state.reads_pictures = true;
-    state.texture_coordinates = true;
+    state.features = ModelFeatures {
+        varied_normals: !matches!(model, ModelChoice::Plane | ModelChoice::Triangle),
+        ..ModelFeatures::default()
+    };
     state.texture_reach = None;
     if state.up == UpChoice::File {
         state.settings.up = relief_core::settings::UpAxis::Y;
@@ -83,12 +82,7 @@ fn model_notes(state: &mut State, notes: &LoadedNotes) {
     super::super::file_cameras::take(state, notes.cameras);
     state.file_lights = notes.lights;
     state.physical = notes.physical;
-    state.vertex_colours = notes.vertex_colours;
-    state.normals_vary = notes.normals_vary;
-    state.normal_maps = notes.normal_maps;
-    state.texture_shows = notes.texture_shows;
-    state.reads_pictures = notes.reads_pictures;
-    state.texture_coordinates = notes.texture_coordinates;
+    state.features = notes.features;
     state.texture_reach = notes.texture_reach;
     // An STL stands Z up, unless the user set the axis.
     if notes.z_up && state.up == UpChoice::Default {
