@@ -175,9 +175,10 @@ fn keys_drag_and_quit_in_a_real_terminal() {
     assert_eq!(t.format("#{mouse_all_flag}"), "0");
     assert_eq!(t.format("#{mouse_sgr_flag}"), "1");
 
+    // `n` before `m`: flat lighting takes the facets' normals, and refuses it.
     let steps: [(&str, &[&str], &[&str]); 5] = [
-        ("m", &["flat │", "bump on (Phong only)"], &[]),
         ("n", &["│ face │"], &[]),
+        ("m", &["flat │", "bump on (Phong only)"], &[]),
         ("t", &["tex off"], &[]),
         ("c", &["col off"], &[]),
         ("b", &["bump off"], &["Phong only"]),
