@@ -393,6 +393,26 @@ fn what_is_not_drawn_is_named_in_one_line() {
     assert!(twin("skipped-none").warnings.is_empty());
 }
 
+/// A transmission texture, which relief does not read (the factor is
+/// drawn alone), is named in that line.
+#[test]
+fn a_transmission_texture_is_named_as_not_drawn() {
+    let ext = r#","extensionsUsed":["KHR_materials_transmission"],"materials":[{"extensions":{"KHR_materials_transmission":{"transmissionFactor":1,"transmissionTexture":{"index":0}}}}]"#;
+    let bytes = quad_glb(
+        &[("POSITION", floats(&QUAD)), ("NORMAL", floats(&UP))],
+        r#"{"mesh":0}"#,
+        ext,
+    );
+    let path = write("transmission-map", "glass.glb", &bytes);
+    let model = load(&path).unwrap();
+    assert_eq!(model.warnings.len(), 1, "{:?}", model.warnings);
+    let line = &model.warnings[0];
+    assert!(
+        line.contains("drawn without its transmission texture (the factor is drawn alone)"),
+        "{line}"
+    );
+}
+
 /// The model view's picture of the file at `path`, seen and lit head on
 /// by one light of 2 and nothing else, no tone map: its centre pixel.
 fn lit_head_on(path: std::path::PathBuf) -> [u8; 3] {

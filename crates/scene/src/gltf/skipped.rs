@@ -1,6 +1,7 @@
 //! What relief draws a glTF file without, named once in one plain line
 //! (docs/models.md, "What is not drawn"): the extensions the file uses
-//! that relief does not read, its orthographic cameras, and maps on a third
+//! that relief does not read, its orthographic cameras, transmission
+//! textures (the factor is drawn alone), and maps on a third
 //! texture coordinate set (only two are stored per primitive: such a map
 //! reads the first).
 
@@ -38,6 +39,20 @@ pub(super) fn note(name: &str, document: &::gltf::Document) -> Option<String> {
         .filter(|c| matches!(c.projection(), ::gltf::camera::Projection::Orthographic(_)))
         .count();
     count(orthographic, "orthographic camera", "orthographic cameras");
+    // Transmission is drawn thin and see-through with its factor
+    // (`opacity`); a texture varying it over the surface is not read.
+    let transmission_maps = document
+        .materials()
+        .filter(|m| {
+            m.extension_value("KHR_materials_transmission")
+                .is_some_and(|e| e.get("transmissionTexture").is_some())
+        })
+        .count();
+    count(
+        transmission_maps,
+        "transmission texture (the factor is drawn alone)",
+        "transmission textures (the factors are drawn alone)",
+    );
     let third = document
         .materials()
         .filter(|m| third_set(document, m))
