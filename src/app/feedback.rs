@@ -69,9 +69,11 @@ const TEXTURE_ONLY: [OptId; 8] = [
     OptId::TangentFrames,
 ];
 
-/// What only the lights show: their falloff and highlight anywhere, and
-/// the surface's normal where no environment lights it too.
+/// What only the lights show anywhere: their falloff and highlight.
 const LIGHTS_ONLY: [OptId; 2] = [OptId::Attenuation, OptId::Specular];
+
+/// What only the surface's normal shows: nothing without a light, where
+/// no environment lights the surface either.
 const NORMAL_ONLY: [OptId; 4] = [
     OptId::Normals,
     OptId::Bump,

@@ -53,12 +53,14 @@ impl Scene {
 
     /// What this scene's parts have that the keys act on.
     pub fn features(&self) -> ModelFeatures {
+        let normal_maps = self.has_normal_maps();
+        let colour_texture = self.shows_a_texture();
         ModelFeatures {
             vertex_colours: self.shows_vertex_colours(),
             varied_normals: self.normals_vary(),
-            normal_maps: self.has_normal_maps(),
-            colour_texture: self.shows_a_texture(),
-            pictures: self.reads_pictures(),
+            normal_maps,
+            colour_texture,
+            pictures: colour_texture || normal_maps || self.reads_other_maps(),
             texture_coordinates: self.has_texture_coordinates(),
         }
     }
@@ -97,17 +99,16 @@ impl Scene {
         })
     }
 
-    /// Whether some part reads a picture: a colour texture, a normal map,
-    /// or another of its material's maps (metallic-roughness, emissive,
-    /// occlusion, the extensions'): what the filter (`f`) reads.
-    fn reads_pictures(&self) -> bool {
-        let other_maps = self.object_terms.iter().flatten().any(|t| {
+    /// Whether some part's material reads a map besides its colour texture
+    /// and normal map (metallic-roughness, emissive, occlusion, the
+    /// extensions'): with those, what the filter (`f`) reads.
+    fn reads_other_maps(&self) -> bool {
+        self.object_terms.iter().flatten().any(|t| {
             !t.map_names.is_empty()
                 || t.pbr
                     .as_ref()
                     .is_some_and(|p| p.roughness_map.is_some() || p.metallic_map.is_some())
-        });
-        self.shows_a_texture() || self.has_normal_maps() || other_maps
+        })
     }
 
     /// Whether some part's physical material has a normal map (its own, or
@@ -206,7 +207,8 @@ pub struct ModelFeatures {
     pub normal_maps: bool,
     /// A colour texture shown (`Scene::shows_a_texture`).
     pub colour_texture: bool,
-    /// Some picture read, any map (`Scene::reads_pictures`).
+    /// Some picture read, any map (a colour texture, a normal map, or
+    /// `Scene::reads_other_maps`).
     pub pictures: bool,
     /// Texture coordinates (`Scene::has_texture_coordinates`).
     pub texture_coordinates: bool,
