@@ -155,7 +155,7 @@ pub struct RenderArgs {
     /// Which of an animated model's clips: its index in the file's animations, from 0.
     #[arg(long, value_name = "N")]
     pub clip: Option<usize>,
-    /// See a glTF model through its own perspective camera N (from 0, in the order the
+    /// See a glTF model through its own camera N (from 0, in the order the
     /// scene's nodes are met), the model as the file places it.
     #[arg(long, value_name = "N")]
     pub camera: Option<usize>,

@@ -72,7 +72,7 @@ fn through_file_camera(
     };
     let n = scene.cameras.len();
     let Some(view) = scene.model_view.as_mut().filter(|_| k < n) else {
-        anyhow::bail!("--camera {k}: the model has {n} perspective camera(s) (from 0)");
+        anyhow::bail!("--camera {k}: the model has {n} camera(s) (from 0)");
     };
     view.camera = Some(k);
     if args.view.rotate.is_none() {

@@ -1,4 +1,5 @@
-//! A right-handed perspective camera.
+//! A right-handed camera: perspective, or orthographic for a glTF file's
+//! orthographic camera.
 
 use glam::{Mat4, Vec3};
 
@@ -11,6 +12,10 @@ pub struct Camera {
     pub fov_y_degrees: f32,
     pub near: f32,
     pub far: f32,
+    /// Half the view's height in world units for an orthographic camera
+    /// (glTF's `ymag`), none for a perspective one. Its width follows the
+    /// picture's aspect, as a perspective camera's does.
+    pub orthographic: Option<f32>,
 }
 
 impl Default for Camera {
@@ -23,6 +28,7 @@ impl Default for Camera {
             fov_y_degrees: 60.0,
             near: 0.1,
             far: 100.0,
+            orthographic: None,
         }
     }
 }
@@ -39,9 +45,39 @@ impl Camera {
         } else {
             1.0
         };
-        Mat4::perspective_rh_gl(self.fov_y_degrees.to_radians(), aspect, self.near, self.far)
+        match self.orthographic {
+            Some(half) => {
+                let (x, y) = (half * aspect, half);
+                Mat4::orthographic_rh_gl(-x, x, -y, y, self.near, self.far)
+            }
+            None => Mat4::perspective_rh_gl(
+                self.fov_y_degrees.to_radians(),
+                aspect,
+                self.near,
+                self.far,
+            ),
+        }
+    }
+
+    /// The point the shading takes the eye to be at. For an orthographic
+    /// camera, whose view direction is the same at every pixel, a point
+    /// `ORTHOGRAPHIC_EYE_DISTANCE` back along its axis: the direction from
+    /// a point within a few units of the model to it is then the axis
+    /// within 10⁻⁴ radians, below what an 8-bit picture shows.
+    pub fn shading_eye(&self) -> Vec3 {
+        match self.orthographic {
+            Some(_) => {
+                let back = (self.eye - self.target).normalize_or_zero();
+                self.eye + back * ORTHOGRAPHIC_EYE_DISTANCE
+            }
+            None => self.eye,
+        }
     }
 }
+
+/// How far behind an orthographic camera the shading puts its eye
+/// (`Camera::shading_eye`).
+pub const ORTHOGRAPHIC_EYE_DISTANCE: f32 = 1.0e4;
 
 /// Distance from the reference camera to what it looks at.
 pub const REFERENCE_DISTANCE: f32 = 5.0;

@@ -16,6 +16,7 @@ use crate::shade::brdf::display;
 use crate::shade::lighting::to_rgb8;
 use crate::shade::pbr::turned;
 use relief_core::framebuffer::Rgb;
+use relief_scene::Camera;
 
 /// What the picture depends on.
 #[derive(Clone, Debug, PartialEq)]
@@ -57,7 +58,7 @@ impl BackdropCache {
         let rotation = glam::Mat3::from_mat4(plan.camera.view());
         let key = Key {
             size: (width, height),
-            view: rotation_key(rotation, plan.camera.fov_y_degrees, aspect),
+            view: rotation_key(rotation, &plan.camera, aspect),
             turn: [physical.turn.0.to_bits(), physical.turn.1.to_bits()],
             exposure: physical.exposure.to_bits(),
             tone_map: physical.tone_map,
@@ -99,11 +100,14 @@ impl Key {
     }
 }
 
-/// The bits of the camera's rotation, field of view and aspect.
-fn rotation_key(rotation: glam::Mat3, fov: f32, aspect: f32) -> [u32; 12] {
+/// The bits of the camera's rotation, field of view (or orthographic
+/// height, whose rays are all one direction) and aspect.
+fn rotation_key(rotation: glam::Mat3, camera: &Camera, aspect: f32) -> [u32; 12] {
     let m = rotation.to_cols_array();
     let mut key = [0; 12];
-    for (k, v) in key.iter_mut().zip(m.iter().chain(&[fov, aspect, 0.0])) {
+    let ortho = camera.orthographic.unwrap_or(0.0);
+    let rest = [camera.fov_y_degrees, aspect, ortho];
+    for (k, v) in key.iter_mut().zip(m.iter().chain(&rest)) {
         *k = v.to_bits();
     }
     key

@@ -311,7 +311,7 @@ impl Renderer {
         // The file's own camera, where the author put it.
         if let Some(camera) = view.camera.and_then(|k| scene.cameras.get(k)) {
             plan.camera = *camera;
-            plan.eye = camera.eye;
+            plan.eye = camera.shading_eye();
             return plan;
         }
         let aspect = width as f32 / height as f32 * self.pixel_aspect.unwrap_or(1.0);

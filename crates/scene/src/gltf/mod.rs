@@ -81,7 +81,8 @@ pub struct Model {
     /// Its animation, when it has one (or skins, or morph weights set):
     /// the parts are posed at the start of its first clip.
     pub motion: Option<Motion>,
-    /// Its perspective cameras, placed in the fitted model's space.
+    /// Its cameras, perspective and orthographic, placed in the fitted
+    /// model's space.
     pub cameras: Vec<crate::Camera>,
     /// Its own lights (KHR_lights_punctual), placed likewise.
     pub lights: Vec<crate::Light>,

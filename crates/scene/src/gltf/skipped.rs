@@ -1,6 +1,6 @@
 //! What relief draws a glTF file without, named once in one plain line
 //! (docs/models.md, "What is not drawn"): the extensions the file uses
-//! that relief does not read, its orthographic cameras, transmission
+//! that relief does not read, transmission
 //! textures (the factor is drawn alone), and maps on a third
 //! texture coordinate set (only two are stored per primitive: such a map
 //! reads the first).
@@ -34,11 +34,6 @@ pub(super) fn note(name: &str, document: &::gltf::Document) -> Option<String> {
         1 => parts.push(format!("its {one}")),
         n => parts.push(format!("its {n} {many}")),
     };
-    let orthographic = document
-        .cameras()
-        .filter(|c| matches!(c.projection(), ::gltf::camera::Projection::Orthographic(_)))
-        .count();
-    count(orthographic, "orthographic camera", "orthographic cameras");
     // Transmission is drawn thin and see-through with its factor
     // (`opacity`); a texture varying it over the surface is not read.
     let transmission_maps = document
