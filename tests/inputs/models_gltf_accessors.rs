@@ -393,24 +393,39 @@ fn what_is_not_drawn_is_named_in_one_line() {
     assert!(twin("skipped-none").warnings.is_empty());
 }
 
-/// A transmission texture, which relief does not read (the factor is
-/// drawn alone), is named in that line.
+/// A transmission texture on a second coordinate set, which the opacity
+/// test does not carry (the factor is drawn alone), is named in that line;
+/// one on the colour texture's set is read and not named.
 #[test]
-fn a_transmission_texture_is_named_as_not_drawn() {
-    let ext = r#","extensionsUsed":["KHR_materials_transmission"],"materials":[{"extensions":{"KHR_materials_transmission":{"transmissionFactor":1,"transmissionTexture":{"index":0}}}}]"#;
-    let bytes = quad_glb(
-        &[("POSITION", floats(&QUAD)), ("NORMAL", floats(&UP))],
-        r#"{"mesh":0}"#,
-        ext,
-    );
-    let path = write("transmission-map", "glass.glb", &bytes);
-    let model = load(&path).unwrap();
-    assert_eq!(model.warnings.len(), 1, "{:?}", model.warnings);
-    let line = &model.warnings[0];
+fn a_transmission_texture_on_a_second_set_is_named_as_not_drawn() {
+    let png = {
+        let img = image::RgbaImage::from_pixel(2, 2, image::Rgba([255, 255, 255, 255]));
+        relief_texture::picture::encode(&img.into(), image::ImageFormat::Png).unwrap()
+    };
+    let glass = |set: u32| {
+        let ext = format!(
+            r#","extensionsUsed":["KHR_materials_transmission"],"images":[{{"uri":"t.png"}}],"textures":[{{"source":0}}],"materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}},"extensions":{{"KHR_materials_transmission":{{"transmissionFactor":1,"transmissionTexture":{{"index":0,"texCoord":{set}}}}}}}}}]"#
+        );
+        let bytes = quad_glb(
+            &[("POSITION", floats(&QUAD)), ("NORMAL", floats(&UP))],
+            r#"{"mesh":0}"#,
+            &ext,
+        );
+        let test = format!("transmission-map-{set}");
+        write(&test, "t.png", &png);
+        load(&write(&test, "glass.glb", &bytes)).unwrap()
+    };
+    let second = glass(1);
+    assert_eq!(second.warnings.len(), 1, "{:?}", second.warnings);
+    let line = &second.warnings[0];
     assert!(
-        line.contains("drawn without its transmission texture (the factor is drawn alone)"),
+        line.contains(
+            "drawn without its transmission texture on a second coordinate set (the factor is drawn alone)"
+        ),
         "{line}"
     );
+    let first = glass(0);
+    assert!(first.warnings.is_empty(), "{:?}", first.warnings);
 }
 
 /// The model view's picture of the file at `path`, seen and lit head on

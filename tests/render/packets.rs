@@ -359,6 +359,7 @@ fn material_terms_match_the_one_pixel_loop() {
             map: Some(map(11, 6, 97)),
             cutoff: 0.5,
             blend: false,
+            transmission: None,
         }),
         ..Default::default()
     };

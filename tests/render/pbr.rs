@@ -520,6 +520,54 @@ fn a_transmitting_material_shows_the_background_through_it() {
     }
 }
 
+/// `transmissionTexture`: the factor times the map's red. A map black on
+/// its left half and white on its right lets nothing through on the left
+/// (the face's own colour, as with t = 0) and 96 % on the right (as with
+/// no texture), in the same picture.
+#[test]
+fn a_transmission_texture_chooses_where_the_material_lets_light_through() {
+    let img = image::RgbaImage::from_fn(4, 4, |x, _| {
+        let red = if x < 2 { 0 } else { 255 };
+        image::Rgba([red, 0, 0, 255])
+    });
+    let png = relief_texture::picture::encode(&img.into(), image::ImageFormat::Png).unwrap();
+    let with = |t: f32, map: &str| {
+        format!(
+            r#"[{{"pbrMetallicRoughness":{{"baseColorFactor":[1,0.5,0.25,1],"metallicFactor":0,"roughnessFactor":1}},"extensions":{{"KHR_materials_transmission":{{"transmissionFactor":{t}{map}}}}}}}]"#
+        )
+    };
+    let picture = |test: &str, materials: String| {
+        let mut scene = model(test, 1, &materials, std::slice::from_ref(&png));
+        head_on(&mut scene, 1.0);
+        (draw(&scene, &facing(), 120, 90), scene.background)
+    };
+    let (solid, background) = picture("transmission-solid", with(0.0, ""));
+    let (clear, _) = picture("transmission-clear", with(1.0, ""));
+    let map = r#","transmissionTexture":{"index":0}"#;
+    let (mapped, _) = picture("transmission-map", with(1.0, map));
+    // The quad's columns on the middle row, and a column a quarter and
+    // three quarters across (u ≈ 0.25 and 0.75: texels 0–1 and 2–3).
+    let row = solid.height() / 2;
+    let covered: Vec<usize> = (0..solid.width())
+        .filter(|&x| solid.get(x, row) != background)
+        .collect();
+    assert!(covered.len() > 20, "{covered:?}");
+    let (first, last) = (covered[0], covered[covered.len() - 1]);
+    let left = first + (last - first) / 4;
+    let right = first + 3 * (last - first) / 4;
+    assert_ne!(solid.get(left, row), clear.get(left, row));
+    assert_eq!(
+        mapped.get(left, row),
+        solid.get(left, row),
+        "opaque on the left"
+    );
+    assert_eq!(
+        mapped.get(right, row),
+        clear.get(right, row),
+        "clear on the right"
+    );
+}
+
 /// The GLB `glb` with `from` replaced by `to` in its JSON chunk.
 fn edit_json(glb: &[u8], from: &str, to: &str) -> Vec<u8> {
     let len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;

@@ -514,6 +514,7 @@ fn masked_square_over_the_floor(masked: bool) -> Scene {
                 map: Some(Arc::new(map)),
                 cutoff: 0.5,
                 blend: false,
+                transmission: None,
             }),
             ..Default::default()
         };

@@ -289,6 +289,7 @@ fn mtl_terms(
         map: opacity_map,
         cutoff: MTL_CUTOFF,
         blend: false,
+        transmission: None,
     });
     let terms = MaterialTerms {
         specular_color: desc

@@ -62,6 +62,8 @@ pub struct MapUvs {
     pub sheen_colour: MapUv,
     /// `KHR_materials_sheen`'s `sheenRoughnessTexture`.
     pub sheen_roughness: MapUv,
+    /// `KHR_materials_transmission`'s `transmissionTexture`.
+    pub transmission: MapUv,
 }
 
 impl MapUvs {
@@ -79,6 +81,7 @@ impl MapUvs {
             self.coat_normal,
             self.sheen_colour,
             self.sheen_roughness,
+            self.transmission,
         ]
         .iter()
         .all(MapUv::is_vertex_uv)

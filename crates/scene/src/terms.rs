@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
-use super::map_uv::MapUvs;
+use super::map_uv::{MapUv, MapUvs};
 use relief_core::settings::Filter;
 use relief_texture::Level;
 
@@ -201,6 +201,22 @@ pub struct Cutout {
     /// Composited with its opacity, behind the opaque surfaces' depth and
     /// far to near, instead of cut at `cutoff`.
     pub blend: bool,
+    /// `KHR_materials_transmission`'s texture, when the material has one
+    /// (its factor is then not in `factor`).
+    pub transmission: Option<TransmissionMap>,
+}
+
+/// How much of the light behind a thin transmitting surface comes
+/// through, per texel: `strength` times the map's red, read bilinearly at
+/// the map's own coordinate from the vertices' `uv`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TransmissionMap {
+    /// The transmission factor times what a dielectric lets through head
+    /// on (1 − F0).
+    pub strength: f32,
+    pub map: Arc<Level>,
+    /// The map's transform from the vertices' `uv` (never the second set).
+    pub uv: MapUv,
 }
 
 /// Below this opacity a blended pixel would change no 8-bit channel by a
@@ -211,9 +227,16 @@ impl Cutout {
     /// The opacity at `uv`, 0 to 1 (or beyond, as the factor gives).
     #[inline]
     pub fn opacity(&self, uv: Vec2) -> f32 {
-        match &self.map {
+        let alpha = match &self.map {
             Some(map) => self.factor * map.bilinear(uv.x, uv.y)[0],
             None => self.factor,
+        };
+        match &self.transmission {
+            Some(t) => {
+                let at = t.uv.at(uv, uv);
+                alpha * (1.0 - t.strength * t.map.bilinear(at.x, at.y)[0])
+            }
+            None => alpha,
         }
     }
 

@@ -26,7 +26,9 @@ use super::opacity;
 use super::sampling::{Kind, Reading, Sets, extension_map, maps_of};
 use crate::Material;
 use crate::map_uv::MapUv;
-use crate::terms::{Clearcoat, Cutout, MaterialTerms, PbrMaterial, Sheen, SpecularMaps, f0_of_ior};
+use crate::terms::{
+    Clearcoat, Cutout, MaterialTerms, PbrMaterial, Sheen, SpecularMaps, TransmissionMap, f0_of_ior,
+};
 use relief_texture::decode::load::load_texture_from_bytes;
 use relief_texture::decode::size_cap;
 use relief_texture::normal_map_file::{FileNormalMap, tilt};
@@ -218,6 +220,7 @@ impl<'a> Materials<'a> {
         // transmission composite each pixel with its opacity.
         let opacity = opacity::of(m);
         let (texture, alpha_map) = self.colour_map(m, &readings, opacity.reads_alpha)?;
+        let transmission = self.transmission_map(m, &opacity, &readings, &mut map_names)?;
         let normal_map = match m.normal_texture() {
             Some(info) => {
                 self.normal_map(&info.texture(), info.scale(), &readings.of(Kind::Normal))?
@@ -248,7 +251,7 @@ impl<'a> Materials<'a> {
         let [r, g, b, _] = pbr.base_color_factor();
         let terms = MaterialTerms {
             colour_factor: Vec3::new(r, g, b).to_array().map(finite_unit).into(),
-            cutout: cutout(&opacity, alpha_map),
+            cutout: cutout(&opacity, alpha_map, transmission),
             emissive,
             emissive_map,
             occlusion,
@@ -356,6 +359,34 @@ impl<'a> Materials<'a> {
             names.push(("coat rough", self.map_name(&texture)?));
         }
         Ok(())
+    }
+
+    /// `KHR_materials_transmission`'s texture (its red), for a material
+    /// that transmits: none without one, or when it reads the second
+    /// texture coordinate set, which the opacity test does not carry (the
+    /// line of what is not drawn names it; the factor is drawn alone).
+    fn transmission_map(
+        &self,
+        m: &::gltf::Material<'a>,
+        opacity: &opacity::Opacity,
+        readings: &Readings,
+        names: &mut Vec<(&'static str, String)>,
+    ) -> Result<Option<TransmissionMap>, Problem> {
+        let ext = "KHR_materials_transmission";
+        let uv = readings.sets.uvs.transmission;
+        let Some((texture, _)) = extension_map(self.document, m, ext, "transmissionTexture")
+            .filter(|_| opacity.transmission > 0.0 && !uv.second)
+        else {
+            return Ok(None);
+        };
+        // The red channel, kept alone or read in the whole picture.
+        let (map, _red) = self.channel_map(&texture, &readings.of(Kind::Transmission), 0)?;
+        names.push(("transmission", self.map_name(&texture)?));
+        Ok(Some(TransmissionMap {
+            strength: opacity.through(),
+            map,
+            uv,
+        }))
     }
 
     /// `KHR_materials_sheen`'s colour map (as the picture is) and roughness
@@ -967,17 +998,28 @@ fn emission(m: &::gltf::Material) -> Vec3 {
 }
 
 /// The cutout a material's opacity needs: none for a constant opacity that
-/// a mask keeps, or that a blend draws whole.
-fn cutout(opacity: &opacity::Opacity, map: Option<Arc<Level>>) -> Option<Cutout> {
-    let (blend, factor) = (opacity.blend, opacity.factor);
+/// a mask keeps, or that a blend draws whole. With a transmission map the
+/// transmission is the map's, not in the constant factor.
+fn cutout(
+    opacity: &opacity::Opacity,
+    map: Option<Arc<Level>>,
+    transmission: Option<TransmissionMap>,
+) -> Option<Cutout> {
+    let blend = opacity.blend;
+    let factor = match transmission {
+        Some(_) => opacity.alpha,
+        None => opacity.factor(),
+    };
+    let varies = map.is_some() || transmission.is_some();
     let whole = |c: f32| if blend { 1.0 } else { c };
     opacity
         .cutoff
-        .filter(|c| c.is_finite() && (map.is_some() || factor < whole(*c)))
+        .filter(|c| c.is_finite() && (varies || factor < whole(*c)))
         .map(|cutoff| Cutout {
             factor,
             map,
             cutoff,
             blend,
+            transmission,
         })
 }

@@ -14,9 +14,24 @@ pub(super) struct Opacity {
     pub cutoff: Option<f32>,
     /// Whether the base colour texture's alpha counts (not for OPAQUE).
     pub reads_alpha: bool,
-    /// The constant opacity: the base colour factor's alpha where it
-    /// counts, times what transmission leaves.
-    pub factor: f32,
+    /// The base colour factor's alpha where it counts (else 1).
+    pub alpha: f32,
+    /// `transmissionFactor` t: of the light behind, t·(1 − F0) comes
+    /// through (times the transmission texture's red, where it has one).
+    pub transmission: f32,
+}
+
+impl Opacity {
+    /// The constant opacity: the alpha times what transmission leaves.
+    pub fn factor(&self) -> f32 {
+        self.alpha * (1.0 - self.through())
+    }
+
+    /// The fraction of the light behind that transmission lets through
+    /// where its texture (if any) reads 1: t·(1 − F0).
+    pub fn through(&self) -> f32 {
+        self.transmission * (1.0 - THIN_REFLECTANCE)
+    }
 }
 
 /// What a thin transmitting surface still reflects head on, as a
@@ -28,38 +43,40 @@ pub(super) const THIN_REFLECTANCE: f32 = 0.04;
 pub(super) fn of(m: &::gltf::Material) -> Opacity {
     let alpha = m.pbr_metallic_roughness().base_color_factor()[3];
     let t = transmission(m);
-    // Of the light behind, a fraction t·(1 − F0) comes through.
-    let kept = 1.0 - t * (1.0 - THIN_REFLECTANCE);
     match m.alpha_mode() {
         AlphaMode::Opaque if t > 0.0 => Opacity {
             blend: true,
             cutoff: Some(0.5),
             reads_alpha: false,
-            factor: kept,
+            alpha: 1.0,
+            transmission: t,
         },
         AlphaMode::Opaque => Opacity {
             blend: false,
             cutoff: None,
             reads_alpha: false,
-            factor: 1.0,
+            alpha: 1.0,
+            transmission: 0.0,
         },
         AlphaMode::Mask => Opacity {
             blend: false,
             cutoff: Some(m.alpha_cutoff().unwrap_or(0.5)),
             reads_alpha: true,
-            factor: alpha,
+            alpha,
+            transmission: 0.0,
         },
         AlphaMode::Blend => Opacity {
             blend: true,
             cutoff: Some(0.5),
             reads_alpha: true,
-            factor: alpha * kept,
+            alpha,
+            transmission: t,
         },
     }
 }
 
 /// `KHR_materials_transmission`'s `transmissionFactor`, 0 to 1 (0 without
-/// the extension; its texture is not read).
+/// the extension).
 fn transmission(m: &::gltf::Material) -> f32 {
     m.extension_value("KHR_materials_transmission")
         .and_then(|e| e.get("transmissionFactor"))

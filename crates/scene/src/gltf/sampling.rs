@@ -70,6 +70,8 @@ pub enum Kind {
     SheenColour,
     /// `KHR_materials_sheen`'s `sheenRoughnessTexture` (its alpha).
     SheenRoughness,
+    /// `KHR_materials_transmission`'s `transmissionTexture` (its red).
+    Transmission,
 }
 
 /// The material extensions' maps relief draws: (kind, extension, key).
@@ -104,6 +106,11 @@ pub const EXTENSION_MAPS: &[(Kind, &str, &str)] = &[
         Kind::SheenRoughness,
         "KHR_materials_sheen",
         "sheenRoughnessTexture",
+    ),
+    (
+        Kind::Transmission,
+        "KHR_materials_transmission",
+        "transmissionTexture",
     ),
 ];
 
@@ -273,6 +280,7 @@ impl Sets {
                 Kind::CoatNormal => uvs.coat_normal = map,
                 Kind::SheenColour => uvs.sheen_colour = map,
                 Kind::SheenRoughness => uvs.sheen_roughness = map,
+                Kind::Transmission => uvs.transmission = map,
             }
         }
         Sets { first, second, uvs }

@@ -1,11 +1,11 @@
 //! What relief draws a glTF file without, named once in one plain line
 //! (docs/models.md, "What is not drawn"): the extensions the file uses
-//! that relief does not read, transmission
-//! textures (the factor is drawn alone), and maps on a third
+//! that relief does not read, transmission textures on a second texture
+//! coordinate set (the factor is drawn alone), and maps on a third
 //! texture coordinate set (only two are stored per primitive: such a map
 //! reads the first).
 
-use super::sampling::{Reading, maps_of};
+use super::sampling::{Reading, Sets, maps_of};
 
 /// The extensions relief reads when a file uses them.
 pub(super) const READ: &[&str] = &[
@@ -34,19 +34,21 @@ pub(super) fn note(name: &str, document: &::gltf::Document) -> Option<String> {
         1 => parts.push(format!("its {one}")),
         n => parts.push(format!("its {n} {many}")),
     };
-    // Transmission is drawn thin and see-through with its factor
-    // (`opacity`); a texture varying it over the surface is not read.
+    // Transmission is drawn thin and see-through with its factor times its
+    // texture (`opacity`), except a texture on a second coordinate set,
+    // which the opacity test does not carry.
     let transmission_maps = document
         .materials()
         .filter(|m| {
             m.extension_value("KHR_materials_transmission")
                 .is_some_and(|e| e.get("transmissionTexture").is_some())
+                && Sets::of(document, m).uvs.transmission.second
         })
         .count();
     count(
         transmission_maps,
-        "transmission texture (the factor is drawn alone)",
-        "transmission textures (the factors are drawn alone)",
+        "transmission texture on a second coordinate set (the factor is drawn alone)",
+        "transmission textures on a second coordinate set (the factors are drawn alone)",
     );
     let third = document
         .materials()
