@@ -60,7 +60,7 @@ impl Placed {
     /// draws few of its vertices (most of its triangles are culled or cover
     /// no pixel centre), so they are not carried for every vertex each frame.
     /// Always inlined: called out of line from the triangle loop, its
-    /// 80-byte result went through the stack and the loop stalled reading
+    /// 68-byte result went through the stack and the loop stalled reading
     /// it back (the physical frame of a 100,000-triangle sphere at 320×192,
     /// one thread, 4.34 → 4.13 ms).
     #[inline(always)]
