@@ -360,6 +360,7 @@ fn material_terms_match_the_one_pixel_loop() {
             cutoff: 0.5,
             blend: false,
             transmission: None,
+            tint: Vec3::ONE,
         }),
         ..Default::default()
     };

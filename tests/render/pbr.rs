@@ -492,30 +492,34 @@ fn an_unlit_material_shows_its_base_colour_under_any_light() {
 }
 
 /// `KHR_materials_transmission` as thin see-through: transmission t lets
-/// t·(1 − 0.04) of the background through, so the face is its own colour
-/// (drawn with t = 0) over the background at opacity 1 − 0.96·t.
+/// t·(1 − 0.04) of the background through, tinted by the base colour
+/// factor, so the face is its own colour (drawn with t = 0) at opacity
+/// a = 1 − 0.96·t over the background times the factor (both in display
+/// values): a·face + (1 − a)·tint·background.
 #[test]
-fn a_transmitting_material_shows_the_background_through_it() {
+fn a_transmitting_material_shows_the_background_through_it_tinted() {
     let with = |t: f32| {
         format!(
             r#"[{{"pbrMetallicRoughness":{{"baseColorFactor":[1,0.5,0.25,1],"metallicFactor":0,"roughnessFactor":1}},"extensions":{{"KHR_materials_transmission":{{"transmissionFactor":{t}}}}}}}]"#
         )
     };
+    // A light grey background, so that the tint shows.
+    let background = [200, 200, 200];
     let picture = |t: f32| {
         let mut scene = model("transmission", 1, &with(t), &[]);
         head_on(&mut scene, 1.0);
-        let background = scene.background;
-        (centre(&draw(&scene, &facing(), 120, 90)), background)
+        scene.background = background;
+        centre(&draw(&scene, &facing(), 120, 90))
     };
-    let (solid, background) = picture(0.0);
+    let solid = picture(0.0);
     assert_ne!(solid, background);
+    let tint = [1.0, 0.5, 0.25].map(|c| f32::from(srgb8(c)) / 255.0);
     for t in [0.5f32, 1.0] {
         let a = 1.0 - 0.96 * t;
         let want: [u8; 3] = std::array::from_fn(|k| {
-            (f32::from(background[k]) + (f32::from(solid[k]) - f32::from(background[k])) * a)
-                .round() as u8
+            (f32::from(solid[k]) * a + f32::from(background[k]) * tint[k] * (1.0 - a)).round() as u8
         });
-        let (got, _) = picture(t);
+        let got = picture(t);
         assert!(near(got, want, 1), "t {t}: {got:?}, want {want:?}");
     }
 }

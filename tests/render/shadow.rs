@@ -515,6 +515,7 @@ fn masked_square_over_the_floor(masked: bool) -> Scene {
                 cutoff: 0.5,
                 blend: false,
                 transmission: None,
+                tint: glam::Vec3::ONE,
             }),
             ..Default::default()
         };

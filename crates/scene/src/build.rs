@@ -290,6 +290,7 @@ fn mtl_terms(
         cutoff: MTL_CUTOFF,
         blend: false,
         transmission: None,
+        tint: Vec3::ONE,
     });
     let terms = MaterialTerms {
         specular_color: desc

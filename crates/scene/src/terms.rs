@@ -204,6 +204,10 @@ pub struct Cutout {
     /// `KHR_materials_transmission`'s texture, when the material has one
     /// (its factor is then not in `factor`).
     pub transmission: Option<TransmissionMap>,
+    /// The linear colour what shows through a blended pixel is multiplied
+    /// by: a transmitting glTF material's base colour factor (thin glass
+    /// tints the light it lets through), else white.
+    pub tint: Vec3,
 }
 
 /// How much of the light behind a thin transmitting surface comes

@@ -12,7 +12,7 @@
 //! Resolves average the 8-bit values the renderer writes (the same space as
 //! every other pixel: no linear-light conversion), rounded to nearest.
 
-use super::alpha::{AlphaRule, over};
+use super::alpha::AlphaRule;
 use super::backdrop::Backdrop;
 use super::fill::fill;
 use super::scan::{
@@ -231,11 +231,7 @@ pub fn raster_triangle_msaa<S: PixelShader>(
                 let slots = &mut band.samples[row + px];
                 for (s, slot) in slots.iter_mut().enumerate() {
                     if mask & (1 << s) != 0 {
-                        *slot = if blends {
-                            over(*slot, color, opacity)
-                        } else {
-                            color
-                        };
+                        *slot = alpha.composite(*slot, color, opacity);
                     }
                 }
             }

@@ -5,9 +5,14 @@
 //! A blended triangle tests the depth buffer but does not write it, and
 //! the frame draws blended triangles after every opaque one, far to near
 //! (`order_blended`), so each lands over what is behind it. Compositing
-//! is in the frame's display values, as an 8-bit render target does.
+//! is in the frame's display values, as an 8-bit render target does; a
+//! transmitting material's tint multiplies what shows through in those
+//! values too (its base colour factor encoded as the frame encodes light:
+//! for a power-law curve the encoding of a product is the product of the
+//! encodings, and sRGB is within a level or two of one).
 
 use super::setup::ScreenTri;
+use crate::shade::brdf::linear_to_srgb;
 use crate::shade::interpolate::perspective;
 use crate::shade::{PixelShader, ShadeCtx};
 use relief_core::framebuffer::Rgb;
@@ -20,8 +25,9 @@ pub enum AlphaRule {
     Opaque,
     /// A pixel below this opacity is not drawn.
     Mask(f32),
-    /// Each pixel composited with its opacity.
-    Blend,
+    /// Each pixel composited with its opacity, what shows through
+    /// multiplied by this display-encoded tint (white: none).
+    Blend([f32; 3]),
 }
 
 impl AlphaRule {
@@ -32,7 +38,7 @@ impl AlphaRule {
         }
         match ctx.plan.terms.as_ref().and_then(|t| t.cutout.as_ref()) {
             None => AlphaRule::Opaque,
-            Some(c) if c.blend => AlphaRule::Blend,
+            Some(c) if c.blend => AlphaRule::Blend(display_tint(c.tint)),
             Some(c) => AlphaRule::Mask(c.cutoff),
         }
     }
@@ -51,7 +57,7 @@ impl AlphaRule {
         match self {
             AlphaRule::Opaque => Some(1.0),
             AlphaRule::Mask(cutoff) => (opacity_of(tri, shader, ctx, l) >= cutoff).then_some(1.0),
-            AlphaRule::Blend => {
+            AlphaRule::Blend(_) => {
                 let a = opacity_of(tri, shader, ctx, l);
                 // NaN is not drawn.
                 (a >= BLEND_MIN_OPACITY).then_some(a.min(1.0))
@@ -60,8 +66,46 @@ impl AlphaRule {
     }
 
     pub fn blends(self) -> bool {
-        self == AlphaRule::Blend
+        matches!(self, AlphaRule::Blend(_))
     }
+
+    /// `src` over `dst` with opacity `a`, as this rule composites (for a
+    /// rule that does not blend, `src`).
+    #[inline]
+    pub fn composite(self, dst: Rgb, src: Rgb, a: f32) -> Rgb {
+        match self {
+            AlphaRule::Blend(tint) => over_tinted(dst, src, a, tint),
+            _ => src,
+        }
+    }
+}
+
+/// The display-encoded tint of linear colour `tint` (each channel held to
+/// 0..=1; not finite is white).
+fn display_tint(tint: glam::Vec3) -> [f32; 3] {
+    tint.to_array().map(|c| {
+        if c.is_finite() {
+            linear_to_srgb(c.clamp(0.0, 1.0))
+        } else {
+            1.0
+        }
+    })
+}
+
+/// `src` over `dst` tinted by `tint`: a·src + (1 − a)·tint·dst, rounded
+/// per channel (`over` when the tint is white).
+#[inline]
+pub fn over_tinted(dst: Rgb, src: Rgb, a: f32, tint: [f32; 3]) -> Rgb {
+    if tint == [1.0; 3] {
+        return over(dst, src, a);
+    }
+    if a >= 1.0 {
+        return src;
+    }
+    std::array::from_fn(|i| {
+        let v = f32::from(src[i]) * a + f32::from(dst[i]) * tint[i] * (1.0 - a);
+        v.round().clamp(0.0, 255.0) as u8
+    })
 }
 
 /// `src` over `dst` with opacity `a` (0 to 1), rounded per channel.
@@ -114,5 +158,22 @@ mod tests {
         assert_eq!(over([10, 20, 30], [200, 100, 0], 0.0), [10, 20, 30]);
         // 0.25 of the way: 255·0.25 = 63.75 → 64.
         assert_eq!(over([0, 0, 0], [255, 255, 255], 0.25), [64, 64, 64]);
+    }
+
+    #[test]
+    fn a_tint_multiplies_only_what_shows_through() {
+        let red = [1.0, 0.0, 0.0];
+        // 0.25·(0, 0, 40) + 0.75·(200, 100, 0)·(1, 0, 0) = (150, 0, 10).
+        assert_eq!(
+            over_tinted([200, 100, 0], [0, 0, 40], 0.25, red),
+            [150, 0, 10]
+        );
+        assert_eq!(over_tinted([200, 100, 0], [0, 0, 40], 1.0, red), [0, 0, 40]);
+        let white = [1.0; 3];
+        let (dst, src) = ([10, 20, 30], [200, 100, 0]);
+        assert_eq!(over_tinted(dst, src, 0.3, white), over(dst, src, 0.3));
+        // Linear 0.5 is sRGB 0.735 (188 of 255).
+        let half = display_tint(glam::Vec3::splat(0.5));
+        assert!((half[0] - 0.7354).abs() < 2e-3, "{half:?}");
     }
 }

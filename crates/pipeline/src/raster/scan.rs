@@ -3,7 +3,7 @@
 
 use glam::Vec2;
 
-use super::alpha::{AlphaRule, over};
+use super::alpha::AlphaRule;
 use super::fill::fill;
 use super::setup::{ONE, ScreenTri};
 use crate::shade::interpolate::perspective;
@@ -254,7 +254,7 @@ fn raster_rows<S: PixelShader>(
                 if let Some(a) = covered {
                     let c = shade_at(tri, shader, ctx, footprint.as_ref(), l, counters);
                     let slot = &mut band.color[row + px];
-                    *slot = if blends { over(*slot, c, a) } else { c };
+                    *slot = alpha.composite(*slot, c, a);
                 }
             }
             e[0] += steps[0].0;

@@ -249,9 +249,10 @@ impl<'a> Materials<'a> {
         };
         let uvs = readings.sets.uvs;
         let [r, g, b, _] = pbr.base_color_factor();
+        let colour_factor: Vec3 = [r, g, b].map(finite_unit).into();
         let terms = MaterialTerms {
-            colour_factor: Vec3::new(r, g, b).to_array().map(finite_unit).into(),
-            cutout: cutout(&opacity, alpha_map, transmission),
+            colour_factor,
+            cutout: cutout(&opacity, alpha_map, transmission, colour_factor),
             emissive,
             emissive_map,
             occlusion,
@@ -999,11 +1000,13 @@ fn emission(m: &::gltf::Material) -> Vec3 {
 
 /// The cutout a material's opacity needs: none for a constant opacity that
 /// a mask keeps, or that a blend draws whole. With a transmission map the
-/// transmission is the map's, not in the constant factor.
+/// transmission is the map's, not in the constant factor. A transmitting
+/// material tints what shows through by its base colour factor `colour`.
 fn cutout(
     opacity: &opacity::Opacity,
     map: Option<Arc<Level>>,
     transmission: Option<TransmissionMap>,
+    colour: Vec3,
 ) -> Option<Cutout> {
     let blend = opacity.blend;
     let factor = match transmission {
@@ -1021,5 +1024,10 @@ fn cutout(
             cutoff,
             blend,
             transmission,
+            tint: if opacity.transmission > 0.0 {
+                colour
+            } else {
+                Vec3::ONE
+            },
         })
 }
