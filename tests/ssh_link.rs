@@ -632,6 +632,10 @@ fn pixels_over_a_slow_link(format: &str) -> Vec<Figure> {
     }];
     let [x, y, z] = START;
 
+    // The key lands while the first frame's strips come, as the check
+    // below means: the status text can come before the link-sized picture
+    // is through, and a key then would land on that picture instead.
+    wait_for_a_strip(&pane);
     let b0 = s.bytes_to_client();
     let p0 = pane.received();
     s.keys(&["Right"]);
@@ -720,6 +724,19 @@ struct ImageSent {
 /// The images in `bytes`, in order: kitty's pictures (`a=T` of relief's image)
 /// and strips (the placement, `a=p`, of a strip's image sent just before it),
 /// sixel's images.
+/// Waits until a strip of an exact frame has begun to reach the pane (so
+/// the link-sized picture before it is through).
+fn wait_for_a_strip(pane: &PaneRecorder) {
+    let start = Instant::now();
+    while !images_sent(&pane.bytes()).iter().any(|i| !i.whole) {
+        assert!(
+            start.elapsed() < TIMEOUT,
+            "no strip of the first frame came"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
 fn images_sent(bytes: &[u8]) -> Vec<ImageSent> {
     let find = |from: usize, needle: &[u8]| {
         bytes[from..]
