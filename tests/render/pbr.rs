@@ -57,13 +57,16 @@ pub fn quads_glb(count: usize, materials: &str, images: &[Vec<u8>]) -> Vec<u8> {
         );
         let uv = [0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0];
         let t = add(&mut bin, &floats(&uv), 4, "VEC2", 5126, "");
+        // A second set, mirrored left to right, for the maps that read it.
+        let mirrored = [1.0, 0.0, 1.0, 1.0, 0.0, 1.0, 0.0, 0.0];
+        let t1 = add(&mut bin, &floats(&mirrored), 4, "VEC2", 5126, "");
         let idx: Vec<u8> = [0u16, 1, 2, 0, 2, 3]
             .iter()
             .flat_map(|i| i.to_le_bytes())
             .collect();
         let k = add(&mut bin, &idx, 6, "SCALAR", 5123, "");
         prims.push(format!(
-            r#"{{"attributes":{{"POSITION":{p},"NORMAL":{n},"TEXCOORD_0":{t}}},"indices":{k},"material":{i}}}"#
+            r#"{{"attributes":{{"POSITION":{p},"NORMAL":{n},"TEXCOORD_0":{t},"TEXCOORD_1":{t1}}},"indices":{k},"material":{i}}}"#
         ));
     }
     let mut image_json = Vec::new();
@@ -527,7 +530,9 @@ fn a_transmitting_material_shows_the_background_through_it_tinted() {
 /// `transmissionTexture`: the factor times the map's red. A map black on
 /// its left half and white on its right lets nothing through on the left
 /// (the face's own colour, as with t = 0) and 96 % on the right (as with
-/// no texture), in the same picture.
+/// no texture), in the same picture; read through the quad's second
+/// coordinate set, mirrored, the other way round (the colour texture, white,
+/// keeps the first set in the vertices).
 #[test]
 fn a_transmission_texture_chooses_where_the_material_lets_light_through() {
     let img = image::RgbaImage::from_fn(4, 4, |x, _| {
@@ -535,13 +540,14 @@ fn a_transmission_texture_chooses_where_the_material_lets_light_through() {
         image::Rgba([red, 0, 0, 255])
     });
     let png = relief_texture::picture::encode(&img.into(), image::ImageFormat::Png).unwrap();
+    let images = [png, solid_png([255; 4])];
     let with = |t: f32, map: &str| {
         format!(
-            r#"[{{"pbrMetallicRoughness":{{"baseColorFactor":[1,0.5,0.25,1],"metallicFactor":0,"roughnessFactor":1}},"extensions":{{"KHR_materials_transmission":{{"transmissionFactor":{t}{map}}}}}}}]"#
+            r#"[{{"pbrMetallicRoughness":{{"baseColorFactor":[1,0.5,0.25,1],"baseColorTexture":{{"index":1}},"metallicFactor":0,"roughnessFactor":1}},"extensions":{{"KHR_materials_transmission":{{"transmissionFactor":{t}{map}}}}}}}]"#
         )
     };
     let picture = |test: &str, materials: String| {
-        let mut scene = model(test, 1, &materials, std::slice::from_ref(&png));
+        let mut scene = model(test, 1, &materials, &images);
         head_on(&mut scene, 1.0);
         (draw(&scene, &facing(), 120, 90), scene.background)
     };
@@ -549,6 +555,8 @@ fn a_transmission_texture_chooses_where_the_material_lets_light_through() {
     let (clear, _) = picture("transmission-clear", with(1.0, ""));
     let map = r#","transmissionTexture":{"index":0}"#;
     let (mapped, _) = picture("transmission-map", with(1.0, map));
+    let second = r#","transmissionTexture":{"index":0,"texCoord":1}"#;
+    let (mirrored, _) = picture("transmission-map-1", with(1.0, second));
     // The quad's columns on the middle row, and a column a quarter and
     // three quarters across (u ≈ 0.25 and 0.75: texels 0–1 and 2–3).
     let row = solid.height() / 2;
@@ -569,6 +577,16 @@ fn a_transmission_texture_chooses_where_the_material_lets_light_through() {
         mapped.get(right, row),
         clear.get(right, row),
         "clear on the right"
+    );
+    assert_eq!(
+        mirrored.get(left, row),
+        clear.get(left, row),
+        "set 1: clear on the left"
+    );
+    assert_eq!(
+        mirrored.get(right, row),
+        solid.get(right, row),
+        "set 1: opaque on the right"
     );
 }
 

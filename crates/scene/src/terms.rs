@@ -212,14 +212,14 @@ pub struct Cutout {
 
 /// How much of the light behind a thin transmitting surface comes
 /// through, per texel: `strength` times the map's red, read bilinearly at
-/// the map's own coordinate from the vertices' `uv`.
+/// the map's own coordinate (from the vertices' `uv` or the second set).
 #[derive(Clone, Debug, PartialEq)]
 pub struct TransmissionMap {
     /// The transmission factor times what a dielectric lets through head
     /// on (1 − F0).
     pub strength: f32,
     pub map: Arc<Level>,
-    /// The map's transform from the vertices' `uv` (never the second set).
+    /// The map's set and transform.
     pub uv: MapUv,
 }
 
@@ -228,27 +228,34 @@ pub struct TransmissionMap {
 pub const BLEND_MIN_OPACITY: f32 = 0.5 / 255.0;
 
 impl Cutout {
-    /// The opacity at `uv`, 0 to 1 (or beyond, as the factor gives).
+    /// The opacity at a point whose coordinates are `uv` (the vertices')
+    /// and `uv2` (the second set, read only by a transmission map on it),
+    /// 0 to 1 (or beyond, as the factor gives).
     #[inline]
-    pub fn opacity(&self, uv: Vec2) -> f32 {
+    pub fn opacity(&self, uv: Vec2, uv2: Vec2) -> f32 {
         let alpha = match &self.map {
             Some(map) => self.factor * map.bilinear(uv.x, uv.y)[0],
             None => self.factor,
         };
         match &self.transmission {
             Some(t) => {
-                let at = t.uv.at(uv, uv);
+                let at = t.uv.at(uv, uv2);
                 alpha * (1.0 - t.strength * t.map.bilinear(at.x, at.y)[0])
             }
             None => alpha,
         }
     }
 
-    /// Whether the point at `uv` is solid: drawn by a mask, casting a
-    /// shadow for both kinds.
+    /// Whether the point at `uv` (and `uv2`) is solid: drawn by a mask,
+    /// casting a shadow for both kinds.
     #[inline]
-    pub fn opaque(&self, uv: Vec2) -> bool {
-        self.opacity(uv) >= self.cutoff
+    pub fn opaque(&self, uv: Vec2, uv2: Vec2) -> bool {
+        self.opacity(uv, uv2) >= self.cutoff
+    }
+
+    /// Whether the opacity reads the second coordinate set.
+    pub fn reads_second_set(&self) -> bool {
+        self.transmission.as_ref().is_some_and(|t| t.uv.second)
     }
 }
 

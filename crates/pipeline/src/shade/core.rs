@@ -328,6 +328,9 @@ impl<H: Hook> PixelShader for HookKernel<'_, H> {
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.tri.uv)
     }
+    fn second_uvs(&self) -> Option<&[Vec2; 3]> {
+        Some(&self.tri.uv2)
+    }
     #[inline]
     fn shade8(
         &self,

@@ -742,6 +742,9 @@ impl<const TEX: bool, const NMAP: bool> PixelShader for PbrKernel<'_, TEX, NMAP>
     fn uvs(&self) -> Option<&[Vec2; 3]> {
         Some(&self.tri.uv)
     }
+    fn second_uvs(&self) -> Option<&[Vec2; 3]> {
+        Some(&self.tri.uv2)
+    }
     #[inline]
     fn shade8(
         &self,

@@ -67,9 +67,14 @@ pub trait PixelShader {
     /// (asked only when `cutout` said yes).
     fn opacity(&self, ctx: &ShadeCtx, b: Vec3) -> f32 {
         match self.uvs() {
-            Some(uv) => opacity_at(ctx, b, uv),
+            Some(uv) => opacity_at(ctx, b, uv, self.second_uvs()),
             None => 1.0,
         }
+    }
+    /// The corners' second texture coordinates, for a kernel that has
+    /// them (a transmission map may read them).
+    fn second_uvs(&self) -> Option<&[Vec2; 3]> {
+        None
     }
     /// The one colour of every pixel, for a kernel that has one: its rows
     /// are filled, not shaded.
@@ -85,11 +90,19 @@ pub(crate) fn cuts(ctx: &ShadeCtx) -> bool {
 }
 
 /// The opacity of the plan's material at barycentrics `b` of a triangle
-/// whose vertices have texture coordinates `uv` (1 without a cutout).
+/// whose vertices have texture coordinates `uv` and, when given, second
+/// ones `uv2` (1 without a cutout).
 #[inline]
-pub(crate) fn opacity_at(ctx: &ShadeCtx, b: Vec3, uv: &[Vec2; 3]) -> f32 {
+pub(crate) fn opacity_at(ctx: &ShadeCtx, b: Vec3, uv: &[Vec2; 3], uv2: Option<&[Vec2; 3]>) -> f32 {
     match ctx.plan.terms.as_ref().and_then(|t| t.cutout.as_ref()) {
-        Some(c) => c.opacity(lerp2_at(b, uv)),
+        Some(c) => {
+            let at = lerp2_at(b, uv);
+            let second = match uv2 {
+                Some(uv2) if c.reads_second_set() => lerp2_at(b, uv2),
+                _ => at,
+            };
+            c.opacity(at, second)
+        }
         None => 1.0,
     }
 }

@@ -583,7 +583,14 @@ fn fill_band<'a>(
         }
         let mask = masks[t.object as usize].map(|(cutout, mesh)| {
             let indices = mesh.triangles[t.triangle as usize].indices;
-            (cutout, indices.map(|i| mesh.vertices[i as usize].uv))
+            let uv = indices.map(|i| mesh.vertices[i as usize].uv);
+            let uv2 = match mesh.uv2() {
+                set if cutout.reads_second_set() && !set.is_empty() => {
+                    indices.map(|i| set.get(i as usize).copied().unwrap_or_default())
+                }
+                _ => uv,
+            };
+            (cutout, [uv, uv2])
         });
         let rows = (t.rows.0 as usize).max(y0)..(t.rows.1 as usize).min(y1);
         written += fill(depth, owner, size, y0, rows, t, mask);
@@ -595,7 +602,7 @@ fn fill_band<'a>(
 /// Fills `rows` of one triangle (texel centres inside, either winding),
 /// keeping the nearest depth; `depth` and `owner` hold the rows from `y0`.
 /// `q` is 1/w, which is linear across the projected triangle. With a
-/// `mask` (the alpha mask and the corners' UVs), a texel whose point it
+/// `mask` (the alpha mask and the corners' two UV sets), a texel whose point it
 /// cuts out is left as it is; its UV is perspective-correct (uv·q is
 /// linear too), as the main pass reads it. Eight texels of a row at a
 /// time: each lane's weights and depth are the same operations on the same
@@ -607,7 +614,7 @@ fn fill(
     y0: usize,
     rows: std::ops::Range<usize>,
     t: &Setup,
-    mask: Option<(&Cutout, [Vec2; 3])>,
+    mask: Option<(&Cutout, [[Vec2; 3]; 2])>,
 ) -> u64 {
     let [(x0, y0f, q0), (x1, y1f, q1), (x2, y2f, q2)] = t.corners;
     let (lo_x, hi_x) = (t.columns.0 as usize, t.columns.1 as usize);
@@ -653,11 +660,12 @@ fn fill(
                 while nearer != 0 {
                     let k = nearer.trailing_zeros() as usize;
                     nearer &= nearer - 1;
-                    if let Some((cutout, uv)) = &mask {
+                    if let Some((cutout, [uv, uv2])) = &mask {
                         let [b0, b1, b2, q0, q1, q2] =
                             [b0, b1, b2, q0, q1, q2].map(|v| v.as_array()[k]);
-                        let uv = (uv[0] * (b0 * q0) + uv[1] * (b1 * q1) + uv[2] * (b2 * q2)) * d[k];
-                        if !cutout.opaque(uv) {
+                        let w = [b0 * q0, b1 * q1, b2 * q2];
+                        let at = |c: &[Vec2; 3]| (c[0] * w[0] + c[1] * w[1] + c[2] * w[2]) * d[k];
+                        if !cutout.opaque(at(uv), at(uv2)) {
                             continue;
                         }
                     }

@@ -363,9 +363,7 @@ impl<'a> Materials<'a> {
     }
 
     /// `KHR_materials_transmission`'s texture (its red), for a material
-    /// that transmits: none without one, or when it reads the second
-    /// texture coordinate set, which the opacity test does not carry (the
-    /// line of what is not drawn names it; the factor is drawn alone).
+    /// that transmits: none without one.
     fn transmission_map(
         &self,
         m: &::gltf::Material<'a>,
@@ -376,7 +374,7 @@ impl<'a> Materials<'a> {
         let ext = "KHR_materials_transmission";
         let uv = readings.sets.uvs.transmission;
         let Some((texture, _)) = extension_map(self.document, m, ext, "transmissionTexture")
-            .filter(|_| opacity.transmission > 0.0 && !uv.second)
+            .filter(|_| opacity.transmission > 0.0)
         else {
             return Ok(None);
         };

@@ -1,11 +1,10 @@
 //! What relief draws a glTF file without, named once in one plain line
 //! (docs/models.md, "What is not drawn"): the extensions the file uses
-//! that relief does not read, transmission textures on a second texture
-//! coordinate set (the factor is drawn alone), and maps on a third
+//! that relief does not read, and maps on a third
 //! texture coordinate set (only two are stored per primitive: such a map
 //! reads the first).
 
-use super::sampling::{Reading, Sets, maps_of};
+use super::sampling::{Reading, maps_of};
 
 /// The extensions relief reads when a file uses them.
 pub(super) const READ: &[&str] = &[
@@ -29,27 +28,6 @@ pub(super) const READ: &[&str] = &[
 /// The line naming what `document` has that is not drawn, if anything.
 pub(super) fn note(name: &str, document: &::gltf::Document) -> Option<String> {
     let mut parts: Vec<String> = Vec::new();
-    let mut count = |n: usize, one: &str, many: &str| match n {
-        0 => {}
-        1 => parts.push(format!("its {one}")),
-        n => parts.push(format!("its {n} {many}")),
-    };
-    // Transmission is drawn thin and see-through with its factor times its
-    // texture (`opacity`), except a texture on a second coordinate set,
-    // which the opacity test does not carry.
-    let transmission_maps = document
-        .materials()
-        .filter(|m| {
-            m.extension_value("KHR_materials_transmission")
-                .is_some_and(|e| e.get("transmissionTexture").is_some())
-                && Sets::of(document, m).uvs.transmission.second
-        })
-        .count();
-    count(
-        transmission_maps,
-        "transmission texture on a second coordinate set (the factor is drawn alone)",
-        "transmission textures on a second coordinate set (the factors are drawn alone)",
-    );
     let third = document
         .materials()
         .filter(|m| third_set(document, m))
