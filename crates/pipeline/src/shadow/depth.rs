@@ -584,13 +584,11 @@ fn fill_band<'a>(
         let mask = masks[t.object as usize].map(|(cutout, mesh)| {
             let indices = mesh.triangles[t.triangle as usize].indices;
             let uv = indices.map(|i| mesh.vertices[i as usize].uv);
-            let uv2 = match mesh.uv2() {
-                set if cutout.reads_second_set() && !set.is_empty() => {
-                    indices.map(|i| set.get(i as usize).copied().unwrap_or_default())
-                }
-                _ => uv,
-            };
-            (cutout, [uv, uv2])
+            // Only a transmission map on the second set reads it.
+            let uv2 = Some(mesh.uv2())
+                .filter(|set| cutout.reads_second_set() && !set.is_empty())
+                .map(|set| indices.map(|i| set.get(i as usize).copied().unwrap_or_default()));
+            (cutout, uv, uv2)
         });
         let rows = (t.rows.0 as usize).max(y0)..(t.rows.1 as usize).min(y1);
         written += fill(depth, owner, size, y0, rows, t, mask);
@@ -598,6 +596,10 @@ fn fill_band<'a>(
     watch.advance(visits % CHECK_EVERY);
     written
 }
+
+/// A caster's cut-out on one triangle: the corners' UVs, and their second
+/// set when the cut-out reads it.
+type Mask<'a> = (&'a Cutout, [Vec2; 3], Option<[Vec2; 3]>);
 
 /// Fills `rows` of one triangle (texel centres inside, either winding),
 /// keeping the nearest depth; `depth` and `owner` hold the rows from `y0`.
@@ -614,7 +616,7 @@ fn fill(
     y0: usize,
     rows: std::ops::Range<usize>,
     t: &Setup,
-    mask: Option<(&Cutout, [[Vec2; 3]; 2])>,
+    mask: Option<Mask>,
 ) -> u64 {
     let [(x0, y0f, q0), (x1, y1f, q1), (x2, y2f, q2)] = t.corners;
     let (lo_x, hi_x) = (t.columns.0 as usize, t.columns.1 as usize);
@@ -660,12 +662,13 @@ fn fill(
                 while nearer != 0 {
                     let k = nearer.trailing_zeros() as usize;
                     nearer &= nearer - 1;
-                    if let Some((cutout, [uv, uv2])) = &mask {
+                    if let Some((cutout, uv, uv2)) = &mask {
                         let [b0, b1, b2, q0, q1, q2] =
                             [b0, b1, b2, q0, q1, q2].map(|v| v.as_array()[k]);
                         let w = [b0 * q0, b1 * q1, b2 * q2];
                         let at = |c: &[Vec2; 3]| (c[0] * w[0] + c[1] * w[1] + c[2] * w[2]) * d[k];
-                        if !cutout.opaque(at(uv), at(uv2)) {
+                        let first = at(uv);
+                        if !cutout.opaque(first, uv2.as_ref().map_or(first, at)) {
                             continue;
                         }
                     }
