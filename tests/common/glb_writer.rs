@@ -87,7 +87,8 @@ impl Bin {
         self.add(bytes, values.len() / width, ty, 5123)
     }
 
-    fn add(&mut self, bytes: Vec<u8>, count: usize, ty: &str, component: u32) -> usize {
+    /// A buffer view of `bytes` (an image's, say); its index.
+    pub fn view(&mut self, bytes: &[u8]) -> usize {
         while !self.bytes.len().is_multiple_of(4) {
             self.bytes.push(0);
         }
@@ -96,7 +97,12 @@ impl Bin {
             self.bytes.len(),
             bytes.len()
         ));
-        self.bytes.extend_from_slice(&bytes);
+        self.bytes.extend_from_slice(bytes);
+        self.views.len() - 1
+    }
+
+    fn add(&mut self, bytes: Vec<u8>, count: usize, ty: &str, component: u32) -> usize {
+        self.view(&bytes);
         self.accessors.push(format!(
             r#"{{"bufferView":{},"componentType":{component},"count":{count},"type":"{ty}"}}"#,
             self.views.len() - 1

@@ -10,6 +10,7 @@ use proptest::prelude::*;
 use relief_core::settings::Settings;
 use relief_core::stats::Counters;
 use relief_pipeline::plan::Plan;
+use relief_pipeline::raster::pending::Pending;
 use relief_pipeline::raster::{Band, ClipVertex, ScreenTri, raster_triangle, setup};
 use relief_pipeline::render::Renderer;
 use relief_pipeline::render::draw_triangle;
@@ -25,6 +26,7 @@ fn add_coverage(tri: &ScreenTri, ctx: &ShadeCtx, w: usize, h: usize, counts: &mu
         width: w,
         color: &mut color,
         depth: None,
+        pending: Pending::off(),
     };
     raster_triangle(tri, &MARK, ctx, &mut band, &mut Counters::default());
     for (c, p) in counts.iter_mut().zip(&color) {
@@ -97,6 +99,7 @@ fn every_cube_triangle_is_drawn_through_the_shader_dispatch() {
         width: w,
         color: &mut color,
         depth: None,
+        pending: Pending::off(),
     };
     let mut counters = Counters::default();
     for tri in tris {

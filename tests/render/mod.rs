@@ -18,6 +18,7 @@ mod plan;
 mod plasma;
 mod reference;
 mod shadow;
+mod shared_packets;
 mod specular;
 mod tangent_frames;
 mod techniques;

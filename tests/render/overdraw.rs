@@ -15,6 +15,7 @@ use relief_core::stats::Counters;
 use relief_core::stats::FrameStats;
 use relief_pipeline::plan::Plan;
 use relief_pipeline::raster::Band;
+use relief_pipeline::raster::pending::Pending;
 use relief_pipeline::raster::scan::{OwnedBand, depth_prepass};
 use relief_pipeline::render::Renderer;
 use relief_pipeline::render::{draw_owned_triangle, draw_triangle};
@@ -411,6 +412,7 @@ fn one_pass_and_depth_first(
         width: w,
         color: &mut one.0,
         depth: Some(&mut one.1),
+        pending: Pending::off(),
     };
     for tri in tris {
         draw_triangle(
@@ -427,6 +429,7 @@ fn one_pass_and_depth_first(
             width: w,
             color: &mut first.0,
             depth: Some(&mut first.1),
+            pending: Pending::off(),
         },
         owner: &mut owner,
     };

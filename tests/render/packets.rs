@@ -15,6 +15,7 @@ use relief_core::settings::{Filter, HeightDerivative, LightVector, Normals, Shad
 use relief_core::stats::Counters;
 use relief_pipeline::plan::Plan;
 use relief_pipeline::raster::Band;
+use relief_pipeline::raster::pending::Pending;
 use relief_pipeline::render::{Renderer, draw_triangle};
 use relief_pipeline::shade::ShadeCtx;
 use relief_pipeline::shadow::{Shadow, ShadowMap};
@@ -67,6 +68,7 @@ fn both_planned(
             width: w,
             color,
             depth: None,
+            pending: Pending::off(),
         };
         let shader = &shaders[tri.shader as usize];
         let before = ca.packet_pixels;

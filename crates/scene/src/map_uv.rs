@@ -69,6 +69,15 @@ pub struct MapUvs {
 impl MapUvs {
     /// Every map reads the vertices' `uv` as it is.
     pub fn all_vertex_uv(&self) -> bool {
+        self.all().iter().all(MapUv::is_vertex_uv)
+    }
+
+    /// Some map reads the mesh's second set.
+    pub fn reads_second_set(&self) -> bool {
+        self.all().iter().any(|m| m.second)
+    }
+
+    fn all(&self) -> [MapUv; 12] {
         [
             self.normal,
             self.specular,
@@ -83,8 +92,6 @@ impl MapUvs {
             self.sheen_roughness,
             self.transmission,
         ]
-        .iter()
-        .all(MapUv::is_vertex_uv)
     }
 }
 

@@ -15,6 +15,7 @@
 use super::alpha::AlphaRule;
 use super::backdrop::Backdrop;
 use super::fill::fill;
+use super::pending::Pending;
 use super::scan::{
     Band, OwnedBand, depth_prepass, pixel_setup, raster_owned, raster_triangle, shade_at,
 };
@@ -95,6 +96,19 @@ pub trait RasterTarget {
     }
     /// The depth pre-pass of `tri`, for a target that draws depth first.
     fn prepass(&mut self, _tri: &ScreenTri, _counters: &mut Counters) {}
+    /// The target's deferred pixels (`raster::pending`) with its colours
+    /// and depths; none for a target that defers nothing.
+    fn pending(&mut self) -> Option<PendingTarget<'_>> {
+        None
+    }
+}
+
+/// A band's deferred pixels and where they are written.
+pub struct PendingTarget<'a> {
+    pub pending: &'a mut Pending,
+    pub color: &'a mut [Rgb],
+    /// The depths the pixels are checked against (`pending::write_packet`).
+    pub depth: Option<&'a [f32]>,
 }
 
 impl RasterTarget for OwnedBand<'_> {
@@ -118,6 +132,9 @@ impl RasterTarget for OwnedBand<'_> {
     fn prepass(&mut self, tri: &ScreenTri, counters: &mut Counters) {
         depth_prepass(tri, self, counters)
     }
+    fn pending(&mut self) -> Option<PendingTarget<'_>> {
+        self.band.pending()
+    }
 }
 
 impl RasterTarget for Band<'_> {
@@ -133,6 +150,13 @@ impl RasterTarget for Band<'_> {
         counters: &mut Counters,
     ) {
         raster_triangle(tri, shader, ctx, self, counters)
+    }
+    fn pending(&mut self) -> Option<PendingTarget<'_>> {
+        Some(PendingTarget {
+            pending: &mut self.pending,
+            color: self.color,
+            depth: self.depth.as_deref(),
+        })
     }
 }
 

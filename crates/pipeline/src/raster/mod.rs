@@ -7,6 +7,7 @@ pub mod backdrop;
 pub mod clip;
 pub mod fill;
 pub mod frames;
+pub mod pending;
 pub mod scan;
 pub mod setup;
 pub mod strokes;

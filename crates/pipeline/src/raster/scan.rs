@@ -5,6 +5,7 @@ use glam::Vec2;
 
 use super::alpha::AlphaRule;
 use super::fill::fill;
+use super::pending::{Pending, PendingPixel};
 use super::setup::{ONE, ScreenTri};
 use crate::shade::interpolate::perspective;
 use crate::shade::packet::LANES;
@@ -21,6 +22,9 @@ pub struct Band<'a> {
     pub width: usize,
     pub color: &'a mut [Rgb],
     pub depth: Option<&'a mut [f32]>,
+    /// Small triangles' last pixels, shaded together by the band loop
+    /// (`Pending::off()`: each with its triangle).
+    pub pending: Pending,
 }
 
 impl Band<'_> {
@@ -129,6 +133,7 @@ struct Rows<'a> {
     width: usize,
     color: &'a mut [Rgb],
     depth: DepthRule<'a>,
+    pending: &'a mut Pending,
 }
 
 /// Rasterizes the part of `tri` inside `band` with shader `S`.
@@ -148,6 +153,7 @@ pub fn raster_triangle<S: PixelShader>(
             Some(depth) => DepthRule::Less(depth),
             None => DepthRule::Off,
         },
+        pending: &mut band.pending,
     };
     raster_rows(tri, shader, ctx, target, rows, counters)
 }
@@ -167,6 +173,7 @@ pub fn raster_owned<S: PixelShader>(
         width: band.band.width,
         color: band.band.color,
         depth: DepthRule::Owner(band.owner),
+        pending: &mut band.band.pending,
     };
     raster_rows(tri, shader, ctx, target, rows, counters)
 }
@@ -383,7 +390,10 @@ fn raster_packets<S: PixelShader>(
             px += LANES;
         }
     }
-    tails.flush(tri, shader, ctx, footprint.as_ref(), &mut band, counters);
+    match shader.defers(ctx).filter(|&key| band.pending.takes(key)) {
+        Some(key) => tails.defer(tri, footprint.as_ref(), &mut band, key),
+        None => tails.flush(tri, shader, ctx, footprint.as_ref(), &mut band, counters),
+    }
 }
 
 /// Covered pixels of a triangle, from the ends of its rows, gathered into
@@ -442,6 +452,36 @@ impl Tails {
         counters.packet_pixels += u64::from(live.count_ones());
         for (&at, colour) in self.at.iter().zip(colors).take(self.count) {
             band.color[at] = colour;
+        }
+        self.count = 0;
+    }
+
+    /// Leaves the gathered pixels to the band's queue of kernel `key`,
+    /// each with what `shade_at` would shade it from, and empties the
+    /// packet.
+    #[inline(always)]
+    fn defer(
+        &mut self,
+        tri: &ScreenTri,
+        footprint: Option<&FootprintSetup>,
+        band: &mut Rows,
+        key: crate::shade::shader::PendingKey,
+    ) {
+        for lane in 0..self.count {
+            let l = [self.l[0][lane], self.l[1][lane], self.l[2][lane]];
+            let p = perspective(l, tri.q);
+            let z = match band.depth {
+                DepthRule::Less(_) => l[0] * tri.z[0] + l[1] * tri.z[1] + l[2] * tri.z[2],
+                DepthRule::Off | DepthRule::Owner(_) => f32::NAN,
+            };
+            let pixel = PendingPixel {
+                shader: tri.shader,
+                b: tri.source_barycentrics(p.b).to_array(),
+                fp: footprint.map_or_else(Footprint::default, |f| f.at(p.w, p.sum)),
+                at: self.at[lane],
+                z,
+            };
+            band.pending.push(key, pixel);
         }
         self.count = 0;
     }

@@ -4,11 +4,12 @@
 use rayon::prelude::*;
 
 use super::abandon::{Abandon, CHECK_EVERY};
-use super::dispatch::draw_into;
+use super::dispatch::{draw_into, shade_pending};
 use crate::raster::ScreenTri;
 use crate::raster::aa::RasterTarget;
 use crate::raster::backdrop::Backdrop;
 use crate::raster::setup::ONE;
+use crate::shade::packet::LANES;
 use crate::shade::{ShadeCtx, TriShader};
 use relief_core::stats::Counters;
 
@@ -139,6 +140,35 @@ pub(super) enum MaterialCtxs<'a> {
     },
 }
 
+impl<'a> MaterialCtxs<'a> {
+    /// The context of shader `s`'s material.
+    #[inline]
+    pub(super) fn of(&self, s: usize) -> &ShadeCtx<'a> {
+        match self {
+            MaterialCtxs::One(ctx) => ctx,
+            MaterialCtxs::Many { ctxs, of_shader } => &ctxs[of_shader[s] as usize],
+        }
+    }
+}
+
+/// Shades the band's deferred pixels a packet at a time while at least
+/// `least` of them wait (`raster::pending`).
+fn shade_pending_packets<T: RasterTarget>(
+    band: &mut T,
+    shaders: &[TriShader],
+    ctxs: &MaterialCtxs,
+    least: usize,
+    counters: &mut Counters,
+) {
+    let Some(mut q) = band.pending() else {
+        return;
+    };
+    while q.pending.len() >= least.max(1) {
+        let ctx = ctxs.of(q.pending.packet()[0].shader as usize);
+        shade_pending(&mut q, shaders, ctx, counters);
+    }
+}
+
 /// Clears each band and draws every triangle into it, in parallel or not
 /// (the same result either way: bands never share a pixel). Band `i` holds
 /// rows `bounds[i]..bounds[i + 1]`; a triangle whose rows miss a band is
@@ -194,12 +224,10 @@ pub(super) fn draw_bands<T: RasterTarget + Send>(
                 continue;
             }
             let s = tri.shader as usize;
-            let ctx = match ctxs {
-                MaterialCtxs::One(ctx) => ctx,
-                MaterialCtxs::Many { ctxs, of_shader } => &ctxs[of_shader[s] as usize],
-            };
-            draw_into(tri, &shaders[s], ctx, band, &mut counters);
+            draw_into(tri, &shaders[s], ctxs.of(s), band, &mut counters);
+            shade_pending_packets(band, shaders, ctxs, LANES, &mut counters);
         }
+        shade_pending_packets(band, shaders, ctxs, 1, &mut counters);
         abandon.advance(rest);
         (counters, true)
     };

@@ -1,18 +1,23 @@
 //! Which kernel draws a triangle: chosen once per triangle from its shader
 //! and the plan, so no pixel tests what its triangle needs.
 
-use crate::raster::aa::RasterTarget;
+use crate::raster::aa::{PendingTarget, RasterTarget};
+use crate::raster::pending::write_packet;
 use crate::raster::scan::OwnedBand;
 use crate::raster::{Band, ScreenTri};
 use crate::shade::core::{Hook, HookKernel};
 use crate::shade::dot3::Dot3;
 use crate::shade::emboss::Emboss;
 use crate::shade::kernels::{FlatTexturedKernel, GouraudKernel, PhongKernel};
+use crate::shade::packet::LANES;
 use crate::shade::parallax::Parallax;
 use crate::shade::pbr::{EnvLight, PbrKernel};
 use crate::shade::{PhongTri, ShadeCtx, TriShader};
+use relief_core::framebuffer::Rgb;
 use relief_core::settings::{LightVector, Technique};
 use relief_core::stats::Counters;
+use relief_texture::sample::mip::Footprint;
+use wide::f32x8;
 
 /// Runs the pixel loop monomorphised for the triangle's kernel. This and
 /// [`draw_owned_triangle`] are not generic, so a crate that calls them
@@ -205,4 +210,79 @@ fn with_hook<T: RasterTarget, H: Hook>(
         specular: ctx.plan.specular.is_some(),
     };
     target.raster(tri, &kernel, ctx, counters)
+}
+
+/// Shades the first packet of a band's deferred pixels (eight, or the
+/// last few) with the kernel of their kind under `ctx`, the context of
+/// their material, and writes them (`raster::pending`).
+pub(crate) fn shade_pending(
+    q: &mut PendingTarget,
+    shaders: &[TriShader],
+    ctx: &ShadeCtx,
+    counters: &mut Counters,
+) {
+    let pixels = q.pending.packet();
+    let phong = |k: u32| match &shaders[k as usize] {
+        TriShader::Phong(s) => Some(s),
+        _ => None,
+    };
+    let tris = pixels.first().and_then(|first| {
+        let mut tris = [phong(first.shader)?; LANES];
+        for (t, p) in tris.iter_mut().zip(pixels) {
+            *t = phong(p.shader)?;
+        }
+        Some(tris)
+    });
+    let lane = |k: usize| {
+        f32x8::from(std::array::from_fn(|i| {
+            pixels.get(i).map_or(0.0, |p| p.b[k])
+        }))
+    };
+    let b = [lane(0), lane(1), lane(2)];
+    let fp: [Footprint; LANES] =
+        std::array::from_fn(|i| pixels.get(i).map_or_else(Footprint::default, |p| p.fp));
+    let live = (1u32 << pixels.len()) - 1;
+    if let Some(colours) = tris.and_then(|t| shade_each(ctx, &t, b, &fp, live, counters)) {
+        write_packet(pixels, &colours, q.color, q.depth);
+        counters.packet_pixels += pixels.len() as u64;
+    }
+    q.pending.drop_packet();
+}
+
+/// Eight pixels of metallic-roughness triangles `tris` of one kind (see
+/// `PbrKernel::kind`), each on its own triangle.
+fn shade_each(
+    ctx: &ShadeCtx,
+    tris: &[&PhongTri; LANES],
+    b: [f32x8; 3],
+    fp: &[Footprint; LANES],
+    live: u32,
+    counters: &mut Counters,
+) -> Option<[Rgb; LANES]> {
+    let plan = ctx.plan;
+    let (physical, terms) = (plan.physical.as_ref()?, plan.terms.as_deref()?);
+    let pbr = terms.pbr.as_ref()?;
+    let s = tris[0];
+    let mapped = s.bumped && pbr.normal.is_some();
+    macro_rules! kernel {
+        ($tex:literal, $nmap:literal) => {{
+            let k = PbrKernel::<$tex, $nmap> {
+                tri: s,
+                terms,
+                pbr,
+                physical,
+                light: physical
+                    .environment
+                    .as_deref()
+                    .map(|e| EnvLight::of(e, physical)),
+            };
+            k.shade_each(ctx, (tris, b), fp, live, counters)
+        }};
+    }
+    Some(match (s.textured, mapped) {
+        (true, true) => kernel!(true, true),
+        (true, false) => kernel!(true, false),
+        (false, true) => kernel!(false, true),
+        (false, false) => kernel!(false, false),
+    })
 }

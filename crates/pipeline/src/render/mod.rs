@@ -85,6 +85,8 @@ pub struct Renderer {
     progress: Option<Arc<FrameProgress>>,
     /// No shadow pass even where the plan asks for one (`set_shadows`).
     no_shadows: bool,
+    /// Every pixel shaded with its own triangle (`set_shared_packets`).
+    no_shared_packets: bool,
     /// The model view's last framing, and what it was made for.
     fit: Option<(FrameKey, Option<model_view::Fit>)>,
     /// The environment drawn behind the model, kept between frames.
@@ -130,6 +132,14 @@ impl Renderer {
     /// llvmpipe draws). On by default.
     pub fn set_shadows(&mut self, on: bool) {
         self.no_shadows = !on;
+    }
+
+    /// `false`: each triangle shades its own pixels, its last few in a
+    /// packet of their own, instead of leaving them to be shaded with
+    /// other small triangles' (`raster::pending`). The same pictures and
+    /// counters either way (the tests compare the two); on by default.
+    pub fn set_shared_packets(&mut self, on: bool) {
+        self.no_shared_packets = !on;
     }
 
     /// Whether the shadow pass draws a dense caster (of
@@ -485,6 +495,7 @@ impl Renderer {
             ctx: &ctx,
             backdrop,
             abandon,
+            shared_packets: !self.no_shared_packets,
         };
         if plan.aa == AntiAlias::Msaa4 {
             let depth = plan.depth.then_some(&mut self.msaa_depth);

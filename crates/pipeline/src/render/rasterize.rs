@@ -9,6 +9,7 @@ use super::bands::{
 use crate::plan::Plan;
 use crate::raster::aa::{MSAA_SAMPLES, MsaaBand, RasterTarget, resolve_msaa};
 use crate::raster::backdrop::Backdrop;
+use crate::raster::pending::Pending;
 use crate::raster::scan::OwnedBand;
 use crate::raster::wire::{Canvas, WireTri, draw_lines, draw_points, point_size};
 use crate::raster::{Band, ScreenTri};
@@ -103,6 +104,19 @@ pub(super) struct Drawing<'a> {
     pub ctx: &'a MaterialCtxs<'a>,
     pub backdrop: &'a Backdrop,
     pub abandon: &'a Abandon<'a>,
+    /// Small triangles' last pixels shaded together (`raster::pending`).
+    pub shared_packets: bool,
+}
+
+impl Drawing<'_> {
+    /// A band's queue of small triangles' last pixels.
+    fn pending(&self) -> Pending {
+        if self.shared_packets {
+            Pending::on()
+        } else {
+            Pending::off()
+        }
+    }
 }
 
 impl Drawing<'_> {
@@ -185,6 +199,7 @@ pub(super) fn draw_depth_first(
                 width,
                 color,
                 depth: Some(depth),
+                pending: drawing.pending(),
             },
             owner,
         })
@@ -210,6 +225,7 @@ pub(super) fn draw_single_pass(
                     width,
                     color,
                     depth: Some(depth),
+                    pending: drawing.pending(),
                 })
                 .collect()
         }
@@ -219,6 +235,7 @@ pub(super) fn draw_single_pass(
                 width,
                 color,
                 depth: None,
+                pending: drawing.pending(),
             })
             .collect(),
     };

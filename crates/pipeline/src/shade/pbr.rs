@@ -38,7 +38,7 @@ use super::lighting::{ATTENUATION_QUADRATIC, finish, physical_falloff};
 use super::map_uv::{Coords, carry, footprint_map};
 use super::packet::{self, LANES, V3};
 use super::sampled::sample_lobe;
-use super::shader::{PixelShader, ShadeCtx};
+use super::shader::{PendingKey, PixelShader, ShadeCtx};
 use super::sheen::{self, MIN_SHEEN_ROUGHNESS, charlie, neubelt};
 use super::specular::view_dir;
 use super::split_sum::lut;
@@ -110,6 +110,25 @@ impl<'a> EnvLight<'a> {
                 IblSpecular::Prefiltered => SpecularLight::Prefiltered(environment.light()),
                 IblSpecular::Sampled => SpecularLight::Sampled(environment.radiance_levels()),
             },
+        }
+    }
+}
+
+/// The triangles of a packet's pixels: the kernel's own, or one per lane
+/// (small triangles' last pixels shaded together, `raster::pending`).
+#[derive(Clone, Copy)]
+enum Tris<'a> {
+    One(&'a PhongTri),
+    Each(&'a [&'a PhongTri; LANES]),
+}
+
+impl Tris<'_> {
+    /// Lane `i`'s triangle.
+    #[inline(always)]
+    fn lane(&self, i: usize) -> &PhongTri {
+        match self {
+            Tris::One(t) => t,
+            Tris::Each(t) => t[i],
         }
     }
 }
@@ -210,8 +229,22 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         live: u32,
         counters: &mut Counters,
     ) -> V {
+        let s = Surface::<V>::at(self.tri, &b);
+        self.shade_surface(ctx, (Tris::One(self.tri), s), b, (fp, live), counters)
+    }
+
+    /// The colour of the pixels of surface `s` on triangles `tris`, at
+    /// barycentrics `b`, encoded for display (before quantising).
+    #[inline(always)]
+    fn shade_surface<V: Vector>(
+        &self,
+        ctx: &ShadeCtx,
+        (tris, s): (Tris, Surface<V>),
+        b: [V::L; 3],
+        (fp, live): (&[Footprint], u32),
+        counters: &mut Counters,
+    ) -> V {
         let (tri, terms, pbr) = (self.tri, self.terms, self.pbr);
-        let s = Surface::<V>::at(tri, &b);
         let count = live.count_ones() as u64;
         counters.pixels_shaded += count;
         let at = Coords {
@@ -231,7 +264,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         let metallic = saturate(metallic);
         let roughness = brdf::max(saturate(roughness), V::L::splat(MIN_ROUGHNESS));
         let n = if NMAP {
-            self.mapped_normal(ctx, &s, at, fp, live, counters)
+            self.mapped_normal(ctx, (tris, &s), at, (fp, live), counters)
         } else {
             s.n
         };
@@ -253,10 +286,10 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             coat: pbr
                 .clearcoat
                 .as_ref()
-                .map(|c| self.coat(c, ctx, (&s, view), at, (fp, live), counters)),
+                .map(|c| self.coat(c, ctx, (tris, &s, view), at, (fp, live), counters)),
             sheen: pbr.sheen.as_ref().map(|sh| self.sheen(sh, nv, at)),
         };
-        let (direct, coat_direct, sheen_direct) = self.lights(ctx, &px, live, counters);
+        let (direct, coat_direct, sheen_direct) = self.lights(ctx, &px, (tris, live), counters);
         let lit = direct + self.ambient(&px, roughness, at, live);
         // A sheen keeps 1 − max(colour)·E(N·V) of the material below it (for
         // the lights and the environment alike) and adds its own lobe.
@@ -348,7 +381,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         &self,
         c: &Clearcoat,
         ctx: &ShadeCtx,
-        (s, view): (&Surface<V>, V),
+        (tris, s, view): (Tris, &Surface<V>, V),
         at: Coords<V::L>,
         (fp, live): (&[Footprint], u32),
         counters: &mut Counters,
@@ -376,7 +409,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         let n = match c.normal.as_deref() {
             Some(map) if self.tri.bumped => {
                 let read = (map, &uvs.coat_normal);
-                self.normal_from(read, ctx, s, at, (fp, live), counters)
+                self.normal_from(read, ctx, (tris, s), at, (fp, live), counters)
             }
             _ => s.n,
         };
@@ -453,17 +486,16 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
     fn mapped_normal<V: Vector>(
         &self,
         ctx: &ShadeCtx,
-        s: &Surface<V>,
+        (tris, s): (Tris, &Surface<V>),
         at: Coords<V::L>,
-        fp: &[Footprint],
-        live: u32,
+        (fp, live): (&[Footprint], u32),
         counters: &mut Counters,
     ) -> V {
         let Some(map) = self.pbr.normal.as_deref() else {
             return s.n;
         };
         let read = (map, &self.terms.uvs.normal);
-        self.normal_from(read, ctx, s, at, (fp, live), counters)
+        self.normal_from(read, ctx, (tris, s), at, (fp, live), counters)
     }
 
     /// Normal map `map`, read at its coordinates `m`, at the pixels, in
@@ -473,7 +505,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         &self,
         (map, m): (&NormalMap, &MapUv),
         ctx: &ShadeCtx,
-        s: &Surface<V>,
+        (tris, s): (Tris, &Surface<V>),
         at: Coords<V::L>,
         (fp, live): (&[Footprint], u32),
         counters: &mut Counters,
@@ -485,8 +517,16 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
             let [x, y, z] = V::L::normal_bilinear(map, u, v, live);
             V::new(x, y, z)
         } else {
-            let to = footprint_map(m, &self.tri.uv, &self.tri.uv2);
+            let to_of = |t: &PhongTri| footprint_map(m, &t.uv, &t.uv2);
+            let one = match tris {
+                Tris::One(t) => to_of(t),
+                Tris::Each(_) => None,
+            };
             V::gather(live, |i| {
+                let to = match tris {
+                    Tris::One(_) => one,
+                    Tris::Each(t) => to_of(t[i]),
+                };
                 let uv = Vec2::new(u.lane(i), v.lane(i));
                 let f = carry(fp.get(i).copied().unwrap_or_default(), to);
                 Vec3::from(read_normal(map, plan.height_derivative, plan.filter, uv, f))
@@ -505,7 +545,7 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
         &self,
         ctx: &ShadeCtx,
         px: &At<V>,
-        live: u32,
+        (tris, live): (Tris, u32),
         counters: &mut Counters,
     ) -> (V, V, V) {
         let plan = ctx.plan;
@@ -556,7 +596,8 @@ impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
                 let lanes = V::L::bits(reached) & live;
                 let [seen] = V::L::gather(lanes, 1.0, |lane| {
                     let p = px.p.lane(lane);
-                    [sh.factor(i, p, self.tri.face_normal, self.tri.object, counters)]
+                    let t = tris.lane(lane);
+                    [sh.factor(i, p, t.face_normal, t.object, counters)]
                 });
                 k = k * seen;
                 kc = kc.map(|kc| kc * seen);
@@ -732,6 +773,36 @@ fn factor_times_srgb<V: Vector>(
     }
 }
 
+impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
+    /// The kind of kernel whose pixels may be shaded together in the
+    /// band's queue: the context (the material), the variant and whether
+    /// the triangle's normal maps apply.
+    pub fn kind(ctx: &ShadeCtx, bumped: bool) -> PendingKey {
+        let ctx = std::ptr::from_ref(ctx) as usize;
+        (
+            ctx,
+            u32::from(TEX) | u32::from(NMAP) << 1 | u32::from(bumped) << 2,
+        )
+    }
+
+    /// Eight pixels of different triangles of this kernel's kind, one per
+    /// lane (`tris`), at their barycentrics `b`: bit for bit what each
+    /// triangle's own kernel shades there (the kernel's triangle is one of
+    /// them: what it holds beyond the pixels' own is the same for all).
+    pub fn shade_each(
+        &self,
+        ctx: &ShadeCtx,
+        (tris, b): (&[&PhongTri; LANES], [f32x8; 3]),
+        fp: &[Footprint; LANES],
+        live: u32,
+        counters: &mut Counters,
+    ) -> [Rgb; LANES] {
+        let s = Surface::each(tris, &b);
+        let c: V3 = self.shade_surface(ctx, (Tris::Each(tris), s), b, (fp, live), counters);
+        packet::finish(c, live, counters)
+    }
+}
+
 impl<const TEX: bool, const NMAP: bool> PixelShader for PbrKernel<'_, TEX, NMAP> {
     const SAMPLES_TEXTURE: bool = true;
     #[inline]
@@ -756,5 +827,11 @@ impl<const TEX: bool, const NMAP: bool> PixelShader for PbrKernel<'_, TEX, NMAP>
     ) -> [Rgb; LANES] {
         let c: V3 = self.shade_lanes(ctx, b, fp, live, counters);
         packet::finish(c, live, counters)
+    }
+    /// A material whose maps read only the vertices' first set: then a
+    /// pixel's shading needs of its triangle only what `shade_each` takes
+    /// per lane.
+    fn defers(&self, ctx: &ShadeCtx) -> Option<PendingKey> {
+        (!self.terms.uvs.reads_second_set()).then(|| Self::kind(ctx, self.tri.bumped))
     }
 }

@@ -26,6 +26,11 @@ pub struct ShadeCtx<'a> {
     pub packets: bool,
 }
 
+/// What pixels shaded together by one kernel share (`raster::pending`):
+/// the shading context's address and the kernel's variant (each kernel's
+/// `defers` gives it).
+pub type PendingKey = (usize, u32);
+
 /// One pixel's colour from the barycentric coordinates `b` of the pixel
 /// centre in the *source* triangle (perspective-correct, summing to 1).
 pub trait PixelShader {
@@ -79,6 +84,13 @@ pub trait PixelShader {
     /// The one colour of every pixel, for a kernel that has one: its rows
     /// are filled, not shaded.
     fn solid(&self) -> Option<Rgb> {
+        None
+    }
+    /// For a kernel that can shade eight pixels of different triangles of
+    /// its kind at once: its kind, under which a triangle's last, partial
+    /// packet waits in the band's queue (`raster::pending`) for other
+    /// triangles' pixels.
+    fn defers(&self, _ctx: &ShadeCtx) -> Option<PendingKey> {
         None
     }
 }

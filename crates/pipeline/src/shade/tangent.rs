@@ -12,7 +12,9 @@ use glam::Vec3;
 use super::PhongTri;
 use super::interpolate::{lerp2, lerp3};
 use super::lanes::{Lanes, Vector};
+use super::packet::{LANES, V3};
 use relief_scene::face_frame::any_perpendicular;
+use wide::f32x8;
 
 /// An orthonormal tangent frame, plus the lengths of ∂P/∂u and ∂P/∂v
 /// (world units per unit of texture coordinate) for converting tangent
@@ -136,6 +138,31 @@ impl<V: Vector> Surface<V> {
     #[inline(always)]
     pub fn frame(&self) -> Frame<V> {
         Frame::new(self.n, self.pu, self.pv)
+    }
+}
+
+impl Surface<V3> {
+    /// Each lane's surface on its own triangle `tris[i]` at barycentrics
+    /// `b`: lane i is `Surface::<Vec3>::at` of its triangle, bit for bit
+    /// (the one-pixel and eight-pixel forms agree). The facet normal is
+    /// the first triangle's.
+    #[inline(always)]
+    pub fn each(tris: &[&PhongTri; LANES], b: &[f32x8; 3]) -> Surface<V3> {
+        let b = b.map(|l| l.to_array());
+        let one: [Surface; LANES] =
+            std::array::from_fn(|i| Surface::at(tris[i], &[b[0][i], b[1][i], b[2][i]]));
+        let lanes = |f: fn(&Surface) -> Vec3| V3::gather(u32::MAX, |i| f(&one[i]));
+        let [u, v] = f32x8::gather(u32::MAX, 0.0, |i| [one[i].u, one[i].v]);
+        Surface {
+            p: lanes(|s| s.p),
+            n: lanes(|s| s.n),
+            face_n: tris[0].face_normal,
+            albedo: lanes(|s| s.albedo),
+            u,
+            v,
+            pu: lanes(|s| s.pu),
+            pv: lanes(|s| s.pv),
+        }
     }
 }
 
