@@ -144,7 +144,11 @@ pub fn write(test: &str, bytes: &[u8]) -> PathBuf {
 }
 
 pub fn model(test: &str, count: usize, materials: &str, images: &[Vec<u8>]) -> Scene {
-    let path = write(test, &quads_glb(count, materials, images));
+    load(write(test, &quads_glb(count, materials, images)))
+}
+
+/// The scene of model file `path`, in the model view.
+pub fn load(path: PathBuf) -> Scene {
     match build_scene(
         SceneKind::Cube,
         &ModelChoice::File(path),

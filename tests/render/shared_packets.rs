@@ -6,15 +6,12 @@
 //! its shadow map), drawn depth first (spheres stacked towards the eye),
 //! and with two materials side by side, on one thread and on three.
 
-use std::sync::Arc;
-
 use glam::Vec3;
 use relief_core::framebuffer::Framebuffer;
 use relief_core::settings::Settings;
 use relief_core::stats::FrameStats;
 use relief_pipeline::render::Renderer;
-use relief_scene::{Built, ModelChoice, Scene, SceneKind, build_scene};
-use relief_texture::decode::procedural;
+use relief_scene::Scene;
 
 use crate::glb_writer::Bin;
 
@@ -182,16 +179,7 @@ fn scene(test: &str, parts: &[Vec<(Vec3, f32, u16)>], quads: bool) -> Scene {
     let dir = crate::common::scratch::scratch_dir(&format!("shared-packets-{test}"));
     let path = dir.join("spheres.glb");
     std::fs::write(&path, spheres_glb(parts, quads)).unwrap();
-    match build_scene(
-        SceneKind::Cube,
-        &ModelChoice::File(path),
-        Arc::new(procedural::brick()),
-        false,
-    ) {
-        Ok(Built::Scene(scene)) => *scene,
-        Ok(Built::Plasma(_)) => unreachable!(),
-        Err(e) => panic!("{e}"),
-    }
+    crate::render::pbr::load(path)
 }
 
 /// The frame with small triangles' pixels shaded together or not, on a

@@ -19,6 +19,51 @@ use relief_core::stats::Counters;
 use relief_texture::sample::mip::Footprint;
 use wide::f32x8;
 
+/// `$body` with `$k` the metallic-roughness kernel of triangle `$s` under
+/// `$ctx`'s plan, in the variant its colour texture and normal map choose;
+/// `None` when the plan has no physical material.
+macro_rules! with_pbr_kernel {
+    ($ctx:expr, $s:expr, |$k:ident| $body:expr) => {{
+        let plan = $ctx.plan;
+        let s: &PhongTri = $s;
+        if let (Some(physical), Some(terms)) = (plan.physical.as_ref(), plan.terms.as_deref())
+            && let Some(pbr) = terms.pbr.as_ref()
+        {
+            let light = physical
+                .environment
+                .as_deref()
+                .map(|e| EnvLight::of(e, physical));
+            let plain = PbrKernel::<false, false> {
+                tri: s,
+                terms,
+                pbr,
+                physical,
+                light,
+            };
+            Some(match (s.textured, s.bumped && pbr.normal.is_some()) {
+                (true, true) => {
+                    let $k = plain.variant::<true, true>();
+                    $body
+                }
+                (true, false) => {
+                    let $k = plain.variant::<true, false>();
+                    $body
+                }
+                (false, true) => {
+                    let $k = plain.variant::<false, true>();
+                    $body
+                }
+                (false, false) => {
+                    let $k = plain;
+                    $body
+                }
+            })
+        } else {
+            None
+        }
+    }};
+}
+
 /// Runs the pixel loop monomorphised for the triangle's kernel. This and
 /// [`draw_owned_triangle`] are not generic, so a crate that calls them
 /// (the tests) does not compile every kernel again.
@@ -97,35 +142,7 @@ fn draw_physical<T: RasterTarget>(
     target: &mut T,
     counters: &mut Counters,
 ) {
-    let plan = ctx.plan;
-    let (Some(physical), Some(terms)) = (&plan.physical, plan.terms.as_deref()) else {
-        return;
-    };
-    let Some(pbr) = terms.pbr.as_ref() else {
-        return;
-    };
-    let mapped = s.bumped && pbr.normal.is_some();
-    macro_rules! kernel {
-        ($tex:literal, $nmap:literal) => {{
-            let k = PbrKernel::<$tex, $nmap> {
-                tri: s,
-                terms,
-                pbr,
-                physical,
-                light: physical
-                    .environment
-                    .as_deref()
-                    .map(|e| EnvLight::of(e, physical)),
-            };
-            target.raster(tri, &k, ctx, counters)
-        }};
-    }
-    match (s.textured, mapped) {
-        (true, true) => kernel!(true, true),
-        (true, false) => kernel!(true, false),
-        (false, true) => kernel!(false, true),
-        (false, false) => kernel!(false, false),
-    }
+    with_pbr_kernel!(ctx, s, |k| target.raster(tri, &k, ctx, counters));
 }
 
 /// Plain Phong (`BUMP` false) or Blinn's bump, with or without its colour
@@ -259,30 +276,11 @@ fn shade_each(
     live: u32,
     counters: &mut Counters,
 ) -> Option<[Rgb; LANES]> {
-    let plan = ctx.plan;
-    let (physical, terms) = (plan.physical.as_ref()?, plan.terms.as_deref()?);
-    let pbr = terms.pbr.as_ref()?;
-    let s = tris[0];
-    let mapped = s.bumped && pbr.normal.is_some();
-    macro_rules! kernel {
-        ($tex:literal, $nmap:literal) => {{
-            let k = PbrKernel::<$tex, $nmap> {
-                tri: s,
-                terms,
-                pbr,
-                physical,
-                light: physical
-                    .environment
-                    .as_deref()
-                    .map(|e| EnvLight::of(e, physical)),
-            };
-            k.shade_each(ctx, (tris, b), fp, live, counters)
-        }};
-    }
-    Some(match (s.textured, mapped) {
-        (true, true) => kernel!(true, true),
-        (true, false) => kernel!(true, false),
-        (false, true) => kernel!(false, true),
-        (false, false) => kernel!(false, false),
-    })
+    with_pbr_kernel!(ctx, tris[0], |k| k.shade_each(
+        ctx,
+        (tris, b),
+        fp,
+        live,
+        counters
+    ))
 }

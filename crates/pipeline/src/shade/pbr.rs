@@ -773,11 +773,22 @@ fn factor_times_srgb<V: Vector>(
     }
 }
 
-impl<const TEX: bool, const NMAP: bool> PbrKernel<'_, TEX, NMAP> {
+impl<'a, const TEX: bool, const NMAP: bool> PbrKernel<'a, TEX, NMAP> {
+    /// The same triangle and material in another variant.
+    pub fn variant<const T: bool, const N: bool>(&self) -> PbrKernel<'a, T, N> {
+        PbrKernel {
+            tri: self.tri,
+            terms: self.terms,
+            pbr: self.pbr,
+            physical: self.physical,
+            light: self.light,
+        }
+    }
+
     /// The kind of kernel whose pixels may be shaded together in the
     /// band's queue: the context (the material), the variant and whether
     /// the triangle's normal maps apply.
-    pub fn kind(ctx: &ShadeCtx, bumped: bool) -> PendingKey {
+    fn kind(ctx: &ShadeCtx, bumped: bool) -> PendingKey {
         let ctx = std::ptr::from_ref(ctx) as usize;
         (
             ctx,
