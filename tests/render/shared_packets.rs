@@ -1,10 +1,12 @@
 //! Small triangles' last pixels shaded together (`raster::pending`): the
 //! frame is the very frame each triangle shading its own pixels gives, bit
-//! for bit and counter for counter, on dense metallic-roughness spheres
-//! (pixels of one or two a triangle) without a depth buffer (one convex
-//! sphere), with one (a dented sphere, which also shades itself through
-//! its shadow map), drawn depth first (spheres stacked towards the eye),
-//! and with two materials side by side, on one thread and on three.
+//! for bit and counter for counter, on dense spheres (pixels of one or two
+//! a triangle) without a depth buffer (one convex sphere), with one (a
+//! dented sphere, which also shades itself through its shadow map), drawn
+//! depth first (spheres stacked towards the eye), with two materials side
+//! by side, and with quads drawn over pixels still waiting, on one thread
+//! and on three: glTF metallic-roughness spheres, and the same spheres as
+//! a PLY, which the Phong kernel draws.
 
 use glam::Vec3;
 use relief_core::framebuffer::Framebuffer;
@@ -175,10 +177,68 @@ fn spheres_glb(parts: &[Vec<(Vec3, f32, u16)>], quads: bool) -> Vec<u8> {
     bin.glb(&json)
 }
 
+/// An ASCII PLY of the spheres of `spheres` (positions, normals, texture
+/// coordinates, colours varying by vertex), with `add_quads` when `quads`:
+/// a file without a material, drawn by the Phong kernel.
+fn spheres_ply(spheres: &[(Vec3, f32, u16)], quads: bool) -> String {
+    let mut mesh = Mesh::default();
+    for (k, &(centre, dent, rings)) in spheres.iter().enumerate() {
+        let colour = [0.9, 0.5 + 0.1 * k as f32, 0.3];
+        sphere(&mut mesh, (centre, colour), dent, (rings, 2 * rings));
+    }
+    if quads {
+        add_quads(&mut mesh);
+    }
+    let count = mesh.positions.len() / 3;
+    let mut ply = format!(
+        "ply\nformat ascii 1.0\nelement vertex {count}\nproperty float x\nproperty float y\n\
+         property float z\nproperty float nx\nproperty float ny\nproperty float nz\n\
+         property float s\nproperty float t\nproperty float red\nproperty float green\n\
+         property float blue\nelement face {}\nproperty list uchar int vertex_indices\n\
+         end_header\n",
+        mesh.indices.len() / 3
+    );
+    for i in 0..count {
+        let p = &mesh.positions[3 * i..3 * i + 3];
+        let n = &mesh.normals[3 * i..3 * i + 3];
+        let t = &mesh.uvs[2 * i..2 * i + 2];
+        // Each vertex a little its own colour, so neighbours differ.
+        let c = &mesh.colours[3 * i..3 * i + 3];
+        let shade = 0.8 + 0.2 * ((i * 7 % 11) as f32 / 10.0);
+        ply += &format!(
+            "{} {} {} {} {} {} {} {} {} {} {}\n",
+            p[0],
+            p[1],
+            p[2],
+            n[0],
+            n[1],
+            n[2],
+            t[0],
+            t[1],
+            c[0] * shade,
+            c[1] * shade,
+            c[2]
+        );
+    }
+    for f in mesh.indices.chunks(3) {
+        ply += &format!("3 {} {} {}\n", f[0], f[1], f[2]);
+    }
+    ply
+}
+
 fn scene(test: &str, parts: &[Vec<(Vec3, f32, u16)>], quads: bool) -> Scene {
     let dir = crate::common::scratch::scratch_dir(&format!("shared-packets-{test}"));
     let path = dir.join("spheres.glb");
     std::fs::write(&path, spheres_glb(parts, quads)).unwrap();
+    crate::render::pbr::load(path)
+}
+
+/// The scene of `spheres_ply` in the model view, with the scene's
+/// texture (chosen: the user named it).
+fn phong_scene(test: &str, spheres: &[(Vec3, f32, u16)], quads: bool) -> Scene {
+    let dir = crate::common::scratch::scratch_dir(&format!("shared-packets-{test}"));
+    let path = dir.join("spheres.ply");
+    std::fs::write(&path, spheres_ply(spheres, quads)).unwrap();
     crate::render::pbr::load(path)
 }
 
@@ -211,16 +271,28 @@ fn same_either_way(test: &str, parts: &[Vec<(Vec3, f32, u16)>]) {
 /// spheres when `quads` (`add_quads`), seen head on.
 fn same_either_way_in(test: &str, parts: &[Vec<(Vec3, f32, u16)>], quads: bool) {
     let scene = scene(test, parts, quads);
-    let settings = match quads {
+    same_frames(test, &scene, quads, &view(quads, Settings::default()));
+}
+
+/// `settings`, seen head on when `quads` (for `add_quads`).
+fn view(quads: bool, settings: Settings) -> Settings {
+    match quads {
         true => Settings {
             rotation: Vec3::new(-relief_scene::model_view::ELEVATION_DEGREES, 0.0, 0.0),
-            ..Settings::default()
+            ..settings
         },
-        false => Settings::default(),
-    };
+        false => settings,
+    }
+}
+
+/// The frames and counters of `scene` under `settings` are the same with
+/// small triangles' pixels shaded together or not, at two sizes on one
+/// thread and three; the triangles are small (unless `quads` cover many
+/// pixels).
+fn same_frames(test: &str, scene: &Scene, quads: bool, settings: &Settings) {
     for (size, threads) in [((160, 120), 1), ((200, 150), 3)] {
-        let (a, sa) = frame(&scene, true, size, (threads, &settings));
-        let (b, sb) = frame(&scene, false, size, (threads, &settings));
+        let (a, sa) = frame(scene, true, size, (threads, settings));
+        let (b, sb) = frame(scene, false, size, (threads, settings));
         let differ = a
             .pixels()
             .iter()
@@ -283,4 +355,45 @@ fn two_materials_overlapping_are_drawn_the_same() {
 #[test]
 fn a_near_quad_drawn_over_waiting_pixels_keeps_its_colour() {
     same_either_way_in("quads", &[vec![(Vec3::ZERO, 0.0, 80)]], true);
+}
+
+/// The Phong kernel's pixels (a PLY, no material of its own) under the
+/// settings of each of its kernels that share packets: the scene's
+/// texture or none, highlights or none, Blinn's bump off (its kernel
+/// keeps its pixels).
+fn phong_same_either_way(test: &str, spheres: &[(Vec3, f32, u16)], quads: bool) {
+    let scene = phong_scene(test, spheres, quads);
+    for (texture, specular) in [(true, true), (false, false), (true, false), (false, true)] {
+        let settings = Settings {
+            texture,
+            specular,
+            bump: false,
+            ..Settings::default()
+        };
+        let test = format!("{test}, texture {texture}, specular {specular}");
+        same_frames(&test, &scene, quads, &view(quads, settings));
+    }
+}
+
+#[test]
+fn phong_pixels_of_a_dense_convex_sphere_are_drawn_the_same() {
+    phong_same_either_way("phong-convex", &[(Vec3::ZERO, 0.0, 80)], false);
+}
+
+#[test]
+fn phong_pixels_of_a_dented_sphere_are_drawn_the_same_behind_its_depth_buffer() {
+    phong_same_either_way("phong-dented", &[(Vec3::ZERO, 0.08, 80)], false);
+}
+
+#[test]
+fn phong_pixels_of_stacked_spheres_drawn_depth_first_are_drawn_the_same() {
+    let stack: Vec<(Vec3, f32, u16)> = (0..5)
+        .map(|k| (Vec3::new(0.02 * k as f32, 0.0, -0.1 * k as f32), 0.0, 80))
+        .collect();
+    phong_same_either_way("phong-stacked", &stack, false);
+}
+
+#[test]
+fn a_near_quad_drawn_over_waiting_phong_pixels_keeps_its_colour() {
+    phong_same_either_way("phong-quads", &[(Vec3::ZERO, 0.0, 80)], true);
 }

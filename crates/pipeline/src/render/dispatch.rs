@@ -266,8 +266,10 @@ pub(crate) fn shade_pending(
     q.pending.drop_packet();
 }
 
-/// Eight pixels of metallic-roughness triangles `tris` of one kind (see
-/// `PbrKernel::kind`), each on its own triangle.
+/// Eight pixels of triangles `tris` of one kind (see `PbrKernel::kind`
+/// and `PhongKernel::defers`), each on its own triangle: the
+/// metallic-roughness kernel where the plan shades physically (as
+/// `draw_into` chooses), else the Phong kernel without bump.
 fn shade_each(
     ctx: &ShadeCtx,
     tris: &[&PhongTri; LANES],
@@ -276,11 +278,24 @@ fn shade_each(
     live: u32,
     counters: &mut Counters,
 ) -> Option<[Rgb; LANES]> {
-    with_pbr_kernel!(ctx, tris[0], |k| k.shade_each(
-        ctx,
-        (tris, b),
-        fp,
-        live,
-        counters
-    ))
+    if physical(ctx) {
+        return with_pbr_kernel!(ctx, tris[0], |k| k.shade_each(
+            ctx,
+            (tris, b),
+            fp,
+            live,
+            counters
+        ));
+    }
+    let pixels = (tris, b);
+    Some(match (tris[0].textured, ctx.plan.specular.is_some()) {
+        (true, true) => PhongKernel::<true, false, true>::new(tris[0], 0.0)
+            .shade_each(ctx, pixels, fp, live, counters),
+        (true, false) => PhongKernel::<true, false, false>::new(tris[0], 0.0)
+            .shade_each(ctx, pixels, fp, live, counters),
+        (false, true) => PhongKernel::<false, false, true>::new(tris[0], 0.0)
+            .shade_each(ctx, pixels, fp, live, counters),
+        (false, false) => PhongKernel::<false, false, false>::new(tris[0], 0.0)
+            .shade_each(ctx, pixels, fp, live, counters),
+    })
 }

@@ -24,7 +24,7 @@ use super::material::compose;
 use super::packet::{self, LANES, V3};
 use super::shader::{PixelShader, ShadeCtx};
 use super::specular::{gloss, view_dir};
-use super::tangent::Surface;
+use super::tangent::{Surface, Tris};
 use relief_core::framebuffer::Rgb;
 use relief_core::settings::{Filter, HeightDerivative};
 use relief_core::stats::Counters;
@@ -50,7 +50,8 @@ pub struct HookAt<V: Vector> {
 /// read nor counted where a read is made lane by lane.
 pub struct Pixels<'a, V: Vector> {
     /// The triangle (its second texture coordinate set, for the maps that
-    /// read it).
+    /// read it); the first lane's when each lane has its own
+    /// ([`shade_surface`]).
     pub tri: &'a PhongTri,
     pub s: Surface<V>,
     pub b: [V::L; 3],
@@ -121,13 +122,42 @@ pub fn shade<V: Vector, H: Hook>(
     b: [V::L; 3],
     fp: &[Footprint],
     live: u32,
+    flags: (bool, bool),
+    counters: &mut Counters,
+) -> V {
+    let s = Surface::<V>::at(tri, &b);
+    shade_surface(
+        hook,
+        (Tris::One(tri), s),
+        ctx,
+        b,
+        (fp, live),
+        flags,
+        counters,
+    )
+}
+
+/// [`shade`] of the pixels of surface `s` on triangles `tris`: the
+/// kernel's own, or one per lane when small triangles' last pixels are
+/// shaded together (`raster::pending`). With a triangle per lane, the
+/// hook and the specular map's coordinates see the first lane's triangle:
+/// only a kernel whose hook reads no triangle and whose maps read no
+/// second coordinate set shades such packets (`PhongKernel::defers`).
+#[inline(always)]
+pub fn shade_surface<V: Vector, H: Hook>(
+    hook: &H,
+    (tris, s): (Tris, Surface<V>),
+    ctx: &ShadeCtx,
+    b: [V::L; 3],
+    (fp, live): (&[Footprint], u32),
     (tex, spec): (bool, bool),
     counters: &mut Counters,
 ) -> V {
     let plan = ctx.plan;
+    let tri = tris.lane(0);
     let px = Pixels {
         tri,
-        s: Surface::<V>::at(tri, &b),
+        s,
         b,
         fp,
         live,
@@ -170,7 +200,8 @@ pub fn shade<V: Vector, H: Hook>(
                 }
                 let lanes = V::L::bits(reached) & live;
                 let [seen] = V::L::gather(lanes, 1.0, |lane| {
-                    [sh.factor(i, s.p.lane(lane), tri.face_normal, tri.object, counters)]
+                    let t = tris.lane(lane);
+                    [sh.factor(i, s.p.lane(lane), t.face_normal, t.object, counters)]
                 });
                 seen
             };

@@ -5,13 +5,16 @@ use glam::{Vec2, Vec3};
 use wide::f32x8;
 
 use super::bump::Blinn;
-use super::core::{colour, gloss_map, shade};
+use super::core::{colour, gloss_map, shade, shade_surface};
 use super::interpolate::{Corners2, Corners3, lerp2};
 use super::lanes::Vector;
 use super::lighting::finish;
 use super::packet::{self, LANES, V3};
-use super::shader::{GouraudTri, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, cuts};
+use super::shader::{
+    GouraudTri, PHONG_KIND, PendingKey, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, cuts,
+};
 use super::specular::gloss;
+use super::tangent::{Surface, Tris};
 use crate::plan::Plan;
 use relief_core::framebuffer::Rgb;
 use relief_core::stats::Counters;
@@ -229,6 +232,32 @@ impl<'a, const TEX: bool, const BUMP: bool, const SPEC: bool> PhongKernel<'a, TE
             hook: Blinn::for_triangle(tri, k),
         }
     }
+
+    /// Eight pixels of triangles `tris` of this kernel's kind (see
+    /// `defers`), one per lane, at their barycentrics `b`: bit for bit
+    /// what each triangle's own kernel shades there.
+    pub fn shade_each(
+        &self,
+        ctx: &ShadeCtx,
+        (tris, b): (&[&PhongTri; LANES], [f32x8; 3]),
+        fp: &[Footprint; LANES],
+        live: u32,
+        counters: &mut Counters,
+    ) -> [Rgb; LANES] {
+        // Without Blinn's bump no pixel reads ∂P/∂u, ∂P/∂v.
+        let s = Surface::each(tris, &b, BUMP);
+        let surface = (Tris::Each(tris), s);
+        let c: V3 = shade_surface(
+            &self.hook,
+            surface,
+            ctx,
+            b,
+            (fp, live),
+            (TEX, SPEC),
+            counters,
+        );
+        packet::finish(c, live, counters)
+    }
 }
 
 impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
@@ -273,5 +302,17 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
             counters,
         );
         packet::finish(c, live, counters)
+    }
+    /// Without Blinn's bump, a pixel needs of its triangle only what
+    /// `shade_each` takes per lane, unless a map reads the second
+    /// coordinate set; the triangles of one kind also agree on whether
+    /// they read the specular map.
+    fn defers(&self, ctx: &ShadeCtx) -> Option<PendingKey> {
+        let second = (ctx.plan.terms.as_deref()).is_some_and(|t| t.uvs.reads_second_set());
+        (!BUMP && !second).then(|| {
+            let ctx = std::ptr::from_ref(ctx) as usize;
+            let variant = u32::from(TEX) | u32::from(SPEC) << 1 | u32::from(self.tri.glossy) << 2;
+            (ctx, PHONG_KIND | variant)
+        })
     }
 }

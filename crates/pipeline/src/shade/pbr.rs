@@ -42,7 +42,7 @@ use super::shader::{PendingKey, PixelShader, ShadeCtx};
 use super::sheen::{self, MIN_SHEEN_ROUGHNESS, charlie, neubelt};
 use super::specular::view_dir;
 use super::split_sum::lut;
-use super::tangent::Surface;
+use super::tangent::{Surface, Tris};
 use crate::plan::Physical;
 use relief_core::framebuffer::Rgb;
 use relief_core::settings::{IblDiffuse, IblSpecular};
@@ -110,25 +110,6 @@ impl<'a> EnvLight<'a> {
                 IblSpecular::Prefiltered => SpecularLight::Prefiltered(environment.light()),
                 IblSpecular::Sampled => SpecularLight::Sampled(environment.radiance_levels()),
             },
-        }
-    }
-}
-
-/// The triangles of a packet's pixels: the kernel's own, or one per lane
-/// (small triangles' last pixels shaded together, `raster::pending`).
-#[derive(Clone, Copy)]
-enum Tris<'a> {
-    One(&'a PhongTri),
-    Each(&'a [&'a PhongTri; LANES]),
-}
-
-impl Tris<'_> {
-    /// Lane `i`'s triangle.
-    #[inline(always)]
-    fn lane(&self, i: usize) -> &PhongTri {
-        match self {
-            Tris::One(t) => t,
-            Tris::Each(t) => t[i],
         }
     }
 }
@@ -808,7 +789,7 @@ impl<'a, const TEX: bool, const NMAP: bool> PbrKernel<'a, TEX, NMAP> {
         live: u32,
         counters: &mut Counters,
     ) -> [Rgb; LANES] {
-        let s = Surface::each(tris, &b);
+        let s = Surface::each(tris, &b, true);
         let c: V3 = self.shade_surface(ctx, (Tris::Each(tris), s), b, (fp, live), counters);
         packet::finish(c, live, counters)
     }

@@ -31,6 +31,10 @@ pub struct ShadeCtx<'a> {
 /// `defers` gives it).
 pub type PendingKey = (usize, u32);
 
+/// The bit of a [`PendingKey`]'s variant that tells the Phong kernel's
+/// pixels from the metallic-roughness kernel's.
+pub const PHONG_KIND: u32 = 1 << 8;
+
 /// One pixel's colour from the barycentric coordinates `b` of the pixel
 /// centre in the *source* triangle (perspective-correct, summing to 1).
 pub trait PixelShader {
