@@ -390,7 +390,8 @@ fn raster_packets<S: PixelShader>(
             px += LANES;
         }
     }
-    match shader.defers(ctx).filter(|&key| band.pending.takes(key)) {
+    let defers = |key| tails.count <= S::MOST_DEFERRED && band.pending.takes(key);
+    match shader.defers(ctx).filter(|&key| defers(key)) {
         Some(key) => tails.defer(tri, footprint.as_ref(), &mut band, key),
         None => tails.flush(tri, shader, ctx, footprint.as_ref(), &mut band, counters),
     }

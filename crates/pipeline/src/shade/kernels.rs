@@ -303,6 +303,11 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
         );
         packet::finish(c, live, counters)
     }
+    // Shading a packet of this kernel costs about what gathering three
+    // lanes' triangles does: a longer last packet is shaded at once
+    // (measured with 1 to 8: 3 lost least at 640×480 and gained most at
+    // terminal sizes, docs/bench.md).
+    const MOST_DEFERRED: usize = 3;
     /// Without Blinn's bump, a pixel needs of its triangle only what
     /// `shade_each` takes per lane, unless a map reads the second
     /// coordinate set; the triangles of one kind also agree on whether

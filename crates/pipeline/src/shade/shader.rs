@@ -97,6 +97,10 @@ pub trait PixelShader {
     fn defers(&self, _ctx: &ShadeCtx) -> Option<PendingKey> {
         None
     }
+    /// The most pixels of a triangle's last packet that wait in the queue
+    /// (a longer one is shaded at once): a cheap kernel gains less from a
+    /// shared packet than gathering each lane's triangle costs.
+    const MOST_DEFERRED: usize = LANES;
 }
 
 /// Whether the plan's material has an alpha mask.
