@@ -145,6 +145,35 @@ fn draw_physical<T: RasterTarget>(
     with_pbr_kernel!(ctx, s, |k| target.raster(tri, &k, ctx, counters));
 }
 
+/// `$body` with `$k` the Phong kernel of triangle `$s` under `$ctx`'s plan,
+/// with Blinn's bump when `$bump`, in the variant its colour texture and
+/// the plan's highlights choose. The kernel is made per triangle: Blinn's
+/// axes of a flat facet once.
+macro_rules! with_phong_kernel {
+    ($ctx:expr, $s:expr, $bump:tt, |$k:ident| $body:expr) => {{
+        let s: &PhongTri = $s;
+        let k = $ctx.plan.bump_strength;
+        match (s.textured, $ctx.plan.specular.is_some()) {
+            (true, true) => {
+                let $k = PhongKernel::<true, $bump, true>::new(s, k);
+                $body
+            }
+            (true, false) => {
+                let $k = PhongKernel::<true, $bump, false>::new(s, k);
+                $body
+            }
+            (false, true) => {
+                let $k = PhongKernel::<false, $bump, true>::new(s, k);
+                $body
+            }
+            (false, false) => {
+                let $k = PhongKernel::<false, $bump, false>::new(s, k);
+                $body
+            }
+        }
+    }};
+}
+
 /// Plain Phong (`BUMP` false) or Blinn's bump, with or without its colour
 /// texture and highlights.
 fn phong<T: RasterTarget, const BUMP: bool>(
@@ -154,26 +183,7 @@ fn phong<T: RasterTarget, const BUMP: bool>(
     target: &mut T,
     counters: &mut Counters,
 ) {
-    // The kernel is made per triangle: Blinn's axes of a flat facet once.
-    let k = ctx.plan.bump_strength;
-    match (s.textured, ctx.plan.specular.is_some()) {
-        (true, true) => {
-            let kernel = PhongKernel::<true, BUMP, true>::new(s, k);
-            target.raster(tri, &kernel, ctx, counters)
-        }
-        (true, false) => {
-            let kernel = PhongKernel::<true, BUMP, false>::new(s, k);
-            target.raster(tri, &kernel, ctx, counters)
-        }
-        (false, true) => {
-            let kernel = PhongKernel::<false, BUMP, true>::new(s, k);
-            target.raster(tri, &kernel, ctx, counters)
-        }
-        (false, false) => {
-            let kernel = PhongKernel::<false, BUMP, false>::new(s, k);
-            target.raster(tri, &kernel, ctx, counters)
-        }
-    }
+    with_phong_kernel!(ctx, s, BUMP, |k| target.raster(tri, &k, ctx, counters))
 }
 
 /// A bumped Phong triangle, drawn with the plan's technique: the shading
@@ -287,15 +297,11 @@ fn shade_each(
             counters
         ));
     }
-    let pixels = (tris, b);
-    Some(match (tris[0].textured, ctx.plan.specular.is_some()) {
-        (true, true) => PhongKernel::<true, false, true>::new(tris[0], 0.0)
-            .shade_each(ctx, pixels, fp, live, counters),
-        (true, false) => PhongKernel::<true, false, false>::new(tris[0], 0.0)
-            .shade_each(ctx, pixels, fp, live, counters),
-        (false, true) => PhongKernel::<false, false, true>::new(tris[0], 0.0)
-            .shade_each(ctx, pixels, fp, live, counters),
-        (false, false) => PhongKernel::<false, false, false>::new(tris[0], 0.0)
-            .shade_each(ctx, pixels, fp, live, counters),
-    })
+    Some(with_phong_kernel!(ctx, tris[0], false, |k| k.shade_each(
+        ctx,
+        (tris, b),
+        fp,
+        live,
+        counters
+    )))
 }

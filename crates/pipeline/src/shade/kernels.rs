@@ -12,6 +12,7 @@ use super::lighting::finish;
 use super::packet::{self, LANES, V3};
 use super::shader::{
     GouraudTri, PHONG_KIND, PendingKey, PhongTri, PixelShader, ShadeCtx, TexturedFlatTri, cuts,
+    pending_key,
 };
 use super::specular::gloss;
 use super::tangent::{Surface, Tris};
@@ -315,9 +316,8 @@ impl<const TEX: bool, const BUMP: bool, const SPEC: bool> PixelShader
     fn defers(&self, ctx: &ShadeCtx) -> Option<PendingKey> {
         let second = (ctx.plan.terms.as_deref()).is_some_and(|t| t.uvs.reads_second_set());
         (!BUMP && !second).then(|| {
-            let ctx = std::ptr::from_ref(ctx) as usize;
             let variant = u32::from(TEX) | u32::from(SPEC) << 1 | u32::from(self.tri.glossy) << 2;
-            (ctx, PHONG_KIND | variant)
+            pending_key(ctx, PHONG_KIND | variant)
         })
     }
 }

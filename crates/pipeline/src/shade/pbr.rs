@@ -38,7 +38,7 @@ use super::lighting::{ATTENUATION_QUADRATIC, finish, physical_falloff};
 use super::map_uv::{Coords, carry, footprint_map};
 use super::packet::{self, LANES, V3};
 use super::sampled::sample_lobe;
-use super::shader::{PendingKey, PixelShader, ShadeCtx};
+use super::shader::{PendingKey, PixelShader, ShadeCtx, pending_key};
 use super::sheen::{self, MIN_SHEEN_ROUGHNESS, charlie, neubelt};
 use super::specular::view_dir;
 use super::split_sum::lut;
@@ -770,11 +770,8 @@ impl<'a, const TEX: bool, const NMAP: bool> PbrKernel<'a, TEX, NMAP> {
     /// band's queue: the context (the material), the variant and whether
     /// the triangle's normal maps apply.
     fn kind(ctx: &ShadeCtx, bumped: bool) -> PendingKey {
-        let ctx = std::ptr::from_ref(ctx) as usize;
-        (
-            ctx,
-            u32::from(TEX) | u32::from(NMAP) << 1 | u32::from(bumped) << 2,
-        )
+        let variant = u32::from(TEX) | u32::from(NMAP) << 1 | u32::from(bumped) << 2;
+        pending_key(ctx, variant)
     }
 
     /// Eight pixels of different triangles of this kernel's kind, one per

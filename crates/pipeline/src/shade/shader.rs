@@ -31,6 +31,12 @@ pub struct ShadeCtx<'a> {
 /// `defers` gives it).
 pub type PendingKey = (usize, u32);
 
+/// The key of pixels shaded under `ctx` (the material) by a kernel's
+/// `variant`.
+pub fn pending_key(ctx: &ShadeCtx, variant: u32) -> PendingKey {
+    (std::ptr::from_ref(ctx) as usize, variant)
+}
+
 /// The bit of a [`PendingKey`]'s variant that tells the Phong kernel's
 /// pixels from the metallic-roughness kernel's.
 pub const PHONG_KIND: u32 = 1 << 8;
