@@ -8,6 +8,7 @@ run one after the other and compare as ratios. Not part of relief's build or CI.
     docs/tools/llvmpipe_setup.sh                      # venv in target/llvmpipe-venv
     PY=target/llvmpipe-venv/bin/python
     $PY docs/tools/llvmpipe_mesh.py sphere --triangles 1000000 --out /tmp/s1m.ply
+    $PY docs/tools/llvmpipe_mesh.py sphere --triangles 1000000 --dent 0.06 --out /tmp/d1m.ply  # not convex
     $PY docs/tools/llvmpipe_mesh.py bench /tmp/s1m.ply --threads 1,2
     $PY docs/tools/llvmpipe_mesh.py bench /tmp/s1m.ply --sizes 320x240 --png /tmp/llvmpipe.png
     $PY docs/tools/llvmpipe_mesh.py compare /tmp/relief.png /tmp/llvmpipe.png
@@ -809,8 +810,14 @@ def cmd_sphere(args):
     rings = max(2, round(math.sqrt(n / 4.0)) + 1)
     segments = max(3, round(n / (2.0 * (rings - 1))))
     normals, triangles = uv_sphere(rings, segments)
-    write_ply(args.out, normals * args.radius, normals, triangles)
-    print(f"{args.out}: UV sphere of {rings} rings, {segments} segments: "
+    # --dent: the radius times 1 + dent·sin 7θ·sin 9φ (θ from +Y, φ about it), the
+    # normals the sphere's: a mesh relief does not find convex (docs/bench.md).
+    theta = np.arccos(np.clip(normals[:, 1], -1.0, 1.0))
+    phi = np.arctan2(normals[:, 2], normals[:, 0])
+    radius = args.radius * (1.0 + args.dent * np.sin(7.0 * theta) * np.sin(9.0 * phi))
+    write_ply(args.out, normals * radius[:, None], normals, triangles)
+    dented = f", radius dented by {args.dent:g}" if args.dent else ""
+    print(f"{args.out}: UV sphere of {rings} rings, {segments} segments{dented}: "
           f"{len(triangles)} triangles, {len(normals)} vertices")
 
 
@@ -918,6 +925,8 @@ def main():
     s = sub.add_parser("sphere", help="write a UV sphere as a binary PLY")
     s.add_argument("--triangles", type=int, required=True)
     s.add_argument("--radius", type=float, default=1.0)
+    s.add_argument("--dent", type=float, default=0.0,
+                   help="radius times 1 + DENT*sin(7 theta)*sin(9 phi), normals kept: not convex")
     s.add_argument("--out", required=True)
     for name in ("bench", "child"):
         b = sub.add_parser(name, help="time the view of MESH" if name == "bench" else argparse.SUPPRESS)
