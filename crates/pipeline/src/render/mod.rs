@@ -2,6 +2,7 @@
 //! and shaded (in parallel when the frame is big enough to gain).
 
 mod abandon;
+mod awake;
 mod backdrop;
 mod bands;
 mod dispatch;
@@ -176,6 +177,7 @@ impl Renderer {
         if width == 0 || height == 0 {
             return stats;
         }
+        let _awake = awake::Awake::start();
         // Normal maps built this frame: the height map's, and a file map's
         // copies for another strength.
         let normal_map_builds = |scene: &Scene| {
